@@ -1,0 +1,103 @@
+//! The error type of the core library.
+
+/// Everything that can go wrong in `kinema`. Each variant carries what was
+/// wrong and, where it helps, what was expected.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A joint vector of the wrong length.
+    #[error("robot `{robot}` has {expected} joints, but {got} joint values were given")]
+    JointCount {
+        /// Robot name.
+        robot: String,
+        /// Number of joints of the robot.
+        expected: usize,
+        /// Number of values given.
+        got: usize,
+    },
+    /// A joint value that is NaN or infinite.
+    #[error("joint {joint} (`{name}`) of robot `{robot}` is {value}; joint values must be finite numbers")]
+    NonFinite {
+        /// Robot name.
+        robot: String,
+        /// 1-based joint index.
+        joint: usize,
+        /// Joint name.
+        name: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// A name that is not one of the built-in robots (and not a file).
+    #[error("unknown robot `{name}`: not a built-in robot and not a .toml or .urdf file; built-in robots are: {known}")]
+    UnknownRobot {
+        /// What was asked for.
+        name: String,
+        /// Comma-separated list of the built-in robots.
+        known: String,
+    },
+    /// A named configuration the robot does not have.
+    #[error("robot `{robot}` has no named pose `{pose}`; its poses are: {known}")]
+    UnknownPose {
+        /// Robot name.
+        robot: String,
+        /// What was asked for.
+        pose: String,
+        /// Comma-separated list of the robot's poses.
+        known: String,
+    },
+    /// A robot description file (TOML) that is malformed or inconsistent.
+    #[error("{file}:{line}:{column}: `{field}`: {message}")]
+    Description {
+        /// File name (or `<string>`).
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// Path of the offending field, e.g. `joint[2].min`.
+        field: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// A URDF file that cannot be used.
+    #[error("{file}: {message}")]
+    Urdf {
+        /// File name (or `<string>`).
+        file: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// A file that cannot be read.
+    #[error("cannot read `{path}`: {message}")]
+    Io {
+        /// Path as given.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
+    /// A model that is internally inconsistent (built in code, not from a file).
+    #[error("invalid robot model `{robot}`: {message}")]
+    InvalidModel {
+        /// Robot name.
+        robot: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Roll-pitch-yaw rates are undefined at this orientation.
+    #[error("roll-pitch-yaw rates are undefined at pitch = {pitch} rad (representation singularity at ±π/2); use the geometric Jacobian there")]
+    RpySingularity {
+        /// Middle angle of the triple \[rad\].
+        pitch: f64,
+    },
+    /// An argument outside its domain.
+    #[error("invalid `{what}`: {message}")]
+    InvalidArgument {
+        /// Which argument.
+        what: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+}
+
+/// Result alias of the core library.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,338 @@
+//! Forward kinematics and Jacobians.
+//!
+//! The hot paths ([`Robot::fk`], [`Robot::jacobian_into`],
+//! [`Robot::link_frames_into`]) do not allocate and do not depend on any
+//! earlier call. Convenience forms that allocate ([`Robot::jacobian`],
+//! [`Robot::link_frames`]) sit on top, and [`Workspace`] bundles reusable
+//! output buffers.
+//!
+//! Jacobian rows are ordered \[vx vy vz ωx ωy ωz\]: linear velocity of the tool
+//! point, then angular velocity.
+
+use nalgebra::{Matrix3, Matrix6xX, Vector3};
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::math::{sin_cos, Pose, RpyConvention};
+use crate::model::{JointSet, Robot};
+
+/// The frame a Jacobian (or a velocity) is expressed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Frame {
+    /// The robot's base frame (world frame if a base transform is set, as the
+    /// base transform is part of the chain).
+    #[default]
+    Base,
+    /// The tool frame: velocities of the tool point expressed in tool axes.
+    Tool,
+}
+
+/// The result of forward kinematics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fk {
+    /// `base_from_tool` (including the base and tool transforms).
+    pub pose: Pose,
+    /// Joints whose value is outside their position limits. FK is computed
+    /// anyway; this says which values a real robot could not take.
+    pub out_of_limits: JointSet,
+}
+
+impl Fk {
+    /// Whether every joint value is within its limits.
+    pub fn within_limits(&self) -> bool {
+        self.out_of_limits.is_empty()
+    }
+}
+
+#[inline(always)]
+fn apply_joint(t: &mut Pose, prismatic: bool, q: f64) {
+    if prismatic {
+        let z = t.rot.column(2).into_owned();
+        t.pos += z * q;
+    } else {
+        let (s, c) = sin_cos(q);
+        let x = t.rot.column(0).into_owned();
+        let y = t.rot.column(1).into_owned();
+        t.rot.set_column(0, &(x * c + y * s));
+        t.rot.set_column(1, &(y * c - x * s));
+    }
+}
+
+#[inline(always)]
+fn apply_fixed(t: &mut Pose, f: &Pose) {
+    t.pos += t.rot * f.pos;
+    t.rot *= f.rot;
+}
+
+impl Robot {
+    /// `base_from_tool` without any checks; `q` must have `dof()` finite values.
+    #[inline]
+    fn fk_unchecked(&self, q: &[f64]) -> Pose {
+        let ch = &self.chain;
+        let mut t = ch.fixed[0];
+        for ((&qi, &pri), f) in q.iter().zip(&ch.prismatic).zip(&ch.fixed[1..]) {
+            apply_joint(&mut t, pri, qi);
+            apply_fixed(&mut t, f);
+        }
+        t
+    }
+
+    /// Forward kinematics: the tool pose in the base frame.
+    ///
+    /// Errors if `q` has the wrong length or a non-finite value. Values outside
+    /// the joint limits are flagged in [`Fk::out_of_limits`], not rejected.
+    /// Does not allocate.
+    ///
+    /// # Examples
+    /// ```
+    /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+    /// let fk = robot.fk(robot.home())?;
+    /// // Stretched upright: 0.36 + 0.42 + 0.40 + 0.126 m above the base.
+    /// assert!((fk.pose.pos.z - 1.306).abs() < 1e-12);
+    /// assert!(fk.within_limits());
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    #[inline]
+    pub fn fk(&self, q: &[f64]) -> Result<Fk> {
+        self.check_q(q)?;
+        Ok(Fk {
+            pose: self.fk_unchecked(q),
+            out_of_limits: self.limit_flags(q),
+        })
+    }
+
+    /// Forward kinematics of many configurations at once, in parallel over all
+    /// cores. `qs` holds the configurations one after another (row-major,
+    /// `N × dof` values). Every configuration is checked before any work is done.
+    ///
+    /// # Examples
+    /// ```
+    /// let robot = kinema::Robot::builtin("puma560")?;
+    /// let qs = [robot.home(), robot.pose("qr")?].concat();
+    /// let all = robot.fk_batch(&qs)?;
+    /// assert_eq!(all.len(), 2);
+    /// assert_eq!(all[1].pose, robot.fk(robot.pose("qr")?)?.pose);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn fk_batch(&self, qs: &[f64]) -> Result<Vec<Fk>> {
+        let n = self.dof();
+        if qs.len() % n != 0 {
+            return Err(Error::InvalidArgument {
+                what: "qs".into(),
+                message: format!(
+                    "{} values is not a whole number of {n}-joint configurations",
+                    qs.len()
+                ),
+            });
+        }
+        for q in qs.chunks_exact(n) {
+            self.check_q(q)?;
+        }
+        Ok(qs
+            .par_chunks_exact(n)
+            .with_min_len(1024)
+            .map(|q| Fk {
+                pose: self.fk_unchecked(q),
+                out_of_limits: self.limit_flags(q),
+            })
+            .collect())
+    }
+
+    /// All frames along the chain: `out[0]` is the base frame, `out[i]` the
+    /// frame of link i (DH frame i for DH tables, the URDF child link frame for
+    /// URDF) and `out[dof + 1]` the tool frame, all in the base frame.
+    /// `out` must have `dof + 2` entries. Does not allocate.
+    pub fn link_frames_into(&self, q: &[f64], out: &mut [Pose]) -> Result<Fk> {
+        self.check_q(q)?;
+        let n = self.dof();
+        if out.len() != n + 2 {
+            return Err(Error::InvalidArgument {
+                what: "out".into(),
+                message: format!(
+                    "needs {} frames (base, {n} links, tool), has {}",
+                    n + 2,
+                    out.len()
+                ),
+            });
+        }
+        let ch = &self.chain;
+        out[0] = *self.base();
+        let mut t = ch.fixed[0];
+        for i in 0..n {
+            apply_joint(&mut t, ch.prismatic[i], q[i]);
+            out[i + 1] = t * ch.post[i];
+            apply_fixed(&mut t, &ch.fixed[i + 1]);
+        }
+        out[n + 1] = t;
+        Ok(Fk {
+            pose: t,
+            out_of_limits: self.limit_flags(q),
+        })
+    }
+
+    /// As [`Robot::link_frames_into`], allocating the result.
+    pub fn link_frames(&self, q: &[f64]) -> Result<Vec<Pose>> {
+        let mut out = vec![Pose::IDENTITY; self.dof() + 2];
+        self.link_frames_into(q, &mut out)?;
+        Ok(out)
+    }
+
+    /// Geometric Jacobian of the tool point, rows \[vx vy vz ωx ωy ωz\],
+    /// expressed in `frame`, written into `out` (must be 6 × dof).
+    /// Returns the forward kinematics computed on the way. Does not allocate.
+    pub fn jacobian_into(&self, q: &[f64], frame: Frame, out: &mut Matrix6xX<f64>) -> Result<Fk> {
+        self.check_q(q)?;
+        let n = self.dof();
+        if out.ncols() != n {
+            return Err(Error::InvalidArgument {
+                what: "out".into(),
+                message: format!(
+                    "Jacobian buffer has {} columns, robot `{}` has {n} joints",
+                    out.ncols(),
+                    self.name()
+                ),
+            });
+        }
+        let ch = &self.chain;
+        let mut t = ch.fixed[0];
+        // First pass: joint axis origins (rows 0..3) and directions (rows 3..6).
+        for i in 0..n {
+            let mut col = out.column_mut(i);
+            col.fixed_rows_mut::<3>(0).copy_from(&t.pos);
+            col.fixed_rows_mut::<3>(3).copy_from(&t.rot.column(2));
+            apply_joint(&mut t, ch.prismatic[i], q[i]);
+            apply_fixed(&mut t, &ch.fixed[i + 1]);
+        }
+        let pe = t.pos;
+        for i in 0..n {
+            let mut col = out.column_mut(i);
+            let o: Vector3<f64> = col.fixed_rows::<3>(0).into_owned();
+            let z: Vector3<f64> = col.fixed_rows::<3>(3).into_owned();
+            if ch.prismatic[i] {
+                col.fixed_rows_mut::<3>(0).copy_from(&z);
+                col.fixed_rows_mut::<3>(3).fill(0.0);
+            } else {
+                col.fixed_rows_mut::<3>(0).copy_from(&z.cross(&(pe - o)));
+            }
+            if frame == Frame::Tool {
+                let rt = t.rot.transpose();
+                let v: Vector3<f64> = col.fixed_rows::<3>(0).into_owned();
+                let w: Vector3<f64> = col.fixed_rows::<3>(3).into_owned();
+                col.fixed_rows_mut::<3>(0).copy_from(&(rt * v));
+                col.fixed_rows_mut::<3>(3).copy_from(&(rt * w));
+            }
+        }
+        Ok(Fk {
+            pose: t,
+            out_of_limits: self.limit_flags(q),
+        })
+    }
+
+    /// Geometric Jacobian (allocating form of [`Robot::jacobian_into`]).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::{Robot, Frame};
+    /// let robot = Robot::builtin("ur5")?;
+    /// let j = robot.jacobian(robot.home(), Frame::Base)?;
+    /// assert_eq!((j.nrows(), j.ncols()), (6, 6));
+    /// // The first joint turns about the base z axis.
+    /// assert!((j[(5, 0)] - 1.0).abs() < 1e-12);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn jacobian(&self, q: &[f64], frame: Frame) -> Result<Matrix6xX<f64>> {
+        let mut j = Matrix6xX::zeros(self.dof());
+        self.jacobian_into(q, frame, &mut j)?;
+        Ok(j)
+    }
+
+    /// Analytic Jacobian: rows \[ẋ ẏ ż ṙ₁ ṙ₂ ṙ₃\] where (r₁, r₂, r₃) is the
+    /// tool's roll-pitch-yaw triple in `conv` (for [`RpyConvention::Zyx`]:
+    /// roll, pitch, yaw rates). Errors at the representation singularity
+    /// (middle angle ±π/2).
+    pub fn analytic_jacobian(&self, q: &[f64], conv: RpyConvention) -> Result<Matrix6xX<f64>> {
+        let mut j = Matrix6xX::zeros(self.dof());
+        let fk = self.jacobian_into(q, Frame::Base, &mut j)?;
+        let rpy = fk.pose.rpy(conv);
+        let e = rpy_rate_matrix(rpy, conv);
+        let cos_mid = rpy[1].cos();
+        if cos_mid.abs() < 1e-9 {
+            return Err(Error::RpySingularity { pitch: rpy[1] });
+        }
+        let einv = e
+            .try_inverse()
+            .ok_or(Error::RpySingularity { pitch: rpy[1] })?;
+        let w = j.fixed_rows::<3>(3).into_owned();
+        j.fixed_rows_mut::<3>(3).copy_from(&(einv * w));
+        Ok(j)
+    }
+}
+
+/// The matrix E with ω = E · (ṙ₁, ṙ₂, ṙ₃) for a roll-pitch-yaw triple in `conv`.
+pub fn rpy_rate_matrix(rpy: [f64; 3], conv: RpyConvention) -> Matrix3<f64> {
+    let [a, b, c] = rpy;
+    match conv {
+        // R = Rz(yaw)·Ry(pitch)·Rx(roll), triple = (roll, pitch, yaw):
+        // ω = ṙoll·Rz·Ry·x̂ + ṗitch·Rz·ŷ + ẏaw·ẑ.
+        RpyConvention::Zyx => {
+            let (sp, cp) = b.sin_cos();
+            let (sy, cy) = c.sin_cos();
+            Matrix3::new(cy * cp, -sy, 0.0, sy * cp, cy, 0.0, -sp, 0.0, 1.0)
+        }
+        // R = Rx(a)·Ry(b)·Rz(c): ω = ȧ·x̂ + ḃ·Rx·ŷ + ċ·Rx·Ry·ẑ.
+        RpyConvention::Xyz => {
+            let (sa, ca) = a.sin_cos();
+            let (sb, cb) = b.sin_cos();
+            Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
+        }
+    }
+}
+
+/// Reusable output buffers for one robot, so repeated calls allocate nothing.
+///
+/// # Examples
+/// ```
+/// use kinema::{Robot, Frame, Workspace};
+/// let robot = Robot::builtin("panda")?;
+/// let mut ws = Workspace::new(&robot);
+/// for q in [robot.home(), robot.pose("qr")?] {
+///     let j = ws.jacobian(&robot, q, Frame::Base)?;
+///     assert_eq!(j.ncols(), 7);
+/// }
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    jacobian: Matrix6xX<f64>,
+    frames: Vec<Pose>,
+}
+
+impl Workspace {
+    /// Buffers sized for `robot`.
+    pub fn new(robot: &Robot) -> Self {
+        Workspace {
+            jacobian: Matrix6xX::zeros(robot.dof()),
+            frames: vec![Pose::IDENTITY; robot.dof() + 2],
+        }
+    }
+
+    fn fit(&mut self, robot: &Robot) {
+        if self.jacobian.ncols() != robot.dof() {
+            *self = Workspace::new(robot);
+        }
+    }
+
+    /// Geometric Jacobian into the workspace's buffer.
+    pub fn jacobian(&mut self, robot: &Robot, q: &[f64], frame: Frame) -> Result<&Matrix6xX<f64>> {
+        self.fit(robot);
+        robot.jacobian_into(q, frame, &mut self.jacobian)?;
+        Ok(&self.jacobian)
+    }
+
+    /// All link frames into the workspace's buffer (see [`Robot::link_frames_into`]).
+    pub fn link_frames(&mut self, robot: &Robot, q: &[f64]) -> Result<&[Pose]> {
+        self.fit(robot);
+        robot.link_frames_into(q, &mut self.frames)?;
+        Ok(&self.frames)
+    }
+}

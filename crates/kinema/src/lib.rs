@@ -1,0 +1,58 @@
+//! # kinema — kinematics of serial robot arms
+//!
+//! The core library of the kinema toolkit:
+//!
+//! * [`Robot`] — an immutable serial chain of revolute and prismatic joints,
+//!   described by a standard-DH table, a modified-DH table or per-joint fixed
+//!   transforms and axes (URDF). Load one with [`Robot::builtin`],
+//!   [`Robot::from_file`] (`.toml` or `.urdf`) or build it in code.
+//! * Forward kinematics ([`Robot::fk`], [`Robot::link_frames`],
+//!   [`Robot::fk_batch`]) and Jacobians ([`Robot::jacobian`],
+//!   [`Robot::analytic_jacobian`]) in [`kin`]; the hot paths do not allocate.
+//! * Spatial math in [`math`]: [`Pose`], roll-pitch-yaw in two named
+//!   conventions ([`RpyConvention`]), quaternions, axis-angle, pose errors.
+//! * Manipulability and singularity analysis in [`analysis`].
+//!
+//! Units are SI everywhere: metres, radians, seconds. Jacobian rows are
+//! \[vx vy vz ωx ωy ωz\]. `nalgebra` is re-exported.
+//!
+//! ## Example
+//!
+//! ```
+//! use kinema::{Robot, Frame, analysis};
+//!
+//! let robot = Robot::builtin("lbr-iiwa-14-r820")?;
+//! let q = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0];
+//! let fk = robot.fk(&q)?;
+//! assert!(fk.within_limits());
+//! let j = robot.jacobian(&q, Frame::Base)?;
+//! let report = analysis::report(&j)?;
+//! assert_eq!(report.rank, 6);
+//! // A tiny joint motion moves the tool by J·dq.
+//! let dq = [1e-7; 7];
+//! let moved = robot.fk(&[q[0] + dq[0], q[1] + dq[1], q[2] + dq[2], q[3] + dq[3], q[4] + dq[4], q[5] + dq[5], q[6] + dq[6]])?;
+//! let predicted = fk.pose.pos + (j.fixed_rows::<3>(0) * kinema::nalgebra::DVector::from_row_slice(&dq));
+//! assert!((moved.pose.pos - predicted).norm() < 1e-12);
+//! # Ok::<(), kinema::Error>(())
+//! ```
+#![warn(missing_docs)]
+
+pub use nalgebra;
+
+pub mod analysis;
+mod desc;
+mod error;
+pub mod kin;
+pub mod math;
+pub mod model;
+mod registry;
+mod urdf;
+
+pub use error::{Error, Result};
+pub use kin::{Fk, Frame, Workspace};
+pub use math::{Pose, PoseError, RpyConvention};
+pub use model::{
+    Convention, DhConvention, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata,
+    NamedPose, Robot,
+};
+pub use registry::{builtin_names, builtin_source};

@@ -1,0 +1,631 @@
+//! The robot model: an immutable serial chain of revolute and prismatic joints.
+//!
+//! A link can be described in three ways ([`LinkGeometry`]): standard DH
+//! (Spong/Corke), modified DH (Craig), or a general fixed transform followed by
+//! a motion along/about a joint axis (URDF). All three are compiled on
+//! construction into one form,
+//!
+//! ```text
+//! base_from_tool(q) = F0 · J(q1) · F1 · J(q2) · … · J(qn) · Fn
+//! ```
+//!
+//! where each `Fi` is a constant rigid transform and `J(q)` is a rotation about,
+//! or a translation along, the local z axis. Forward kinematics and Jacobians
+//! run on that form only (see [`crate::kin`]).
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::{Error, Result};
+use crate::math::Pose;
+
+/// Largest number of joints a model may have (limit flags are a `u64` bit set).
+pub const MAX_JOINTS: usize = 64;
+
+/// Revolute or prismatic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointType {
+    /// Rotation about the joint axis; the joint value is an angle \[rad\].
+    Revolute,
+    /// Translation along the joint axis; the joint value is a length \[m\].
+    Prismatic,
+}
+
+impl JointType {
+    /// One-letter code, `R` or `P` (as in "RRPR").
+    pub fn letter(self) -> char {
+        match self {
+            JointType::Revolute => 'R',
+            JointType::Prismatic => 'P',
+        }
+    }
+}
+
+/// Which Denavit–Hartenberg convention a table follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DhConvention {
+    /// Spong/Corke: link i is Rz(θi)·Tz(di)·Tx(ai)·Rx(αi).
+    Standard,
+    /// Craig: link i is Rx(αi−1)·Tx(ai−1)·Rz(θi)·Tz(di); the table's row i holds
+    /// αi−1 and ai−1.
+    Modified,
+}
+
+/// How one link is described.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LinkGeometry {
+    /// A row of a DH table. For a revolute joint θ = q + offset and `theta` is
+    /// unused (0); for a prismatic joint d = q + offset and `d` is unused (0).
+    Dh {
+        /// Convention of the table.
+        convention: DhConvention,
+        /// Link offset d \[m\] (revolute joints).
+        d: f64,
+        /// Link length a \[m\].
+        a: f64,
+        /// Link twist α \[rad\].
+        alpha: f64,
+        /// Fixed joint angle θ \[rad\] (prismatic joints).
+        theta: f64,
+    },
+    /// A fixed transform from the previous link frame to the joint frame, then a
+    /// motion about/along `axis` (a unit vector in the joint frame) — URDF's model.
+    General {
+        /// `previous_link_from_joint` at q = 0 (URDF `origin`).
+        origin: Pose,
+        /// Unit joint axis in the joint frame (may point anywhere, also negative).
+        axis: Vector3<f64>,
+    },
+}
+
+/// Joint limits, all in SI (rad or m, per second …).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Lower position limit (may be −∞ for a continuous joint).
+    pub min: f64,
+    /// Upper position limit (may be +∞ for a continuous joint).
+    pub max: f64,
+    /// Velocity limit \[rad/s or m/s\], if known.
+    pub vel: Option<f64>,
+    /// Acceleration limit \[rad/s² or m/s²\], if known.
+    pub acc: Option<f64>,
+    /// Jerk limit \[rad/s³ or m/s³\], if known.
+    pub jerk: Option<f64>,
+}
+
+impl Limits {
+    /// Position limits only.
+    pub fn position(min: f64, max: f64) -> Self {
+        Limits {
+            min,
+            max,
+            vel: None,
+            acc: None,
+            jerk: None,
+        }
+    }
+    /// No limits at all (a continuous joint).
+    pub fn unbounded() -> Self {
+        Self::position(f64::NEG_INFINITY, f64::INFINITY)
+    }
+    /// Whether `v` lies within \[min, max\].
+    pub fn contains(&self, v: f64) -> bool {
+        v >= self.min && v <= self.max
+    }
+}
+
+/// One joint with the link it moves.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Joint {
+    /// Name (e.g. `A1`, `shoulder`).
+    pub name: String,
+    /// Revolute or prismatic.
+    pub kind: JointType,
+    /// How the link is described.
+    pub geometry: LinkGeometry,
+    /// Joint offset: θ = q + offset \[rad\] or d = q + offset \[m\].
+    pub offset: f64,
+    /// Limits on the joint value q (not on θ).
+    pub limits: Limits,
+}
+
+/// A named joint configuration such as `home`, `qz` or `qr`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedPose {
+    /// Name.
+    pub name: String,
+    /// Joint values \[rad or m\].
+    pub q: Vec<f64>,
+}
+
+/// Which kind of description the robot came from (for display).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Convention {
+    /// Standard DH table.
+    Standard,
+    /// Modified DH table.
+    Modified,
+    /// Fixed transform + axis per joint (URDF or `general` TOML).
+    General,
+}
+
+/// Where a description came from and what it says about itself.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Metadata {
+    /// Manufacturer.
+    pub manufacturer: String,
+    /// Paper, table or datasheet the numbers come from.
+    pub source: String,
+    /// Free text: corrections of the source, mapping of limits, …
+    pub notes: String,
+}
+
+/// The compiled chain: `F0 · J(q1) · F1 · … · J(qn) · Fn`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Chain {
+    /// n + 1 fixed transforms.
+    pub fixed: Vec<Pose>,
+    /// Per joint: the transform between the joint motion and the link frame
+    /// (`link_frame_i = axis_frame_i · J(qi) · post_i`).
+    pub post: Vec<Pose>,
+    /// Per joint: true for prismatic.
+    pub prismatic: Vec<bool>,
+}
+
+/// A robot arm: an immutable, `Clone + Send + Sync` serial chain.
+///
+/// Build it from a built-in name ([`Robot::builtin`]), a TOML description
+/// ([`Robot::from_toml_str`]), a URDF ([`Robot::from_urdf_str`]) or in code
+/// ([`Robot::new`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Robot {
+    name: String,
+    convention: Convention,
+    meta: Metadata,
+    joints: Vec<Joint>,
+    base: Pose,
+    tool: Pose,
+    poses: Vec<NamedPose>,
+    pub(crate) chain: Chain,
+}
+
+/// `(pre, post)` with `link_i = pre · J(q) · post` for a joint in isolation.
+fn joint_pre_post(j: &Joint) -> (Pose, Pose) {
+    let prismatic = j.kind == JointType::Prismatic;
+    match j.geometry {
+        LinkGeometry::Dh {
+            convention,
+            d,
+            a,
+            alpha,
+            theta,
+        } => {
+            // The joint's own fixed part: θ0 = offset (revolute) or θ (prismatic),
+            // d0 = d (revolute) or offset (prismatic).
+            let (th0, d0) = if prismatic {
+                (theta, j.offset)
+            } else {
+                (j.offset, d)
+            };
+            match convention {
+                // Rz(q + θ0)·Tz(d0)·Tx(a)·Rx(α): Rz(q) and Tz(q) commute with
+                // Rz(θ0)·Tz(d0), so the motion comes first and the rest is `post`.
+                DhConvention::Standard => (
+                    Pose::IDENTITY,
+                    Pose::rot_z(th0)
+                        * Pose::translation(0.0, 0.0, d0)
+                        * Pose::translation(a, 0.0, 0.0)
+                        * Pose::rot_x(alpha),
+                ),
+                // Rx(α)·Tx(a)·Rz(θ0)·Tz(d0)·J(q): the motion comes last.
+                DhConvention::Modified => (
+                    Pose::rot_x(alpha)
+                        * Pose::translation(a, 0.0, 0.0)
+                        * Pose::rot_z(th0)
+                        * Pose::translation(0.0, 0.0, d0),
+                    Pose::IDENTITY,
+                ),
+            }
+        }
+        LinkGeometry::General { origin, axis } => {
+            // Motion about/along `axis` = Ra · (motion about/along z) · Raᵀ with Ra·z = axis.
+            let ra = align_z_to(&axis);
+            let align = Pose::new(ra, Vector3::zeros());
+            let off = if prismatic {
+                Pose::translation(0.0, 0.0, j.offset)
+            } else {
+                Pose::rot_z(j.offset)
+            };
+            (origin * align * off, align.inverse())
+        }
+    }
+}
+
+/// A rotation taking the z axis onto the unit vector `u`.
+fn align_z_to(u: &Vector3<f64>) -> Matrix3<f64> {
+    let z = Vector3::z();
+    let c = z.dot(u);
+    if c > 1.0 - 1e-15 {
+        return Matrix3::identity();
+    }
+    if c < -1.0 + 1e-15 {
+        // Half turn about x.
+        return Matrix3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0);
+    }
+    let axis = z.cross(u).normalize();
+    crate::math::axis_angle_to_rot(&(axis * c.clamp(-1.0, 1.0).acos()))
+}
+
+impl Robot {
+    /// Builds and validates a model.
+    ///
+    /// `poses` must contain `home`; every pose must have one value per joint.
+    /// Errors name the robot and what is inconsistent.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::{Robot, Joint, JointType, LinkGeometry, DhConvention, Limits, NamedPose, Pose, Convention};
+    /// // A planar two-link arm, 1 m links.
+    /// let link = |name: &str| Joint {
+    ///     name: name.into(),
+    ///     kind: JointType::Revolute,
+    ///     geometry: LinkGeometry::Dh { convention: DhConvention::Standard, d: 0.0, a: 1.0, alpha: 0.0, theta: 0.0 },
+    ///     offset: 0.0,
+    ///     limits: Limits::position(-3.0, 3.0),
+    /// };
+    /// let robot = Robot::new("planar2", Convention::Standard, Default::default(), vec![link("j1"), link("j2")],
+    ///     Pose::IDENTITY, Pose::IDENTITY, vec![NamedPose { name: "home".into(), q: vec![0.0, 0.0] }])?;
+    /// let fk = robot.fk(&[0.0, std::f64::consts::FRAC_PI_2])?;
+    /// assert!((fk.pose.pos.x - 1.0).abs() < 1e-12 && (fk.pose.pos.y - 1.0).abs() < 1e-12);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        name: impl Into<String>,
+        convention: Convention,
+        meta: Metadata,
+        joints: Vec<Joint>,
+        base: Pose,
+        tool: Pose,
+        poses: Vec<NamedPose>,
+    ) -> Result<Robot> {
+        let name = name.into();
+        let invalid = |message: String| Error::InvalidModel {
+            robot: name.clone(),
+            message,
+        };
+        if joints.is_empty() {
+            return Err(invalid("a robot needs at least one joint".into()));
+        }
+        if joints.len() > MAX_JOINTS {
+            return Err(invalid(format!(
+                "{} joints; at most {MAX_JOINTS} are supported",
+                joints.len()
+            )));
+        }
+        if !base.is_finite() || !tool.is_finite() {
+            return Err(invalid("base and tool transforms must be finite".into()));
+        }
+        for (i, j) in joints.iter().enumerate() {
+            let l = &j.limits;
+            let geometry_finite = match j.geometry {
+                LinkGeometry::Dh {
+                    d, a, alpha, theta, ..
+                } => [d, a, alpha, theta].iter().all(|v| v.is_finite()),
+                LinkGeometry::General { origin, axis } => {
+                    origin.is_finite() && axis.iter().all(|v| v.is_finite())
+                }
+            };
+            if !geometry_finite || !j.offset.is_finite() {
+                return Err(invalid(format!(
+                    "joint {} (`{}`): geometry and offset must be finite",
+                    i + 1,
+                    j.name
+                )));
+            }
+            if let LinkGeometry::General { axis, .. } = j.geometry {
+                if (axis.norm() - 1.0).abs() > 1e-9 {
+                    return Err(invalid(format!(
+                        "joint {} (`{}`): axis {:?} is not a unit vector",
+                        i + 1,
+                        j.name,
+                        axis.as_slice()
+                    )));
+                }
+            }
+            if l.min.is_nan() || l.max.is_nan() || l.min > l.max {
+                return Err(invalid(format!(
+                    "joint {} (`{}`): position limits [{}, {}] are not an interval (min must be ≤ max)",
+                    i + 1,
+                    j.name,
+                    l.min,
+                    l.max
+                )));
+            }
+            for (what, v) in [
+                ("velocity", l.vel),
+                ("acceleration", l.acc),
+                ("jerk", l.jerk),
+            ] {
+                if let Some(v) = v {
+                    if !(v > 0.0 && v.is_finite()) {
+                        return Err(invalid(format!(
+                            "joint {} (`{}`): {what} limit {v} must be positive and finite",
+                            i + 1,
+                            j.name
+                        )));
+                    }
+                }
+            }
+        }
+        if !poses.iter().any(|p| p.name == "home") {
+            return Err(invalid("every robot needs a named pose `home`".into()));
+        }
+        for p in &poses {
+            if p.q.len() != joints.len() {
+                return Err(invalid(format!(
+                    "pose `{}` has {} values, expected {}",
+                    p.name,
+                    p.q.len(),
+                    joints.len()
+                )));
+            }
+            if let Some(v) = p.q.iter().find(|v| !v.is_finite()) {
+                return Err(invalid(format!(
+                    "pose `{}` contains {v}; joint values must be finite",
+                    p.name
+                )));
+            }
+        }
+        let chain = Self::compile(&joints, &base, &tool);
+        Ok(Robot {
+            name,
+            convention,
+            meta,
+            joints,
+            base,
+            tool,
+            poses,
+            chain,
+        })
+    }
+
+    fn compile(joints: &[Joint], base: &Pose, tool: &Pose) -> Chain {
+        let n = joints.len();
+        let pp: Vec<(Pose, Pose)> = joints.iter().map(joint_pre_post).collect();
+        let mut fixed = Vec::with_capacity(n + 1);
+        fixed.push(*base * pp[0].0);
+        for i in 0..n {
+            let next_pre = if i + 1 < n { pp[i + 1].0 } else { *tool };
+            fixed.push(pp[i].1 * next_pre);
+        }
+        Chain {
+            fixed,
+            post: pp.iter().map(|p| p.1).collect(),
+            prismatic: joints
+                .iter()
+                .map(|j| j.kind == JointType::Prismatic)
+                .collect(),
+        }
+    }
+
+    /// Robot name (e.g. `lbr-iiwa-14-r820`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// Number of joints.
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+    /// The joints, base first.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+    /// Kind of description the model was built from.
+    pub fn convention(&self) -> Convention {
+        self.convention
+    }
+    /// Manufacturer, source and notes.
+    pub fn metadata(&self) -> &Metadata {
+        &self.meta
+    }
+    /// `world_from_base` transform.
+    pub fn base(&self) -> &Pose {
+        &self.base
+    }
+    /// `flange_from_tool` transform (flange = last link frame).
+    pub fn tool(&self) -> &Pose {
+        &self.tool
+    }
+    /// Joint types as a string such as `RRRRR` or `PRRPR`.
+    pub fn joint_types(&self) -> String {
+        self.joints.iter().map(|j| j.kind.letter()).collect()
+    }
+    /// Named configurations, `home` among them.
+    pub fn poses(&self) -> &[NamedPose] {
+        &self.poses
+    }
+    /// A named configuration.
+    pub fn pose(&self, name: &str) -> Result<&[f64]> {
+        self.poses
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.q.as_slice())
+            .ok_or_else(|| Error::UnknownPose {
+                robot: self.name.clone(),
+                pose: name.to_string(),
+                known: self
+                    .poses
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+    /// The `home` configuration.
+    pub fn home(&self) -> &[f64] {
+        self.pose("home").expect("validated in Robot::new")
+    }
+
+    /// Copy of the robot with another tool transform (`flange_from_tool`).
+    pub fn with_tool(&self, tool: Pose) -> Result<Robot> {
+        Robot::new(
+            self.name.clone(),
+            self.convention,
+            self.meta.clone(),
+            self.joints.clone(),
+            self.base,
+            tool,
+            self.poses.clone(),
+        )
+    }
+
+    /// Copy of the robot with another base transform (`world_from_base`).
+    pub fn with_base(&self, base: Pose) -> Result<Robot> {
+        Robot::new(
+            self.name.clone(),
+            self.convention,
+            self.meta.clone(),
+            self.joints.clone(),
+            base,
+            self.tool,
+            self.poses.clone(),
+        )
+    }
+
+    /// Parses joint values given as text: a named pose (`home`, `qr`, …) or
+    /// comma-separated numbers in rad and m — or, with `degrees`, degrees for
+    /// revolute joints (prismatic values stay in m). The result is checked
+    /// for length and finiteness.
+    ///
+    /// # Examples
+    /// ```
+    /// let robot = kinema::Robot::builtin("scara5")?;
+    /// let q = robot.parse_q("0.5, 90, -90, 0.1, 0", true)?;
+    /// assert!((q[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-15 && q[0] == 0.5);
+    /// assert_eq!(robot.parse_q("home", false)?, robot.home());
+    /// assert!(robot.parse_q("1, 2", false).is_err());
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn parse_q(&self, text: &str, degrees: bool) -> Result<Vec<f64>> {
+        let t = text.trim();
+        if t.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+            && !t.eq_ignore_ascii_case("nan")
+            && !t.to_ascii_lowercase().starts_with("inf")
+        {
+            return Ok(self.pose(t)?.to_vec());
+        }
+        let mut q = Vec::with_capacity(self.dof());
+        for (i, item) in t.split(',').enumerate() {
+            let item = item.trim();
+            let v: f64 = item.parse().map_err(|_| Error::InvalidArgument {
+                what: "joint values".into(),
+                message: format!(
+                    "value {} `{item}` is not a number; give {} comma-separated numbers or a named pose ({})",
+                    i + 1,
+                    self.dof(),
+                    self.poses.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+                ),
+            })?;
+            let is_rev = self
+                .joints
+                .get(i)
+                .is_some_and(|j| j.kind == JointType::Revolute);
+            q.push(if degrees && is_rev { v.to_radians() } else { v });
+        }
+        self.check_q(&q)?;
+        Ok(q)
+    }
+
+    /// Checks length and finiteness of a joint vector.
+    #[inline]
+    pub fn check_q(&self, q: &[f64]) -> Result<()> {
+        if q.len() != self.joints.len() {
+            return Err(Error::JointCount {
+                robot: self.name.clone(),
+                expected: self.joints.len(),
+                got: q.len(),
+            });
+        }
+        for (i, &v) in q.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::NonFinite {
+                    robot: self.name.clone(),
+                    joint: i + 1,
+                    name: self.joints[i].name.clone(),
+                    value: v,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Bit set of the joints whose value lies outside its position limits
+    /// (bit i set for joint i + 1). `q` must have been checked.
+    #[inline]
+    pub fn limit_flags(&self, q: &[f64]) -> JointSet {
+        let mut bits = 0u64;
+        for (i, (j, &v)) in self.joints.iter().zip(q).enumerate() {
+            if !j.limits.contains(v) {
+                bits |= 1 << i;
+            }
+        }
+        JointSet(bits)
+    }
+
+    /// A uniformly random configuration within the position limits (joints
+    /// without finite limits are drawn from \[−π, π\]).
+    pub fn random_q<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> Vec<f64> {
+        let mut q = vec![0.0; self.dof()];
+        self.random_q_into(rng, &mut q);
+        q
+    }
+
+    /// As [`Robot::random_q`], writing into `q` (length must be `dof()`).
+    pub fn random_q_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, q: &mut [f64]) {
+        for (v, j) in q.iter_mut().zip(&self.joints) {
+            let (lo, hi) = sampling_range(&j.limits);
+            *v = if hi > lo {
+                rng.random_range(lo..=hi)
+            } else {
+                lo
+            };
+        }
+    }
+}
+
+/// The interval random configurations are drawn from for one joint.
+pub fn sampling_range(l: &Limits) -> (f64, f64) {
+    let lo = if l.min.is_finite() {
+        l.min
+    } else {
+        -std::f64::consts::PI
+    };
+    let hi = if l.max.is_finite() {
+        l.max
+    } else {
+        std::f64::consts::PI
+    };
+    (lo, hi.max(lo))
+}
+
+/// A set of joints, as a bit set (bit i is joint i + 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct JointSet(pub u64);
+
+impl JointSet {
+    /// Whether no joint is in the set.
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    /// Whether joint `index` (0-based) is in the set.
+    pub fn contains(self, index: usize) -> bool {
+        index < 64 && self.0 & (1 << index) != 0
+    }
+    /// 0-based indices of the joints in the set.
+    pub fn indices(self) -> impl Iterator<Item = usize> {
+        (0..64).filter(move |i| self.0 & (1u64 << i) != 0)
+    }
+}

@@ -1,0 +1,113 @@
+//! Built-in robots (embedded from `robots/*.toml`) and loading by name or path.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::model::Robot;
+
+include!(concat!(env!("OUT_DIR"), "/builtin_robots.rs"));
+
+/// Names of the built-in robots, sorted.
+pub fn builtin_names() -> impl Iterator<Item = &'static str> {
+    BUILTIN.iter().map(|(name, _)| *name)
+}
+
+/// The TOML text of a built-in robot.
+pub fn builtin_source(name: &str) -> Option<&'static str> {
+    BUILTIN
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
+}
+
+impl Robot {
+    /// A built-in robot by name (see [`builtin_names`]).
+    ///
+    /// # Examples
+    /// ```
+    /// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
+    /// assert_eq!(robot.dof(), 5);
+    /// assert!(kinema::Robot::builtin("r2d2").is_err());
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn builtin(name: &str) -> Result<Robot> {
+        let text = builtin_source(name).ok_or_else(|| Error::UnknownRobot {
+            name: name.to_string(),
+            known: builtin_names().collect::<Vec<_>>().join(", "),
+        })?;
+        Robot::from_toml_str(text, &format!("robots/{name}.toml"))
+    }
+
+    /// Every built-in robot, in name order.
+    pub fn builtins() -> Result<Vec<Robot>> {
+        builtin_names().map(Robot::builtin).collect()
+    }
+
+    /// Parses a TOML robot description (`file` appears in error messages).
+    pub fn from_toml_str(text: &str, file: &str) -> Result<Robot> {
+        crate::desc::robot_from_toml(text, file)
+    }
+
+    /// Parses a URDF and takes the chain from the root link to `tip`
+    /// (default: the only leaf link).
+    pub fn from_urdf_str(text: &str, file: &str, tip: Option<&str>) -> Result<Robot> {
+        crate::urdf::robot_from_urdf(text, file, tip)
+    }
+
+    /// Reads a `.toml` or `.urdf` file.
+    pub fn from_file(path: impl AsRef<Path>, tip: Option<&str>) -> Result<Robot> {
+        let path = path.as_ref();
+        let shown = path.display().to_string();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let read = || {
+            std::fs::read_to_string(path).map_err(|e| Error::Io {
+                path: shown.clone(),
+                message: e.to_string(),
+            })
+        };
+        match ext.as_deref() {
+            Some("toml") => {
+                if tip.is_some() {
+                    return Err(Error::InvalidArgument {
+                        what: "tip".into(),
+                        message: "a tip link only applies to URDF files".into(),
+                    });
+                }
+                Robot::from_toml_str(&read()?, &shown)
+            }
+            Some("urdf") | Some("xml") => Robot::from_urdf_str(&read()?, &shown, tip),
+            _ => Err(Error::InvalidArgument {
+                what: "robot file".into(),
+                message: format!("`{shown}` must end in .toml (kinema description) or .urdf"),
+            }),
+        }
+    }
+
+    /// A built-in name, or a path to a `.toml`/`.urdf` file.
+    pub fn load(spec: &str, tip: Option<&str>) -> Result<Robot> {
+        if builtin_source(spec).is_some() {
+            if tip.is_some() {
+                return Err(Error::InvalidArgument {
+                    what: "tip".into(),
+                    message: "a tip link only applies to URDF files".into(),
+                });
+            }
+            return Robot::builtin(spec);
+        }
+        let lower = spec.to_ascii_lowercase();
+        if lower.ends_with(".toml")
+            || lower.ends_with(".urdf")
+            || lower.ends_with(".xml")
+            || Path::new(spec).exists()
+        {
+            return Robot::from_file(spec, tip);
+        }
+        Err(Error::UnknownRobot {
+            name: spec.to_string(),
+            known: builtin_names().collect::<Vec<_>>().join(", "),
+        })
+    }
+}

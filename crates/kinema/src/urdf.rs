@@ -1,0 +1,210 @@
+//! URDF import: the serial chain from the root link to a tip link.
+//!
+//! Fixed joints are folded into their neighbours' transforms (into the base
+//! transform before the first moving joint and into the tool transform after
+//! the last). `revolute`, `continuous` and `prismatic` joints become joints of
+//! the model with their `origin`, `axis` (any direction, also negative) and
+//! `limit`. Anything else on the path (`floating`, `planar`, `spherical`) is an
+//! error.
+
+use std::collections::{HashMap, HashSet};
+
+use nalgebra::Vector3;
+
+use crate::error::{Error, Result};
+use crate::math::{Pose, RpyConvention};
+use crate::model::{
+    Convention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
+};
+
+/// Parses a URDF document and extracts the chain from its root link to `tip`
+/// (default: the only leaf link). `file` is used in messages only.
+pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robot> {
+    let err = |message: String| Error::Urdf {
+        file: file.to_string(),
+        message,
+    };
+    let u = urdf_rs::read_from_string(text)
+        .map_err(|e| err(format!("not a readable URDF document: {e}")))?;
+    if u.joints.is_empty() {
+        return Err(err(
+            "the URDF has no <joint> elements; a robot arm needs at least one moving joint".into(),
+        ));
+    }
+    let mut by_child: HashMap<&str, &urdf_rs::Joint> = HashMap::new();
+    for j in &u.joints {
+        if by_child.insert(j.child.link.as_str(), j).is_some() {
+            return Err(err(format!(
+                "link `{}` is the child of more than one joint; a URDF must be a tree",
+                j.child.link
+            )));
+        }
+    }
+    let parents: HashSet<&str> = u.joints.iter().map(|j| j.parent.link.as_str()).collect();
+    let mut links: Vec<&str> = u.links.iter().map(|l| l.name.as_str()).collect();
+    for j in &u.joints {
+        for l in [j.parent.link.as_str(), j.child.link.as_str()] {
+            if !links.contains(&l) {
+                links.push(l);
+            }
+        }
+    }
+    let roots: Vec<&str> = links
+        .iter()
+        .copied()
+        .filter(|l| !by_child.contains_key(l))
+        .collect();
+    if roots.len() != 1 {
+        return Err(err(format!(
+            "expected exactly one root link (a link that is no joint's child), found {}: {}",
+            roots.len(),
+            if roots.is_empty() {
+                "none (the joints form a cycle)".to_string()
+            } else {
+                roots.join(", ")
+            }
+        )));
+    }
+    let tip = match tip {
+        Some(t) => {
+            if !links.contains(&t) {
+                return Err(err(format!(
+                    "tip link `{t}` is not in the URDF; its links are: {}",
+                    links.join(", ")
+                )));
+            }
+            t
+        }
+        None => {
+            let leaves: Vec<&str> = links
+                .iter()
+                .copied()
+                .filter(|l| !parents.contains(l))
+                .collect();
+            match leaves.as_slice() {
+                [one] => *one,
+                _ => {
+                    return Err(err(format!(
+                        "the URDF is not a single serial chain: it has {} leaf links ({}); choose one with --tip LINK",
+                        leaves.len(),
+                        leaves.join(", ")
+                    )))
+                }
+            }
+        }
+    };
+    // Walk up from the tip to the root.
+    let mut path = Vec::new();
+    let mut at = tip;
+    while let Some(j) = by_child.get(at) {
+        if path.len() > u.joints.len() {
+            return Err(err("the joints form a cycle".into()));
+        }
+        path.push(*j);
+        at = j.parent.link.as_str();
+    }
+    path.reverse();
+
+    let mut pending = Pose::IDENTITY; // fixed transforms not yet attached
+    let mut base = None;
+    let mut joints = Vec::new();
+    for j in &path {
+        let origin = Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy, RpyConvention::Zyx);
+        if !origin.is_finite() {
+            return Err(err(format!("joint `{}`: origin is not finite", j.name)));
+        }
+        let kind = match j.joint_type {
+            urdf_rs::JointType::Fixed => {
+                pending = pending * origin;
+                continue;
+            }
+            urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => JointType::Revolute,
+            urdf_rs::JointType::Prismatic => JointType::Prismatic,
+            ref other => {
+                return Err(err(format!(
+                    "joint `{}` has type `{}`; only revolute, continuous, prismatic and fixed joints are supported in a serial chain",
+                    j.name,
+                    format!("{other:?}").to_lowercase()
+                )))
+            }
+        };
+        let axis = Vector3::from(*j.axis.xyz);
+        let norm = axis.norm();
+        if !(norm > 1e-12 && norm.is_finite()) {
+            return Err(err(format!(
+                "joint `{}`: axis {:?} has no direction",
+                j.name, *j.axis.xyz
+            )));
+        }
+        let limits = if j.joint_type == urdf_rs::JointType::Continuous {
+            Limits::unbounded()
+        } else {
+            let l = &j.limit;
+            if !(l.lower.is_finite() && l.upper.is_finite()) || l.lower > l.upper {
+                return Err(err(format!(
+                    "joint `{}`: limit lower = {} upper = {} is not an interval (need lower ≤ upper)",
+                    j.name, l.lower, l.upper
+                )));
+            }
+            Limits::position(l.lower, l.upper)
+        };
+        let vel =
+            (j.limit.velocity > 0.0 && j.limit.velocity.is_finite()).then_some(j.limit.velocity);
+        let origin = if base.is_none() {
+            base = Some(pending);
+            origin
+        } else {
+            pending * origin
+        };
+        pending = Pose::IDENTITY;
+        joints.push(Joint {
+            name: j.name.clone(),
+            kind,
+            geometry: LinkGeometry::General {
+                origin,
+                axis: axis / norm,
+            },
+            offset: 0.0,
+            limits: Limits { vel, ..limits },
+        });
+    }
+    if joints.is_empty() {
+        return Err(err(format!(
+            "the chain from `{}` to `{tip}` has no moving joint",
+            roots[0]
+        )));
+    }
+    let home = joints
+        .iter()
+        .map(|j| {
+            if j.limits.contains(0.0) {
+                0.0
+            } else {
+                0.5 * (j.limits.min + j.limits.max)
+            }
+        })
+        .collect();
+    let name = if u.name.is_empty() {
+        file.to_string()
+    } else {
+        u.name.clone()
+    };
+    let meta = Metadata {
+        manufacturer: String::new(),
+        source: format!("URDF {file}, chain {} → {tip}", roots[0]),
+        notes: String::new(),
+    };
+    Robot::new(
+        name,
+        Convention::General,
+        meta,
+        joints,
+        base.unwrap_or(Pose::IDENTITY),
+        pending,
+        vec![NamedPose {
+            name: "home".into(),
+            q: home,
+        }],
+    )
+    .map_err(|e| err(e.to_string()))
+}
