@@ -180,7 +180,8 @@ pub struct Dependency {
 /// columns left to right (relative tolerance `tol`, default 1e-9).
 ///
 /// A redundant arm is not reported merely for being redundant: a column is
-/// dependent only if it lies in the span of the *earlier* columns.
+/// dependent only if it lies in the span of the *earlier* columns, and those
+/// do not already span all six task directions.
 pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Dependency>> {
     let m = rows(j, Axes::All)?;
     let tol = tol.unwrap_or(1e-9);
@@ -199,6 +200,11 @@ pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Depe
         }
         if basis.is_empty() {
             basis.push(c);
+            continue;
+        }
+        if basis.len() == m.nrows() {
+            // The earlier columns span every task direction: this column lies
+            // in their span only because the arm is redundant.
             continue;
         }
         let b = DMatrix::from_fn(6, basis.len(), |r, k| m[(r, basis[k])]);

@@ -9,11 +9,11 @@
 //! Jacobian rows are ordered \[vx vy vz ωx ωy ωz\]: linear velocity of the tool
 //! point, then angular velocity.
 
-use nalgebra::{Matrix3, Matrix6xX, Vector3};
+use nalgebra::{Matrix3, Matrix6xX};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::math::{sin_cos, Pose, RpyConvention};
+use crate::math::{Pose, RpyConvention};
 use crate::model::{JointSet, Robot};
 
 /// The frame a Jacobian (or a velocity) is expressed in.
@@ -44,37 +44,11 @@ impl Fk {
     }
 }
 
-#[inline(always)]
-fn apply_joint(t: &mut Pose, prismatic: bool, q: f64) {
-    if prismatic {
-        let z = t.rot.column(2).into_owned();
-        t.pos += z * q;
-    } else {
-        let (s, c) = sin_cos(q);
-        let x = t.rot.column(0).into_owned();
-        let y = t.rot.column(1).into_owned();
-        t.rot.set_column(0, &(x * c + y * s));
-        t.rot.set_column(1, &(y * c - x * s));
-    }
-}
-
-#[inline(always)]
-fn apply_fixed(t: &mut Pose, f: &Pose) {
-    t.pos += t.rot * f.pos;
-    t.rot *= f.rot;
-}
-
 impl Robot {
     /// `base_from_tool` without any checks; `q` must have `dof()` finite values.
     #[inline]
     fn fk_unchecked(&self, q: &[f64]) -> Pose {
-        let ch = &self.chain;
-        let mut t = ch.fixed[0];
-        for ((&qi, &pri), f) in q.iter().zip(&ch.prismatic).zip(&ch.fixed[1..]) {
-            apply_joint(&mut t, pri, qi);
-            apply_fixed(&mut t, f);
-        }
-        t
+        self.chain.fk(q)
     }
 
     /// Forward kinematics: the tool pose in the base frame.
@@ -155,17 +129,10 @@ impl Robot {
                 ),
             });
         }
-        let ch = &self.chain;
         out[0] = *self.base();
-        let mut t = ch.fixed[0];
-        for i in 0..n {
-            apply_joint(&mut t, ch.prismatic[i], q[i]);
-            out[i + 1] = t * ch.post[i];
-            apply_fixed(&mut t, &ch.fixed[i + 1]);
-        }
-        out[n + 1] = t;
+        self.chain.link_frames(q, out);
         Ok(Fk {
-            pose: t,
+            pose: out[n + 1],
             out_of_limits: self.limit_flags(q),
         })
     }
@@ -193,37 +160,12 @@ impl Robot {
                 ),
             });
         }
-        let ch = &self.chain;
-        let mut t = ch.fixed[0];
-        // First pass: joint axis origins (rows 0..3) and directions (rows 3..6).
-        for i in 0..n {
-            let mut col = out.column_mut(i);
-            col.fixed_rows_mut::<3>(0).copy_from(&t.pos);
-            col.fixed_rows_mut::<3>(3).copy_from(&t.rot.column(2));
-            apply_joint(&mut t, ch.prismatic[i], q[i]);
-            apply_fixed(&mut t, &ch.fixed[i + 1]);
-        }
-        let pe = t.pos;
-        for i in 0..n {
-            let mut col = out.column_mut(i);
-            let o: Vector3<f64> = col.fixed_rows::<3>(0).into_owned();
-            let z: Vector3<f64> = col.fixed_rows::<3>(3).into_owned();
-            if ch.prismatic[i] {
-                col.fixed_rows_mut::<3>(0).copy_from(&z);
-                col.fixed_rows_mut::<3>(3).fill(0.0);
-            } else {
-                col.fixed_rows_mut::<3>(0).copy_from(&z.cross(&(pe - o)));
-            }
-            if frame == Frame::Tool {
-                let rt = t.rot.transpose();
-                let v: Vector3<f64> = col.fixed_rows::<3>(0).into_owned();
-                let w: Vector3<f64> = col.fixed_rows::<3>(3).into_owned();
-                col.fixed_rows_mut::<3>(0).copy_from(&(rt * v));
-                col.fixed_rows_mut::<3>(3).copy_from(&(rt * w));
-            }
-        }
+        // Column-major 6 × n storage: column i is data[6i..6i+6].
+        let pose = self
+            .chain
+            .jacobian(q, frame == Frame::Tool, out.as_mut_slice());
         Ok(Fk {
-            pose: t,
+            pose,
             out_of_limits: self.limit_flags(q),
         })
     }

@@ -40,6 +40,7 @@
 pub use nalgebra;
 
 pub mod analysis;
+mod chain;
 mod desc;
 mod error;
 pub mod kin;

@@ -331,44 +331,71 @@ pub fn pose_error(target: &Pose, actual: &Pose) -> PoseError {
 /// it defers to the standard library.
 #[inline]
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    if !(x.abs() <= 1.0e5) {
+    if !(x.abs() <= SIN_COS_RANGE) {
         return x.sin_cos();
     }
+    sin_cos_kernel::<crate::chain::Plain>(x)
+}
+
+/// Largest |x| the fast [`sin_cos`] kernel handles itself.
+pub(crate) const SIN_COS_RANGE: f64 = 1.0e5;
+
+/// The branch-free core of [`sin_cos`], valid for |x| ≤ [`SIN_COS_RANGE`].
+#[inline(always)]
+pub(crate) fn sin_cos_kernel<M: crate::chain::Madd>(x: f64) -> (f64, f64) {
     // π/2 split into three parts, each exactly representable with trailing zeros.
     const PIO2_1: f64 = 1.570_796_326_734_125_6;
     const PIO2_2: f64 = 6.077_100_506_303_966e-11;
     const PIO2_3: f64 = 2.022_266_248_795_950_6e-21;
     const INV_PIO2: f64 = std::f64::consts::FRAC_2_PI;
-    let k = (x * INV_PIO2).round();
+    // Round to nearest without a libm call: adding 1.5·2^52 pushes the fraction out.
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    let shifted = x * INV_PIO2 + SHIFT;
+    let k = shifted - SHIFT;
+    // k mod 4 sits in the low mantissa bits of `shifted` (2^51 + k, two's complement).
+    let q = shifted.to_bits() as i64;
     let r = ((x - k * PIO2_1) - k * PIO2_2) - k * PIO2_3;
     let r2 = r * r;
-    // Taylor series, Horner form: sin up to r^17, cos up to r^18.
-    let s = r + r
-        * r2
-        * (-1.0 / 6.0
-            + r2 * (1.0 / 120.0
-                + r2 * (-1.0 / 5040.0
-                    + r2 * (1.0 / 362_880.0
-                        + r2 * (-1.0 / 39_916_800.0
-                            + r2 * (1.0 / 6_227_020_800.0
-                                + r2 * (-1.0 / 1_307_674_368_000.0
-                                    + r2 * (1.0 / 355_687_428_096_000.0))))))));
-    let c = 1.0
-        + r2 * (-0.5
-            + r2 * (1.0 / 24.0
-                + r2 * (-1.0 / 720.0
-                    + r2 * (1.0 / 40_320.0
-                        + r2 * (-1.0 / 3_628_800.0
-                            + r2 * (1.0 / 479_001_600.0
-                                + r2 * (-1.0 / 87_178_291_200.0
-                                    + r2 * (1.0 / 20_922_789_888_000.0
-                                        + r2 * (-1.0 / 6_402_373_705_728_000.0)))))))));
-    match (k as i64) & 3 {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
+    // Taylor series in r², Horner form: sin up to r^17, cos up to r^18.
+    const SIN: [f64; 9] = [
+        1.0,
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 6_227_020_800.0,
+        -1.0 / 1_307_674_368_000.0,
+        1.0 / 355_687_428_096_000.0,
+    ];
+    const COS: [f64; 10] = [
+        1.0,
+        -0.5,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+        -1.0 / 87_178_291_200.0,
+        1.0 / 20_922_789_888_000.0,
+        -1.0 / 6_402_373_705_728_000.0,
+    ];
+    let mut ps = SIN[8];
+    for &k in SIN[..8].iter().rev() {
+        ps = M::madd(ps, r2, k);
     }
+    let mut pc = COS[9];
+    for &k in COS[..9].iter().rev() {
+        pc = M::madd(pc, r2, k);
+    }
+    let (sp, cp) = (r * ps, pc);
+    // Quadrant k mod 4, branch-free: odd quadrants swap sine and cosine;
+    // the sine is negated in quadrants 2, 3 and the cosine in 1, 2.
+    let swap = q & 1 != 0;
+    let (s, c) = if swap { (cp, sp) } else { (sp, cp) };
+    let sign_s = 1.0 - 2.0 * (((q >> 1) & 1) as f64);
+    let sign_c = 1.0 - 2.0 * ((((q + 1) >> 1) & 1) as f64);
+    (s * sign_s, c * sign_c)
 }
 
 #[cfg(test)]

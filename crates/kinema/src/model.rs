@@ -3,18 +3,12 @@
 //! A link can be described in three ways ([`LinkGeometry`]): standard DH
 //! (Spong/Corke), modified DH (Craig), or a general fixed transform followed by
 //! a motion along/about a joint axis (URDF). All three are compiled on
-//! construction into one form,
-//!
-//! ```text
-//! base_from_tool(q) = F0 · J(q1) · F1 · J(q2) · … · J(qn) · Fn
-//! ```
-//!
-//! where each `Fi` is a constant rigid transform and `J(q)` is a rotation about,
-//! or a translation along, the local z axis. Forward kinematics and Jacobians
-//! run on that form only (see [`crate::kin`]).
+//! construction into one form that forward kinematics and Jacobians run on
+//! (see the private `chain` module and ARCHITECTURE.md).
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
+use crate::chain::Chain;
 use crate::error::{Error, Result};
 use crate::math::Pose;
 
@@ -162,18 +156,6 @@ pub struct Metadata {
     pub notes: String,
 }
 
-/// The compiled chain: `F0 · J(q1) · F1 · … · J(qn) · Fn`.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Chain {
-    /// n + 1 fixed transforms.
-    pub fixed: Vec<Pose>,
-    /// Per joint: the transform between the joint motion and the link frame
-    /// (`link_frame_i = axis_frame_i · J(qi) · post_i`).
-    pub post: Vec<Pose>,
-    /// Per joint: true for prismatic.
-    pub prismatic: Vec<bool>,
-}
-
 /// A robot arm: an immutable, `Clone + Send + Sync` serial chain.
 ///
 /// Build it from a built-in name ([`Robot::builtin`]), a TOML description
@@ -189,73 +171,6 @@ pub struct Robot {
     tool: Pose,
     poses: Vec<NamedPose>,
     pub(crate) chain: Chain,
-}
-
-/// `(pre, post)` with `link_i = pre · J(q) · post` for a joint in isolation.
-fn joint_pre_post(j: &Joint) -> (Pose, Pose) {
-    let prismatic = j.kind == JointType::Prismatic;
-    match j.geometry {
-        LinkGeometry::Dh {
-            convention,
-            d,
-            a,
-            alpha,
-            theta,
-        } => {
-            // The joint's own fixed part: θ0 = offset (revolute) or θ (prismatic),
-            // d0 = d (revolute) or offset (prismatic).
-            let (th0, d0) = if prismatic {
-                (theta, j.offset)
-            } else {
-                (j.offset, d)
-            };
-            match convention {
-                // Rz(q + θ0)·Tz(d0)·Tx(a)·Rx(α): Rz(q) and Tz(q) commute with
-                // Rz(θ0)·Tz(d0), so the motion comes first and the rest is `post`.
-                DhConvention::Standard => (
-                    Pose::IDENTITY,
-                    Pose::rot_z(th0)
-                        * Pose::translation(0.0, 0.0, d0)
-                        * Pose::translation(a, 0.0, 0.0)
-                        * Pose::rot_x(alpha),
-                ),
-                // Rx(α)·Tx(a)·Rz(θ0)·Tz(d0)·J(q): the motion comes last.
-                DhConvention::Modified => (
-                    Pose::rot_x(alpha)
-                        * Pose::translation(a, 0.0, 0.0)
-                        * Pose::rot_z(th0)
-                        * Pose::translation(0.0, 0.0, d0),
-                    Pose::IDENTITY,
-                ),
-            }
-        }
-        LinkGeometry::General { origin, axis } => {
-            // Motion about/along `axis` = Ra · (motion about/along z) · Raᵀ with Ra·z = axis.
-            let ra = align_z_to(&axis);
-            let align = Pose::new(ra, Vector3::zeros());
-            let off = if prismatic {
-                Pose::translation(0.0, 0.0, j.offset)
-            } else {
-                Pose::rot_z(j.offset)
-            };
-            (origin * align * off, align.inverse())
-        }
-    }
-}
-
-/// A rotation taking the z axis onto the unit vector `u`.
-fn align_z_to(u: &Vector3<f64>) -> Matrix3<f64> {
-    let z = Vector3::z();
-    let c = z.dot(u);
-    if c > 1.0 - 1e-15 {
-        return Matrix3::identity();
-    }
-    if c < -1.0 + 1e-15 {
-        // Half turn about x.
-        return Matrix3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0);
-    }
-    let axis = z.cross(u).normalize();
-    crate::math::axis_angle_to_rot(&(axis * c.clamp(-1.0, 1.0).acos()))
 }
 
 impl Robot {
@@ -379,7 +294,7 @@ impl Robot {
                 )));
             }
         }
-        let chain = Self::compile(&joints, &base, &tool);
+        let chain = Chain::new(&joints, &base, &tool);
         Ok(Robot {
             name,
             convention,
@@ -390,25 +305,6 @@ impl Robot {
             poses,
             chain,
         })
-    }
-
-    fn compile(joints: &[Joint], base: &Pose, tool: &Pose) -> Chain {
-        let n = joints.len();
-        let pp: Vec<(Pose, Pose)> = joints.iter().map(joint_pre_post).collect();
-        let mut fixed = Vec::with_capacity(n + 1);
-        fixed.push(*base * pp[0].0);
-        for i in 0..n {
-            let next_pre = if i + 1 < n { pp[i + 1].0 } else { *tool };
-            fixed.push(pp[i].1 * next_pre);
-        }
-        Chain {
-            fixed,
-            post: pp.iter().map(|p| p.1).collect(),
-            prismatic: joints
-                .iter()
-                .map(|j| j.kind == JointType::Prismatic)
-                .collect(),
-        }
     }
 
     /// Robot name (e.g. `lbr-iiwa-14-r820`).

@@ -1,0 +1,868 @@
+//! The `kinema` command: parse arguments, call the library, print.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use kinema::analysis::{self, Axes};
+use kinema::nalgebra::Matrix6xX;
+use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
+use serde_json::{json, Value};
+
+#[derive(Parser)]
+#[command(
+    name = "kinema",
+    version,
+    about = "Kinematics of robot arms: forward kinematics, Jacobians, manipulability."
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// List the built-in robots.
+    Robots {
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Show a robot: DH table (or joint frames), limits, base, tool, named poses.
+    Info {
+        #[command(flatten)]
+        robot: RobotArg,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Forward kinematics: the tool pose for a joint configuration, or a whole CSV file of them.
+    Fk(FkArgs),
+    /// Geometric Jacobian (rows vx vy vz ωx ωy ωz) at a configuration.
+    Jacobian(JacobianArgs),
+    /// Manipulability, condition number, rank, singular values and dependent joints.
+    Manip(ManipArgs),
+    /// Time FK and the Jacobian over random configurations in this process.
+    Bench(BenchArgs),
+}
+
+#[derive(Args)]
+struct RobotArg {
+    /// A built-in robot name (see `kinema robots`), a .toml description or a .urdf file.
+    #[arg(long, short)]
+    robot: String,
+    /// For a URDF: the tip link of the chain (default: the only leaf link).
+    #[arg(long)]
+    tip: Option<String>,
+}
+
+impl RobotArg {
+    fn load(&self) -> Result<Robot> {
+        Ok(Robot::load(&self.robot, self.tip.as_deref())?)
+    }
+}
+
+#[derive(Args)]
+struct QArg {
+    /// Joint values, comma-separated (rad and m), or a named pose such as `home`.
+    #[arg(long, allow_hyphen_values = true)]
+    q: String,
+    /// Revolute joint values are in degrees (prismatic ones stay in metres).
+    #[arg(long)]
+    deg: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum RpyArg {
+    /// R = Rz(yaw)·Ry(pitch)·Rx(roll) (seed 000 eq. 6; URDF).
+    Zyx,
+    /// R = Rx(a)·Ry(b)·Rz(c) (Corke's arm convention, seed 004).
+    Xyz,
+}
+
+impl From<RpyArg> for RpyConvention {
+    fn from(r: RpyArg) -> Self {
+        match r {
+            RpyArg::Zyx => RpyConvention::Zyx,
+            RpyArg::Xyz => RpyConvention::Xyz,
+        }
+    }
+}
+
+#[derive(Args)]
+struct FkArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// Joint values, comma-separated (rad and m), or a named pose such as `home`.
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        required_unless_present = "input",
+        conflicts_with = "input"
+    )]
+    q: Option<String>,
+    /// Revolute joint values are in degrees (prismatic ones stay in metres).
+    #[arg(long)]
+    deg: bool,
+    /// Roll-pitch-yaw convention of the printed orientation.
+    #[arg(long, value_enum, default_value = "zyx")]
+    rpy: RpyArg,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+    /// Batch mode: a CSV file with one configuration per line (an optional header line is skipped).
+    #[arg(long, requires = "output")]
+    input: Option<PathBuf>,
+    /// Batch mode: where to write the poses (CSV); written completely or not at all.
+    #[arg(long, requires = "input")]
+    output: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FrameArg {
+    Base,
+    Tool,
+}
+
+#[derive(Args)]
+struct JacobianArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    #[command(flatten)]
+    q: QArg,
+    /// Frame the Jacobian is expressed in.
+    #[arg(long, value_enum, default_value = "base")]
+    frame: FrameArg,
+    /// Analytic Jacobian for roll-pitch-yaw rates (in the given convention) instead of the geometric one.
+    #[arg(long, value_enum, conflicts_with = "frame")]
+    analytic: Option<RpyArg>,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct ManipArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    #[command(flatten)]
+    q: QArg,
+    /// Also report the manipulability along this direction of motion "vx,vy,vz" (seed 004 eq. 12).
+    #[arg(long, allow_hyphen_values = true)]
+    direction: Option<String>,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// Number of random configurations (at least 1 000 000 is meaningful).
+    #[arg(long, default_value_t = 1_000_000)]
+    n: usize,
+    /// Seed of the random configurations.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.cmd {
+        Cmd::Robots { json } => robots(json),
+        Cmd::Info { robot, json } => info(&robot.load()?, json),
+        Cmd::Fk(a) => fk(a),
+        Cmd::Jacobian(a) => jacobian(a),
+        Cmd::Manip(a) => manip(a),
+        Cmd::Bench(a) => bench(a),
+    }
+}
+
+fn print_json(v: &Value) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    serde_json::to_writer_pretty(&mut out, v)?;
+    writeln!(out)?;
+    Ok(())
+}
+
+fn robots(as_json: bool) -> Result<()> {
+    let all = Robot::builtins()?;
+    if as_json {
+        let list: Vec<Value> = all
+            .iter()
+            .map(|r| {
+                json!({
+                    "name": r.name(),
+                    "dof": r.dof(),
+                    "joint_types": r.joint_types(),
+                    "manufacturer": r.metadata().manufacturer,
+                    "source": r.metadata().source,
+                })
+            })
+            .collect();
+        return print_json(&Value::Array(list));
+    }
+    println!("{:<20} {:>3}  {:<8} source", "name", "dof", "joints");
+    for r in &all {
+        println!(
+            "{:<20} {:>3}  {:<8} {}",
+            r.name(),
+            r.dof(),
+            r.joint_types(),
+            r.metadata().source
+        );
+    }
+    Ok(())
+}
+
+/// A joint value in display units: degrees for revolute joints, metres for prismatic ones.
+fn shown(kind: JointType, v: f64) -> f64 {
+    match kind {
+        JointType::Revolute => v.to_degrees(),
+        JointType::Prismatic => v,
+    }
+}
+
+fn pose_json(p: &Pose, conv: RpyConvention) -> Value {
+    let q = p.quaternion();
+    json!({
+        "T": p.to_rows(),
+        "position": [p.pos.x, p.pos.y, p.pos.z],
+        "rpy": p.rpy(conv),
+        "rpy_convention": conv_name(conv),
+        "quaternion_wxyz": [q.w, q.i, q.j, q.k],
+    })
+}
+
+fn conv_name(c: RpyConvention) -> &'static str {
+    match c {
+        RpyConvention::Zyx => "zyx",
+        RpyConvention::Xyz => "xyz",
+    }
+}
+
+fn info(r: &Robot, as_json: bool) -> Result<()> {
+    let joints: Vec<Value> = r
+        .joints()
+        .iter()
+        .map(|j| {
+            let geometry = match j.geometry {
+                LinkGeometry::Dh { convention, d, a, alpha, theta } => json!({
+                    "convention": format!("{convention:?}").to_lowercase(), "d": d, "a": a, "alpha": alpha, "theta": theta,
+                }),
+                LinkGeometry::General { origin, axis } => json!({
+                    "xyz": [origin.pos.x, origin.pos.y, origin.pos.z],
+                    "rpy": origin.rpy(RpyConvention::Zyx),
+                    "axis": [axis.x, axis.y, axis.z],
+                }),
+            };
+            json!({
+                "name": j.name, "type": format!("{:?}", j.kind).to_lowercase(), "offset": j.offset, "geometry": geometry,
+                "min": j.limits.min, "max": j.limits.max, "vel": j.limits.vel, "acc": j.limits.acc, "jerk": j.limits.jerk,
+            })
+        })
+        .collect();
+    if as_json {
+        let poses: serde_json::Map<String, Value> = r
+            .poses()
+            .iter()
+            .map(|p| (p.name.clone(), json!(p.q)))
+            .collect();
+        return print_json(&json!({
+            "name": r.name(), "dof": r.dof(), "convention": format!("{:?}", r.convention()).to_lowercase(),
+            "manufacturer": r.metadata().manufacturer, "source": r.metadata().source, "notes": r.metadata().notes,
+            "joints": joints, "base": pose_json(r.base(), RpyConvention::Zyx), "tool": pose_json(r.tool(), RpyConvention::Zyx),
+            "poses": poses,
+        }));
+    }
+    let m = r.metadata();
+    println!(
+        "{} — {} DOF ({}), {:?} description",
+        r.name(),
+        r.dof(),
+        r.joint_types(),
+        r.convention()
+    );
+    if !m.manufacturer.is_empty() {
+        println!("manufacturer: {}", m.manufacturer);
+    }
+    println!("source: {}", m.source);
+    println!("\nlengths in m, angles in deg; revolute θ = q + offset, prismatic d = q + offset");
+    match r.convention() {
+        kinema::Convention::General => {
+            println!(
+                "{:>2} {:<16} {:>4} {:>28} {:>26} {:>22}",
+                "i", "joint", "type", "origin xyz", "origin rpy", "axis"
+            );
+            for (i, j) in r.joints().iter().enumerate() {
+                if let LinkGeometry::General { origin, axis } = j.geometry {
+                    let rpy = origin.rpy(RpyConvention::Zyx).map(f64::to_degrees);
+                    println!(
+                        "{:>2} {:<16} {:>4} {:>8.4} {:>8.4} {:>8.4}  {:>8.2} {:>8.2} {:>8.2}  {:>6.3} {:>6.3} {:>6.3}",
+                        i + 1, j.name, j.kind.letter(), origin.pos.x, origin.pos.y, origin.pos.z, rpy[0], rpy[1], rpy[2], axis.x, axis.y, axis.z
+                    );
+                }
+            }
+        }
+        _ => {
+            let modified = r.convention() == kinema::Convention::Modified;
+            let (al, aa) = if modified {
+                ("α(i-1)", "a(i-1)")
+            } else {
+                ("α", "a")
+            };
+            println!(
+                "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9} {:>9} {:>9}",
+                "i", "joint", "type", "θ", "d", aa, al, "offset"
+            );
+            for (i, j) in r.joints().iter().enumerate() {
+                if let LinkGeometry::Dh {
+                    d, a, alpha, theta, ..
+                } = j.geometry
+                {
+                    let (th, dd) = match j.kind {
+                        JointType::Revolute => (format!("q{}", i + 1), format!("{d:.4}")),
+                        JointType::Prismatic => {
+                            (format!("{:.2}", theta.to_degrees()), format!("q{}", i + 1))
+                        }
+                    };
+                    println!(
+                        "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9.4} {:>9.2} {:>9.4}",
+                        i + 1,
+                        j.name,
+                        j.kind.letter(),
+                        th,
+                        dd,
+                        a,
+                        alpha.to_degrees(),
+                        shown(j.kind, j.offset)
+                    );
+                }
+            }
+        }
+    }
+    println!("\nlimits (deg or m, per s …)");
+    for (i, j) in r.joints().iter().enumerate() {
+        let opt =
+            |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", shown(j.kind, v)));
+        println!(
+            "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}",
+            i + 1,
+            j.name,
+            shown(j.kind, j.limits.min),
+            shown(j.kind, j.limits.max),
+            opt(j.limits.vel),
+            opt(j.limits.acc),
+            opt(j.limits.jerk)
+        );
+    }
+    for (name, p) in [("base", r.base()), ("tool", r.tool())] {
+        if *p != Pose::IDENTITY {
+            let rpy = p.rpy(RpyConvention::Zyx).map(f64::to_degrees);
+            println!(
+                "{name}: xyz = [{:.4}, {:.4}, {:.4}] m, rpy (zyx) = [{:.3}, {:.3}, {:.3}] deg",
+                p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2]
+            );
+        }
+    }
+    println!("\nnamed poses (deg or m)");
+    for p in r.poses() {
+        let vals: Vec<String> =
+            p.q.iter()
+                .zip(r.joints())
+                .map(|(v, j)| format!("{:.4}", shown(j.kind, *v)))
+                .collect();
+        println!("  {:<14} [{}]", p.name, vals.join(", "));
+    }
+    if !m.notes.trim().is_empty() {
+        println!("\nnotes:\n{}", m.notes.trim());
+    }
+    Ok(())
+}
+
+fn out_of_limits_json(r: &Robot, fk: &kinema::Fk) -> Vec<Value> {
+    fk.out_of_limits
+        .indices()
+        .map(|i| json!({"joint": i + 1, "name": r.joints()[i].name}))
+        .collect()
+}
+
+fn fk(a: FkArgs) -> Result<()> {
+    let r = a.robot.load()?;
+    let conv: RpyConvention = a.rpy.into();
+    if let (Some(input), Some(output)) = (&a.input, &a.output) {
+        return fk_batch_file(&r, input, output, a.deg, conv);
+    }
+    let q = r.parse_q(
+        a.q.as_deref().expect("clap requires --q without --input"),
+        a.deg,
+    )?;
+    let fk = r.fk(&q)?;
+    let p = fk.pose;
+    if a.json {
+        let mut v = pose_json(&p, conv);
+        v["robot"] = json!(r.name());
+        v["q"] = json!(q);
+        v["within_limits"] = json!(fk.within_limits());
+        v["out_of_limits"] = json!(out_of_limits_json(&r, &fk));
+        return print_json(&v);
+    }
+    println!(
+        "robot {}  q = [{}] (rad/m)",
+        r.name(),
+        q.iter()
+            .map(|v| format!("{v:.6}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    println!("T (base_from_tool):");
+    for row in p.to_rows() {
+        println!(
+            "  [{:>10.6} {:>10.6} {:>10.6} {:>10.6}]",
+            row[0], row[1], row[2], row[3]
+        );
+    }
+    let rpy = p.rpy(conv);
+    let qq = p.quaternion();
+    println!(
+        "position  [m]   x = {:.6}  y = {:.6}  z = {:.6}",
+        p.pos.x, p.pos.y, p.pos.z
+    );
+    println!(
+        "rpy ({})  [deg] {:.4}, {:.4}, {:.4}   [rad] {:.6}, {:.6}, {:.6}",
+        conv_name(conv),
+        rpy[0].to_degrees(),
+        rpy[1].to_degrees(),
+        rpy[2].to_degrees(),
+        rpy[0],
+        rpy[1],
+        rpy[2]
+    );
+    println!(
+        "quaternion (w, x, y, z) {:.6}, {:.6}, {:.6}, {:.6}",
+        qq.w, qq.i, qq.j, qq.k
+    );
+    if fk.within_limits() {
+        println!("all joints within limits");
+    } else {
+        for i in fk.out_of_limits.indices() {
+            let j = &r.joints()[i];
+            println!(
+                "warning: joint {} ({}) = {:.4} is outside its limits [{:.4}, {:.4}] ({})",
+                i + 1,
+                j.name,
+                shown(j.kind, q[i]),
+                shown(j.kind, j.limits.min),
+                shown(j.kind, j.limits.max),
+                if j.kind == JointType::Revolute {
+                    "deg"
+                } else {
+                    "m"
+                }
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Reads configurations from `input`, writes poses to `output` through a
+/// temporary file that is renamed only when everything succeeded.
+fn fk_batch_file(
+    r: &Robot,
+    input: &Path,
+    output: &Path,
+    deg: bool,
+    conv: RpyConvention,
+) -> Result<()> {
+    let text = std::fs::read_to_string(input)
+        .with_context(|| format!("cannot read input `{}`", input.display()))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let n = r.dof();
+    let mut qs: Vec<f64> = Vec::new();
+    let mut first = true;
+    for rec in reader.records() {
+        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", input.display()))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        if rec.iter().all(|f| f.is_empty()) {
+            continue;
+        }
+        let parsed: Result<Vec<f64>, _> = rec.iter().map(str::parse::<f64>).collect();
+        let vals = match parsed {
+            Ok(v) => v,
+            Err(_) if first => {
+                first = false;
+                continue; // header line
+            }
+            Err(_) => bail!(
+                "`{}` line {line}: `{}` is not a list of {n} numbers",
+                input.display(),
+                rec.iter().collect::<Vec<_>>().join(",")
+            ),
+        };
+        first = false;
+        if vals.len() != n {
+            bail!(
+                "`{}` line {line}: {} values, but robot `{}` has {n} joints",
+                input.display(),
+                vals.len(),
+                r.name()
+            );
+        }
+        let start = qs.len();
+        for (v, j) in vals.iter().zip(r.joints()) {
+            qs.push(if deg && j.kind == JointType::Revolute {
+                v.to_radians()
+            } else {
+                *v
+            });
+        }
+        r.check_q(&qs[start..])
+            .map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", input.display()))?;
+    }
+    let rows = qs.len() / n;
+    if rows == 0 {
+        bail!("`{}` holds no configurations", input.display());
+    }
+    let bar = indicatif::ProgressBar::new(rows as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} configurations ({per_sec}, eta {eta})",
+        )
+        .expect("valid template"),
+    );
+    if rows < 200_000 {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let dir = output
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let tmp = dir.join(format!(
+        ".{}.kinema-tmp",
+        output
+            .file_name()
+            .map_or("out".into(), |f| f.to_string_lossy())
+    ));
+    let result = (|| -> Result<()> {
+        let file = std::fs::File::create(&tmp)
+            .with_context(|| format!("cannot create `{}`", tmp.display()))?;
+        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
+        let rpy_names = match conv {
+            RpyConvention::Zyx => ["roll", "pitch", "yaw"],
+            RpyConvention::Xyz => ["rx", "ry", "rz"],
+        };
+        let header = [
+            "x",
+            "y",
+            "z",
+            rpy_names[0],
+            rpy_names[1],
+            rpy_names[2],
+            "qw",
+            "qx",
+            "qy",
+            "qz",
+            "within_limits",
+        ];
+        w.write_record(header)?;
+        const CHUNK: usize = 65_536;
+        for chunk in qs.chunks(CHUNK * n) {
+            for fk in r.fk_batch(chunk)? {
+                let p = fk.pose;
+                let rpy = p.rpy(conv);
+                let q = p.quaternion();
+                let vals = [
+                    p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2], q.w, q.i, q.j, q.k,
+                ];
+                let mut rec: Vec<String> = vals.iter().map(|v| format!("{v:.12}")).collect();
+                rec.push(fk.within_limits().to_string());
+                w.write_record(&rec)?;
+            }
+            bar.inc((chunk.len() / n) as u64);
+        }
+        w.flush()?;
+        let file = w
+            .into_inner()
+            .map_err(|e| anyhow::anyhow!("{}", e.error()))?
+            .into_inner()
+            .map_err(|e| anyhow::anyhow!("{}", e.error()))?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, output)
+            .with_context(|| format!("cannot move the result to `{}`", output.display()))?;
+        Ok(())
+    })();
+    bar.finish_and_clear();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result?;
+    eprintln!("wrote {rows} poses to {}", output.display());
+    Ok(())
+}
+
+fn matrix_rows(j: &Matrix6xX<f64>) -> Vec<Vec<f64>> {
+    (0..j.nrows())
+        .map(|r| j.row(r).iter().copied().collect())
+        .collect()
+}
+
+fn jacobian(a: JacobianArgs) -> Result<()> {
+    let r = a.robot.load()?;
+    let q = r.parse_q(&a.q.q, a.q.deg)?;
+    let (j, kind) = match a.analytic {
+        Some(c) => (
+            r.analytic_jacobian(&q, c.into())?,
+            format!("analytic (rpy {})", conv_name(c.into())),
+        ),
+        None => {
+            let frame = match a.frame {
+                FrameArg::Base => Frame::Base,
+                FrameArg::Tool => Frame::Tool,
+            };
+            (
+                r.jacobian(&q, frame)?,
+                format!(
+                    "geometric, {} frame",
+                    if frame == Frame::Base { "base" } else { "tool" }
+                ),
+            )
+        }
+    };
+    if a.json {
+        return print_json(
+            &json!({ "robot": r.name(), "q": q, "kind": kind, "J": matrix_rows(&j) }),
+        );
+    }
+    println!(
+        "robot {}  Jacobian: {kind}, rows vx vy vz ωx ωy ωz",
+        r.name()
+    );
+    let labels = ["vx", "vy", "vz", "ωx", "ωy", "ωz"];
+    for (row, label) in labels.iter().enumerate() {
+        let vals: Vec<String> = j.row(row).iter().map(|v| format!("{v:>10.6}")).collect();
+        println!("  {label:<2} [{}]", vals.join(" "));
+    }
+    Ok(())
+}
+
+fn manip(a: ManipArgs) -> Result<()> {
+    let r = a.robot.load()?;
+    let q = r.parse_q(&a.q.q, a.q.deg)?;
+    let j = r.jacobian(&q, Frame::Base)?;
+    let rep = analysis::report(&j)?;
+    let along = match &a.direction {
+        Some(d) => {
+            let v: Vec<f64> = d
+                .split(',')
+                .map(|s| s.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .with_context(|| {
+                    format!("--direction `{d}` must be three comma-separated numbers")
+                })?;
+            if v.len() != 3 {
+                bail!("--direction `{d}` must have 3 components, has {}", v.len());
+            }
+            let v = kinema::nalgebra::Vector3::new(v[0], v[1], v[2]);
+            Some(analysis::manipulability_along(&j, Axes::Translation, &v)?)
+        }
+        None => None,
+    };
+    let et = analysis::ellipsoid(&j, Axes::Translation)?;
+    let er = analysis::ellipsoid(&j, Axes::Rotation)?;
+    let deps: Vec<Value> = rep
+        .dependent_joints
+        .iter()
+        .map(|d| json!({"joint": d.joint + 1, "depends_on": d.on.iter().map(|(k, c)| json!({"joint": k + 1, "coefficient": c})).collect::<Vec<_>>() }))
+        .collect();
+    if a.json {
+        let ell = |e: &analysis::Ellipsoid| json!({"radii": [e.radii[0], e.radii[1], e.radii[2]], "axes": (0..3).map(|k| [e.axes[(0, k)], e.axes[(1, k)], e.axes[(2, k)]]).collect::<Vec<_>>()});
+        return print_json(&json!({
+            "robot": r.name(), "q": q,
+            "yoshikawa": rep.yoshikawa,
+            "yoshikawa_translation": rep.yoshikawa_translation,
+            "yoshikawa_rotation": rep.yoshikawa_rotation,
+            "condition": if rep.condition.is_finite() { json!(rep.condition) } else { Value::Null },
+            "rank": rep.rank,
+            "rank_tolerance": rep.rank_tolerance,
+            "singular_values": rep.singular_values,
+            "singular_directions": rep.singular_directions,
+            "dependent_joints": deps,
+            "ellipsoid_translation": ell(&et),
+            "ellipsoid_rotation": ell(&er),
+            "manipulability_along": along,
+        }));
+    }
+    println!("robot {}", r.name());
+    println!("yoshikawa               {:.6e}", rep.yoshikawa);
+    println!("yoshikawa (translation) {:.6e}", rep.yoshikawa_translation);
+    println!("yoshikawa (rotation)    {:.6e}", rep.yoshikawa_rotation);
+    println!(
+        "condition number        {}",
+        if rep.condition.is_finite() {
+            format!("{:.6e}", rep.condition)
+        } else {
+            "inf (singular)".into()
+        }
+    );
+    println!(
+        "rank                    {} of {} (tolerance {:.3e})",
+        rep.rank,
+        r.dof().min(6),
+        rep.rank_tolerance
+    );
+    println!(
+        "singular values         [{}]",
+        rep.singular_values
+            .iter()
+            .map(|v| format!("{v:.6e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for d in &rep.singular_directions {
+        println!(
+            "  lost task direction   [vx vy vz ωx ωy ωz] = [{}]",
+            d.iter()
+                .map(|v| format!("{v:.4}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    println!(
+        "translational ellipsoid radii [{:.6}, {:.6}, {:.6}] m/s per rad/s",
+        et.radii[0], et.radii[1], et.radii[2]
+    );
+    println!(
+        "rotational ellipsoid radii    [{:.6}, {:.6}, {:.6}] rad/s per rad/s",
+        er.radii[0], er.radii[1], er.radii[2]
+    );
+    if let Some(m) = along {
+        println!("manipulability along direction {:.6}", m);
+    }
+    if rep.dependent_joints.is_empty() {
+        println!("no linearly dependent joints");
+    }
+    for d in &rep.dependent_joints {
+        if d.on.is_empty() {
+            println!(
+                "joint {} does not move the tool at this configuration",
+                d.joint + 1
+            );
+        } else {
+            let terms: Vec<String> =
+                d.on.iter()
+                    .map(|(k, c)| format!("{c:+.4}·q{}", k + 1))
+                    .collect();
+            println!("q{} depends on: {}", d.joint + 1, terms.join(" "));
+        }
+    }
+    Ok(())
+}
+
+fn bench(a: BenchArgs) -> Result<()> {
+    use rand::SeedableRng;
+    let r = a.robot.load()?;
+    if a.n < 1000 {
+        bail!(
+            "--n {} is too small; use at least 1000 (1 000 000 for meaningful figures)",
+            a.n
+        );
+    }
+    let n = r.dof();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(a.seed);
+    let mut qs = vec![0.0; a.n * n];
+    for q in qs.chunks_exact_mut(n) {
+        r.random_q_into(&mut rng, q);
+    }
+    const BATCH: usize = 1000;
+    let time_batches = |f: &mut dyn FnMut(&[f64])| -> Vec<f64> {
+        // Warm-up on the first batches, then one sample per batch of calls.
+        for q in qs.chunks_exact(n).take(10 * BATCH) {
+            f(q);
+        }
+        let mut samples: Vec<f64> = qs
+            .chunks(BATCH * n)
+            .map(|batch| {
+                let t = Instant::now();
+                for q in batch.chunks_exact(n) {
+                    f(q);
+                }
+                t.elapsed().as_nanos() as f64 / (batch.len() / n) as f64
+            })
+            .collect();
+        samples.sort_by(f64::total_cmp);
+        samples
+    };
+    let mut sink = 0.0;
+    let fk = time_batches(&mut |q| {
+        sink += std::hint::black_box(
+            r.fk(std::hint::black_box(q))
+                .map(|f| f.pose.pos.x)
+                .unwrap_or(0.0),
+        );
+    });
+    let mut jbuf = Matrix6xX::zeros(n);
+    let jac = time_batches(&mut |q| {
+        let _ = r.jacobian_into(std::hint::black_box(q), Frame::Base, &mut jbuf);
+        sink += std::hint::black_box(jbuf[(0, 0)]);
+    });
+    let t = Instant::now();
+    let batch = r.fk_batch(&qs)?;
+    let batch_ns = t.elapsed().as_nanos() as f64 / a.n as f64;
+    std::hint::black_box((sink, batch.len()));
+    let pct = |s: &[f64], p: f64| s[((s.len() - 1) as f64 * p).round() as usize];
+    if a.json {
+        return print_json(&json!({
+            "robot": r.name(), "dof": n, "configurations": a.n, "seed": a.seed,
+            "fk_ns": pct(&fk, 0.5), "fk_ns_p10": pct(&fk, 0.1), "fk_ns_p90": pct(&fk, 0.9),
+            "jacobian_ns": pct(&jac, 0.5), "jacobian_ns_p10": pct(&jac, 0.1), "jacobian_ns_p90": pct(&jac, 0.9),
+            "fk_batch_ns_per_config": batch_ns, "threads": rayon::current_num_threads(),
+        }));
+    }
+    println!(
+        "robot {} ({} DOF), {} random configurations, seed {}",
+        r.name(),
+        n,
+        a.n,
+        a.seed
+    );
+    println!(
+        "fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})",
+        pct(&fk, 0.5),
+        pct(&fk, 0.1),
+        pct(&fk, 0.9)
+    );
+    println!(
+        "jacobian  median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})",
+        pct(&jac, 0.5),
+        pct(&jac, 0.1),
+        pct(&jac, 0.9)
+    );
+    println!(
+        "fk batch         {:>8.1} ns/config on {} threads",
+        batch_ns,
+        rayon::current_num_threads()
+    );
+    Ok(())
+}

@@ -1,0 +1,920 @@
+//! Bad input gives an error that says what was wrong, and never a panic.
+
+use std::path::{Path, PathBuf};
+
+use kinema::nalgebra::Matrix6xX;
+use kinema::{builtin_names, Error, Frame, Pose, Robot, RpyConvention, Workspace};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// A valid two-joint (RP) description; the tests below break it one way at a time.
+const GOOD: &str = r#"name = "rp"
+source = "tests/bad_input.rs"
+convention = "standard"
+[units]
+length = "mm"
+angle = "deg"
+[[joint]]
+name = "turn"
+d = 100
+a = 200
+alpha = 0
+min = -90
+max = 90
+[[joint]]
+name = "slide"
+type = "prismatic"
+theta = 0
+a = 0
+alpha = 0
+min = 0
+max = 300
+[poses]
+home = [0, 100]
+qz = [0, 0]
+"#;
+
+/// 1-based line of the first occurrence of `needle` in `text`.
+fn line_of(text: &str, needle: &str) -> usize {
+    let at = text
+        .find(needle)
+        .unwrap_or_else(|| panic!("`{needle}` not in text"));
+    text[..at].matches('\n').count() + 1
+}
+
+/// 1-based line of the `n`-th (0-based) occurrence of `needle`.
+fn nth_line_of(text: &str, needle: &str, n: usize) -> usize {
+    let (at, _) = text.match_indices(needle).nth(n).unwrap();
+    text[..at].matches('\n').count() + 1
+}
+
+/// Replaces exactly one occurrence (so a typo in a test cannot silently do nothing).
+fn replace_once(text: &str, from: &str, to: &str) -> String {
+    assert_eq!(text.matches(from).count(), 1, "`{from}` must occur once");
+    text.replacen(from, to, 1)
+}
+
+/// The `Description` error of a TOML text, destructured.
+fn desc_err(text: &str) -> (Error, usize, usize, String, String) {
+    let e = Robot::from_toml_str(text, "bad.toml").expect_err("must be rejected");
+    match &e {
+        Error::Description {
+            file,
+            line,
+            column,
+            field,
+            message,
+        } => {
+            assert_eq!(file, "bad.toml");
+            assert!(*line >= 1 && *column >= 1);
+            let shown = e.to_string();
+            assert!(
+                shown.starts_with(&format!("bad.toml:{line}:{column}: `{field}`: ")),
+                "{shown}"
+            );
+            assert!(shown.contains(message.as_str()));
+            let (l, c, f, m) = (*line, *column, field.clone(), message.clone());
+            (e, l, c, f, m)
+        }
+        other => panic!("expected Error::Description, got {other:?}"),
+    }
+}
+
+#[test]
+fn good_fixture_is_good() {
+    let r = Robot::from_toml_str(GOOD, "good.toml").unwrap();
+    assert_eq!(r.joint_types(), "RP");
+    let fk = r.fk(r.home()).unwrap();
+    assert!((fk.pose.pos.x - 0.2).abs() < 1e-12 && (fk.pose.pos.z - 0.2).abs() < 1e-12);
+}
+
+#[test]
+fn toml_syntax_error_gives_line_and_column() {
+    let bad = replace_once(GOOD, "a = 200", "a = 200 200");
+    let (_, line, column, field, _) = desc_err(&bad);
+    assert_eq!(line, line_of(GOOD, "a = 200"));
+    assert_eq!(field, "(syntax)");
+    assert!(
+        column > 1,
+        "the column points into the line, at the second number"
+    );
+
+    let bad = replace_once(GOOD, "length = \"mm\"", "length = \"mm");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!(line, line_of(GOOD, "length"));
+    assert_eq!(field, "(syntax)");
+    assert!(!message.is_empty());
+
+    let bad = replace_once(GOOD, "[poses]", "[poses");
+    let (_, line, ..) = desc_err(&bad);
+    assert_eq!(line, line_of(GOOD, "[poses]"));
+
+    // From a file: the path is in the message.
+    let path = data("malformed.toml");
+    let e = Robot::from_file(&path, None).unwrap_err();
+    let Error::Description { file, line, .. } = &e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(file, &path.display().to_string());
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(*line, line_of(&text, "alpha = = 90"));
+    assert!(e.to_string().contains("malformed.toml:"), "{e}");
+}
+
+#[test]
+fn toml_unknown_field() {
+    let bad = replace_once(GOOD, "alpha = 0\nmin = -90", "alpah = 0\nmin = -90");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!(line, line_of(&bad, "alpah"));
+    assert!(field.starts_with("joint[0]"), "{field}");
+    assert!(message.contains("alpah"), "{message}");
+    // It says what is allowed.
+    assert!(message.contains("alpha"), "{message}");
+
+    let bad = replace_once(GOOD, "source =", "colour = \"red\"\nsource =");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!(line, line_of(&bad, "colour"));
+    assert_eq!(field, "colour");
+    assert!(message.contains("colour"), "{message}");
+}
+
+#[test]
+fn toml_wrong_type() {
+    let bad = replace_once(GOOD, "a = 200", "a = \"long\"");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!(
+        (line, field.as_str()),
+        (line_of(&bad, "a = \"long\""), "joint[0].a")
+    );
+    assert!(
+        message.contains("string") || message.contains("float"),
+        "{message}"
+    );
+
+    let bad = replace_once(GOOD, "home = [0, 100]", "home = [0, \"x\"]");
+    let (_, line, _, field, _) = desc_err(&bad);
+    assert_eq!(line, line_of(&bad, "home ="));
+    assert!(field.starts_with("poses.home"), "{field}");
+
+    let bad = replace_once(GOOD, "convention = \"standard\"", "convention = \"dh\"");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!((line, field.as_str()), (3, "convention"));
+    assert!(message.contains("dh"), "{message}");
+
+    let bad = replace_once(GOOD, "type = \"prismatic\"", "type = \"spherical\"");
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert_eq!(field, "joint[1].type");
+    assert!(message.contains("spherical"), "{message}");
+}
+
+#[test]
+fn toml_missing_home() {
+    let bad = replace_once(GOOD, "home = [0, 100]\n", "");
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert_eq!(field, "poses.home");
+    assert!(message.contains("home"), "{message}");
+
+    let bad = replace_once(GOOD, "name = \"rp\"\n", "");
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert_eq!(field, "(top level)");
+    assert!(message.contains("name"), "{message}");
+}
+
+#[test]
+fn toml_pose_with_wrong_length() {
+    let bad = replace_once(GOOD, "qz = [0, 0]", "qz = [0, 0, 0]");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!(line, line_of(&bad, "qz ="));
+    assert_eq!(field, "poses.qz");
+    assert!(message.contains('3') && message.contains('2'), "{message}");
+
+    let bad = replace_once(GOOD, "home = [0, 100]", "home = []");
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert_eq!(field, "poses.home");
+    assert!(message.contains("0 values"), "{message}");
+}
+
+#[test]
+fn toml_min_greater_than_max() {
+    let bad = replace_once(GOOD, "min = 0\nmax = 300", "min = 300\nmax = 0");
+    let (_, line, _, field, message) = desc_err(&bad);
+    // Points at the second joint's table.
+    assert_eq!(line, nth_line_of(&bad, "[[joint]]", 1));
+    assert_eq!(field, "joint[1].min");
+    assert!(message.contains("slide"), "{message}");
+    assert!(
+        message.contains("300") && message.contains("not an interval"),
+        "{message}"
+    );
+}
+
+#[test]
+fn toml_prismatic_joint_with_d() {
+    let bad = replace_once(GOOD, "theta = 0", "theta = 0\nd = 50");
+    let (_, line, _, field, message) = desc_err(&bad);
+    assert_eq!(line, nth_line_of(&bad, "[[joint]]", 1));
+    assert_eq!(field, "joint[1].d");
+    assert!(
+        message.contains("prismatic") && message.contains("slide"),
+        "{message}"
+    );
+
+    // And the mirror image: a revolute joint with θ.
+    let bad = replace_once(GOOD, "d = 100", "d = 100\ntheta = 5");
+    let (_, line, _, field, _) = desc_err(&bad);
+    assert_eq!(line, nth_line_of(&bad, "[[joint]]", 0));
+    assert_eq!(field, "joint[0].theta");
+}
+
+#[test]
+fn toml_other_semantic_errors() {
+    // DH fields in a general description, and the other way round.
+    let bad = replace_once(
+        GOOD,
+        "convention = \"standard\"",
+        "convention = \"general\"",
+    );
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert!(field.starts_with("joint[0]."), "{field}");
+    assert!(message.contains("general"), "{message}");
+    let bad = replace_once(GOOD, "d = 100", "d = 100\naxis = [0, 0, 1]");
+    let (_, _, _, field, _) = desc_err(&bad);
+    assert_eq!(field, "joint[0].axis");
+    // A negative velocity limit.
+    let bad = replace_once(GOOD, "max = 90", "max = 90\nvel = -1");
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert_eq!(field, "joint[0].vel");
+    assert!(message.contains("positive"), "{message}");
+    // Non-finite numbers in the file (TOML has nan and inf literals).
+    let bad = replace_once(GOOD, "a = 200", "a = nan");
+    assert!(Robot::from_toml_str(&bad, "bad.toml").is_err());
+    let bad = replace_once(GOOD, "qz = [0, 0]", "qz = [0, inf]");
+    let (_, _, _, field, message) = desc_err(&bad);
+    assert_eq!(field, "poses.qz");
+    assert!(message.contains("inf"), "{message}");
+    // No joints at all: no `joint` key, or an empty one.
+    let head = GOOD.split("[[joint]]").next().unwrap();
+    let (_, _, _, field, message) = desc_err(&format!("{head}[poses]\nhome = []\n"));
+    assert_eq!(field, "(top level)");
+    assert!(message.contains("joint"), "{message}");
+    let (_, _, _, field, message) = desc_err(&format!("joint = []\n{head}[poses]\nhome = []\n"));
+    assert_eq!(field, "joint");
+    assert!(message.contains("at least one joint"), "{message}");
+}
+
+const GOOD_URDF_HEAD: &str = r#"<?xml version="1.0"?>
+<robot name="r">
+  <link name="base"/>
+  <link name="l1"/>
+  <link name="l2"/>
+"#;
+
+fn urdf_err(text: &str, tip: Option<&str>) -> String {
+    let e = Robot::from_urdf_str(text, "bad.urdf", tip).expect_err("must be rejected");
+    let Error::Urdf { file, message } = &e else {
+        panic!("expected Error::Urdf, got {e:?}")
+    };
+    assert_eq!(file, "bad.urdf");
+    assert_eq!(e.to_string(), format!("bad.urdf: {message}"));
+    message.clone()
+}
+
+fn joint_xml(name: &str, kind: &str, parent: &str, child: &str, limit: &str) -> String {
+    format!(
+        r#"  <joint name="{name}" type="{kind}">
+    <parent link="{parent}"/>
+    <child link="{child}"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/>
+    <axis xyz="0 0 1"/>
+    {limit}
+  </joint>
+"#
+    )
+}
+
+const LIMIT: &str = r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#;
+
+#[test]
+fn urdf_valid_fixture_is_valid() {
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT)
+    );
+    let r = Robot::from_urdf_str(&text, "ok.urdf", None).unwrap();
+    assert_eq!(r.dof(), 2);
+    assert!((r.fk(&[0.3, -0.2]).unwrap().pose.pos.z - 0.2).abs() < 1e-15);
+}
+
+#[test]
+fn urdf_not_xml() {
+    for text in [
+        "",
+        "this is not xml",
+        "name = \"toml\"\n",
+        "<robot name=\"r\">",
+        "<?xml version=\"1.0\"?><robot><link></robot>",
+    ] {
+        let m = urdf_err(text, None);
+        assert!(!m.is_empty(), "{text:?}");
+    }
+    let m = urdf_err("this is not xml", None);
+    assert!(m.contains("not a readable URDF"), "{m}");
+    // Valid XML with no joints.
+    let m = urdf_err(&format!("{GOOD_URDF_HEAD}</robot>"), None);
+    assert!(m.contains("no <joint>"), "{m}");
+}
+
+#[test]
+fn urdf_unsupported_joint_type_on_the_chain() {
+    for kind in ["floating", "planar"] {
+        let text = format!(
+            "{GOOD_URDF_HEAD}{}{}</robot>",
+            joint_xml("j1", "revolute", "base", "l1", LIMIT),
+            joint_xml("free", kind, "l1", "l2", LIMIT)
+        );
+        let m = urdf_err(&text, None);
+        assert!(m.contains("`free`") && m.contains(kind), "{m}");
+    }
+    // Off the chain it does not matter.
+    let text = format!(
+        "{GOOD_URDF_HEAD}  <link name=\"l3\"/>\n{}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT),
+        joint_xml("free", "floating", "base", "l3", LIMIT)
+    );
+    assert_eq!(
+        Robot::from_urdf_str(&text, "t", Some("l2")).unwrap().dof(),
+        2
+    );
+    let m = urdf_err(&text, Some("l3"));
+    assert!(m.contains("floating"), "{m}");
+}
+
+#[test]
+fn urdf_cycle_and_two_roots() {
+    // A cycle: every link is some joint's child, so there is no root.
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT),
+        joint_xml("j3", "revolute", "l2", "base", LIMIT)
+    );
+    let m = urdf_err(&text, None);
+    assert!(m.contains("root") && m.contains("cycle"), "{m}");
+    let m = urdf_err(&text, Some("l2"));
+    assert!(m.contains("cycle"), "{m}");
+    // Two roots: two separate chains.
+    let text = format!(
+        "{GOOD_URDF_HEAD}  <link name=\"other\"/>\n  <link name=\"l4\"/>\n{}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT),
+        joint_xml("j3", "revolute", "other", "l4", LIMIT)
+    );
+    let m = urdf_err(&text, None);
+    assert!(
+        m.contains("found 2") && m.contains("base") && m.contains("other"),
+        "{m}"
+    );
+    // A link with two parents.
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l2", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT)
+    );
+    let m = urdf_err(&text, None);
+    assert!(
+        m.contains("`l2`") && m.contains("more than one joint"),
+        "{m}"
+    );
+}
+
+#[test]
+fn urdf_limit_lower_above_upper() {
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml(
+            "j2",
+            "revolute",
+            "l1",
+            "l2",
+            r#"<limit lower="2" upper="1" effort="1" velocity="1"/>"#
+        )
+    );
+    let m = urdf_err(&text, None);
+    assert!(
+        m.contains("`j2`") && m.contains("lower = 2") && m.contains("upper = 1"),
+        "{m}"
+    );
+    // A zero axis.
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT).replace("\"0 0 1\"", "\"0 0 0\""),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT)
+    );
+    let m = urdf_err(&text, None);
+    assert!(m.contains("`j1`") && m.contains("axis"), "{m}");
+}
+
+#[test]
+fn urdf_unknown_tip() {
+    let text = std::fs::read_to_string(data("iiwa14.urdf")).unwrap();
+    let m = urdf_err(&text, Some("link_99"));
+    assert!(
+        m.contains("`link_99`") && m.contains("link_7") && m.contains("tool0"),
+        "{m}"
+    );
+    // A tip for a TOML file makes no sense.
+    let e = Robot::from_file(data("iiwa-modified.toml"), Some("tool0")).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"),
+        "{e:?}"
+    );
+    let e = Robot::load("panda", Some("tool0")).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn wrong_joint_count() {
+    let robot = Robot::builtin("puma560").unwrap();
+    for len in [0, 1, 5, 7, 12] {
+        let q = vec![0.1; len];
+        let check = |e: Error| {
+            assert_eq!(
+                e,
+                Error::JointCount {
+                    robot: "puma560".into(),
+                    expected: 6,
+                    got: len
+                }
+            );
+            assert!(
+                e.to_string().contains(&format!("{len} joint values")),
+                "{e}"
+            );
+        };
+        check(robot.fk(&q).unwrap_err());
+        check(robot.jacobian(&q, Frame::Base).unwrap_err());
+        check(robot.analytic_jacobian(&q, RpyConvention::Zyx).unwrap_err());
+        check(robot.link_frames(&q).unwrap_err());
+        check(
+            Workspace::new(&robot)
+                .jacobian(&robot, &q, Frame::Tool)
+                .unwrap_err(),
+        );
+        check(Workspace::new(&robot).link_frames(&robot, &q).unwrap_err());
+        if len > 0 {
+            check(
+                robot
+                    .parse_q(&vec!["0.1"; len].join(","), false)
+                    .unwrap_err(),
+            );
+        }
+    }
+    // fk_batch: not a whole number of configurations.
+    let e = robot.fk_batch(&[0.0; 13]).unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidArgument { what, message } if what == "qs" && message.contains("13")),
+        "{e:?}"
+    );
+    // Wrongly sized output buffers.
+    let mut j = Matrix6xX::zeros(5);
+    let e = robot
+        .jacobian_into(robot.home(), Frame::Base, &mut j)
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('5')),
+        "{e:?}"
+    );
+    let mut frames = vec![Pose::IDENTITY; 6];
+    let e = robot
+        .link_frames_into(robot.home(), &mut frames)
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('8')),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn non_finite_joint_values() {
+    for name in builtin_names() {
+        let robot = Robot::builtin(name).unwrap();
+        let n = robot.dof();
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for joint in 0..n {
+                let mut q = robot.home().to_vec();
+                q[joint] = bad;
+                let check = |e: Error| {
+                    let Error::NonFinite {
+                        robot: r,
+                        joint: jn,
+                        name: jname,
+                        value,
+                    } = &e
+                    else {
+                        panic!("{e:?}")
+                    };
+                    assert_eq!(r, name);
+                    assert_eq!(*jn, joint + 1);
+                    assert_eq!(jname, &robot.joints()[joint].name);
+                    assert!(value.is_nan() == bad.is_nan() && (bad.is_nan() || *value == bad));
+                    let s = e.to_string();
+                    assert!(
+                        s.contains(&format!("joint {}", joint + 1)) && s.contains("finite"),
+                        "{s}"
+                    );
+                    assert!(s.contains(if bad.is_nan() { "NaN" } else { "inf" }), "{s}");
+                };
+                check(robot.fk(&q).unwrap_err());
+                check(robot.jacobian(&q, Frame::Base).unwrap_err());
+                check(robot.jacobian(&q, Frame::Tool).unwrap_err());
+                check(robot.analytic_jacobian(&q, RpyConvention::Xyz).unwrap_err());
+                check(robot.link_frames(&q).unwrap_err());
+                let mut ws = Workspace::new(&robot);
+                check(ws.jacobian(&robot, &q, Frame::Base).unwrap_err());
+                check(ws.link_frames(&robot, &q).unwrap_err());
+            }
+        }
+    }
+}
+
+#[test]
+fn fk_batch_with_one_bad_row() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(0xbad);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let rows = 5000;
+        let mut qs: Vec<f64> = (0..rows).flat_map(|_| robot.random_q(&mut rng)).collect();
+        let row = rng.random_range(0..rows);
+        let joint = rng.random_range(0..7);
+        qs[row * 7 + joint] = bad;
+        let e = robot.fk_batch(&qs).unwrap_err();
+        let Error::NonFinite { joint: jn, .. } = &e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(*jn, joint + 1, "{e}");
+        // Fixing the row makes the batch work.
+        qs[row * 7 + joint] = 0.0;
+        assert_eq!(robot.fk_batch(&qs).unwrap().len(), rows);
+    }
+}
+
+#[test]
+fn unknown_robot_and_pose_names() {
+    let e = Robot::builtin("r2d2").unwrap_err();
+    let Error::UnknownRobot { name, known } = &e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(name, "r2d2");
+    let s = e.to_string();
+    for b in builtin_names() {
+        assert!(known.contains(b) && s.contains(b), "{s}");
+    }
+    assert!(s.contains("`r2d2`"), "{s}");
+    let e = Robot::load("r2d2", None).unwrap_err();
+    assert!(matches!(e, Error::UnknownRobot { .. }), "{e:?}");
+
+    let robot = Robot::builtin("puma560").unwrap();
+    let e = robot.pose("qx").unwrap_err();
+    let Error::UnknownPose {
+        robot: r,
+        pose,
+        known,
+    } = &e
+    else {
+        panic!("{e:?}")
+    };
+    assert_eq!((r.as_str(), pose.as_str()), ("puma560", "qx"));
+    for p in ["home", "qn", "qr", "qs", "qz"] {
+        assert!(known.contains(p), "{known}");
+    }
+    assert!(e.to_string().contains("`qx`"), "{e}");
+    assert!(matches!(
+        robot.parse_q("qx", false),
+        Err(Error::UnknownPose { .. })
+    ));
+}
+
+#[test]
+fn parse_q_rejects_bad_text() {
+    let robot = Robot::builtin("scara5").unwrap();
+    let e = robot.parse_q("1,2,x", false).unwrap_err();
+    let Error::InvalidArgument { what, message } = &e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(what, "joint values");
+    assert!(
+        message.contains("value 3") && message.contains("`x`"),
+        "{message}"
+    );
+    assert!(
+        message.contains("home") && message.contains("qz"),
+        "{message}"
+    );
+    for text in [
+        "",
+        ",",
+        "1,,2,3,4",
+        "1;2;3;4;5",
+        "0.5, 90deg, 0, 0, 0",
+        "1 2 3 4 5",
+    ] {
+        assert!(
+            matches!(
+                robot.parse_q(text, false),
+                Err(Error::InvalidArgument { .. })
+            ),
+            "{text:?}"
+        );
+    }
+    let e = robot.parse_q("0.5, 0, 0, nan, 0", false).unwrap_err();
+    assert!(matches!(e, Error::NonFinite { joint: 4, .. }), "{e:?}");
+    let e = robot.parse_q("inf, 0, 0, 0, 0", true).unwrap_err();
+    assert!(matches!(e, Error::NonFinite { joint: 1, .. }), "{e:?}");
+    let e = robot.parse_q("nan", false).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::JointCount { got: 1, .. } | Error::NonFinite { .. }
+        ),
+        "{e:?}"
+    );
+    // Good text still works: degrees only for revolute joints.
+    let q = robot.parse_q(" 0.5, 90, -90, 0.1, 180 ", true).unwrap();
+    assert_eq!(q[0], 0.5);
+    assert_eq!(q[3], 0.1);
+    assert!((q[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    assert!((q[4] - std::f64::consts::PI).abs() < 1e-15);
+}
+
+#[test]
+fn from_file_missing_and_wrong_extension() {
+    let missing = data("no-such-robot.toml");
+    let e = Robot::from_file(&missing, None).unwrap_err();
+    let Error::Io { path, message } = &e else {
+        panic!("{e:?}")
+    };
+    assert_eq!(path, &missing.display().to_string());
+    assert!(!message.is_empty());
+    assert!(e.to_string().contains("no-such-robot.toml"), "{e}");
+    let e = Robot::from_file(data("no-such-robot.urdf"), None).unwrap_err();
+    assert!(matches!(e, Error::Io { .. }), "{e:?}");
+    // `load` of a path-looking name that does not exist is an I/O error too.
+    let e = Robot::load(&missing.display().to_string(), None).unwrap_err();
+    assert!(matches!(e, Error::Io { .. }), "{e:?}");
+
+    for path in [
+        data("robot.txt"),
+        data("iiwa14"),
+        PathBuf::from("Cargo.lock"),
+    ] {
+        let e = Robot::from_file(&path, None).unwrap_err();
+        let Error::InvalidArgument { what, message } = &e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(what, "robot file");
+        assert!(
+            message.contains(".toml") && message.contains(".urdf"),
+            "{message}"
+        );
+    }
+    // A directory with a robot extension.
+    let dir = std::env::temp_dir().join(format!("kinema-test-dir-{}.toml", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let e = Robot::from_file(&dir, None).unwrap_err();
+    std::fs::remove_dir(&dir).unwrap();
+    assert!(matches!(e, Error::Io { .. }), "{e:?}");
+}
+
+// ---------------------------------------------------------------------------
+// Random input: never a panic.
+
+/// Uses a parsed robot the way a caller would; nothing here may panic either.
+fn exercise(robot: &Robot, rng: &mut ChaCha8Rng) {
+    let q = robot.home().to_vec();
+    let _ = robot.fk(&q);
+    let _ = robot.link_frames(&q);
+    let _ = robot.analytic_jacobian(&q, RpyConvention::Zyx);
+    if let Ok(j) = robot.jacobian(&q, Frame::Base) {
+        let _ = kinema::analysis::report(&j);
+    }
+    let r = robot.random_q(rng);
+    let _ = robot.fk(&r);
+}
+
+const INTERESTING: &[&str] = &[
+    "=",
+    "[",
+    "]",
+    "[[",
+    "]]",
+    "{",
+    "}",
+    "\"",
+    "'",
+    "#",
+    "\n",
+    ",",
+    ".",
+    "-",
+    "+",
+    "e",
+    " ",
+    "0",
+    "1",
+    "9",
+    "1e308",
+    "-1e308",
+    "nan",
+    "inf",
+    "-inf",
+    "1e-320",
+    "é",
+    "😀",
+    "\u{0}",
+    "<",
+    ">",
+    "/>",
+    "</joint>",
+    "<joint>",
+    "&amp;",
+    "&",
+    "<!--",
+    "-->",
+    "xyz=\"",
+    "\"0 0 1\"",
+    "type=\"floating\"",
+    "type=\"prismatic\"",
+    "link",
+    "joint",
+    "prismatic",
+    "general",
+    "modified",
+    "[[joint]]",
+    "[poses]",
+    "home = []",
+    "axis = [0, 0, 0]",
+    "type = \"prismatic\"",
+    "\r\n",
+    "\t",
+    "\\",
+    "\\u",
+];
+
+/// One random edit of `text`, always valid UTF-8.
+fn mutate(text: &str, rng: &mut ChaCha8Rng) -> String {
+    let bytes = text.as_bytes();
+    let cut = |rng: &mut ChaCha8Rng| {
+        // A char boundary.
+        let mut i = rng.random_range(0..=bytes.len());
+        while !text.is_char_boundary(i) {
+            i -= 1;
+        }
+        i
+    };
+    let (a, b) = {
+        let x = cut(rng);
+        let y = cut(rng);
+        (x.min(y), x.max(y))
+    };
+    let piece = INTERESTING[rng.random_range(0..INTERESTING.len())];
+    match rng.random_range(0..8) {
+        0 => format!("{}{}", &text[..a], &text[b..]), // delete a range
+        1 => format!("{}{piece}{}", &text[..a], &text[a..]), // insert
+        2 => format!("{}{piece}{}", &text[..a], &text[b..]), // replace a range
+        3 => text[..a].to_string(),                   // truncate
+        4 => format!("{}{}{}", &text[..b], &text[a..b], &text[b..]), // duplicate a range
+        5 => {
+            // Swap two lines.
+            let mut lines: Vec<&str> = text.lines().collect();
+            if lines.len() > 1 {
+                let i = rng.random_range(0..lines.len());
+                let j = rng.random_range(0..lines.len());
+                lines.swap(i, j);
+            }
+            lines.join("\n")
+        }
+        6 => {
+            // Change a number.
+            let nums: Vec<(usize, char)> = text
+                .char_indices()
+                .filter(|(_, c)| c.is_ascii_digit())
+                .collect();
+            if nums.is_empty() {
+                return text.to_string();
+            }
+            let (i, _) = nums[rng.random_range(0..nums.len())];
+            let repl =
+                ["0", "-", "999999", "1e400", "nan", ".", "-0", "3.5e-3"][rng.random_range(0..8)];
+            format!("{}{repl}{}", &text[..i], &text[i + 1..])
+        }
+        _ => {
+            // Several small edits at once.
+            let mut t = text.to_string();
+            for _ in 0..rng.random_range(2..6) {
+                t = mutate(&t, rng);
+            }
+            t
+        }
+    }
+}
+
+fn random_text(rng: &mut ChaCha8Rng) -> String {
+    let len = rng.random_range(0..400);
+    match rng.random_range(0..3) {
+        // Raw bytes, made valid UTF-8 the lossy way.
+        0 => {
+            let bytes: Vec<u8> = (0..len).map(|_| rng.random()).collect();
+            String::from_utf8_lossy(&bytes).into_owned()
+        }
+        // Random chars.
+        1 => (0..len).map(|_| rng.random::<char>()).collect(),
+        // Random "tokens".
+        _ => (0..len / 4)
+            .map(|_| INTERESTING[rng.random_range(0..INTERESTING.len())])
+            .collect(),
+    }
+}
+
+#[test]
+fn random_toml_never_panics() {
+    let sources = [
+        GOOD.to_string(),
+        kinema::builtin_source("scara5").unwrap().to_string(),
+        kinema::builtin_source("rommel").unwrap().to_string(),
+        std::fs::read_to_string(data("ur5-general.toml")).unwrap(),
+        std::fs::read_to_string(data("iiwa-modified.toml")).unwrap(),
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(0xf022);
+    let (mut ok, mut err) = (0, 0);
+    for case in 0..3000 {
+        let text = if case % 5 == 0 {
+            random_text(&mut rng)
+        } else {
+            mutate(&sources[case % sources.len()], &mut rng)
+        };
+        match Robot::from_toml_str(&text, "fuzz.toml") {
+            Ok(robot) => {
+                ok += 1;
+                exercise(&robot, &mut rng);
+            }
+            Err(e) => {
+                err += 1;
+                assert!(!e.to_string().is_empty());
+                if let Error::Description { line, column, .. } = e {
+                    assert!(
+                        line >= 1 && line <= text.lines().count().max(1) + 1,
+                        "{line} {text}"
+                    );
+                    assert!(column >= 1);
+                }
+            }
+        }
+    }
+    // The mutations must produce both outcomes, or they test nothing.
+    assert!(ok > 100 && err > 1000, "ok = {ok}, err = {err}");
+}
+
+#[test]
+fn random_urdf_never_panics() {
+    let sources = [
+        std::fs::read_to_string(data("iiwa14.urdf")).unwrap(),
+        std::fs::read_to_string(data("two-leaves.urdf")).unwrap(),
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(0x0df);
+    let (mut ok, mut err) = (0, 0);
+    for case in 0..2500 {
+        let text = if case % 5 == 0 {
+            random_text(&mut rng)
+        } else {
+            mutate(&sources[case % 2], &mut rng)
+        };
+        let tip = match rng.random_range(0..4) {
+            0 => Some("leaf_a"),
+            1 => Some("link_3"),
+            _ => None,
+        };
+        match Robot::from_urdf_str(&text, "fuzz.urdf", tip) {
+            Ok(robot) => {
+                ok += 1;
+                exercise(&robot, &mut rng);
+            }
+            Err(e) => {
+                err += 1;
+                assert!(!e.to_string().is_empty());
+            }
+        }
+    }
+    assert!(ok > 100 && err > 500, "ok = {ok}, err = {err}");
+}
