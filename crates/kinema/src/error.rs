@@ -89,6 +89,14 @@ pub enum Error {
         /// Middle angle of the triple \[rad\].
         pitch: f64,
     },
+    /// One configuration of a batch is invalid.
+    #[error("configuration {index} of the batch (counting from 0): {source}")]
+    InBatch {
+        /// 0-based index of the configuration.
+        index: usize,
+        /// What is wrong with it.
+        source: Box<Error>,
+    },
     /// An argument outside its domain.
     #[error("invalid `{what}`: {message}")]
     InvalidArgument {

@@ -99,8 +99,11 @@ impl Robot {
                 ),
             });
         }
-        for q in qs.chunks_exact(n) {
-            self.check_q(q)?;
+        for (index, q) in qs.chunks_exact(n).enumerate() {
+            self.check_q(q).map_err(|e| Error::InBatch {
+                index,
+                source: Box::new(e),
+            })?;
         }
         Ok(qs
             .par_chunks_exact(n)

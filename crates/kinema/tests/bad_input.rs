@@ -560,10 +560,18 @@ fn fk_batch_with_one_bad_row() {
         let joint = rng.random_range(0..7);
         qs[row * 7 + joint] = bad;
         let e = robot.fk_batch(&qs).unwrap_err();
-        let Error::NonFinite { joint: jn, .. } = &e else {
+        let Error::InBatch { index, source } = &e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(*index, row, "{e}");
+        let Error::NonFinite { joint: jn, .. } = source.as_ref() else {
             panic!("{e:?}")
         };
         assert_eq!(*jn, joint + 1, "{e}");
+        assert!(
+            e.to_string().contains(&format!("configuration {row} ")),
+            "{e}"
+        );
         // Fixing the row makes the batch work.
         qs[row * 7 + joint] = 0.0;
         assert_eq!(robot.fk_batch(&qs).unwrap().len(), rows);
