@@ -13,11 +13,7 @@ use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
 #[derive(Parser)]
-#[command(
-    name = "kinema",
-    version,
-    about = "Kinematics of robot arms: forward kinematics, Jacobians, manipulability."
-)]
+#[command(name = "kinema", version, about = "Kinematics of robot arms: forward kinematics, Jacobians, manipulability.")]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,
@@ -97,12 +93,7 @@ struct FkArgs {
     #[command(flatten)]
     robot: RobotArg,
     /// Joint values, comma-separated (rad and m), or a named pose such as `home`.
-    #[arg(
-        long,
-        allow_hyphen_values = true,
-        required_unless_present = "input",
-        conflicts_with = "input"
-    )]
+    #[arg(long, allow_hyphen_values = true, required_unless_present = "input", conflicts_with = "input")]
     q: Option<String>,
     /// Revolute joint values are in degrees (prismatic ones stay in metres).
     #[arg(long)]
@@ -221,13 +212,7 @@ fn robots(as_json: bool) -> Result<()> {
     }
     println!("{:<20} {:>3}  {:<8} source", "name", "dof", "joints");
     for r in &all {
-        println!(
-            "{:<20} {:>3}  {:<8} {}",
-            r.name(),
-            r.dof(),
-            r.joint_types(),
-            r.metadata().source
-        );
+        println!("{:<20} {:>3}  {:<8} {}", r.name(), r.dof(), r.joint_types(), r.metadata().source);
     }
     Ok(())
 }
@@ -280,11 +265,7 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
         })
         .collect();
     if as_json {
-        let poses: serde_json::Map<String, Value> = r
-            .poses()
-            .iter()
-            .map(|p| (p.name.clone(), json!(p.q)))
-            .collect();
+        let poses: serde_json::Map<String, Value> = r.poses().iter().map(|p| (p.name.clone(), json!(p.q))).collect();
         return print_json(&json!({
             "name": r.name(), "dof": r.dof(), "convention": format!("{:?}", r.convention()).to_lowercase(),
             "manufacturer": r.metadata().manufacturer, "source": r.metadata().source, "notes": r.metadata().notes,
@@ -293,13 +274,7 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
         }));
     }
     let m = r.metadata();
-    println!(
-        "{} — {} DOF ({}), {:?} description",
-        r.name(),
-        r.dof(),
-        r.joint_types(),
-        r.convention()
-    );
+    println!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.convention());
     if !m.manufacturer.is_empty() {
         println!("manufacturer: {}", m.manufacturer);
     }
@@ -316,32 +291,34 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
                     let rpy = origin.rpy(RpyConvention::Zyx).map(f64::to_degrees);
                     println!(
                         "{:>2} {:<16} {:>4} {:>8.4} {:>8.4} {:>8.4}  {:>8.2} {:>8.2} {:>8.2}  {:>6.3} {:>6.3} {:>6.3}",
-                        i + 1, j.name, j.kind.letter(), origin.pos.x, origin.pos.y, origin.pos.z, rpy[0], rpy[1], rpy[2], axis.x, axis.y, axis.z
+                        i + 1,
+                        j.name,
+                        j.kind.letter(),
+                        origin.pos.x,
+                        origin.pos.y,
+                        origin.pos.z,
+                        rpy[0],
+                        rpy[1],
+                        rpy[2],
+                        axis.x,
+                        axis.y,
+                        axis.z
                     );
                 }
             }
         }
         _ => {
             let modified = r.convention() == kinema::Convention::Modified;
-            let (al, aa) = if modified {
-                ("α(i-1)", "a(i-1)")
-            } else {
-                ("α", "a")
-            };
+            let (al, aa) = if modified { ("α(i-1)", "a(i-1)") } else { ("α", "a") };
             println!(
                 "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9} {:>9} {:>9}",
                 "i", "joint", "type", "θ", "d", aa, al, "offset"
             );
             for (i, j) in r.joints().iter().enumerate() {
-                if let LinkGeometry::Dh {
-                    d, a, alpha, theta, ..
-                } = j.geometry
-                {
+                if let LinkGeometry::Dh { d, a, alpha, theta, .. } = j.geometry {
                     let (th, dd) = match j.kind {
                         JointType::Revolute => (format!("q{}", i + 1), format!("{d:.4}")),
-                        JointType::Prismatic => {
-                            (format!("{:.2}", theta.to_degrees()), format!("q{}", i + 1))
-                        }
+                        JointType::Prismatic => (format!("{:.2}", theta.to_degrees()), format!("q{}", i + 1)),
                     };
                     println!(
                         "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9.4} {:>9.2} {:>9.4}",
@@ -360,8 +337,7 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
     }
     println!("\nlimits (deg or m, per s …)");
     for (i, j) in r.joints().iter().enumerate() {
-        let opt =
-            |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", shown(j.kind, v)));
+        let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", shown(j.kind, v)));
         println!(
             "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}",
             i + 1,
@@ -384,11 +360,7 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
     }
     println!("\nnamed poses (deg or m)");
     for p in r.poses() {
-        let vals: Vec<String> =
-            p.q.iter()
-                .zip(r.joints())
-                .map(|(v, j)| format!("{:.4}", shown(j.kind, *v)))
-                .collect();
+        let vals: Vec<String> = p.q.iter().zip(r.joints()).map(|(v, j)| format!("{:.4}", shown(j.kind, *v))).collect();
         println!("  {:<14} [{}]", p.name, vals.join(", "));
     }
     if !m.notes.trim().is_empty() {
@@ -398,10 +370,7 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
 }
 
 fn out_of_limits_json(r: &Robot, fk: &kinema::Fk) -> Vec<Value> {
-    fk.out_of_limits
-        .indices()
-        .map(|i| json!({"joint": i + 1, "name": r.joints()[i].name}))
-        .collect()
+    fk.out_of_limits.indices().map(|i| json!({"joint": i + 1, "name": r.joints()[i].name})).collect()
 }
 
 fn fk(a: FkArgs) -> Result<()> {
@@ -410,10 +379,7 @@ fn fk(a: FkArgs) -> Result<()> {
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
         return fk_batch_file(&r, input, output, a.deg, conv);
     }
-    let q = r.parse_q(
-        a.q.as_deref().expect("clap requires --q without --input"),
-        a.deg,
-    )?;
+    let q = r.parse_q(a.q.as_deref().expect("clap requires --q without --input"), a.deg)?;
     let fk = r.fk(&q)?;
     let p = fk.pose;
     if a.json {
@@ -427,24 +393,15 @@ fn fk(a: FkArgs) -> Result<()> {
     println!(
         "robot {}  q = [{}] (rad/m)",
         r.name(),
-        q.iter()
-            .map(|v| format!("{v:.6}"))
-            .collect::<Vec<_>>()
-            .join(", ")
+        q.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", ")
     );
     println!("T (base_from_tool):");
     for row in p.to_rows() {
-        println!(
-            "  [{:>10.6} {:>10.6} {:>10.6} {:>10.6}]",
-            row[0], row[1], row[2], row[3]
-        );
+        println!("  [{:>10.6} {:>10.6} {:>10.6} {:>10.6}]", row[0], row[1], row[2], row[3]);
     }
     let rpy = p.rpy(conv);
     let qq = p.quaternion();
-    println!(
-        "position  [m]   x = {:.6}  y = {:.6}  z = {:.6}",
-        p.pos.x, p.pos.y, p.pos.z
-    );
+    println!("position  [m]   x = {:.6}  y = {:.6}  z = {:.6}", p.pos.x, p.pos.y, p.pos.z);
     println!(
         "rpy ({})  [deg] {:.4}, {:.4}, {:.4}   [rad] {:.6}, {:.6}, {:.6}",
         conv_name(conv),
@@ -455,10 +412,7 @@ fn fk(a: FkArgs) -> Result<()> {
         rpy[1],
         rpy[2]
     );
-    println!(
-        "quaternion (w, x, y, z) {:.6}, {:.6}, {:.6}, {:.6}",
-        qq.w, qq.i, qq.j, qq.k
-    );
+    println!("quaternion (w, x, y, z) {:.6}, {:.6}, {:.6}, {:.6}", qq.w, qq.i, qq.j, qq.k);
     if fk.within_limits() {
         println!("all joints within limits");
     } else {
@@ -471,11 +425,7 @@ fn fk(a: FkArgs) -> Result<()> {
                 shown(j.kind, q[i]),
                 shown(j.kind, j.limits.min),
                 shown(j.kind, j.limits.max),
-                if j.kind == JointType::Revolute {
-                    "deg"
-                } else {
-                    "m"
-                }
+                if j.kind == JointType::Revolute { "deg" } else { "m" }
             );
         }
     }
@@ -484,15 +434,8 @@ fn fk(a: FkArgs) -> Result<()> {
 
 /// Reads configurations from `input`, writes poses to `output` through a
 /// temporary file that is renamed only when everything succeeded.
-fn fk_batch_file(
-    r: &Robot,
-    input: &Path,
-    output: &Path,
-    deg: bool,
-    conv: RpyConvention,
-) -> Result<()> {
-    let text = std::fs::read_to_string(input)
-        .with_context(|| format!("cannot read input `{}`", input.display()))?;
+fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyConvention) -> Result<()> {
+    let text = std::fs::read_to_string(input).with_context(|| format!("cannot read input `{}`", input.display()))?;
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -523,23 +466,13 @@ fn fk_batch_file(
         };
         first = false;
         if vals.len() != n {
-            bail!(
-                "`{}` line {line}: {} values, but robot `{}` has {n} joints",
-                input.display(),
-                vals.len(),
-                r.name()
-            );
+            bail!("`{}` line {line}: {} values, but robot `{}` has {n} joints", input.display(), vals.len(), r.name());
         }
         let start = qs.len();
         for (v, j) in vals.iter().zip(r.joints()) {
-            qs.push(if deg && j.kind == JointType::Revolute {
-                v.to_radians()
-            } else {
-                *v
-            });
+            qs.push(if deg && j.kind == JointType::Revolute { v.to_radians() } else { *v });
         }
-        r.check_q(&qs[start..])
-            .map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", input.display()))?;
+        r.check_q(&qs[start..]).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", input.display()))?;
     }
     let rows = qs.len() / n;
     if rows == 0 {
@@ -547,45 +480,22 @@ fn fk_batch_file(
     }
     let bar = indicatif::ProgressBar::new(rows as u64);
     bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} configurations ({per_sec}, eta {eta})",
-        )
-        .expect("valid template"),
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} configurations ({per_sec}, eta {eta})")
+            .expect("valid template"),
     );
     if rows < 200_000 {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
-    let dir = output
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let tmp = dir.join(format!(
-        ".{}.kinema-tmp",
-        output
-            .file_name()
-            .map_or("out".into(), |f| f.to_string_lossy())
-    ));
+    let dir = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let tmp = dir.join(format!(".{}.kinema-tmp", output.file_name().map_or("out".into(), |f| f.to_string_lossy())));
     let result = (|| -> Result<()> {
-        let file = std::fs::File::create(&tmp)
-            .with_context(|| format!("cannot create `{}`", tmp.display()))?;
+        let file = std::fs::File::create(&tmp).with_context(|| format!("cannot create `{}`", tmp.display()))?;
         let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
         let rpy_names = match conv {
             RpyConvention::Zyx => ["roll", "pitch", "yaw"],
             RpyConvention::Xyz => ["rx", "ry", "rz"],
         };
-        let header = [
-            "x",
-            "y",
-            "z",
-            rpy_names[0],
-            rpy_names[1],
-            rpy_names[2],
-            "qw",
-            "qx",
-            "qy",
-            "qz",
-            "within_limits",
-        ];
+        let header = ["x", "y", "z", rpy_names[0], rpy_names[1], rpy_names[2], "qw", "qx", "qy", "qz", "within_limits"];
         w.write_record(header)?;
         const CHUNK: usize = 65_536;
         for chunk in qs.chunks(CHUNK * n) {
@@ -593,9 +503,7 @@ fn fk_batch_file(
                 let p = fk.pose;
                 let rpy = p.rpy(conv);
                 let q = p.quaternion();
-                let vals = [
-                    p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2], q.w, q.i, q.j, q.k,
-                ];
+                let vals = [p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2], q.w, q.i, q.j, q.k];
                 let mut rec: Vec<String> = vals.iter().map(|v| format!("{v:.12}")).collect();
                 rec.push(fk.within_limits().to_string());
                 w.write_record(&rec)?;
@@ -609,8 +517,7 @@ fn fk_batch_file(
             .into_inner()
             .map_err(|e| anyhow::anyhow!("{}", e.error()))?;
         file.sync_all()?;
-        std::fs::rename(&tmp, output)
-            .with_context(|| format!("cannot move the result to `{}`", output.display()))?;
+        std::fs::rename(&tmp, output).with_context(|| format!("cannot move the result to `{}`", output.display()))?;
         Ok(())
     })();
     bar.finish_and_clear();
@@ -623,42 +530,26 @@ fn fk_batch_file(
 }
 
 fn matrix_rows(j: &Matrix6xX<f64>) -> Vec<Vec<f64>> {
-    (0..j.nrows())
-        .map(|r| j.row(r).iter().copied().collect())
-        .collect()
+    (0..j.nrows()).map(|r| j.row(r).iter().copied().collect()).collect()
 }
 
 fn jacobian(a: JacobianArgs) -> Result<()> {
     let r = a.robot.load()?;
     let q = r.parse_q(&a.q.q, a.q.deg)?;
     let (j, kind) = match a.analytic {
-        Some(c) => (
-            r.analytic_jacobian(&q, c.into())?,
-            format!("analytic (rpy {})", conv_name(c.into())),
-        ),
+        Some(c) => (r.analytic_jacobian(&q, c.into())?, format!("analytic (rpy {})", conv_name(c.into()))),
         None => {
             let frame = match a.frame {
                 FrameArg::Base => Frame::Base,
                 FrameArg::Tool => Frame::Tool,
             };
-            (
-                r.jacobian(&q, frame)?,
-                format!(
-                    "geometric, {} frame",
-                    if frame == Frame::Base { "base" } else { "tool" }
-                ),
-            )
+            (r.jacobian(&q, frame)?, format!("geometric, {} frame", if frame == Frame::Base { "base" } else { "tool" }))
         }
     };
     if a.json {
-        return print_json(
-            &json!({ "robot": r.name(), "q": q, "kind": kind, "J": matrix_rows(&j) }),
-        );
+        return print_json(&json!({ "robot": r.name(), "q": q, "kind": kind, "J": matrix_rows(&j) }));
     }
-    println!(
-        "robot {}  Jacobian: {kind}, rows vx vy vz ωx ωy ωz",
-        r.name()
-    );
+    println!("robot {}  Jacobian: {kind}, rows vx vy vz ωx ωy ωz", r.name());
     let labels = ["vx", "vy", "vz", "ωx", "ωy", "ωz"];
     for (row, label) in labels.iter().enumerate() {
         let vals: Vec<String> = j.row(row).iter().map(|v| format!("{v:>10.6}")).collect();
@@ -678,9 +569,7 @@ fn manip(a: ManipArgs) -> Result<()> {
                 .split(',')
                 .map(|s| s.trim().parse::<f64>())
                 .collect::<Result<_, _>>()
-                .with_context(|| {
-                    format!("--direction `{d}` must be three comma-separated numbers")
-                })?;
+                .with_context(|| format!("--direction `{d}` must be three comma-separated numbers"))?;
             if v.len() != 3 {
                 bail!("--direction `{d}` must have 3 components, has {}", v.len());
             }
@@ -720,33 +609,17 @@ fn manip(a: ManipArgs) -> Result<()> {
     println!("yoshikawa (rotation)    {:.6e}", rep.yoshikawa_rotation);
     println!(
         "condition number        {}",
-        if rep.condition.is_finite() {
-            format!("{:.6e}", rep.condition)
-        } else {
-            "inf (singular)".into()
-        }
+        if rep.condition.is_finite() { format!("{:.6e}", rep.condition) } else { "inf (singular)".into() }
     );
-    println!(
-        "rank                    {} of {} (tolerance {:.3e})",
-        rep.rank,
-        r.dof().min(6),
-        rep.rank_tolerance
-    );
+    println!("rank                    {} of {} (tolerance {:.3e})", rep.rank, r.dof().min(6), rep.rank_tolerance);
     println!(
         "singular values         [{}]",
-        rep.singular_values
-            .iter()
-            .map(|v| format!("{v:.6e}"))
-            .collect::<Vec<_>>()
-            .join(", ")
+        rep.singular_values.iter().map(|v| format!("{v:.6e}")).collect::<Vec<_>>().join(", ")
     );
     for d in &rep.singular_directions {
         println!(
             "  lost task direction   [vx vy vz ωx ωy ωz] = [{}]",
-            d.iter()
-                .map(|v| format!("{v:.4}"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            d.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", ")
         );
     }
     println!(
@@ -765,15 +638,9 @@ fn manip(a: ManipArgs) -> Result<()> {
     }
     for d in &rep.dependent_joints {
         if d.on.is_empty() {
-            println!(
-                "joint {} does not move the tool at this configuration",
-                d.joint + 1
-            );
+            println!("joint {} does not move the tool at this configuration", d.joint + 1);
         } else {
-            let terms: Vec<String> =
-                d.on.iter()
-                    .map(|(k, c)| format!("{c:+.4}·q{}", k + 1))
-                    .collect();
+            let terms: Vec<String> = d.on.iter().map(|(k, c)| format!("{c:+.4}·q{}", k + 1)).collect();
             println!("q{} depends on: {}", d.joint + 1, terms.join(" "));
         }
     }
@@ -784,10 +651,7 @@ fn bench(a: BenchArgs) -> Result<()> {
     use rand::SeedableRng;
     let r = a.robot.load()?;
     if a.n < 1000 {
-        bail!(
-            "--n {} is too small; use at least 1000 (1 000 000 for meaningful figures)",
-            a.n
-        );
+        bail!("--n {} is too small; use at least 1000 (1 000 000 for meaningful figures)", a.n);
     }
     let n = r.dof();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(a.seed);
@@ -816,11 +680,7 @@ fn bench(a: BenchArgs) -> Result<()> {
     };
     let mut sink = 0.0;
     let fk = time_batches(&mut |q| {
-        sink += std::hint::black_box(
-            r.fk(std::hint::black_box(q))
-                .map(|f| f.pose.pos.x)
-                .unwrap_or(0.0),
-        );
+        sink += std::hint::black_box(r.fk(std::hint::black_box(q)).map(|f| f.pose.pos.x).unwrap_or(0.0));
     });
     let mut jbuf = Matrix6xX::zeros(n);
     let jac = time_batches(&mut |q| {
@@ -840,29 +700,14 @@ fn bench(a: BenchArgs) -> Result<()> {
             "fk_batch_ns_per_config": batch_ns, "threads": rayon::current_num_threads(),
         }));
     }
-    println!(
-        "robot {} ({} DOF), {} random configurations, seed {}",
-        r.name(),
-        n,
-        a.n,
-        a.seed
-    );
-    println!(
-        "fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})",
-        pct(&fk, 0.5),
-        pct(&fk, 0.1),
-        pct(&fk, 0.9)
-    );
+    println!("robot {} ({} DOF), {} random configurations, seed {}", r.name(), n, a.n, a.seed);
+    println!("fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})", pct(&fk, 0.5), pct(&fk, 0.1), pct(&fk, 0.9));
     println!(
         "jacobian  median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})",
         pct(&jac, 0.5),
         pct(&jac, 0.1),
         pct(&jac, 0.9)
     );
-    println!(
-        "fk batch         {:>8.1} ns/config on {} threads",
-        batch_ns,
-        rayon::current_num_threads()
-    );
+    println!("fk batch         {:>8.1} ns/config on {} threads", batch_ns, rayon::current_num_threads());
     Ok(())
 }

@@ -14,10 +14,7 @@ struct Run {
 }
 
 fn kinema(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
-        .args(args)
-        .output()
-        .expect("kinema runs");
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema")).args(args).output().expect("kinema runs");
     Run {
         ok: out.status.success(),
         stdout: String::from_utf8(out.stdout).expect("utf-8 stdout"),
@@ -29,41 +26,23 @@ fn kinema(args: &[&str]) -> Run {
 fn json(args: &[&str]) -> Value {
     let r = kinema(args);
     assert!(r.ok, "kinema {args:?} failed: {}", r.stderr);
-    serde_json::from_str(&r.stdout)
-        .unwrap_or_else(|e| panic!("kinema {args:?}: not JSON ({e}): {}", r.stdout))
+    serde_json::from_str(&r.stdout).unwrap_or_else(|e| panic!("kinema {args:?}: not JSON ({e}): {}", r.stdout))
 }
 
 /// Runs `kinema` expecting failure; returns stderr.
 fn fails(args: &[&str]) -> String {
     let r = kinema(args);
     assert!(!r.ok, "kinema {args:?} should fail, printed {}", r.stdout);
-    assert!(
-        !r.stderr.trim().is_empty(),
-        "kinema {args:?} failed silently"
-    );
+    assert!(!r.stderr.trim().is_empty(), "kinema {args:?} failed silently");
     r.stderr
 }
 
 fn data(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../kinema/tests/data")
-        .join(name)
-        .display()
-        .to_string()
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../kinema/tests/data").join(name).display().to_string()
 }
 
 fn matrix(v: &Value) -> Vec<Vec<f64>> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|r| {
-            r.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        })
-        .collect()
+    v.as_array().unwrap().iter().map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()).collect()
 }
 
 fn tempdir(tag: &str) -> PathBuf {
@@ -93,11 +72,7 @@ fn info_shows_table_limits_and_poses() {
     let r = kinema(&["info", "--robot", "scorbot-er-v-plus"]);
     assert!(r.ok, "{}", r.stderr);
     for needle in ["shoulder", "349", "-155", "home", "qz", "Tabla I"] {
-        assert!(
-            r.stdout.contains(needle),
-            "`{needle}` missing:\n{}",
-            r.stdout
-        );
+        assert!(r.stdout.contains(needle), "`{needle}` missing:\n{}", r.stdout);
     }
     let v = json(&["info", "--robot", "panda", "--json"]);
     assert_eq!(v["dof"], 7);
@@ -106,12 +81,7 @@ fn info_shows_table_limits_and_poses() {
     assert!((v["tool"]["position"][2].as_f64().unwrap() - 0.103).abs() < 1e-12);
     // Text output of a general (URDF) robot prints its joint frames.
     let u = kinema(&["info", "--robot", &data("iiwa14.urdf")]);
-    assert!(
-        u.ok && u.stdout.contains("axis"),
-        "{}{}",
-        u.stdout,
-        u.stderr
-    );
+    assert!(u.ok && u.stdout.contains("axis"), "{}{}", u.stdout, u.stderr);
 }
 
 #[test]
@@ -126,11 +96,7 @@ fn fk_json_matches_the_library() {
 
     let robot = Robot::builtin("ur5").unwrap();
     let q = [0.3, -1.2, 1.1, -0.4, 0.9, 2.0];
-    let qs = q
-        .iter()
-        .map(|x| x.to_string())
-        .collect::<Vec<_>>()
-        .join(",");
+    let qs = q.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",");
     let v = json(&["fk", "--robot", "ur5", "--q", &qs, "--json"]);
     let pose = robot.fk(&q).unwrap().pose;
     let rows = pose.to_rows();
@@ -153,26 +119,13 @@ fn fk_json_matches_the_library() {
 
 #[test]
 fn fk_degrees_and_negative_values() {
-    let deg = json(&[
-        "fk",
-        "--robot",
-        "scara5",
-        "--q",
-        "0.5,-30,60,0.05,-90",
-        "--deg",
-        "--json",
-    ]);
+    let deg = json(&["fk", "--robot", "scara5", "--q", "0.5,-30,60,0.05,-90", "--deg", "--json"]);
     let rad = json(&[
         "fk",
         "--robot",
         "scara5",
         "--q",
-        &format!(
-            "0.5,{},{},0.05,{}",
-            (-30f64).to_radians(),
-            60f64.to_radians(),
-            (-90f64).to_radians()
-        ),
+        &format!("0.5,{},{},0.05,{}", (-30f64).to_radians(), 60f64.to_radians(), (-90f64).to_radians()),
         "--json",
     ]);
     let (a, b) = (matrix(&deg["T"]), matrix(&rad["T"]));
@@ -188,49 +141,18 @@ fn fk_degrees_and_negative_values() {
 
 #[test]
 fn fk_flags_joints_outside_their_limits() {
-    let v = json(&[
-        "fk",
-        "--robot",
-        "lbr-iiwa-14-r820",
-        "--q",
-        "0,0,0,2.5,0,0,0",
-        "--json",
-    ]);
+    let v = json(&["fk", "--robot", "lbr-iiwa-14-r820", "--q", "0,0,0,2.5,0,0,0", "--json"]);
     assert_eq!(v["within_limits"], false);
     assert_eq!(v["out_of_limits"][0]["joint"], 4);
     assert_eq!(v["out_of_limits"][0]["name"], "A4");
-    let text = kinema(&[
-        "fk",
-        "--robot",
-        "lbr-iiwa-14-r820",
-        "--q",
-        "0,0,0,2.5,0,0,0",
-    ]);
-    assert!(
-        text.ok && text.stdout.contains("joint 4 (A4)"),
-        "{}",
-        text.stdout
-    );
+    let text = kinema(&["fk", "--robot", "lbr-iiwa-14-r820", "--q", "0,0,0,2.5,0,0,0"]);
+    assert!(text.ok && text.stdout.contains("joint 4 (A4)"), "{}", text.stdout);
 }
 
 #[test]
 fn fk_from_files_and_urdf_tip() {
-    let a = json(&[
-        "fk",
-        "--robot",
-        &data("iiwa14.urdf"),
-        "--q",
-        "0.1,0.2,0.3,0.4,0.5,0.6,0.7",
-        "--json",
-    ]);
-    let b = json(&[
-        "fk",
-        "--robot",
-        &data("iiwa-modified.toml"),
-        "--q",
-        "0.1,0.2,0.3,0.4,0.5,0.6,0.7",
-        "--json",
-    ]);
+    let a = json(&["fk", "--robot", &data("iiwa14.urdf"), "--q", "0.1,0.2,0.3,0.4,0.5,0.6,0.7", "--json"]);
+    let b = json(&["fk", "--robot", &data("iiwa-modified.toml"), "--q", "0.1,0.2,0.3,0.4,0.5,0.6,0.7", "--json"]);
     let (ta, tb) = (matrix(&a["T"]), matrix(&b["T"]));
     for r in 0..3 {
         for c in 0..4 {
@@ -239,15 +161,7 @@ fn fk_from_files_and_urdf_tip() {
     }
     let e = fails(&["fk", "--robot", &data("two-leaves.urdf"), "--q", "0"]);
     assert!(e.contains("leaf_a") && e.contains("--tip"), "{e}");
-    let tip = kinema(&[
-        "fk",
-        "--robot",
-        &data("two-leaves.urdf"),
-        "--tip",
-        "leaf_a",
-        "--q",
-        "home",
-    ]);
+    let tip = kinema(&["fk", "--robot", &data("two-leaves.urdf"), "--tip", "leaf_a", "--q", "home"]);
     assert!(tip.ok, "{}", tip.stderr);
 }
 
@@ -255,32 +169,17 @@ fn fk_from_files_and_urdf_tip() {
 fn fk_batch_file_round_trip_and_atomic_failure() {
     let dir = tempdir("batch");
     let robot = Robot::builtin("puma560").unwrap();
-    let qs = [
-        [0.1, 0.2, -0.3, 0.4, 0.5, 0.6],
-        [0.0, 1.0, -1.0, 0.0, 0.5, 0.0],
-        [-0.5, 0.3, -2.0, 1.0, -1.0, 2.0],
-    ];
+    let qs = [[0.1, 0.2, -0.3, 0.4, 0.5, 0.6], [0.0, 1.0, -1.0, 0.0, 0.5, 0.0], [-0.5, 0.3, -2.0, 1.0, -1.0, 2.0]];
     let mut text = String::from("q1,q2,q3,q4,q5,q6\n# a comment\n");
     for q in &qs {
-        text += &q
-            .iter()
-            .map(|v| v.to_string())
-            .collect::<Vec<_>>()
-            .join(",");
+        text += &q.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(",");
         text += "\n";
     }
     let input = dir.join("q.csv");
     let output = dir.join("poses.csv");
     std::fs::write(&input, &text).unwrap();
-    let r = kinema(&[
-        "fk",
-        "--robot",
-        "puma560",
-        "--input",
-        input.to_str().unwrap(),
-        "--output",
-        output.to_str().unwrap(),
-    ]);
+    let r =
+        kinema(&["fk", "--robot", "puma560", "--input", input.to_str().unwrap(), "--output", output.to_str().unwrap()]);
     assert!(r.ok, "{}", r.stderr);
     let out = std::fs::read_to_string(&output).unwrap();
     let mut lines = out.lines();
@@ -289,10 +188,7 @@ fn fk_batch_file_round_trip_and_atomic_failure() {
         let f: Vec<&str> = line.split(',').collect();
         let p = robot.fk(q).unwrap().pose;
         for k in 0..3 {
-            assert!(
-                (f[k].parse::<f64>().unwrap() - p.pos[k]).abs() < 1e-9,
-                "{line}"
-            );
+            assert!((f[k].parse::<f64>().unwrap() - p.pos[k]).abs() < 1e-9, "{line}");
         }
         assert_eq!(f[10], "true");
     }
@@ -300,40 +196,19 @@ fn fk_batch_file_round_trip_and_atomic_failure() {
     // existing output file is not touched.
     std::fs::write(&input, format!("{text}0.1,0.2,oops,0.4,0.5,0.6\n")).unwrap();
     let before = std::fs::read_to_string(&output).unwrap();
-    let e = fails(&[
-        "fk",
-        "--robot",
-        "puma560",
-        "--input",
-        input.to_str().unwrap(),
-        "--output",
-        output.to_str().unwrap(),
-    ]);
+    let e =
+        fails(&["fk", "--robot", "puma560", "--input", input.to_str().unwrap(), "--output", output.to_str().unwrap()]);
     assert!(e.contains("line 6"), "{e}");
     assert_eq!(std::fs::read_to_string(&output).unwrap(), before);
     let fresh = dir.join("fresh.csv");
     std::fs::write(&input, "0.1,0.2\n").unwrap();
-    let e = fails(&[
-        "fk",
-        "--robot",
-        "puma560",
-        "--input",
-        input.to_str().unwrap(),
-        "--output",
-        fresh.to_str().unwrap(),
-    ]);
+    let e =
+        fails(&["fk", "--robot", "puma560", "--input", input.to_str().unwrap(), "--output", fresh.to_str().unwrap()]);
     assert!(e.contains("2 values") && e.contains("6 joints"), "{e}");
     assert!(!fresh.exists());
     std::fs::write(&input, "0.1,0.2,NaN,0,0,0\n").unwrap();
-    let e = fails(&[
-        "fk",
-        "--robot",
-        "puma560",
-        "--input",
-        input.to_str().unwrap(),
-        "--output",
-        fresh.to_str().unwrap(),
-    ]);
+    let e =
+        fails(&["fk", "--robot", "puma560", "--input", input.to_str().unwrap(), "--output", fresh.to_str().unwrap()]);
     assert!(e.contains("line 1") && e.contains("finite"), "{e}");
     assert!(!fresh.exists());
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
@@ -358,23 +233,10 @@ fn jacobian_json_base_tool_and_analytic() {
             assert!((j[r][c] - lib[(r, c)]).abs() < 1e-12);
         }
     }
-    let t = matrix(
-        &json(&[
-            "jacobian", "--robot", "panda", "--q", "qr", "--frame", "tool", "--json",
-        ])["J"],
-    );
+    let t = matrix(&json(&["jacobian", "--robot", "panda", "--q", "qr", "--frame", "tool", "--json"])["J"]);
     let lib_t = robot.jacobian(&q, Frame::Tool).unwrap();
     assert!((t[4][2] - lib_t[(4, 2)]).abs() < 1e-12);
-    let a = json(&[
-        "jacobian",
-        "--robot",
-        "panda",
-        "--q",
-        "qr",
-        "--analytic",
-        "zyx",
-        "--json",
-    ]);
+    let a = json(&["jacobian", "--robot", "panda", "--q", "qr", "--analytic", "zyx", "--json"]);
     assert_eq!(matrix(&a["J"]).len(), 6);
     // Linear rows of the analytic Jacobian are the geometric ones.
     assert!((matrix(&a["J"])[1][3] - lib[(1, 3)]).abs() < 1e-12);
@@ -382,20 +244,8 @@ fn jacobian_json_base_tool_and_analytic() {
 
 #[test]
 fn manip_reports_seed004_singularities() {
-    for (pose, rank) in [
-        ("sing-q4", 5),
-        ("sing-q2-q3", 5),
-        ("sing-coupled", 4),
-        ("fig9", 6),
-    ] {
-        let v = json(&[
-            "manip",
-            "--robot",
-            "lbr-iiwa-14-r820",
-            "--q",
-            pose,
-            "--json",
-        ]);
+    for (pose, rank) in [("sing-q4", 5), ("sing-q2-q3", 5), ("sing-coupled", 4), ("fig9", 6)] {
+        let v = json(&["manip", "--robot", "lbr-iiwa-14-r820", "--q", pose, "--json"]);
         assert_eq!(v["rank"], rank, "{pose}");
         for key in [
             "yoshikawa",
@@ -412,38 +262,13 @@ fn manip_reports_seed004_singularities() {
             assert!(v["yoshikawa"].as_f64().unwrap() < 1e-9, "{pose}");
         }
     }
-    let v = json(&[
-        "manip",
-        "--robot",
-        "lbr-iiwa-14-r820",
-        "--q",
-        "sing-coupled",
-        "--json",
-    ]);
+    let v = json(&["manip", "--robot", "lbr-iiwa-14-r820", "--q", "sing-coupled", "--json"]);
     let deps = v["dependent_joints"].as_array().unwrap();
-    let q3 = deps
-        .iter()
-        .find(|d| d["joint"] == 3)
-        .expect("q3 depends on q1 at sing-coupled");
+    let q3 = deps.iter().find(|d| d["joint"] == 3).expect("q3 depends on q1 at sing-coupled");
     assert_eq!(q3["depends_on"][0]["joint"], 1);
-    let text = kinema(&[
-        "manip",
-        "--robot",
-        "lbr-iiwa-14-r820",
-        "--q",
-        "sing-coupled",
-    ]);
+    let text = kinema(&["manip", "--robot", "lbr-iiwa-14-r820", "--q", "sing-coupled"]);
     assert!(text.stdout.contains("q3 depends on"), "{}", text.stdout);
-    let d = json(&[
-        "manip",
-        "--robot",
-        "lbr-iiwa-14-r820",
-        "--q",
-        "fig9",
-        "--direction",
-        "-0.4,0.5,0.75",
-        "--json",
-    ]);
+    let d = json(&["manip", "--robot", "lbr-iiwa-14-r820", "--q", "fig9", "--direction", "-0.4,0.5,0.75", "--json"]);
     assert!(d["manipulability_along"].as_f64().unwrap() > 0.0);
 }
 
@@ -462,47 +287,22 @@ fn bench_prints_timings() {
 #[test]
 fn bad_input_is_a_clear_error() {
     let e = fails(&["fk", "--robot", "r2d2", "--q", "0"]);
-    assert!(
-        e.contains("unknown robot `r2d2`") && e.contains("lbr-iiwa-14-r820"),
-        "{e}"
-    );
+    assert!(e.contains("unknown robot `r2d2`") && e.contains("lbr-iiwa-14-r820"), "{e}");
     let e = fails(&["fk", "--robot", "ur5", "--q", "1,2,3"]);
-    assert!(
-        e.contains("6 joints") && e.contains("3 joint values"),
-        "{e}"
-    );
+    assert!(e.contains("6 joints") && e.contains("3 joint values"), "{e}");
     let e = fails(&["fk", "--robot", "ur5", "--q", "1,2,3,NaN,5,6"]);
     assert!(e.contains("joint 4") && e.contains("finite"), "{e}");
     let e = fails(&["fk", "--robot", "ur5", "--q", "1,2,x,4,5,6"]);
     assert!(e.contains("`x` is not a number"), "{e}");
     let e = fails(&["fk", "--robot", "ur5", "--q", "ready"]);
-    assert!(
-        e.contains("no named pose `ready`") && e.contains("home"),
-        "{e}"
-    );
+    assert!(e.contains("no named pose `ready`") && e.contains("home"), "{e}");
     let e = fails(&["fk", "--robot", &data("malformed.toml"), "--q", "home"]);
     assert!(e.contains("malformed.toml:"), "{e}");
     let e = fails(&["fk", "--robot", "/nonexistent/robot.urdf", "--q", "home"]);
     assert!(e.contains("cannot read"), "{e}");
-    let e = fails(&[
-        "jacobian",
-        "--robot",
-        "ur5",
-        "--q",
-        "1,2,3,4,5,6",
-        "--frame",
-        "world",
-    ]);
+    let e = fails(&["jacobian", "--robot", "ur5", "--q", "1,2,3,4,5,6", "--frame", "world"]);
     assert!(e.contains("world"), "{e}");
-    let e = fails(&[
-        "manip",
-        "--robot",
-        "ur5",
-        "--q",
-        "home",
-        "--direction",
-        "1,2",
-    ]);
+    let e = fails(&["manip", "--robot", "ur5", "--q", "home", "--direction", "1,2"]);
     assert!(e.contains("3 components"), "{e}");
     let e = fails(&["fk", "--robot", "ur5"]);
     assert!(e.contains("--q"), "{e}");

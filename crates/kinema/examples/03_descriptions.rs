@@ -72,7 +72,12 @@ fn main() -> Result<(), kinema::Error> {
     let c = Robot::from_urdf_str(URDF, "rr.urdf", None)?;
     for q in [[0.0, 0.0], [0.7, -1.1], [2.0, 0.4]] {
         let (pa, pb, pc) = (a.fk(&q)?.pose, b.fk(&q)?.pose, c.fk(&q)?.pose);
-        println!("q = {q:?}: standard {:?}  modified {:?}  urdf {:?}", pa.pos.as_slice(), pb.pos.as_slice(), pc.pos.as_slice());
+        println!(
+            "q = {q:?}: standard {:?}  modified {:?}  urdf {:?}",
+            pa.pos.as_slice(),
+            pb.pos.as_slice(),
+            pc.pos.as_slice()
+        );
         let worst = (pa.pos - pb.pos).norm().max((pa.pos - pc.pos).norm());
         assert!(worst < 1e-12, "descriptions disagree by {worst} m");
     }

@@ -88,10 +88,7 @@ pub fn rank(j: &Matrix6xX<f64>, axes: Axes, tol: Option<f64>) -> Result<(usize, 
     let s = singular_values(j, axes)?;
     let tol = tol.unwrap_or_else(|| default_rank_tolerance(m.nrows(), m.ncols(), s[0]));
     if !(tol >= 0.0) {
-        return Err(Error::InvalidArgument {
-            what: "tolerance".into(),
-            message: format!("{tol} must be ≥ 0"),
-        });
+        return Err(Error::InvalidArgument { what: "tolerance".into(), message: format!("{tol} must be ≥ 0") });
     }
     Ok((s.iter().filter(|&&v| v > tol).count(), tol))
 }
@@ -129,10 +126,7 @@ pub fn ellipsoid(j: &Matrix6xX<f64>, axes: Axes) -> Result<Ellipsoid> {
         axes_m.set_column(k, &eig.eigenvectors.column(i));
         radii[k] = eig.eigenvalues[i].max(0.0).sqrt();
     }
-    Ok(Ellipsoid {
-        axes: axes_m,
-        radii,
-    })
+    Ok(Ellipsoid { axes: axes_m, radii })
 }
 
 /// Manipulability along a direction of motion (seed 004 eq. 12): the distance
@@ -192,10 +186,7 @@ pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Depe
         let col = m.column(c).into_owned();
         if col.norm() <= tol * scale {
             // A joint that cannot move the tool at all depends on nothing.
-            out.push(Dependency {
-                joint: c,
-                on: Vec::new(),
-            });
+            out.push(Dependency { joint: c, on: Vec::new() });
             continue;
         }
         if basis.is_empty() {
@@ -211,18 +202,10 @@ pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Depe
         let svd = b.clone().svd(true, true);
         let x: DVector<f64> = svd
             .solve(&col, tol * scale)
-            .map_err(|e| Error::InvalidArgument {
-                what: "jacobian".into(),
-                message: e.into(),
-            })?;
+            .map_err(|e| Error::InvalidArgument { what: "jacobian".into(), message: e.into() })?;
         let resid = (&b * &x - &col).norm();
         if resid <= tol * scale.max(col.norm()) * 10.0 {
-            let on = basis
-                .iter()
-                .zip(x.iter())
-                .filter(|(_, &v)| v.abs() > 1e-9)
-                .map(|(&k, &v)| (k, v))
-                .collect();
+            let on = basis.iter().zip(x.iter()).filter(|(_, &v)| v.abs() > 1e-9).map(|(&k, &v)| (k, v)).collect();
             out.push(Dependency { joint: c, on });
         } else {
             basis.push(c);

@@ -100,69 +100,46 @@ pub(crate) struct Chain {
     /// Per joint: θ (or d) = sign·q + offset.
     offsets: Vec<f64>,
     tool: Fixed,
+    /// Per joint: position limits on q, for the one-pass input scan (padded
+    /// with ∓∞ to a multiple of 8 entries).
+    min: Vec<f64>,
+    max: Vec<f64>,
+}
+
+/// The values followed by `fill` up to a multiple of 8 entries.
+fn padded(values: impl Iterator<Item = f64>, fill: f64) -> Vec<f64> {
+    let mut v: Vec<f64> = values.collect();
+    v.resize(v.len().div_ceil(8) * 8, fill);
+    v
 }
 
 /// Compiles one joint into a [`Step`] with its axis sign and offset.
 fn compile_joint(j: &Joint) -> (Step, f64, f64) {
     let prismatic = j.kind == JointType::Prismatic;
-    let step = |pre, sign: f64, offset, post| {
-        (
-            Step {
-                pre,
-                prismatic,
-                post,
-            },
-            sign,
-            offset,
-        )
-    };
+    let step = |pre, sign: f64, offset, post| (Step { pre, prismatic, post }, sign, offset);
     match j.geometry {
-        LinkGeometry::Dh {
-            convention,
-            d,
-            a,
-            alpha,
-            theta,
-        } => {
+        LinkGeometry::Dh { convention, d, a, alpha, theta } => {
             let twist = Twist::new(alpha);
             match (convention, prismatic) {
                 // Rz(q + offset)·Tz(d)·Tx(a)·Rx(α)
-                (DhConvention::Standard, false) => step(
-                    Fixed::Identity,
-                    1.0,
-                    j.offset,
-                    Fixed::TzTxRx { d, a, twist },
-                ),
+                (DhConvention::Standard, false) => step(Fixed::Identity, 1.0, j.offset, Fixed::TzTxRx { d, a, twist }),
                 // Rz(θ)·Tz(q + offset)·Tx(a)·Rx(α) = Tz(q + offset)·Rz(θ)·Tx(a)·Rx(α)
                 (DhConvention::Standard, true) => {
                     let post = if theta == 0.0 {
                         Fixed::TzTxRx { d: 0.0, a, twist }
                     } else {
-                        Fixed::General(
-                            Pose::rot_z(theta)
-                                * Pose::translation(a, 0.0, 0.0)
-                                * Pose::rot_x(alpha),
-                        )
+                        Fixed::General(Pose::rot_z(theta) * Pose::translation(a, 0.0, 0.0) * Pose::rot_x(alpha))
                     };
                     step(Fixed::Identity, 1.0, j.offset, post)
                 }
                 // Rx(α)·Tx(a)·Rz(q + offset)·Tz(d) = Rx(α)·Tx(a)·Tz(d)·Rz(q + offset)
-                (DhConvention::Modified, false) => step(
-                    Fixed::RxTxTz { twist, a, d },
-                    1.0,
-                    j.offset,
-                    Fixed::Identity,
-                ),
+                (DhConvention::Modified, false) => step(Fixed::RxTxTz { twist, a, d }, 1.0, j.offset, Fixed::Identity),
                 // Rx(α)·Tx(a)·Rz(θ)·Tz(q + offset)
                 (DhConvention::Modified, true) => {
                     let pre = if theta == 0.0 {
                         Fixed::RxTxTz { twist, a, d: 0.0 }
                     } else {
-                        Fixed::General(
-                            Pose::rot_x(alpha)
-                                * Pose::translation(a, 0.0, 0.0)
-                                * Pose::rot_z(theta),
-                        )
+                        Fixed::General(Pose::rot_x(alpha) * Pose::translation(a, 0.0, 0.0) * Pose::rot_z(theta))
                     };
                     step(pre, 1.0, j.offset, Fixed::Identity)
                 }
@@ -173,21 +150,11 @@ fn compile_joint(j: &Joint) -> (Step, f64, f64) {
             // a motion of q about −z is a motion of −q about z.
             if (axis.z.abs() - 1.0).abs() < 1e-15 && axis.x == 0.0 && axis.y == 0.0 {
                 let sign = axis.z.signum();
-                return step(
-                    Fixed::from_pose(origin),
-                    sign,
-                    sign * j.offset,
-                    Fixed::Identity,
-                );
+                return step(Fixed::from_pose(origin), sign, sign * j.offset, Fixed::Identity);
             }
             // Motion about/along `axis` = Ra · (motion about/along z) · Raᵀ with Ra·z = axis.
             let align = Pose::new(align_z_to(&axis), Vector3::zeros());
-            step(
-                Fixed::General(origin * align),
-                1.0,
-                j.offset,
-                Fixed::General(align.inverse()),
-            )
+            step(Fixed::General(origin * align), 1.0, j.offset, Fixed::General(align.inverse()))
         }
     }
 }
@@ -217,7 +184,30 @@ impl Chain {
             signs: compiled.iter().map(|c| c.1).collect(),
             offsets: compiled.iter().map(|c| c.2).collect(),
             tool: Fixed::from_pose(*tool),
+            min: padded(joints.iter().map(|j| j.limits.min), f64::NEG_INFINITY),
+            max: padded(joints.iter().map(|j| j.limits.max), f64::INFINITY),
         }
+    }
+
+    /// One branch-free pass over joint values of the right length: whether
+    /// all are finite, and the bit set of those outside their limits.
+    #[inline(always)]
+    pub(crate) fn scan(&self, q: &[f64]) -> (bool, u64) {
+        // Blocks of eight with a fixed trip count, so the loop is unrolled and
+        // vectorised; `min`/`max` are padded to whole blocks with ∓∞.
+        let mut finite = true;
+        let mut bits = 0u64;
+        for (b, ((qb, lo), hi)) in q.chunks(8).zip(self.min.chunks_exact(8)).zip(self.max.chunks_exact(8)).enumerate() {
+            let mut v = [0.0; 8];
+            v[..qb.len()].copy_from_slice(qb);
+            let mut block = 0u64;
+            for i in 0..8 {
+                finite &= v[i].is_finite();
+                block |= (((v[i] < lo[i]) | (v[i] > hi[i])) as u64) << i;
+            }
+            bits |= block << (8 * b);
+        }
+        (finite, bits)
     }
 
     /// `base_from_tool` for joint values already checked (length, finiteness).
@@ -267,12 +257,7 @@ impl Chain {
     /// `signs[i]`) is joint i's axis, `link(i, f)` the frame of link i.
     /// Returns `base_from_tool`.
     #[inline(always)]
-    fn walk<M: Madd>(
-        &self,
-        q: &[f64],
-        mut axis: impl FnMut(usize, &Xf),
-        mut link: impl FnMut(usize, &Xf),
-    ) -> Xf {
+    fn walk<M: Madd>(&self, q: &[f64], mut axis: impl FnMut(usize, &Xf), mut link: impl FnMut(usize, &Xf)) -> Xf {
         let n = q.len().min(self.steps.len());
         let mut t = self.start;
         let mut base = 0;
@@ -340,18 +325,9 @@ fn jacobian_core<M: Madd>(ch: &Chain, q: &[f64], tool_frame: bool, data: &mut [f
         }
         if tool_frame {
             // Rᵀ·v: dot products with the tool's axes.
-            let dot =
-                |c: &[f64], a: &[f64; 4]| M::madd(c[0], a[0], M::madd(c[1], a[1], c[2] * a[2]));
-            let v = [
-                dot(&col[..3], &t.x),
-                dot(&col[..3], &t.y),
-                dot(&col[..3], &t.z),
-            ];
-            let w = [
-                dot(&col[3..], &t.x),
-                dot(&col[3..], &t.y),
-                dot(&col[3..], &t.z),
-            ];
+            let dot = |c: &[f64], a: &[f64; 4]| M::madd(c[0], a[0], M::madd(c[1], a[1], c[2] * a[2]));
+            let v = [dot(&col[..3], &t.x), dot(&col[..3], &t.y), dot(&col[..3], &t.z)];
+            let w = [dot(&col[3..], &t.x), dot(&col[3..], &t.y), dot(&col[3..], &t.z)];
             col[..3].copy_from_slice(&v);
             col[3..].copy_from_slice(&w);
         }
@@ -439,12 +415,7 @@ pub(crate) struct Xf {
 impl Xf {
     fn from_pose(t: &Pose) -> Xf {
         let c = |j: usize| [t.rot[(0, j)], t.rot[(1, j)], t.rot[(2, j)], 0.0];
-        Xf {
-            x: c(0),
-            y: c(1),
-            z: c(2),
-            p: [t.pos.x, t.pos.y, t.pos.z, 0.0],
-        }
+        Xf { x: c(0), y: c(1), z: c(2), p: [t.pos.x, t.pos.y, t.pos.z, 0.0] }
     }
 
     #[inline(always)]
@@ -557,17 +528,11 @@ mod tests {
             for _ in 0..2000 {
                 let q = r.random_q(&mut rng);
                 let (p1, p2) = (r.chain.fk(&q), r.chain.fk_portable(&q));
-                assert!(
-                    (p1.pos - p2.pos).norm() < 1e-14 && (p1.rot - p2.rot).norm() < 1e-14,
-                    "{name}"
-                );
+                assert!((p1.pos - p2.pos).norm() < 1e-14 && (p1.rot - p2.rot).norm() < 1e-14, "{name}");
                 for tool in [false, true] {
                     r.chain.jacobian(&q, tool, &mut a);
                     r.chain.jacobian_portable(&q, tool, &mut b);
-                    let diff = a
-                        .iter()
-                        .zip(&b)
-                        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                    let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
                     assert!(diff < 1e-14, "{name}: {diff}");
                 }
             }

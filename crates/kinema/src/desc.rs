@@ -35,9 +35,7 @@ use toml::Spanned;
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{
-    Convention, DhConvention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
-};
+use crate::model::{Convention, DhConvention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -129,20 +127,9 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    fn err(
-        &self,
-        span: std::ops::Range<usize>,
-        field: impl Into<String>,
-        message: impl Into<String>,
-    ) -> Error {
+    fn err(&self, span: std::ops::Range<usize>, field: impl Into<String>, message: impl Into<String>) -> Error {
         let (line, column) = line_col(self.text, span.start);
-        Error::Description {
-            file: self.file.to_string(),
-            line,
-            column,
-            field: field.into(),
-            message: message.into(),
-        }
+        Error::Description { file: self.file.to_string(), line, column, field: field.into(), message: message.into() }
     }
 }
 
@@ -155,21 +142,10 @@ pub fn robot_from_toml(text: &str, file: &str) -> Result<Robot> {
     })?;
     let parsed: RobotFile = serde_path_to_error::deserialize(de).map_err(|e| {
         // `Spanned<T>` shows up in the path as a private field; hide it.
-        let path = e
-            .path()
-            .to_string()
-            .replace(".$__serde_spanned_private_value", "");
+        let path = e.path().to_string().replace(".$__serde_spanned_private_value", "");
         let inner = e.into_inner();
         let span = inner.span().unwrap_or(0..0);
-        ctx.err(
-            span,
-            if path == "." {
-                "(top level)".to_string()
-            } else {
-                path
-            },
-            inner.message().trim(),
-        )
+        ctx.err(span, if path == "." { "(top level)".to_string() } else { path }, inner.message().trim())
     })?;
     build(parsed, &ctx)
 }
@@ -191,20 +167,12 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         if v.xyz.iter().chain(&v.rpy).any(|x| !x.is_finite()) {
             return Err(ctx.err(s.span(), field, "values must be finite numbers"));
         }
-        Ok(Pose::from_xyz_rpy(
-            v.xyz.map(|x| x * len),
-            v.rpy.map(|x| x * ang),
-            RpyConvention::Zyx,
-        ))
+        Ok(Pose::from_xyz_rpy(v.xyz.map(|x| x * len), v.rpy.map(|x| x * ang), RpyConvention::Zyx))
     };
     let base = frame(&f.base, "base")?;
     let tool = frame(&f.tool, "tool")?;
     if f.joint.is_empty() {
-        return Err(ctx.err(
-            0..0,
-            "joint",
-            "no [[joint]] tables: a robot needs at least one joint",
-        ));
+        return Err(ctx.err(0..0, "joint", "no [[joint]] tables: a robot needs at least one joint"));
     }
     let mut joints = Vec::with_capacity(f.joint.len());
     for (i, sj) in f.joint.iter().enumerate() {
@@ -212,22 +180,14 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         let j = sj.get_ref();
         let field = |name: &str| format!("joint[{i}].{name}");
         let e = |name: &str, msg: String| {
-            ctx.err(
-                span.clone(),
-                field(name),
-                format!("joint {} (`{}`): {msg}", i + 1, j.name),
-            )
+            ctx.err(span.clone(), field(name), format!("joint {} (`{}`): {msg}", i + 1, j.name))
         };
         let prismatic = j.kind == JointType::Prismatic;
         // Joint-value unit: angle for revolute joints, length for prismatic ones.
         let qunit = if prismatic { len } else { ang };
         let geometry = match f.convention {
             Convention::Standard | Convention::Modified => {
-                for (name, v) in [
-                    ("xyz", j.xyz.is_some()),
-                    ("rpy", j.rpy.is_some()),
-                    ("axis", j.axis.is_some()),
-                ] {
+                for (name, v) in [("xyz", j.xyz.is_some()), ("rpy", j.rpy.is_some()), ("axis", j.axis.is_some())] {
                     if v {
                         return Err(e(name, "`xyz`/`rpy`/`axis` belong to convention = \"general\"; a DH row has d, a, alpha (and theta for prismatic joints)".into()));
                     }
@@ -238,16 +198,10 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 if !prismatic && j.theta.is_some() {
                     return Err(e("theta", "a revolute joint's θ is its joint variable (θ = q + offset); put a constant part into `offset`".into()));
                 }
-                let a =
-                    j.a.ok_or_else(|| e("a", "missing DH link length `a`".into()))?;
-                let alpha = j
-                    .alpha
-                    .ok_or_else(|| e("alpha", "missing DH link twist `alpha`".into()))?;
-                let convention = if f.convention == Convention::Standard {
-                    DhConvention::Standard
-                } else {
-                    DhConvention::Modified
-                };
+                let a = j.a.ok_or_else(|| e("a", "missing DH link length `a`".into()))?;
+                let alpha = j.alpha.ok_or_else(|| e("alpha", "missing DH link twist `alpha`".into()))?;
+                let convention =
+                    if f.convention == Convention::Standard { DhConvention::Standard } else { DhConvention::Modified };
                 LinkGeometry::Dh {
                     convention,
                     d: j.d.unwrap_or(0.0) * len,
@@ -257,45 +211,25 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 }
             }
             Convention::General => {
-                for (name, v) in [
-                    ("d", j.d),
-                    ("a", j.a),
-                    ("alpha", j.alpha),
-                    ("theta", j.theta),
-                ] {
+                for (name, v) in [("d", j.d), ("a", j.a), ("alpha", j.alpha), ("theta", j.theta)] {
                     if v.is_some() {
                         return Err(e(name, "DH fields belong to convention = \"standard\" or \"modified\"; a general joint has xyz, rpy and axis".into()));
                     }
                 }
                 let axis = j.axis.ok_or_else(|| {
-                    e(
-                        "axis",
-                        "missing joint `axis` (a direction in the joint frame, e.g. [0, 0, 1])"
-                            .into(),
-                    )
+                    e("axis", "missing joint `axis` (a direction in the joint frame, e.g. [0, 0, 1])".into())
                 })?;
                 let axis = Vector3::from(axis);
                 let norm = axis.norm();
                 if !(norm > 1e-12 && norm.is_finite()) {
-                    return Err(e(
-                        "axis",
-                        format!("axis {:?} has no direction", axis.as_slice()),
-                    ));
+                    return Err(e("axis", format!("axis {:?} has no direction", axis.as_slice())));
                 }
                 let xyz = j.xyz.unwrap_or([0.0; 3]).map(|x| x * len);
                 let rpy = j.rpy.unwrap_or([0.0; 3]).map(|x| x * ang);
-                LinkGeometry::General {
-                    origin: Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx),
-                    axis: axis / norm,
-                }
+                LinkGeometry::General { origin: Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx), axis: axis / norm }
             }
         };
-        let values = [
-            ("offset", Some(j.offset)),
-            ("vel", j.vel),
-            ("acc", j.acc),
-            ("jerk", j.jerk),
-        ];
+        let values = [("offset", Some(j.offset)), ("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk)];
         for (name, v) in values {
             if let Some(v) = v {
                 if !v.is_finite() {
@@ -306,10 +240,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         if j.min.is_nan() || j.max.is_nan() || j.min > j.max {
             return Err(e(
                 "min",
-                format!(
-                    "limits min = {} and max = {} are not an interval (need min ≤ max)",
-                    j.min, j.max
-                ),
+                format!("limits min = {} and max = {} are not an interval (need min ≤ max)", j.min, j.max),
             ));
         }
         for (name, v) in [("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk)] {
@@ -335,11 +266,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
     }
     let mut poses = Vec::new();
     if !f.poses.contains_key("home") {
-        return Err(ctx.err(
-            0..0,
-            "poses.home",
-            "every robot needs a named pose `home` in [poses]",
-        ));
+        return Err(ctx.err(0..0, "poses.home", "every robot needs a named pose `home` in [poses]"));
     }
     // `home` first, then the others alphabetically.
     let mut names: Vec<&String> = f.poses.keys().collect();
@@ -351,41 +278,17 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
             return Err(ctx.err(
                 sp.span(),
                 format!("poses.{name}"),
-                format!(
-                    "{} values, expected one per joint ({})",
-                    v.len(),
-                    joints.len()
-                ),
+                format!("{} values, expected one per joint ({})", v.len(), joints.len()),
             ));
         }
         if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(ctx.err(
-                sp.span(),
-                format!("poses.{name}"),
-                format!("{x} is not a finite number"),
-            ));
+            return Err(ctx.err(sp.span(), format!("poses.{name}"), format!("{x} is not a finite number")));
         }
-        let q = v
-            .iter()
-            .zip(&joints)
-            .map(|(x, j)| {
-                x * if j.kind == JointType::Prismatic {
-                    len
-                } else {
-                    ang
-                }
-            })
-            .collect();
-        poses.push(NamedPose {
-            name: name.clone(),
-            q,
-        });
+        let q =
+            v.iter().zip(&joints).map(|(x, j)| x * if j.kind == JointType::Prismatic { len } else { ang }).collect();
+        poses.push(NamedPose { name: name.clone(), q });
     }
-    let meta = Metadata {
-        manufacturer: f.manufacturer,
-        source: f.source,
-        notes: f.notes,
-    };
+    let meta = Metadata { manufacturer: f.manufacturer, source: f.source, notes: f.notes };
     Robot::new(f.name, f.convention, meta, joints, base, tool, poses).map_err(|e| match e {
         Error::InvalidModel { message, .. } => ctx.err(0..0, "(model)", message),
         other => other,
@@ -435,16 +338,7 @@ home = [0, 90]
     #[test]
     fn unknown_field_names_line_and_field() {
         let bad = GOOD.replacen("alpha = 0\nmin = -170", "alpah = 0\nmin = -170", 1);
-        let Error::Description {
-            file,
-            line,
-            field,
-            message,
-            ..
-        } = err_of(&bad)
-        else {
-            panic!()
-        };
+        let Error::Description { file, line, field, message, .. } = err_of(&bad) else { panic!() };
         assert_eq!(file, "bad.toml");
         assert_eq!(line, 11, "{message}");
         assert!(field.starts_with("joint[0]"), "{field}");
@@ -454,57 +348,31 @@ home = [0, 90]
     #[test]
     fn wrong_type_and_syntax_errors() {
         let bad = GOOD.replacen("a = 1000", "a = \"long\"", 1);
-        let Error::Description { line, field, .. } = err_of(&bad) else {
-            panic!()
-        };
+        let Error::Description { line, field, .. } = err_of(&bad) else { panic!() };
         assert_eq!((line, field.as_str()), (10, "joint[0].a"));
-        let Error::Description { line, .. } = err_of("name = \"x\"\nsource = \n") else {
-            panic!()
-        };
+        let Error::Description { line, .. } = err_of("name = \"x\"\nsource = \n") else { panic!() };
         assert_eq!(line, 2);
-        let Error::Description { field, .. } = err_of(&GOOD.replace("source = \"test\"\n", ""))
-        else {
-            panic!()
-        };
+        let Error::Description { field, .. } = err_of(&GOOD.replace("source = \"test\"\n", "")) else { panic!() };
         assert_eq!(field, "(top level)");
     }
 
     #[test]
     fn semantic_errors_point_at_the_joint() {
         let bad = GOOD.replacen("min = -170\nmax = 170", "min = 170\nmax = -170", 1);
-        let Error::Description {
-            line,
-            field,
-            message,
-            ..
-        } = err_of(&bad)
-        else {
-            panic!()
-        };
+        let Error::Description { line, field, message, .. } = err_of(&bad) else { panic!() };
         assert_eq!(line, 8);
         assert_eq!(field, "joint[0].min");
         assert!(message.contains("not an interval"));
-        let Error::Description { field, .. } =
-            err_of(&GOOD.replace("home = [0, 90]", "home = [0]"))
-        else {
-            panic!()
-        };
+        let Error::Description { field, .. } = err_of(&GOOD.replace("home = [0, 90]", "home = [0]")) else { panic!() };
         assert_eq!(field, "poses.home");
-        let Error::Description { field, .. } =
-            err_of(&GOOD.replace("home = [0, 90]", "qz = [0, 0]"))
-        else {
-            panic!()
-        };
+        let Error::Description { field, .. } = err_of(&GOOD.replace("home = [0, 90]", "qz = [0, 0]")) else { panic!() };
         assert_eq!(field, "poses.home");
-        let Error::Description { field, .. } =
-            err_of(&GOOD.replacen("name = \"j1\"", "name = \"j1\"\ntheta = 3", 1))
+        let Error::Description { field, .. } = err_of(&GOOD.replacen("name = \"j1\"", "name = \"j1\"\ntheta = 3", 1))
         else {
             panic!()
         };
         assert_eq!(field, "joint[0].theta");
-        let Error::Description { field, .. } = err_of(&GOOD.replacen("alpha = 0\n", "", 1)) else {
-            panic!()
-        };
+        let Error::Description { field, .. } = err_of(&GOOD.replacen("alpha = 0\n", "", 1)) else { panic!() };
         assert_eq!(field, "joint[0].alpha");
         let Error::Description { field, .. } =
             err_of(&GOOD.replace("convention = \"standard\"", "convention = \"dh\""))

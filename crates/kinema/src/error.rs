@@ -28,7 +28,9 @@ pub enum Error {
         value: f64,
     },
     /// A name that is not one of the built-in robots (and not a file).
-    #[error("unknown robot `{name}`: not a built-in robot and not a .toml or .urdf file; built-in robots are: {known}")]
+    #[error(
+        "unknown robot `{name}`: not a built-in robot and not a .toml or .urdf file; built-in robots are: {known}"
+    )]
     UnknownRobot {
         /// What was asked for.
         name: String,

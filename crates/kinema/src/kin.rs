@@ -45,12 +45,6 @@ impl Fk {
 }
 
 impl Robot {
-    /// `base_from_tool` without any checks; `q` must have `dof()` finite values.
-    #[inline]
-    fn fk_unchecked(&self, q: &[f64]) -> Pose {
-        self.chain.fk(q)
-    }
-
     /// Forward kinematics: the tool pose in the base frame.
     ///
     /// Errors if `q` has the wrong length or a non-finite value. Values outside
@@ -68,11 +62,8 @@ impl Robot {
     /// ```
     #[inline]
     pub fn fk(&self, q: &[f64]) -> Result<Fk> {
-        self.check_q(q)?;
-        Ok(Fk {
-            pose: self.fk_unchecked(q),
-            out_of_limits: self.limit_flags(q),
-        })
+        let out_of_limits = self.scan_q(q)?;
+        Ok(Fk { pose: self.chain.fk(q), out_of_limits })
     }
 
     /// Forward kinematics of many configurations at once, in parallel over all
@@ -93,25 +84,16 @@ impl Robot {
         if qs.len() % n != 0 {
             return Err(Error::InvalidArgument {
                 what: "qs".into(),
-                message: format!(
-                    "{} values is not a whole number of {n}-joint configurations",
-                    qs.len()
-                ),
+                message: format!("{} values is not a whole number of {n}-joint configurations", qs.len()),
             });
         }
         for (index, q) in qs.chunks_exact(n).enumerate() {
-            self.check_q(q).map_err(|e| Error::InBatch {
-                index,
-                source: Box::new(e),
-            })?;
+            self.check_q(q).map_err(|e| Error::InBatch { index, source: Box::new(e) })?;
         }
         Ok(qs
             .par_chunks_exact(n)
             .with_min_len(1024)
-            .map(|q| Fk {
-                pose: self.fk_unchecked(q),
-                out_of_limits: self.limit_flags(q),
-            })
+            .map(|q| Fk { pose: self.chain.fk(q), out_of_limits: self.limit_flags(q) })
             .collect())
     }
 
@@ -120,24 +102,17 @@ impl Robot {
     /// URDF) and `out[dof + 1]` the tool frame, all in the base frame.
     /// `out` must have `dof + 2` entries. Does not allocate.
     pub fn link_frames_into(&self, q: &[f64], out: &mut [Pose]) -> Result<Fk> {
-        self.check_q(q)?;
+        let out_of_limits = self.scan_q(q)?;
         let n = self.dof();
         if out.len() != n + 2 {
             return Err(Error::InvalidArgument {
                 what: "out".into(),
-                message: format!(
-                    "needs {} frames (base, {n} links, tool), has {}",
-                    n + 2,
-                    out.len()
-                ),
+                message: format!("needs {} frames (base, {n} links, tool), has {}", n + 2, out.len()),
             });
         }
         out[0] = *self.base();
         self.chain.link_frames(q, out);
-        Ok(Fk {
-            pose: out[n + 1],
-            out_of_limits: self.limit_flags(q),
-        })
+        Ok(Fk { pose: out[n + 1], out_of_limits })
     }
 
     /// As [`Robot::link_frames_into`], allocating the result.
@@ -151,26 +126,17 @@ impl Robot {
     /// expressed in `frame`, written into `out` (must be 6 × dof).
     /// Returns the forward kinematics computed on the way. Does not allocate.
     pub fn jacobian_into(&self, q: &[f64], frame: Frame, out: &mut Matrix6xX<f64>) -> Result<Fk> {
-        self.check_q(q)?;
+        let out_of_limits = self.scan_q(q)?;
         let n = self.dof();
         if out.ncols() != n {
             return Err(Error::InvalidArgument {
                 what: "out".into(),
-                message: format!(
-                    "Jacobian buffer has {} columns, robot `{}` has {n} joints",
-                    out.ncols(),
-                    self.name()
-                ),
+                message: format!("Jacobian buffer has {} columns, robot `{}` has {n} joints", out.ncols(), self.name()),
             });
         }
         // Column-major 6 × n storage: column i is data[6i..6i+6].
-        let pose = self
-            .chain
-            .jacobian(q, frame == Frame::Tool, out.as_mut_slice());
-        Ok(Fk {
-            pose,
-            out_of_limits: self.limit_flags(q),
-        })
+        let pose = self.chain.jacobian(q, frame == Frame::Tool, out.as_mut_slice());
+        Ok(Fk { pose, out_of_limits })
     }
 
     /// Geometric Jacobian (allocating form of [`Robot::jacobian_into`]).
@@ -204,9 +170,7 @@ impl Robot {
         if cos_mid.abs() < 1e-9 {
             return Err(Error::RpySingularity { pitch: rpy[1] });
         }
-        let einv = e
-            .try_inverse()
-            .ok_or(Error::RpySingularity { pitch: rpy[1] })?;
+        let einv = e.try_inverse().ok_or(Error::RpySingularity { pitch: rpy[1] })?;
         let w = j.fixed_rows::<3>(3).into_owned();
         j.fixed_rows_mut::<3>(3).copy_from(&(einv * w));
         Ok(j)
@@ -255,10 +219,7 @@ pub struct Workspace {
 impl Workspace {
     /// Buffers sized for `robot`.
     pub fn new(robot: &Robot) -> Self {
-        Workspace {
-            jacobian: Matrix6xX::zeros(robot.dof()),
-            frames: vec![Pose::IDENTITY; robot.dof() + 2],
-        }
+        Workspace { jacobian: Matrix6xX::zeros(robot.dof()), frames: vec![Pose::IDENTITY; robot.dof() + 2] }
     }
 
     fn fit(&mut self, robot: &Robot) {

@@ -53,7 +53,6 @@ pub use error::{Error, Result};
 pub use kin::{Fk, Frame, Workspace};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{
-    Convention, DhConvention, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata,
-    NamedPose, Robot,
+    Convention, DhConvention, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
 };
 pub use registry::{builtin_names, builtin_source};

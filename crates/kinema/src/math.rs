@@ -33,10 +33,8 @@ impl Default for Pose {
 
 impl Pose {
     /// The identity transform.
-    pub const IDENTITY: Pose = Pose {
-        rot: Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-        pos: Vector3::new(0.0, 0.0, 0.0),
-    };
+    pub const IDENTITY: Pose =
+        Pose { rot: Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0), pos: Vector3::new(0.0, 0.0, 0.0) };
 
     /// Builds a pose from a rotation matrix and a translation \[m\].
     pub fn new(rot: Matrix3<f64>, pos: Vector3<f64>) -> Self {
@@ -45,60 +43,39 @@ impl Pose {
 
     /// Pure translation \[m\].
     pub fn translation(x: f64, y: f64, z: f64) -> Self {
-        Pose {
-            rot: Matrix3::identity(),
-            pos: Vector3::new(x, y, z),
-        }
+        Pose { rot: Matrix3::identity(), pos: Vector3::new(x, y, z) }
     }
 
     /// Pure rotation about x by `angle` \[rad\].
     pub fn rot_x(angle: f64) -> Self {
-        Pose {
-            rot: rot_x(angle),
-            pos: Vector3::zeros(),
-        }
+        Pose { rot: rot_x(angle), pos: Vector3::zeros() }
     }
 
     /// Pure rotation about y by `angle` \[rad\].
     pub fn rot_y(angle: f64) -> Self {
-        Pose {
-            rot: rot_y(angle),
-            pos: Vector3::zeros(),
-        }
+        Pose { rot: rot_y(angle), pos: Vector3::zeros() }
     }
 
     /// Pure rotation about z by `angle` \[rad\].
     pub fn rot_z(angle: f64) -> Self {
-        Pose {
-            rot: rot_z(angle),
-            pos: Vector3::zeros(),
-        }
+        Pose { rot: rot_z(angle), pos: Vector3::zeros() }
     }
 
     /// Translation `xyz` \[m\] and orientation `rpy` \[rad\] in the given convention.
     pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3], conv: RpyConvention) -> Self {
-        Pose {
-            rot: rpy_to_rot(rpy, conv),
-            pos: Vector3::from(xyz),
-        }
+        Pose { rot: rpy_to_rot(rpy, conv), pos: Vector3::from(xyz) }
     }
 
     /// Composition `self · other`.
     #[inline]
     pub fn mul(&self, other: &Pose) -> Pose {
-        Pose {
-            rot: self.rot * other.rot,
-            pos: self.pos + self.rot * other.pos,
-        }
+        Pose { rot: self.rot * other.rot, pos: self.pos + self.rot * other.pos }
     }
 
     /// The inverse transform.
     pub fn inverse(&self) -> Pose {
         let rt = self.rot.transpose();
-        Pose {
-            rot: rt,
-            pos: -(rt * self.pos),
-        }
+        Pose { rot: rt, pos: -(rt * self.pos) }
     }
 
     /// Maps a point given in the child frame into the parent frame.
@@ -135,11 +112,7 @@ impl Pose {
             return None;
         }
         let last = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)]];
-        if last
-            .iter()
-            .zip([0.0, 0.0, 0.0, 1.0])
-            .any(|(a, b)| (a - b).abs() > 1e-9)
-        {
+        if last.iter().zip([0.0, 0.0, 0.0, 1.0]).any(|(a, b)| (a - b).abs() > 1e-9) {
             return None;
         }
         let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into();
@@ -147,10 +120,7 @@ impl Pose {
             return None;
         }
         let rot = Rotation3::from_matrix(&r).into_inner();
-        Some(Pose {
-            rot,
-            pos: m.fixed_view::<3, 1>(0, 3).into(),
-        })
+        Some(Pose { rot, pos: m.fixed_view::<3, 1>(0, 3).into() })
     }
 
     /// Orientation as a unit quaternion.
@@ -170,10 +140,7 @@ impl Pose {
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        self.rot
-            .iter()
-            .chain(self.pos.iter())
-            .all(|v| v.is_finite())
+        self.rot.iter().chain(self.pos.iter()).all(|v| v.is_finite())
     }
 }
 
@@ -253,11 +220,7 @@ pub fn rot_to_rpy(r: &Matrix3<f64>, conv: RpyConvention) -> [f64; 3] {
                 [roll, pitch, yaw]
             } else {
                 // roll and yaw are coupled; put everything into yaw.
-                let pitch = if sp > 0.0 {
-                    std::f64::consts::FRAC_PI_2
-                } else {
-                    -std::f64::consts::FRAC_PI_2
-                };
+                let pitch = if sp > 0.0 { std::f64::consts::FRAC_PI_2 } else { -std::f64::consts::FRAC_PI_2 };
                 let yaw = (-r[(0, 1)]).atan2(r[(1, 1)]);
                 [0.0, pitch, yaw]
             }
@@ -272,11 +235,7 @@ pub fn rot_to_rpy(r: &Matrix3<f64>, conv: RpyConvention) -> [f64; 3] {
                 let c = (-r[(0, 1)]).atan2(r[(0, 0)]);
                 [a, b, c]
             } else {
-                let b = if sb > 0.0 {
-                    std::f64::consts::FRAC_PI_2
-                } else {
-                    -std::f64::consts::FRAC_PI_2
-                };
+                let b = if sb > 0.0 { std::f64::consts::FRAC_PI_2 } else { -std::f64::consts::FRAC_PI_2 };
                 let c = r[(1, 0)].atan2(r[(1, 1)]);
                 [0.0, b, c]
             }
@@ -421,19 +380,9 @@ mod tests {
         // 1e5 * 2^-52 ≈ 2e-11 is the conditioning of the argument itself; we do
         // much better than that thanks to the three-part reduction.
         assert!(worst < 4e-16, "worst abs error {worst}");
-        for x in [
-            0.0,
-            -0.0,
-            std::f64::consts::FRAC_PI_2,
-            std::f64::consts::PI,
-            1e6,
-            -3e7,
-        ] {
+        for x in [0.0, -0.0, std::f64::consts::FRAC_PI_2, std::f64::consts::PI, 1e6, -3e7] {
             let (s, c) = sin_cos(x);
-            assert!(
-                (s - x.sin()).abs() < 1e-15 && (c - x.cos()).abs() < 1e-15,
-                "{x}"
-            );
+            assert!((s - x.sin()).abs() < 1e-15 && (c - x.cos()).abs() < 1e-15, "{x}");
         }
         assert!(sin_cos(f64::NAN).0.is_nan());
         assert!(sin_cos(f64::INFINITY).1.is_nan());
@@ -444,11 +393,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(1);
         for conv in [RpyConvention::Zyx, RpyConvention::Xyz] {
             for _ in 0..5000 {
-                let t = [
-                    rng.random_range(-3.1..3.1),
-                    rng.random_range(-1.55..1.55),
-                    rng.random_range(-3.1..3.1),
-                ];
+                let t = [rng.random_range(-3.1..3.1), rng.random_range(-1.55..1.55), rng.random_range(-3.1..3.1)];
                 let r = rpy_to_rot(t, conv);
                 let back = rot_to_rpy(&r, conv);
                 for k in 0..3 {
@@ -502,10 +447,7 @@ mod tests {
     fn pose_error_recovers_small_motion() {
         let a = Pose::from_xyz_rpy([0.1, 0.2, 0.3], [0.1, 0.2, 0.3], RpyConvention::Zyx);
         let w = Vector3::new(0.01, -0.02, 0.005);
-        let b = Pose {
-            rot: axis_angle_to_rot(&w) * a.rot,
-            pos: a.pos + Vector3::new(0.001, 0.0, 0.0),
-        };
+        let b = Pose { rot: axis_angle_to_rot(&w) * a.rot, pos: a.pos + Vector3::new(0.001, 0.0, 0.0) };
         let e = pose_error(&b, &a);
         assert!((e.rotation - w).norm() < 1e-12);
         assert!((e.translation - Vector3::new(0.001, 0.0, 0.0)).norm() < 1e-15);

@@ -91,13 +91,7 @@ pub struct Limits {
 impl Limits {
     /// Position limits only.
     pub fn position(min: f64, max: f64) -> Self {
-        Limits {
-            min,
-            max,
-            vel: None,
-            acc: None,
-            jerk: None,
-        }
+        Limits { min, max, vel: None, acc: None, jerk: None }
     }
     /// No limits at all (a continuous joint).
     pub fn unbounded() -> Self {
@@ -207,18 +201,12 @@ impl Robot {
         poses: Vec<NamedPose>,
     ) -> Result<Robot> {
         let name = name.into();
-        let invalid = |message: String| Error::InvalidModel {
-            robot: name.clone(),
-            message,
-        };
+        let invalid = |message: String| Error::InvalidModel { robot: name.clone(), message };
         if joints.is_empty() {
             return Err(invalid("a robot needs at least one joint".into()));
         }
         if joints.len() > MAX_JOINTS {
-            return Err(invalid(format!(
-                "{} joints; at most {MAX_JOINTS} are supported",
-                joints.len()
-            )));
+            return Err(invalid(format!("{} joints; at most {MAX_JOINTS} are supported", joints.len())));
         }
         if !base.is_finite() || !tool.is_finite() {
             return Err(invalid("base and tool transforms must be finite".into()));
@@ -226,19 +214,11 @@ impl Robot {
         for (i, j) in joints.iter().enumerate() {
             let l = &j.limits;
             let geometry_finite = match j.geometry {
-                LinkGeometry::Dh {
-                    d, a, alpha, theta, ..
-                } => [d, a, alpha, theta].iter().all(|v| v.is_finite()),
-                LinkGeometry::General { origin, axis } => {
-                    origin.is_finite() && axis.iter().all(|v| v.is_finite())
-                }
+                LinkGeometry::Dh { d, a, alpha, theta, .. } => [d, a, alpha, theta].iter().all(|v| v.is_finite()),
+                LinkGeometry::General { origin, axis } => origin.is_finite() && axis.iter().all(|v| v.is_finite()),
             };
             if !geometry_finite || !j.offset.is_finite() {
-                return Err(invalid(format!(
-                    "joint {} (`{}`): geometry and offset must be finite",
-                    i + 1,
-                    j.name
-                )));
+                return Err(invalid(format!("joint {} (`{}`): geometry and offset must be finite", i + 1, j.name)));
             }
             if let LinkGeometry::General { axis, .. } = j.geometry {
                 if (axis.norm() - 1.0).abs() > 1e-9 {
@@ -259,11 +239,7 @@ impl Robot {
                     l.max
                 )));
             }
-            for (what, v) in [
-                ("velocity", l.vel),
-                ("acceleration", l.acc),
-                ("jerk", l.jerk),
-            ] {
+            for (what, v) in [("velocity", l.vel), ("acceleration", l.acc), ("jerk", l.jerk)] {
                 if let Some(v) = v {
                     if !(v > 0.0 && v.is_finite()) {
                         return Err(invalid(format!(
@@ -280,31 +256,14 @@ impl Robot {
         }
         for p in &poses {
             if p.q.len() != joints.len() {
-                return Err(invalid(format!(
-                    "pose `{}` has {} values, expected {}",
-                    p.name,
-                    p.q.len(),
-                    joints.len()
-                )));
+                return Err(invalid(format!("pose `{}` has {} values, expected {}", p.name, p.q.len(), joints.len())));
             }
             if let Some(v) = p.q.iter().find(|v| !v.is_finite()) {
-                return Err(invalid(format!(
-                    "pose `{}` contains {v}; joint values must be finite",
-                    p.name
-                )));
+                return Err(invalid(format!("pose `{}` contains {v}; joint values must be finite", p.name)));
             }
         }
         let chain = Chain::new(&joints, &base, &tool);
-        Ok(Robot {
-            name,
-            convention,
-            meta,
-            joints,
-            base,
-            tool,
-            poses,
-            chain,
-        })
+        Ok(Robot { name, convention, meta, joints, base, tool, poses, chain })
     }
 
     /// Robot name (e.g. `lbr-iiwa-14-r820`).
@@ -345,20 +304,11 @@ impl Robot {
     }
     /// A named configuration.
     pub fn pose(&self, name: &str) -> Result<&[f64]> {
-        self.poses
-            .iter()
-            .find(|p| p.name == name)
-            .map(|p| p.q.as_slice())
-            .ok_or_else(|| Error::UnknownPose {
-                robot: self.name.clone(),
-                pose: name.to_string(),
-                known: self
-                    .poses
-                    .iter()
-                    .map(|p| p.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            })
+        self.poses.iter().find(|p| p.name == name).map(|p| p.q.as_slice()).ok_or_else(|| Error::UnknownPose {
+            robot: self.name.clone(),
+            pose: name.to_string(),
+            known: self.poses.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", "),
+        })
     }
     /// The `home` configuration.
     pub fn home(&self) -> &[f64] {
@@ -425,10 +375,7 @@ impl Robot {
                     self.poses.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
                 ),
             })?;
-            let is_rev = self
-                .joints
-                .get(i)
-                .is_some_and(|j| j.kind == JointType::Revolute);
+            let is_rev = self.joints.get(i).is_some_and(|j| j.kind == JointType::Revolute);
             q.push(if degrees && is_rev { v.to_radians() } else { v });
         }
         self.check_q(&q)?;
@@ -438,37 +385,39 @@ impl Robot {
     /// Checks length and finiteness of a joint vector.
     #[inline]
     pub fn check_q(&self, q: &[f64]) -> Result<()> {
+        self.scan_q(q).map(|_| ())
+    }
+
+    /// Checks length and finiteness of `q` and returns the joints outside
+    /// their limits, in one pass. The detailed error is only built on failure.
+    #[inline]
+    pub(crate) fn scan_q(&self, q: &[f64]) -> Result<JointSet> {
         if q.len() != self.joints.len() {
-            return Err(Error::JointCount {
-                robot: self.name.clone(),
-                expected: self.joints.len(),
-                got: q.len(),
-            });
+            return Err(self.bad_q(q));
         }
-        for (i, &v) in q.iter().enumerate() {
-            if !v.is_finite() {
-                return Err(Error::NonFinite {
-                    robot: self.name.clone(),
-                    joint: i + 1,
-                    name: self.joints[i].name.clone(),
-                    value: v,
-                });
-            }
+        let (finite, bits) = self.chain.scan(q);
+        if !finite {
+            return Err(self.bad_q(q));
         }
-        Ok(())
+        Ok(JointSet(bits))
+    }
+
+    /// The error for a joint vector that failed [`Robot::scan_q`] (kept out of line).
+    #[cold]
+    #[inline(never)]
+    fn bad_q(&self, q: &[f64]) -> Error {
+        if q.len() != self.joints.len() {
+            return Error::JointCount { robot: self.name.clone(), expected: self.joints.len(), got: q.len() };
+        }
+        let i = q.iter().position(|v| !v.is_finite()).unwrap_or(0);
+        Error::NonFinite { robot: self.name.clone(), joint: i + 1, name: self.joints[i].name.clone(), value: q[i] }
     }
 
     /// Bit set of the joints whose value lies outside its position limits
-    /// (bit i set for joint i + 1). `q` must have been checked.
+    /// (bit i set for joint i + 1). `q` must have `dof()` values.
     #[inline]
     pub fn limit_flags(&self, q: &[f64]) -> JointSet {
-        let mut bits = 0u64;
-        for (i, (j, &v)) in self.joints.iter().zip(q).enumerate() {
-            if !j.limits.contains(v) {
-                bits |= 1 << i;
-            }
-        }
-        JointSet(bits)
+        JointSet(self.chain.scan(q).1)
     }
 
     /// A uniformly random configuration within the position limits (joints
@@ -483,27 +432,15 @@ impl Robot {
     pub fn random_q_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, q: &mut [f64]) {
         for (v, j) in q.iter_mut().zip(&self.joints) {
             let (lo, hi) = sampling_range(&j.limits);
-            *v = if hi > lo {
-                rng.random_range(lo..=hi)
-            } else {
-                lo
-            };
+            *v = if hi > lo { rng.random_range(lo..=hi) } else { lo };
         }
     }
 }
 
 /// The interval random configurations are drawn from for one joint.
 pub fn sampling_range(l: &Limits) -> (f64, f64) {
-    let lo = if l.min.is_finite() {
-        l.min
-    } else {
-        -std::f64::consts::PI
-    };
-    let hi = if l.max.is_finite() {
-        l.max
-    } else {
-        std::f64::consts::PI
-    };
+    let lo = if l.min.is_finite() { l.min } else { -std::f64::consts::PI };
+    let hi = if l.max.is_finite() { l.max } else { std::f64::consts::PI };
     (lo, hi.max(lo))
 }
 

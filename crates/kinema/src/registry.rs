@@ -14,10 +14,7 @@ pub fn builtin_names() -> impl Iterator<Item = &'static str> {
 
 /// The TOML text of a built-in robot.
 pub fn builtin_source(name: &str) -> Option<&'static str> {
-    BUILTIN
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, text)| *text)
+    BUILTIN.iter().find(|(n, _)| *n == name).map(|(_, text)| *text)
 }
 
 impl Robot {
@@ -58,16 +55,9 @@ impl Robot {
     pub fn from_file(path: impl AsRef<Path>, tip: Option<&str>) -> Result<Robot> {
         let path = path.as_ref();
         let shown = path.display().to_string();
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        let read = || {
-            std::fs::read_to_string(path).map_err(|e| Error::Io {
-                path: shown.clone(),
-                message: e.to_string(),
-            })
-        };
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let read =
+            || std::fs::read_to_string(path).map_err(|e| Error::Io { path: shown.clone(), message: e.to_string() });
         match ext.as_deref() {
             Some("toml") => {
                 if tip.is_some() {
@@ -98,16 +88,9 @@ impl Robot {
             return Robot::builtin(spec);
         }
         let lower = spec.to_ascii_lowercase();
-        if lower.ends_with(".toml")
-            || lower.ends_with(".urdf")
-            || lower.ends_with(".xml")
-            || Path::new(spec).exists()
-        {
+        if lower.ends_with(".toml") || lower.ends_with(".urdf") || lower.ends_with(".xml") || Path::new(spec).exists() {
             return Robot::from_file(spec, tip);
         }
-        Err(Error::UnknownRobot {
-            name: spec.to_string(),
-            known: builtin_names().collect::<Vec<_>>().join(", "),
-        })
+        Err(Error::UnknownRobot { name: spec.to_string(), known: builtin_names().collect::<Vec<_>>().join(", ") })
     }
 }

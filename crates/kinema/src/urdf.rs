@@ -13,23 +13,15 @@ use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{
-    Convention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
-};
+use crate::model::{Convention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot};
 
 /// Parses a URDF document and extracts the chain from its root link to `tip`
 /// (default: the only leaf link). `file` is used in messages only.
 pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robot> {
-    let err = |message: String| Error::Urdf {
-        file: file.to_string(),
-        message,
-    };
-    let u = urdf_rs::read_from_string(text)
-        .map_err(|e| err(format!("not a readable URDF document: {e}")))?;
+    let err = |message: String| Error::Urdf { file: file.to_string(), message };
+    let u = urdf_rs::read_from_string(text).map_err(|e| err(format!("not a readable URDF document: {e}")))?;
     if u.joints.is_empty() {
-        return Err(err(
-            "the URDF has no <joint> elements; a robot arm needs at least one moving joint".into(),
-        ));
+        return Err(err("the URDF has no <joint> elements; a robot arm needs at least one moving joint".into()));
     }
     let mut by_child: HashMap<&str, &urdf_rs::Joint> = HashMap::new();
     for j in &u.joints {
@@ -49,38 +41,23 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
             }
         }
     }
-    let roots: Vec<&str> = links
-        .iter()
-        .copied()
-        .filter(|l| !by_child.contains_key(l))
-        .collect();
+    let roots: Vec<&str> = links.iter().copied().filter(|l| !by_child.contains_key(l)).collect();
     if roots.len() != 1 {
         return Err(err(format!(
             "expected exactly one root link (a link that is no joint's child), found {}: {}",
             roots.len(),
-            if roots.is_empty() {
-                "none (the joints form a cycle)".to_string()
-            } else {
-                roots.join(", ")
-            }
+            if roots.is_empty() { "none (the joints form a cycle)".to_string() } else { roots.join(", ") }
         )));
     }
     let tip = match tip {
         Some(t) => {
             if !links.contains(&t) {
-                return Err(err(format!(
-                    "tip link `{t}` is not in the URDF; its links are: {}",
-                    links.join(", ")
-                )));
+                return Err(err(format!("tip link `{t}` is not in the URDF; its links are: {}", links.join(", "))));
             }
             t
         }
         None => {
-            let leaves: Vec<&str> = links
-                .iter()
-                .copied()
-                .filter(|l| !parents.contains(l))
-                .collect();
+            let leaves: Vec<&str> = links.iter().copied().filter(|l| !parents.contains(l)).collect();
             match leaves.as_slice() {
                 [one] => *one,
                 _ => {
@@ -131,10 +108,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
         let axis = Vector3::from(*j.axis.xyz);
         let norm = axis.norm();
         if !(norm > 1e-12 && norm.is_finite()) {
-            return Err(err(format!(
-                "joint `{}`: axis {:?} has no direction",
-                j.name, *j.axis.xyz
-            )));
+            return Err(err(format!("joint `{}`: axis {:?} has no direction", j.name, *j.axis.xyz)));
         }
         let limits = if j.joint_type == urdf_rs::JointType::Continuous {
             Limits::unbounded()
@@ -148,8 +122,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
             }
             Limits::position(l.lower, l.upper)
         };
-        let vel =
-            (j.limit.velocity > 0.0 && j.limit.velocity.is_finite()).then_some(j.limit.velocity);
+        let vel = (j.limit.velocity > 0.0 && j.limit.velocity.is_finite()).then_some(j.limit.velocity);
         let origin = if base.is_none() {
             base = Some(pending);
             origin
@@ -160,35 +133,17 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
         joints.push(Joint {
             name: j.name.clone(),
             kind,
-            geometry: LinkGeometry::General {
-                origin,
-                axis: axis / norm,
-            },
+            geometry: LinkGeometry::General { origin, axis: axis / norm },
             offset: 0.0,
             limits: Limits { vel, ..limits },
         });
     }
     if joints.is_empty() {
-        return Err(err(format!(
-            "the chain from `{}` to `{tip}` has no moving joint",
-            roots[0]
-        )));
+        return Err(err(format!("the chain from `{}` to `{tip}` has no moving joint", roots[0])));
     }
-    let home = joints
-        .iter()
-        .map(|j| {
-            if j.limits.contains(0.0) {
-                0.0
-            } else {
-                0.5 * (j.limits.min + j.limits.max)
-            }
-        })
-        .collect();
-    let name = if u.name.is_empty() {
-        file.to_string()
-    } else {
-        u.name.clone()
-    };
+    let home =
+        joints.iter().map(|j| if j.limits.contains(0.0) { 0.0 } else { 0.5 * (j.limits.min + j.limits.max) }).collect();
+    let name = if u.name.is_empty() { file.to_string() } else { u.name.clone() };
     let meta = Metadata {
         manufacturer: String::new(),
         source: format!("URDF {file}, chain {} → {tip}", roots[0]),
@@ -201,10 +156,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
         joints,
         base.unwrap_or(Pose::IDENTITY),
         pending,
-        vec![NamedPose {
-            name: "home".into(),
-            q: home,
-        }],
+        vec![NamedPose { name: "home".into(), q: home }],
     )
     .map_err(|e| err(e.to_string()))
 }

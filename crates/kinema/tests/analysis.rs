@@ -11,13 +11,7 @@ use rand_chacha::ChaCha8Rng;
 
 const SAMPLES: usize = 1000;
 /// 7, 7, 6, 5 (revolute) and 5 (two prismatic) joints.
-const ROBOTS: &[&str] = &[
-    "lbr-iiwa-14-r820",
-    "panda",
-    "ur5",
-    "scorbot-er-v-plus",
-    "scara5",
-];
+const ROBOTS: &[&str] = &["lbr-iiwa-14-r820", "panda", "ur5", "scorbot-er-v-plus", "scara5"];
 
 /// The selected rows as a dynamic matrix, copied here (not via the library).
 fn block(j: &Matrix6xX<f64>, axes: Axes) -> DMatrix<f64> {
@@ -32,11 +26,7 @@ fn block(j: &Matrix6xX<f64>, axes: Axes) -> DMatrix<f64> {
 /// Squared singular values from the eigenvalues of the smaller Gram matrix
 /// (J·Jᵀ or Jᵀ·J), largest first: exactly min(rows, cols) of them.
 fn sigma_squared(m: &DMatrix<f64>) -> Vec<f64> {
-    let g = if m.nrows() <= m.ncols() {
-        m * m.transpose()
-    } else {
-        m.transpose() * m
-    };
+    let g = if m.nrows() <= m.ncols() { m * m.transpose() } else { m.transpose() * m };
     let mut ev: Vec<f64> = g.symmetric_eigen().eigenvalues.iter().copied().collect();
     ev.sort_by(|a, b| b.total_cmp(a));
     ev
@@ -44,11 +34,7 @@ fn sigma_squared(m: &DMatrix<f64>) -> Vec<f64> {
 
 fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
     loop {
-        let v = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
+        let v = Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
         let n = v.norm();
         if n > 0.1 && n <= 1.0 {
             return v / n;
@@ -80,11 +66,7 @@ fn yoshikawa_is_sqrt_det_j_jt() {
             let sc = jjt.trace().powi(m.nrows() as i32);
             if m.nrows() <= m.ncols() {
                 assert!(w >= 0.0);
-                assert!(
-                    (w * w - det).abs() <= 1e-10 * sc,
-                    "{} {axes:?} q = {q:?}: {w}² vs det = {det}",
-                    robot.name()
-                );
+                assert!((w * w - det).abs() <= 1e-10 * sc, "{} {axes:?} q = {q:?}: {w}² vs det = {det}", robot.name());
                 if det > 1e-6 * sc {
                     let want = det.sqrt();
                     assert!(
@@ -129,11 +111,7 @@ fn singular_values_are_roots_of_gram_eigenvalues() {
             let last = *want.last().unwrap();
             if last > 1e-8 * top {
                 let want_c = (top / last).sqrt();
-                assert!(
-                    (c - want_c).abs() <= 1e-6 * want_c,
-                    "{} {axes:?}: condition {c} vs {want_c}",
-                    robot.name()
-                );
+                assert!((c - want_c).abs() <= 1e-6 * want_c, "{} {axes:?}: condition {c} vs {want_c}", robot.name());
             }
             assert!(c >= 1.0);
         }
@@ -164,10 +142,7 @@ fn rank_counts_singular_values_above_tolerance() {
             }
         }
     });
-    let j = Robot::builtin("ur5")
-        .unwrap()
-        .jacobian(&[0.1; 6], Frame::Base)
-        .unwrap();
+    let j = Robot::builtin("ur5").unwrap().jacobian(&[0.1; 6], Frame::Base).unwrap();
     assert!(analysis::rank(&j, Axes::All, Some(-1.0)).is_err());
     assert!(analysis::rank(&j, Axes::All, Some(f64::NAN)).is_err());
 }
@@ -199,14 +174,8 @@ fn ellipsoid_axes_are_eigenvectors_of_j_jt() {
             assert!((prod - det).abs() <= 1e-8 * det + 1e-9 * scale.sqrt().powi(3));
         }
     });
-    let j = Robot::builtin("ur5")
-        .unwrap()
-        .jacobian(&[0.1; 6], Frame::Base)
-        .unwrap();
-    assert!(matches!(
-        analysis::ellipsoid(&j, Axes::All),
-        Err(kinema::Error::InvalidArgument { .. })
-    ));
+    let j = Robot::builtin("ur5").unwrap().jacobian(&[0.1; 6], Frame::Base).unwrap();
+    assert!(matches!(analysis::ellipsoid(&j, Axes::All), Err(kinema::Error::InvalidArgument { .. })));
 }
 
 /// (J·Jᵀ)⁻¹ through the adjugate, written out: the matrix [[a, d, e], [d, b, f],
@@ -215,9 +184,7 @@ fn inverse_3x3(m: &Matrix3<f64>) -> Matrix3<f64> {
     let det = m[(0, 0)] * (m[(1, 1)] * m[(2, 2)] - m[(1, 2)] * m[(2, 1)])
         - m[(0, 1)] * (m[(1, 0)] * m[(2, 2)] - m[(1, 2)] * m[(2, 0)])
         + m[(0, 2)] * (m[(1, 0)] * m[(2, 1)] - m[(1, 1)] * m[(2, 0)]);
-    let c = |r0: usize, c0: usize, r1: usize, c1: usize| {
-        m[(r0, c0)] * m[(r1, c1)] - m[(r0, c1)] * m[(r1, c0)]
-    };
+    let c = |r0: usize, c0: usize, r1: usize, c1: usize| m[(r0, c0)] * m[(r1, c1)] - m[(r0, c1)] * m[(r1, c0)];
     Matrix3::new(
         c(1, 1, 2, 2),
         -c(0, 1, 2, 2),
@@ -250,12 +217,8 @@ fn manipulability_along_equals_seed004_eq12() {
             {
                 let v = unit(rng);
                 let (vx, vy, vz) = (v.x, v.y, v.z);
-                let delta = a * vx * vx
-                    + b * vy * vy
-                    + c * vz * vz
-                    + 2.0 * d * vx * vy
-                    + 2.0 * e * vx * vz
-                    + 2.0 * f * vy * vz;
+                let delta =
+                    a * vx * vx + b * vy * vy + c * vz * vz + 2.0 * d * vx * vy + 2.0 * e * vx * vz + 2.0 * f * vy * vz;
                 let t = 1.0 / delta.sqrt();
                 let got = analysis::manipulability_along(j, axes, &v).unwrap();
                 assert!(
@@ -314,31 +277,15 @@ fn manipulability_along_at_the_coupled_singularity() {
     // (|J_v| restricted to that line), from the Gram matrix directly.
     let speed = (line.transpose() * &m * m.transpose() * line)[(0, 0)].sqrt();
     let along = analysis::manipulability_along(&j, Axes::Translation, &line).unwrap();
-    assert!(
-        (along - speed).abs() < 1e-12 * speed && speed > 0.1,
-        "{along} vs {speed}"
-    );
+    assert!((along - speed).abs() < 1e-12 * speed && speed > 0.1, "{along} vs {speed}");
     let e = analysis::ellipsoid(&j, Axes::Translation).unwrap();
     assert!((e.radii[0] - speed).abs() < 1e-12);
     assert!(e.radii[1] < 1e-12 && e.radii[2] < 1e-12);
-    for dir in [
-        Vector3::z(),
-        z1,
-        (Vector3::z() + z1).normalize(),
-        line + Vector3::z() * 0.1,
-    ] {
-        assert_eq!(
-            analysis::manipulability_along(&j, Axes::Translation, &dir).unwrap(),
-            0.0,
-            "{dir:?}"
-        );
+    for dir in [Vector3::z(), z1, (Vector3::z() + z1).normalize(), line + Vector3::z() * 0.1] {
+        assert_eq!(analysis::manipulability_along(&j, Axes::Translation, &dir).unwrap(), 0.0, "{dir:?}");
     }
     // A direction that is not a usable vector.
-    for bad in [
-        Vector3::zeros(),
-        Vector3::new(f64::NAN, 0.0, 1.0),
-        Vector3::new(f64::INFINITY, 0.0, 0.0),
-    ] {
+    for bad in [Vector3::zeros(), Vector3::new(f64::NAN, 0.0, 1.0), Vector3::new(f64::INFINITY, 0.0, 0.0)] {
         assert!(analysis::manipulability_along(&j, Axes::Translation, &bad).is_err());
     }
 }
@@ -396,19 +343,14 @@ fn dependent_joints_at_generic_and_coupled_configurations() {
 
     // sing-coupled: joints 1, 3 and 5 turn about one vertical line, so
     // columns 3 and 5 equal column 1; one more dependency makes rank 4.
-    let j = robot
-        .jacobian(robot.pose("sing-coupled").unwrap(), Frame::Base)
-        .unwrap();
+    let j = robot.jacobian(robot.pose("sing-coupled").unwrap(), Frame::Base).unwrap();
     let deps = analysis::dependent_joints(&j, None).unwrap();
     assert_eq!(deps.len(), 7 - 4, "{deps:?}");
     for d in &deps {
         assert!(reproduces(&j, d), "{d:?}");
     }
     for joint in [2, 4] {
-        let d = deps
-            .iter()
-            .find(|d| d.joint == joint)
-            .expect("q3 and q5 depend on q1");
+        let d = deps.iter().find(|d| d.joint == joint).expect("q3 and q5 depend on q1");
         assert_eq!(d.on.len(), 1);
         assert_eq!(d.on[0].0, 0);
         assert!((d.on[0].1 - 1.0).abs() < 1e-9);
@@ -426,28 +368,15 @@ fn report_singular_directions_are_unreachable() {
         calls += 1;
         let j = robot.jacobian(q, Frame::Base).unwrap();
         let r = analysis::report(&j).unwrap();
-        assert_eq!(
-            r.singular_directions.len(),
-            6 - r.rank,
-            "{} {q:?}",
-            robot.name()
-        );
+        assert_eq!(r.singular_directions.len(), 6 - r.rank, "{} {q:?}", robot.name());
         let smax = r.singular_values[0];
-        let dirs: Vec<kinema::nalgebra::Vector6<f64>> = r
-            .singular_directions
-            .iter()
-            .map(|u| kinema::nalgebra::Vector6::from_row_slice(u))
-            .collect();
+        let dirs: Vec<kinema::nalgebra::Vector6<f64>> =
+            r.singular_directions.iter().map(|u| kinema::nalgebra::Vector6::from_row_slice(u)).collect();
         for (a, u) in dirs.iter().enumerate() {
             assert!((u.norm() - 1.0).abs() < 1e-12);
             // Jᵀ·u ≈ 0: no joint motion moves the tool along u.
             let jt_u = j.transpose() * u;
-            assert!(
-                jt_u.norm() < 1e-10 * smax,
-                "{} {q:?}: |Jᵀu| = {}",
-                robot.name(),
-                jt_u.norm()
-            );
+            assert!(jt_u.norm() < 1e-10 * smax, "{} {q:?}: |Jᵀu| = {}", robot.name(), jt_u.norm());
             for b in &dirs[..a] {
                 assert!(u.dot(b).abs() < 1e-12);
             }
@@ -457,29 +386,19 @@ fn report_singular_directions_are_unreachable() {
             return;
         }
         // The other fields agree with the single-purpose functions.
-        for (a, b) in r
-            .singular_values
-            .iter()
-            .zip(analysis::singular_values(&j, Axes::All).unwrap())
-        {
+        for (a, b) in r.singular_values.iter().zip(analysis::singular_values(&j, Axes::All).unwrap()) {
             assert!((a - b).abs() <= 1e-12 * smax);
         }
         assert_eq!(r.rank, analysis::rank(&j, Axes::All, None).unwrap().0);
         assert_eq!(r.yoshikawa, analysis::yoshikawa(&j, Axes::All).unwrap());
-        assert_eq!(
-            r.dependent_joints,
-            analysis::dependent_joints(&j, None).unwrap()
-        );
+        assert_eq!(r.dependent_joints, analysis::dependent_joints(&j, None).unwrap());
     };
     let iiwa = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     for (pose, rank) in [("sing-q4", 5), ("sing-q2-q3", 5), ("sing-coupled", 4)] {
         let q = iiwa.pose(pose).unwrap();
         check(&iiwa, q);
         let j = iiwa.jacobian(q, Frame::Base).unwrap();
-        assert_eq!(
-            analysis::report(&j).unwrap().singular_directions.len(),
-            6 - rank
-        );
+        assert_eq!(analysis::report(&j).unwrap().singular_directions.len(), 6 - rank);
     }
     for name in ["puma560", "ur5", "scara5"] {
         let robot = Robot::builtin(name).unwrap();
@@ -498,10 +417,7 @@ fn report_singular_directions_are_unreachable() {
 
 #[test]
 fn non_finite_jacobian_is_an_error() {
-    let mut j = Robot::builtin("ur5")
-        .unwrap()
-        .jacobian(&[0.2; 6], Frame::Base)
-        .unwrap();
+    let mut j = Robot::builtin("ur5").unwrap().jacobian(&[0.2; 6], Frame::Base).unwrap();
     j[(2, 3)] = f64::NAN;
     assert!(analysis::report(&j).is_err());
     assert!(analysis::yoshikawa(&j, Axes::Translation).is_err());

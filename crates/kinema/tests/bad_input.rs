@@ -8,9 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
 }
 
 /// A valid two-joint (RP) description; the tests below break it one way at a time.
@@ -42,9 +40,7 @@ qz = [0, 0]
 
 /// 1-based line of the first occurrence of `needle` in `text`.
 fn line_of(text: &str, needle: &str) -> usize {
-    let at = text
-        .find(needle)
-        .unwrap_or_else(|| panic!("`{needle}` not in text"));
+    let at = text.find(needle).unwrap_or_else(|| panic!("`{needle}` not in text"));
     text[..at].matches('\n').count() + 1
 }
 
@@ -64,20 +60,11 @@ fn replace_once(text: &str, from: &str, to: &str) -> String {
 fn desc_err(text: &str) -> (Error, usize, usize, String, String) {
     let e = Robot::from_toml_str(text, "bad.toml").expect_err("must be rejected");
     match &e {
-        Error::Description {
-            file,
-            line,
-            column,
-            field,
-            message,
-        } => {
+        Error::Description { file, line, column, field, message } => {
             assert_eq!(file, "bad.toml");
             assert!(*line >= 1 && *column >= 1);
             let shown = e.to_string();
-            assert!(
-                shown.starts_with(&format!("bad.toml:{line}:{column}: `{field}`: ")),
-                "{shown}"
-            );
+            assert!(shown.starts_with(&format!("bad.toml:{line}:{column}: `{field}`: ")), "{shown}");
             assert!(shown.contains(message.as_str()));
             let (l, c, f, m) = (*line, *column, field.clone(), message.clone());
             (e, l, c, f, m)
@@ -100,10 +87,7 @@ fn toml_syntax_error_gives_line_and_column() {
     let (_, line, column, field, _) = desc_err(&bad);
     assert_eq!(line, line_of(GOOD, "a = 200"));
     assert_eq!(field, "(syntax)");
-    assert!(
-        column > 1,
-        "the column points into the line, at the second number"
-    );
+    assert!(column > 1, "the column points into the line, at the second number");
 
     let bad = replace_once(GOOD, "length = \"mm\"", "length = \"mm");
     let (_, line, _, field, message) = desc_err(&bad);
@@ -118,9 +102,7 @@ fn toml_syntax_error_gives_line_and_column() {
     // From a file: the path is in the message.
     let path = data("malformed.toml");
     let e = Robot::from_file(&path, None).unwrap_err();
-    let Error::Description { file, line, .. } = &e else {
-        panic!("{e:?}")
-    };
+    let Error::Description { file, line, .. } = &e else { panic!("{e:?}") };
     assert_eq!(file, &path.display().to_string());
     let text = std::fs::read_to_string(&path).unwrap();
     assert_eq!(*line, line_of(&text, "alpha = = 90"));
@@ -148,14 +130,8 @@ fn toml_unknown_field() {
 fn toml_wrong_type() {
     let bad = replace_once(GOOD, "a = 200", "a = \"long\"");
     let (_, line, _, field, message) = desc_err(&bad);
-    assert_eq!(
-        (line, field.as_str()),
-        (line_of(&bad, "a = \"long\""), "joint[0].a")
-    );
-    assert!(
-        message.contains("string") || message.contains("float"),
-        "{message}"
-    );
+    assert_eq!((line, field.as_str()), (line_of(&bad, "a = \"long\""), "joint[0].a"));
+    assert!(message.contains("string") || message.contains("float"), "{message}");
 
     let bad = replace_once(GOOD, "home = [0, 100]", "home = [0, \"x\"]");
     let (_, line, _, field, _) = desc_err(&bad);
@@ -208,10 +184,7 @@ fn toml_min_greater_than_max() {
     assert_eq!(line, nth_line_of(&bad, "[[joint]]", 1));
     assert_eq!(field, "joint[1].min");
     assert!(message.contains("slide"), "{message}");
-    assert!(
-        message.contains("300") && message.contains("not an interval"),
-        "{message}"
-    );
+    assert!(message.contains("300") && message.contains("not an interval"), "{message}");
 }
 
 #[test]
@@ -220,10 +193,7 @@ fn toml_prismatic_joint_with_d() {
     let (_, line, _, field, message) = desc_err(&bad);
     assert_eq!(line, nth_line_of(&bad, "[[joint]]", 1));
     assert_eq!(field, "joint[1].d");
-    assert!(
-        message.contains("prismatic") && message.contains("slide"),
-        "{message}"
-    );
+    assert!(message.contains("prismatic") && message.contains("slide"), "{message}");
 
     // And the mirror image: a revolute joint with θ.
     let bad = replace_once(GOOD, "d = 100", "d = 100\ntheta = 5");
@@ -235,11 +205,7 @@ fn toml_prismatic_joint_with_d() {
 #[test]
 fn toml_other_semantic_errors() {
     // DH fields in a general description, and the other way round.
-    let bad = replace_once(
-        GOOD,
-        "convention = \"standard\"",
-        "convention = \"general\"",
-    );
+    let bad = replace_once(GOOD, "convention = \"standard\"", "convention = \"general\"");
     let (_, _, _, field, message) = desc_err(&bad);
     assert!(field.starts_with("joint[0]."), "{field}");
     assert!(message.contains("general"), "{message}");
@@ -277,9 +243,7 @@ const GOOD_URDF_HEAD: &str = r#"<?xml version="1.0"?>
 
 fn urdf_err(text: &str, tip: Option<&str>) -> String {
     let e = Robot::from_urdf_str(text, "bad.urdf", tip).expect_err("must be rejected");
-    let Error::Urdf { file, message } = &e else {
-        panic!("expected Error::Urdf, got {e:?}")
-    };
+    let Error::Urdf { file, message } = &e else { panic!("expected Error::Urdf, got {e:?}") };
     assert_eq!(file, "bad.urdf");
     assert_eq!(e.to_string(), format!("bad.urdf: {message}"));
     message.clone()
@@ -349,10 +313,7 @@ fn urdf_unsupported_joint_type_on_the_chain() {
         joint_xml("j2", "revolute", "l1", "l2", LIMIT),
         joint_xml("free", "floating", "base", "l3", LIMIT)
     );
-    assert_eq!(
-        Robot::from_urdf_str(&text, "t", Some("l2")).unwrap().dof(),
-        2
-    );
+    assert_eq!(Robot::from_urdf_str(&text, "t", Some("l2")).unwrap().dof(), 2);
     let m = urdf_err(&text, Some("l3"));
     assert!(m.contains("floating"), "{m}");
 }
@@ -378,10 +339,7 @@ fn urdf_cycle_and_two_roots() {
         joint_xml("j3", "revolute", "other", "l4", LIMIT)
     );
     let m = urdf_err(&text, None);
-    assert!(
-        m.contains("found 2") && m.contains("base") && m.contains("other"),
-        "{m}"
-    );
+    assert!(m.contains("found 2") && m.contains("base") && m.contains("other"), "{m}");
     // A link with two parents.
     let text = format!(
         "{GOOD_URDF_HEAD}{}{}</robot>",
@@ -389,10 +347,7 @@ fn urdf_cycle_and_two_roots() {
         joint_xml("j2", "revolute", "l1", "l2", LIMIT)
     );
     let m = urdf_err(&text, None);
-    assert!(
-        m.contains("`l2`") && m.contains("more than one joint"),
-        "{m}"
-    );
+    assert!(m.contains("`l2`") && m.contains("more than one joint"), "{m}");
 }
 
 #[test]
@@ -400,19 +355,10 @@ fn urdf_limit_lower_above_upper() {
     let text = format!(
         "{GOOD_URDF_HEAD}{}{}</robot>",
         joint_xml("j1", "revolute", "base", "l1", LIMIT),
-        joint_xml(
-            "j2",
-            "revolute",
-            "l1",
-            "l2",
-            r#"<limit lower="2" upper="1" effort="1" velocity="1"/>"#
-        )
+        joint_xml("j2", "revolute", "l1", "l2", r#"<limit lower="2" upper="1" effort="1" velocity="1"/>"#)
     );
     let m = urdf_err(&text, None);
-    assert!(
-        m.contains("`j2`") && m.contains("lower = 2") && m.contains("upper = 1"),
-        "{m}"
-    );
+    assert!(m.contains("`j2`") && m.contains("lower = 2") && m.contains("upper = 1"), "{m}");
     // A zero axis.
     let text = format!(
         "{GOOD_URDF_HEAD}{}{}</robot>",
@@ -427,21 +373,12 @@ fn urdf_limit_lower_above_upper() {
 fn urdf_unknown_tip() {
     let text = std::fs::read_to_string(data("iiwa14.urdf")).unwrap();
     let m = urdf_err(&text, Some("link_99"));
-    assert!(
-        m.contains("`link_99`") && m.contains("link_7") && m.contains("tool0"),
-        "{m}"
-    );
+    assert!(m.contains("`link_99`") && m.contains("link_7") && m.contains("tool0"), "{m}");
     // A tip for a TOML file makes no sense.
     let e = Robot::from_file(data("iiwa-modified.toml"), Some("tool0")).unwrap_err();
-    assert!(
-        matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"),
-        "{e:?}"
-    );
+    assert!(matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"), "{e:?}");
     let e = Robot::load("panda", Some("tool0")).unwrap_err();
-    assert!(
-        matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"),
-        "{e:?}"
-    );
+    assert!(matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"), "{e:?}");
 }
 
 #[test]
@@ -450,60 +387,29 @@ fn wrong_joint_count() {
     for len in [0, 1, 5, 7, 12] {
         let q = vec![0.1; len];
         let check = |e: Error| {
-            assert_eq!(
-                e,
-                Error::JointCount {
-                    robot: "puma560".into(),
-                    expected: 6,
-                    got: len
-                }
-            );
-            assert!(
-                e.to_string().contains(&format!("{len} joint values")),
-                "{e}"
-            );
+            assert_eq!(e, Error::JointCount { robot: "puma560".into(), expected: 6, got: len });
+            assert!(e.to_string().contains(&format!("{len} joint values")), "{e}");
         };
         check(robot.fk(&q).unwrap_err());
         check(robot.jacobian(&q, Frame::Base).unwrap_err());
         check(robot.analytic_jacobian(&q, RpyConvention::Zyx).unwrap_err());
         check(robot.link_frames(&q).unwrap_err());
-        check(
-            Workspace::new(&robot)
-                .jacobian(&robot, &q, Frame::Tool)
-                .unwrap_err(),
-        );
+        check(Workspace::new(&robot).jacobian(&robot, &q, Frame::Tool).unwrap_err());
         check(Workspace::new(&robot).link_frames(&robot, &q).unwrap_err());
         if len > 0 {
-            check(
-                robot
-                    .parse_q(&vec!["0.1"; len].join(","), false)
-                    .unwrap_err(),
-            );
+            check(robot.parse_q(&vec!["0.1"; len].join(","), false).unwrap_err());
         }
     }
     // fk_batch: not a whole number of configurations.
     let e = robot.fk_batch(&[0.0; 13]).unwrap_err();
-    assert!(
-        matches!(&e, Error::InvalidArgument { what, message } if what == "qs" && message.contains("13")),
-        "{e:?}"
-    );
+    assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "qs" && message.contains("13")), "{e:?}");
     // Wrongly sized output buffers.
     let mut j = Matrix6xX::zeros(5);
-    let e = robot
-        .jacobian_into(robot.home(), Frame::Base, &mut j)
-        .unwrap_err();
-    assert!(
-        matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('5')),
-        "{e:?}"
-    );
+    let e = robot.jacobian_into(robot.home(), Frame::Base, &mut j).unwrap_err();
+    assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('5')), "{e:?}");
     let mut frames = vec![Pose::IDENTITY; 6];
-    let e = robot
-        .link_frames_into(robot.home(), &mut frames)
-        .unwrap_err();
-    assert!(
-        matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('8')),
-        "{e:?}"
-    );
+    let e = robot.link_frames_into(robot.home(), &mut frames).unwrap_err();
+    assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('8')), "{e:?}");
 }
 
 #[test]
@@ -516,24 +422,13 @@ fn non_finite_joint_values() {
                 let mut q = robot.home().to_vec();
                 q[joint] = bad;
                 let check = |e: Error| {
-                    let Error::NonFinite {
-                        robot: r,
-                        joint: jn,
-                        name: jname,
-                        value,
-                    } = &e
-                    else {
-                        panic!("{e:?}")
-                    };
+                    let Error::NonFinite { robot: r, joint: jn, name: jname, value } = &e else { panic!("{e:?}") };
                     assert_eq!(r, name);
                     assert_eq!(*jn, joint + 1);
                     assert_eq!(jname, &robot.joints()[joint].name);
                     assert!(value.is_nan() == bad.is_nan() && (bad.is_nan() || *value == bad));
                     let s = e.to_string();
-                    assert!(
-                        s.contains(&format!("joint {}", joint + 1)) && s.contains("finite"),
-                        "{s}"
-                    );
+                    assert!(s.contains(&format!("joint {}", joint + 1)) && s.contains("finite"), "{s}");
                     assert!(s.contains(if bad.is_nan() { "NaN" } else { "inf" }), "{s}");
                 };
                 check(robot.fk(&q).unwrap_err());
@@ -560,18 +455,11 @@ fn fk_batch_with_one_bad_row() {
         let joint = rng.random_range(0..7);
         qs[row * 7 + joint] = bad;
         let e = robot.fk_batch(&qs).unwrap_err();
-        let Error::InBatch { index, source } = &e else {
-            panic!("{e:?}")
-        };
+        let Error::InBatch { index, source } = &e else { panic!("{e:?}") };
         assert_eq!(*index, row, "{e}");
-        let Error::NonFinite { joint: jn, .. } = source.as_ref() else {
-            panic!("{e:?}")
-        };
+        let Error::NonFinite { joint: jn, .. } = source.as_ref() else { panic!("{e:?}") };
         assert_eq!(*jn, joint + 1, "{e}");
-        assert!(
-            e.to_string().contains(&format!("configuration {row} ")),
-            "{e}"
-        );
+        assert!(e.to_string().contains(&format!("configuration {row} ")), "{e}");
         // Fixing the row makes the batch work.
         qs[row * 7 + joint] = 0.0;
         assert_eq!(robot.fk_batch(&qs).unwrap().len(), rows);
@@ -581,9 +469,7 @@ fn fk_batch_with_one_bad_row() {
 #[test]
 fn unknown_robot_and_pose_names() {
     let e = Robot::builtin("r2d2").unwrap_err();
-    let Error::UnknownRobot { name, known } = &e else {
-        panic!("{e:?}")
-    };
+    let Error::UnknownRobot { name, known } = &e else { panic!("{e:?}") };
     assert_eq!(name, "r2d2");
     let s = e.to_string();
     for b in builtin_names() {
@@ -595,69 +481,32 @@ fn unknown_robot_and_pose_names() {
 
     let robot = Robot::builtin("puma560").unwrap();
     let e = robot.pose("qx").unwrap_err();
-    let Error::UnknownPose {
-        robot: r,
-        pose,
-        known,
-    } = &e
-    else {
-        panic!("{e:?}")
-    };
+    let Error::UnknownPose { robot: r, pose, known } = &e else { panic!("{e:?}") };
     assert_eq!((r.as_str(), pose.as_str()), ("puma560", "qx"));
     for p in ["home", "qn", "qr", "qs", "qz"] {
         assert!(known.contains(p), "{known}");
     }
     assert!(e.to_string().contains("`qx`"), "{e}");
-    assert!(matches!(
-        robot.parse_q("qx", false),
-        Err(Error::UnknownPose { .. })
-    ));
+    assert!(matches!(robot.parse_q("qx", false), Err(Error::UnknownPose { .. })));
 }
 
 #[test]
 fn parse_q_rejects_bad_text() {
     let robot = Robot::builtin("scara5").unwrap();
     let e = robot.parse_q("1,2,x", false).unwrap_err();
-    let Error::InvalidArgument { what, message } = &e else {
-        panic!("{e:?}")
-    };
+    let Error::InvalidArgument { what, message } = &e else { panic!("{e:?}") };
     assert_eq!(what, "joint values");
-    assert!(
-        message.contains("value 3") && message.contains("`x`"),
-        "{message}"
-    );
-    assert!(
-        message.contains("home") && message.contains("qz"),
-        "{message}"
-    );
-    for text in [
-        "",
-        ",",
-        "1,,2,3,4",
-        "1;2;3;4;5",
-        "0.5, 90deg, 0, 0, 0",
-        "1 2 3 4 5",
-    ] {
-        assert!(
-            matches!(
-                robot.parse_q(text, false),
-                Err(Error::InvalidArgument { .. })
-            ),
-            "{text:?}"
-        );
+    assert!(message.contains("value 3") && message.contains("`x`"), "{message}");
+    assert!(message.contains("home") && message.contains("qz"), "{message}");
+    for text in ["", ",", "1,,2,3,4", "1;2;3;4;5", "0.5, 90deg, 0, 0, 0", "1 2 3 4 5"] {
+        assert!(matches!(robot.parse_q(text, false), Err(Error::InvalidArgument { .. })), "{text:?}");
     }
     let e = robot.parse_q("0.5, 0, 0, nan, 0", false).unwrap_err();
     assert!(matches!(e, Error::NonFinite { joint: 4, .. }), "{e:?}");
     let e = robot.parse_q("inf, 0, 0, 0, 0", true).unwrap_err();
     assert!(matches!(e, Error::NonFinite { joint: 1, .. }), "{e:?}");
     let e = robot.parse_q("nan", false).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            Error::JointCount { got: 1, .. } | Error::NonFinite { .. }
-        ),
-        "{e:?}"
-    );
+    assert!(matches!(e, Error::JointCount { got: 1, .. } | Error::NonFinite { .. }), "{e:?}");
     // Good text still works: degrees only for revolute joints.
     let q = robot.parse_q(" 0.5, 90, -90, 0.1, 180 ", true).unwrap();
     assert_eq!(q[0], 0.5);
@@ -670,9 +519,7 @@ fn parse_q_rejects_bad_text() {
 fn from_file_missing_and_wrong_extension() {
     let missing = data("no-such-robot.toml");
     let e = Robot::from_file(&missing, None).unwrap_err();
-    let Error::Io { path, message } = &e else {
-        panic!("{e:?}")
-    };
+    let Error::Io { path, message } = &e else { panic!("{e:?}") };
     assert_eq!(path, &missing.display().to_string());
     assert!(!message.is_empty());
     assert!(e.to_string().contains("no-such-robot.toml"), "{e}");
@@ -682,20 +529,11 @@ fn from_file_missing_and_wrong_extension() {
     let e = Robot::load(&missing.display().to_string(), None).unwrap_err();
     assert!(matches!(e, Error::Io { .. }), "{e:?}");
 
-    for path in [
-        data("robot.txt"),
-        data("iiwa14"),
-        PathBuf::from("Cargo.lock"),
-    ] {
+    for path in [data("robot.txt"), data("iiwa14"), PathBuf::from("Cargo.lock")] {
         let e = Robot::from_file(&path, None).unwrap_err();
-        let Error::InvalidArgument { what, message } = &e else {
-            panic!("{e:?}")
-        };
+        let Error::InvalidArgument { what, message } = &e else { panic!("{e:?}") };
         assert_eq!(what, "robot file");
-        assert!(
-            message.contains(".toml") && message.contains(".urdf"),
-            "{message}"
-        );
+        assert!(message.contains(".toml") && message.contains(".urdf"), "{message}");
     }
     // A directory with a robot extension.
     let dir = std::env::temp_dir().join(format!("kinema-test-dir-{}.toml", std::process::id()));
@@ -798,10 +636,10 @@ fn mutate(text: &str, rng: &mut ChaCha8Rng) -> String {
     };
     let piece = INTERESTING[rng.random_range(0..INTERESTING.len())];
     match rng.random_range(0..8) {
-        0 => format!("{}{}", &text[..a], &text[b..]), // delete a range
+        0 => format!("{}{}", &text[..a], &text[b..]),        // delete a range
         1 => format!("{}{piece}{}", &text[..a], &text[a..]), // insert
         2 => format!("{}{piece}{}", &text[..a], &text[b..]), // replace a range
-        3 => text[..a].to_string(),                   // truncate
+        3 => text[..a].to_string(),                          // truncate
         4 => format!("{}{}{}", &text[..b], &text[a..b], &text[b..]), // duplicate a range
         5 => {
             // Swap two lines.
@@ -815,16 +653,12 @@ fn mutate(text: &str, rng: &mut ChaCha8Rng) -> String {
         }
         6 => {
             // Change a number.
-            let nums: Vec<(usize, char)> = text
-                .char_indices()
-                .filter(|(_, c)| c.is_ascii_digit())
-                .collect();
+            let nums: Vec<(usize, char)> = text.char_indices().filter(|(_, c)| c.is_ascii_digit()).collect();
             if nums.is_empty() {
                 return text.to_string();
             }
             let (i, _) = nums[rng.random_range(0..nums.len())];
-            let repl =
-                ["0", "-", "999999", "1e400", "nan", ".", "-0", "3.5e-3"][rng.random_range(0..8)];
+            let repl = ["0", "-", "999999", "1e400", "nan", ".", "-0", "3.5e-3"][rng.random_range(0..8)];
             format!("{}{repl}{}", &text[..i], &text[i + 1..])
         }
         _ => {
@@ -849,9 +683,7 @@ fn random_text(rng: &mut ChaCha8Rng) -> String {
         // Random chars.
         1 => (0..len).map(|_| rng.random::<char>()).collect(),
         // Random "tokens".
-        _ => (0..len / 4)
-            .map(|_| INTERESTING[rng.random_range(0..INTERESTING.len())])
-            .collect(),
+        _ => (0..len / 4).map(|_| INTERESTING[rng.random_range(0..INTERESTING.len())]).collect(),
     }
 }
 
@@ -867,11 +699,7 @@ fn random_toml_never_panics() {
     let mut rng = ChaCha8Rng::seed_from_u64(0xf022);
     let (mut ok, mut err) = (0, 0);
     for case in 0..3000 {
-        let text = if case % 5 == 0 {
-            random_text(&mut rng)
-        } else {
-            mutate(&sources[case % sources.len()], &mut rng)
-        };
+        let text = if case % 5 == 0 { random_text(&mut rng) } else { mutate(&sources[case % sources.len()], &mut rng) };
         match Robot::from_toml_str(&text, "fuzz.toml") {
             Ok(robot) => {
                 ok += 1;
@@ -881,10 +709,7 @@ fn random_toml_never_panics() {
                 err += 1;
                 assert!(!e.to_string().is_empty());
                 if let Error::Description { line, column, .. } = e {
-                    assert!(
-                        line >= 1 && line <= text.lines().count().max(1) + 1,
-                        "{line} {text}"
-                    );
+                    assert!(line >= 1 && line <= text.lines().count().max(1) + 1, "{line} {text}");
                     assert!(column >= 1);
                 }
             }
@@ -903,11 +728,7 @@ fn random_urdf_never_panics() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x0df);
     let (mut ok, mut err) = (0, 0);
     for case in 0..2500 {
-        let text = if case % 5 == 0 {
-            random_text(&mut rng)
-        } else {
-            mutate(&sources[case % 2], &mut rng)
-        };
+        let text = if case % 5 == 0 { random_text(&mut rng) } else { mutate(&sources[case % 2], &mut rng) };
         let tip = match rng.random_range(0..4) {
             0 => Some("leaf_a"),
             1 => Some("link_3"),

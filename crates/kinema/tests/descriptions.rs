@@ -12,9 +12,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
 }
 
 fn rot_z(a: f64) -> Matrix3<f64> {
@@ -30,10 +28,7 @@ fn max_abs(m: &Matrix6xX<f64>) -> f64 {
 }
 
 fn assert_same_pose(a: &Pose, b: &Pose, tol: f64, what: &str) {
-    assert!(
-        (a.pos - b.pos).norm() < tol && (a.rot - b.rot).norm() < tol,
-        "{what}: {a:?} vs {b:?}"
-    );
+    assert!((a.pos - b.pos).norm() < tol && (a.rot - b.rot).norm() < tol, "{what}: {a:?} vs {b:?}");
 }
 
 /// The three iiwa descriptions, all with the mount (base) and flange offset
@@ -41,12 +36,7 @@ fn assert_same_pose(a: &Pose, b: &Pose, tol: f64, what: &str) {
 fn three_iiwas() -> [Robot; 3] {
     let base = Pose::new(rot_z(FRAC_PI_6), Vector3::new(0.1, -0.2, 0.05));
     let tool = Pose::translation(0.0, 0.0, 0.045);
-    let standard = Robot::builtin("lbr-iiwa-14-r820")
-        .unwrap()
-        .with_base(base)
-        .unwrap()
-        .with_tool(tool)
-        .unwrap();
+    let standard = Robot::builtin("lbr-iiwa-14-r820").unwrap().with_base(base).unwrap().with_tool(tool).unwrap();
     let modified = Robot::from_file(data("iiwa-modified.toml"), None).unwrap();
     let urdf = Robot::from_file(data("iiwa14.urdf"), None).unwrap();
     [standard, modified, urdf]
@@ -78,15 +68,7 @@ fn three_iiwa_descriptions_have_one_fk_and_one_jacobian() {
 
     // Upright home: mount + (0, 0, 1.306 + 0.045) rotated by nothing but the yaw.
     let home = standard.fk(standard.home()).unwrap().pose;
-    assert_same_pose(
-        &home,
-        &Pose::new(
-            rot_z(FRAC_PI_6),
-            Vector3::new(0.1, -0.2, 0.05 + 1.306 + 0.045),
-        ),
-        1e-12,
-        "home",
-    );
+    assert_same_pose(&home, &Pose::new(rot_z(FRAC_PI_6), Vector3::new(0.1, -0.2, 0.05 + 1.306 + 0.045)), 1e-12, "home");
 
     let mut rng = ChaCha8Rng::seed_from_u64(0x3d);
     for _ in 0..3000 {
@@ -132,11 +114,7 @@ fn urdf_negative_axes_and_link_frames() {
         let fu = urdf.link_frames(&q).unwrap();
         let fm = modified.link_frames(&q).unwrap();
         for i in 1..=7 {
-            let want = if neg.contains(&(i - 1)) {
-                fm[i].rot * flip
-            } else {
-                fm[i].rot
-            };
+            let want = if neg.contains(&(i - 1)) { fm[i].rot * flip } else { fm[i].rot };
             assert!((fu[i].pos - fm[i].pos).norm() < 1e-12, "link {i}");
             assert!((fu[i].rot - want).norm() < 1e-12, "link {i}");
         }
@@ -161,12 +139,7 @@ fn general_toml_equals_dh_toml() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x65);
     for _ in 0..2000 {
         let q = dh.random_q(&mut rng);
-        assert_same_pose(
-            &general.fk(&q).unwrap().pose,
-            &dh.fk(&q).unwrap().pose,
-            1e-12,
-            &format!("q = {q:?}"),
-        );
+        assert_same_pose(&general.fk(&q).unwrap().pose, &dh.fk(&q).unwrap().pose, 1e-12, &format!("q = {q:?}"));
         let jg = general.jacobian(&q, Frame::Base).unwrap();
         let jd = dh.jacobian(&q, Frame::Base).unwrap();
         assert!(max_abs(&(&jg - &jd)) < 1e-12, "q = {q:?}");
@@ -178,14 +151,9 @@ fn urdf_tip_selects_the_chain() {
     let text = std::fs::read_to_string(data("two-leaves.urdf")).unwrap();
     // Two leaves: the default must refuse and name both.
     let e = Robot::from_urdf_str(&text, "two-leaves.urdf", None).unwrap_err();
-    let kinema::Error::Urdf { file, message } = &e else {
-        panic!("{e:?}")
-    };
+    let kinema::Error::Urdf { file, message } = &e else { panic!("{e:?}") };
     assert_eq!(file, "two-leaves.urdf");
-    assert!(
-        message.contains("leaf_a") && message.contains("leaf_b"),
-        "{message}"
-    );
+    assert!(message.contains("leaf_a") && message.contains("leaf_b"), "{message}");
     assert!(message.contains("2 leaf links"), "{message}");
     assert!(e.to_string().starts_with("two-leaves.urdf: "), "{e}");
 
@@ -197,12 +165,7 @@ fn urdf_tip_selects_the_chain() {
     assert_eq!(a.joints()[1].limits.min, f64::NEG_INFINITY);
     assert_eq!(a.joints()[1].limits.max, f64::INFINITY);
     // The same through from_file.
-    assert_eq!(
-        Robot::from_file(data("two-leaves.urdf"), Some("leaf_a"))
-            .unwrap()
-            .dof(),
-        2
-    );
+    assert_eq!(Robot::from_file(data("two-leaves.urdf"), Some("leaf_a")).unwrap().dof(), 2);
     let mut rng = ChaCha8Rng::seed_from_u64(0x1eaf);
     for _ in 0..2000 {
         let q = a.random_q(&mut rng);
@@ -211,12 +174,7 @@ fn urdf_tip_selects_the_chain() {
         let fk = a.fk(&q).unwrap();
         assert!(fk.within_limits());
         let p = rot_z(q[0]) * Vector3::new(0.3, 0.0, 0.0) + Vector3::new(0.0, 0.0, 0.5);
-        assert_same_pose(
-            &fk.pose,
-            &Pose::new(rot_z(q[0]) * rot_y(q[1]), p),
-            1e-12,
-            "leaf_a",
-        );
+        assert_same_pose(&fk.pose, &Pose::new(rot_z(q[0]) * rot_y(q[1]), p), 1e-12, "leaf_a");
     }
     // A continuous joint is never out of limits.
     assert!(a.fk(&[0.0, 1e6]).unwrap().within_limits());
@@ -234,12 +192,7 @@ fn urdf_tip_selects_the_chain() {
     }
 
     // An inner link as tip: the one joint above it.
-    assert_eq!(
-        Robot::from_urdf_str(&text, "t", Some("link1"))
-            .unwrap()
-            .dof(),
-        1
-    );
+    assert_eq!(Robot::from_urdf_str(&text, "t", Some("link1")).unwrap().dof(), 1);
     // The root as tip: no moving joint.
     let e = Robot::from_urdf_str(&text, "t", Some("world")).unwrap_err();
     assert!(e.to_string().contains("no moving joint"), "{e}");
@@ -261,10 +214,7 @@ fn builtin_robot_files_are_consistent() {
     assert_eq!(stems, names);
     assert!(names.len() >= 7);
     let sorted: Vec<&str> = builtin_names().collect();
-    assert!(
-        sorted.windows(2).all(|w| w[0] < w[1]),
-        "builtin_names is sorted"
-    );
+    assert!(sorted.windows(2).all(|w| w[0] < w[1]), "builtin_names is sorted");
 
     for name in builtin_names() {
         let robot = Robot::builtin(name).unwrap();
@@ -272,10 +222,7 @@ fn builtin_robot_files_are_consistent() {
         // The embedded text is the file on disk.
         let on_disk = std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap();
         assert_eq!(kinema::builtin_source(name).unwrap(), on_disk);
-        assert_eq!(
-            Robot::from_file(dir.join(format!("{name}.toml")), None).unwrap(),
-            robot
-        );
+        assert_eq!(Robot::from_file(dir.join(format!("{name}.toml")), None).unwrap(), robot);
         assert!(!robot.metadata().source.is_empty(), "{name}: no source");
         assert!(robot.poses().iter().any(|p| p.name == "home"));
         let fk = robot.fk(robot.home()).unwrap();
@@ -300,17 +247,10 @@ fn builtin_robot_files_are_consistent() {
 #[test]
 fn scara5_home_is_regular_and_qz_singular() {
     let robot = Robot::builtin("scara5").unwrap();
-    let at = |pose: &str| {
-        robot
-            .jacobian(robot.pose(pose).unwrap(), Frame::Base)
-            .unwrap()
-    };
+    let at = |pose: &str| robot.jacobian(robot.pose(pose).unwrap(), Frame::Base).unwrap();
     let j_home = at("home");
     let j_qz = at("qz");
-    assert_eq!(
-        analysis::rank(&j_home, Axes::Translation, None).unwrap().0,
-        3
-    );
+    assert_eq!(analysis::rank(&j_home, Axes::Translation, None).unwrap().0, 3);
     assert!(analysis::rank(&j_qz, Axes::Translation, None).unwrap().0 < 3);
     // Independently: det(J_v·J_vᵀ).
     let det = |j: &Matrix6xX<f64>| {

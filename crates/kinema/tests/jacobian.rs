@@ -13,9 +13,7 @@ const SAMPLES: usize = 500;
 const H: f64 = 1e-6;
 
 fn robots() -> Vec<Robot> {
-    let all: Vec<Robot> = builtin_names()
-        .map(|n| Robot::builtin(n).unwrap())
-        .collect();
+    let all: Vec<Robot> = builtin_names().map(|n| Robot::builtin(n).unwrap()).collect();
     assert!(all.len() >= 7, "expected the seven built-in robots");
     all
 }
@@ -33,11 +31,7 @@ fn shifted(q: &[f64], i: usize, h: f64) -> Vec<f64> {
 /// Angular displacement of a small rotation `m` (≈ I + [ω]×): the vee of its
 /// skew part, sin(θ)·axis, which is θ·axis to O(θ³).
 fn small_rotation_vector(m: &Matrix3<f64>) -> Vector3<f64> {
-    0.5 * Vector3::new(
-        m[(2, 1)] - m[(1, 2)],
-        m[(0, 2)] - m[(2, 0)],
-        m[(1, 0)] - m[(0, 1)],
-    )
+    0.5 * Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
 }
 
 /// Central-difference geometric Jacobian in the base frame.
@@ -70,19 +64,11 @@ fn base_jacobian_equals_finite_differences() {
             let fd = fd_jacobian(&robot, &q);
             let err = max_abs(&(&j - &fd)) / max_abs(&fd).max(1.0);
             worst = worst.max(err);
-            assert!(
-                err < 1e-6,
-                "{}: q = {q:?}\nJ = {j}\nfinite differences = {fd}",
-                robot.name()
-            );
+            assert!(err < 1e-6, "{}: q = {q:?}\nJ = {j}\nfinite differences = {fd}", robot.name());
         }
         // Central differences with h = 1e-6 are good to ~1e-9 here; a loose
         // tolerance must not hide a systematically worse Jacobian.
-        assert!(
-            worst < 1e-8,
-            "{}: worst relative error {worst}",
-            robot.name()
-        );
+        assert!(worst < 1e-8, "{}: worst relative error {worst}", robot.name());
     }
 }
 
@@ -96,15 +82,9 @@ fn tool_jacobian_is_base_jacobian_rotated() {
             let jt = robot.jacobian(&q, Frame::Tool).unwrap();
             let rt = pose(&robot, &q).rot.transpose();
             let mut want = Matrix6xX::zeros(robot.dof());
-            want.fixed_rows_mut::<3>(0)
-                .copy_from(&(rt * jb.fixed_rows::<3>(0)));
-            want.fixed_rows_mut::<3>(3)
-                .copy_from(&(rt * jb.fixed_rows::<3>(3)));
-            assert!(
-                max_abs(&(&jt - &want)) < 1e-12,
-                "{}: q = {q:?}",
-                robot.name()
-            );
+            want.fixed_rows_mut::<3>(0).copy_from(&(rt * jb.fixed_rows::<3>(0)));
+            want.fixed_rows_mut::<3>(3).copy_from(&(rt * jb.fixed_rows::<3>(3)));
+            assert!(max_abs(&(&jt - &want)) < 1e-12, "{}: q = {q:?}", robot.name());
         }
     }
 }
@@ -113,16 +93,8 @@ fn tool_jacobian_is_base_jacobian_rotated() {
 /// Zyx: R = Rz(y)·Ry(p)·Rx(r) → (r, p, y). Xyz: R = Rx(a)·Ry(b)·Rz(c) → (a, b, c).
 fn rpy_of(r: &Matrix3<f64>, conv: RpyConvention) -> [f64; 3] {
     match conv {
-        RpyConvention::Zyx => [
-            r[(2, 1)].atan2(r[(2, 2)]),
-            (-r[(2, 0)]).asin(),
-            r[(1, 0)].atan2(r[(0, 0)]),
-        ],
-        RpyConvention::Xyz => [
-            (-r[(1, 2)]).atan2(r[(2, 2)]),
-            r[(0, 2)].asin(),
-            (-r[(0, 1)]).atan2(r[(0, 0)]),
-        ],
+        RpyConvention::Zyx => [r[(2, 1)].atan2(r[(2, 2)]), (-r[(2, 0)]).asin(), r[(1, 0)].atan2(r[(0, 0)])],
+        RpyConvention::Xyz => [(-r[(1, 2)]).atan2(r[(2, 2)]), r[(0, 2)].asin(), (-r[(0, 1)]).atan2(r[(0, 0)])],
     }
 }
 
@@ -282,10 +254,7 @@ fn link_frames_agree_with_fk_and_jacobian_columns() {
             }
             let j = robot.jacobian(&q, Frame::Base).unwrap();
             let pe = fk.pose.pos;
-            for (i, (o, z)) in joint_axes_from_frames(&robot, &frames)
-                .into_iter()
-                .enumerate()
-            {
+            for (i, (o, z)) in joint_axes_from_frames(&robot, &frames).into_iter().enumerate() {
                 let (v, w) = match robot.joints()[i].kind {
                     JointType::Revolute => (z.cross(&(pe - o)), z),
                     JointType::Prismatic => (z, Vector3::zeros()),
@@ -303,16 +272,10 @@ fn link_frames_agree_with_fk_and_jacobian_columns() {
 #[test]
 fn link_frames_follow_the_dh_tables() {
     let rx = |a: f64| {
-        Pose::new(
-            Matrix3::new(1.0, 0.0, 0.0, 0.0, a.cos(), -a.sin(), 0.0, a.sin(), a.cos()),
-            Vector3::zeros(),
-        )
+        Pose::new(Matrix3::new(1.0, 0.0, 0.0, 0.0, a.cos(), -a.sin(), 0.0, a.sin(), a.cos()), Vector3::zeros())
     };
     let rz = |a: f64| {
-        Pose::new(
-            Matrix3::new(a.cos(), -a.sin(), 0.0, a.sin(), a.cos(), 0.0, 0.0, 0.0, 1.0),
-            Vector3::zeros(),
-        )
+        Pose::new(Matrix3::new(a.cos(), -a.sin(), 0.0, a.sin(), a.cos(), 0.0, 0.0, 0.0, 1.0), Vector3::zeros())
     };
     let t = |x: f64, z: f64| Pose::new(Matrix3::identity(), Vector3::new(x, 0.0, z));
     for robot in robots() {
@@ -322,14 +285,7 @@ fn link_frames_follow_the_dh_tables() {
             let frames = robot.link_frames(&q).unwrap();
             let mut acc = *robot.base();
             for (i, jt) in robot.joints().iter().enumerate() {
-                let kinema::LinkGeometry::Dh {
-                    convention,
-                    d,
-                    a,
-                    alpha,
-                    theta,
-                } = jt.geometry
-                else {
+                let kinema::LinkGeometry::Dh { convention, d, a, alpha, theta } = jt.geometry else {
                     panic!("built-in robots are DH tables")
                 };
                 let (th, dd) = match jt.kind {
@@ -337,12 +293,8 @@ fn link_frames_follow_the_dh_tables() {
                     JointType::Prismatic => (theta, q[i] + jt.offset),
                 };
                 acc = match convention {
-                    kinema::DhConvention::Standard => {
-                        acc * rz(th) * t(0.0, dd) * t(a, 0.0) * rx(alpha)
-                    }
-                    kinema::DhConvention::Modified => {
-                        acc * rx(alpha) * t(a, 0.0) * rz(th) * t(0.0, dd)
-                    }
+                    kinema::DhConvention::Standard => acc * rz(th) * t(0.0, dd) * t(a, 0.0) * rx(alpha),
+                    kinema::DhConvention::Modified => acc * rx(alpha) * t(a, 0.0) * rz(th) * t(0.0, dd),
                 };
                 let f = frames[i + 1];
                 assert!(
@@ -378,12 +330,7 @@ fn fk_batch_equals_fk_bitwise() {
         for (q, b) in qs.chunks_exact(n).zip(&batch) {
             let one = robot.fk(q).unwrap();
             // Bitwise: same floating-point operations in the same order.
-            for (x, y) in one
-                .pose
-                .rot
-                .iter()
-                .chain(one.pose.pos.iter())
-                .zip(b.pose.rot.iter().chain(b.pose.pos.iter()))
+            for (x, y) in one.pose.rot.iter().chain(one.pose.pos.iter()).zip(b.pose.rot.iter().chain(b.pose.pos.iter()))
             {
                 assert_eq!(x.to_bits(), y.to_bits(), "{}: q = {q:?}", robot.name());
             }
@@ -429,28 +376,12 @@ fn out_of_limits_flags_exactly_the_offending_joints() {
             }
             // Every path reports the same flags.
             let mut j = Matrix6xX::zeros(n);
-            assert_eq!(
-                robot
-                    .jacobian_into(&q, Frame::Base, &mut j)
-                    .unwrap()
-                    .out_of_limits,
-                fk.out_of_limits
-            );
+            assert_eq!(robot.jacobian_into(&q, Frame::Base, &mut j).unwrap().out_of_limits, fk.out_of_limits);
             let mut frames = vec![Pose::IDENTITY; n + 2];
-            assert_eq!(
-                robot
-                    .link_frames_into(&q, &mut frames)
-                    .unwrap()
-                    .out_of_limits,
-                fk.out_of_limits
-            );
+            assert_eq!(robot.link_frames_into(&q, &mut frames).unwrap().out_of_limits, fk.out_of_limits);
             seen_empty |= want.is_empty();
             seen_full |= want.len() == n;
         }
-        assert!(
-            seen_empty && seen_full,
-            "{}: sample did not cover both extremes",
-            robot.name()
-        );
+        assert!(seen_empty && seen_full, "{}: sample did not cover both extremes", robot.name());
     }
 }

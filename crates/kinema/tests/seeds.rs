@@ -58,18 +58,8 @@ fn scorbot_fk_equals_seed000_eq3_eq4() {
         let q = robot.random_q(&mut rng);
         let fk = robot.fk(&q).unwrap();
         let (r, p) = scorbot_eq3_eq4([q[0], q[1], q[2], q[3], q[4]]);
-        assert!(
-            (fk.pose.pos - p).norm() < 1e-12,
-            "q = {q:?}: position {:?} vs eq. (4) {:?}",
-            fk.pose.pos,
-            p
-        );
-        assert!(
-            (fk.pose.rot - r).norm() < 1e-12,
-            "q = {q:?}: rotation {} vs eq. (3) {}",
-            fk.pose.rot,
-            r
-        );
+        assert!((fk.pose.pos - p).norm() < 1e-12, "q = {q:?}: position {:?} vs eq. (4) {:?}", fk.pose.pos, p);
+        assert!((fk.pose.rot - r).norm() < 1e-12, "q = {q:?}: rotation {} vs eq. (3) {}", fk.pose.rot, r);
     }
 }
 
@@ -128,15 +118,8 @@ fn scorbot_rpy_equals_seed000_eq13() {
             outside += 1;
             (q[4] + PI, PI + th234, q[0] + PI)
         };
-        for (name, got, want) in [
-            ("roll", roll, want_roll),
-            ("pitch", pitch, want_pitch),
-            ("yaw", yaw, want_yaw),
-        ] {
-            assert!(
-                wrap(got - want).abs() < 1e-9,
-                "q = {q:?}: {name} = {got}, eq. (13) gives {want}"
-            );
+        for (name, got, want) in [("roll", roll, want_roll), ("pitch", pitch, want_pitch), ("yaw", yaw, want_yaw)] {
+            assert!(wrap(got - want).abs() < 1e-9, "q = {q:?}: {name} = {got}, eq. (13) gives {want}");
         }
         assert!(pitch.abs() <= FRAC_PI_2);
     }
@@ -210,12 +193,7 @@ fn rommel_home_equals_seed001_eq8() {
 /// values computed without the library's SVD.
 fn sigma_from_jjt(j: &kinema::nalgebra::Matrix6xX<f64>) -> Vec<f64> {
     let jjt = j * j.transpose();
-    let mut ev: Vec<f64> = jjt
-        .symmetric_eigen()
-        .eigenvalues
-        .iter()
-        .map(|v| v.max(0.0).sqrt())
-        .collect();
+    let mut ev: Vec<f64> = jjt.symmetric_eigen().eigenvalues.iter().map(|v| v.max(0.0).sqrt()).collect();
     ev.sort_by(|a, b| b.total_cmp(a));
     ev
 }
@@ -227,33 +205,14 @@ fn iiwa_singularities_of_seed004_cuadro_iii() {
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     // The configurations printed with Fig. 11, 12, 13.
     let printed: [(&str, [f64; 7], usize); 3] = [
-        (
-            "sing-q4",
-            [
-                FRAC_PI_6, FRAC_PI_6, FRAC_PI_6, 0.0, FRAC_PI_6, FRAC_PI_6, FRAC_PI_6,
-            ],
-            5,
-        ),
-        (
-            "sing-q2-q3",
-            [
-                FRAC_PI_6, 0.0, FRAC_PI_2, FRAC_PI_6, FRAC_PI_6, FRAC_PI_6, FRAC_PI_6,
-            ],
-            5,
-        ),
-        (
-            "sing-coupled",
-            [FRAC_PI_6, 0.0, 0.0, 0.0, 0.0, FRAC_PI_6, 2.0 * FRAC_PI_6],
-            4,
-        ),
+        ("sing-q4", [FRAC_PI_6, FRAC_PI_6, FRAC_PI_6, 0.0, FRAC_PI_6, FRAC_PI_6, FRAC_PI_6], 5),
+        ("sing-q2-q3", [FRAC_PI_6, 0.0, FRAC_PI_2, FRAC_PI_6, FRAC_PI_6, FRAC_PI_6, FRAC_PI_6], 5),
+        ("sing-coupled", [FRAC_PI_6, 0.0, 0.0, 0.0, 0.0, FRAC_PI_6, 2.0 * FRAC_PI_6], 4),
     ];
     for (name, q_paper, want_rank) in printed {
         let q = robot.pose(name).unwrap();
         for (a, b) in q.iter().zip(q_paper) {
-            assert!(
-                (a - b).abs() < 1e-14,
-                "pose {name} is not the paper's {q_paper:?}"
-            );
+            assert!((a - b).abs() < 1e-14, "pose {name} is not the paper's {q_paper:?}");
         }
         let j = robot.jacobian(q, Frame::Base).unwrap();
         let (rank, _) = analysis::rank(&j, Axes::All, None).unwrap();
@@ -296,16 +255,9 @@ fn iiwa_singularities_of_seed004_cuadro_iii() {
         if sigma[5] < 1e-3 {
             continue; // near some other singularity; not this test's business
         }
-        assert_eq!(
-            analysis::rank(&j, Axes::All, None).unwrap().0,
-            6,
-            "q = {q:?}"
-        );
+        assert_eq!(analysis::rank(&j, Axes::All, None).unwrap().0, 6, "q = {q:?}");
         let w = analysis::yoshikawa(&j, Axes::All).unwrap();
-        assert!(
-            (w - det.sqrt()).abs() < 1e-9 * det.sqrt().max(1.0),
-            "q = {q:?}"
-        );
+        assert!((w - det.sqrt()).abs() < 1e-9 * det.sqrt().max(1.0), "q = {q:?}");
         checked += 1;
     }
 }
