@@ -74,10 +74,7 @@ fn k_trans(x: f64, y: f64, z: f64) -> Iso {
 }
 
 fn k_rot(axis: kna::Unit<kna::Vector3<f64>>, angle: f64) -> Iso {
-    Iso::from_parts(
-        kna::Translation3::identity(),
-        kna::UnitQuaternion::from_axis_angle(&axis, angle),
-    )
+    Iso::from_parts(kna::Translation3::identity(), kna::UnitQuaternion::from_axis_angle(&axis, angle))
 }
 
 fn k_rot_x(angle: f64) -> Iso {
@@ -103,10 +100,7 @@ fn k_iso(p: &Pose) -> Iso {
         r[(2, 2)],
     );
     let rot = kna::Rotation3::from_matrix_unchecked(m);
-    Iso::from_parts(
-        kna::Translation3::new(p.pos.x, p.pos.y, p.pos.z),
-        kna::UnitQuaternion::from_rotation_matrix(&rot),
-    )
+    Iso::from_parts(kna::Translation3::new(p.pos.x, p.pos.y, p.pos.z), kna::UnitQuaternion::from_rotation_matrix(&rot))
 }
 
 /// One joint of the chain in URDF form: `link_i = pre · J_axis(q) · post`.
@@ -123,28 +117,14 @@ struct KJoint {
 fn k_joint(j: &kinema::Joint) -> KJoint {
     let prismatic = j.kind == JointType::Prismatic;
     match j.geometry {
-        LinkGeometry::Dh {
-            convention,
-            d,
-            a,
-            alpha,
-            theta,
-        } => {
+        LinkGeometry::Dh { convention, d, a, alpha, theta } => {
             let joint_type = if prismatic {
-                k::JointType::Linear {
-                    axis: kna::Vector3::z_axis(),
-                }
+                k::JointType::Linear { axis: kna::Vector3::z_axis() }
             } else {
-                k::JointType::Rotational {
-                    axis: kna::Vector3::z_axis(),
-                }
+                k::JointType::Rotational { axis: kna::Vector3::z_axis() }
             };
             // The constant parts of θ and d (the joint value adds to one of them).
-            let (th0, d0) = if prismatic {
-                (theta, j.offset)
-            } else {
-                (j.offset, d)
-            };
+            let (th0, d0) = if prismatic { (theta, j.offset) } else { (j.offset, d) };
             match convention {
                 // Rz(θ)·Tz(d)·Tx(a)·Rx(α): the motion about/along z comes first
                 // (it commutes with Rz(θ0)·Tz(d0)); the rest is fixed and belongs
@@ -153,18 +133,12 @@ fn k_joint(j: &kinema::Joint) -> KJoint {
                     name: j.name.clone(),
                     pre: Iso::identity(),
                     joint_type,
-                    post: k_rot_z(th0)
-                        * k_trans(0.0, 0.0, d0)
-                        * k_trans(a, 0.0, 0.0)
-                        * k_rot_x(alpha),
+                    post: k_rot_z(th0) * k_trans(0.0, 0.0, d0) * k_trans(a, 0.0, 0.0) * k_rot_x(alpha),
                 },
                 // Rx(α)·Tx(a)·Rz(θ)·Tz(d): fixed part first, motion last.
                 DhConvention::Modified => KJoint {
                     name: j.name.clone(),
-                    pre: k_rot_x(alpha)
-                        * k_trans(a, 0.0, 0.0)
-                        * k_rot_z(th0)
-                        * k_trans(0.0, 0.0, d0),
+                    pre: k_rot_x(alpha) * k_trans(a, 0.0, 0.0) * k_rot_z(th0) * k_trans(0.0, 0.0, d0),
                     joint_type,
                     post: Iso::identity(),
                 },
@@ -184,12 +158,7 @@ fn k_joint(j: &kinema::Joint) -> KJoint {
             } else {
                 (k_rot(axis, j.offset), k::JointType::Rotational { axis })
             };
-            KJoint {
-                name: j.name.clone(),
-                pre: k_iso(&origin) * off,
-                joint_type,
-                post: Iso::identity(),
-            }
+            KJoint { name: j.name.clone(), pre: k_iso(&origin) * off, joint_type, post: Iso::identity() }
         }
     }
 }
@@ -204,11 +173,8 @@ fn k_chain(robot: &Robot) -> k::SerialChain<f64> {
     let mut nodes: Vec<k::Node<f64>> = Vec::with_capacity(joints.len() + 1);
     let mut prev_post = k_iso(robot.base());
     for kj in joints {
-        let node = k::NodeBuilder::new()
-            .name(&kj.name)
-            .joint_type(kj.joint_type)
-            .origin(prev_post * kj.pre)
-            .into_node();
+        let node =
+            k::NodeBuilder::new().name(&kj.name).joint_type(kj.joint_type).origin(prev_post * kj.pre).into_node();
         if let Some(p) = nodes.last() {
             node.set_parent(p);
         }
@@ -222,12 +188,7 @@ fn k_chain(robot: &Robot) -> k::SerialChain<f64> {
         .into_node();
     tool.set_parent(nodes.last().expect("a robot has at least one joint"));
     let chain = k::SerialChain::from_end(&tool);
-    assert_eq!(
-        chain.iter().count(),
-        nodes.len() + 1,
-        "{}: k chain lost nodes",
-        robot.name()
-    );
+    assert_eq!(chain.iter().count(), nodes.len() + 1, "{}: k chain lost nodes", robot.name());
     chain
 }
 
@@ -272,9 +233,7 @@ fn cross_check(robot: &Robot, chain: &k::SerialChain<f64>) {
             "{name}: k end_transform differs from update_transforms at q = {q:?}"
         );
 
-        robot
-            .jacobian_into(q, Frame::Base, &mut jac)
-            .expect("valid q");
+        robot.jacobian_into(q, Frame::Base, &mut jac).expect("valid q");
         let kj = k::jacobian(chain);
         assert_eq!((kj.nrows(), kj.ncols()), (6, n));
         let mut jerr: f64 = 0.0;
@@ -283,10 +242,7 @@ fn cross_check(robot: &Robot, chain: &k::SerialChain<f64>) {
                 jerr = jerr.max((kj[(r, c)] - jac[(r, c)]).abs());
             }
         }
-        assert!(
-            jerr <= TOL,
-            "{name}: k Jacobian differs from kinema's by {jerr:e} at q = {q:?}"
-        );
+        assert!(jerr <= TOL, "{name}: k Jacobian differs from kinema's by {jerr:e} at q = {q:?}");
     }
 }
 
@@ -295,9 +251,8 @@ fn cross_check(robot: &Robot, chain: &k::SerialChain<f64>) {
 // ---------------------------------------------------------------------------
 
 fn kinematics(c: &mut Criterion) {
-    let robots: Vec<Robot> = kinema::builtin_names()
-        .map(|name| Robot::builtin(name).expect("built-in robot loads"))
-        .collect();
+    let robots: Vec<Robot> =
+        kinema::builtin_names().map(|name| Robot::builtin(name).expect("built-in robot loads")).collect();
     assert!(!robots.is_empty());
 
     // Every k chain is verified before anything is timed.
@@ -382,10 +337,7 @@ fn kinematics(c: &mut Criterion) {
 }
 
 fn config() -> Criterion {
-    Criterion::default()
-        .sample_size(50)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(2))
+    Criterion::default().sample_size(50).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2))
 }
 
 criterion_group! {
