@@ -24,37 +24,32 @@ use nalgebra::{Matrix3, Vector3};
 use crate::math::{sin_cos_kernel, Pose, SIN_COS_RANGE};
 use crate::model::{DhConvention, Joint, JointType, LinkGeometry};
 
-/// A rotation Rx(α), with the common twists 0, ±90° and 180° kept exact.
+/// A rotation Rx(α) as (cos α, sin α), exact (0, ±1) for the common twists
+/// 0, ±90° and 180°: applying it is four multiply-adds per lane and no branch,
+/// and for those twists the products are exact.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Twist {
-    /// α = 0.
-    Zero,
-    /// α = +90°.
-    Plus,
-    /// α = −90°.
-    Minus,
-    /// α = 180°.
-    Half,
-    /// Any other α, as cos α and sin α.
-    Angle { ca: f64, sa: f64 },
+pub(crate) struct Twist {
+    ca: f64,
+    sa: f64,
 }
 
 impl Twist {
     fn new(alpha: f64) -> Twist {
         use std::f64::consts::{FRAC_PI_2, PI};
         let near = |v: f64| (alpha - v).abs() < 1e-12;
-        if near(0.0) {
-            Twist::Zero
+        let (ca, sa) = if near(0.0) {
+            (1.0, 0.0)
         } else if near(FRAC_PI_2) {
-            Twist::Plus
+            (0.0, 1.0)
         } else if near(-FRAC_PI_2) {
-            Twist::Minus
+            (0.0, -1.0)
         } else if near(PI) || near(-PI) {
-            Twist::Half
+            (-1.0, 0.0)
         } else {
             let (sa, ca) = alpha.sin_cos();
-            Twist::Angle { ca, sa }
-        }
+            (ca, sa)
+        };
+        Twist { ca, sa }
     }
 }
 
@@ -100,17 +95,9 @@ pub(crate) struct Chain {
     /// Per joint: θ (or d) = sign·q + offset.
     offsets: Vec<f64>,
     tool: Fixed,
-    /// Per joint: position limits on q, for the one-pass input scan (padded
-    /// with ∓∞ to a multiple of 8 entries).
+    /// Per joint: position limits on q, for the one-pass input scan.
     min: Vec<f64>,
     max: Vec<f64>,
-}
-
-/// The values followed by `fill` up to a multiple of 8 entries.
-fn padded(values: impl Iterator<Item = f64>, fill: f64) -> Vec<f64> {
-    let mut v: Vec<f64> = values.collect();
-    v.resize(v.len().div_ceil(8) * 8, fill);
-    v
 }
 
 /// Compiles one joint into a [`Step`] with its axis sign and offset.
@@ -184,8 +171,8 @@ impl Chain {
             signs: compiled.iter().map(|c| c.1).collect(),
             offsets: compiled.iter().map(|c| c.2).collect(),
             tool: Fixed::from_pose(*tool),
-            min: padded(joints.iter().map(|j| j.limits.min), f64::NEG_INFINITY),
-            max: padded(joints.iter().map(|j| j.limits.max), f64::INFINITY),
+            min: joints.iter().map(|j| j.limits.min).collect(),
+            max: joints.iter().map(|j| j.limits.max).collect(),
         }
     }
 
@@ -193,19 +180,11 @@ impl Chain {
     /// all are finite, and the bit set of those outside their limits.
     #[inline(always)]
     pub(crate) fn scan(&self, q: &[f64]) -> (bool, u64) {
-        // Blocks of eight with a fixed trip count, so the loop is unrolled and
-        // vectorised; `min`/`max` are padded to whole blocks with ∓∞.
         let mut finite = true;
         let mut bits = 0u64;
-        for (b, ((qb, lo), hi)) in q.chunks(8).zip(self.min.chunks_exact(8)).zip(self.max.chunks_exact(8)).enumerate() {
-            let mut v = [0.0; 8];
-            v[..qb.len()].copy_from_slice(qb);
-            let mut block = 0u64;
-            for i in 0..8 {
-                finite &= v[i].is_finite();
-                block |= (((v[i] < lo[i]) | (v[i] > hi[i])) as u64) << i;
-            }
-            bits |= block << (8 * b);
+        for (i, ((&v, &lo), &hi)) in q.iter().zip(&self.min).zip(&self.max).enumerate() {
+            finite &= v.is_finite();
+            bits |= (((v < lo) | (v > hi)) as u64) << i;
         }
         (finite, bits)
     }
@@ -449,26 +428,9 @@ impl Xf {
     #[inline(always)]
     fn twist<M: Madd>(&mut self, tw: Twist) {
         let (y, z) = (self.y, self.z);
-        match tw {
-            Twist::Zero => {}
-            Twist::Plus => {
-                self.y = z;
-                self.z = y.map(|v| -v);
-            }
-            Twist::Minus => {
-                self.y = z.map(|v| -v);
-                self.z = y;
-            }
-            Twist::Half => {
-                self.y = y.map(|v| -v);
-                self.z = z.map(|v| -v);
-            }
-            Twist::Angle { ca, sa } => {
-                for k in 0..4 {
-                    self.y[k] = M::madd(ca, y[k], sa * z[k]);
-                    self.z[k] = M::madd(ca, z[k], -(sa * y[k]));
-                }
-            }
+        for k in 0..4 {
+            self.y[k] = M::madd(tw.ca, y[k], tw.sa * z[k]);
+            self.z[k] = M::madd(tw.ca, z[k], -(tw.sa * y[k]));
         }
     }
 
