@@ -91,6 +91,14 @@ pub enum Error {
         /// Middle angle of the triple \[rad\].
         pitch: f64,
     },
+    /// An inverse-kinematics target that cannot be reached, and why.
+    #[error("unreachable target ({solver} solver): {reason}")]
+    Unreachable {
+        /// Which solver decided.
+        solver: String,
+        /// Why.
+        reason: crate::ik::Unreachable,
+    },
     /// One configuration of a batch is invalid.
     #[error("configuration {index} of the batch (counting from 0): {source}")]
     InBatch {

@@ -43,6 +43,7 @@ pub mod analysis;
 mod chain;
 mod desc;
 mod error;
+pub mod ik;
 pub mod kin;
 pub mod math;
 pub mod model;

@@ -1,0 +1,253 @@
+//! Inverse kinematics: one interface, analytic solvers per robot family and a
+//! numeric solver for any chain.
+//!
+//! A solver ([`IkSolver`]) takes a target pose and returns every solution it
+//! finds, each as a [`Solution`]: the joint values, a branch label, whether
+//! they are within the joint limits, and the residual position/orientation
+//! error measured by running forward kinematics on them. A target that cannot
+//! be reached is an [`Error::Unreachable`] that says why — never a "solution"
+//! with a wrong pose. Solvers never mutate their inputs and give the same
+//! answer for the same input (and seed), always.
+//!
+//! Helpers on the solution list ([`Solutions`]) select all solutions, only
+//! those within limits, or the one nearest to a previous configuration.
+
+use std::fmt;
+
+use crate::error::{Error, Result};
+use crate::math::{pose_error, Pose};
+use crate::model::{JointSet, Robot};
+
+pub mod numeric;
+
+pub use numeric::{Damping, NumericIk, NumericOptions};
+
+/// How a numeric solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// Position and orientation errors below the tolerances.
+    Converged,
+    /// The iteration limit of the last restart was reached.
+    MaxIterations,
+    /// The error stopped decreasing (a local minimum or a joint limit).
+    Stalled,
+}
+
+impl fmt::Display for Stop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Stop::Converged => "converged",
+            Stop::MaxIterations => "max-iterations",
+            Stop::Stalled => "stalled",
+        })
+    }
+}
+
+/// What a numeric solver did to find a solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NumericInfo {
+    /// Iterations of the successful (or last) attempt.
+    pub iterations: usize,
+    /// Restarts before it (0 = the first start succeeded).
+    pub restarts: usize,
+    /// Why it stopped.
+    pub stop: Stop,
+}
+
+/// One inverse-kinematics solution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// Joint values \[rad or m\].
+    pub q: Vec<f64>,
+    /// Branch label, e.g. `elbow-up`, `shoulder-left/elbow-up/wrist-flip`, or `numeric`.
+    pub branch: String,
+    /// Joints whose value is outside their position limits.
+    pub out_of_limits: JointSet,
+    /// |p_target − p(q)| \[m\], from forward kinematics on `q`.
+    pub position_error: f64,
+    /// Angle of R_target·R(q)ᵀ \[rad\], from forward kinematics on `q`. For
+    /// robots that cannot control every rotation, this includes the part of
+    /// the target they cannot reach (see the solver's documentation).
+    pub orientation_error: f64,
+    /// Present for numeric solutions.
+    pub numeric: Option<NumericInfo>,
+}
+
+impl Solution {
+    /// Builds a solution from joint values, measuring its residual with FK
+    /// against `target`.
+    pub fn evaluate(robot: &Robot, q: Vec<f64>, target: &Pose, branch: impl Into<String>) -> Result<Solution> {
+        let fk = robot.fk(&q)?;
+        let e = pose_error(target, &fk.pose);
+        Ok(Solution {
+            q,
+            branch: branch.into(),
+            out_of_limits: fk.out_of_limits,
+            position_error: e.position_norm(),
+            orientation_error: e.rotation_angle(),
+            numeric: None,
+        })
+    }
+
+    /// Whether every joint value is within its limits.
+    pub fn within_limits(&self) -> bool {
+        self.out_of_limits.is_empty()
+    }
+}
+
+/// Selection helpers on a list of solutions.
+pub trait Solutions {
+    /// Only the solutions within the joint limits.
+    fn within_limits(self) -> Vec<Solution>;
+    /// The solution nearest to `q_prev` (Euclidean distance in joint space,
+    /// revolute differences wrapped to (−π, π] when the joint is unbounded),
+    /// preferring solutions within limits. `None` for an empty list.
+    fn nearest(&self, robot: &Robot, q_prev: &[f64]) -> Option<&Solution>;
+}
+
+impl Solutions for Vec<Solution> {
+    fn within_limits(self) -> Vec<Solution> {
+        self.into_iter().filter(Solution::within_limits).collect()
+    }
+
+    fn nearest(&self, robot: &Robot, q_prev: &[f64]) -> Option<&Solution> {
+        let dist = |s: &Solution| joint_distance(robot, &s.q, q_prev);
+        self.iter().min_by(|a, b| (!a.within_limits(), dist(a)).partial_cmp(&(!b.within_limits(), dist(b))).unwrap())
+    }
+}
+
+/// Distance between two configurations: Euclidean over joints, with the
+/// difference of unbounded revolute joints wrapped to (−π, π].
+pub fn joint_distance(robot: &Robot, a: &[f64], b: &[f64]) -> f64 {
+    robot
+        .joints()
+        .iter()
+        .zip(a.iter().zip(b))
+        .map(|(j, (x, y))| {
+            let mut d = x - y;
+            let unbounded = !(j.limits.min.is_finite() && j.limits.max.is_finite());
+            if j.kind == crate::JointType::Revolute && unbounded {
+                d = wrap_angle(d);
+            }
+            d * d
+        })
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// `a` wrapped to (−π, π].
+pub fn wrap_angle(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let r = a.rem_euclid(TAU);
+    if r > PI {
+        r - TAU
+    } else {
+        r
+    }
+}
+
+/// Why a target cannot be reached.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq)]
+pub enum Unreachable {
+    /// The position lies outside the reachable sphere/annulus/region.
+    OutsideReach {
+        /// How far outside \[m\].
+        by: f64,
+        /// Which boundary (e.g. "outer sphere of radius 0.59 m around the shoulder").
+        boundary: String,
+    },
+    /// The orientation asked for is not one this arm can take at that position.
+    Orientation {
+        /// The smallest orientation error achievable \[rad\].
+        angle: f64,
+        /// What the arm can and cannot control.
+        detail: String,
+    },
+    /// Solutions exist but every one violates a joint limit.
+    JointLimits {
+        /// One entry per rejected solution: its branch and the violated joints.
+        rejected: Vec<String>,
+    },
+    /// The numeric solver found no solution within its restarts.
+    NoConvergence {
+        /// Best position error reached \[m\].
+        position_error: f64,
+        /// Best orientation error reached \[rad\].
+        orientation_error: f64,
+        /// Restarts tried.
+        restarts: usize,
+    },
+}
+
+impl fmt::Display for Unreachable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Unreachable::OutsideReach { by, boundary } => write!(f, "the position is {by:.6} m outside the {boundary}"),
+            Unreachable::Orientation { angle, detail } => {
+                write!(f, "the orientation is not achievable: off by at least {angle:.6} rad ({detail})")
+            }
+            Unreachable::JointLimits { rejected } => {
+                write!(f, "every solution violates a joint limit: {}", rejected.join("; "))
+            }
+            Unreachable::NoConvergence { position_error, orientation_error, restarts } => write!(
+                f,
+                "no solution found after {restarts} restarts (best residual {position_error:.3e} m, {orientation_error:.3e} rad)"
+            ),
+        }
+    }
+}
+
+/// An inverse-kinematics solver for one robot.
+pub trait IkSolver: Send + Sync {
+    /// Short name (`numeric`, `scorbot`, `iiwa`, …).
+    fn name(&self) -> &'static str;
+
+    /// Every solution the solver finds for `target` (`base_from_tool`),
+    /// including those outside the joint limits (flagged). Errors for a
+    /// non-finite target and for an unreachable one ([`Error::Unreachable`]).
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>>;
+
+    /// Solutions within the joint limits; if there are none although the pose
+    /// is reachable, an [`Unreachable::JointLimits`] error listing them.
+    fn solve_within_limits(&self, target: &Pose) -> Result<Vec<Solution>> {
+        let all = self.solve(target)?;
+        if all.iter().any(Solution::within_limits) {
+            return Ok(all.within_limits());
+        }
+        Err(Error::Unreachable {
+            solver: self.name().to_string(),
+            reason: Unreachable::JointLimits {
+                rejected: all
+                    .iter()
+                    .map(|s| {
+                        let joints: Vec<String> = s.out_of_limits.indices().map(|i| format!("q{}", i + 1)).collect();
+                        format!("{} ({})", s.branch, joints.join(", "))
+                    })
+                    .collect(),
+            },
+        })
+    }
+}
+
+/// Rejects a target with NaN/inf entries or a rotation block that is not a rotation.
+pub fn check_target(target: &Pose) -> Result<()> {
+    if !target.is_finite() {
+        return Err(Error::InvalidArgument {
+            what: "target".into(),
+            message: "the target pose contains NaN or infinite values".into(),
+        });
+    }
+    let r = &target.rot;
+    let orth = (r.transpose() * r - nalgebra::Matrix3::identity()).norm();
+    if orth > 1e-6 || r.determinant() < 0.0 {
+        return Err(Error::InvalidArgument {
+            what: "target".into(),
+            message: format!(
+                "the rotation block is not a rotation (‖RᵀR − I‖ = {orth:.2e}, det = {:.3})",
+                r.determinant()
+            ),
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,343 @@
+//! Numeric inverse kinematics for any chain: damped least squares
+//! (Levenberg–Marquardt) with joint limits enforced inside the iteration,
+//! deterministic random restarts, a task mask and an optional null-space
+//! pull towards a rest configuration.
+//!
+//! Each iteration solves, in task space (a 6×6 system whatever the number of
+//! joints),
+//!
+//! ```text
+//! Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e        (= (JᵀJ + λ I)⁻¹ Jᵀ e)
+//! ```
+//!
+//! with e = \[p* − p; θ·u\] the masked pose error (θ·u the axis-angle vector
+//! of R*·Rᵀ) and λ from the chosen [`Damping`], scaled by an adaptive factor
+//! that grows when a step does not reduce the error and shrinks when it does.
+//! The new configuration is projected onto the joint limits. A start that
+//! stalls or runs out of iterations is followed by a restart from a random
+//! configuration drawn from a generator seeded with [`NumericOptions::seed`],
+//! so the same input gives the same answer, always.
+
+use nalgebra::{Matrix6, Matrix6xX, Vector6};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::{check_target, IkSolver, NumericInfo, Solution, Stop, Unreachable};
+use crate::error::{Error, Result};
+use crate::kin::Frame;
+use crate::math::{rot_to_axis_angle, Pose};
+use crate::model::{JointType, Robot};
+
+/// How the damping λ is chosen (E = ½ eᵀe, the current error energy).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Damping {
+    /// Chan & Lawrence (1988): λ = E.
+    Chan,
+    /// Sugihara (2011): λ = E + w̄ with a small constant w̄ = 1e-3 (keeps the
+    /// system regular near singularities). The default.
+    #[default]
+    Sugihara,
+    /// Wampler (1986): a constant λ = 1e-3.
+    Wampler,
+}
+
+/// Options of the numeric solver.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NumericOptions {
+    /// Position tolerance \[m\].
+    pub tol_position: f64,
+    /// Orientation tolerance \[rad\].
+    pub tol_orientation: f64,
+    /// Iterations per start.
+    pub max_iterations: usize,
+    /// Restarts after the first start.
+    pub max_restarts: usize,
+    /// Seed of the restarts' random configurations.
+    pub seed: u64,
+    /// Damping rule.
+    pub damping: Damping,
+    /// Which task components \[vx vy vz ωx ωy ωz\] (base frame) must match.
+    /// `None`: all six for robots with ≥ 6 joints, position only otherwise.
+    pub mask: Option<[bool; 6]>,
+    /// Project every iterate onto the joint limits (default true).
+    pub enforce_limits: bool,
+    /// Secondary objective for redundant arms: pull towards this configuration
+    /// in the null space of the task.
+    pub rest: Option<Vec<f64>>,
+    /// Gain of the null-space pull (per iteration, dimensionless).
+    pub rest_gain: f64,
+}
+
+impl Default for NumericOptions {
+    fn default() -> Self {
+        NumericOptions {
+            tol_position: 1e-6,
+            tol_orientation: 1e-6,
+            max_iterations: 100,
+            max_restarts: 100,
+            seed: 0,
+            damping: Damping::default(),
+            mask: None,
+            enforce_limits: true,
+            rest: None,
+            rest_gain: 0.1,
+        }
+    }
+}
+
+/// The numeric solver for one robot.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, NumericIk};
+/// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+/// let target = robot.fk(&[0.3, 0.5, -0.2, -1.2, 0.4, 0.8, 0.1])?.pose;
+/// let sols = NumericIk::new(&robot).solve(&target)?;
+/// assert!(sols[0].position_error < 1e-6 && sols[0].within_limits());
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct NumericIk {
+    robot: Robot,
+    opts: NumericOptions,
+}
+
+impl NumericIk {
+    /// A solver with default options.
+    pub fn new(robot: &Robot) -> Self {
+        NumericIk { robot: robot.clone(), opts: NumericOptions::default() }
+    }
+
+    /// A solver with the given options (checked).
+    pub fn with_options(robot: &Robot, opts: NumericOptions) -> Result<Self> {
+        let bad = |what: &str, message: String| Err(Error::InvalidArgument { what: what.into(), message });
+        if !(opts.tol_position > 0.0 && opts.tol_orientation > 0.0) {
+            return bad("tolerance", "tolerances must be positive".into());
+        }
+        if opts.max_iterations == 0 {
+            return bad("max_iterations", "at least one iteration is needed".into());
+        }
+        if let Some(rest) = &opts.rest {
+            robot.check_q(rest)?;
+        }
+        if !(opts.rest_gain >= 0.0 && opts.rest_gain.is_finite()) {
+            return bad("rest_gain", format!("{} must be ≥ 0", opts.rest_gain));
+        }
+        if opts.mask.is_some_and(|m| !m.iter().any(|&b| b)) {
+            return bad("mask", "the task mask selects no component".into());
+        }
+        Ok(NumericIk { robot: robot.clone(), opts })
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &NumericOptions {
+        &self.opts
+    }
+
+    fn mask(&self) -> [bool; 6] {
+        self.opts.mask.unwrap_or(if self.robot.dof() >= 6 {
+            [true; 6]
+        } else {
+            [true, true, true, false, false, false]
+        })
+    }
+
+    /// Solves starting from `q0` (then from seeded random restarts).
+    pub fn solve_from(&self, target: &Pose, q0: &[f64]) -> Result<Solution> {
+        check_target(target)?;
+        self.robot.check_q(q0)?;
+        let r = &self.robot;
+        let n = r.dof();
+        let mask = self.mask();
+        let mut ws = Work { j: Matrix6xX::zeros(n), q: q0.to_vec(), trial: vec![0.0; n] };
+        let mut rng = ChaCha8Rng::seed_from_u64(self.opts.seed);
+        let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        for restart in 0..=self.opts.max_restarts {
+            if restart > 0 {
+                r.random_q_into(&mut rng, &mut ws.q);
+            } else if self.opts.enforce_limits {
+                clamp(r, &mut ws.q);
+            }
+            let (stop, iterations, ep, eo) = self.run(target, &mask, &mut ws)?;
+            let energy = ep * ep + eo * eo;
+            if energy < best.0 {
+                best = (energy, ep, eo);
+            }
+            if stop == Stop::Converged {
+                let mut s = Solution::evaluate(r, ws.q.clone(), target, "numeric")?;
+                s.numeric = Some(NumericInfo { iterations, restarts: restart, stop });
+                return Ok(s);
+            }
+        }
+        Err(Error::Unreachable {
+            solver: "numeric".into(),
+            reason: Unreachable::NoConvergence {
+                position_error: best.1,
+                orientation_error: best.2,
+                restarts: self.opts.max_restarts,
+            },
+        })
+    }
+
+    /// One start: iterates from `ws.q`, leaves the result in `ws.q`.
+    /// Returns (stop reason, iterations, masked position error, masked orientation error).
+    fn run(&self, target: &Pose, mask: &[bool; 6], ws: &mut Work) -> Result<(Stop, usize, f64, f64)> {
+        let r = &self.robot;
+        let o = &self.opts;
+        let fk = r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
+        let mut e = task_error(target, &fk.pose, mask);
+        let mut energy = 0.5 * e.norm_squared();
+        let mut mu = 1.0;
+        for it in 0..o.max_iterations {
+            let (ep, eo) = split_norms(&e);
+            if ep < o.tol_position && eo < o.tol_orientation {
+                return Ok((Stop::Converged, it, ep, eo));
+            }
+            mask_rows(&mut ws.j, mask);
+            let lambda = mu
+                * match o.damping {
+                    Damping::Chan => energy,
+                    Damping::Sugihara => energy + 1e-3,
+                    Damping::Wampler => 1e-3,
+                };
+            let mut a: Matrix6<f64> = &ws.j * ws.j.transpose();
+            for k in 0..6 {
+                a[(k, k)] += lambda.max(1e-12);
+            }
+            let Some(chol) = a.cholesky() else {
+                return Ok((Stop::Stalled, it, ep, eo));
+            };
+            let y = chol.solve(&e);
+            // Δq = Jᵀ y, plus the null-space pull towards the rest pose.
+            for (i, t) in ws.trial.iter_mut().enumerate() {
+                *t = ws.j.column(i).dot(&y);
+            }
+            if let Some(rest) = &o.rest {
+                // (I − J⁺J) k (rest − q), with the damped J⁺ = Jᵀ A⁻¹.
+                let z: Vec<f64> = rest.iter().zip(&ws.q).map(|(a, b)| o.rest_gain * (a - b)).collect();
+                let jz: Vector6<f64> = (0..z.len()).fold(Vector6::zeros(), |acc, i| acc + ws.j.column(i) * z[i]);
+                let w = chol.solve(&jz);
+                for (i, t) in ws.trial.iter_mut().enumerate() {
+                    *t += z[i] - ws.j.column(i).dot(&w);
+                }
+            }
+            let step = ws.trial.iter().map(|d| d * d).sum::<f64>().sqrt();
+            for (t, q) in ws.trial.iter_mut().zip(&ws.q) {
+                *t += q;
+            }
+            if o.enforce_limits {
+                clamp(r, &mut ws.trial);
+            }
+            let fk_trial = r.fk(&ws.trial)?;
+            let e_trial = task_error(target, &fk_trial.pose, mask);
+            let energy_trial = 0.5 * e_trial.norm_squared();
+            if energy_trial < energy {
+                std::mem::swap(&mut ws.q, &mut ws.trial);
+                r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
+                e = e_trial;
+                energy = energy_trial;
+                mu = (mu * 0.5).max(1e-3);
+            } else {
+                mu *= 10.0;
+                r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
+                if mu > 1e10 || step < 1e-15 {
+                    return Ok((Stop::Stalled, it + 1, ep, eo));
+                }
+            }
+        }
+        let (ep, eo) = split_norms(&e);
+        let stop = if ep < o.tol_position && eo < o.tol_orientation { Stop::Converged } else { Stop::MaxIterations };
+        Ok((stop, o.max_iterations, ep, eo))
+    }
+}
+
+impl IkSolver for NumericIk {
+    fn name(&self) -> &'static str {
+        "numeric"
+    }
+
+    /// One solution, started from the robot's `home` configuration and then
+    /// from seeded random restarts.
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        Ok(vec![self.solve_from(target, self.robot.home())?])
+    }
+}
+
+/// Scratch buffers of one solve.
+struct Work {
+    j: Matrix6xX<f64>,
+    q: Vec<f64>,
+    trial: Vec<f64>,
+}
+
+/// The masked pose error \[p* − p; θ·u\] in the base frame.
+fn task_error(target: &Pose, actual: &Pose, mask: &[bool; 6]) -> Vector6<f64> {
+    let dp = target.pos - actual.pos;
+    let dw = rot_to_axis_angle(&(target.rot * actual.rot.transpose()));
+    let mut e = Vector6::new(dp.x, dp.y, dp.z, dw.x, dw.y, dw.z);
+    for k in 0..6 {
+        if !mask[k] {
+            e[k] = 0.0;
+        }
+    }
+    e
+}
+
+fn split_norms(e: &Vector6<f64>) -> (f64, f64) {
+    (e.fixed_rows::<3>(0).norm(), e.fixed_rows::<3>(3).norm())
+}
+
+fn mask_rows(j: &mut Matrix6xX<f64>, mask: &[bool; 6]) {
+    for (k, &m) in mask.iter().enumerate() {
+        if !m {
+            j.row_mut(k).fill(0.0);
+        }
+    }
+}
+
+/// Projects `q` onto the joint limits (unbounded revolute joints are wrapped
+/// into (−π, π] instead, which keeps the numbers small).
+fn clamp(robot: &Robot, q: &mut [f64]) {
+    for (v, j) in q.iter_mut().zip(robot.joints()) {
+        let l = &j.limits;
+        if l.min.is_finite() || l.max.is_finite() {
+            *v = v.clamp(l.min, l.max);
+        } else if j.kind == JointType::Revolute {
+            *v = super::wrap_angle(*v);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn deterministic_for_the_same_seed() {
+        let robot = Robot::builtin("panda").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let solver = NumericIk::new(&robot);
+        for _ in 0..50 {
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let a = solver.solve(&target).unwrap();
+            let b = solver.solve(&target).unwrap();
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn damping_variants_all_converge() {
+        let robot = Robot::builtin("ur5").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for damping in [Damping::Chan, Damping::Sugihara, Damping::Wampler] {
+            let solver = NumericIk::with_options(&robot, NumericOptions { damping, ..Default::default() }).unwrap();
+            for _ in 0..100 {
+                let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+                let s = &solver.solve(&target).unwrap()[0];
+                assert!(s.position_error < 1e-6 && s.orientation_error < 1e-6, "{damping:?}: {s:?}");
+                assert!(s.within_limits());
+            }
+        }
+    }
+}
