@@ -12,6 +12,20 @@ use kinema::nalgebra::Matrix6xX;
 use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
+mod ik_cmd;
+
+/// An error that only sets the exit code (its message was already printed).
+#[derive(Debug)]
+struct Exit(u8);
+
+impl std::fmt::Display for Exit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "exit code {}", self.0)
+    }
+}
+
+impl std::error::Error for Exit {}
+
 #[derive(Parser)]
 #[command(name = "kinema", version, about = "Kinematics of robot arms: forward kinematics, Jacobians, manipulability.")]
 struct Cli {
@@ -41,7 +55,9 @@ enum Cmd {
     Jacobian(JacobianArgs),
     /// Manipulability, condition number, rank, singular values and dependent joints.
     Manip(ManipArgs),
-    /// Time FK and the Jacobian over random configurations in this process.
+    /// Inverse kinematics: joint values that reach a target pose (exit code 2 if unreachable).
+    Ik(ik_cmd::IkArgs),
+    /// Time FK and the Jacobian (and, with --ik, inverse kinematics) over random configurations.
     Bench(BenchArgs),
 }
 
@@ -159,6 +175,13 @@ struct BenchArgs {
     /// Seed of the random configurations.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Also time numeric inverse kinematics on --ik-n reachable targets (FK of random
+    /// within-limit configurations; tolerance 1e-6 m / 1e-6 rad; limits enforced).
+    #[arg(long)]
+    ik: bool,
+    /// Number of inverse-kinematics targets for --ik.
+    #[arg(long, default_value_t = 10_000)]
+    ik_n: usize,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -168,10 +191,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::FAILURE
-        }
+        Err(e) => match e.downcast_ref::<Exit>() {
+            Some(Exit(code)) => ExitCode::from(*code),
+            None => {
+                eprintln!("error: {e:#}");
+                ExitCode::FAILURE
+            }
+        },
     }
 }
 
@@ -182,6 +208,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Fk(a) => fk(a),
         Cmd::Jacobian(a) => jacobian(a),
         Cmd::Manip(a) => manip(a),
+        Cmd::Ik(a) => ik_cmd::ik(a),
         Cmd::Bench(a) => bench(a),
     }
 }
@@ -692,13 +719,18 @@ fn bench(a: BenchArgs) -> Result<()> {
     let batch_ns = t.elapsed().as_nanos() as f64 / a.n as f64;
     std::hint::black_box((sink, batch.len()));
     let pct = |s: &[f64], p: f64| s[((s.len() - 1) as f64 * p).round() as usize];
+    let ik = if a.ik { Some(bench_ik(&r, a.ik_n, a.seed)?) } else { None };
     if a.json {
-        return print_json(&json!({
+        let mut v = json!({
             "robot": r.name(), "dof": n, "configurations": a.n, "seed": a.seed,
             "fk_ns": pct(&fk, 0.5), "fk_ns_p10": pct(&fk, 0.1), "fk_ns_p90": pct(&fk, 0.9),
             "jacobian_ns": pct(&jac, 0.5), "jacobian_ns_p10": pct(&jac, 0.1), "jacobian_ns_p90": pct(&jac, 0.9),
             "fk_batch_ns_per_config": batch_ns, "threads": rayon::current_num_threads(),
-        }));
+        });
+        if let Some(ik) = &ik {
+            v["ik"] = ik.clone();
+        }
+        return print_json(&v);
     }
     println!("robot {} ({} DOF), {} random configurations, seed {}", r.name(), n, a.n, a.seed);
     println!("fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})", pct(&fk, 0.5), pct(&fk, 0.1), pct(&fk, 0.9));
@@ -709,5 +741,54 @@ fn bench(a: BenchArgs) -> Result<()> {
         pct(&jac, 0.9)
     );
     println!("fk batch         {:>8.1} ns/config on {} threads", batch_ns, rayon::current_num_threads());
+    if let Some(ik) = ik {
+        println!(
+            "numeric ik       {} targets: success {:.3} %, mean {:.1} µs, median {:.1} µs, mean {:.1} iterations, {} restarts in all",
+            ik["targets"], ik["success_rate"].as_f64().unwrap_or(0.0) * 100.0, ik["mean_us"].as_f64().unwrap_or(0.0),
+            ik["median_us"].as_f64().unwrap_or(0.0), ik["mean_iterations"].as_f64().unwrap_or(0.0), ik["restarts"]
+        );
+    }
     Ok(())
+}
+
+/// Times the numeric IK solver on `count` reachable targets: FK of random
+/// within-limit configurations (seed `seed + 1`), default options (tolerance
+/// 1e-6 m / 1e-6 rad, limits enforced, seeded restarts), started from `home`.
+fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<Value> {
+    use kinema::ik::{IkSolver, NumericIk};
+    use rand::SeedableRng;
+    if count == 0 {
+        bail!("--ik-n must be at least 1");
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed.wrapping_add(1));
+    let targets: Vec<Pose> =
+        (0..count).map(|_| r.fk(&r.random_q(&mut rng)).map(|f| f.pose)).collect::<Result<_, _>>()?;
+    let solver = NumericIk::new(r);
+    let bar = indicatif::ProgressBar::new(count as u64);
+    let (mut ok, mut iters, mut restarts) = (0usize, 0usize, 0usize);
+    let mut times = Vec::with_capacity(count);
+    for t in &targets {
+        let start = Instant::now();
+        let res = solver.solve(std::hint::black_box(t));
+        times.push(start.elapsed().as_secs_f64() * 1e6);
+        if let Ok(s) = res {
+            let s = &s[0];
+            if s.within_limits() && s.position_error <= 1e-6 && s.orientation_error <= 1e-6 {
+                ok += 1;
+            }
+            if let Some(n) = s.numeric {
+                iters += n.iterations;
+                restarts += n.restarts;
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let mean = times.iter().sum::<f64>() / count as f64;
+    times.sort_by(f64::total_cmp);
+    Ok(json!({
+        "targets": count, "success_rate": ok as f64 / count as f64, "mean_us": mean,
+        "median_us": times[count / 2], "p99_us": times[(count * 99 / 100).min(count - 1)],
+        "mean_iterations": iters as f64 / ok.max(1) as f64, "restarts": restarts,
+    }))
 }

@@ -307,3 +307,50 @@ fn bad_input_is_a_clear_error() {
     let e = fails(&["fk", "--robot", "ur5"]);
     assert!(e.contains("--q"), "{e}");
 }
+
+#[test]
+fn ik_numeric_reaches_fk_targets() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let q = [0.4, 0.6, -0.3, -1.1, 0.5, 0.9, -0.2];
+    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
+    let v = json(&["ik", "--robot", "lbr-iiwa-14-r820", "--T", &t.join(","), "--solver", "numeric", "--json"]);
+    assert_eq!(v["solver"], "numeric");
+    let s = &v["solutions"][0];
+    assert!(s["position_error"].as_f64().unwrap() < 1e-6, "{s}");
+    assert!(s["orientation_error"].as_f64().unwrap() < 1e-6, "{s}");
+    assert_eq!(s["within_limits"], true);
+    let sol: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let reached = robot.fk(&sol).unwrap().pose;
+    assert!((reached.pos - robot.fk(&q).unwrap().pose.pos).norm() < 1e-6);
+    // --pose in degrees, started near the answer: converges to the nearby solution.
+    let p = robot.fk(&q).unwrap().pose;
+    let rpy = p.rpy(kinema::RpyConvention::Zyx).map(f64::to_degrees);
+    let pose = format!("{},{},{},{},{},{}", p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2]);
+    let q0: Vec<String> = q.iter().map(|v| format!("{}", v.to_degrees() + 2.0)).collect();
+    let v = json(&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", &pose, "--deg", "--q0", &q0.join(","), "--json"]);
+    let got: Vec<f64> = v["solutions"][0]["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    for (g, want) in got.iter().zip(&q) {
+        assert!((g - want.to_degrees()).abs() < 5.0, "{got:?}");
+    }
+}
+
+#[test]
+fn ik_position_only_and_unreachable_exit_code() {
+    let v = json(&["ik", "--robot", "scorbot-er-v-plus", "--position", "0.3,0.1,0.4", "--solver", "numeric", "--json"]);
+    assert!(v["solutions"][0]["position_error"].as_f64().unwrap() < 1e-6);
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["ik", "--robot", "ur5", "--position", "3,0,0", "--solver", "numeric", "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["error"], "unreachable");
+    assert!(v["reason"].as_str().unwrap().contains("no solution"), "{v}");
+    let e = fails(&["ik", "--robot", "ur5", "--pose", "1,2,3"]);
+    assert!(e.contains("6 numbers"), "{e}");
+    let e = fails(&["ik", "--robot", "ur5", "--T", "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,2"]);
+    assert!(e.contains("rigid transform"), "{e}");
+    let e = fails(&["ik", "--robot", "ur5"]);
+    assert!(e.contains("give a target"), "{e}");
+}

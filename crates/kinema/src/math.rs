@@ -125,7 +125,7 @@ impl Pose {
 
     /// Orientation as a unit quaternion.
     pub fn quaternion(&self) -> UnitQuaternion<f64> {
-        UnitQuaternion::from_matrix(&self.rot)
+        UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(self.rot))
     }
 
     /// Orientation as roll-pitch-yaw \[rad\] in the given convention.
@@ -244,8 +244,47 @@ pub fn rot_to_rpy(r: &Matrix3<f64>, conv: RpyConvention) -> [f64; 3] {
 }
 
 /// Axis-angle vector (axis × angle, angle in \[0, π\]) of a rotation matrix.
+///
+/// Closed form (no iteration): with v = (r21 − r12, r02 − r20, r10 − r01) =
+/// 2 sin θ · u and trace − 1 = 2 cos θ, θ = atan2(|v|, trace − 1) and
+/// u = v/|v|; within 1e-3 rad of θ = π, where v vanishes, the axis comes from
+/// the symmetric part instead (rᵢᵢ = cos θ + (1 − cos θ)·uᵢ²).
+///
+/// # Examples
+/// ```
+/// use kinema::math::{axis_angle_to_rot, rot_to_axis_angle};
+/// use kinema::nalgebra::Vector3;
+/// let w = Vector3::new(0.3, -1.2, 2.5);
+/// assert!((rot_to_axis_angle(&axis_angle_to_rot(&w)) - w).norm() < 1e-12);
+/// ```
 pub fn rot_to_axis_angle(r: &Matrix3<f64>) -> Vector3<f64> {
-    UnitQuaternion::from_matrix(r).scaled_axis()
+    let v = Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]);
+    let s = v.norm(); // 2 sin θ
+    let c = r.trace() - 1.0; // 2 cos θ
+    let theta = s.atan2(c);
+    if theta < std::f64::consts::PI - 1e-3 {
+        // θ/(2 sin θ) → 1/2 as θ → 0.
+        let k = if s > 1e-12 { theta / s } else { 0.5 };
+        return v * k;
+    }
+    // Near π: uᵢ² = (rᵢᵢ − cos θ)/(1 − cos θ); take the largest component and
+    // the others from rᵢⱼ + rⱼᵢ = 2(1 − cos θ)·uᵢuⱼ.
+    let cos_t = (0.5 * c).clamp(-1.0, 1.0);
+    let one_minus = 1.0 - cos_t;
+    let d = [r[(0, 0)], r[(1, 1)], r[(2, 2)]];
+    let k = (0..3).max_by(|&a, &b| d[a].total_cmp(&d[b])).unwrap_or(0);
+    let uk = ((d[k] - cos_t) / one_minus).max(0.0).sqrt();
+    let mut u = Vector3::zeros();
+    u[k] = uk;
+    for j in 0..3 {
+        if j != k {
+            u[j] = (r[(k, j)] + r[(j, k)]) / (2.0 * one_minus * uk);
+        }
+    }
+    let u = u.normalize();
+    // The sign of the axis follows v (2 sin θ · u) where it is still measurable.
+    let u = if u.dot(&v) < 0.0 { -u } else { u };
+    u * theta
 }
 
 /// Rotation matrix from an axis-angle vector (axis × angle) \[rad\].
@@ -441,6 +480,37 @@ mod tests {
         let mut bad = p.to_matrix();
         bad[(3, 0)] = 1.0;
         assert!(Pose::from_matrix(&bad).is_none());
+    }
+
+    #[test]
+    fn axis_angle_closed_form_matches_quaternion_reference() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let pi = std::f64::consts::PI;
+        for i in 0..20_000 {
+            let axis =
+                Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+            if axis.norm() < 1e-3 {
+                continue;
+            }
+            let axis = axis.normalize();
+            // Angles over the whole range, with many close to 0 and to π.
+            let theta = match i % 4 {
+                0 => rng.random_range(0.0..pi),
+                1 => pi - 10f64.powf(rng.random_range(-12.0..-1.0)),
+                2 => 10f64.powf(rng.random_range(-12.0..-1.0)),
+                _ => pi,
+            };
+            let r = Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), theta).into_inner();
+            let got = rot_to_axis_angle(&r);
+            // Independent reference: nalgebra's quaternion of the same matrix.
+            let reference = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r)).scaled_axis();
+            assert!((got.norm() - theta).abs() < 1e-9, "θ = {theta}: got angle {}", got.norm());
+            // At exactly π the axis sign is arbitrary: both ±u describe R.
+            let same = (got - reference).norm() < 1e-7 || (theta > pi - 1e-7 && (got + reference).norm() < 1e-7);
+            assert!(same, "θ = {theta}, axis {axis:?}: {got:?} vs {reference:?}");
+            assert!((axis_angle_to_rot(&got) - r).norm() < 1e-9);
+        }
+        assert_eq!(rot_to_axis_angle(&Matrix3::identity()), Vector3::zeros());
     }
 
     #[test]

@@ -28,6 +28,10 @@ use crate::kin::Frame;
 use crate::math::{rot_to_axis_angle, Pose};
 use crate::model::{JointType, Robot};
 
+/// A start whose error energy has not halved within this many iterations is
+/// abandoned for a restart (LM converges much faster than that near a solution).
+const STALL_WINDOW: usize = 10;
+
 /// How the damping λ is chosen (E = ½ eᵀe, the current error energy).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Damping {
@@ -187,20 +191,28 @@ impl NumericIk {
         let fk = r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
         let mut e = task_error(target, &fk.pose, mask);
         let mut energy = 0.5 * e.norm_squared();
+        mask_rows(&mut ws.j, mask);
         let mut mu = 1.0;
+        // Energy a few iterations back, to notice a start that no longer makes progress.
+        let mut checkpoint = energy;
         for it in 0..o.max_iterations {
             let (ep, eo) = split_norms(&e);
             if ep < o.tol_position && eo < o.tol_orientation {
                 return Ok((Stop::Converged, it, ep, eo));
             }
-            mask_rows(&mut ws.j, mask);
+            if it > 0 && it % STALL_WINDOW == 0 {
+                if energy > 0.5 * checkpoint {
+                    return Ok((Stop::Stalled, it, ep, eo));
+                }
+                checkpoint = energy;
+            }
             let lambda = mu
                 * match o.damping {
                     Damping::Chan => energy,
                     Damping::Sugihara => energy + 1e-3,
                     Damping::Wampler => 1e-3,
                 };
-            let mut a: Matrix6<f64> = &ws.j * ws.j.transpose();
+            let mut a = gram(&ws.j);
             for k in 0..6 {
                 a[(k, k)] += lambda.max(1e-12);
             }
@@ -234,12 +246,13 @@ impl NumericIk {
             if energy_trial < energy {
                 std::mem::swap(&mut ws.q, &mut ws.trial);
                 r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
+                mask_rows(&mut ws.j, mask);
                 e = e_trial;
                 energy = energy_trial;
                 mu = (mu * 0.5).max(1e-3);
             } else {
+                // Rejected: q and J stay as they are; damp harder.
                 mu *= 10.0;
-                r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
                 if mu > 1e10 || step < 1e-15 {
                     return Ok((Stop::Stalled, it + 1, ep, eo));
                 }
@@ -281,6 +294,24 @@ fn task_error(target: &Pose, actual: &Pose, mask: &[bool; 6]) -> Vector6<f64> {
         }
     }
     e
+}
+
+/// J·Jᵀ (6×6), accumulated column by column without allocating.
+fn gram(j: &Matrix6xX<f64>) -> Matrix6<f64> {
+    let mut a = Matrix6::zeros();
+    for col in j.column_iter() {
+        for r in 0..6 {
+            for c in r..6 {
+                a[(r, c)] += col[r] * col[c];
+            }
+        }
+    }
+    for r in 0..6 {
+        for c in 0..r {
+            a[(r, c)] = a[(c, r)];
+        }
+    }
+    a
 }
 
 fn split_norms(e: &Vector6<f64>) -> (f64, f64) {
