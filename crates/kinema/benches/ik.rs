@@ -1,0 +1,93 @@
+//! Inverse-kinematics benchmarks: kinema's numeric solver and, side by side,
+//! the `k` crate's `JacobianIkSolver` on the same chain and the same targets.
+//!
+//! ```text
+//! cargo bench -p kinema --bench ik
+//! ```
+//!
+//! Targets are FK of seeded random within-limit configurations of the
+//! `lbr-iiwa-14-r820`; tolerance 1e-6 m / 1e-6 rad. Before timing, each
+//! solver's success rate on the targets is printed (a timed solver that
+//! fails is not a fast solver). kinema starts from `home` and restarts from
+//! seeded random configurations; k starts from `home` once (it has no restarts).
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use k::InverseKinematicsSolver;
+use kinema::ik::{IkSolver, NumericIk};
+use kinema::{Pose, Robot};
+
+mod common;
+use common::*;
+
+const N_TARGETS: usize = 1000;
+
+fn targets(robot: &Robot) -> Vec<Pose> {
+    let qs = configs(robot, 0x1c, N_TARGETS);
+    qs.chunks_exact(robot.dof()).map(|q| robot.fk(q).expect("valid q").pose).collect()
+}
+
+fn k_target(p: &Pose) -> Iso {
+    k_iso(p)
+}
+
+fn ik(c: &mut Criterion) {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").expect("built-in");
+    let targets = targets(&robot);
+    let solver = NumericIk::new(&robot);
+    let ok = targets
+        .iter()
+        .filter(|t| solver.solve(t).is_ok_and(|s| s[0].within_limits() && s[0].position_error <= 1e-6))
+        .count();
+    eprintln!("kinema numeric ik: {ok} of {N_TARGETS} targets solved within limits");
+
+    let chain = k_chain(&robot);
+    cross_check(&robot, &chain);
+    let k_solver = k::JacobianIkSolver::new(1e-6, 1e-6, 0.5, 100);
+    let home = robot.home().to_vec();
+    let (mut k_ok, mut k_ok_limits) = (0, 0);
+    for t in &targets {
+        chain.set_joint_positions_unchecked(&home);
+        if k_solver.solve(&chain, &k_target(t)).is_ok() {
+            k_ok += 1;
+            // The k chain carries no joint limits: check its answer against the robot's.
+            if robot.limit_flags(&chain.joint_positions()).is_empty() {
+                k_ok_limits += 1;
+            }
+        }
+    }
+    eprintln!(
+        "k JacobianIkSolver: {k_ok} of {N_TARGETS} targets reached, {k_ok_limits} of them within the joint limits"
+    );
+
+    let mut g = c.benchmark_group("ik/lbr-iiwa-14-r820");
+    let mut i = 0;
+    g.bench_function("kinema-numeric", |b| {
+        b.iter(|| {
+            i = (i + 1) % N_TARGETS;
+            black_box(solver.solve(black_box(&targets[i])).ok())
+        })
+    });
+    let mut i = 0;
+    g.bench_function("k-jacobian", |b| {
+        b.iter(|| {
+            i = (i + 1) % N_TARGETS;
+            chain.set_joint_positions_unchecked(&home);
+            black_box(k_solver.solve(&chain, black_box(&k_target(&targets[i]))).ok())
+        })
+    });
+    g.finish();
+}
+
+fn config() -> Criterion {
+    Criterion::default().sample_size(20).measurement_time(Duration::from_secs(4)).warm_up_time(Duration::from_secs(1))
+}
+
+criterion_group! {
+    name = benches;
+    config = config();
+    targets = ik
+}
+criterion_main!(benches);
