@@ -241,35 +241,30 @@ pub struct Report {
 /// The full analysis of a Jacobian.
 pub fn report(j: &Matrix6xX<f64>) -> Result<Report> {
     let m = rows(j, Axes::All)?;
-    let svd = m.clone().svd(true, false);
+    let n = m.ncols();
+    // One SVD of a 6×max(n, 6) matrix: with fewer than 6 joints, J is padded
+    // with zero columns so that U is a full 6×6 basis (the extra singular
+    // values are 0 and not reported).
+    let mut padded = DMatrix::zeros(6, n.max(6));
+    padded.view_mut((0, 0), (6, n)).copy_from(&m);
+    let svd = padded.svd(true, false);
     let u = svd.u.as_ref().expect("requested");
     let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
     order.sort_by(|&a, &b| svd.singular_values[b].total_cmp(&svd.singular_values[a]));
-    let s: Vec<f64> = order.iter().map(|&i| svd.singular_values[i]).collect();
-    let tol = default_rank_tolerance(m.nrows(), m.ncols(), s[0]);
+    let s: Vec<f64> = order.iter().take(n.min(6)).map(|&i| svd.singular_values[i]).collect();
+    let tol = default_rank_tolerance(m.nrows(), n, s[0]);
     let rank = s.iter().filter(|&&v| v > tol).count();
-    // Task directions not reached: left singular vectors with σ ≤ tol, plus the
-    // complement of the column space when there are fewer than 6 joints.
-    let mut singular_directions = Vec::new();
-    let uu = if m.ncols() < 6 {
-        // Complete U to a 6×6 basis through the SVD of [J | 0].
-        let mut padded = DMatrix::zeros(6, 6);
-        padded.view_mut((0, 0), (6, m.ncols())).copy_from(&m);
-        let p = padded.svd(true, false);
-        let mut ord: Vec<usize> = (0..6).collect();
-        ord.sort_by(|&a, &b| p.singular_values[b].total_cmp(&p.singular_values[a]));
-        let pu = p.u.expect("requested");
-        DMatrix::from_fn(6, 6, |r, c| pu[(r, ord[c])])
-    } else {
-        DMatrix::from_fn(6, order.len(), |r, c| u[(r, order[c])])
-    };
-    for c in rank..uu.ncols().min(6) {
-        let col = uu.column(c);
-        singular_directions.push([col[0], col[1], col[2], col[3], col[4], col[5]]);
-    }
+    // Task directions not reached: left singular vectors beyond the rank.
+    let singular_directions = order[rank..6]
+        .iter()
+        .map(|&c| {
+            let col = u.column(c);
+            [col[0], col[1], col[2], col[3], col[4], col[5]]
+        })
+        .collect();
     let min = s[s.len() - 1];
     Ok(Report {
-        yoshikawa: yoshikawa(j, Axes::All)?,
+        yoshikawa: if n < 6 { 0.0 } else { s.iter().product() },
         yoshikawa_translation: yoshikawa(j, Axes::Translation)?,
         yoshikawa_rotation: yoshikawa(j, Axes::Rotation)?,
         condition: if min > 0.0 { s[0] / min } else { f64::INFINITY },
