@@ -18,8 +18,14 @@ use crate::error::{Error, Result};
 use crate::math::{pose_error, Pose};
 use crate::model::{JointSet, Robot};
 
+pub mod iiwa;
 pub mod numeric;
+pub mod pieper;
+pub mod rommel;
+pub mod scara;
+pub mod scorbot;
 
+pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
 
 /// How a numeric solve ended.

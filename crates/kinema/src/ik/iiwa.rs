@@ -1,0 +1,835 @@
+//! Analytic inverse kinematics of the KUKA LBR iiwa 14 R820 and of any 7R
+//! arm of the same shape (an "SRS" arm: spherical shoulder, revolute elbow,
+//! spherical wrist), after seed 004 §V.
+//!
+//! The arm is described by a standard DH table with all a = 0, twists
+//! α = −90°, 90°, −90°, 90°, −90°, 90°, 0°, d2 = d4 = d6 = 0 and zero joint
+//! offsets. Only four lengths matter: d1 (base–shoulder), d3
+//! (shoulder–elbow), d5 (elbow–wrist) and d7 (wrist–flange). The base and
+//! tool transforms of the [`Robot`] are stripped from every target.
+//!
+//! Geometry used throughout (derived here, it is the basis of all formulas):
+//! with this DH table, Rx(−90°)·Rz(θ)·Rx(90°) = Ry(θ), so
+//!
+//! ```text
+//! R₀₃·Rx(90°) = Rz(q1)·Ry(q2)·Rz(q3)     R₀₄ = Rz(q1)·Ry(q2)·Rz(q3)·Ry(q4)
+//! R₄₇ = Rz(q5)·Ry(q6)·Rz(q7)             (two ZYZ Euler triples)
+//! W − S = Rz(q1)·Ry(q2)·(d5·c3·s4, d5·s3·s4, d3 + d5·c4)
+//! ```
+//!
+//! with S = (0, 0, d1) the shoulder, E = S + d3·R₀₂·ẑ the elbow and
+//! W = p − d7·R₀₇·ẑ the wrist point.
+//!
+//! Two parameterisations of the one-dimensional self-motion are offered:
+//!
+//! * **q3 fixed** (seed 004 eq. 3–11, [`IiwaIk::solve_q3`]): up to 8
+//!   solutions for a given q3; this is the paper's method, and the
+//!   [`IkSolver`] implementation uses it with q3 = 0 by default
+//!   ([`IiwaIk::with_q3`]).
+//! * **arm angle ψ** (Shimizu et al. 2008; Faria et al. 2018,
+//!   [`IiwaIk::solve_psi`]): the rotation of the shoulder–elbow–wrist plane
+//!   about the shoulder–wrist line, measured from the reference plane of the
+//!   arm with q3 = 0; with the three configuration bits it determines one
+//!   solution.
+//!
+//! # Configuration bits
+//!
+//! A configuration is labelled by three bits ([`SHOULDER`], [`ELBOW`],
+//! [`WRIST`]); a bit is set when q2, q4 or q6 respectively is negative (the
+//! GC2, GC4, GC6 of Shimizu and Faria). Labels read
+//! `shoulder+/elbow-/wrist+` (+ = bit clear, joint ≥ 0). These bits are
+//! constant along the ψ self-motion. For a fixed q3 the 8 solutions come as
+//! 2 elbows × 2 shoulders × 2 wrists; the elbow and wrist pairs always differ
+//! in the sign of q4 and q6, but the two shoulder solutions often have the
+//! same sign of q2 (the sign of q2 flips under the ψ shoulder flip
+//! (q1, q2, q3) → (q1 + π, −q2, q3 + π), which changes q3). Labels of
+//! fixed-q3 solutions therefore carry the bits of the solution itself, as
+//! [`IiwaIk::config_of`] computes them, plus `/front` or `/back`: whether
+//! the wrist point lies in front of or behind the shoulder along the x axis
+//! of DH frame 1 — the fixed-q3 shoulder choice, which makes the 8 labels
+//! distinct, e.g. `shoulder+/elbow-/wrist+/back`.
+//!
+//! # Singular cases (conventions, never NaN)
+//!
+//! * Wrist singularity (|sin q6| < 1e-12): q5 and q7 turn about one axis;
+//!   q5 = 0 and q7 takes the sum.
+//! * Shoulder singularity (wrist point on the axis of joint 1 with the arm
+//!   plane containing it): q1 = 0 (or the previous q1 in
+//!   [`IiwaIk::select`]) and q2, q3 follow; in the ψ form, when
+//!   |sin q2| < 1e-12, q1 = 0 and q3 takes the sum.
+//! * Stretched or folded elbow (sin q4 = 0): both elbow solutions coincide
+//!   and are returned once.
+//! * Arm-angle reference: when the wrist point is on the axis of joint 1,
+//!   the reference plane is undefined; q1 = 0 is used for it (ψ jumps there —
+//!   the algorithmic singularity of the arm-angle method).
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use nalgebra::{Matrix3, Vector3};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::{check_target, joint_distance, wrap_angle, IkSolver, Solution, Unreachable};
+use crate::analysis::{manipulability_along, Axes};
+use crate::error::{Error, Result};
+use crate::kin::Frame;
+use crate::math::{rot_y, rot_z, Pose};
+use crate::model::{DhConvention, JointType, LinkGeometry, Robot};
+
+/// Configuration bit: set when q2 < 0 (shoulder).
+pub const SHOULDER: u8 = 1;
+/// Configuration bit: set when q4 < 0 (elbow).
+pub const ELBOW: u8 = 2;
+/// Configuration bit: set when q6 < 0 (wrist).
+pub const WRIST: u8 = 4;
+
+/// Below this |sin| a ZYZ triple is treated as singular (first angle = hint).
+const SINGULAR_SIN: f64 = 1e-12;
+/// Tolerance \[m\] for targets just outside a reach boundary (clamped onto it).
+const REACH_TOL: f64 = 1e-12;
+
+/// Half-width \[rad\] of the q3 window searched by [`IiwaIk::select`] around the previous q3.
+pub const SELECT_WINDOW: f64 = 0.05;
+/// Step \[rad\] of the q3 grid searched by [`IiwaIk::select`] (21 values over the window).
+pub const SELECT_STEP: f64 = 0.005;
+/// Largest joint change \[rad\] per call that [`IiwaIk::select`] prefers; candidates
+/// that change any joint more are used only if there is no other.
+pub const SELECT_MAX_STEP: f64 = 0.05;
+/// Number of ψ samples over (−π, π] used by [`IiwaIk::feasible_psi_intervals`].
+pub const PSI_SAMPLES: usize = 2048;
+/// Width \[rad\] to which [`IiwaIk::feasible_psi_intervals`] refines interval ends.
+pub const PSI_TOLERANCE: f64 = 1e-9;
+/// Error \[rad\] below which [`IiwaIk::validate`] counts a case as recovered.
+pub const RECOVERED_TOLERANCE: f64 = 1e-9;
+/// Distance from singularities of the cases counted in [`ValidationReport::max_error_regular`].
+pub const REGULAR_MARGIN: f64 = 1e-3;
+
+/// One sample of the self-motion (seed 004 §V-D, Fig. 7).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SelfMotionSample {
+    /// Arm angle ψ \[rad\] of the sample.
+    pub psi: f64,
+    /// q3 of the sample \[rad\] (the paper's self-motion parameter).
+    pub q3: f64,
+    /// Joint values \[rad\]; same configuration bits as the input.
+    pub q: Vec<f64>,
+    /// Elbow position (origin of DH frame 3, on the axis of joint 4) in the
+    /// robot's base (world) coordinates \[m\].
+    pub elbow: Vector3<f64>,
+    /// Whether every joint is within its limits.
+    pub within_limits: bool,
+}
+
+/// Result of [`IiwaIk::validate`] (seed 004 §V-C).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidationReport {
+    /// Number of random configurations tried.
+    pub cases: usize,
+    /// Largest joint error max_i |q_i − q_inv,i| over all cases \[rad\].
+    pub max_error: f64,
+    /// Mean of the per-case largest joint error \[rad\].
+    pub mean_error: f64,
+    /// Fraction of cases whose error is below [`RECOVERED_TOLERANCE`].
+    pub recovered_fraction: f64,
+    /// The configuration with the largest error.
+    pub worst_q: Vec<f64>,
+    /// Largest joint error over the cases at least [`REGULAR_MARGIN`] away
+    /// from the singularities of the fixed-q3 solution (|sin q4|, |sin q6|
+    /// and |u|/(d3 + d5) all ≥ the margin, u being the wrist point's
+    /// coordinate along the x axis of DH frame 1, zero where the two
+    /// shoulder solutions meet) \[rad\]. Near those singularities the joint
+    /// error grows like the rounding of the target (≈ 1e-16) divided by the
+    /// distance to the singularity, whatever the algorithm.
+    pub max_error_regular: f64,
+    /// Number of cases counted in `max_error_regular`.
+    pub regular_cases: usize,
+}
+
+/// The analytic solver for the LBR iiwa and arms of the same shape.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, iiwa::IiwaIk};
+/// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+/// let ik = IiwaIk::new(&robot)?;
+/// let q = [0.3, 0.5, 0.0, -1.2, 0.4, 0.8, 0.1];
+/// let sols = ik.solve(&robot.fk(&q)?.pose)?; // q3 = 0 by default
+/// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)));
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct IiwaIk {
+    robot: Robot,
+    d1: f64,
+    d3: f64,
+    d5: f64,
+    d7: f64,
+    base_inv: Pose,
+    tool_inv: Pose,
+    q3: f64,
+}
+
+/// A target in the arm's own frame 0: flange rotation and wrist point relative to the shoulder.
+struct ArmTarget {
+    r07: Matrix3<f64>,
+    w: Vector3<f64>,
+}
+
+/// Elbow angle of a wrist distance: cos q4 and |sin q4|.
+#[derive(Clone, Copy)]
+struct Elbow {
+    c4: f64,
+    s4: f64,
+}
+
+fn invalid(message: String) -> Error {
+    Error::InvalidArgument { what: "robot".into(), message }
+}
+
+/// ZYZ Euler angles (a, b, c) of m = Rz(a)·Ry(b)·Rz(c) with sign(b) = `sign`.
+/// When |sin b| < [`SINGULAR_SIN`], a = `hint` and c takes the rest. c is
+/// always computed from a and the whole matrix, so the triple reproduces m
+/// even when a is ill-conditioned.
+fn zyz(m: &Matrix3<f64>, sign: f64, hint: f64) -> (f64, f64, f64) {
+    let sb = m[(0, 2)].hypot(m[(1, 2)]);
+    let b = (sign * sb).atan2(m[(2, 2)]);
+    let a = if sb < SINGULAR_SIN { hint } else { (sign * m[(1, 2)]).atan2(sign * m[(0, 2)]) };
+    // Rz(c) = Ry(−b)·Rz(−a)·m; its row 1 is row 1 of Rz(−a)·m.
+    let (sa, ca) = a.sin_cos();
+    let c = (ca * m[(1, 0)] - sa * m[(0, 0)]).atan2(ca * m[(1, 1)] - sa * m[(0, 1)]);
+    (wrap_angle(a), b, wrap_angle(c))
+}
+
+/// Rotation by `psi` about the unit axis `u` (Rodrigues).
+fn axis_rotation(u: &Vector3<f64>, psi: f64) -> Matrix3<f64> {
+    let k = Matrix3::new(0.0, -u.z, u.y, u.z, 0.0, -u.x, -u.y, u.x, 0.0);
+    let (s, c) = psi.sin_cos();
+    Matrix3::identity() + k * s + k * k * (1.0 - c)
+}
+
+fn sign_of(config: u8, bit: u8) -> f64 {
+    if config & bit != 0 {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
+/// The configuration bits of a joint vector (see the module documentation).
+fn bits(q: &[f64]) -> u8 {
+    let mut c = 0;
+    if q[1] < 0.0 {
+        c |= SHOULDER;
+    }
+    if q[3] < 0.0 {
+        c |= ELBOW;
+    }
+    if q[5] < 0.0 {
+        c |= WRIST;
+    }
+    c
+}
+
+/// The label `shoulder±/elbow±/wrist±` of configuration bits.
+pub fn config_label(config: u8) -> String {
+    let s = |bit: u8| if config & bit != 0 { '-' } else { '+' };
+    format!("shoulder{}/elbow{}/wrist{}", s(SHOULDER), s(ELBOW), s(WRIST))
+}
+
+impl IiwaIk {
+    /// A solver for `robot`, which must be a 7R arm of the iiwa's shape
+    /// (see the module documentation); otherwise [`Error::InvalidArgument`]
+    /// says what does not fit. The default q3 of [`IkSolver::solve`] is 0.
+    pub fn new(robot: &Robot) -> Result<Self> {
+        const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
+        if robot.dof() != 7 {
+            return Err(invalid(format!(
+                "`{}` has {} joints; the iiwa solver needs a 7-joint arm",
+                robot.name(),
+                robot.dof()
+            )));
+        }
+        let mut d = [0.0; 7];
+        for (i, j) in robot.joints().iter().enumerate() {
+            let n = i + 1;
+            if j.kind != JointType::Revolute {
+                return Err(invalid(format!("joint {n} of `{}` is not revolute", robot.name())));
+            }
+            let LinkGeometry::Dh { convention: DhConvention::Standard, d: di, a, alpha, .. } = j.geometry else {
+                return Err(invalid(format!(
+                    "joint {n} of `{}` is not described by a standard DH row; the iiwa solver reads a standard DH table",
+                    robot.name()
+                )));
+            };
+            if a.abs() > 1e-12 {
+                return Err(invalid(format!("joint {n}: link length a = {a} m, the iiwa shape needs a = 0")));
+            }
+            if wrap_angle(alpha - TWIST[i]).abs() > 1e-9 {
+                return Err(invalid(format!(
+                    "joint {n}: twist α = {:.4}°, the iiwa shape needs {:.0}° (−90, 90, −90, 90, −90, 90, 0)",
+                    alpha.to_degrees(),
+                    TWIST[i].to_degrees()
+                )));
+            }
+            if j.offset.abs() > 1e-12 {
+                return Err(invalid(format!("joint {n}: offset {} rad, the iiwa shape needs 0", j.offset)));
+            }
+            if i % 2 == 1 && di.abs() > 1e-12 {
+                return Err(invalid(format!("joint {n}: d = {di} m, the iiwa shape needs d2 = d4 = d6 = 0")));
+            }
+            d[i] = di;
+        }
+        if !(d[2] > 0.0 && d[4] > 0.0) {
+            return Err(invalid(format!(
+                "d3 = {} m and d5 = {} m must be positive (shoulder–elbow and elbow–wrist lengths)",
+                d[2], d[4]
+            )));
+        }
+        Ok(IiwaIk {
+            robot: robot.clone(),
+            d1: d[0],
+            d3: d[2],
+            d5: d[4],
+            d7: d[6],
+            base_inv: robot.base().inverse(),
+            tool_inv: robot.tool().inverse(),
+            q3: 0.0,
+        })
+    }
+
+    /// The same solver with another q3 \[rad\] for [`IkSolver::solve`].
+    pub fn with_q3(mut self, q3: f64) -> Self {
+        self.q3 = q3;
+        self
+    }
+
+    /// The q3 \[rad\] that [`IkSolver::solve`] uses.
+    pub fn q3(&self) -> f64 {
+        self.q3
+    }
+
+    /// The robot this solver was built for.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    /// The lengths (d1, d3, d5, d7) \[m\] read from the model.
+    pub fn lengths(&self) -> [f64; 4] {
+        [self.d1, self.d3, self.d5, self.d7]
+    }
+
+    fn unreachable(&self, by: f64, boundary: String) -> Error {
+        Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::OutsideReach { by, boundary } }
+    }
+
+    /// Strips base and tool: the flange rotation and wrist point (relative to the shoulder) in frame 0.
+    fn arm_target(&self, target: &Pose) -> Result<ArmTarget> {
+        check_target(target)?;
+        let t = self.base_inv.mul(target).mul(&self.tool_inv);
+        let w = t.pos - t.rot.column(2) * self.d7 - Vector3::new(0.0, 0.0, self.d1);
+        Ok(ArmTarget { r07: t.rot, w })
+    }
+
+    /// cos q4 and |sin q4| for a shoulder–wrist distance, or the reach error (seed 004 eq. 4).
+    fn elbow(&self, r: f64) -> Result<Elbow> {
+        let (d3, d5) = (self.d3, self.d5);
+        let (outer, inner) = (d3 + d5, (d3 - d5).abs());
+        if r > outer + REACH_TOL {
+            return Err(self.unreachable(
+                r - outer,
+                format!("outer sphere of radius {outer:.4} m around the shoulder (reach of the wrist point)"),
+            ));
+        }
+        if r < inner - REACH_TOL {
+            return Err(self.unreachable(
+                inner - r,
+                format!("inner sphere of radius {inner:.4} m around the shoulder (the wrist point cannot come closer)"),
+            ));
+        }
+        // Seed 004 eq. 4 gives q4 = π ± arccos((d3² + d5² − r²)/(2·d3·d5)); its
+        // "+" branch lies in [π, 2π] and must be wrapped to (−π, π] (π + x ≡ x − π)
+        // to be compared with the ±120° limit of joint 4. The same angle is computed here as atan2(|s4|, c4) with 1 ∓ c4 in factored
+        // form, which keeps full precision near the stretched and folded arm
+        // where arccos loses half the digits.
+        let k = 2.0 * d3 * d5;
+        let one_minus = ((outer - r) * (outer + r) / k).max(0.0);
+        let one_plus = ((r - inner) * (r + inner) / k).max(0.0);
+        let c4 = 0.5 * (one_plus - one_minus);
+        let s4 = (one_minus * one_plus).sqrt();
+        Ok(Elbow { c4, s4 })
+    }
+
+    /// All solutions (joint vectors, without FK evaluation) for a fixed q3,
+    /// seed 004 eq. 3–11, with `q1_hint` used at the shoulder singularity.
+    fn solve_q3_raw(&self, t: &ArmTarget, q3: f64, q1_hint: f64) -> Result<Vec<([f64; 7], bool)>> {
+        let w = &t.w;
+        let el = self.elbow(w.norm())?;
+        let (s3, c3) = q3.sin_cos();
+        let rho = w.x.hypot(w.y);
+        let mut out: Vec<([f64; 7], bool)> = Vec::with_capacity(8);
+        let mut worst = 0.0f64;
+        for elbow in [1.0, -1.0] {
+            let s4 = elbow * el.s4;
+            let q4 = s4.atan2(el.c4);
+            // Wrist point in frame 2 (seed 004 eq. 5: ²p₅).
+            let (px, py, pz) = (self.d5 * c3 * s4, self.d5 * s3 * s4, self.d3 + self.d5 * el.c4);
+            // (wx, wy) = Rz(q1)·(u, py) and (u, wz) = the (x, z) part of Ry(q2)·²p₅:
+            // u² = ρ² − py², in factored form.
+            let gap = rho - py.abs();
+            if gap < -REACH_TOL {
+                worst = worst.max(-gap);
+                continue;
+            }
+            let u_abs = (gap.max(0.0) * (rho + py.abs())).sqrt();
+            for shoulder in [1.0, -1.0] {
+                let u = shoulder * u_abs;
+                // Seed 004 eq. 9 (q1 = α ± arccos(x_w/R), one of the two chosen
+                // by FK) and eq. 8 (q2 = α ± arccos((z_w − d1)/R)) are correct but
+                // leave the choice of sign to a later FK test; they are written
+                // here as differences of atan2, which pick the matching pair
+                // directly and keep full precision.
+                let q1 = if u.hypot(py) < SINGULAR_SIN { q1_hint } else { wrap_angle(w.y.atan2(w.x) - py.atan2(u)) };
+                let u = if u.hypot(py) < SINGULAR_SIN {
+                    // Wrist on the axis of joint 1: q1 is free; recompute u for the chosen q1.
+                    let (s1, c1) = q1.sin_cos();
+                    c1 * w.x + s1 * w.y
+                } else {
+                    u
+                };
+                let q2 = wrap_angle(u.atan2(w.z) - px.atan2(pz));
+                let r04 = rot_z(q1) * rot_y(q2) * rot_z(q3) * rot_y(q4);
+                let r47 = r04.transpose() * t.r07;
+                for wrist in [1.0, -1.0] {
+                    // Seed 004 eq. 10–11 (ZYZ angles of ⁴T₇) are right up to a
+                    // multiple of 2π: eq. 10's q5 = atan2(·) + π and eq. 11's
+                    // q7 = atan2(·) − π leave (−π, π] (e.g. q5 = 190° instead of
+                    // −170°, which is outside the ±170° limit though the pose is
+                    // the same); every angle is wrapped to (−π, π] here.
+                    let (q5, q6, q7) = zyz(&r47, wrist, 0.0);
+                    let q = [q1, q2, q3, q4, q5, q6, q7];
+                    let dup = out.iter().any(|o| o.0.iter().zip(&q).all(|(a, b)| wrap_angle(a - b).abs() < 1e-12));
+                    if !dup {
+                        out.push((q, shoulder > 0.0));
+                    }
+                }
+            }
+        }
+        if out.is_empty() {
+            return Err(self.unreachable(
+                worst,
+                format!(
+                    "cylinder of radius {:.4} m around the axis of joint 1, which the wrist point cannot enter with q3 = {q3:.6} rad",
+                    self.d5 * (s3 * el.s4).abs()
+                ),
+            ));
+        }
+        Ok(out)
+    }
+
+    /// All solutions for the target pose `target` (`base_from_tool`) with
+    /// joint 3 fixed at `q3` \[rad\] — seed 004 eq. 3–11: up to 8 solutions,
+    /// 2 elbows × 2 shoulders × 2 wrists, each labelled with its
+    /// configuration bits and the fixed-q3 shoulder side
+    /// (`shoulder+/elbow-/wrist+/front`, see the module documentation). Solutions outside the joint limits are included and
+    /// flagged; coinciding solutions (singular cases) are returned once.
+    ///
+    /// Errors: a non-finite target ([`Error::InvalidArgument`]); a wrist point
+    /// outside the shoulder–wrist annulus \[|d3 − d5|, d3 + d5\], or inside the
+    /// cylinder around the axis of joint 1 of radius d5·|sin q3·sin q4| that
+    /// this q3 cannot reach ([`Error::Unreachable`] with
+    /// [`Unreachable::OutsideReach`] saying by how much).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::iiwa::IiwaIk;
+    /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+    /// let ik = IiwaIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let target = robot.fk(&q)?.pose;
+    /// let sols = ik.solve_q3(&target, q[2])?;
+    /// assert_eq!(sols.len(), 8);
+    /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
+    /// let back = sols.iter().find(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)).unwrap();
+    /// assert!(back.branch.starts_with("shoulder+/elbow-/wrist+/"));
+    /// assert_eq!(ik.config_of(&back.q), kinema::ik::iiwa::ELBOW);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_q3(&self, target: &Pose, q3: f64) -> Result<Vec<Solution>> {
+        if !q3.is_finite() {
+            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+        }
+        let t = self.arm_target(target)?;
+        self.solve_q3_raw(&t, q3, 0.0)?
+            .into_iter()
+            .map(|(q, front)| {
+                let label = format!("{}/{}", config_label(bits(&q)), if front { "front" } else { "back" });
+                Solution::evaluate(&self.robot, q.to_vec(), target, label)
+            })
+            .collect()
+    }
+
+    /// The configuration bits of `q` ([`SHOULDER`] | [`ELBOW`] | [`WRIST`], a
+    /// bit set when q2, q4, q6 respectively is negative). Values missing from a
+    /// short `q` count as 0 (bit clear); NaN counts as non-negative.
+    pub fn config_of(&self, q: &[f64]) -> u8 {
+        let mut full = [0.0; 7];
+        for (f, v) in full.iter_mut().zip(q) {
+            *f = *v;
+        }
+        bits(&full)
+    }
+
+    /// The reference rotation R₀₃°·Rx(90°) = Rz(q1°)·Ry(q2°) of the arm with
+    /// q3 = 0 and the given elbow angle placing the wrist at `w`.
+    fn reference(&self, w: &Vector3<f64>, c4: f64, s4: f64) -> Matrix3<f64> {
+        let rho = w.x.hypot(w.y);
+        let q1 = if rho < SINGULAR_SIN { 0.0 } else { w.y.atan2(w.x) };
+        let (s1, c1) = q1.sin_cos();
+        let u = c1 * w.x + s1 * w.y;
+        let q2 = u.atan2(w.z) - (self.d5 * s4).atan2(self.d3 + self.d5 * c4);
+        rot_z(q1) * rot_y(q2)
+    }
+
+    /// One solution from the arm angle (no FK evaluation).
+    fn solve_psi_raw(&self, t: &ArmTarget, psi: f64, config: u8) -> Result<[f64; 7]> {
+        let el = self.elbow(t.w.norm())?;
+        let s4 = sign_of(config, ELBOW) * el.s4;
+        let q4 = s4.atan2(el.c4);
+        let m0 = self.reference(&t.w, el.c4, s4);
+        let n = t.w.norm();
+        let u = if n > 0.0 { t.w / n } else { Vector3::z() };
+        // R₀₃·Rx(90°) = Rz(q1)·Ry(q2)·Rz(q3) = Rot(û, ψ)·Rz(q1°)·Ry(q2°).
+        let m = axis_rotation(&u, psi) * m0;
+        let (q1, q2, q3) = zyz(&m, sign_of(config, SHOULDER), 0.0);
+        let r04 = rot_z(q1) * rot_y(q2) * rot_z(q3) * rot_y(q4);
+        let (q5, q6, q7) = zyz(&(r04.transpose() * t.r07), sign_of(config, WRIST), 0.0);
+        Ok([q1, q2, q3, q4, q5, q6, q7])
+    }
+
+    /// The solution with arm angle `psi` \[rad\] and configuration bits
+    /// `config` (Shimizu et al. 2008): ψ is the right-handed rotation of the
+    /// shoulder–elbow–wrist plane about the line from shoulder to wrist,
+    /// measured from the plane of the arm with q3 = 0 and the same elbow
+    /// angle, shoulder in front (q1° = atan2(w_y, w_x)). Errors as
+    /// [`IiwaIk::solve_q3`] (the annulus only: every ψ is reachable).
+    pub fn solve_psi(&self, target: &Pose, psi: f64, config: u8) -> Result<Solution> {
+        if !psi.is_finite() || config > 7 {
+            return Err(Error::InvalidArgument {
+                what: "psi/config".into(),
+                message: format!("ψ = {psi} must be finite and config = {config} a 3-bit value (0–7)"),
+            });
+        }
+        let t = self.arm_target(target)?;
+        let q = self.solve_psi_raw(&t, psi, config)?;
+        Solution::evaluate(&self.robot, q.to_vec(), target, config_label(config))
+    }
+
+    /// The arm angle ψ \[rad\] in (−π, π] of a configuration `q`, the inverse of
+    /// [`IiwaIk::solve_psi`]. NaN if `q` does not have 7 finite values.
+    pub fn psi_of(&self, q: &[f64]) -> f64 {
+        if self.robot.check_q(q).is_err() {
+            return f64::NAN;
+        }
+        let m = rot_z(q[0]) * rot_y(q[1]) * rot_z(q[2]);
+        let (s4, c4) = q[3].sin_cos();
+        let w = m * Vector3::new(self.d5 * s4, 0.0, self.d3 + self.d5 * c4);
+        let m0 = self.reference(&w, c4, s4);
+        let r = m * m0.transpose();
+        let n = w.norm();
+        let u = if n > 0.0 { w / n } else { Vector3::z() };
+        let s = 0.5 * Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]).dot(&u);
+        let c = 0.5 * (r.trace() - 1.0);
+        wrap_angle(s.atan2(c))
+    }
+
+    /// The elbow (origin of DH frame 3) in world coordinates.
+    fn elbow_position(&self, q: &[f64]) -> Vector3<f64> {
+        let e = rot_z(q[0]) * rot_y(q[1]) * Vector3::new(0.0, 0.0, self.d3) + Vector3::new(0.0, 0.0, self.d1);
+        self.robot.base().transform_point(&e)
+    }
+
+    /// The self-motion through `q` (seed 004 §V-D, Fig. 7): `steps` samples of
+    /// the arm angle, equally spaced over a full turn starting at ψ of `q`,
+    /// all with the tool pose of `q` and its configuration bits. The elbow
+    /// moves on a circle about the shoulder–wrist line (a point if q4 = 0).
+    pub fn self_motion(&self, q: &[f64], steps: usize) -> Result<Vec<SelfMotionSample>> {
+        if steps == 0 {
+            return Err(Error::InvalidArgument {
+                what: "steps".into(),
+                message: "at least one sample is needed".into(),
+            });
+        }
+        let fk = self.robot.fk(q)?;
+        let t = self.arm_target(&fk.pose)?;
+        let config = bits(q);
+        let psi0 = self.psi_of(q);
+        (0..steps)
+            .map(|k| {
+                let psi = wrap_angle(psi0 + TAU * k as f64 / steps as f64);
+                let qk = self.solve_psi_raw(&t, psi, config)?;
+                Ok(SelfMotionSample {
+                    psi,
+                    q3: qk[2],
+                    q: qk.to_vec(),
+                    elbow: self.elbow_position(&qk),
+                    within_limits: self.robot.limit_flags(&qk).is_empty(),
+                })
+            })
+            .collect()
+    }
+
+    /// The intervals of ψ in \[−π, π\] where the solution with configuration
+    /// bits `config` keeps every joint within its limits, sorted. An interval
+    /// through ψ = ±π is returned as two pieces, one ending at π and one
+    /// starting at −π.
+    ///
+    /// Computed by sampling ψ at [`PSI_SAMPLES`] equally spaced points and
+    /// refining each change of feasibility by bisection to [`PSI_TOLERANCE`];
+    /// a feasible or infeasible stretch shorter than the sample spacing
+    /// (≈ 3 mrad) can be missed. An empty list means no ψ is feasible.
+    pub fn feasible_psi_intervals(&self, target: &Pose, config: u8) -> Result<Vec<(f64, f64)>> {
+        if config > 7 {
+            return Err(Error::InvalidArgument {
+                what: "config".into(),
+                message: format!("{config} is not a 3-bit value (0–7)"),
+            });
+        }
+        let t = self.arm_target(target)?;
+        self.elbow(t.w.norm())?;
+        let feasible = |psi: f64| -> bool {
+            self.solve_psi_raw(&t, psi, config).map(|q| self.robot.limit_flags(&q).is_empty()).unwrap_or(false)
+        };
+        // Bisection between a and b (feasibility differs); returns the point on the feasible side.
+        let refine = |mut a: f64, mut b: f64| -> f64 {
+            let fa = feasible(a);
+            while (b - a).abs() > PSI_TOLERANCE {
+                let m = 0.5 * (a + b);
+                if feasible(m) == fa {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            if fa {
+                a
+            } else {
+                b
+            }
+        };
+        let n = PSI_SAMPLES;
+        let psi_at = |k: usize| -PI + TAU * k as f64 / n as f64;
+        let mut out = Vec::new();
+        let mut start: Option<f64> = if feasible(-PI) { Some(-PI) } else { None };
+        let mut prev = start.is_some();
+        for k in 1..=n {
+            let psi = if k == n { PI } else { psi_at(k) };
+            let f = feasible(psi);
+            if f != prev {
+                let edge = refine(psi_at(k - 1), psi);
+                if f {
+                    start = Some(edge);
+                } else if let Some(s) = start.take() {
+                    out.push((s, edge));
+                }
+                prev = f;
+            }
+        }
+        if let Some(s) = start {
+            out.push((s, PI));
+        }
+        Ok(out)
+    }
+
+    /// The next configuration along a path (seed 004 §V-E, q_k = f(q_{k−1}, T_k)).
+    ///
+    /// q3 is searched on a grid of step [`SELECT_STEP`] over
+    /// q_prev\[2\] ± [`SELECT_WINDOW`] (clipped to the limits of joint 3). For
+    /// each q3 the solution within limits nearest to `q_prev` is the
+    /// candidate (nearest branch). Candidates that move no joint by more than
+    /// [`SELECT_MAX_STEP`] are preferred; among them, elbow-up ones (elbow
+    /// above the shoulder–wrist line, world z up) are preferred, or, if there
+    /// is none, the one with the highest elbow is taken (moving towards
+    /// elbow-up). Among the elbow-up candidates the one with the largest
+    /// translational manipulability along `direction` (world frame, seed 004
+    /// eq. 12, [`manipulability_along`]) wins; without a direction, the
+    /// nearest to `q_prev`.
+    ///
+    /// At the shoulder singularity q1 is kept at q_prev\[0\]. Errors as
+    /// [`IiwaIk::solve_q3`], or [`Unreachable::JointLimits`] if every
+    /// solution in the window violates a limit.
+    pub fn select(&self, q_prev: &[f64], target: &Pose, direction: Option<&Vector3<f64>>) -> Result<Solution> {
+        self.robot.check_q(q_prev)?;
+        let t = self.arm_target(target)?;
+        let lim = self.robot.joints()[2].limits;
+        let steps = (SELECT_WINDOW / SELECT_STEP).round() as i64;
+        let mut cands: Vec<[f64; 7]> = Vec::new();
+        let mut last_err = None;
+        let mut rejected = Vec::new();
+        for k in -steps..=steps {
+            let q3 = q_prev[2] + k as f64 * SELECT_STEP;
+            if !lim.contains(q3) {
+                continue;
+            }
+            match self.solve_q3_raw(&t, q3, q_prev[0]) {
+                Ok(sols) => {
+                    let best = sols
+                        .iter()
+                        .map(|(q, _)| q)
+                        .filter(|q| self.robot.limit_flags(&q[..]).is_empty())
+                        .map(|q| (joint_distance(&self.robot, q, q_prev), q))
+                        .min_by(|a, b| a.0.total_cmp(&b.0));
+                    match best {
+                        Some((_, q)) => cands.push(*q),
+                        None => rejected.extend(sols.iter().map(|(q, _)| {
+                            let joints: Vec<String> =
+                                self.robot.limit_flags(q).indices().map(|i| format!("q{}", i + 1)).collect();
+                            format!("{} at q3 = {q3:.4} ({})", config_label(bits(q)), joints.join(", "))
+                        })),
+                    }
+                }
+                Err(e) => last_err = Some(e),
+            }
+        }
+        if cands.is_empty() {
+            if rejected.is_empty() {
+                if let Some(e) = last_err {
+                    return Err(e);
+                }
+            }
+            return Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected } });
+        }
+        let max_step = |q: &[f64; 7]| q.iter().zip(q_prev).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        if cands.iter().any(|q| max_step(q) <= SELECT_MAX_STEP) {
+            cands.retain(|q| max_step(q) <= SELECT_MAX_STEP);
+        }
+        let heights: Vec<f64> = cands.iter().map(|q| self.elbow_height(q)).collect();
+        let pick = if heights.iter().any(|&h| h > 0.0) {
+            let mut best = (f64::NEG_INFINITY, f64::INFINITY, 0usize);
+            for (i, q) in cands.iter().enumerate() {
+                if heights[i] <= 0.0 {
+                    continue;
+                }
+                let dist = joint_distance(&self.robot, q, q_prev);
+                let score = match direction {
+                    Some(v) => {
+                        let j = self.robot.jacobian(q, Frame::Base)?;
+                        manipulability_along(&j, Axes::Translation, v)?
+                    }
+                    None => 0.0,
+                };
+                if score > best.0 || (score == best.0 && dist < best.1) {
+                    best = (score, dist, i);
+                }
+            }
+            best.2
+        } else {
+            (0..cands.len()).max_by(|&a, &b| heights[a].total_cmp(&heights[b])).unwrap_or(0)
+        };
+        let q = cands[pick];
+        Solution::evaluate(&self.robot, q.to_vec(), target, config_label(bits(&q)))
+    }
+
+    /// Height of the elbow above the shoulder–wrist line, along world z \[m\].
+    fn elbow_height(&self, q: &[f64]) -> f64 {
+        let m = rot_z(q[0]) * rot_y(q[1]);
+        let e = m * Vector3::new(0.0, 0.0, self.d3);
+        let (s4, c4) = q[3].sin_cos();
+        let w = m * rot_z(q[2]) * Vector3::new(self.d5 * s4, 0.0, self.d3 + self.d5 * c4);
+        let rb = self.robot.base().rot;
+        let (e, w) = (rb * e, rb * w);
+        let n = w.norm();
+        if n == 0.0 {
+            return e.z;
+        }
+        let u = w / n;
+        let z = Vector3::z();
+        e.dot(&(z - u * u.z))
+    }
+
+    /// The validation of seed 004 §V-C: `n` random configurations within the
+    /// limits (seeded with `seed`) → FK → [`IiwaIk::solve_q3`] with the same
+    /// q3 → the solution nearest to the original. The error of a case is
+    /// max_i |Δq_i| (differences wrapped to (−π, π]); the paper sums |Δq_i|
+    /// instead, which is at most 7 times larger. A case whose target is
+    /// reported unreachable counts with an infinite error.
+    pub fn validate(&self, n: usize, seed: u64) -> ValidationReport {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut q = vec![0.0; 7];
+        let (mut max_error, mut sum, mut ok) = (0.0f64, 0.0, 0usize);
+        let mut worst_q = Vec::new();
+        let (mut max_regular, mut regular) = (0.0f64, 0usize);
+        for _ in 0..n {
+            self.robot.random_q_into(&mut rng, &mut q);
+            let err = self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.pose).ok()).map_or(f64::INFINITY, |t| {
+                match self.solve_q3_raw(&t, q[2], 0.0) {
+                    Ok(sols) => sols
+                        .iter()
+                        .map(|(s, _)| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
+                        .fold(f64::INFINITY, f64::min),
+                    Err(_) => f64::INFINITY,
+                }
+            });
+            if err <= RECOVERED_TOLERANCE {
+                ok += 1;
+            }
+            let (s2, c2) = q[1].sin_cos();
+            let (s4, c4) = q[3].sin_cos();
+            let u = c2 * self.d5 * q[2].cos() * s4 + s2 * (self.d3 + self.d5 * c4);
+            if s4.abs().min(q[5].sin().abs()).min(u.abs() / (self.d3 + self.d5)) >= REGULAR_MARGIN {
+                regular += 1;
+                max_regular = max_regular.max(err);
+            }
+            sum += err;
+            if err > max_error || worst_q.is_empty() {
+                max_error = max_error.max(err);
+                worst_q = q.clone();
+            }
+        }
+        ValidationReport {
+            cases: n,
+            max_error,
+            mean_error: if n > 0 { sum / n as f64 } else { 0.0 },
+            recovered_fraction: if n > 0 { ok as f64 / n as f64 } else { 0.0 },
+            worst_q,
+            max_error_regular: max_regular,
+            regular_cases: regular,
+        }
+    }
+}
+
+impl IkSolver for IiwaIk {
+    fn name(&self) -> &'static str {
+        "iiwa"
+    }
+
+    /// The (up to 8) solutions of [`IiwaIk::solve_q3`] for q3 = [`IiwaIk::q3`]
+    /// (0 unless set with [`IiwaIk::with_q3`]).
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        self.solve_q3(target, self.q3)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::rot_x;
+
+    #[test]
+    fn zyz_reproduces_the_matrix() {
+        for (a, b, c) in [(0.3, 0.7, -1.2), (2.9, -0.4, 3.0), (0.0, 0.0, 0.5), (1.0, 1e-14, 2.0), (0.5, PI, 0.2)] {
+            let m = rot_z(a) * rot_y(b) * rot_z(c);
+            let (x, y, z) = zyz(&m, if b < 0.0 { -1.0 } else { 1.0 }, 0.0);
+            let back = rot_z(x) * rot_y(y) * rot_z(z);
+            // Singular convention (a = hint): the error is O(sin b) ≤ 1e-12.
+            let tol = if b.sin().abs() < SINGULAR_SIN { 1e-12 } else { 1e-14 };
+            assert!((back - m).norm() < tol, "{a} {b} {c} -> {x} {y} {z}");
+        }
+    }
+
+    #[test]
+    fn twist_identity() {
+        // Rx(−90°)·Rz(θ)·Rx(90°) = Ry(θ), the identity all formulas rest on.
+        let th = 0.77;
+        assert!((rot_x(-FRAC_PI_2) * rot_z(th) * rot_x(FRAC_PI_2) - rot_y(th)).norm() < 1e-15);
+    }
+}

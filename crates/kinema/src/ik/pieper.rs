@@ -1,0 +1,806 @@
+//! Analytic inverse kinematics for 6R arms with a spherical wrist (Pieper's
+//! case): the last three joint axes meet in one point, the wrist centre, so
+//! the position of the wrist centre depends on the first three joints only.
+//!
+//! The solve runs in three steps (closed forms except for the θ3 root of the
+//! general shoulder arrangement):
+//!
+//! 1. **Wrist centre.** The base and tool transforms are stripped from the
+//!    target, giving the flange pose T06; the wrist centre is the point of
+//!    link 6 that lies on all three wrist axes (for a standard DH table it is
+//!    o5 = T06 · Rx(−α6)·(−a6, 0, −d6), i.e. d6 back along the approach axis
+//!    for the usual a6 = α6 = 0).
+//! 2. **Arm (q1, q2, q3).** The wrist centre p as a function of θ1…θ3 is
+//!    p = A1·A2·A3·(0, 0, d4). Four arrangements of the first axes are
+//!    handled (see [`ArmKind`]):
+//!    * *shoulder-plane* (α1 = ±90°, α2 ∈ {0, 180°}; PUMA 560, KUKA KR,
+//!      ABB, Fanuc, …; any a1, d2, d3, a2, a3): the component of p along
+//!      axis 2 is the constant lateral offset, which gives θ1 (two shoulder
+//!      branches); in the plane of the arm, the distance from axis 2 to p
+//!      gives θ3 (two elbow branches) and then θ2;
+//!    * *intersecting shoulder* (a1 = 0, α1 ≠ 0 mod 180°, any α2): |p − o1|
+//!      depends on θ3 only (two roots), the height of p along axis 1 then
+//!      gives θ2 (two roots), and θ1 follows;
+//!    * *parallel shoulder* (α1 ∈ {0, 180°}, a1 ≠ 0, α2 ≠ 0 mod 180°): the
+//!      height along axis 1 depends on θ3 only (two roots), |p − o1| then
+//!      gives θ2 (two roots), and θ1 follows;
+//!    * *general* (a1 ≠ 0 and α1 ≠ 0 mod 180°, not of the first kind, e.g.
+//!      α1 = α2 = 90° with a1 ≠ 0): eliminating θ2 from the two equations
+//!      leaves one equation in θ3 (a quartic in tan(θ3/2), up to 4 roots),
+//!      solved numerically to rounding level; θ2 and θ1 follow in closed form.
+//!
+//!    Degenerate shoulders (axes 1 and 2 coincident, or axes 1, 2, 3 all
+//!    parallel) are rejected by [`PieperIk::new`].
+//! 3. **Wrist (q4, q5, q6).** With R36 = R03ᵀ·R06·Rx(α6)ᵀ = Rz(θ4)·Rx(α4)·
+//!    Rz(θ5)·Rx(α5)·Rz(θ6) and an orthogonal wrist (α4, α5 = ±90°), the
+//!    third column of R36 gives θ4 (two branches, *noflip* with sin θ5 ≥ 0
+//!    and *flip* with sin θ5 ≤ 0), then θ5, and θ6 from the remaining
+//!    rotation Rz(θ6). Every angle comes from `atan2`, never `acos` of a
+//!    rotation entry, so residuals stay at rounding level.
+//!
+//! Robots described by general (URDF-style) transforms are rejected; the
+//! solver reads the DH table. Up to 4 arm × 2 wrist = 8 solutions. Joint values are θ − offset wrapped to
+//! (−π, π], moved by ±2π when that brings them within the joint limits.
+//!
+//! ## Singular configurations (conventions)
+//!
+//! * **Wrist singularity** (axes 4 and 6 aligned, sin θ5 = 0): only θ4 + θ6
+//!   (or θ4 − θ6) is determined. The *noflip* branch takes q4 = 0 and the
+//!   *flip* branch q4 = π (wrapped into the limits when possible); q6 takes
+//!   the rest. Detected when the wrist axis-6 direction is within 1e-12 of
+//!   axis 4.
+//! * **Shoulder singularity** (wrist centre on axis 1, possible only without
+//!   lateral offset): θ1 is free; the solver takes q1 = 0 (and q1 = π for the
+//!   other shoulder branch of the *shoulder-plane* arrangement).
+//! * **Wrist centre on axis 2** (the elbow folded back onto the shoulder): θ2
+//!   is free; the solver takes q2 = 0.
+//! * **Stretched or folded elbow, wrist centre on the lateral-offset
+//!   cylinder**: the two branches coincide; both are returned (with their
+//!   labels), so the list may contain equal configurations. Targets beyond
+//!   the boundary by less than 1e-12 (relative) are treated as on it.
+//!
+//! Branch labels: `shoulder-{right,left}/elbow-{up,down}/wrist-{noflip,flip}`
+//! for the *shoulder-plane* arrangement (right = the wrist centre lies ahead
+//! of the shoulder along link 1's x axis — the PUMA's right-arm
+//! configuration; elbow up = the elbow is above the shoulder–wrist-centre
+//! line, measured along the base z axis),
+//! `shoulder-{1,2}/elbow-{1,2}/wrist-{noflip,flip}` (root indices) for the
+//! intersecting and parallel shoulders, and `arm-{1…4}/wrist-{noflip,flip}`
+//! (roots in θ3 order) for the general case.
+
+use std::f64::consts::PI;
+
+use nalgebra::{Matrix3, Vector3};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
+use crate::error::{Error, Result};
+use crate::math::Pose;
+use crate::model::{DhConvention, LinkGeometry, Robot};
+
+/// Tolerance on DH lengths \[m\] and on sines/cosines of twists when deciding
+/// the geometry.
+const GEOM_TOL: f64 = 1e-9;
+
+/// Relative tolerance for targets just outside a boundary (treated as on it).
+const BOUNDARY_TOL: f64 = 1e-12;
+
+/// Below this |sin θ5| the wrist is treated as singular.
+const WRIST_SING_TOL: f64 = 1e-12;
+
+/// Below this distance \[m\] the wrist centre is treated as on axis 1 (or 2).
+const AXIS_TOL: f64 = 1e-12;
+
+/// Which closed form solves the first three joints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ArmKind {
+    /// α1 = ±90°, α2 ∈ {0, 180°}: axes 2 and 3 parallel and perpendicular to
+    /// axis 1 (PUMA 560 and most industrial arms). Any a1, d2, d3, a2, a3.
+    ShoulderPlane,
+    /// a1 = 0 and α1 ≠ 0 mod 180°: axes 1 and 2 intersect. Any α2.
+    IntersectingShoulder,
+    /// α1 ∈ {0, 180°} and a1 ≠ 0: axes 1 and 2 parallel; α2 ≠ 0 mod 180°.
+    ParallelShoulder,
+    /// Any other arrangement with a1 ≠ 0 and α1 ≠ 0 mod 180° (Pieper's
+    /// general case): θ3 from a degree-4 trigonometric equation, solved
+    /// numerically to rounding level (bracketing on a 720-point grid, then
+    /// bisection; near-double roots by Newton from the grid's local minima).
+    General,
+}
+
+/// Standard-DH parameters of one link (after converting a modified table).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Link {
+    d: f64,
+    a: f64,
+    ca: f64,
+    sa: f64,
+    offset: f64,
+}
+
+/// Rx(αi) from the link's exact cosine and sine.
+fn rx(l: Link) -> Matrix3<f64> {
+    Matrix3::new(1.0, 0.0, 0.0, 0.0, l.ca, -l.sa, 0.0, l.sa, l.ca)
+}
+
+/// Snaps the cosine and sine of a twist to exact 0/±1 when within tolerance.
+fn twist(alpha: f64) -> (f64, f64) {
+    let (s, c) = alpha.sin_cos();
+    let snap = |v: f64| {
+        if v.abs() < 1e-12 {
+            0.0
+        } else if (v.abs() - 1.0).abs() < 1e-12 {
+            v.signum()
+        } else {
+            v
+        }
+    };
+    (snap(c), snap(s))
+}
+
+/// The analytic solver for 6R arms with a spherical wrist.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, pieper::PieperIk};
+/// let robot = kinema::Robot::builtin("puma560")?;
+/// let ik = PieperIk::new(&robot)?;
+/// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
+/// let target = robot.fk(&q)?.pose;
+/// let sols = ik.solve(&target)?;
+/// assert_eq!(sols.len(), 8);
+/// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
+/// // The configuration we started from is one of the eight.
+/// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
+/// // A robot whose wrist axes do not meet is rejected.
+/// assert!(PieperIk::new(&kinema::Robot::builtin("ur5")?).is_err());
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct PieperIk {
+    robot: Robot,
+    links: [Link; 6],
+    /// Inverse of `world_from_dh0` (the robot's base, followed for a
+    /// modified table by the first row's Rx(α0)·Tx(a0)).
+    dh0_from_world: Pose,
+    /// Inverse of the robot's tool transform.
+    tool_from_flange: Pose,
+    /// Wrist centre in the flange (link 6) frame \[m\].
+    wc_in_flange: Vector3<f64>,
+    arm: ArmKind,
+}
+
+impl PieperIk {
+    /// Checks that `robot` is a 6R arm with a spherical, orthogonal wrist and
+    /// a supported shoulder arrangement ([`ArmKind`]), described by a
+    /// standard or modified DH table, and prepares the solver.
+    ///
+    /// Detection rule (on the equivalent standard-DH table; a modified table
+    /// is regrouped into one, its first row's Rx(α0)·Tx(a0) joining the
+    /// base): a4 = a5 = 0 and d5 = 0 (within 1e-9 m) — axes 4, 5 and 6 then
+    /// meet in one point —, α4, α5 = ±90° (within 1e-9 in sine and cosine);
+    /// verified numerically: the computed wrist centre must not move when
+    /// q4…q6 change, at a few seeded configurations. The shoulder
+    /// arrangement ([`ArmKind`]) is classified with the same tolerances.
+    ///
+    /// Errors ([`Error::InvalidArgument`]) say which condition fails.
+    pub fn new(robot: &Robot) -> Result<Self> {
+        let name = robot.name();
+        let reject = |message: String| Err(Error::InvalidArgument { what: "robot".into(), message });
+        let types = robot.joint_types();
+        if robot.dof() != 6 || types != "RRRRRR" {
+            return reject(format!(
+                "{name}: the pieper solver needs exactly 6 revolute joints; this robot has {} ({types})",
+                robot.dof()
+            ));
+        }
+        // The DH rows, converted to standard DH.
+        let mut conv = None;
+        let mut rows = [(0.0, 0.0, 0.0); 6];
+        for (i, j) in robot.joints().iter().enumerate() {
+            match j.geometry {
+                LinkGeometry::Dh { convention, d, a, alpha, .. } => {
+                    if conv.is_some_and(|c| c != convention) {
+                        return reject(format!("{name}: the DH table mixes standard and modified rows"));
+                    }
+                    conv = Some(convention);
+                    rows[i] = (d, a, alpha);
+                }
+                LinkGeometry::General { .. } => {
+                    return reject(format!(
+                        "{name}: joint {} is described by a general transform; the pieper solver needs a standard or modified DH table",
+                        i + 1
+                    ))
+                }
+            }
+        }
+        let offsets: Vec<f64> = robot.joints().iter().map(|j| j.offset).collect();
+        let (std_rows, world_from_dh0) = match conv {
+            Some(DhConvention::Modified) => {
+                // X0·Z1·X1·Z2·…·X5·Z6 with Xk = Rx(αk)·Tx(ak) (row k + 1) and
+                // Zi = Rz(θi)·Tz(di) regroups into X0·(Z1·X1)·…·(Z5·X5)·Z6:
+                // standard rows (di, ai, αi) taken from row i + 1, and a6 = α6 = 0.
+                let mut s = [(0.0, 0.0, 0.0); 6];
+                for i in 0..6 {
+                    let (a, alpha) = if i < 5 { (rows[i + 1].1, rows[i + 1].2) } else { (0.0, 0.0) };
+                    s[i] = (rows[i].0, a, alpha);
+                }
+                // X0 = Rx(α0)·Tx(a0), with the exact cosine and sine the chain uses.
+                let (ca, sa) = twist(rows[0].2);
+                let x0 = Pose::new(rx(Link { d: 0.0, a: 0.0, ca, sa, offset: 0.0 }), Vector3::new(rows[0].1, 0.0, 0.0));
+                (s, *robot.base() * x0)
+            }
+            _ => (rows, *robot.base()),
+        };
+        let mut links = [Link { d: 0.0, a: 0.0, ca: 1.0, sa: 0.0, offset: 0.0 }; 6];
+        for i in 0..6 {
+            let (d, a, alpha) = std_rows[i];
+            let (ca, sa) = twist(alpha);
+            links[i] = Link { d, a, ca, sa, offset: offsets[i] };
+        }
+        let [l1, l2, l3, l4, l5, l6] = links;
+        let offset = l4.a.abs().max(l5.a.abs()).max(l5.d.abs());
+        if offset > GEOM_TOL {
+            return reject(format!(
+                "{name}: axes 4, 5, 6 do not intersect (offset {offset:.4} m: a4 = {:.4} m, a5 = {:.4} m, d5 = {:.4} m in standard DH), not a spherical wrist",
+                l4.a, l5.a, l5.d
+            ));
+        }
+        for (k, l) in [(4, l4), (5, l5)] {
+            if l.sa.abs() <= GEOM_TOL {
+                return reject(format!(
+                    "{name}: axes {k} and {} are parallel (α{k} = {:.1}°), a degenerate wrist",
+                    k + 1,
+                    l.sa.atan2(l.ca).to_degrees()
+                ));
+            }
+            if l.ca.abs() > GEOM_TOL {
+                return reject(format!(
+                    "{name}: the wrist is not orthogonal (α{k} = {:.3}°); the pieper solver supports α4, α5 = ±90°",
+                    l.sa.atan2(l.ca).to_degrees()
+                ));
+            }
+        }
+        let arm = if l1.ca.abs() <= GEOM_TOL && l2.sa.abs() <= GEOM_TOL {
+            ArmKind::ShoulderPlane
+        } else if l1.a.abs() <= GEOM_TOL && l1.sa.abs() > GEOM_TOL {
+            ArmKind::IntersectingShoulder
+        } else if l1.sa.abs() <= GEOM_TOL && l1.a.abs() > GEOM_TOL && l2.sa.abs() > GEOM_TOL {
+            ArmKind::ParallelShoulder
+        } else if l1.sa.abs() > GEOM_TOL && l1.a.abs() > GEOM_TOL {
+            ArmKind::General
+        } else {
+            return reject(format!(
+                "{name}: degenerate shoulder (a1 = {:.4} m, α1 = {:.3}°, α2 = {:.3}°): axes 1 and 2 coincide, or axes 1, 2 and 3 \
+                 are all parallel, so the wrist centre cannot reach a 3-D region",
+                l1.a,
+                l1.sa.atan2(l1.ca).to_degrees(),
+                l2.sa.atan2(l2.ca).to_degrees()
+            ));
+        };
+        // Reach of the elbow must depend on θ3.
+        let elbow = match arm {
+            ArmKind::ShoulderPlane => l2.a.abs() * l3.a.hypot(l4.d * l3.sa),
+            ArmKind::IntersectingShoulder => {
+                let (a, b) = intersecting_coeffs(&links).1;
+                a.hypot(b)
+            }
+            ArmKind::ParallelShoulder => l2.sa.abs() * l3.a.hypot(l4.d * l3.sa),
+            ArmKind::General => {
+                let (a, b) = intersecting_coeffs(&links).1;
+                a.hypot(b) + l2.sa.abs() * l3.a.hypot(l4.d * l3.sa)
+            }
+        };
+        if elbow <= GEOM_TOL {
+            return reject(format!(
+                "{name}: joint 3 does not change the wrist centre's distance from the shoulder (degenerate arm: a2 = {:.4} m, a3 = {:.4} m, d4 = {:.4} m)",
+                l2.a, l3.a, l4.d
+            ));
+        }
+        // Wrist centre in the flange frame: o5 in frame 6 = Rx(−α6)·(−a6, 0, −d6).
+        let wc_in_dh6 = rx(l6).transpose() * Vector3::new(-l6.a, 0.0, -l6.d);
+        let tool = robot.tool();
+        let wc_in_flange = wc_in_dh6;
+        let ik = PieperIk {
+            robot: robot.clone(),
+            links,
+            dh0_from_world: world_from_dh0.inverse(),
+            tool_from_flange: robot.tool().inverse(),
+            wc_in_flange,
+            arm,
+        };
+        // Numeric check: the wrist centre must not move with q4…q6.
+        let mut rng = ChaCha8Rng::seed_from_u64(0x5049_4550);
+        for _ in 0..3 {
+            let mut q = robot.random_q(&mut rng);
+            let w0 = ik.wrist_centre(&robot.fk(&q)?.pose);
+            for v in &mut q[3..] {
+                *v += 0.7;
+            }
+            let w1 = ik.wrist_centre(&robot.fk(&q)?.pose);
+            let scale = 1.0 + w0.norm() + tool.pos.norm();
+            if (w1 - w0).norm() > 1e-9 * scale {
+                return reject(format!(
+                    "{name}: the wrist centre found from the DH table moves by {:.3e} m when q4…q6 change; not a spherical wrist",
+                    (w1 - w0).norm()
+                ));
+            }
+        }
+        Ok(ik)
+    }
+
+    /// The arrangement of the first three axes that was detected.
+    pub fn arm_kind(&self) -> ArmKind {
+        self.arm
+    }
+
+    /// The robot this solver was built for.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    /// The flange pose in the DH base frame (frame 0 of the standard table).
+    fn dh0_from_flange(&self, target: &Pose) -> Pose {
+        self.dh0_from_world * *target * self.tool_from_flange
+    }
+
+    /// The wrist centre of a target pose (`base_from_tool`), in the DH base
+    /// frame \[m\].
+    fn wrist_centre(&self, target: &Pose) -> Vector3<f64> {
+        self.dh0_from_flange(target).transform_point(&self.wc_in_flange)
+    }
+
+    /// Joint value for angle θ of joint `i`: θ − offset wrapped to (−π, π],
+    /// moved by ±2π when that brings it within the limits.
+    fn joint_value(&self, i: usize, theta: f64) -> f64 {
+        let q = wrap_angle(theta - self.links[i].offset);
+        let lim = &self.robot.joints()[i].limits;
+        if lim.contains(q) {
+            return q;
+        }
+        for k in [1.0, -1.0, 2.0, -2.0] {
+            let c = q + k * 2.0 * PI;
+            if lim.contains(c) {
+                return c;
+            }
+        }
+        q
+    }
+
+    /// The arm solutions (θ1, θ2, θ3, label) for wrist centre `p`.
+    fn solve_arm(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+        match self.arm {
+            ArmKind::ShoulderPlane => self.arm_shoulder_plane(p),
+            ArmKind::IntersectingShoulder | ArmKind::ParallelShoulder => self.arm_pieper(p),
+            ArmKind::General => self.arm_general(p),
+        }
+    }
+
+    fn arm_shoulder_plane(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+        let [l1, l2, l3, l4, ..] = self.links;
+        // v = A3·(0, 0, d4) = (f1, f2, f3) in frame 2.
+        // g = Tz(d2)·Tx(a2)·Rx(α2)·v; with sα2 = 0: g = (f1 + a2, cα2 f2, cα2 f3 + d2).
+        let f3 = l3.d + l4.d * l3.ca;
+        let g3 = l2.ca * f3 + l2.d;
+        // The component of p − o1 along axis 2 (z1) is g3; z1 = Rz(θ1)·(0, −sα1, 0), so
+        // −s1·px + c1·py = −g3/sα1 =: ℓ.
+        let ell = -g3 / l1.sa;
+        let rho = p.x.hypot(p.y);
+        let phi = p.y.atan2(p.x);
+        let mut lateral2 = rho * rho - ell * ell;
+        if lateral2 < 0.0 {
+            if rho < ell.abs() * (1.0 - BOUNDARY_TOL) - AXIS_TOL {
+                return Err(Unreachable::OutsideReach {
+                    by: ell.abs() - rho,
+                    boundary: format!(
+                        "cylinder of radius {:.4} m around axis 1 (the lateral offset of the arm), which the wrist centre cannot enter",
+                        ell.abs()
+                    ),
+                });
+            }
+            lateral2 = 0.0;
+        }
+        let lateral = lateral2.sqrt();
+        let l3len = l3.a.hypot(l4.d * l3.sa);
+        let (a, b) = (2.0 * l2.a * l3.a, 2.0 * l2.a * l4.d * l3.sa);
+        let r = a.hypot(b);
+        let k0 = l2.a * l2.a + l3len * l3len;
+        let dmax = l2.a.abs() + l3len;
+        let dmin = (l2.a.abs() - l3len).abs();
+        let mut out = Vec::with_capacity(4);
+        let mut worst: Option<(f64, String)> = None;
+        for (sh, sign) in [("right", 1.0), ("left", -1.0)] {
+            // θ1 with c1·px + s1·py = ±lateral and −s1·px + c1·py = ℓ.
+            let t1 = if rho <= AXIS_TOL && ell.abs() <= AXIS_TOL {
+                // Shoulder singularity: θ1 free, q1 = 0 (q1 = π for the other branch).
+                l1.offset + if sign > 0.0 { 0.0 } else { PI }
+            } else {
+                phi - ell.atan2(sign * lateral)
+            };
+            let (s1, c1) = t1.sin_cos();
+            let u1 = c1 * p.x + s1 * p.y - l1.a;
+            let u2 = (p.z - l1.d) / l1.sa;
+            let dist = u1.hypot(u2);
+            let mut cosd = (dist * dist - k0) / r;
+            if cosd.is_nan() || cosd.abs() > 1.0 {
+                let (by, boundary) = if dist > dmax {
+                    (dist - dmax, format!("outer reach of the arm ({dmax:.4} m from axis 2, in the arm plane)"))
+                } else {
+                    (dmin - dist, format!("inner reach of the arm ({dmin:.4} m from axis 2, in the arm plane)"))
+                };
+                if by > BOUNDARY_TOL * (1.0 + dmax) {
+                    if worst.as_ref().map_or(true, |w| by < w.0) {
+                        worst = Some((by, boundary));
+                    }
+                    continue;
+                }
+                cosd = cosd.clamp(-1.0, 1.0);
+            }
+            let phi3 = b.atan2(a);
+            let delta = cosd.acos();
+            for t3 in [phi3 + delta, phi3 - delta] {
+                let (s3, c3) = t3.sin_cos();
+                let f1 = l3.a * c3 + l4.d * l3.sa * s3;
+                let f2 = l3.a * s3 - l4.d * l3.sa * c3;
+                let (g1, g2) = (f1 + l2.a, l2.ca * f2);
+                let t2 = if g1.hypot(g2) <= AXIS_TOL { l2.offset } else { u2.atan2(u1) - g2.atan2(g1) };
+                // Elbow label: elbow point a2·(c2, s2) against the shoulder→wrist line.
+                let (s2, c2) = t2.sin_cos();
+                let cross = u1 * l2.a * s2 - u2 * l2.a * c2;
+                let up_side = if u1.abs() > AXIS_TOL { u1.signum() } else { 1.0 };
+                let up = cross * up_side * l1.sa >= 0.0;
+                let label = format!("shoulder-{sh}/elbow-{}", if up { "up" } else { "down" });
+                out.push(([t1, t2, t3], label));
+            }
+        }
+        if out.is_empty() {
+            let (by, boundary) = worst.unwrap_or((0.0, "reachable region".into()));
+            return Err(Unreachable::OutsideReach { by, boundary });
+        }
+        // Order: elbow-up before elbow-down within each shoulder branch.
+        out.sort_by_key(|(_, l)| (l.starts_with("shoulder-left"), l.ends_with("elbow-down")));
+        Ok(out)
+    }
+
+    /// The intersecting- and parallel-shoulder arrangements (Pieper's two
+    /// special cases).
+    fn arm_pieper(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+        let [l1, l2, l3, l4, ..] = self.links;
+        let z = p.z - l1.d;
+        let r2 = p.x * p.x + p.y * p.y + z * z;
+        let g_of = |t3: f64| arm_g(&self.links, t3);
+        // Step 1: θ3 from an equation A·c3 + B·s3 = C.
+        let (a, b, c, what) = match self.arm {
+            ArmKind::IntersectingShoulder => {
+                let (k, (a, b)) = intersecting_coeffs(&self.links);
+                (a, b, r2 - k, "sphere")
+            }
+            _ => {
+                // g3 = cα1·z (sα1 = 0): sα2·(a3 s3 − d4 sα3 c3) + cα2 f3 + d2 = cα1 z.
+                let f3 = l3.d + l4.d * l3.ca;
+                (-l2.sa * l4.d * l3.sa, l2.sa * l3.a, l1.ca * z - l2.ca * f3 - l2.d, "slab")
+            }
+        };
+        let r = a.hypot(b);
+        let mut cosd = c / r;
+        if cosd.is_nan() || cosd.abs() > 1.0 {
+            let over = c.abs() - r;
+            let (by, boundary) = if what == "sphere" {
+                let (k, _) = intersecting_coeffs(&self.links);
+                let (rmax, rmin) = ((k + r).max(0.0).sqrt(), (k - r).max(0.0).sqrt());
+                let d = r2.sqrt();
+                if d > rmax {
+                    (d - rmax, format!("outer sphere of radius {rmax:.4} m around the shoulder"))
+                } else {
+                    (rmin - d, format!("inner sphere of radius {rmin:.4} m around the shoulder"))
+                }
+            } else {
+                // cα1·(z − d1) = g3 ∈ [g3₀ − R, g3₀ + R] with g3₀ = cα2·f3 + d2.
+                let g30 = l2.ca * (l3.d + l4.d * l3.ca) + l2.d;
+                let (lo, hi) = (l1.ca * (g30 - r) + l1.d, l1.ca * (g30 + r) + l1.d);
+                let (lo, hi) = (lo.min(hi), lo.max(hi));
+                (over, format!("slab {lo:.4} m ≤ z ≤ {hi:.4} m (along axis 1) that the wrist centre can reach"))
+            };
+            if by > BOUNDARY_TOL * (1.0 + r2.sqrt() + r) {
+                return Err(Unreachable::OutsideReach { by, boundary });
+            }
+            cosd = cosd.clamp(-1.0, 1.0);
+        }
+        let phi3 = b.atan2(a);
+        let delta = cosd.acos();
+        let mut out = Vec::with_capacity(4);
+        let mut worst: Option<f64> = None;
+        for (e, t3) in [(1, phi3 + delta), (2, phi3 - delta)] {
+            let g = g_of(t3);
+            let h = g.x.hypot(g.y);
+            let psi = g.y.atan2(g.x);
+            // Step 2: θ2 from H·sin(θ2 + ψ) = Q (intersecting) or H·cos(θ2 + ψ) = P (parallel).
+            let (val, is_sin) = match self.arm {
+                ArmKind::IntersectingShoulder => ((z - l1.ca * g.z) / l1.sa, true),
+                _ => ((r2 - g.norm_squared() - l1.a * l1.a) / (2.0 * l1.a), false),
+            };
+            let t2s: Vec<f64> = if h <= AXIS_TOL {
+                vec![l2.offset, l2.offset]
+            } else {
+                let mut x = val / h;
+                if x.is_nan() || x.abs() > 1.0 {
+                    let over = val.abs() - h;
+                    if over > BOUNDARY_TOL * (1.0 + h + val.abs()) {
+                        if worst.map_or(true, |w| over < w) {
+                            worst = Some(over);
+                        }
+                        continue;
+                    }
+                    x = x.clamp(-1.0, 1.0);
+                }
+                if is_sin {
+                    let s = x.asin();
+                    vec![s - psi, PI - s - psi]
+                } else {
+                    let s = x.acos();
+                    vec![s - psi, -s - psi]
+                }
+            };
+            for (sh, t2) in t2s.into_iter().enumerate() {
+                // Step 3: θ1 from (px, py) = Rz(θ1)·(w1, w2).
+                let t1 = theta1(l1, &g, t2, p);
+                out.push(([t1, t2, t3], format!("shoulder-{}/elbow-{e}", sh + 1)));
+            }
+        }
+        if out.is_empty() {
+            return Err(Unreachable::OutsideReach {
+                by: worst.unwrap_or(0.0),
+                boundary: "region the wrist centre can reach at the required distance from the shoulder".into(),
+            });
+        }
+        Ok(out)
+    }
+
+    /// Pieper's general case: with P = c2·g1 − s2·g2 from |p − o1|² and
+    /// Q = s2·g1 + c2·g2 from the height along axis 1, P² + Q² = g1² + g2²
+    /// is an equation in θ3 alone (a quartic in tan(θ3/2)).
+    fn arm_general(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+        let [l1, ..] = self.links;
+        let z = p.z - l1.d;
+        let r2 = p.x * p.x + p.y * p.y + z * z;
+        // P, Q and F = P² + Q² − H² at θ3.
+        let pq = |t3: f64| {
+            let g = arm_g(&self.links, t3);
+            let pp = (r2 - g.norm_squared() - l1.a * l1.a) / (2.0 * l1.a);
+            let qq = (z - l1.ca * g.z) / l1.sa;
+            (g, pp, qq, pp * pp + qq * qq - (g.x * g.x + g.y * g.y))
+        };
+        let f = |t3: f64| pq(t3).3;
+        const N: usize = 720;
+        let step = 2.0 * PI / N as f64;
+        let samples: Vec<f64> = (0..=N).map(|i| f(-PI + i as f64 * step)).collect();
+        let mut roots: Vec<f64> = Vec::with_capacity(4);
+        for i in 0..N {
+            let (mut lo, mut hi) = (-PI + i as f64 * step, -PI + (i + 1) as f64 * step);
+            let (mut flo, fhi) = (samples[i], samples[i + 1]);
+            if flo == 0.0 {
+                roots.push(lo);
+                continue;
+            }
+            if flo.signum() != fhi.signum() && fhi != 0.0 {
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    let fm = f(mid);
+                    if fm == 0.0 {
+                        lo = mid;
+                        hi = mid;
+                        break;
+                    }
+                    if fm.signum() == flo.signum() {
+                        lo = mid;
+                        flo = fm;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                roots.push(if flo.abs() <= f(hi).abs() { lo } else { hi });
+            } else if i > 0 && samples[i].abs() < samples[i - 1].abs() && samples[i].abs() <= fhi.abs() {
+                // A local minimum of |F| without a sign change: a (near-)double root? Newton on F.
+                let mut t = lo;
+                for _ in 0..30 {
+                    let h = 1e-7;
+                    let d = (f(t + h) - f(t - h)) / (2.0 * h);
+                    if d == 0.0 || !d.is_finite() {
+                        break;
+                    }
+                    let nt = t - f(t) / d;
+                    if !nt.is_finite() || (nt - t).abs() > step {
+                        break;
+                    }
+                    t = nt;
+                }
+                let (g, pp, qq, ft) = pq(t);
+                let scale = (pp * pp + qq * qq + g.norm_squared()).max(1e-300);
+                if ft.abs() <= 1e-13 * scale && !roots.iter().any(|r| wrap_angle(r - t).abs() < 1e-9) {
+                    roots.push(t);
+                }
+            }
+        }
+        let mut out = Vec::with_capacity(4);
+        for (e, t3) in roots.into_iter().enumerate() {
+            let (g, pp, qq, _) = pq(t3);
+            let t2 = if g.x.hypot(g.y) <= AXIS_TOL { self.links[1].offset } else { qq.atan2(pp) - g.y.atan2(g.x) };
+            let t1 = theta1(l1, &g, t2, p);
+            // Keep only exact solutions (a bracket may also straddle a pole-free sign change of rounding noise).
+            let wc = self.arm_point([t1, t2, t3]);
+            if (wc - p).norm() <= 1e-9 * (1.0 + p.norm()) {
+                out.push(([t1, t2, t3], format!("arm-{}", e + 1)));
+            }
+        }
+        if out.is_empty() {
+            // Distance-like measure of the mismatch: min over θ3 of |√(P² + Q²) − H|.
+            let by = (0..N)
+                .map(|i| {
+                    let (g, pp, qq, _) = pq(-PI + i as f64 * step);
+                    (pp.hypot(qq) - g.x.hypot(g.y)).abs()
+                })
+                .fold(f64::INFINITY, f64::min);
+            return Err(Unreachable::OutsideReach {
+                by,
+                boundary: "region the wrist centre can reach (general Pieper arm; `by` is the smallest mismatch over θ3 in the arm equations, not a Euclidean distance)".into(),
+            });
+        }
+        Ok(out)
+    }
+
+    /// The wrist centre for θ1…θ3, in the DH base frame \[m\].
+    fn arm_point(&self, t: [f64; 3]) -> Vector3<f64> {
+        let mut p = Vector3::new(0.0, 0.0, self.links[3].d);
+        for i in (0..3).rev() {
+            let l = self.links[i];
+            let (s, c) = t[i].sin_cos();
+            let v = Vector3::new(p.x + l.a, l.ca * p.y - l.sa * p.z, l.sa * p.y + l.ca * p.z + l.d);
+            p = Vector3::new(c * v.x - s * v.y, s * v.x + c * v.y, v.z);
+        }
+        p
+    }
+
+    /// The two wrist solutions (θ4, θ5, θ6) for M = R03ᵀ·R06·Rx(α6)ᵀ.
+    fn solve_wrist(&self, m: &M3) -> [([f64; 3], &'static str); 2] {
+        let [_, _, _, l4, l5, _] = self.links;
+        let (mx, my) = (m[0][2], m[1][2]);
+        // Third column of M: (m13, m23) = sα5·s5·(c4, s4).
+        let singular = mx.hypot(my) <= WRIST_SING_TOL;
+        let mut out = [([0.0; 3], "wrist-noflip"), ([0.0; 3], "wrist-flip")];
+        for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
+            let t4 = if singular {
+                l4.offset + if k == 0 { 0.0 } else { PI }
+            } else {
+                (sign * l5.sa * my).atan2(sign * l5.sa * mx)
+            };
+            let r4 = rzrx(t4, l4);
+            // w = (Rz(θ4)·Rx(α4))ᵀ·M·ẑ = Rz(θ5)·(0, −sα5, 0) = (sα5 s5, −sα5 c5, 0).
+            let w = tmul(&r4, m);
+            let t5 = (l5.sa * w[0][2]).atan2(-l5.sa * w[1][2]);
+            // N = (Rz(θ5)·Rx(α5))ᵀ·w = Rz(θ6).
+            let n = tmul(&rzrx(t5, l5), &w);
+            let t6 = n[1][0].atan2(n[0][0]);
+            out[k].0 = [t4, t5, t6];
+        }
+        out
+    }
+}
+
+/// A 3×3 matrix as rows (plain arrays: a few multiplications per solve, fast
+/// also in debug builds).
+type M3 = [[f64; 3]; 3];
+
+/// a·b.
+fn mul(a: &M3, b: &M3) -> M3 {
+    let mut c = [[0.0; 3]; 3];
+    for (i, row) in c.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+        }
+    }
+    c
+}
+
+/// aᵀ·b.
+fn tmul(a: &M3, b: &M3) -> M3 {
+    let mut c = [[0.0; 3]; 3];
+    for (i, row) in c.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
+        }
+    }
+    c
+}
+
+/// Rz(θ)·Rx(α) of a link.
+fn rzrx(theta: f64, l: Link) -> M3 {
+    let (s, c) = theta.sin_cos();
+    [[c, -s * l.ca, s * l.sa], [s, c * l.ca, -c * l.sa], [0.0, l.sa, l.ca]]
+}
+
+/// g(θ3) = Tz(d2)·Tx(a2)·Rx(α2)·A3·(0, 0, d4): the wrist centre in frame 1
+/// before the rotation θ2 about its z axis.
+fn arm_g(links: &[Link; 6], t3: f64) -> Vector3<f64> {
+    let [_, l2, l3, l4, ..] = *links;
+    let (s3, c3) = t3.sin_cos();
+    let f1 = l3.a * c3 + l4.d * l3.sa * s3;
+    let f2 = l3.a * s3 - l4.d * l3.sa * c3;
+    let f3 = l3.d + l4.d * l3.ca;
+    Vector3::new(f1 + l2.a, l2.ca * f2 - l2.sa * f3, l2.sa * f2 + l2.ca * f3 + l2.d)
+}
+
+/// θ1 from (px, py) = Rz(θ1)·(w1, w2), (w1, w2) the horizontal part of
+/// Tx(a1)·Rx(α1)·Rz(θ2)·g. On axis 1 (θ1 free): q1 = 0.
+fn theta1(l1: Link, g: &Vector3<f64>, t2: f64, p: &Vector3<f64>) -> f64 {
+    let (s2, c2) = t2.sin_cos();
+    let u = Vector3::new(c2 * g.x - s2 * g.y, s2 * g.x + c2 * g.y, g.z);
+    let w1 = u.x + l1.a;
+    let w2 = l1.ca * u.y - l1.sa * u.z;
+    if w1.hypot(w2) <= AXIS_TOL || p.x.hypot(p.y) <= AXIS_TOL {
+        l1.offset
+    } else {
+        p.y.atan2(p.x) - w2.atan2(w1)
+    }
+}
+
+/// For the intersecting shoulder: |p − o1|² = K + A·c3 + B·s3; returns (K, (A, B)).
+fn intersecting_coeffs(links: &[Link; 6]) -> (f64, (f64, f64)) {
+    let [_, l2, l3, l4, ..] = *links;
+    let f3 = l3.d + l4.d * l3.ca;
+    let k = l3.a * l3.a + (l4.d * l3.sa).powi(2) + f3 * f3 + l2.a * l2.a + l2.d * l2.d + 2.0 * l2.d * l2.ca * f3;
+    let a = 2.0 * l2.a * l3.a - 2.0 * l2.d * l2.sa * l4.d * l3.sa;
+    let b = 2.0 * l2.a * l4.d * l3.sa + 2.0 * l2.d * l2.sa * l3.a;
+    (k, (a, b))
+}
+
+impl IkSolver for PieperIk {
+    fn name(&self) -> &'static str {
+        "pieper"
+    }
+
+    /// All (up to 8) solutions: each arm branch × {noflip, flip}, labelled
+    /// as described in the [module documentation](self).
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        check_target(target)?;
+        let unreachable = |reason| Error::Unreachable { solver: "pieper".into(), reason };
+        let t06 = self.dh0_from_flange(target);
+        let p = t06.transform_point(&self.wc_in_flange);
+        if !p.iter().all(|v| v.is_finite()) || p.norm() > 1e100 {
+            let by = p.norm();
+            return Err(unreachable(Unreachable::OutsideReach {
+                by: if by.is_finite() { by } else { f64::INFINITY },
+                boundary: "reach of the arm (the target is absurdly far away)".into(),
+            }));
+        }
+        let arms = self.solve_arm(&p).map_err(unreachable)?;
+        let l6 = self.links[5];
+        // R06·Rx(α6)ᵀ as rows.
+        let r = t06.rot * rx(l6).transpose();
+        let r06: M3 =
+            [[r[(0, 0)], r[(0, 1)], r[(0, 2)]], [r[(1, 0)], r[(1, 1)], r[(1, 2)]], [r[(2, 0)], r[(2, 1)], r[(2, 2)]]];
+        let mut sols = Vec::with_capacity(8);
+        for (th, label) in arms {
+            let r03 = mul(&mul(&rzrx(th[0], self.links[0]), &rzrx(th[1], self.links[1])), &rzrx(th[2], self.links[2]));
+            let m = tmul(&r03, &r06);
+            for (w, wl) in self.solve_wrist(&m) {
+                let thetas = [th[0], th[1], th[2], w[0], w[1], w[2]];
+                let q: Vec<f64> = thetas.iter().enumerate().map(|(i, t)| self.joint_value(i, *t)).collect();
+                if !q.iter().all(|v| v.is_finite()) {
+                    continue;
+                }
+                sols.push(Solution::evaluate(&self.robot, q, target, format!("{label}/{wl}"))?);
+            }
+        }
+        if sols.is_empty() {
+            return Err(unreachable(Unreachable::OutsideReach {
+                by: 0.0,
+                boundary: "reach of the arm (no finite solution)".into(),
+            }));
+        }
+        Ok(sols)
+    }
+}

@@ -1,0 +1,468 @@
+//! Closed-form inverse kinematics of the SCARA on a linear rail, Scara5
+//! (seed 003 §III-B/C, eq. 1), with the paper's zone rule for the redundant rail.
+//!
+//! # Model and target
+//!
+//! Seed 003 eq. 1 (in the world frame, with the base rotation Rx(−90°) of Anexo
+//! Tabla 1–2, and an identity tool):
+//!
+//! ```text
+//! x = L1·c2 + L2·c23
+//! y = L1·s2 + L2·s23 + q1          (q1: the rail, along world y)
+//! z = H1 − H2 − q4
+//! R = Rz(q2 + q3 + q5)
+//! ```
+//!
+//! A target is `[Px, Py, Pz, α]`: the tool point \[m\] in the world frame (the frame
+//! of [`Robot::fk`]) and the tool angle α \[rad\] about the vertical (α = q2 + q3 + q5
+//! for the built-in robot; a tool rotated by ψ about its z axis adds ψ).
+//!
+//! # Branches
+//!
+//! For a given rail position there are two solutions: `elbow-right` (q3 ≥ 0: seen
+//! from above, z up, the forearm turns counter-clockwise and the elbow lies to the
+//! right of the line shoulder → tool) and `elbow-left` (q3 ≤ 0).
+//!
+//! # Zone rule (seed 003 Fig. 3–4)
+//!
+//! The rail adds a third unknown to the two equations of eq. 1. For a fixed rail
+//! position the reachable points form an annulus around the shoulder; moving the
+//! rail sweeps it into a rectangle-shaped zone, and the inner circle becomes
+//! reachable by shifting the shoulder along the rail. [`ScaraIk::solve_zone`] picks
+//! the rail position as follows (all lengths from the model):
+//!
+//! * r_lo = reach with the elbow folded to its limit |q3|max (or |L1 − L2| if the
+//!   limit allows folding further), r_hi = L1 + L2 (stretched);
+//! * the margin m = 0.05·(L1 + L2) keeps the elbow away from its critical angles:
+//!   x_max = r_hi − m (stretched elbow), radii ≥ r_lo + m (folded elbow);
+//! * a comfortable radius r_c = max(√2·(r_lo + m), r_lo + (x_max − r_lo)/4);
+//! * for the flange point (X, Py) (X across the rail, Py along it), the shoulder is
+//!   placed Y*(X) = max(r_c − |X|, 0) behind the point along the rail:
+//!   **q1 = Py − Y*(X)** — abreast of the point when |X| ≥ r_c; closer to the rail
+//!   the shoulder backs off so that the distance shoulder–point,
+//!   √(X² + Y*²) ≥ r_c/√2 ≥ r_lo + m, stays away from the folded elbow. Y* is
+//!   1-Lipschitz in X, so the rail moves at most as fast as the target;
+//! * the elbow side is that of `previous` (sign of its q3), `elbow-right` without one;
+//!   q5 is the equivalent of α − q2 − q3 nearest to `previous` (within its limits).
+//!
+//! The zone in which this rule is used is the rectangle returned by
+//! [`ScaraIk::zone`]: X ∈ \[x_min, x_max\], Py ∈ \[q1min + r_c, q1max\] (q1min, q1max the
+//! rail limits; x_min ≤ 0 the lowest X at which both elbows keep q2 within its
+//! limits, x_max lowered likewise if q2's limits cut in — not for Scara5), and Pz
+//! within the stroke of joint 4. Inside it the rule never clamps,
+//! every joint is within its limits, and the solution is a smooth function of
+//! the target (no jumps). Points outside it are reported as
+//! [`Unreachable::OutsideReach`] with the distance to the rectangle — skipped, as in
+//! seed 003 Fig. 9, not faked.
+
+use std::f64::consts::PI;
+
+use nalgebra::Vector3;
+
+use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
+use crate::error::{Error, Result};
+use crate::math::{rot_z, Pose};
+use crate::model::{LinkGeometry, Robot};
+
+/// Name of the solver in errors.
+const NAME: &str = "scara";
+
+/// Positions this close outside the reachable annulus \[m\] are treated as on it.
+const REACH_TOL: f64 = 1e-12;
+
+/// Closed-form solver for the SCARA on a rail (seed 003).
+///
+/// # Examples
+/// ```
+/// use kinema::ik::scara::ScaraIk;
+/// let robot = kinema::Robot::builtin("scara5")?;
+/// let ik = ScaraIk::new(&robot)?;
+/// let sols = ik.solve_with_rail([0.4, 0.6, 0.2, 0.3], 0.5)?;
+/// assert_eq!(sols.len(), 2);
+/// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.q[0] == 0.5));
+/// let s = ik.solve_zone([0.4, 0.6, 0.2, 0.3], None)?;
+/// assert!(s.within_limits() && s.position_error < 1e-10);
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct ScaraIk {
+    robot: Robot,
+    l1: f64,
+    l2: f64,
+    h1: f64,
+    h2: f64,
+    /// Tool translation in the flange frame \[m\].
+    tool_t: Vector3<f64>,
+    /// Tool rotation about the flange z axis \[rad\].
+    tool_psi: f64,
+    /// Zone: x_min, x_max, y_min, y_max \[m\] (flange point), and r_c.
+    zone: [f64; 4],
+    r_c: f64,
+}
+
+/// Which way the elbow bends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Elbow {
+    Right,
+    Left,
+}
+
+impl Elbow {
+    fn sign(self) -> f64 {
+        match self {
+            Elbow::Right => 1.0,
+            Elbow::Left => -1.0,
+        }
+    }
+    fn label(self) -> &'static str {
+        match self {
+            Elbow::Right => "elbow-right",
+            Elbow::Left => "elbow-left",
+        }
+    }
+}
+
+impl ScaraIk {
+    /// A solver for `robot`, reading L1, L2 (a of joints 2, 3), H1 (d of joint 2) and
+    /// H2 (offset of joint 4) from its DH table and checking with forward kinematics
+    /// that the model is seed 003 eq. 1 with these values.
+    ///
+    /// Errors ([`Error::InvalidArgument`]) for a robot that is not PRRPR with DH rows,
+    /// whose forward kinematics is not eq. 1 (a base rotation other than Rx(−90°)
+    /// included; any base translation is fine), whose tool is tilted (its z axis must
+    /// stay vertical), or whose rail is too short for the zone rule.
+    pub fn new(robot: &Robot) -> Result<Self> {
+        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        if robot.joint_types() != "PRRPR" {
+            return Err(bad(format!(
+                "the SCARA solver needs joints PRRPR (rail, shoulder, elbow, z, wrist); `{}` is {}",
+                robot.name(),
+                robot.joint_types()
+            )));
+        }
+        let dh = |i: usize| match robot.joints()[i].geometry {
+            LinkGeometry::Dh { d, a, .. } => Ok((d, a)),
+            _ => Err(bad(format!("joint {} is not described by a DH row", i + 1))),
+        };
+        let (h1, l1) = dh(1)?;
+        let (_, l2) = dh(2)?;
+        let h2 = robot.joints()[3].offset;
+        if !(l1 > 0.0 && l2 > 0.0) {
+            return Err(bad(format!("L1 = {l1} m and L2 = {l2} m must be positive")));
+        }
+        // Check eq. 1 on probe configurations (flange, identity tool).
+        let bare = robot.with_tool(Pose::IDENTITY)?;
+        let b = robot.base().pos;
+        for k in 0..7 {
+            let t = k as f64;
+            let q = [0.1 * t, 0.7 * t - 2.0, 1.3 - 0.5 * t, 0.03 * t, 0.9 * t - 3.0];
+            let fk = bare.fk(&q)?.pose;
+            let phi = q[1] + q[2] + q[4];
+            let p = Vector3::new(
+                l1 * q[1].cos() + l2 * (q[1] + q[2]).cos(),
+                l1 * q[1].sin() + l2 * (q[1] + q[2]).sin() + q[0],
+                h1 - h2 - q[3],
+            ) + b;
+            if (fk.pos - p).norm() > 1e-9 || (fk.rot - rot_z(phi)).norm() > 1e-9 {
+                return Err(bad(format!(
+                    "forward kinematics of `{}` is not seed 003 eq. 1 with L1 = {l1}, L2 = {l2}, H1 = {h1}, H2 = {h2} m \
+                     (the base must rotate by Rx(−90°) and the joints follow Anexo Tabla 1)",
+                    robot.name()
+                )));
+            }
+        }
+        let tool = robot.tool();
+        if (tool.rot[(2, 2)] - 1.0).abs() > 1e-9 {
+            return Err(bad(
+                "the tool's z axis must stay parallel to the flange z axis (a SCARA cannot tilt it)".into()
+            ));
+        }
+        let tool_psi = tool.rot[(1, 0)].atan2(tool.rot[(0, 0)]);
+        let lim = |i: usize| robot.joints()[i].limits;
+        let q3max = lim(2).min.abs().min(lim(2).max.abs()).min(PI);
+        let r_lo = (l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * q3max.cos()).max(0.0).sqrt().max((l1 - l2).abs());
+        let r_hi = l1 + l2;
+        let m = 0.05 * r_hi;
+        let x_max = r_hi - m;
+        let r_c = (std::f64::consts::SQRT_2 * (r_lo + m)).max(r_lo + (x_max - r_lo) / 4.0);
+        if r_c / std::f64::consts::SQRT_2 < r_lo + m - 1e-12 || r_c >= x_max {
+            return Err(bad(format!(
+                "the arm's reachable annulus [{r_lo:.4}, {r_hi:.4}] m is too thin for the zone rule"
+            )));
+        }
+        let (rail_min, rail_max) = (lim(0).min, lim(0).max);
+        if !(rail_min.is_finite() && rail_max.is_finite()) || rail_max - rail_min <= r_c {
+            return Err(bad(format!(
+                "the rail limits [{rail_min}, {rail_max}] m must be finite and longer than the comfortable radius {r_c:.4} m"
+            )));
+        }
+        let mut me = ScaraIk { robot: robot.clone(), l1, l2, h1, h2, tool_t: tool.pos, tool_psi, zone: [0.0; 4], r_c };
+        // x_min: step from X = 0 towards −r_c while both elbows keep q2 within limits.
+        let q2lim = lim(1);
+        let within = |me: &ScaraIk, x: f64| {
+            let y = Self::offset(me.r_c, x);
+            [Elbow::Right, Elbow::Left].iter().all(|&e| {
+                me.planar(x, y, e).is_some_and(|(q2, q3)| {
+                    // 2 % margin on the q2 range so the sampled bound is safe in between.
+                    let m = 0.02 * (q2lim.max - q2lim.min).min(2.0 * PI);
+                    q2 >= q2lim.min + m && q2 <= q2lim.max - m && lim(2).contains(q3)
+                })
+            })
+        };
+        if !within(&me, 0.0) {
+            return Err(bad("the joint limits of q2/q3 leave no zone for the rail rule at X = 0".into()));
+        }
+        let mut x_min = 0.0;
+        let steps = 400;
+        for k in 0..=steps {
+            let x = -r_c * k as f64 / steps as f64;
+            if !within(&me, x) {
+                break;
+            }
+            x_min = x;
+        }
+        // Positive X: shrink x_max if q2's limits cut the zone short there (they do
+        // not for Scara5; the rule depends on X only, so this 1-D scan covers the zone).
+        let mut x_hi = x_max;
+        for k in 0..=steps {
+            let x = x_max * k as f64 / steps as f64;
+            if !within(&me, x) {
+                x_hi = (x - x_max / steps as f64).max(0.0);
+                break;
+            }
+        }
+        me.zone = [x_min, x_hi, rail_min + r_c, rail_max];
+        Ok(me)
+    }
+
+    /// The robot this solver was built for.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    /// The rectangle \[x_min, x_max, y_min, y_max\] \[m\] in which [`ScaraIk::solve_zone`]
+    /// works, for the flange point (tool point minus the tool offset) relative to
+    /// the base position (see the module documentation).
+    pub fn zone(&self) -> [f64; 4] {
+        self.zone
+    }
+
+    /// The comfortable radius r_c \[m\] of the zone rule.
+    pub fn comfortable_radius(&self) -> f64 {
+        self.r_c
+    }
+
+    /// The zone rule's offset Y*(X) = max(r_c − |X|, 0) of the point ahead of the shoulder.
+    fn offset(r_c: f64, x: f64) -> f64 {
+        (r_c - x.abs()).max(0.0)
+    }
+
+    /// (q2, q3) putting the flange at (x, y) relative to the shoulder, or None
+    /// outside the annulus. q3 by the half-angle form of the law of cosines.
+    fn planar(&self, x: f64, y: f64, elbow: Elbow) -> Option<(f64, f64)> {
+        let (l1, l2) = (self.l1, self.l2);
+        let r = x.hypot(y);
+        let (outer, inner) = (l1 + l2, (l1 - l2).abs());
+        if r > outer + REACH_TOL || r < inner - REACH_TOL {
+            return None;
+        }
+        // tan²(q3/2) = ((L1+L2)² − r²)/(r² − (L1−L2)²)
+        let num = ((outer - r) * (outer + r)).max(0.0);
+        let den = ((r - inner) * (r + inner)).max(0.0);
+        let q3 = elbow.sign() * if num == 0.0 && den == 0.0 { 0.0 } else { 2.0 * num.sqrt().atan2(den.sqrt()) };
+        // q2 = atan2(y, x) − atan2(L2·s3, L1 + L2·c3); at r = 0 (L1 = L2, folded) q2 is free: 0.
+        let q2 = if r > 1e-15 { wrap_angle(y.atan2(x) - (l2 * q3.sin()).atan2(l1 + l2 * q3.cos())) } else { 0.0 };
+        Some((q2, q3))
+    }
+
+    /// Flange point relative to the base position, and the flange angle φ = q2 + q3 + q5.
+    fn flange(&self, target: &[f64; 4]) -> (Vector3<f64>, f64) {
+        let phi = target[3] - self.tool_psi;
+        let p = Vector3::new(target[0], target[1], target[2]) - rot_z(phi) * self.tool_t - self.robot.base().pos;
+        (p, phi)
+    }
+
+    fn check_typed(target: &[f64; 4], extra: &[f64]) -> Result<()> {
+        if target.iter().chain(extra).any(|v| !v.is_finite()) {
+            return Err(Error::InvalidArgument {
+                what: "target".into(),
+                message: format!("target {target:?} and rail position {extra:?} must be finite"),
+            });
+        }
+        Ok(())
+    }
+
+    fn unreachable(by: f64, boundary: String) -> Error {
+        Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary } }
+    }
+
+    /// Builds the evaluated solution for a flange point, rail position and elbow.
+    fn build(&self, target: &[f64; 4], q1: f64, elbow: Elbow, q5_near: Option<f64>) -> Result<Option<Solution>> {
+        let (f, phi) = self.flange(target);
+        let Some((q2, q3)) = self.planar(f.x, f.y - q1, elbow) else { return Ok(None) };
+        let q4 = self.h1 - self.h2 - f.z;
+        let mut q5 = wrap_angle(phi - q2 - q3);
+        let lim5 = self.robot.joints()[4].limits;
+        if let Some(prev) = q5_near {
+            q5 = prev + wrap_angle(q5 - prev);
+        }
+        while q5 > lim5.max && q5 - 2.0 * PI >= lim5.min {
+            q5 -= 2.0 * PI;
+        }
+        while q5 < lim5.min && q5 + 2.0 * PI <= lim5.max {
+            q5 += 2.0 * PI;
+        }
+        let q = vec![q1, q2, q3, q4, q5];
+        let pose = Pose::new(rot_z(target[3]), Vector3::new(target[0], target[1], target[2]));
+        Solution::evaluate(&self.robot, q, &pose, elbow.label()).map(Some)
+    }
+
+    /// Both solutions (elbow right, elbow left) for `target` = \[Px, Py, Pz \[m\], α \[rad\]\]
+    /// with the rail at `q1` \[m\] — seed 003 eq. 1 solved in closed form.
+    ///
+    /// The solutions are flagged for joint limits (the rail position and q4 too)
+    /// and evaluated against the pose Rz(α) at P. Errors: non-finite input; the
+    /// point outside the annulus \[|L1 − L2|, L1 + L2\] around the shoulder at this
+    /// rail position ([`Unreachable::OutsideReach`], by how much).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::scara::ScaraIk;
+    /// let ik = ScaraIk::new(&kinema::Robot::builtin("scara5")?)?;
+    /// let sols = ik.solve_with_rail([0.5, 0.3, 0.25, 0.0], 0.3)?;
+    /// assert_eq!(sols[0].branch, "elbow-right");
+    /// assert!(sols[0].q[2] > 0.0 && sols[1].q[2] < 0.0);
+    /// assert!(ik.solve_with_rail([0.9, 0.3, 0.25, 0.0], 0.3).is_err()); // 0.9 m > L1 + L2
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_with_rail(&self, target: [f64; 4], q1: f64) -> Result<Vec<Solution>> {
+        Self::check_typed(&target, &[q1])?;
+        let mut out = Vec::with_capacity(2);
+        for elbow in [Elbow::Right, Elbow::Left] {
+            if let Some(s) = self.build(&target, q1, elbow, None)? {
+                out.push(s);
+            }
+        }
+        if out.is_empty() {
+            let (f, _) = self.flange(&target);
+            let r = f.x.hypot(f.y - q1);
+            let (outer, inner) = (self.l1 + self.l2, (self.l1 - self.l2).abs());
+            return Err(if r > outer {
+                Self::unreachable(
+                    r - outer,
+                    format!("outer circle of radius {outer:.6} m around the shoulder at q1 = {q1} m"),
+                )
+            } else {
+                Self::unreachable(
+                    inner - r,
+                    format!("inner circle of radius {inner:.6} m around the shoulder at q1 = {q1} m"),
+                )
+            });
+        }
+        Ok(out)
+    }
+
+    /// One solution for `target` = \[Px, Py, Pz \[m\], α \[rad\]\] with the rail chosen by
+    /// the zone rule of the module documentation, keeping the elbow side of
+    /// `previous` (a 5-value configuration, e.g. the last point of a path) and the
+    /// q5 nearest to it.
+    ///
+    /// Errors: non-finite input, a `previous` of the wrong length; the point outside
+    /// the zone rectangle or Pz outside the stroke of joint 4
+    /// ([`Unreachable::OutsideReach`], with the distance).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::scara::ScaraIk;
+    /// let ik = ScaraIk::new(&kinema::Robot::builtin("scara5")?)?;
+    /// let a = ik.solve_zone([0.1, 0.6, 0.2, 0.0], None)?;
+    /// let b = ik.solve_zone([0.1, 0.601, 0.2, 0.0], Some(&a.q))?;
+    /// assert!(b.q.iter().zip(&a.q).all(|(x, y)| (x - y).abs() < 0.01));
+    /// assert!(ik.solve_zone([0.1, 2.0, 0.2, 0.0], None).is_err()); // beyond the rail
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_zone(&self, target: [f64; 4], previous: Option<&[f64]>) -> Result<Solution> {
+        Self::check_typed(&target, previous.unwrap_or(&[]))?;
+        if let Some(p) = previous {
+            if p.len() != 5 {
+                return Err(Error::InvalidArgument {
+                    what: "previous".into(),
+                    message: format!("{} values given, the SCARA has 5 joints", p.len()),
+                });
+            }
+        }
+        let (f, _) = self.flange(&target);
+        let [x_min, x_max, y_min, y_max] = self.zone;
+        let dx = (x_min - f.x).max(f.x - x_max).max(0.0);
+        let dy = (y_min - f.y).max(f.y - y_max).max(0.0);
+        if dx > 0.0 || dy > 0.0 {
+            return Err(Self::unreachable(
+                dx.hypot(dy),
+                format!(
+                    "zone rectangle x ∈ [{x_min:.4}, {x_max:.4}] m, y ∈ [{y_min:.4}, {y_max:.4}] m of the flange point (seed 003 Fig. 3–4)"
+                ),
+            ));
+        }
+        let q4 = self.h1 - self.h2 - f.z;
+        let l4 = self.robot.joints()[3].limits;
+        if !l4.contains(q4) {
+            let by = (l4.min - q4).max(q4 - l4.max);
+            return Err(Self::unreachable(
+                by,
+                format!(
+                    "vertical stroke z ∈ [{:.4}, {:.4}] m of joint 4",
+                    self.h1 - self.h2 - l4.max,
+                    self.h1 - self.h2 - l4.min
+                ),
+            ));
+        }
+        let y_star = Self::offset(self.r_c, f.x);
+        let q1 = f.y - y_star;
+        let elbow = match previous {
+            Some(p) if p[2] < 0.0 => Elbow::Left,
+            _ => Elbow::Right,
+        };
+        match self.build(&target, q1, elbow, previous.map(|p| p[4]))? {
+            Some(s) => Ok(s),
+            // Unreachable by construction of the zone; reported rather than faked.
+            None => Err(Self::unreachable(0.0, "reachable annulus at the rail position of the zone rule".into())),
+        }
+    }
+}
+
+impl IkSolver for ScaraIk {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    /// Both elbow solutions with the rail chosen by the zone rule
+    /// ([`ScaraIk::solve_zone`]); α is the rotation of the target about the vertical.
+    /// A target whose z axis is not vertical is [`Unreachable::Orientation`] with the
+    /// tilt angle.
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        check_target(target)?;
+        let r = &target.rot;
+        let tilt = r[(0, 2)].hypot(r[(1, 2)]).atan2(r[(2, 2)]);
+        if tilt > 1e-9 {
+            return Err(Error::Unreachable {
+                solver: NAME.into(),
+                reason: Unreachable::Orientation {
+                    angle: tilt,
+                    detail: "a SCARA keeps its tool z axis vertical; it controls only the rotation about it".into(),
+                },
+            });
+        }
+        let alpha = r[(1, 0)].atan2(r[(0, 0)]);
+        let t = [target.pos.x, target.pos.y, target.pos.z, alpha];
+        let right = self.solve_zone(t, None)?;
+        let mut prev = right.q.clone();
+        prev[2] = -1.0;
+        let left = self.solve_zone(t, Some(&prev))?;
+        let mut out = Vec::with_capacity(2);
+        for s in [right, left] {
+            let q = s.q;
+            out.push(Solution::evaluate(&self.robot, q, target, s.branch)?);
+        }
+        Ok(out)
+    }
+}
