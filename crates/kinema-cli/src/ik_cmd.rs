@@ -38,6 +38,24 @@ pub struct IkArgs {
     /// Which solver.
     #[arg(long, value_enum, default_value = "auto")]
     solver: SolverArg,
+    /// Scorbot: pitch β of the tool (seed 000 eq. 13), with --position and --roll.
+    #[arg(long, allow_hyphen_values = true, requires_all = ["position", "roll"])]
+    pitch: Option<f64>,
+    /// Scorbot: roll γ of the tool (seed 000 eq. 13), with --position and --pitch.
+    #[arg(long, allow_hyphen_values = true, requires_all = ["position", "pitch"])]
+    roll: Option<f64>,
+    /// ROMMEL: tool approach direction ax,ay,az, with --position.
+    #[arg(long, allow_hyphen_values = true, requires = "position")]
+    approach: Option<String>,
+    /// SCARA: tool angle α = q2 + q3 + q5, with --position (the zone rule picks the rail).
+    #[arg(long, allow_hyphen_values = true, requires = "position")]
+    alpha: Option<f64>,
+    /// iiwa: solve with this fixed q3 (up to 8 closed-form solutions).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "psi")]
+    q3: Option<f64>,
+    /// iiwa: solve at this arm angle ψ (one solution per global configuration).
+    #[arg(long, allow_hyphen_values = true)]
+    psi: Option<f64>,
     /// Print every solution found (default: one, nearest to --q0 when given).
     #[arg(long)]
     all: bool,
@@ -118,31 +136,119 @@ fn solution_json(robot: &Robot, s: &Solution, deg: bool) -> Value {
     v
 }
 
+/// Prints an unreachable target (JSON on stdout with --json) and exits with code 2.
+fn unreachable(a: &IkArgs, solver: &str, reason: &str) -> Result<()> {
+    if a.json {
+        print_json(&json!({"error": "unreachable", "solver": solver, "reason": reason}))?;
+    } else {
+        eprintln!("error: unreachable target ({solver} solver): {reason}");
+    }
+    Err(Exit(2).into())
+}
+
+fn triple(text: &str, what: &str) -> Result<[f64; 3]> {
+    let v = numbers(text, what, 3)?;
+    Ok([v[0], v[1], v[2]])
+}
+
+type Solved = kinema::Result<Vec<Solution>>;
+
+/// Runs the solver the arguments ask for; returns its name and its result.
+fn solve(
+    a: &IkArgs,
+    robot: &Robot,
+    pose: &Pose,
+    mask: Option<[bool; 6]>,
+    q0: Option<&[f64]>,
+) -> Result<(&'static str, Solved)> {
+    use kinema::ik::{iiwa::IiwaIk, rommel::RommelIk, scara::ScaraIk, scorbot::ScorbotIk};
+    let ang = |v: f64| if a.deg { v.to_radians() } else { v };
+    let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
+    if typed && a.solver == SolverArg::Numeric {
+        bail!("--pitch/--roll, --approach, --alpha, --q3 and --psi select an analytic solver; drop --solver numeric");
+    }
+    if (a.q3.is_some() || a.psi.is_some()) && mask.is_some() {
+        bail!("--q3 and --psi need a full target pose: give --T or --pose");
+    }
+    let position = || a.position.as_deref().map(|p| triple(p, "--position")).transpose();
+    if let (Some(pitch), Some(roll)) = (a.pitch, a.roll) {
+        let s = ScorbotIk::new(robot)?;
+        let p = position()?.expect("clap requires --position");
+        return Ok(("scorbot", s.solve_xyz_pitch_roll(p, ang(pitch), ang(roll))));
+    }
+    if let Some(ap) = &a.approach {
+        let s = RommelIk::new(robot)?;
+        let p = position()?.expect("clap requires --position");
+        return Ok(("rommel", s.solve_position_approach(p, triple(ap, "--approach")?)));
+    }
+    if let Some(alpha) = a.alpha {
+        let s = ScaraIk::new(robot)?;
+        let p = position()?.expect("clap requires --position");
+        return Ok(("scara", s.solve_zone([p[0], p[1], p[2], ang(alpha)], q0).map(|s| vec![s])));
+    }
+    if let Some(q3) = a.q3 {
+        return Ok(("iiwa", IiwaIk::new(robot)?.solve_q3(pose, ang(q3))));
+    }
+    if let Some(psi) = a.psi {
+        let s = IiwaIk::new(robot)?;
+        let all: Vec<Solution> = (0u8..8).filter_map(|c| s.solve_psi(pose, ang(psi), c).ok()).collect();
+        if all.is_empty() {
+            // Report the reason the first configuration gives.
+            return Ok(("iiwa", s.solve_psi(pose, ang(psi), 0).map(|x| vec![x])));
+        }
+        return Ok(("iiwa", Ok(all)));
+    }
+    // iiwa with a previous configuration: seed 004 §V-E's q_k = f(q_{k−1}, T_k)
+    // (q3 searched near the previous one), else the closed form at q3 = q0[2].
+    if let (Some(q0), None, false, true) = (q0, mask, a.all, a.solver != SolverArg::Numeric) {
+        if let Ok(s) = IiwaIk::new(robot) {
+            return Ok(("iiwa", s.select(q0, pose, None).map(|x| vec![x]).or_else(|_| s.solve_q3(pose, q0[2]))));
+        }
+    }
+    let analytic =
+        if mask.is_none() && a.solver != SolverArg::Numeric { kinema::ik::analytic_solver(robot) } else { None };
+    match (a.solver, analytic) {
+        (SolverArg::Analytic, None) => bail!(
+            "robot `{}` has no analytic solver for this target (analytic solvers: iiwa-type 7R, 6R with a spherical wrist, Scorbot, SCARA on a rail, ROMMEL; position-only targets are numeric); use --solver numeric",
+            robot.name()
+        ),
+        (_, Some(s)) => Ok((s.name(), s.solve(pose))),
+        (_, None) => {
+            let opts = NumericOptions { seed: a.seed, mask, ..Default::default() };
+            let solver = NumericIk::with_options(robot, opts)?;
+            let result = match q0 {
+                Some(q0) => solver.solve_from(pose, q0).map(|s| vec![s]),
+                None => solver.solve(pose),
+            };
+            Ok(("numeric", result))
+        }
+    }
+}
+
 pub fn ik(a: IkArgs) -> Result<()> {
     let robot = a.robot.load()?;
     let (pose, mask) = target(&a, &robot)?;
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
-    if a.solver == SolverArg::Analytic {
-        bail!("robot `{}` has no analytic solver yet; use --solver numeric", robot.name());
-    }
-    let opts = NumericOptions { seed: a.seed, mask, ..Default::default() };
-    let solver = NumericIk::with_options(&robot, opts)?;
-    let result = match &q0 {
-        Some(q0) => solver.solve_from(&pose, q0).map(|s| vec![s]),
-        None => solver.solve(&pose),
-    };
-    let solutions = match result {
+    let (name, result) = solve(&a, &robot, &pose, mask, q0.as_deref())?;
+    let mut solutions = match result {
         Ok(s) => s,
-        Err(Error::Unreachable { solver, reason }) => {
-            if a.json {
-                print_json(&json!({"error": "unreachable", "solver": solver, "reason": reason.to_string()}))?;
-            } else {
-                eprintln!("error: unreachable target ({solver} solver): {reason}");
-            }
-            return Err(Exit(2).into());
-        }
+        Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),
         Err(e) => return Err(e.into()),
     };
+    if !a.all && !solutions.iter().any(Solution::within_limits) {
+        let rejected: Vec<String> = solutions
+            .iter()
+            .map(|s| {
+                let j: Vec<String> = s.out_of_limits.indices().map(|i| format!("q{}", i + 1)).collect();
+                format!("{} ({})", s.branch, j.join(", "))
+            })
+            .collect();
+        let reason = kinema::ik::Unreachable::JointLimits { rejected };
+        return unreachable(&a, name, &reason.to_string());
+    }
+    if !a.all {
+        solutions.retain(Solution::within_limits);
+    }
     let chosen: Vec<&Solution> = if a.all {
         solutions.iter().collect()
     } else {
@@ -154,9 +260,9 @@ pub fn ik(a: IkArgs) -> Result<()> {
     };
     if a.json {
         let list: Vec<Value> = chosen.iter().map(|s| solution_json(&robot, s, a.deg)).collect();
-        return print_json(&json!({"robot": robot.name(), "solver": solver.name(), "solutions": list}));
+        return print_json(&json!({"robot": robot.name(), "solver": name, "solutions": list}));
     }
-    println!("robot {}  solver {}  {} solution(s)", robot.name(), solver.name(), chosen.len());
+    println!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len());
     for s in chosen {
         let unit = if a.deg { "deg/m" } else { "rad/m" };
         let q: Vec<String> =

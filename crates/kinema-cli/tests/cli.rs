@@ -354,3 +354,66 @@ fn ik_position_only_and_unreachable_exit_code() {
     let e = fails(&["ik", "--robot", "ur5"]);
     assert!(e.contains("give a target"), "{e}");
 }
+
+#[test]
+fn ik_analytic_solvers_from_the_command_line() {
+    // PUMA 560: Pieper solver, all 8 branches, each reaching the target.
+    let robot = Robot::builtin("puma560").unwrap();
+    let q = [0.3, 0.7, -2.2, 0.4, 0.9, -0.5];
+    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
+    let v = json(&["ik", "--robot", "puma560", "--T", &t.join(","), "--all", "--json"]);
+    assert_eq!(v["solver"], "pieper");
+    let sols = v["solutions"].as_array().unwrap();
+    assert_eq!(sols.len(), 8);
+    for s in sols {
+        assert!(s["position_error"].as_f64().unwrap() < 1e-10, "{s}");
+        assert!(s["branch"].as_str().unwrap().contains("shoulder"), "{s}");
+    }
+    // iiwa with a fixed q3: the closed form keeps q3.
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let q = [0.4, 0.6, -0.3, -1.1, 0.5, 0.9, -0.2];
+    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
+    let v = json(&["ik", "--robot", "lbr-iiwa-14-r820", "--T", &t.join(","), "--q3", "-0.3", "--all", "--json"]);
+    assert_eq!(v["solver"], "iiwa");
+    let sols = v["solutions"].as_array().unwrap();
+    assert!(sols.len() >= 2 && sols.len() <= 8);
+    let found = sols.iter().any(|s| {
+        let got: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        got.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)
+    });
+    assert!(found, "original configuration not among {sols:?}");
+    // Scorbot typed target, degrees.
+    let v = json(&[
+        "ik",
+        "--robot",
+        "scorbot-er-v-plus",
+        "--position",
+        "0.3,0.1,0.4",
+        "--pitch",
+        "-60",
+        "--roll",
+        "10",
+        "--deg",
+        "--all",
+        "--json",
+    ]);
+    assert_eq!(v["solver"], "scorbot");
+    assert!(v["solutions"].as_array().unwrap().len() >= 2);
+    // SCARA with the zone rule.
+    let v = json(&["ik", "--robot", "scara5", "--position", "0.4,0.6,0.2", "--alpha", "30", "--deg", "--json"]);
+    assert_eq!(v["solver"], "scara");
+    assert_eq!(v["solutions"][0]["within_limits"], true);
+    // A robot without an analytic solver, asked for one.
+    let e = fails(&["ik", "--robot", "panda", "--pose", "0.4,0.1,0.5,3.14,0,0", "--solver", "analytic"]);
+    assert!(e.contains("no analytic solver"), "{e}");
+    // ROMMEL approach it cannot take: exit code 2 with the reason.
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["ik", "--robot", "rommel", "--position", "0.2,0.5,0.1", "--approach", "0,0,1", "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["reason"].as_str().unwrap().contains("orientation"), "{v}");
+}

@@ -236,6 +236,39 @@ pub trait IkSolver: Send + Sync {
     }
 }
 
+/// The analytic solver that fits `robot`, if one does. Each candidate checks
+/// the robot's structure (not its name), in this order: the iiwa-type SRS arm
+/// ([`iiwa::IiwaIk`], q3 = 0 by default), 6R arms with a spherical wrist
+/// ([`pieper::PieperIk`]), the Scorbot ([`scorbot::ScorbotIk`]), the SCARA on a
+/// rail ([`scara::ScaraIk`]) and ROMMEL ([`rommel::RommelIk`]).
+///
+/// # Examples
+/// ```
+/// let puma = kinema::Robot::builtin("puma560")?;
+/// assert_eq!(kinema::ik::analytic_solver(&puma).map(|s| s.name()), Some("pieper"));
+/// let panda = kinema::Robot::builtin("panda")?;
+/// assert!(kinema::ik::analytic_solver(&panda).is_none());
+/// # Ok::<(), kinema::Error>(())
+/// ```
+pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
+    if let Ok(s) = iiwa::IiwaIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = pieper::PieperIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = scorbot::ScorbotIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = scara::ScaraIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = rommel::RommelIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    None
+}
+
 /// Rejects a target with NaN/inf entries or a rotation block that is not a rotation.
 pub fn check_target(target: &Pose) -> Result<()> {
     if !target.is_finite() {
