@@ -286,3 +286,104 @@ pub fn ik(a: IkArgs) -> Result<()> {
     }
     Ok(())
 }
+
+#[derive(Args)]
+pub struct ValidateArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// Number of random configurations.
+    #[arg(long, default_value_t = 1000)]
+    n: usize,
+    /// Seed of the random configurations.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `kinema ik-validate`: for the iiwa, IK with the original q3 (the paper's
+/// experiment); for other robots, the robot's analytic solver on the full pose.
+pub fn validate(a: ValidateArgs) -> Result<()> {
+    let robot = a.robot.load()?;
+    if a.n == 0 {
+        bail!("--n must be at least 1");
+    }
+    let v = if let Ok(s) = kinema::ik::iiwa::IiwaIk::new(&robot) {
+        let r = s.validate(a.n, a.seed);
+        json!({
+            "robot": robot.name(), "solver": "iiwa (same q3)", "cases": r.cases, "max_error": r.max_error,
+            "mean_error": r.mean_error, "recovered_fraction": r.recovered_fraction,
+            "max_error_away_from_singularities": r.max_error_regular, "regular_cases": r.regular_cases,
+        })
+    } else {
+        let Some(solver) = kinema::ik::analytic_solver(&robot) else {
+            bail!("robot `{}` has no analytic solver to validate", robot.name());
+        };
+        let r = kinema::ik::round_trip(&robot, solver.as_ref(), a.n, a.seed)?;
+        json!({
+            "robot": robot.name(), "solver": solver.name(), "cases": r.cases, "solved": r.solved,
+            "max_error": r.max_error, "mean_error": r.mean_error, "recovered_fraction": r.recovered_fraction,
+            "max_position_residual": r.max_position_residual,
+        })
+    };
+    if a.json {
+        return print_json(&v);
+    }
+    println!("robot {}  solver {}  {} cases (seed {})", robot.name(), v["solver"], a.n, a.seed);
+    println!(
+        "max |Δq| {:.3e}, mean {:.3e}, recovered {:.2} %",
+        v["max_error"].as_f64().unwrap_or(f64::NAN),
+        v["mean_error"].as_f64().unwrap_or(f64::NAN),
+        v["recovered_fraction"].as_f64().unwrap_or(0.0) * 100.0
+    );
+    Ok(())
+}
+
+#[derive(Args)]
+pub struct SelfMotionArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// The configuration whose tool pose is kept (comma-separated or a named pose).
+    #[arg(long, allow_hyphen_values = true)]
+    q: String,
+    /// Revolute values in degrees.
+    #[arg(long)]
+    deg: bool,
+    /// Number of samples around the self-motion.
+    #[arg(long, default_value_t = 36)]
+    steps: usize,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `kinema selfmotion`: the iiwa's self-motion through `--q` (seed 004 §V-D, Fig. 7).
+pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
+    let robot = a.robot.load()?;
+    let s = kinema::ik::iiwa::IiwaIk::new(&robot)?;
+    let q = robot.parse_q(&a.q, a.deg)?;
+    let samples = s.self_motion(&q, a.steps)?;
+    if a.json {
+        let list: Vec<Value> = samples
+            .iter()
+            .map(|m| {
+                json!({"psi": m.psi, "q3": m.q3, "q": m.q, "elbow": [m.elbow.x, m.elbow.y, m.elbow.z], "within_limits": m.within_limits})
+            })
+            .collect();
+        return print_json(&json!({"robot": robot.name(), "samples": list}));
+    }
+    println!("robot {}: {} samples of the self-motion through q", robot.name(), samples.len());
+    for m in &samples {
+        println!(
+            "  ψ {:>8.4}  q3 {:>8.4}  elbow [{:.4}, {:.4}, {:.4}]  {}",
+            m.psi,
+            m.q3,
+            m.elbow.x,
+            m.elbow.y,
+            m.elbow.z,
+            if m.within_limits { "within limits" } else { "outside limits" }
+        );
+    }
+    Ok(())
+}

@@ -57,6 +57,10 @@ enum Cmd {
     Manip(ManipArgs),
     /// Inverse kinematics: joint values that reach a target pose (exit code 2 if unreachable).
     Ik(ik_cmd::IkArgs),
+    /// Round-trip validation of a robot's analytic IK (seed 004 §V-C): random q → FK → IK → q.
+    IkValidate(ik_cmd::ValidateArgs),
+    /// iiwa self-motion: configurations and elbow positions that keep the tool pose of --q.
+    Selfmotion(ik_cmd::SelfMotionArgs),
     /// Time FK and the Jacobian (and, with --ik, inverse kinematics) over random configurations.
     Bench(BenchArgs),
 }
@@ -209,6 +213,8 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Jacobian(a) => jacobian(a),
         Cmd::Manip(a) => manip(a),
         Cmd::Ik(a) => ik_cmd::ik(a),
+        Cmd::IkValidate(a) => ik_cmd::validate(a),
+        Cmd::Selfmotion(a) => ik_cmd::selfmotion(a),
         Cmd::Bench(a) => bench(a),
     }
 }

@@ -417,3 +417,27 @@ fn ik_analytic_solvers_from_the_command_line() {
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["reason"].as_str().unwrap().contains("orientation"), "{v}");
 }
+
+#[test]
+fn ik_validate_and_selfmotion() {
+    let v = json(&["ik-validate", "--robot", "lbr-iiwa-14-r820", "--n", "500", "--json"]);
+    assert!(v["max_error"].as_f64().unwrap() < 1e-9, "{v}");
+    assert_eq!(v["recovered_fraction"], 1.0);
+    let v = json(&["ik-validate", "--robot", "scorbot-er-v-plus", "--n", "500", "--json"]);
+    assert_eq!(v["solver"], "scorbot");
+    assert!(v["max_error"].as_f64().unwrap() < 1e-9, "{v}");
+    let e = fails(&["ik-validate", "--robot", "panda", "--n", "10"]);
+    assert!(e.contains("no analytic solver"), "{e}");
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let want = robot.fk(robot.pose("fig9").unwrap()).unwrap().pose;
+    let v = json(&["selfmotion", "--robot", "lbr-iiwa-14-r820", "--q", "fig9", "--steps", "12", "--json"]);
+    let samples = v["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 12);
+    for s in samples {
+        let q: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        let p = robot.fk(&q).unwrap().pose;
+        assert!((p.pos - want.pos).norm() < 1e-9 && (p.rot - want.rot).norm() < 1e-9);
+    }
+    let e = fails(&["selfmotion", "--robot", "puma560", "--q", "home"]);
+    assert!(e.contains("puma560"), "{e}");
+}

@@ -24,7 +24,7 @@ use common::*;
 
 const N_TARGETS: usize = 1000;
 
-fn targets(robot: &Robot) -> Vec<Pose> {
+fn fk_targets(robot: &Robot) -> Vec<Pose> {
     let qs = configs(robot, 0x1c, N_TARGETS);
     qs.chunks_exact(robot.dof()).map(|q| robot.fk(q).expect("valid q").pose).collect()
 }
@@ -35,7 +35,7 @@ fn k_target(p: &Pose) -> Iso {
 
 fn ik(c: &mut Criterion) {
     let robot = Robot::builtin("lbr-iiwa-14-r820").expect("built-in");
-    let targets = targets(&robot);
+    let targets = fk_targets(&robot);
     let solver = NumericIk::new(&robot);
     let ok = targets
         .iter()
@@ -76,6 +76,36 @@ fn ik(c: &mut Criterion) {
             i = (i + 1) % N_TARGETS;
             chain.set_joint_positions_unchecked(&home);
             black_box(k_solver.solve(&chain, black_box(&k_target(&targets[i]))).ok())
+        })
+    });
+    g.finish();
+
+    // Analytic solvers: all solutions of one target per call.
+    let mut g = c.benchmark_group("ik-analytic");
+    for name in ["lbr-iiwa-14-r820", "puma560", "scorbot-er-v-plus", "scara5", "rommel"] {
+        let robot = Robot::builtin(name).expect("built-in");
+        let solver = kinema::ik::analytic_solver(&robot).expect("analytic solver");
+        // Targets the solver can reach (the SCARA's zone rule covers part of the workspace).
+        let reachable: Vec<Pose> = fk_targets(&robot).into_iter().filter(|t| solver.solve(t).is_ok()).collect();
+        assert!(!reachable.is_empty(), "{name}: no reachable target");
+        let mut i = 0;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) % reachable.len();
+                black_box(solver.solve(black_box(&reachable[i])).ok())
+            })
+        });
+    }
+    // The iiwa's closed form for a given q3 (seed 004 eq. 3–11), 8 solutions.
+    let robot = Robot::builtin("lbr-iiwa-14-r820").expect("built-in");
+    let iiwa = kinema::ik::iiwa::IiwaIk::new(&robot).expect("iiwa");
+    let qs = configs(&robot, 0x3a, N_TARGETS);
+    let cases: Vec<(Pose, f64)> = qs.chunks_exact(7).map(|q| (robot.fk(q).expect("valid").pose, q[2])).collect();
+    let mut i = 0;
+    g.bench_function("lbr-iiwa-14-r820/solve_q3", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            black_box(iiwa.solve_q3(black_box(&cases[i].0), cases[i].1).ok())
         })
     });
     g.finish();

@@ -290,3 +290,67 @@ pub fn check_target(target: &Pose) -> Result<()> {
     }
     Ok(())
 }
+
+/// Result of [`round_trip`]: configuration → FK → IK → back (seed 004 §V-C,
+/// for any solver).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoundTripReport {
+    /// Configurations tried.
+    pub cases: usize,
+    /// Cases where the solver returned at least one solution.
+    pub solved: usize,
+    /// Largest |Δq| (max over joints, wrapped angles) between the original
+    /// configuration and the nearest returned solution \[rad or m\].
+    pub max_error: f64,
+    /// Mean of that error over the solved cases.
+    pub mean_error: f64,
+    /// Fraction of cases whose original configuration was recovered (error ≤ 1e-9).
+    pub recovered_fraction: f64,
+    /// Largest FK position residual of any returned solution \[m\].
+    pub max_position_residual: f64,
+}
+
+/// Round trip over `n` seeded random within-limit configurations: FK, then
+/// `solver`, then the distance from the original to the nearest solution.
+/// A solver that picks among several equally valid answers (the SCARA's rail,
+/// the iiwa's q3) need not recover the original; the residual still shows
+/// that every answer reaches its target.
+pub fn round_trip(robot: &Robot, solver: &dyn IkSolver, n: usize, seed: u64) -> Result<RoundTripReport> {
+    use rand::SeedableRng;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let (mut solved, mut recovered, mut max_error, mut sum, mut max_res) = (0, 0, 0.0f64, 0.0, 0.0f64);
+    for _ in 0..n {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q)?.pose;
+        let Ok(sols) = solver.solve(&target) else { continue };
+        if sols.is_empty() {
+            continue;
+        }
+        solved += 1;
+        let err = |s: &Solution| {
+            s.q.iter()
+                .zip(&q)
+                .zip(robot.joints())
+                .map(|((a, b), j)| {
+                    let d = a - b;
+                    (if j.kind == crate::JointType::Revolute { wrap_angle(d) } else { d }).abs()
+                })
+                .fold(0.0f64, f64::max)
+        };
+        let best = sols.iter().map(err).fold(f64::INFINITY, f64::min);
+        max_res = sols.iter().map(|s| s.position_error).fold(max_res, f64::max);
+        max_error = max_error.max(best);
+        sum += best;
+        if best <= 1e-9 {
+            recovered += 1;
+        }
+    }
+    Ok(RoundTripReport {
+        cases: n,
+        solved,
+        max_error,
+        mean_error: if solved > 0 { sum / solved as f64 } else { 0.0 },
+        recovered_fraction: if n > 0 { recovered as f64 / n as f64 } else { 0.0 },
+        max_position_residual: max_res,
+    })
+}
