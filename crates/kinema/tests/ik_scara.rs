@@ -7,6 +7,8 @@ use kinema::{Error, Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+mod common;
+
 fn wrap(a: f64) -> f64 {
     kinema::ik::wrap_angle(a)
 }
@@ -255,29 +257,5 @@ fn variant_lengths_base_and_tool() {
 
 #[test]
 fn random_poses_never_panic_or_return_nan() {
-    let robot = robot();
-    let ik = IkSolver::name(&ScaraIk::new(&robot).unwrap()).to_string();
-    let solver = ScaraIk::new(&robot).unwrap();
-    let mut rng = ChaCha8Rng::seed_from_u64(2024);
-    for i in 0..3000 {
-        let rpy = [rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0)];
-        let mut rpy = rpy;
-        if i % 3 == 0 {
-            rpy[0] = 0.0;
-            rpy[1] = [0.0, std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2][i % 9 / 3];
-        }
-        let xyz = [rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)];
-        let t = Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx);
-        match solver.solve(&t) {
-            Ok(sols) => {
-                assert!(!sols.is_empty(), "{ik}");
-                for s in &sols {
-                    assert!(s.q.iter().all(|v| v.is_finite()), "{ik}: {s:?}");
-                    assert!(s.position_error < 1e-9 && s.orientation_error.is_finite(), "{ik}: {s:?}");
-                }
-            }
-            Err(Error::Unreachable { .. }) => {}
-            Err(e) => panic!("{ik}: {e}"),
-        }
-    }
+    common::random_poses_never_panic_or_return_nan(&ScaraIk::new(&robot()).unwrap());
 }

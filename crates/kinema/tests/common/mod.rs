@@ -1,0 +1,41 @@
+//! Helpers shared by the analytic-IK test files.
+#![allow(dead_code)]
+
+use kinema::ik::IkSolver;
+use kinema::{Error, Pose, RpyConvention};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Whether two joint vectors agree to `tol`, angles compared modulo 2π.
+pub fn same_angles(a: &[f64], b: &[f64], tol: f64) -> bool {
+    a.iter().zip(b).all(|(x, y)| kinema::ik::wrap_angle(x - y).abs() < tol)
+}
+
+/// 3000 random finite poses (a third with a vertical or level approach):
+/// the solver never panics, never returns NaN, and every solution it returns
+/// reaches the target position; anything else is `Unreachable`.
+pub fn random_poses_never_panic_or_return_nan(solver: &dyn IkSolver) {
+    let ik = solver.name();
+    let mut rng = ChaCha8Rng::seed_from_u64(2024);
+    for i in 0..3000 {
+        let rpy = [rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0)];
+        let mut rpy = rpy;
+        if i % 3 == 0 {
+            rpy[0] = 0.0;
+            rpy[1] = [0.0, std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2][i % 9 / 3];
+        }
+        let xyz = [rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)];
+        let t = Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx);
+        match solver.solve(&t) {
+            Ok(sols) => {
+                assert!(!sols.is_empty(), "{ik}");
+                for s in &sols {
+                    assert!(s.q.iter().all(|v| v.is_finite()), "{ik}: {s:?}");
+                    assert!(s.position_error < 1e-9 && s.orientation_error.is_finite(), "{ik}: {s:?}");
+                }
+            }
+            Err(Error::Unreachable { .. }) => {}
+            Err(e) => panic!("{ik}: {e}"),
+        }
+    }
+}
