@@ -269,6 +269,35 @@ pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
     None
 }
 
+/// A point outside the annulus \[|l1 − l2|, l1 + l2\] a planar two-link arm reaches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct AnnulusMiss {
+    /// How far outside \[m\].
+    pub by: f64,
+    /// Radius of the boundary missed \[m\].
+    pub radius: f64,
+    /// Whether it is the outer boundary (else the inner one).
+    pub outer: bool,
+}
+
+/// |Elbow angle| of a planar two-link arm with link lengths `l1`, `l2` whose
+/// tip lies at distance `r` from the shoulder, by the half-angle form of the
+/// law of cosines, tan²(θ/2) = ((l1+l2)² − r²)/(r² − (l1−l2)²), which stays
+/// accurate near the stretched and folded arm where acos loses half the digits.
+/// A point outside the annulus by more than `tol` is an [`AnnulusMiss`].
+pub(crate) fn two_link_elbow(r: f64, l1: f64, l2: f64, tol: f64) -> std::result::Result<f64, AnnulusMiss> {
+    let (outer, inner) = (l1 + l2, (l1 - l2).abs());
+    if r > outer + tol {
+        return Err(AnnulusMiss { by: r - outer, radius: outer, outer: true });
+    }
+    if r < inner - tol {
+        return Err(AnnulusMiss { by: inner - r, radius: inner, outer: false });
+    }
+    let num = ((outer - r) * (outer + r)).max(0.0);
+    let den = ((r - inner) * (r + inner)).max(0.0);
+    Ok(if num == 0.0 && den == 0.0 { 0.0 } else { 2.0 * num.sqrt().atan2(den.sqrt()) })
+}
+
 /// Rejects a target with NaN/inf entries or a rotation block that is not a rotation.
 pub fn check_target(target: &Pose) -> Result<()> {
     if !target.is_finite() {

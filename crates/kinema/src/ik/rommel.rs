@@ -217,7 +217,6 @@ impl RommelIk {
     fn branches(&self, p: &Vector3<f64>, a: &Vector3<f64>, q5_for: impl Fn(&[f64; 4]) -> f64) -> Result<Vec<Raw>> {
         let wrist = p - self.tool_z * a;
         let s = wrist.x.hypot(wrist.z);
-        let (outer, inner) = (self.a2 + self.d4, (self.a2 - self.d4).abs());
         let mut out = Vec::with_capacity(4);
         let mut miss_pos: Vec<(f64, String)> = Vec::new();
         let mut miss_rot: Option<f64> = None;
@@ -231,24 +230,19 @@ impl RommelIk {
             // Planar 2-link (a2, d4) in X' = h − d1 (up), Y' = a1 − ρ.
             let (x, y) = (wrist.y - self.d1, self.a1 - rho);
             let r = x.hypot(y);
-            if r > outer + REACH_TOL {
-                miss_pos.push((
-                    r - outer,
-                    format!("outer sphere of radius {outer:.6} m around the shoulder ({side} branch)"),
-                ));
-                continue;
-            }
-            if r < inner - REACH_TOL {
-                miss_pos.push((
-                    inner - r,
-                    format!("inner sphere of radius {inner:.6} m around the shoulder ({side} branch)"),
-                ));
-                continue;
-            }
-            // Law of cosines, half-angle form: tan²(q3/2) = ((a2+d4)² − r²)/(r² − (a2−d4)²).
-            let num = ((outer - r) * (outer + r)).max(0.0);
-            let den = ((r - inner) * (r + inner)).max(0.0);
-            let q3abs = if num == 0.0 && den == 0.0 { 0.0 } else { 2.0 * num.sqrt().atan2(den.sqrt()) };
+            // Law of cosines, half-angle form (see `two_link_elbow`).
+            let q3abs = match super::two_link_elbow(r, self.a2, self.d4, REACH_TOL) {
+                Ok(q3) => q3,
+                Err(miss) => {
+                    let which = if miss.outer { "outer" } else { "inner" };
+                    let radius = miss.radius;
+                    miss_pos.push((
+                        miss.by,
+                        format!("{which} sphere of radius {radius:.6} m around the shoulder ({side} branch)"),
+                    ));
+                    continue;
+                }
+            };
             for (elbow, es) in [("elbow-pos", 1.0), ("elbow-neg", -1.0)] {
                 let q3 = es * q3abs;
                 let q2 = if r > 1e-15 {

@@ -262,14 +262,7 @@ impl ScaraIk {
     fn planar(&self, x: f64, y: f64, elbow: Elbow) -> Option<(f64, f64)> {
         let (l1, l2) = (self.l1, self.l2);
         let r = x.hypot(y);
-        let (outer, inner) = (l1 + l2, (l1 - l2).abs());
-        if r > outer + REACH_TOL || r < inner - REACH_TOL {
-            return None;
-        }
-        // tan²(q3/2) = ((L1+L2)² − r²)/(r² − (L1−L2)²)
-        let num = ((outer - r) * (outer + r)).max(0.0);
-        let den = ((r - inner) * (r + inner)).max(0.0);
-        let q3 = elbow.sign() * if num == 0.0 && den == 0.0 { 0.0 } else { 2.0 * num.sqrt().atan2(den.sqrt()) };
+        let q3 = elbow.sign() * super::two_link_elbow(r, l1, l2, REACH_TOL).ok()?;
         // q2 = atan2(y, x) − atan2(L2·s3, L1 + L2·c3); at r = 0 (L1 = L2, folded) q2 is free: 0.
         let q2 = if r > 1e-15 { wrap_angle(y.atan2(x) - (l2 * q3.sin()).atan2(l1 + l2 * q3.cos())) } else { 0.0 };
         Some((q2, q3))

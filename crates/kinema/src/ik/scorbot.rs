@@ -310,29 +310,24 @@ impl ScorbotIk {
             let k1 = p.x * c1 + p.y * s1 - a1 - d5 * c234;
             let k2 = p.z - d1 - d5 * s234;
             let rho = k1.hypot(k2);
-            let (outer, inner) = (a2 + a3, (a2 - a3).abs());
-            if rho > outer + REACH_TOL {
-                miss.push((
-                    rho - outer,
-                    format!("outer circle of radius {outer:.6} m around the shoulder ({side} branch, wrist point)"),
-                ));
-                continue;
-            }
-            if rho < inner - REACH_TOL {
-                miss.push((
-                    inner - rho,
-                    format!("inner circle of radius {inner:.6} m around the shoulder ({side} branch, wrist point)"),
-                ));
-                continue;
-            }
             // |θ3| from the law of cosines. Seed 000 eq. 17 prints the denominator as
             // 2·a2²·a3²; it is 2·a2·a3: cos θ3 = (k1² + k2² − a2² − a3²)/(2·a2·a3).
-            // Evaluated in the equivalent half-angle form
-            // tan²(θ3/2) = ((a2+a3)² − ρ²)/(ρ² − (a2−a3)²), accurate near the stretched
-            // and folded arm where acos loses half the digits.
-            let num = ((outer - rho) * (outer + rho)).max(0.0);
-            let den = ((rho - inner) * (rho + inner)).max(0.0);
-            let th3_abs = if num == 0.0 && den == 0.0 { 0.0 } else { 2.0 * num.sqrt().atan2(den.sqrt()) };
+            // Evaluated in the equivalent half-angle form (`two_link_elbow`),
+            // accurate near the stretched and folded arm where acos loses half the digits.
+            let th3_abs = match super::two_link_elbow(rho, a2, a3, REACH_TOL) {
+                Ok(th3) => th3,
+                Err(m) => {
+                    let which = if m.outer { "outer" } else { "inner" };
+                    let radius = m.radius;
+                    miss.push((
+                        m.by,
+                        format!(
+                            "{which} circle of radius {radius:.6} m around the shoulder ({side} branch, wrist point)"
+                        ),
+                    ));
+                    continue;
+                }
+            };
             // Seed 000 claims eq. 17 (θ3 = +acos ≥ 0) is "codo arriba" while defining
             // codo arriba as θ3 < 0: with θ2 from eq. 20, θ3 > 0 puts the elbow *below*
             // the shoulder–wrist line when the wrist is in front, above it at the back.
