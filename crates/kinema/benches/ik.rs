@@ -108,6 +108,64 @@ fn ik(c: &mut Criterion) {
             black_box(iiwa.solve_q3(black_box(&cases[i].0), cases[i].1).ok())
         })
     });
+    let mut i = 0;
+    g.bench_function("lbr-iiwa-14-r820/solve_q3_candidates", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            black_box(iiwa.solve_q3_candidates(black_box(&cases[i].0), cases[i].1).ok())
+        })
+    });
+    // The Scorbot's natural target (x, y, z, pitch, roll), seed 000 eq. 13–23.
+    let robot = Robot::builtin("scorbot-er-v-plus").expect("built-in");
+    let scorbot = kinema::ik::scorbot::ScorbotIk::new(&robot).expect("scorbot");
+    let typed: Vec<([f64; 3], f64, f64)> = configs(&robot, 0x5c, N_TARGETS)
+        .chunks_exact(5)
+        .map(|q| {
+            let p = robot.fk(q).expect("valid").pose.pos;
+            // β = −θ234 and γ = θ5 with θ4 = q4 − π/2 (seed 000 Tabla I offsets).
+            ([p.x, p.y, p.z], -(q[1] + q[2] + q[3]), q[4])
+        })
+        .collect();
+    for (name, kernel) in
+        [("scorbot-er-v-plus/xyz_pitch_roll", false), ("scorbot-er-v-plus/xyz_pitch_roll_candidates", true)]
+    {
+        let mut i = 0;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) % typed.len();
+                let (p, pitch, roll) = black_box(typed[i]);
+                if kernel {
+                    black_box(scorbot.xyz_pitch_roll_candidates(p, pitch, roll).ok().map(|c| c.len()))
+                } else {
+                    black_box(scorbot.solve_xyz_pitch_roll(p, pitch, roll).ok().map(|s| s.len()))
+                }
+            })
+        });
+    }
+    // The SCARA's closed form for a given rail position q1, seed 003 eq. 1.
+    let robot = Robot::builtin("scara5").expect("built-in");
+    let scara = kinema::ik::scara::ScaraIk::new(&robot).expect("scara");
+    let rail: Vec<([f64; 4], f64)> = configs(&robot, 0x5d, N_TARGETS)
+        .chunks_exact(5)
+        .map(|q| {
+            let t = robot.fk(q).expect("valid").pose;
+            ([t.pos.x, t.pos.y, t.pos.z, t.rot[(1, 0)].atan2(t.rot[(0, 0)])], q[0])
+        })
+        .collect();
+    for (name, kernel) in [("scara5/with_rail", false), ("scara5/rail_candidates", true)] {
+        let mut i = 0;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) % rail.len();
+                let (t, q1) = black_box(rail[i]);
+                if kernel {
+                    black_box(scara.rail_candidates(t, q1).ok().map(|c| c.len()))
+                } else {
+                    black_box(scara.solve_with_rail(t, q1).ok().map(|s| s.len()))
+                }
+            })
+        });
+    }
     g.finish();
 }
 

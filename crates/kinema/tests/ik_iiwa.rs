@@ -11,6 +11,8 @@ use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+mod common;
+
 const ROBOT: &str = "lbr-iiwa-14-r820";
 
 fn setup() -> (Robot, IiwaIk) {
@@ -97,7 +99,7 @@ fn default_q3_is_zero() {
     assert!(sols.iter().all(|s| s.q[2] == 0.0));
     assert!(sols.iter().any(|s| max_diff(&s.q, &q) < 1e-12));
     // All eight labels differ here.
-    let mut labels: Vec<&str> = sols.iter().map(|s| s.branch.as_str()).collect();
+    let mut labels: Vec<&str> = sols.iter().map(|s| s.branch.as_ref()).collect();
     labels.sort();
     labels.dedup();
     assert_eq!(labels.len(), 8);
@@ -436,4 +438,19 @@ fn validation_1e5() {
     assert!(r.max_error < 1e-8, "{r:?}");
     assert!(r.max_error_regular < 1e-10, "{r:?}");
     assert!(r.mean_error < 1e-13, "{r:?}");
+}
+
+#[test]
+fn solve_q3_kernel_matches_solve_q3() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let ik = IiwaIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(79);
+    for _ in 0..3000 {
+        let q = robot.random_q(&mut rng);
+        let t = robot.fk(&q).unwrap().pose;
+        let c = ik.solve_q3_candidates(&t, q[2]).unwrap();
+        let s = ik.solve_q3(&t, q[2]).unwrap();
+        common::kernel_matches_solve(&robot, &c, &s, [t.pos.x, t.pos.y, t.pos.z]);
+        assert!(c.qs().iter().any(|c| common::same_angles(c, &q, 1e-9)), "{q:?} not among {c:?}");
+    }
 }

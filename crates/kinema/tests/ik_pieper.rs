@@ -93,7 +93,7 @@ fn puma560_round_trips() {
             worst = (worst.0.max(s.position_error), worst.1.max(s.orientation_error));
         }
         // Every branch label appears exactly once.
-        let mut labels: Vec<&str> = sols.iter().map(|s| s.branch.as_str()).collect();
+        let mut labels: Vec<&str> = sols.iter().map(|s| s.branch.as_ref()).collect();
         labels.sort();
         labels.dedup();
         assert_eq!(labels.len(), 8);
@@ -115,7 +115,7 @@ fn puma560_branch_labels() {
     let sols = ik.solve(&robot.fk(&qn).unwrap().pose).unwrap();
     let own = sols.iter().find(|s| same_config(&s.q, &qn, 1e-9)).unwrap();
     assert_eq!(own.branch, "shoulder-right/elbow-up/wrist-noflip");
-    let labels: Vec<&str> = sols.iter().map(|s| s.branch.as_str()).collect();
+    let labels: Vec<&str> = sols.iter().map(|s| s.branch.as_ref()).collect();
     for sh in ["right", "left"] {
         for el in ["up", "down"] {
             for wr in ["noflip", "flip"] {

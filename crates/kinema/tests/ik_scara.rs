@@ -259,3 +259,19 @@ fn variant_lengths_base_and_tool() {
 fn random_poses_never_panic_or_return_nan() {
     common::random_poses_never_panic_or_return_nan(&ScaraIk::new(&robot()).unwrap());
 }
+
+#[test]
+fn rail_kernel_matches_solve_with_rail() {
+    let robot = robot();
+    let ik = ScaraIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(77);
+    for _ in 0..3000 {
+        let q = robot.random_q(&mut rng);
+        let t = robot.fk(&q).unwrap().pose;
+        let typed = [t.pos.x, t.pos.y, t.pos.z, t.rot[(1, 0)].atan2(t.rot[(0, 0)])];
+        let c = ik.rail_candidates(typed, q[0]).unwrap();
+        let s = ik.solve_with_rail(typed, q[0]).unwrap();
+        common::kernel_matches_solve(&robot, &c, &s, [t.pos.x, t.pos.y, t.pos.z]);
+        assert!(c.qs().iter().any(|c| common::same_angles(c, &q, 1e-9)), "{q:?} not among {c:?}");
+    }
+}

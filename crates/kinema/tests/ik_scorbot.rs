@@ -112,7 +112,7 @@ fn four_branches_and_labels() {
     // A point close enough to the base for the back branch to reach it too, far
     // enough for the front wrist to lie in front of the shoulder.
     let sols = ik.solve_xyz_pitch_roll([0.2, 0.05, 0.45], 0.2, 0.3).unwrap();
-    let labels: Vec<&str> = sols.iter().map(|s| s.branch.as_str()).collect();
+    let labels: Vec<&str> = sols.iter().map(|s| s.branch.as_ref()).collect();
     assert_eq!(labels, ["front/elbow-up", "front/elbow-down", "back/elbow-up", "back/elbow-down"]);
     for s in &sols {
         // elbow-up: the elbow lies above the shoulder–wrist line (seen from the reach side).
@@ -340,4 +340,31 @@ fn variant_lengths_base_and_tool() {
 #[test]
 fn random_poses_never_panic_or_return_nan() {
     common::random_poses_never_panic_or_return_nan(&ScorbotIk::new(&robot()).unwrap());
+}
+
+#[test]
+fn kernels_match_the_evaluating_solvers() {
+    let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
+    let ik = ScorbotIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(78);
+    for _ in 0..3000 {
+        let q = robot.random_q(&mut rng);
+        let t = robot.fk(&q).unwrap().pose;
+        let p = [t.pos.x, t.pos.y, t.pos.z];
+        let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
+        let c = ik.xyz_pitch_roll_candidates(p, pitch, roll).unwrap();
+        let s = ik.solve_xyz_pitch_roll(p, pitch, roll).unwrap();
+        common::kernel_matches_solve(&robot, &c, &s, p);
+        assert!(c.qs().iter().any(|c| common::same_angles(c, &q, 1e-9)), "{q:?} not among {c:?}");
+        let c = ik.pose_candidates(&t).unwrap();
+        assert!(c.qs().iter().any(|c| common::same_angles(c, &q, 1e-9)), "{q:?} not among {c:?}");
+        let mut s = ik.solve(&t).unwrap();
+        // `solve` sorts by orientation error; compare as sets of (label, q).
+        s.sort_by(|a, b| a.branch.cmp(&b.branch));
+        let mut pairs: Vec<_> = c.iter().collect();
+        pairs.sort_by(|a, b| a.1.cmp(b.1));
+        for ((q, label), s) in pairs.iter().zip(&s) {
+            assert_eq!((&q[..], *label), (&s.q[..], s.branch.as_ref()));
+        }
+    }
 }

@@ -69,10 +69,11 @@ use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::{check_target, joint_distance, wrap_angle, IkSolver, Solution, Unreachable};
+use super::{check_target, joint_distance, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
 use crate::kin::Frame;
+use crate::math::FastMath;
 use crate::math::{rot_y, rot_z, Pose};
 use crate::model::{DhConvention, JointType, LinkGeometry, Robot};
 
@@ -191,19 +192,52 @@ fn invalid(message: String) -> Error {
 /// always computed from a and the whole matrix, so the triple reproduces m
 /// even when a is ill-conditioned.
 fn zyz(m: &Matrix3<f64>, sign: f64, hint: f64) -> (f64, f64, f64) {
-    let sb = m[(0, 2)].hypot(m[(1, 2)]);
-    let b = (sign * sb).atan2(m[(2, 2)]);
-    let a = if sb < SINGULAR_SIN { hint } else { (sign * m[(1, 2)]).atan2(sign * m[(0, 2)]) };
+    let sb = m[(0, 2)].fast_hypot(m[(1, 2)]);
+    let b = (sign * sb).fast_atan2(m[(2, 2)]);
+    let a = if sb < SINGULAR_SIN { hint } else { (sign * m[(1, 2)]).fast_atan2(sign * m[(0, 2)]) };
     // Rz(c) = Ry(−b)·Rz(−a)·m; its row 1 is row 1 of Rz(−a)·m.
-    let (sa, ca) = a.sin_cos();
-    let c = (ca * m[(1, 0)] - sa * m[(0, 0)]).atan2(ca * m[(1, 1)] - sa * m[(0, 1)]);
+    let (sa, ca) = a.fast_sin_cos();
+    let c = (ca * m[(1, 0)] - sa * m[(0, 0)]).fast_atan2(ca * m[(1, 1)] - sa * m[(0, 1)]);
     (wrap_angle(a), b, wrap_angle(c))
+}
+
+/// Both ZYZ triples of `m`, sin b ≥ 0 first: the same as [`zyz`] with sign +1
+/// and −1, the second derived from the first as (a + π, −b, c + π) instead of
+/// being solved again (at |sin b| < [`SINGULAR_SIN`]: (hint, −b, c)).
+fn zyz_pair(m: &Matrix3<f64>, hint: f64) -> [(f64, f64, f64); 2] {
+    let sb = m[(0, 2)].fast_hypot(m[(1, 2)]);
+    let b = sb.fast_atan2(m[(2, 2)]);
+    let (a, sa, ca) = if sb < SINGULAR_SIN {
+        let (sa, ca) = hint.fast_sin_cos();
+        (hint, sa, ca)
+    } else {
+        (m[(1, 2)].fast_atan2(m[(0, 2)]), m[(1, 2)] / sb, m[(0, 2)] / sb)
+    };
+    let c = (ca * m[(1, 0)] - sa * m[(0, 0)]).fast_atan2(ca * m[(1, 1)] - sa * m[(0, 1)]);
+    let (a, c) = (wrap_angle(a), wrap_angle(c));
+    if sb < SINGULAR_SIN {
+        [(a, b, c), (a, -b, c)]
+    } else {
+        [(a, b, c), (wrap_angle(a + PI), -b, wrap_angle(c + PI))]
+    }
+}
+
+/// Rotation about z with sine `s` and cosine `c`.
+#[inline]
+fn rz(s: f64, c: f64) -> Matrix3<f64> {
+    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// Rotation about y with sine `s` and cosine `c`.
+#[inline]
+fn ry(s: f64, c: f64) -> Matrix3<f64> {
+    Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
 }
 
 /// Rotation by `psi` about the unit axis `u` (Rodrigues).
 fn axis_rotation(u: &Vector3<f64>, psi: f64) -> Matrix3<f64> {
     let k = Matrix3::new(0.0, -u.z, u.y, u.z, 0.0, -u.x, -u.y, u.x, 0.0);
-    let (s, c) = psi.sin_cos();
+    let (s, c) = psi.fast_sin_cos();
     Matrix3::identity() + k * s + k * k * (1.0 - c)
 }
 
@@ -230,10 +264,39 @@ fn bits(q: &[f64]) -> u8 {
     c
 }
 
-/// The label `shoulder±/elbow±/wrist±` of configuration bits.
-pub fn config_label(config: u8) -> String {
-    let s = |bit: u8| if config & bit != 0 { '-' } else { '+' };
-    format!("shoulder{}/elbow{}/wrist{}", s(SHOULDER), s(ELBOW), s(WRIST))
+/// The labels `shoulder±/elbow±/wrist±`, indexed by configuration bits, then
+/// the same with the fixed-q3 shoulder side `/front` (indices 8–15) and
+/// `/back` (16–23).
+const LABELS: [&str; 24] = [
+    "shoulder+/elbow+/wrist+",
+    "shoulder-/elbow+/wrist+",
+    "shoulder+/elbow-/wrist+",
+    "shoulder-/elbow-/wrist+",
+    "shoulder+/elbow+/wrist-",
+    "shoulder-/elbow+/wrist-",
+    "shoulder+/elbow-/wrist-",
+    "shoulder-/elbow-/wrist-",
+    "shoulder+/elbow+/wrist+/front",
+    "shoulder-/elbow+/wrist+/front",
+    "shoulder+/elbow-/wrist+/front",
+    "shoulder-/elbow-/wrist+/front",
+    "shoulder+/elbow+/wrist-/front",
+    "shoulder-/elbow+/wrist-/front",
+    "shoulder+/elbow-/wrist-/front",
+    "shoulder-/elbow-/wrist-/front",
+    "shoulder+/elbow+/wrist+/back",
+    "shoulder-/elbow+/wrist+/back",
+    "shoulder+/elbow-/wrist+/back",
+    "shoulder-/elbow-/wrist+/back",
+    "shoulder+/elbow+/wrist-/back",
+    "shoulder-/elbow+/wrist-/back",
+    "shoulder+/elbow-/wrist-/back",
+    "shoulder-/elbow-/wrist-/back",
+];
+
+/// The label `shoulder±/elbow±/wrist±` of configuration bits (higher bits ignored).
+pub fn config_label(config: u8) -> &'static str {
+    LABELS[usize::from(config & 7)]
 }
 
 impl IiwaIk {
@@ -361,16 +424,16 @@ impl IiwaIk {
 
     /// All solutions (joint vectors, without FK evaluation) for a fixed q3,
     /// seed 004 eq. 3–11, with `q1_hint` used at the shoulder singularity.
-    fn solve_q3_raw(&self, t: &ArmTarget, q3: f64, q1_hint: f64) -> Result<Vec<([f64; 7], bool)>> {
+    fn solve_q3_raw(&self, t: &ArmTarget, q3: f64, q1_hint: f64) -> Result<Candidates<7, 8>> {
         let w = &t.w;
         let el = self.elbow(w.norm())?;
-        let (s3, c3) = q3.sin_cos();
-        let rho = w.x.hypot(w.y);
-        let mut out: Vec<([f64; 7], bool)> = Vec::with_capacity(8);
+        let (s3, c3) = q3.fast_sin_cos();
+        let rho = w.x.fast_hypot(w.y);
+        let mut out = Candidates::<7, 8>::default();
         let mut worst = 0.0f64;
         for elbow in [1.0, -1.0] {
             let s4 = elbow * el.s4;
-            let q4 = s4.atan2(el.c4);
+            let q4 = s4.fast_atan2(el.c4);
             // Wrist point in frame 2 (seed 004 eq. 5: ²p₅).
             let (px, py, pz) = (self.d5 * c3 * s4, self.d5 * s3 * s4, self.d3 + self.d5 * el.c4);
             // (wx, wy) = Rz(q1)·(u, py) and (u, wz) = the (x, z) part of Ry(q2)·²p₅:
@@ -381,36 +444,41 @@ impl IiwaIk {
                 continue;
             }
             let u_abs = (gap.max(0.0) * (rho + py.abs())).sqrt();
+            // Rz(q3)·Ry(q4), shared by both shoulders.
+            let r24 = rz(s3, c3) * ry(s4, el.c4);
             for shoulder in [1.0, -1.0] {
                 let u = shoulder * u_abs;
                 // Seed 004 eq. 9 (q1 = α ± arccos(x_w/R), one of the two chosen
                 // by FK) and eq. 8 (q2 = α ± arccos((z_w − d1)/R)) are correct but
                 // leave the choice of sign to a later FK test; they are written
-                // here as differences of atan2, which pick the matching pair
-                // directly and keep full precision.
-                let q1 = if u.hypot(py) < SINGULAR_SIN { q1_hint } else { wrap_angle(w.y.atan2(w.x) - py.atan2(u)) };
-                let u = if u.hypot(py) < SINGULAR_SIN {
+                // here as the angle between two vectors of equal length,
+                // q1 = ∠(wx, wy) − ∠(u, py) and q2 = ∠(wz, u) − ∠(pz, px), one
+                // atan2 of cross and dot product each, which picks the matching
+                // pair directly and keeps full precision.
+                let (q1, s1, c1, u) = if u.fast_hypot(py) < SINGULAR_SIN {
                     // Wrist on the axis of joint 1: q1 is free; recompute u for the chosen q1.
-                    let (s1, c1) = q1.sin_cos();
-                    c1 * w.x + s1 * w.y
+                    let (s1, c1) = q1_hint.fast_sin_cos();
+                    (q1_hint, s1, c1, c1 * w.x + s1 * w.y)
                 } else {
-                    u
+                    let (y, x) = (w.y * u - w.x * py, w.x * u + w.y * py);
+                    let h = y.fast_hypot(x);
+                    (y.fast_atan2(x), y / h, x / h, u)
                 };
-                let q2 = wrap_angle(u.atan2(w.z) - px.atan2(pz));
-                let r04 = rot_z(q1) * rot_y(q2) * rot_z(q3) * rot_y(q4);
-                let r47 = r04.transpose() * t.r07;
-                for wrist in [1.0, -1.0] {
-                    // Seed 004 eq. 10–11 (ZYZ angles of ⁴T₇) are right up to a
-                    // multiple of 2π: eq. 10's q5 = atan2(·) + π and eq. 11's
-                    // q7 = atan2(·) − π leave (−π, π] (e.g. q5 = 190° instead of
-                    // −170°, which is outside the ±170° limit though the pose is
-                    // the same); every angle is wrapped to (−π, π] here.
-                    let (q5, q6, q7) = zyz(&r47, wrist, 0.0);
+                let (y, x) = (u * pz - w.z * px, w.z * pz + u * px);
+                let h = y.fast_hypot(x);
+                let (q2, s2, c2) = if h > 0.0 { (y.fast_atan2(x), y / h, x / h) } else { (0.0, 0.0, 1.0) };
+                let r04 = rz(s1, c1) * ry(s2, c2) * r24;
+                let r47 = r04.tr_mul(&t.r07);
+                // Seed 004 eq. 10–11 (ZYZ angles of ⁴T₇) are right up to a
+                // multiple of 2π: eq. 10's q5 = atan2(·) + π and eq. 11's
+                // q7 = atan2(·) − π leave (−π, π] (e.g. q5 = 190° instead of
+                // −170°, which is outside the ±170° limit though the pose is
+                // the same); every angle is wrapped to (−π, π] here.
+                let side = if shoulder > 0.0 { 8 } else { 16 };
+                for (q5, q6, q7) in zyz_pair(&r47, 0.0) {
                     let q = [q1, q2, q3, q4, q5, q6, q7];
-                    let dup = out.iter().any(|o| o.0.iter().zip(&q).all(|(a, b)| wrap_angle(a - b).abs() < 1e-12));
-                    if !dup {
-                        out.push((q, shoulder > 0.0));
-                    }
+                    // Coinciding solutions (singular cases) are kept once.
+                    out.push_unique(q, LABELS[side + usize::from(bits(&q))], 1e-12, true);
                 }
             }
         }
@@ -459,13 +527,30 @@ impl IiwaIk {
             return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
         }
         let t = self.arm_target(target)?;
-        self.solve_q3_raw(&t, q3, 0.0)?
-            .into_iter()
-            .map(|(q, front)| {
-                let label = format!("{}/{}", config_label(bits(&q)), if front { "front" } else { "back" });
-                Solution::evaluate(&self.robot, q.to_vec(), target, label)
-            })
-            .collect()
+        self.solve_q3_raw(&t, q3, 0.0)?.evaluate(&self.robot, target)
+    }
+
+    /// The closed form of [`IiwaIk::solve_q3`] alone: the joint vectors and
+    /// branch labels, without the FK residual check and without allocating.
+    /// Same errors.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::iiwa::IiwaIk;
+    /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+    /// let ik = IiwaIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.pose, q[2])?;
+    /// assert_eq!(c.len(), 8);
+    /// assert!(c.qs().iter().any(|s| s.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)));
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_q3_candidates(&self, target: &Pose, q3: f64) -> Result<Candidates<7, 8>> {
+        if !q3.is_finite() {
+            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+        }
+        let t = self.arm_target(target)?;
+        self.solve_q3_raw(&t, q3, 0.0)
     }
 
     /// The configuration bits of `q` ([`SHOULDER`] | [`ELBOW`] | [`WRIST`], a
@@ -482,11 +567,11 @@ impl IiwaIk {
     /// The reference rotation R₀₃°·Rx(90°) = Rz(q1°)·Ry(q2°) of the arm with
     /// q3 = 0 and the given elbow angle placing the wrist at `w`.
     fn reference(&self, w: &Vector3<f64>, c4: f64, s4: f64) -> Matrix3<f64> {
-        let rho = w.x.hypot(w.y);
-        let q1 = if rho < SINGULAR_SIN { 0.0 } else { w.y.atan2(w.x) };
-        let (s1, c1) = q1.sin_cos();
+        let rho = w.x.fast_hypot(w.y);
+        let q1 = if rho < SINGULAR_SIN { 0.0 } else { w.y.fast_atan2(w.x) };
+        let (s1, c1) = q1.fast_sin_cos();
         let u = c1 * w.x + s1 * w.y;
-        let q2 = u.atan2(w.z) - (self.d5 * s4).atan2(self.d3 + self.d5 * c4);
+        let q2 = u.fast_atan2(w.z) - (self.d5 * s4).fast_atan2(self.d3 + self.d5 * c4);
         rot_z(q1) * rot_y(q2)
     }
 
@@ -494,7 +579,7 @@ impl IiwaIk {
     fn solve_psi_raw(&self, t: &ArmTarget, psi: f64, config: u8) -> Result<[f64; 7]> {
         let el = self.elbow(t.w.norm())?;
         let s4 = sign_of(config, ELBOW) * el.s4;
-        let q4 = s4.atan2(el.c4);
+        let q4 = s4.fast_atan2(el.c4);
         let m0 = self.reference(&t.w, el.c4, s4);
         let n = t.w.norm();
         let u = if n > 0.0 { t.w / n } else { Vector3::z() };
@@ -531,7 +616,7 @@ impl IiwaIk {
             return f64::NAN;
         }
         let m = rot_z(q[0]) * rot_y(q[1]) * rot_z(q[2]);
-        let (s4, c4) = q[3].sin_cos();
+        let (s4, c4) = q[3].fast_sin_cos();
         let w = m * Vector3::new(self.d5 * s4, 0.0, self.d3 + self.d5 * c4);
         let m0 = self.reference(&w, c4, s4);
         let r = m * m0.transpose();
@@ -539,7 +624,7 @@ impl IiwaIk {
         let u = if n > 0.0 { w / n } else { Vector3::z() };
         let s = 0.5 * Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]).dot(&u);
         let c = 0.5 * (r.trace() - 1.0);
-        wrap_angle(s.atan2(c))
+        wrap_angle(s.fast_atan2(c))
     }
 
     /// The elbow (origin of DH frame 3) in world coordinates.
@@ -673,14 +758,14 @@ impl IiwaIk {
             match self.solve_q3_raw(&t, q3, q_prev[0]) {
                 Ok(sols) => {
                     let best = sols
+                        .qs()
                         .iter()
-                        .map(|(q, _)| q)
                         .filter(|q| self.robot.limit_flags(&q[..]).is_empty())
                         .map(|q| (joint_distance(&self.robot, q, q_prev), q))
                         .min_by(|a, b| a.0.total_cmp(&b.0));
                     match best {
                         Some((_, q)) => cands.push(*q),
-                        None => rejected.extend(sols.iter().map(|(q, _)| {
+                        None => rejected.extend(sols.qs().iter().map(|q| {
                             let joints: Vec<String> =
                                 self.robot.limit_flags(q).indices().map(|i| format!("q{}", i + 1)).collect();
                             format!("{} at q3 = {q3:.4} ({})", config_label(bits(q)), joints.join(", "))
@@ -733,7 +818,7 @@ impl IiwaIk {
     fn elbow_height(&self, q: &[f64]) -> f64 {
         let m = rot_z(q[0]) * rot_y(q[1]);
         let e = m * Vector3::new(0.0, 0.0, self.d3);
-        let (s4, c4) = q[3].sin_cos();
+        let (s4, c4) = q[3].fast_sin_cos();
         let w = m * rot_z(q[2]) * Vector3::new(self.d5 * s4, 0.0, self.d3 + self.d5 * c4);
         let rb = self.robot.base().rot;
         let (e, w) = (rb * e, rb * w);
@@ -763,8 +848,9 @@ impl IiwaIk {
             let err = self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.pose).ok()).map_or(f64::INFINITY, |t| {
                 match self.solve_q3_raw(&t, q[2], 0.0) {
                     Ok(sols) => sols
+                        .qs()
                         .iter()
-                        .map(|(s, _)| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
+                        .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
                         .fold(f64::INFINITY, f64::min),
                     Err(_) => f64::INFINITY,
                 }
@@ -772,8 +858,8 @@ impl IiwaIk {
             if err <= RECOVERED_TOLERANCE {
                 ok += 1;
             }
-            let (s2, c2) = q[1].sin_cos();
-            let (s4, c4) = q[3].sin_cos();
+            let (s2, c2) = q[1].fast_sin_cos();
+            let (s4, c4) = q[3].fast_sin_cos();
             let u = c2 * self.d5 * q[2].cos() * s4 + s2 * (self.d3 + self.d5 * c4);
             if s4.abs().min(q[5].sin().abs()).min(u.abs() / (self.d3 + self.d5)) >= REGULAR_MARGIN {
                 regular += 1;
@@ -813,6 +899,25 @@ impl IkSolver for IiwaIk {
 mod tests {
     use super::*;
     use crate::math::rot_x;
+
+    #[test]
+    fn zyz_pair_equals_two_zyz_solves() {
+        use rand::Rng;
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        for k in 0..5000 {
+            let b = if k % 10 == 0 { [0.0, PI, 1e-13, -1e-13][k / 10 % 4] } else { rng.random_range(-PI..PI) };
+            let m = rot_z(rng.random_range(-PI..PI)) * rot_y(b) * rot_z(rng.random_range(-PI..PI));
+            let pair = zyz_pair(&m, 0.4);
+            for (got, sign) in pair.iter().zip([1.0, -1.0]) {
+                let want = zyz(&m, sign, 0.4);
+                for (g, w) in [got.0, got.1, got.2].iter().zip([want.0, want.1, want.2]) {
+                    assert!(wrap_angle(g - w).abs() < 1e-14, "b = {b}: {got:?} vs {want:?}");
+                }
+                let back = rot_z(got.0) * rot_y(got.1) * rot_z(got.2);
+                assert!((back - m).norm() < 1e-12);
+            }
+        }
+    }
 
     #[test]
     fn zyz_reproduces_the_matrix() {

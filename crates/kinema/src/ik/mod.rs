@@ -12,9 +12,11 @@
 //! Helpers on the solution list ([`Solutions`]) select all solutions, only
 //! those within limits, or the one nearest to a previous configuration.
 
+use std::borrow::Cow;
 use std::fmt;
 
 use crate::error::{Error, Result};
+use crate::math::FastMath;
 use crate::math::{pose_error, Pose};
 use crate::model::{JointSet, Robot};
 
@@ -65,8 +67,10 @@ pub struct NumericInfo {
 pub struct Solution {
     /// Joint values \[rad or m\].
     pub q: Vec<f64>,
-    /// Branch label, e.g. `elbow-up`, `shoulder-left/elbow-up/wrist-flip`, or `numeric`.
-    pub branch: String,
+    /// Branch label, e.g. `elbow-up`, `shoulder-left/elbow-up/wrist-flip`, or
+    /// `numeric` (static for the built-in solvers, so building a solution
+    /// does not allocate a string).
+    pub branch: Cow<'static, str>,
     /// Joints whose value is outside their position limits.
     pub out_of_limits: JointSet,
     /// |p_target − p(q)| \[m\], from forward kinematics on `q`.
@@ -82,7 +86,12 @@ pub struct Solution {
 impl Solution {
     /// Builds a solution from joint values, measuring its residual with FK
     /// against `target`.
-    pub fn evaluate(robot: &Robot, q: Vec<f64>, target: &Pose, branch: impl Into<String>) -> Result<Solution> {
+    pub fn evaluate(
+        robot: &Robot,
+        q: Vec<f64>,
+        target: &Pose,
+        branch: impl Into<Cow<'static, str>>,
+    ) -> Result<Solution> {
         let fk = robot.fk(&q)?;
         let e = pose_error(target, &fk.pose);
         Ok(Solution {
@@ -142,13 +151,95 @@ pub fn joint_distance(robot: &Robot, a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// `a` wrapped to (−π, π].
+#[inline]
 pub fn wrap_angle(a: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
+    // Fast path for |a| ≤ 3π (every angle the solvers produce): a ∓ 2π is
+    // exact there (Sterbenz), so the result equals the remainder below bit for bit.
+    if a > -PI && a <= PI {
+        return a;
+    }
+    if a > PI && a <= 3.0 * PI {
+        return a - TAU;
+    }
+    if a <= -PI && a > -3.0 * PI {
+        return a + TAU;
+    }
     let r = a.rem_euclid(TAU);
     if r > PI {
         r - TAU
     } else {
         r
+    }
+}
+
+/// Joint vectors from a closed form before any FK check: up to `M`
+/// candidates of `N` joints each with their branch labels, in a fixed-size
+/// buffer (no allocation). The analytic solvers' kernels
+/// (e.g. [`iiwa::IiwaIk::solve_q3_candidates`]) fill one; [`Candidates::evaluate`]
+/// turns each entry into a [`Solution`] with its FK residual.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Candidates<const N: usize, const M: usize> {
+    q: [[f64; N]; M],
+    branch: [&'static str; M],
+    len: usize,
+}
+
+impl<const N: usize, const M: usize> Default for Candidates<N, M> {
+    fn default() -> Self {
+        Candidates { q: [[0.0; N]; M], branch: [""; M], len: 0 }
+    }
+}
+
+impl<const N: usize, const M: usize> Candidates<N, M> {
+    /// Number of candidates.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The joint vectors, in the solver's order.
+    pub fn qs(&self) -> &[[f64; N]] {
+        &self.q[..self.len]
+    }
+
+    /// The branch labels, parallel to [`Candidates::qs`].
+    pub fn branches(&self) -> &[&'static str] {
+        &self.branch[..self.len]
+    }
+
+    /// (joint vector, branch label) pairs.
+    pub fn iter(&self) -> impl Iterator<Item = (&[f64; N], &'static str)> + '_ {
+        self.qs().iter().zip(self.branches().iter().copied())
+    }
+
+    /// Appends `q` unless it equals a candidate already present (every joint
+    /// within `tol`, angles compared modulo 2π when `angular`) or the buffer
+    /// is full. Returns whether it was added.
+    pub(crate) fn push_unique(&mut self, q: [f64; N], branch: &'static str, tol: f64, angular: bool) -> bool {
+        let same = |a: &[f64; N]| {
+            a.iter().zip(&q).all(|(x, y)| {
+                let d = (x - y).abs();
+                d < tol || (angular && (d - std::f64::consts::TAU).abs() < tol)
+            })
+        };
+        if self.len == M || self.qs().iter().any(same) {
+            return false;
+        }
+        self.q[self.len] = q;
+        self.branch[self.len] = branch;
+        self.len += 1;
+        true
+    }
+
+    /// Every candidate as a [`Solution`], its residual measured by FK on
+    /// `robot` against `target`.
+    pub fn evaluate(&self, robot: &Robot, target: &Pose) -> Result<Vec<Solution>> {
+        self.iter().map(|(q, b)| Solution::evaluate(robot, q.to_vec(), target, b)).collect()
     }
 }
 
@@ -280,12 +371,22 @@ pub(crate) struct AnnulusMiss {
     pub outer: bool,
 }
 
+/// The elbow angle θ ∈ \[0, π\] of a planar two-link arm, with its sine and cosine.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ElbowAngle {
+    pub angle: f64,
+    pub sin: f64,
+    pub cos: f64,
+}
+
 /// |Elbow angle| of a planar two-link arm with link lengths `l1`, `l2` whose
 /// tip lies at distance `r` from the shoulder, by the half-angle form of the
 /// law of cosines, tan²(θ/2) = ((l1+l2)² − r²)/(r² − (l1−l2)²), which stays
 /// accurate near the stretched and folded arm where acos loses half the digits.
-/// A point outside the annulus by more than `tol` is an [`AnnulusMiss`].
-pub(crate) fn two_link_elbow(r: f64, l1: f64, l2: f64, tol: f64) -> std::result::Result<f64, AnnulusMiss> {
+/// sin θ and cos θ come from the same half-angle tangent, without a further
+/// sine/cosine evaluation. A point outside the annulus by more than `tol` is
+/// an [`AnnulusMiss`].
+pub(crate) fn two_link_elbow(r: f64, l1: f64, l2: f64, tol: f64) -> std::result::Result<ElbowAngle, AnnulusMiss> {
     let (outer, inner) = (l1 + l2, (l1 - l2).abs());
     if r > outer + tol {
         return Err(AnnulusMiss { by: r - outer, radius: outer, outer: true });
@@ -295,7 +396,16 @@ pub(crate) fn two_link_elbow(r: f64, l1: f64, l2: f64, tol: f64) -> std::result:
     }
     let num = ((outer - r) * (outer + r)).max(0.0);
     let den = ((r - inner) * (r + inner)).max(0.0);
-    Ok(if num == 0.0 && den == 0.0 { 0.0 } else { 2.0 * num.sqrt().atan2(den.sqrt()) })
+    let sum = num + den;
+    if sum == 0.0 {
+        return Ok(ElbowAngle { angle: 0.0, sin: 0.0, cos: 1.0 });
+    }
+    // With t = tan(θ/2) = √(num/den): cos θ = (1 − t²)/(1 + t²), sin θ = 2t/(1 + t²).
+    Ok(ElbowAngle {
+        angle: 2.0 * num.sqrt().fast_atan2(den.sqrt()),
+        sin: 2.0 * (num * den).sqrt() / sum,
+        cos: (den - num) / sum,
+    })
 }
 
 /// Rejects a target with NaN/inf entries or a rotation block that is not a rotation.
@@ -382,4 +492,65 @@ pub fn round_trip(robot: &Robot, solver: &dyn IkSolver, n: usize, seed: u64) -> 
         recovered_fraction: if n > 0 { recovered as f64 / n as f64 } else { 0.0 },
         max_position_residual: max_res,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn two_link_elbow_sine_and_cosine_match_the_angle_and_the_law_of_cosines() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for k in 0..20_000 {
+            let (l1, l2): (f64, f64) = (rng.random_range(0.05..1.0), rng.random_range(0.05..1.0));
+            let (inner, outer) = ((l1 - l2).abs(), l1 + l2);
+            // Every fifth case on a boundary, where the half-angle form matters most.
+            let r = match k % 5 {
+                0 => outer,
+                1 => inner,
+                _ => rng.random_range(inner..outer),
+            };
+            let e = two_link_elbow(r, l1, l2, 1e-12).unwrap();
+            let (s, c) = e.angle.sin_cos();
+            assert!((e.sin - s).abs() < 1e-14 && (e.cos - c).abs() < 1e-14, "{l1} {l2} {r}: {e:?}");
+            assert!(e.sin >= 0.0 && (0.0..=std::f64::consts::PI).contains(&e.angle));
+            // The elbow puts the tip at distance r: r² = l1² + l2² + 2·l1·l2·cos θ.
+            let r2 = l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * e.cos;
+            assert!((r2.max(0.0).sqrt() - r).abs() < 1e-7 * outer, "{l1} {l2} {r}: {r2}");
+        }
+        let miss = two_link_elbow(2.1, 1.0, 1.0, 1e-12).unwrap_err();
+        assert!(miss.outer && (miss.by - 0.1).abs() < 1e-12);
+        let miss = two_link_elbow(0.1, 1.0, 0.5, 1e-12).unwrap_err();
+        assert!(!miss.outer && (miss.by - 0.4).abs() < 1e-12);
+    }
+
+    #[test]
+    fn wrap_angle_fast_path_equals_the_remainder() {
+        use std::f64::consts::{PI, TAU};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
+        for _ in 0..100_000 {
+            let a: f64 = rng.random_range(-4.0 * PI..4.0 * PI);
+            let r = a.rem_euclid(TAU);
+            let want = if r > PI { r - TAU } else { r };
+            let got = wrap_angle(a);
+            assert!((got - want).abs() <= 4.0 * f64::EPSILON, "{a}: {got} vs {want}");
+            assert!(got > -PI && got <= PI);
+        }
+        assert_eq!(wrap_angle(-PI), PI);
+        assert_eq!(wrap_angle(PI), PI);
+        assert_eq!(wrap_angle(3.0 * PI), PI);
+        assert!(wrap_angle(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn candidates_drop_duplicates_modulo_a_turn() {
+        let mut c = Candidates::<2, 3>::default();
+        assert!(c.push_unique([0.1, std::f64::consts::PI], "a", 1e-12, true));
+        assert!(!c.push_unique([0.1, -std::f64::consts::PI], "b", 1e-12, true));
+        assert!(c.push_unique([0.1, -std::f64::consts::PI], "b", 1e-12, false));
+        assert!(c.push_unique([0.2, 0.0], "c", 1e-12, true));
+        assert!(!c.push_unique([0.3, 0.0], "d", 1e-12, true), "full");
+        assert_eq!(c.branches(), ["a", "b", "c"]);
+    }
 }

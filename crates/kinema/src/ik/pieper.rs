@@ -76,6 +76,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry, Robot};
 
@@ -126,7 +127,7 @@ fn rx(l: Link) -> Matrix3<f64> {
 
 /// Snaps the cosine and sine of a twist to exact 0/±1 when within tolerance.
 fn twist(alpha: f64) -> (f64, f64) {
-    let (s, c) = alpha.sin_cos();
+    let (s, c) = alpha.fast_sin_cos();
     let snap = |v: f64| {
         if v.abs() < 1e-12 {
             0.0
@@ -252,13 +253,13 @@ impl PieperIk {
                 return reject(format!(
                     "{name}: axes {k} and {} are parallel (α{k} = {:.1}°), a degenerate wrist",
                     k + 1,
-                    l.sa.atan2(l.ca).to_degrees()
+                    l.sa.fast_atan2(l.ca).to_degrees()
                 ));
             }
             if l.ca.abs() > GEOM_TOL {
                 return reject(format!(
                     "{name}: the wrist is not orthogonal (α{k} = {:.3}°); the pieper solver supports α4, α5 = ±90°",
-                    l.sa.atan2(l.ca).to_degrees()
+                    l.sa.fast_atan2(l.ca).to_degrees()
                 ));
             }
         }
@@ -275,21 +276,21 @@ impl PieperIk {
                 "{name}: degenerate shoulder (a1 = {:.4} m, α1 = {:.3}°, α2 = {:.3}°): axes 1 and 2 coincide, or axes 1, 2 and 3 \
                  are all parallel, so the wrist centre cannot reach a 3-D region",
                 l1.a,
-                l1.sa.atan2(l1.ca).to_degrees(),
-                l2.sa.atan2(l2.ca).to_degrees()
+                l1.sa.fast_atan2(l1.ca).to_degrees(),
+                l2.sa.fast_atan2(l2.ca).to_degrees()
             ));
         };
         // Reach of the elbow must depend on θ3.
         let elbow = match arm {
-            ArmKind::ShoulderPlane => l2.a.abs() * l3.a.hypot(l4.d * l3.sa),
+            ArmKind::ShoulderPlane => l2.a.abs() * l3.a.fast_hypot(l4.d * l3.sa),
             ArmKind::IntersectingShoulder => {
                 let (a, b) = intersecting_coeffs(&links).1;
-                a.hypot(b)
+                a.fast_hypot(b)
             }
-            ArmKind::ParallelShoulder => l2.sa.abs() * l3.a.hypot(l4.d * l3.sa),
+            ArmKind::ParallelShoulder => l2.sa.abs() * l3.a.fast_hypot(l4.d * l3.sa),
             ArmKind::General => {
                 let (a, b) = intersecting_coeffs(&links).1;
-                a.hypot(b) + l2.sa.abs() * l3.a.hypot(l4.d * l3.sa)
+                a.fast_hypot(b) + l2.sa.abs() * l3.a.fast_hypot(l4.d * l3.sa)
             }
         };
         if elbow <= GEOM_TOL {
@@ -386,8 +387,8 @@ impl PieperIk {
         // The component of p − o1 along axis 2 (z1) is g3; z1 = Rz(θ1)·(0, −sα1, 0), so
         // −s1·px + c1·py = −g3/sα1 =: ℓ.
         let ell = -g3 / l1.sa;
-        let rho = p.x.hypot(p.y);
-        let phi = p.y.atan2(p.x);
+        let rho = p.x.fast_hypot(p.y);
+        let phi = p.y.fast_atan2(p.x);
         let mut lateral2 = rho * rho - ell * ell;
         if lateral2 < 0.0 {
             if rho < ell.abs() * (1.0 - BOUNDARY_TOL) - AXIS_TOL {
@@ -402,9 +403,9 @@ impl PieperIk {
             lateral2 = 0.0;
         }
         let lateral = lateral2.sqrt();
-        let l3len = l3.a.hypot(l4.d * l3.sa);
+        let l3len = l3.a.fast_hypot(l4.d * l3.sa);
         let (a, b) = (2.0 * l2.a * l3.a, 2.0 * l2.a * l4.d * l3.sa);
-        let r = a.hypot(b);
+        let r = a.fast_hypot(b);
         let k0 = l2.a * l2.a + l3len * l3len;
         let dmax = l2.a.abs() + l3len;
         let dmin = (l2.a.abs() - l3len).abs();
@@ -416,12 +417,12 @@ impl PieperIk {
                 // Shoulder singularity: θ1 free, q1 = 0 (q1 = π for the other branch).
                 l1.offset + if sign > 0.0 { 0.0 } else { PI }
             } else {
-                phi - ell.atan2(sign * lateral)
+                phi - ell.fast_atan2(sign * lateral)
             };
-            let (s1, c1) = t1.sin_cos();
+            let (s1, c1) = t1.fast_sin_cos();
             let u1 = c1 * p.x + s1 * p.y - l1.a;
             let u2 = (p.z - l1.d) / l1.sa;
-            let dist = u1.hypot(u2);
+            let dist = u1.fast_hypot(u2);
             let mut cosd = (dist * dist - k0) / r;
             if cosd.is_nan() || cosd.abs() > 1.0 {
                 let (by, boundary) = if dist > dmax {
@@ -437,16 +438,16 @@ impl PieperIk {
                 }
                 cosd = cosd.clamp(-1.0, 1.0);
             }
-            let phi3 = b.atan2(a);
+            let phi3 = b.fast_atan2(a);
             let delta = cosd.acos();
             for t3 in [phi3 + delta, phi3 - delta] {
-                let (s3, c3) = t3.sin_cos();
+                let (s3, c3) = t3.fast_sin_cos();
                 let f1 = l3.a * c3 + l4.d * l3.sa * s3;
                 let f2 = l3.a * s3 - l4.d * l3.sa * c3;
                 let (g1, g2) = (f1 + l2.a, l2.ca * f2);
-                let t2 = if g1.hypot(g2) <= AXIS_TOL { l2.offset } else { u2.atan2(u1) - g2.atan2(g1) };
+                let t2 = if g1.fast_hypot(g2) <= AXIS_TOL { l2.offset } else { u2.fast_atan2(u1) - g2.fast_atan2(g1) };
                 // Elbow label: elbow point a2·(c2, s2) against the shoulder→wrist line.
-                let (s2, c2) = t2.sin_cos();
+                let (s2, c2) = t2.fast_sin_cos();
                 let cross = u1 * l2.a * s2 - u2 * l2.a * c2;
                 let up_side = if u1.abs() > AXIS_TOL { u1.signum() } else { 1.0 };
                 let up = cross * up_side * l1.sa >= 0.0;
@@ -482,7 +483,7 @@ impl PieperIk {
                 (-l2.sa * l4.d * l3.sa, l2.sa * l3.a, l1.ca * z - l2.ca * f3 - l2.d, "slab")
             }
         };
-        let r = a.hypot(b);
+        let r = a.fast_hypot(b);
         let mut cosd = c / r;
         if cosd.is_nan() || cosd.abs() > 1.0 {
             let over = c.abs() - r;
@@ -507,14 +508,14 @@ impl PieperIk {
             }
             cosd = cosd.clamp(-1.0, 1.0);
         }
-        let phi3 = b.atan2(a);
+        let phi3 = b.fast_atan2(a);
         let delta = cosd.acos();
         let mut out = Vec::with_capacity(4);
         let mut worst: Option<f64> = None;
         for (e, t3) in [(1, phi3 + delta), (2, phi3 - delta)] {
             let g = g_of(t3);
-            let h = g.x.hypot(g.y);
-            let psi = g.y.atan2(g.x);
+            let h = g.x.fast_hypot(g.y);
+            let psi = g.y.fast_atan2(g.x);
             // Step 2: θ2 from H·sin(θ2 + ψ) = Q (intersecting) or H·cos(θ2 + ψ) = P (parallel).
             let (val, is_sin) = match self.arm {
                 ArmKind::IntersectingShoulder => ((z - l1.ca * g.z) / l1.sa, true),
@@ -628,7 +629,11 @@ impl PieperIk {
         let mut out = Vec::with_capacity(4);
         for (e, t3) in roots.into_iter().enumerate() {
             let (g, pp, qq, _) = pq(t3);
-            let t2 = if g.x.hypot(g.y) <= AXIS_TOL { self.links[1].offset } else { qq.atan2(pp) - g.y.atan2(g.x) };
+            let t2 = if g.x.fast_hypot(g.y) <= AXIS_TOL {
+                self.links[1].offset
+            } else {
+                qq.fast_atan2(pp) - g.y.fast_atan2(g.x)
+            };
             let t1 = theta1(l1, &g, t2, p);
             // Keep only exact solutions (a bracket may also straddle a pole-free sign change of rounding noise).
             let wc = self.arm_point([t1, t2, t3]);
@@ -641,7 +646,7 @@ impl PieperIk {
             let by = (0..N)
                 .map(|i| {
                     let (g, pp, qq, _) = pq(-PI + i as f64 * step);
-                    (pp.hypot(qq) - g.x.hypot(g.y)).abs()
+                    (pp.fast_hypot(qq) - g.x.fast_hypot(g.y)).abs()
                 })
                 .fold(f64::INFINITY, f64::min);
             return Err(Unreachable::OutsideReach {
@@ -657,7 +662,7 @@ impl PieperIk {
         let mut p = Vector3::new(0.0, 0.0, self.links[3].d);
         for i in (0..3).rev() {
             let l = self.links[i];
-            let (s, c) = t[i].sin_cos();
+            let (s, c) = t[i].fast_sin_cos();
             let v = Vector3::new(p.x + l.a, l.ca * p.y - l.sa * p.z, l.sa * p.y + l.ca * p.z + l.d);
             p = Vector3::new(c * v.x - s * v.y, s * v.x + c * v.y, v.z);
         }
@@ -669,21 +674,21 @@ impl PieperIk {
         let [_, _, _, l4, l5, _] = self.links;
         let (mx, my) = (m[0][2], m[1][2]);
         // Third column of M: (m13, m23) = sα5·s5·(c4, s4).
-        let singular = mx.hypot(my) <= WRIST_SING_TOL;
+        let singular = mx.fast_hypot(my) <= WRIST_SING_TOL;
         let mut out = [([0.0; 3], "wrist-noflip"), ([0.0; 3], "wrist-flip")];
         for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
             let t4 = if singular {
                 l4.offset + if k == 0 { 0.0 } else { PI }
             } else {
-                (sign * l5.sa * my).atan2(sign * l5.sa * mx)
+                (sign * l5.sa * my).fast_atan2(sign * l5.sa * mx)
             };
             let r4 = rzrx(t4, l4);
             // w = (Rz(θ4)·Rx(α4))ᵀ·M·ẑ = Rz(θ5)·(0, −sα5, 0) = (sα5 s5, −sα5 c5, 0).
             let w = tmul(&r4, m);
-            let t5 = (l5.sa * w[0][2]).atan2(-l5.sa * w[1][2]);
+            let t5 = (l5.sa * w[0][2]).fast_atan2(-l5.sa * w[1][2]);
             // N = (Rz(θ5)·Rx(α5))ᵀ·w = Rz(θ6).
             let n = tmul(&rzrx(t5, l5), &w);
-            let t6 = n[1][0].atan2(n[0][0]);
+            let t6 = n[1][0].fast_atan2(n[0][0]);
             out[k].0 = [t4, t5, t6];
         }
         out
@@ -718,7 +723,7 @@ fn tmul(a: &M3, b: &M3) -> M3 {
 
 /// Rz(θ)·Rx(α) of a link.
 fn rzrx(theta: f64, l: Link) -> M3 {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = theta.fast_sin_cos();
     [[c, -s * l.ca, s * l.sa], [s, c * l.ca, -c * l.sa], [0.0, l.sa, l.ca]]
 }
 
@@ -726,7 +731,7 @@ fn rzrx(theta: f64, l: Link) -> M3 {
 /// before the rotation θ2 about its z axis.
 fn arm_g(links: &[Link; 6], t3: f64) -> Vector3<f64> {
     let [_, l2, l3, l4, ..] = *links;
-    let (s3, c3) = t3.sin_cos();
+    let (s3, c3) = t3.fast_sin_cos();
     let f1 = l3.a * c3 + l4.d * l3.sa * s3;
     let f2 = l3.a * s3 - l4.d * l3.sa * c3;
     let f3 = l3.d + l4.d * l3.ca;
@@ -736,14 +741,14 @@ fn arm_g(links: &[Link; 6], t3: f64) -> Vector3<f64> {
 /// θ1 from (px, py) = Rz(θ1)·(w1, w2), (w1, w2) the horizontal part of
 /// Tx(a1)·Rx(α1)·Rz(θ2)·g. On axis 1 (θ1 free): q1 = 0.
 fn theta1(l1: Link, g: &Vector3<f64>, t2: f64, p: &Vector3<f64>) -> f64 {
-    let (s2, c2) = t2.sin_cos();
+    let (s2, c2) = t2.fast_sin_cos();
     let u = Vector3::new(c2 * g.x - s2 * g.y, s2 * g.x + c2 * g.y, g.z);
     let w1 = u.x + l1.a;
     let w2 = l1.ca * u.y - l1.sa * u.z;
-    if w1.hypot(w2) <= AXIS_TOL || p.x.hypot(p.y) <= AXIS_TOL {
+    if w1.fast_hypot(w2) <= AXIS_TOL || p.x.fast_hypot(p.y) <= AXIS_TOL {
         l1.offset
     } else {
-        p.y.atan2(p.x) - w2.atan2(w1)
+        p.y.fast_atan2(p.x) - w2.fast_atan2(w1)
     }
 }
 

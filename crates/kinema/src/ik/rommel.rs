@@ -48,6 +48,7 @@ use nalgebra::Vector3;
 
 use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry, Robot};
 
@@ -150,15 +151,15 @@ impl RommelIk {
     /// Wrist point and approach of the bare flange in the robot frame (the closed
     /// forms of the module documentation).
     fn forward(&self, q: &[f64; 5]) -> (Vector3<f64>, Vector3<f64>) {
-        let (s1, c1) = q[0].sin_cos();
-        let (s2, c2) = q[1].sin_cos();
-        let (s23, c23) = (q[1] + q[2]).sin_cos();
+        let (s1, c1) = q[0].fast_sin_cos();
+        let (s2, c2) = q[1].fast_sin_cos();
+        let (s23, c23) = (q[1] + q[2]).fast_sin_cos();
         let rho = self.a1 - self.a2 * s2 - self.d4 * s23;
         let h = self.d1 + self.a2 * c2 + self.d4 * c23;
         let p = Vector3::new(-rho * c1, h, rho * s1);
         let w = Vector3::new(-s1, 0.0, -c1);
         let f = Vector3::new(s23 * c1, c23, -s23 * s1);
-        let (s4, c4) = q[3].sin_cos();
+        let (s4, c4) = q[3].fast_sin_cos();
         (p, c4 * w + s4 * f.cross(&w))
     }
 
@@ -216,7 +217,7 @@ impl RommelIk {
     /// `q5_for(q)` picks q5 from the first four joint values.
     fn branches(&self, p: &Vector3<f64>, a: &Vector3<f64>, q5_for: impl Fn(&[f64; 4]) -> f64) -> Result<Vec<Raw>> {
         let wrist = p - self.tool_z * a;
-        let s = wrist.x.hypot(wrist.z);
+        let s = wrist.x.fast_hypot(wrist.z);
         let mut out = Vec::with_capacity(4);
         let mut miss_pos: Vec<(f64, String)> = Vec::new();
         let mut miss_rot: Option<f64> = None;
@@ -229,10 +230,10 @@ impl RommelIk {
             let side = if on_axis { "axis" } else { side };
             // Planar 2-link (a2, d4) in X' = h − d1 (up), Y' = a1 − ρ.
             let (x, y) = (wrist.y - self.d1, self.a1 - rho);
-            let r = x.hypot(y);
+            let r = x.fast_hypot(y);
             // Law of cosines, half-angle form (see `two_link_elbow`).
             let q3abs = match super::two_link_elbow(r, self.a2, self.d4, REACH_TOL) {
-                Ok(q3) => q3,
+                Ok(e) => e.angle,
                 Err(miss) => {
                     let which = if miss.outer { "outer" } else { "inner" };
                     let radius = miss.radius;
@@ -246,11 +247,11 @@ impl RommelIk {
             for (elbow, es) in [("elbow-pos", 1.0), ("elbow-neg", -1.0)] {
                 let q3 = es * q3abs;
                 let q2 = if r > 1e-15 {
-                    wrap_angle(y.atan2(x) - (self.d4 * q3.sin()).atan2(self.a2 + self.d4 * q3.cos()))
+                    wrap_angle(y.fast_atan2(x) - (self.d4 * q3.sin()).fast_atan2(self.a2 + self.d4 * q3.cos()))
                 } else {
                     0.0
                 };
-                let (s23, c23) = (q2 + q3).sin_cos();
+                let (s23, c23) = (q2 + q3).fast_sin_cos();
                 // q1 from the position; on the vertical axis (position independent of q1)
                 // from the approach instead: a·f = s23·(ax·c1 − az·s1) + ay·c23 = 0, i.e.
                 // s23·h·cos(q1 + φ) = −ay·c23 with h = |(ax, az)|, φ = atan2(az, ax).
@@ -259,15 +260,15 @@ impl RommelIk {
                     // Seed 001 §3.2 prints θ1 = tan⁻¹(z5/x5); in the model of its Tabla 1
                     // (θ1 = q1 + π) tan q1 = −z/x, so q1 = atan2(z/ρ, −x/ρ): front
                     // atan2(z, −x), back atan2(−z, x). The printed ratio has the wrong sign.
-                    q1s.push(((wrist.z / rho).atan2(-wrist.x / rho), ""));
+                    q1s.push(((wrist.z / rho).fast_atan2(-wrist.x / rho), ""));
                 } else {
-                    let h = a.x.hypot(a.z);
+                    let h = a.x.fast_hypot(a.z);
                     let (lhs, rhs) = (s23 * h, -a.y * c23);
                     if lhs.abs() <= 1e-12 {
                         q1s.push((0.0, "")); // q1 does not move the approach either: q1 = 0
                     } else if (rhs / lhs).abs() <= 1.0 + 1e-12 {
                         let k = (rhs / lhs).clamp(-1.0, 1.0).acos();
-                        let phi = a.z.atan2(a.x);
+                        let phi = a.z.fast_atan2(a.x);
                         q1s.push((wrap_angle(k - phi), "/a"));
                         q1s.push((wrap_angle(-k - phi), "/b"));
                     } else {
@@ -276,7 +277,7 @@ impl RommelIk {
                     }
                 }
                 for (q1, tag) in q1s {
-                    let (s1, c1) = q1.sin_cos();
+                    let (s1, c1) = q1.fast_sin_cos();
                     let w = Vector3::new(-s1, 0.0, -c1);
                     let f = Vector3::new(s23 * c1, c23, -s23 * s1);
                     let af = a.dot(&f).clamp(-1.0, 1.0);
@@ -285,7 +286,7 @@ impl RommelIk {
                         miss_rot = Some(miss_rot.map_or(off, |m: f64| m.min(off)));
                         continue;
                     }
-                    let q4 = a.dot(&f.cross(&w)).atan2(a.dot(&w));
+                    let q4 = a.dot(&f.cross(&w)).fast_atan2(a.dot(&w));
                     let q4 = if q4 == -PI { PI } else { q4 };
                     // Seed 001 §3.2 gives θ5 = −arccos(z4·n); here the approach is always
                     // perpendicular to z4 (the forearm, joint 4's axis), so z4·n = 0 and that
@@ -338,7 +339,7 @@ impl IkSolver for RommelIk {
             // q5: the angle about the approach from the x axis at q5 = 0 to the target's.
             let r0 = bare.fk(&[q[0], q[1], q[2], q[3], 0.0]).map(|f| f.pose.rot).unwrap_or_else(|_| flange_rot);
             let (x0, z0) = (r0.column(0).into_owned(), r0.column(2).into_owned());
-            x0.cross(&x_target).dot(&z0).atan2(x0.dot(&x_target))
+            x0.cross(&x_target).dot(&z0).fast_atan2(x0.dot(&x_target))
         })?;
         raw.into_iter().map(|r| Solution::evaluate(&self.robot, r.q, target, r.label)).collect()
     }

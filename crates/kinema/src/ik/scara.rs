@@ -59,8 +59,9 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
+use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::math::FastMath;
 use crate::math::{rot_z, Pose};
 use crate::model::{LinkGeometry, Robot};
 
@@ -177,7 +178,7 @@ impl ScaraIk {
                 "the tool's z axis must stay parallel to the flange z axis (a SCARA cannot tilt it)".into()
             ));
         }
-        let tool_psi = tool.rot[(1, 0)].atan2(tool.rot[(0, 0)]);
+        let tool_psi = tool.rot[(1, 0)].fast_atan2(tool.rot[(0, 0)]);
         let lim = |i: usize| robot.joints()[i].limits;
         let q3max = lim(2).min.abs().min(lim(2).max.abs()).min(PI);
         let r_lo = (l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * q3max.cos()).max(0.0).sqrt().max((l1 - l2).abs());
@@ -261,11 +262,14 @@ impl ScaraIk {
     /// outside the annulus. q3 by the half-angle form of the law of cosines.
     fn planar(&self, x: f64, y: f64, elbow: Elbow) -> Option<(f64, f64)> {
         let (l1, l2) = (self.l1, self.l2);
-        let r = x.hypot(y);
-        let q3 = elbow.sign() * super::two_link_elbow(r, l1, l2, REACH_TOL).ok()?;
-        // q2 = atan2(y, x) − atan2(L2·s3, L1 + L2·c3); at r = 0 (L1 = L2, folded) q2 is free: 0.
-        let q2 = if r > 1e-15 { wrap_angle(y.atan2(x) - (l2 * q3.sin()).atan2(l1 + l2 * q3.cos())) } else { 0.0 };
-        Some((q2, q3))
+        let r = x.fast_hypot(y);
+        let e = super::two_link_elbow(r, l1, l2, REACH_TOL).ok()?;
+        let sign = elbow.sign();
+        // q2 = ∠(x, y) − ∠(L1 + L2·c3, L2·s3), as one atan2 of cross and dot
+        // product; at r = 0 (L1 = L2, folded) q2 is free: 0.
+        let (a, b) = (l1 + l2 * e.cos, l2 * sign * e.sin);
+        let q2 = if r > 1e-15 { (y * a - x * b).fast_atan2(x * a + y * b) } else { 0.0 };
+        Some((q2, sign * e.angle))
     }
 
     /// Flange point relative to the base position, and the flange angle φ = q2 + q3 + q5.
@@ -289,10 +293,20 @@ impl ScaraIk {
         Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary } }
     }
 
-    /// Builds the evaluated solution for a flange point, rail position and elbow.
-    fn build(&self, target: &[f64; 4], q1: f64, elbow: Elbow, q5_near: Option<f64>) -> Result<Option<Solution>> {
-        let (f, phi) = self.flange(target);
-        let Some((q2, q3)) = self.planar(f.x, f.y - q1, elbow) else { return Ok(None) };
+    /// Joint values for a flange point, rail position and elbow; None outside the annulus.
+    fn joint_values(&self, target: &[f64; 4], q1: f64, elbow: Elbow, q5_near: Option<f64>) -> Option<[f64; 5]> {
+        self.joint_values_at(self.flange(target), q1, elbow, q5_near)
+    }
+
+    /// As [`ScaraIk::joint_values`], for a flange point and angle already computed.
+    fn joint_values_at(
+        &self,
+        (f, phi): (Vector3<f64>, f64),
+        q1: f64,
+        elbow: Elbow,
+        q5_near: Option<f64>,
+    ) -> Option<[f64; 5]> {
+        let (q2, q3) = self.planar(f.x, f.y - q1, elbow)?;
         let q4 = self.h1 - self.h2 - f.z;
         let mut q5 = wrap_angle(phi - q2 - q3);
         let lim5 = self.robot.joints()[4].limits;
@@ -305,9 +319,12 @@ impl ScaraIk {
         while q5 < lim5.min && q5 + 2.0 * PI <= lim5.max {
             q5 += 2.0 * PI;
         }
-        let q = vec![q1, q2, q3, q4, q5];
-        let pose = Pose::new(rot_z(target[3]), Vector3::new(target[0], target[1], target[2]));
-        Solution::evaluate(&self.robot, q, &pose, elbow.label()).map(Some)
+        Some([q1, q2, q3, q4, q5])
+    }
+
+    /// The pose Rz(α) at P of a typed target.
+    fn typed_pose(target: &[f64; 4]) -> Pose {
+        Pose::new(rot_z(target[3]), Vector3::new(target[0], target[1], target[2]))
     }
 
     /// Both solutions (elbow right, elbow left) for `target` = \[Px, Py, Pz \[m\], α \[rad\]\]
@@ -329,16 +346,33 @@ impl ScaraIk {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn solve_with_rail(&self, target: [f64; 4], q1: f64) -> Result<Vec<Solution>> {
+        self.rail_candidates(target, q1)?.evaluate(&self.robot, &Self::typed_pose(&target))
+    }
+
+    /// The closed form of [`ScaraIk::solve_with_rail`] alone: joint vectors and
+    /// branch labels, without the FK residual check and without allocating.
+    /// Same errors.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::scara::ScaraIk;
+    /// let ik = ScaraIk::new(&kinema::Robot::builtin("scara5")?)?;
+    /// let c = ik.rail_candidates([0.5, 0.3, 0.25, 0.0], 0.3)?;
+    /// assert_eq!(c.branches(), ["elbow-right", "elbow-left"]);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn rail_candidates(&self, target: [f64; 4], q1: f64) -> Result<Candidates<5, 2>> {
         Self::check_typed(&target, &[q1])?;
-        let mut out = Vec::with_capacity(2);
+        let mut out = Candidates::default();
+        let flange = self.flange(&target);
         for elbow in [Elbow::Right, Elbow::Left] {
-            if let Some(s) = self.build(&target, q1, elbow, None)? {
-                out.push(s);
+            if let Some(q) = self.joint_values_at(flange, q1, elbow, None) {
+                out.push_unique(q, elbow.label(), 0.0, false);
             }
         }
         if out.is_empty() {
             let (f, _) = self.flange(&target);
-            let r = f.x.hypot(f.y - q1);
+            let r = f.x.fast_hypot(f.y - q1);
             let (outer, inner) = (self.l1 + self.l2, (self.l1 - self.l2).abs());
             return Err(if r > outer {
                 Self::unreachable(
@@ -384,13 +418,23 @@ impl ScaraIk {
                 });
             }
         }
-        let (f, _) = self.flange(&target);
+        let elbow = match previous {
+            Some(p) if p[2] < 0.0 => Elbow::Left,
+            _ => Elbow::Right,
+        };
+        let q = self.zone_q(&target, elbow, previous.map(|p| p[4]))?;
+        Solution::evaluate(&self.robot, q.to_vec(), &Self::typed_pose(&target), elbow.label())
+    }
+
+    /// The zone rule's joint values for a checked typed target and an elbow side.
+    fn zone_q(&self, target: &[f64; 4], elbow: Elbow, q5_near: Option<f64>) -> Result<[f64; 5]> {
+        let (f, _) = self.flange(target);
         let [x_min, x_max, y_min, y_max] = self.zone;
         let dx = (x_min - f.x).max(f.x - x_max).max(0.0);
         let dy = (y_min - f.y).max(f.y - y_max).max(0.0);
         if dx > 0.0 || dy > 0.0 {
             return Err(Self::unreachable(
-                dx.hypot(dy),
+                dx.fast_hypot(dy),
                 format!(
                     "zone rectangle x ∈ [{x_min:.4}, {x_max:.4}] m, y ∈ [{y_min:.4}, {y_max:.4}] m of the flange point (seed 003 Fig. 3–4)"
                 ),
@@ -411,15 +455,9 @@ impl ScaraIk {
         }
         let y_star = Self::offset(self.r_c, f.x);
         let q1 = f.y - y_star;
-        let elbow = match previous {
-            Some(p) if p[2] < 0.0 => Elbow::Left,
-            _ => Elbow::Right,
-        };
-        match self.build(&target, q1, elbow, previous.map(|p| p[4]))? {
-            Some(s) => Ok(s),
-            // Unreachable by construction of the zone; reported rather than faked.
-            None => Err(Self::unreachable(0.0, "reachable annulus at the rail position of the zone rule".into())),
-        }
+        // Unreachable by construction of the zone; reported rather than faked.
+        self.joint_values(target, q1, elbow, q5_near)
+            .ok_or_else(|| Self::unreachable(0.0, "reachable annulus at the rail position of the zone rule".into()))
     }
 }
 
@@ -435,7 +473,7 @@ impl IkSolver for ScaraIk {
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         check_target(target)?;
         let r = &target.rot;
-        let tilt = r[(0, 2)].hypot(r[(1, 2)]).atan2(r[(2, 2)]);
+        let tilt = r[(0, 2)].fast_hypot(r[(1, 2)]).fast_atan2(r[(2, 2)]);
         if tilt > 1e-9 {
             return Err(Error::Unreachable {
                 solver: NAME.into(),
@@ -445,17 +483,14 @@ impl IkSolver for ScaraIk {
                 },
             });
         }
-        let alpha = r[(1, 0)].atan2(r[(0, 0)]);
+        let alpha = r[(1, 0)].fast_atan2(r[(0, 0)]);
         let t = [target.pos.x, target.pos.y, target.pos.z, alpha];
-        let right = self.solve_zone(t, None)?;
-        let mut prev = right.q.clone();
-        prev[2] = -1.0;
-        let left = self.solve_zone(t, Some(&prev))?;
-        let mut out = Vec::with_capacity(2);
-        for s in [right, left] {
-            let q = s.q;
-            out.push(Solution::evaluate(&self.robot, q, target, s.branch)?);
-        }
-        Ok(out)
+        Self::check_typed(&t, &[])?;
+        let right = self.zone_q(&t, Elbow::Right, None)?;
+        let left = self.zone_q(&t, Elbow::Left, Some(right[4]))?;
+        [(right, Elbow::Right), (left, Elbow::Left)]
+            .into_iter()
+            .map(|(q, elbow)| Solution::evaluate(&self.robot, q.to_vec(), target, elbow.label()))
+            .collect()
     }
 }

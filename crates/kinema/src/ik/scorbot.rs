@@ -67,8 +67,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
+use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::math::FastMath;
 use crate::math::{Pose, RpyConvention};
 use crate::model::{DhConvention, LinkGeometry, Robot};
 
@@ -111,13 +112,26 @@ pub struct ScorbotIk {
     d5: f64,
     /// q_i = θ_i + shift_i (θ the angles of eq. 3–4).
     shift: [f64; 5],
+    /// Inverse of the robot's base transform.
+    base_inv: Pose,
 }
 
-/// One candidate before evaluation: joint values and label.
-type Raw = (Vec<f64>, String);
+/// Why a branch missed: the annulus boundary and on which side (front/back).
+#[derive(Debug, Clone, Copy)]
+struct Miss {
+    annulus: super::AnnulusMiss,
+    side: &'static str,
+}
 
-/// Why a branch missed: how far \[m\] and which boundary.
-type Miss = (f64, String);
+/// The branch labels: side × elbow, then the same for the second
+/// (roll, pitch, yaw) triple of a full pose (`/flip`).
+const LABELS: [[&str; 4]; 2] = [
+    ["front/elbow-up", "front/elbow-down", "back/elbow-up", "back/elbow-down"],
+    ["front/elbow-up/flip", "front/elbow-down/flip", "back/elbow-up/flip", "back/elbow-down/flip"],
+];
+
+/// Candidates of the Scorbot kernels: up to 2 sides × 2 elbows × 2 (roll, pitch, yaw) triples.
+pub type ScorbotCandidates = Candidates<5, 8>;
 
 impl ScorbotIk {
     /// A solver for `robot`, reading d1, a1, a2, a3, d5 and the joint offsets from
@@ -179,7 +193,16 @@ impl ScorbotIk {
         for (i, j) in robot.joints().iter().enumerate() {
             shift[i] = reference[i] - j.offset;
         }
-        Ok(ScorbotIk { robot: robot.clone(), d1: rows[0].0, a1: rows[0].1, a2, a3, d5: rows[4].0 + tool.pos.z, shift })
+        Ok(ScorbotIk {
+            robot: robot.clone(),
+            d1: rows[0].0,
+            a1: rows[0].1,
+            a2,
+            a3,
+            d5: rows[4].0 + tool.pos.z,
+            shift,
+            base_inv: robot.base().inverse(),
+        })
     }
 
     /// The robot this solver was built for.
@@ -210,26 +233,53 @@ impl ScorbotIk {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn solve_xyz_pitch_roll(&self, p: [f64; 3], pitch: f64, roll: f64) -> Result<Vec<Solution>> {
+        let raw = self.xyz_pitch_roll_candidates(p, pitch, roll)?;
+        raw.iter()
+            .map(|(q, label)| {
+                // The target of this solution is position p with the orientation it
+                // reaches (the yaw the position imposes): one FK gives both, and the
+                // orientation error is zero by construction.
+                let fk = self.robot.fk(q)?;
+                Ok(Solution {
+                    q: q.to_vec(),
+                    branch: label.into(),
+                    out_of_limits: fk.out_of_limits,
+                    position_error: (fk.pose.pos - Vector3::from(p)).norm(),
+                    orientation_error: 0.0,
+                    numeric: None,
+                })
+            })
+            .collect()
+    }
+
+    /// The closed form of [`ScorbotIk::solve_xyz_pitch_roll`] alone: joint
+    /// vectors and branch labels (up to four), without the FK residual check
+    /// and without allocating. Same errors.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::scorbot::ScorbotIk;
+    /// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
+    /// let ik = ScorbotIk::new(&robot)?;
+    /// let c = ik.xyz_pitch_roll_candidates([0.4, 0.1, 0.3], 0.5, 0.0)?;
+    /// assert_eq!(c.branches(), ["front/elbow-up", "front/elbow-down"]);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn xyz_pitch_roll_candidates(&self, p: [f64; 3], pitch: f64, roll: f64) -> Result<ScorbotCandidates> {
         if p.iter().chain([&pitch, &roll]).any(|v| !v.is_finite()) {
             return Err(Error::InvalidArgument {
                 what: "target".into(),
                 message: format!("position {p:?}, pitch {pitch} and roll {roll} must be finite"),
             });
         }
-        let pb = self.robot.base().inverse().transform_point(&Vector3::from(p));
-        let (raw, miss) = self.branches(&pb, pitch, roll, 0.0, "");
-        if raw.is_empty() {
-            return Err(self.unreachable(miss));
+        let pb = self.base_inv.transform_point(&Vector3::from(p));
+        let mut out = ScorbotCandidates::default();
+        let mut miss = [None; 4];
+        self.branches_with(&pb, pitch, |_| roll, 0.0, 0, &mut out, &mut miss[..2]);
+        if out.is_empty() {
+            return Err(self.unreachable(&miss));
         }
-        raw.into_iter()
-            .map(|(q, label)| {
-                // The pose this solution reaches: position p, orientation with the
-                // imposed yaw. Built from the joint values, then checked by FK.
-                let reached = self.robot.fk(&q)?.pose;
-                let target = Pose::new(reached.rot, Vector3::from(p));
-                Solution::evaluate(&self.robot, q, &target, label)
-            })
-            .collect()
+        Ok(out)
     }
 
     /// The yaw error \[rad\] any solution of `target` must have: the angle between the
@@ -257,105 +307,114 @@ impl ScorbotIk {
         }
         let (p, m) = self.local_target(target);
         let (_, _, yaw, vertical) = decompose(&m);
-        if vertical || p.x.hypot(p.y) <= AXIS_TOL {
+        if vertical || p.x.fast_hypot(p.y) <= AXIS_TOL {
             return 0.0;
         }
-        let e = wrap_angle(yaw - p.y.atan2(p.x)).abs();
+        let e = wrap_angle(yaw - p.y.fast_atan2(p.x)).abs();
         e.min(PI - e)
     }
 
     /// Target in the robot's base frame 0: tool-point position and R·R_h of the flange.
     fn local_target(&self, target: &Pose) -> (Vector3<f64>, Matrix3<f64>) {
-        let local = self.robot.base().inverse().mul(target);
+        let local = self.base_inv.mul(target);
         let flange_rot = local.rot * self.robot.tool().rot.transpose();
         (local.pos, flange_rot * R_H)
     }
 
-    fn unreachable(&self, miss: Vec<Miss>) -> Error {
+    fn unreachable(&self, miss: &[Option<Miss>]) -> Error {
         let (by, boundary) = miss
-            .into_iter()
-            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .iter()
+            .flatten()
+            .min_by(|a, b| a.annulus.by.total_cmp(&b.annulus.by))
+            .map(|m| {
+                let which = if m.annulus.outer { "outer" } else { "inner" };
+                (
+                    m.annulus.by,
+                    format!(
+                        "{which} circle of radius {:.6} m around the shoulder ({} branch, wrist point)",
+                        m.annulus.radius, m.side
+                    ),
+                )
+            })
             .unwrap_or((0.0, "reachable annulus (no branch evaluated)".into()));
         Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary } }
     }
 
     /// Front and back branches, both elbows, for a tool point `p` in frame 0,
-    /// θ234 = −β, θ5 = γ. `axis_yaw` is θ1 of the front branch when `p` is on the
-    /// base axis. `suffix` is appended to the branch labels.
-    fn branches(&self, p: &Vector3<f64>, beta: f64, gamma: f64, axis_yaw: f64, suffix: &str) -> (Vec<Raw>, Vec<Miss>) {
-        self.branches_with(p, beta, |_| gamma, axis_yaw, suffix)
-    }
-
-    /// As [`ScorbotIk::branches`], with θ5 = `roll_for(θ1)` (used when the approach
-    /// is vertical and the roll absorbs the yaw).
+    /// θ234 = −β, θ5 = `roll_for(θ1)` (the roll is constant unless the approach
+    /// is vertical and the roll absorbs the yaw). `axis_yaw` is θ1 of the
+    /// front branch when `p` is on the base axis; `set` picks the labels (0 for
+    /// the first (roll, pitch, yaw) triple, 1 for `/flip`). Candidates go to
+    /// `out`, the front and back misses to `miss[0]` and `miss[1]`.
+    #[allow(clippy::too_many_arguments)]
     fn branches_with(
         &self,
         p: &Vector3<f64>,
         beta: f64,
         roll_for: impl Fn(f64) -> f64,
         axis_yaw: f64,
-        suffix: &str,
-    ) -> (Vec<Raw>, Vec<Miss>) {
+        set: usize,
+        out: &mut ScorbotCandidates,
+        miss: &mut [Option<Miss>],
+    ) {
         let (a1, a2, a3, d1, d5) = (self.a1, self.a2, self.a3, self.d1, self.d5);
-        let mut out = Vec::with_capacity(4);
-        let mut miss = Vec::new();
-        let phi = if p.x.hypot(p.y) > AXIS_TOL { p.y.atan2(p.x) } else { axis_yaw };
+        let rxy = p.x.fast_hypot(p.y);
+        let (phi, sp, cp) = if rxy > AXIS_TOL {
+            (p.y.fast_atan2(p.x), p.y / rxy, p.x / rxy)
+        } else {
+            let (sp, cp) = axis_yaw.fast_sin_cos();
+            (axis_yaw, sp, cp)
+        };
         let th234 = -beta; // seed 000 eq. 13
-        let (s234, c234) = th234.sin_cos();
-        for (side, turn) in [("front", 0.0), ("back", PI)] {
+        let (s234, c234) = th234.fast_sin_cos();
+        for (k, side) in ["front", "back"].into_iter().enumerate() {
             // Seed 000 eq. 15 gives only θ1 = atan2(y, x); θ1 + π reaches over the back.
-            let th1 = wrap_angle(phi + turn);
-            let (s1, c1) = th1.sin_cos();
+            let back = k == 1;
+            let th1 = if back { wrap_angle(phi + PI) } else { phi };
+            let (s1, c1) = if back { (-sp, -cp) } else { (sp, cp) };
             // Seed 000 eq. 18: the wrist point relative to the shoulder, in the arm plane.
             let k1 = p.x * c1 + p.y * s1 - a1 - d5 * c234;
             let k2 = p.z - d1 - d5 * s234;
-            let rho = k1.hypot(k2);
+            let rho = k1.fast_hypot(k2);
             // |θ3| from the law of cosines. Seed 000 eq. 17 prints the denominator as
             // 2·a2²·a3²; it is 2·a2·a3: cos θ3 = (k1² + k2² − a2² − a3²)/(2·a2·a3).
             // Evaluated in the equivalent half-angle form (`two_link_elbow`),
             // accurate near the stretched and folded arm where acos loses half the digits.
-            let th3_abs = match super::two_link_elbow(rho, a2, a3, REACH_TOL) {
-                Ok(th3) => th3,
-                Err(m) => {
-                    let which = if m.outer { "outer" } else { "inner" };
-                    let radius = m.radius;
-                    miss.push((
-                        m.by,
-                        format!(
-                            "{which} circle of radius {radius:.6} m around the shoulder ({side} branch, wrist point)"
-                        ),
-                    ));
+            let elbow = match super::two_link_elbow(rho, a2, a3, REACH_TOL) {
+                Ok(e) => e,
+                Err(annulus) => {
+                    miss[k] = Some(Miss { annulus, side });
                     continue;
                 }
             };
             // Seed 000 claims eq. 17 (θ3 = +acos ≥ 0) is "codo arriba" while defining
             // codo arriba as θ3 < 0: with θ2 from eq. 20, θ3 > 0 puts the elbow *below*
             // the shoulder–wrist line when the wrist is in front, above it at the back.
-            let up_sign = if turn == 0.0 { -1.0 } else { 1.0 };
-            for (elbow, sign) in [("elbow-up", up_sign), ("elbow-down", -up_sign)] {
+            let up_sign = if back { 1.0 } else { -1.0 };
+            let (th3_abs, s3a, c3) = (elbow.angle, elbow.sin, elbow.cos);
+            for (e, sign) in [up_sign, -up_sign].into_iter().enumerate() {
                 let th3 = sign * th3_abs;
-                let (s3, c3) = th3.sin_cos();
+                let s3 = sign * s3a;
                 // Seed 000 eq. 19 is misprinted (k1 = c2·B − s2·A, k2 = c2·B + s2·A);
                 // correctly k1 = A·c2 − B·s2, k2 = B·c2 + A·s2 with A = a2 + a3·c3,
                 // B = a3·s3, which eq. 20 inverts (eq. 20 itself is right).
                 // Seed 000 eq. 23 (θ2 = −atan(s2, c2) for the other elbow) is wrong:
                 // θ2 is recomputed from eq. 20 with the new θ3 (B changes sign).
                 let (a, b) = (a2 + a3 * c3, a3 * s3);
-                let th2 = if rho > 1e-15 { (a * k2 - b * k1).atan2(a * k1 + b * k2) } else { 0.0 };
+                let th2 = if rho > 1e-15 { (a * k2 - b * k1).fast_atan2(a * k1 + b * k2) } else { 0.0 };
                 let th4 = wrap_angle(th234 - th2 - th3); // seed 000 eq. 22
                 let th5 = roll_for(th1);
                 let theta = [th1, th2, th3, th4, th5];
-                let mut q = vec![0.0; 5];
+                let mut q = [0.0; 5];
                 for i in 0..5 {
                     q[i] = theta[i] + self.shift[i];
                     if i < 4 && self.shift[i] != 0.0 {
                         q[i] = wrap_angle(q[i]);
                     }
                 }
-                out.push((q, format!("{side}/{elbow}{suffix}")));
+                out.push_unique(q, LABELS[set][2 * k + e], 0.0, false);
             }
         }
-        (out, miss)
     }
 }
 
@@ -363,7 +422,7 @@ impl ScorbotIk {
 /// \[−π/2, π/2\]; `vertical` when cos(pitch) ≈ 0 (roll and yaw share one axis;
 /// roll = 0 is returned then).
 fn decompose(m: &Matrix3<f64>) -> (f64, f64, f64, bool) {
-    let cp = m[(2, 1)].hypot(m[(2, 2)]);
+    let cp = m[(2, 1)].fast_hypot(m[(2, 2)]);
     let [roll, pitch, yaw] = crate::math::rot_to_rpy(m, RpyConvention::Zyx);
     (roll, pitch, yaw, cp <= 1e-12)
 }
@@ -384,32 +443,38 @@ impl IkSolver for ScorbotIk {
     /// `orientation_error` is the uncontrollable yaw error (see
     /// [`ScorbotIk::yaw_error`]); the list is sorted by it, smallest first.
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        let raw = self.pose_candidates(target)?;
+        let mut sols = raw.evaluate(&self.robot, target)?;
+        sols.sort_by(|a, b| a.orientation_error.total_cmp(&b.orientation_error));
+        Ok(sols)
+    }
+}
+
+impl ScorbotIk {
+    /// The closed form of [`IkSolver::solve`] alone: joint vectors and branch
+    /// labels (up to eight), unsorted, without the FK residual check and without
+    /// allocating. Same errors.
+    pub fn pose_candidates(&self, target: &Pose) -> Result<ScorbotCandidates> {
         check_target(target)?;
         let (p, m) = self.local_target(target);
         let (roll, pitch, yaw, vertical) = decompose(&m);
-        let mut raw = Vec::with_capacity(8);
-        let mut miss = Vec::new();
-        for (beta, gamma, yaw_rep, suffix) in
-            [(pitch, roll, yaw, ""), (PI - pitch, wrap_angle(roll + PI), wrap_angle(yaw + PI), "/flip")]
+        let mut out = ScorbotCandidates::default();
+        let mut miss = [None; 4];
+        for (set, (beta, gamma, yaw_rep)) in
+            [(pitch, roll, yaw), (PI - pitch, wrap_angle(roll + PI), wrap_angle(yaw + PI))].into_iter().enumerate()
         {
-            let (r, mi) = if vertical {
+            let miss = &mut miss[2 * set..2 * set + 2];
+            if vertical {
                 // Rz(a)·Ry(±π/2)·Rx(g) = Rz(a ∓ g)·Ry(±π/2): the roll takes up the yaw.
                 let s = beta.sin().signum();
-                self.branches_with(&p, beta, |th1| wrap_angle(s * (th1 - yaw_rep)), yaw_rep, suffix)
+                self.branches_with(&p, beta, |th1| wrap_angle(s * (th1 - yaw_rep)), yaw_rep, set, &mut out, miss);
             } else {
-                self.branches(&p, beta, gamma, yaw_rep, suffix)
-            };
-            raw.extend(r);
-            miss.extend(mi);
+                self.branches_with(&p, beta, |_| gamma, yaw_rep, set, &mut out, miss);
+            }
         }
-        if raw.is_empty() {
-            return Err(self.unreachable(miss));
+        if out.is_empty() {
+            return Err(self.unreachable(&miss));
         }
-        let mut sols = raw
-            .into_iter()
-            .map(|(q, label)| Solution::evaluate(&self.robot, q, target, label))
-            .collect::<Result<Vec<_>>>()?;
-        sols.sort_by(|a, b| a.orientation_error.total_cmp(&b.orientation_error));
-        Ok(sols)
+        Ok(out)
     }
 }

@@ -39,3 +39,22 @@ pub fn random_poses_never_panic_or_return_nan(solver: &dyn IkSolver) {
         }
     }
 }
+
+/// The allocation-free kernel and the evaluating solve agree: the same joint
+/// vectors and labels in the same order, and every candidate reaches the
+/// target (FK position within 1e-9 m).
+pub fn kernel_matches_solve<const N: usize, const M: usize>(
+    robot: &kinema::Robot,
+    candidates: &kinema::ik::Candidates<N, M>,
+    solutions: &[kinema::ik::Solution],
+    target_position: [f64; 3],
+) {
+    assert_eq!(candidates.len(), solutions.len());
+    for ((q, label), s) in candidates.iter().zip(solutions) {
+        assert_eq!(&q[..], &s.q[..]);
+        assert_eq!(label, s.branch);
+        let p = robot.fk(q).unwrap().pose.pos;
+        let d = (p - kinema::nalgebra::Vector3::from(target_position)).norm();
+        assert!(d < 1e-9, "{label}: {d}");
+    }
+}
