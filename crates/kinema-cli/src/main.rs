@@ -13,6 +13,7 @@ use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
 mod ik_cmd;
+mod traj_cmd;
 
 /// An error that only sets the exit code (its message was already printed).
 #[derive(Debug)]
@@ -63,6 +64,11 @@ enum Cmd {
     Selfmotion(ik_cmd::SelfMotionArgs),
     /// Time FK and the Jacobian (and, with --ik, inverse kinematics) over random configurations.
     Bench(BenchArgs),
+    /// Trajectories: time laws and point-to-point motions, checked against the limits.
+    Traj {
+        #[command(subcommand)]
+        cmd: traj_cmd::TrajCmd,
+    },
 }
 
 #[derive(Args)]
@@ -216,6 +222,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::IkValidate(a) => ik_cmd::validate(a),
         Cmd::Selfmotion(a) => ik_cmd::selfmotion(a),
         Cmd::Bench(a) => bench(a),
+        Cmd::Traj { cmd } => traj_cmd::traj(cmd),
     }
 }
 
@@ -519,11 +526,8 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
     if rows < 200_000 {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
-    let dir = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let tmp = dir.join(format!(".{}.kinema-tmp", output.file_name().map_or("out".into(), |f| f.to_string_lossy())));
-    let result = (|| -> Result<()> {
-        let file = std::fs::File::create(&tmp).with_context(|| format!("cannot create `{}`", tmp.display()))?;
-        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(file));
+    let result = write_atomically(output, |out| {
+        let mut w = csv::Writer::from_writer(out);
         let rpy_names = match conv {
             RpyConvention::Zyx => ["roll", "pitch", "yaw"],
             RpyConvention::Xyz => ["rx", "ry", "rz"],
@@ -544,22 +548,36 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
             bar.inc((chunk.len() / n) as u64);
         }
         w.flush()?;
-        let file = w
-            .into_inner()
-            .map_err(|e| anyhow::anyhow!("{}", e.error()))?
-            .into_inner()
-            .map_err(|e| anyhow::anyhow!("{}", e.error()))?;
+        Ok(())
+    });
+    bar.finish_and_clear();
+    result?;
+    eprintln!("wrote {rows} poses to {}", output.display());
+    Ok(())
+}
+
+/// Writes `output` through a temporary file in the same directory that is
+/// renamed over it only when `write` succeeded; on any error the temporary
+/// file is removed and `output` is left as it was.
+pub(crate) fn write_atomically(
+    output: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<()>,
+) -> Result<()> {
+    let dir = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let tmp = dir.join(format!(".{}.kinema-tmp", output.file_name().map_or("out".into(), |f| f.to_string_lossy())));
+    let result = (|| -> Result<()> {
+        let file = std::fs::File::create(&tmp).with_context(|| format!("cannot create `{}`", tmp.display()))?;
+        let mut out = std::io::BufWriter::new(file);
+        write(&mut out)?;
+        let file = out.into_inner().map_err(|e| anyhow::anyhow!("{}", e.error()))?;
         file.sync_all()?;
         std::fs::rename(&tmp, output).with_context(|| format!("cannot move the result to `{}`", output.display()))?;
         Ok(())
     })();
-    bar.finish_and_clear();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result?;
-    eprintln!("wrote {rows} poses to {}", output.display());
-    Ok(())
+    result
 }
 
 fn matrix_rows(j: &Matrix6xX<f64>) -> Vec<Vec<f64>> {

@@ -441,3 +441,97 @@ fn ik_validate_and_selfmotion() {
     let e = fails(&["selfmotion", "--robot", "puma560", "--q", "home"]);
     assert!(e.contains("puma560"), "{e}");
 }
+
+#[test]
+fn traj_law_prints_duration_and_phase_times() {
+    let v =
+        json(&["traj", "law", "--profile", "trapezoid", "--distance", "1", "--vmax", "0.5", "--amax", "1", "--json"]);
+    assert!((v["duration"].as_f64().unwrap() - 2.5).abs() < 1e-12);
+    assert!((v["t_acc"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    // Short move: the cruise vanishes, a triangle of 2·√(D/a).
+    let v = json(&["traj", "law", "--distance", "0.1", "--vmax", "1", "--amax", "1", "--json"]);
+    assert!((v["duration"].as_f64().unwrap() - 2.0 * 0.1f64.sqrt()).abs() < 1e-12);
+    assert_eq!(v["t_cruise"].as_f64(), Some(0.0));
+    let v = json(&[
+        "traj",
+        "law",
+        "--profile",
+        "scurve",
+        "--distance",
+        "10",
+        "--vmax",
+        "1",
+        "--amax",
+        "1",
+        "--jmax",
+        "10",
+        "--json",
+    ]);
+    assert!((v["duration"].as_f64().unwrap() - 11.1).abs() < 1e-12);
+    let v = json(&["traj", "law", "--profile", "quintic", "--duration", "2", "--dt", "0.5", "--json"]);
+    assert_eq!(v["samples"]["rows"].as_array().unwrap().len(), 5);
+    let e = fails(&["traj", "law", "--profile", "scurve", "--vmax", "1", "--amax", "1"]);
+    assert!(e.contains("jmax"), "{e}");
+    let e = fails(&["traj", "law", "--vmax", "-1", "--amax", "1"]);
+    assert!(e.contains("vmax"), "{e}");
+}
+
+#[test]
+fn traj_ptp_writes_a_checked_csv_or_nothing() {
+    let dir = tempdir("traj-ptp");
+    let out = dir.join("ptp.csv");
+    let to = "-0.1090,1.2417,0.4463,1.9156,-0.9695,-1.8728,0.4876";
+    let r = kinema(&[
+        "traj",
+        "ptp",
+        "-r",
+        "lbr-iiwa-14-r820",
+        "--from",
+        "home",
+        "--to",
+        to,
+        "--profile",
+        "scurve",
+        "--amax",
+        "2",
+        "--jmax",
+        "15",
+        "--dt",
+        "0.01",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.ok, "{}", r.stderr);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header.len(), 1 + 21 + 7);
+    assert_eq!(
+        (header[0], header[1], header[8], header[15], header[22], header[28]),
+        ("t", "q1", "qd1", "qdd1", "x", "manipulability")
+    );
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    let last = rows.last().unwrap();
+    let goal: Vec<f64> = to.split(',').map(|x| x.parse().unwrap()).collect();
+    assert!(last[1..8].iter().zip(&goal).all(|(a, b)| (a - b).abs() < 1e-9));
+    // The pose columns are FK of the joint columns.
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let mid = &rows[rows.len() / 2];
+    let p = robot.fk(&mid[1..8]).unwrap().pose.pos;
+    assert!((p.x - mid[22]).abs() < 1e-9 && (p.z - mid[24]).abs() < 1e-9);
+    // Missing acceleration limits: an error naming the flag, and no file.
+    let bad = dir.join("bad.csv");
+    let e =
+        fails(&["traj", "ptp", "-r", "lbr-iiwa-14-r820", "--from", "home", "--to", to, "--out", bad.to_str().unwrap()]);
+    assert!(e.contains("amax"), "{e}");
+    assert!(!bad.exists());
+    assert!(std::fs::read_dir(&dir).unwrap().all(|f| !f.unwrap().file_name().to_string_lossy().contains("kinema-tmp")));
+    let v = json(&[
+        "traj", "ptp", "-r", "puma560", "--from", "home", "--to", "qr", "--vmax", "2", "--amax", "3", "--json", "--dt",
+        "0.1",
+    ]);
+    assert!(
+        v["duration"].as_f64().unwrap() > 0.0
+            && v["rows"].as_array().unwrap().len() == v["samples"].as_u64().unwrap() as usize
+    );
+}

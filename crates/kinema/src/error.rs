@@ -107,6 +107,16 @@ pub enum Error {
         /// What is wrong with it.
         source: Box<Error>,
     },
+    /// A generated or loaded trajectory breaks a limit (see [`crate::traj::check`]).
+    #[error("the trajectory is not emitted: {count} violation(s); the first: {first}")]
+    Trajectory {
+        /// Number of violations.
+        count: usize,
+        /// The first violation, in words.
+        first: String,
+        /// All of them.
+        violations: Vec<crate::traj::Violation>,
+    },
     /// An argument outside its domain.
     #[error("invalid `{what}`: {message}")]
     InvalidArgument {

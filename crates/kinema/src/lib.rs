@@ -48,6 +48,7 @@ pub mod kin;
 pub mod math;
 pub mod model;
 mod registry;
+pub mod traj;
 mod urdf;
 
 pub use error::{Error, Result};

@@ -1,0 +1,518 @@
+//! Trajectory generation (seed 004 §VIII): time laws, joint-space
+//! point-to-point motions, sampled joint trajectories and the checks every
+//! generated trajectory goes through before it is handed out.
+//!
+//! - [`law`]: normalised time laws s(t) — trapezoid, jerk-limited S-curve,
+//!   cubic, quintic, linear — from limits or from a duration.
+//! - [`Ptp`]: a synchronised joint-space motion (seed 004 eq. 38) in which
+//!   all joints share one law and every joint respects its own limits.
+//! - [`JointTrajectory`]: samples t, q, q̇, q̈; [`check`] finds position,
+//!   velocity and acceleration limit violations, jumps between samples and
+//!   near-singular samples, each with its time and joint.
+//!
+//! # Examples
+//! ```
+//! use kinema::traj::{Profile, Ptp, PtpOptions};
+//! let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+//! let to = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876]; // seed 004 §VIII-B
+//! let opts = PtpOptions { profile: Profile::SCurve, acc: Some(vec![2.0]), jerk: Some(vec![10.0]), ..PtpOptions::default() };
+//! let ptp = Ptp::new(&robot, robot.home(), &to, &opts)?;
+//! let traj = ptp.sample(&robot, 0.01)?; // checked: limits hold, no jumps
+//! assert!((traj.times().last().unwrap() - ptp.duration()).abs() < 1e-12);
+//! # Ok::<(), kinema::Error>(())
+//! ```
+
+pub mod law;
+
+use std::fmt;
+
+pub use law::{LawState, MotionLimits, Profile, TimeLaw};
+
+use crate::analysis::{yoshikawa, Axes};
+use crate::error::{Error, Result};
+use crate::kin::Frame;
+use crate::model::Robot;
+
+/// Options of a point-to-point motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PtpOptions {
+    /// The family of the shared time law.
+    pub profile: Profile,
+    /// Velocity limits \[rad/s or m/s\]: one value for every joint or one per
+    /// joint; `None` uses the robot's.
+    pub vel: Option<Vec<f64>>,
+    /// Acceleration limits, as `vel`.
+    pub acc: Option<Vec<f64>>,
+    /// Jerk limits (S-curve and, optionally, quintic), as `vel`.
+    pub jerk: Option<Vec<f64>>,
+    /// Velocity override in (0, 1]: the velocity limits are scaled by it, the
+    /// acceleration limits by its square and the jerk limits by its cube (a
+    /// slower run of the same motion, like an industrial controller's % override).
+    pub speed: f64,
+    /// A duration \[s\] to stretch the motion to (at least the fastest one).
+    pub duration: Option<f64>,
+}
+
+impl Default for PtpOptions {
+    fn default() -> Self {
+        PtpOptions { profile: Profile::Trapezoid, vel: None, acc: None, jerk: None, speed: 1.0, duration: None }
+    }
+}
+
+/// Per-joint limits from an option (1 or n values) or the robot.
+fn joint_limits(
+    robot: &Robot,
+    given: Option<&[f64]>,
+    what: &str,
+    from_robot: impl Fn(usize) -> Option<f64>,
+) -> Result<Vec<Option<f64>>> {
+    let n = robot.dof();
+    match given {
+        Some(v) if v.len() == 1 => Ok(vec![Some(v[0]); n]),
+        Some(v) if v.len() == n => Ok(v.iter().map(|&x| Some(x)).collect()),
+        Some(v) => Err(Error::InvalidArgument {
+            what: what.into(),
+            message: format!(
+                "{} values given; expected 1 (every joint) or {n} (one per joint of `{}`)",
+                v.len(),
+                robot.name()
+            ),
+        }),
+        None => Ok((0..n).map(from_robot).collect()),
+    }
+}
+
+/// A synchronised point-to-point motion in joint space (seed 004 §VIII-B,
+/// eq. 38: q(t) = q_ini + s(t)·(q_obj − q_ini)).
+///
+/// All joints share one normalised law s(t). Joint i moves Δ_i·s(t), so it
+/// respects its limits when ṡ ≤ v_i/|Δ_i|, s̈ ≤ a_i/|Δ_i| and s⃛ ≤ j_i/|Δ_i|;
+/// the shared law is the fastest one with ṡ ≤ min_i v_i/|Δ_i| and so on —
+/// computed per joint, each limit decided by the joint it binds. (Seed 004
+/// used only the slowest actuator and the largest displacement, which can be
+/// slower or, with unequal limits, violate a faster joint's acceleration.)
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ptp {
+    law: TimeLaw,
+    from: Vec<f64>,
+    delta: Vec<f64>,
+}
+
+impl Ptp {
+    /// Plans the motion from `from` to `to` (joint values of `robot`).
+    ///
+    /// Errors: wrong joint counts or non-finite values; a target outside the
+    /// joint position limits; a moving joint without a velocity/acceleration
+    /// (or, for the S-curve, jerk) limit in the robot or the options; a
+    /// non-positive limit or a `speed` outside (0, 1].
+    pub fn new(robot: &Robot, from: &[f64], to: &[f64], opts: &PtpOptions) -> Result<Ptp> {
+        robot.check_q(from)?;
+        robot.check_q(to)?;
+        for (what, q) in [("from", from), ("to", to)] {
+            if let Some(i) = robot.limit_flags(q).indices().next() {
+                let l = robot.joints()[i].limits;
+                return Err(Error::InvalidArgument {
+                    what: what.into(),
+                    message: format!(
+                        "joint {} (`{}`) = {} is outside its limits [{}, {}]",
+                        i + 1,
+                        robot.joints()[i].name,
+                        q[i],
+                        l.min,
+                        l.max
+                    ),
+                });
+            }
+        }
+        if !(opts.speed > 0.0 && opts.speed <= 1.0) {
+            return Err(Error::InvalidArgument {
+                what: "speed".into(),
+                message: format!("{} is not an override in (0, 1]", opts.speed),
+            });
+        }
+        let js = robot.joints();
+        let vel = joint_limits(robot, opts.vel.as_deref(), "vmax", |i| js[i].limits.vel)?;
+        let acc = joint_limits(robot, opts.acc.as_deref(), "amax", |i| js[i].limits.acc)?;
+        let jerk = joint_limits(robot, opts.jerk.as_deref(), "jmax", |i| js[i].limits.jerk)?;
+        let delta: Vec<f64> = to.iter().zip(from).map(|(b, a)| b - a).collect();
+        let need_acc = opts.profile != Profile::Linear;
+        let need_jerk = opts.profile == Profile::SCurve;
+        let k = opts.speed;
+        let mut shared = MotionLimits { vel: f64::INFINITY, acc: f64::INFINITY, jerk: None };
+        for (i, d) in delta.iter().enumerate() {
+            let d = d.abs();
+            if d == 0.0 {
+                continue;
+            }
+            let missing = |what: &str, flag: &str| Error::InvalidArgument {
+                what: flag.into(),
+                message: format!(
+                    "joint {} (`{}`) moves but has no {what} limit in the robot model; give one ({flag})",
+                    i + 1,
+                    js[i].name
+                ),
+            };
+            let v = vel[i].ok_or_else(|| missing("velocity", "vmax"))?;
+            shared.vel = shared.vel.min(v * k / d);
+            if need_acc {
+                let a = acc[i].ok_or_else(|| missing("acceleration", "amax"))?;
+                shared.acc = shared.acc.min(a * k * k / d);
+            }
+            match jerk[i] {
+                Some(j) => shared.jerk = Some(shared.jerk.unwrap_or(f64::INFINITY).min(j * k * k * k / d)),
+                None if need_jerk => return Err(missing("jerk", "jmax")),
+                None => {}
+            }
+        }
+        if !need_acc {
+            shared.acc = 1.0;
+        }
+        let moving = delta.iter().any(|d| *d != 0.0);
+        let mut law = if moving {
+            TimeLaw::from_limits(opts.profile, 1.0, &shared)?
+        } else {
+            TimeLaw::from_limits(opts.profile, 0.0, &MotionLimits::with_jerk(1.0, 1.0, 1.0))?
+        };
+        if let Some(t) = opts.duration {
+            law = law.stretched_to(t)?;
+        }
+        Ok(Ptp { law, from: from.to_vec(), delta })
+    }
+
+    /// The shared time law.
+    pub fn law(&self) -> &TimeLaw {
+        &self.law
+    }
+
+    /// Duration \[s\].
+    pub fn duration(&self) -> f64 {
+        self.law.duration()
+    }
+
+    /// q, q̇, q̈ at time `t` \[s\], written into the three slices (each `dof` long).
+    pub fn state_into(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        let s = self.law.at(t);
+        for i in 0..self.delta.len() {
+            q[i] = self.from[i] + s.s * self.delta[i];
+            qd[i] = s.sd * self.delta[i];
+            qdd[i] = s.sdd * self.delta[i];
+        }
+    }
+
+    /// Samples every `dt` \[s\] from 0, plus the end time, and checks the
+    /// result ([`check`] with [`CheckOptions::default`]); a violation is an
+    /// [`Error::Trajectory`] and nothing is returned.
+    pub fn sample(&self, robot: &Robot, dt: f64) -> Result<JointTrajectory> {
+        let traj = self.sample_unchecked(dt)?;
+        check(robot, &traj, &CheckOptions::default())?.into_result()?;
+        Ok(traj)
+    }
+
+    /// As [`Ptp::sample`] without the check.
+    pub fn sample_unchecked(&self, dt: f64) -> Result<JointTrajectory> {
+        let times = sample_times(self.duration(), dt)?;
+        let n = self.delta.len();
+        let mut traj = JointTrajectory::with_capacity(n, times.len());
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for t in times {
+            self.state_into(t, &mut q, &mut qd, &mut qdd);
+            traj.push(t, &q, &qd, &qdd)?;
+        }
+        Ok(traj)
+    }
+}
+
+/// 0, dt, 2·dt, … and the end time `duration` itself.
+pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(Error::InvalidArgument {
+            what: "dt".into(),
+            message: format!("{dt} s must be a positive time step"),
+        });
+    }
+    let steps = (duration / dt).floor();
+    if steps > 1e8 {
+        return Err(Error::InvalidArgument {
+            what: "dt".into(),
+            message: format!("{dt} s over {duration} s would give {steps:.0} samples (more than 10⁸)"),
+        });
+    }
+    let mut out: Vec<f64> = (0..=steps as usize).map(|k| k as f64 * dt).collect();
+    if duration - out.last().copied().unwrap_or(0.0) > 1e-12 * duration.max(1.0) {
+        out.push(duration);
+    } else if let Some(last) = out.last_mut() {
+        *last = duration;
+    }
+    Ok(out)
+}
+
+/// A sampled joint trajectory: times and, per sample, q, q̇ and q̈.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointTrajectory {
+    dof: usize,
+    t: Vec<f64>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+}
+
+impl JointTrajectory {
+    /// An empty trajectory of `dof` joints.
+    pub fn new(dof: usize) -> Self {
+        Self::with_capacity(dof, 0)
+    }
+
+    /// An empty trajectory with room for `samples` samples.
+    pub fn with_capacity(dof: usize, samples: usize) -> Self {
+        JointTrajectory {
+            dof,
+            t: Vec::with_capacity(samples),
+            q: Vec::with_capacity(samples * dof),
+            qd: Vec::with_capacity(samples * dof),
+            qdd: Vec::with_capacity(samples * dof),
+        }
+    }
+
+    /// Appends a sample. Errors if a slice does not have `dof` values.
+    pub fn push(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<()> {
+        for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
+            if v.len() != self.dof {
+                return Err(Error::InvalidArgument {
+                    what: what.into(),
+                    message: format!("{} values given, the trajectory has {} joints", v.len(), self.dof),
+                });
+            }
+        }
+        self.t.push(t);
+        self.q.extend_from_slice(q);
+        self.qd.extend_from_slice(qd);
+        self.qdd.extend_from_slice(qdd);
+        Ok(())
+    }
+
+    /// Number of joints.
+    pub fn dof(&self) -> usize {
+        self.dof
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether there is no sample.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Sample times \[s\].
+    pub fn times(&self) -> &[f64] {
+        &self.t
+    }
+
+    /// Joint values of sample `k`.
+    pub fn q(&self, k: usize) -> &[f64] {
+        &self.q[k * self.dof..(k + 1) * self.dof]
+    }
+
+    /// Joint velocities of sample `k`.
+    pub fn qd(&self, k: usize) -> &[f64] {
+        &self.qd[k * self.dof..(k + 1) * self.dof]
+    }
+
+    /// Joint accelerations of sample `k`.
+    pub fn qdd(&self, k: usize) -> &[f64] {
+        &self.qdd[k * self.dof..(k + 1) * self.dof]
+    }
+}
+
+/// What a trajectory check found wrong.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ViolationKind {
+    /// A value that is not a finite number, or times that do not increase.
+    Malformed,
+    /// A joint value outside its position limits.
+    Position,
+    /// A joint velocity above its limit.
+    Velocity,
+    /// A joint acceleration above its limit.
+    Acceleration,
+    /// A joint moving between two samples farther than its velocity limit
+    /// allows (a branch flip or a gap in the data).
+    Jump,
+    /// Manipulability below the threshold (close to a singularity).
+    NearSingular,
+}
+
+/// One problem found by [`check`], with where and when.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Violation {
+    /// What is wrong.
+    pub kind: ViolationKind,
+    /// Index of the sample.
+    pub sample: usize,
+    /// Time of the sample \[s\].
+    pub time: f64,
+    /// The joint (0-based), where one is concerned.
+    pub joint: Option<usize>,
+    /// The offending value.
+    pub value: f64,
+    /// The limit it broke.
+    pub limit: f64,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "t = {:.4} s (sample {}): ", self.time, self.sample)?;
+        let j = self.joint.map(|j| j + 1).unwrap_or(0);
+        match self.kind {
+            ViolationKind::Malformed => write!(f, "malformed sample (value {}, previous time {})", self.value, self.limit),
+            ViolationKind::Position => {
+                write!(f, "joint {j} at {:.6} is outside its position limits (nearest bound {:.6})", self.value, self.limit)
+            }
+            ViolationKind::Velocity => write!(f, "joint {j} velocity {:.6} exceeds its limit {:.6}", self.value, self.limit),
+            ViolationKind::Acceleration => {
+                write!(f, "joint {j} acceleration {:.6} exceeds its limit {:.6}", self.value, self.limit)
+            }
+            ViolationKind::Jump => write!(
+                f,
+                "joint {j} jumps by {:.6} since the previous sample, more than its velocity limit allows ({:.6}); a branch flip?",
+                self.value, self.limit
+            ),
+            ViolationKind::NearSingular => {
+                write!(f, "manipulability {:.3e} is below the threshold {:.3e} (close to a singularity)", self.value, self.limit)
+            }
+        }
+    }
+}
+
+/// Options of [`check`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckOptions {
+    /// Relative slack on every limit (rounding), default 1e-9.
+    pub tolerance: f64,
+    /// Velocity limits to use instead of the robot's (1 or dof values).
+    pub vel: Option<Vec<f64>>,
+    /// Acceleration limits to use instead of the robot's (1 or dof values).
+    pub acc: Option<Vec<f64>>,
+    /// Report samples whose Yoshikawa manipulability is below this value.
+    pub min_manipulability: Option<f64>,
+    /// The Jacobian rows that manipulability uses: all six by default (zero
+    /// at every singularity of a 6+-joint arm), or the translation rows as in
+    /// seed 004 Fig. 30/33 (for 5-joint arms, whose full measure is always 0).
+    pub manipulability_axes: Axes,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions { tolerance: 1e-9, vel: None, acc: None, min_manipulability: None, manipulability_axes: Axes::All }
+    }
+}
+
+/// What [`check`] measured and found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckReport {
+    /// Number of samples.
+    pub samples: usize,
+    /// Largest |q̇| per joint.
+    pub peak_vel: Vec<f64>,
+    /// Largest |q̈| per joint.
+    pub peak_acc: Vec<f64>,
+    /// (time, value) of the smallest manipulability, when asked for.
+    pub min_manipulability: Option<(f64, f64)>,
+    /// Everything that is wrong, in sample order.
+    pub violations: Vec<Violation>,
+}
+
+impl CheckReport {
+    /// The report if nothing is wrong, else an [`Error::Trajectory`].
+    pub fn into_result(self) -> Result<CheckReport> {
+        if self.violations.is_empty() {
+            return Ok(self);
+        }
+        Err(Error::Trajectory {
+            count: self.violations.len(),
+            first: self.violations[0].to_string(),
+            violations: self.violations,
+        })
+    }
+}
+
+/// Checks a joint trajectory of `robot` (seed 004 checked its curves by eye;
+/// this does it for every sample): position limits, velocity and
+/// acceleration limits (the robot's, or those of `opts`), jumps between
+/// consecutive samples larger than the velocity limit allows over their time
+/// step, non-finite values or non-increasing times, and — with
+/// `opts.min_manipulability` — closeness to singularities (Yoshikawa's
+/// measure on `opts.manipulability_axes`). Joints without a
+/// velocity (acceleration) limit are not checked for it.
+///
+/// Errors only for a trajectory of the wrong joint count or bad options;
+/// violations are listed in the report.
+pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Result<CheckReport> {
+    let n = robot.dof();
+    if traj.dof() != n {
+        return Err(Error::JointCount { robot: robot.name().to_string(), expected: n, got: traj.dof() });
+    }
+    let js = robot.joints();
+    let vel = joint_limits(robot, opts.vel.as_deref(), "vmax", |i| js[i].limits.vel)?;
+    let acc = joint_limits(robot, opts.acc.as_deref(), "amax", |i| js[i].limits.acc)?;
+    let slack = 1.0 + opts.tolerance;
+    let mut report = CheckReport {
+        samples: traj.len(),
+        peak_vel: vec![0.0; n],
+        peak_acc: vec![0.0; n],
+        min_manipulability: None,
+        violations: Vec::new(),
+    };
+    let mut jac = nalgebra::Matrix6xX::zeros(n);
+    for k in 0..traj.len() {
+        let t = traj.times()[k];
+        let (q, qd, qdd) = (traj.q(k), traj.qd(k), traj.qdd(k));
+        let v = |kind, joint, value, limit| Violation { kind, sample: k, time: t, joint, value, limit };
+        let prev_t = if k > 0 { traj.times()[k - 1] } else { f64::NEG_INFINITY };
+        if !t.is_finite() || t <= prev_t || q.iter().chain(qd).chain(qdd).any(|x| !x.is_finite()) {
+            let bad = q.iter().chain(qd).chain(qdd).copied().find(|x| !x.is_finite()).unwrap_or(t);
+            report.violations.push(v(ViolationKind::Malformed, None, bad, prev_t));
+            continue;
+        }
+        for i in 0..n {
+            let l = js[i].limits;
+            let pos_tol = opts.tolerance * (1.0 + l.max.abs().max(l.min.abs()).min(1e6));
+            if q[i] < l.min - pos_tol || q[i] > l.max + pos_tol {
+                let bound = if q[i] < l.min { l.min } else { l.max };
+                report.violations.push(v(ViolationKind::Position, Some(i), q[i], bound));
+            }
+            report.peak_vel[i] = report.peak_vel[i].max(qd[i].abs());
+            report.peak_acc[i] = report.peak_acc[i].max(qdd[i].abs());
+            if let Some(vl) = vel[i] {
+                if qd[i].abs() > vl * slack {
+                    report.violations.push(v(ViolationKind::Velocity, Some(i), qd[i], vl));
+                }
+                if k > 0 && prev_t.is_finite() {
+                    let step = q[i] - traj.q(k - 1)[i];
+                    let allowed = vl * (t - prev_t) * slack + 1e-12;
+                    if step.abs() > allowed {
+                        report.violations.push(v(ViolationKind::Jump, Some(i), step, allowed));
+                    }
+                }
+            }
+            if let Some(al) = acc[i] {
+                if qdd[i].abs() > al * slack {
+                    report.violations.push(v(ViolationKind::Acceleration, Some(i), qdd[i], al));
+                }
+            }
+        }
+        if let Some(th) = opts.min_manipulability {
+            robot.jacobian_into(q, Frame::Base, &mut jac)?;
+            let m = yoshikawa(&jac, opts.manipulability_axes)?;
+            if report.min_manipulability.is_none_or(|(_, best)| m < best) {
+                report.min_manipulability = Some((t, m));
+            }
+            if m < th {
+                report.violations.push(v(ViolationKind::NearSingular, None, m, th));
+            }
+        }
+    }
+    Ok(report)
+}
