@@ -91,7 +91,7 @@ const REACH_TOL: f64 = 1e-12;
 
 /// Half-width \[rad\] of the q3 window searched by [`IiwaIk::select`] around the previous q3.
 pub const SELECT_WINDOW: f64 = 0.05;
-/// Step \[rad\] of the q3 grid searched by [`IiwaIk::select`] (21 values over the window).
+/// Step \[rad\] of the q3 grid searched by [`IiwaIk::select`] (21 values over the window: the window / 10).
 pub const SELECT_STEP: f64 = 0.005;
 /// Largest joint change \[rad\] per call that [`IiwaIk::select`] prefers; candidates
 /// that change any joint more are used only if there is no other.
@@ -743,15 +743,41 @@ impl IiwaIk {
     /// [`IiwaIk::solve_q3`], or [`Unreachable::JointLimits`] if every
     /// solution in the window violates a limit.
     pub fn select(&self, q_prev: &[f64], target: &Pose, direction: Option<&Vector3<f64>>) -> Result<Solution> {
+        self.select_within(q_prev, target, direction, SELECT_WINDOW, &[SELECT_MAX_STEP; 7])
+    }
+
+    /// [`IiwaIk::select`] with the q3 window half-width `window` \[rad\] (searched
+    /// on a grid of 21 values) and per-joint preferred step limits
+    /// `max_steps` \[rad\] — for path following at a sample period dt, the
+    /// joints' velocity limits times dt, so that q3's drift towards better
+    /// manipulability never asks a joint to move faster than it can.
+    pub fn select_within(
+        &self,
+        q_prev: &[f64],
+        target: &Pose,
+        direction: Option<&Vector3<f64>>,
+        window: f64,
+        max_steps: &[f64],
+    ) -> Result<Solution> {
         self.robot.check_q(q_prev)?;
+        if !(window >= 0.0 && window.is_finite()) || max_steps.len() != 7 {
+            return Err(Error::InvalidArgument {
+                what: "window".into(),
+                message: format!(
+                    "q3 window {window} must be ≥ 0 and {} step limits given for 7 joints",
+                    max_steps.len()
+                ),
+            });
+        }
         let t = self.arm_target(target)?;
         let lim = self.robot.joints()[2].limits;
-        let steps = (SELECT_WINDOW / SELECT_STEP).round() as i64;
+        let steps: i64 = if window > 0.0 { 10 } else { 0 };
+        let step = window / 10.0;
         let mut cands: Vec<[f64; 7]> = Vec::new();
         let mut last_err = None;
         let mut rejected = Vec::new();
         for k in -steps..=steps {
-            let q3 = q_prev[2] + k as f64 * SELECT_STEP;
+            let q3 = q_prev[2] + k as f64 * step;
             if !lim.contains(q3) {
                 continue;
             }
@@ -783,9 +809,9 @@ impl IiwaIk {
             }
             return Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected } });
         }
-        let max_step = |q: &[f64; 7]| q.iter().zip(q_prev).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        if cands.iter().any(|q| max_step(q) <= SELECT_MAX_STEP) {
-            cands.retain(|q| max_step(q) <= SELECT_MAX_STEP);
+        let small = |q: &[f64; 7]| q.iter().zip(q_prev).zip(max_steps).all(|((a, b), m)| (a - b).abs() <= *m);
+        if cands.iter().any(small) {
+            cands.retain(small);
         }
         let heights: Vec<f64> = cands.iter().map(|q| self.elbow_height(q)).collect();
         let pick = if heights.iter().any(|&h| h > 0.0) {

@@ -22,10 +22,14 @@
 //! # Ok::<(), kinema::Error>(())
 //! ```
 
+pub mod cart;
+pub mod joint;
 pub mod law;
 
 use std::fmt;
 
+pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
+pub use joint::{to_joints, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw};
 
 use crate::analysis::{yoshikawa, Axes};

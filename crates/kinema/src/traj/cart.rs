@@ -1,0 +1,594 @@
+//! Cartesian motions (seed 004 §VIII-C/D): straight lines (LIN), circular
+//! arcs (CIRC) and chains of them blended through via points, each timed by
+//! a [`TimeLaw`].
+//!
+//! A [`Segment`] is a geometric piece p(u), R(u), u ∈ \[0, 1\]. A
+//! [`CartesianMotion`] runs segments one after another; with blending the
+//! next one starts before the previous ends and the two are superposed
+//! (seed 004 eq. 41: P(t) = P_ini + s(t)·(P_obj − P_ini) + s′(t − t_s)·(P_sig − P_obj)),
+//! which rounds the corner and keeps the velocity continuous. Orientations
+//! superpose the same way as world-frame increments, R(t) = Δ_n(t)⋯Δ_1(t)·R_0.
+//!
+//! Each segment's law is the fastest of its family with ṡ ≤ min(v/L, ω/θ),
+//! s̈ ≤ min(a/L, α/θ) (and jerk likewise), L the path length and θ the
+//! rotation angle — the larger of the translational and rotational
+//! requirements, decided per limit. Where two blended segments overlap, their
+//! velocities and accelerations add; where the sum would exceed a limit the
+//! blend is shortened (bisection on its length, down to a full stop at the
+//! via point), so every limit holds and a blended motion is never slower
+//! than stopping at every point. With the trapezoid, whose accelerations are
+//! constant, a corner sharper than 60° cannot be blended at full
+//! acceleration (|a₂ − a₁| = 2·a·sin(angle/2) > a): it becomes a stop; the
+//! S-curve blends more corners.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::law::{MotionLimits, Profile, TimeLaw};
+use crate::error::{Error, Result};
+use crate::math::{axis_angle_to_rot, rot_to_axis_angle, rot_x, rot_y, rot_z, rpy_to_rot, Pose, RpyConvention};
+
+/// How a LIN segment interpolates orientation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Orientation {
+    /// Spherical linear interpolation of the rotation (constant angular
+    /// velocity axis; the default).
+    #[default]
+    Slerp,
+    /// Linear interpolation of roll-pitch-yaw angles in the given convention
+    /// (seed 004 eq. 40).
+    Rpy(RpyConvention),
+}
+
+/// Cartesian limits of a motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CartesianLimits {
+    /// Tool-point speed \[m/s\].
+    pub vel: f64,
+    /// Tool-point acceleration \[m/s²\].
+    pub acc: f64,
+    /// Tool-point jerk \[m/s³\] (S-curve).
+    pub jerk: Option<f64>,
+    /// Angular speed \[rad/s\] (for RPY interpolation: the rate of each angle).
+    pub rot_vel: f64,
+    /// Angular acceleration \[rad/s²\].
+    pub rot_acc: f64,
+    /// Angular jerk \[rad/s³\] (S-curve).
+    pub rot_jerk: Option<f64>,
+}
+
+impl CartesianLimits {
+    /// Translational limits, with rotational ones of the same numbers per radian.
+    pub fn new(vel: f64, acc: f64) -> Self {
+        CartesianLimits { vel, acc, jerk: None, rot_vel: vel, rot_acc: acc, rot_jerk: None }
+    }
+}
+
+/// Position, velocity and acceleration of the tool along a motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CartesianState {
+    /// Tool pose.
+    pub pose: Pose,
+    /// Linear velocity \[m/s\].
+    pub vel: Vector3<f64>,
+    /// Angular velocity (world frame) \[rad/s\].
+    pub omega: Vector3<f64>,
+    /// Linear acceleration \[m/s²\].
+    pub acc: Vector3<f64>,
+    /// Angular acceleration \[rad/s²\].
+    pub alpha: Vector3<f64>,
+}
+
+/// The rotation part of a segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Rot {
+    /// R(u) = exp(u·θ·k)·R0, k a unit world axis.
+    Slerp { r0: Matrix3<f64>, axis: Vector3<f64>, angle: f64 },
+    /// R(u) = R(Φ0 + u·ΔΦ).
+    Rpy { conv: RpyConvention, phi0: [f64; 3], dphi: [f64; 3] },
+}
+
+/// The path of the position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Path {
+    /// p(u) = p0 + u·(p1 − p0).
+    Line { p0: Vector3<f64>, p1: Vector3<f64> },
+    /// p(u) = c + r·(cos(φu)·e1 + sin(φu)·e2).
+    Arc { c: Vector3<f64>, e1: Vector3<f64>, e2: Vector3<f64>, r: f64, phi: f64 },
+}
+
+/// A geometric piece of a Cartesian motion, parametrised by u ∈ \[0, 1\].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    path: Path,
+    rot: Rot,
+}
+
+/// (R, ω, α) of a world-frame rotation increment at u with u̇, ü.
+type RotState = (Matrix3<f64>, Vector3<f64>, Vector3<f64>);
+
+fn bad(what: &str, message: String) -> Error {
+    Error::InvalidArgument { what: what.into(), message }
+}
+
+fn finite_pose(what: &str, p: &Pose) -> Result<()> {
+    if p.is_finite() {
+        Ok(())
+    } else {
+        Err(bad(what, "the pose contains NaN or infinite values".into()))
+    }
+}
+
+impl Segment {
+    /// A straight line from `from` to `to` (seed 004 §VIII-C1, eq. 39–40).
+    pub fn lin(from: &Pose, to: &Pose, orientation: Orientation) -> Result<Segment> {
+        finite_pose("from", from)?;
+        finite_pose("to", to)?;
+        Ok(Segment { path: Path::Line { p0: from.pos, p1: to.pos }, rot: Self::rot(from, to, orientation) })
+    }
+
+    fn rot(from: &Pose, to: &Pose, orientation: Orientation) -> Rot {
+        match orientation {
+            Orientation::Slerp => {
+                let w = rot_to_axis_angle(&(to.rot * from.rot.transpose()));
+                let angle = w.norm();
+                let axis = if angle > 0.0 { w / angle } else { Vector3::z() };
+                Rot::Slerp { r0: from.rot, axis, angle }
+            }
+            Orientation::Rpy(conv) => {
+                let (a, b) = (from.rpy(conv), to.rpy(conv));
+                Rot::Rpy { conv, phi0: a, dphi: [b[0] - a[0], b[1] - a[1], b[2] - a[2]] }
+            }
+        }
+    }
+
+    /// The industrial CIRC: an arc from `from` through the point `aux` to
+    /// `to` (KUKA CIRC, ABB MoveC). The orientation goes from `from`'s to
+    /// `to`'s by SLERP. Errors: three points on a line or two coinciding.
+    pub fn circ_through(from: &Pose, aux: &Vector3<f64>, to: &Pose) -> Result<Segment> {
+        finite_pose("from", from)?;
+        finite_pose("to", to)?;
+        if !aux.iter().all(|v| v.is_finite()) {
+            return Err(bad("aux", "the auxiliary point contains NaN or infinite values".into()));
+        }
+        let (a, b, c) = (from.pos, *aux, to.pos);
+        let (ab, ac) = (b - a, c - a);
+        let n = ab.cross(&ac);
+        let scale = ab.norm().max(ac.norm());
+        if n.norm() <= 1e-9 * scale * scale || scale == 0.0 {
+            return Err(bad(
+                "aux",
+                "start, auxiliary and end points are (nearly) on one line or coincide; no circle passes through them"
+                    .into(),
+            ));
+        }
+        // Circumcentre: a + (|ab|²·(ac × n) + |ac|²·(n × ab)) / (2|n|²).
+        let centre =
+            a + (ab.norm_squared() * ac.cross(&n) + ac.norm_squared() * n.cross(&ab)) / (2.0 * n.norm_squared());
+        let r = (a - centre).norm();
+        let nz = n.normalize();
+        let e1 = (a - centre) / r;
+        let e2 = nz.cross(&e1);
+        let angle_of = |p: &Vector3<f64>| {
+            let d = p - centre;
+            let t = d.dot(&e2).atan2(d.dot(&e1));
+            if t < 0.0 {
+                t + std::f64::consts::TAU
+            } else {
+                t
+            }
+        };
+        // With the normal of (ab × ac), the arc a → b → c turns positively about it.
+        let phi = angle_of(&c);
+        Ok(Segment { path: Path::Arc { c: centre, e1, e2, r, phi }, rot: Self::rot(from, to, Orientation::Slerp) })
+    }
+
+    /// Seed 004 §VIII-D: an arc about the z axis of the frame `centre`,
+    /// starting at the point `start` (which must lie in the frame's xy plane)
+    /// and turning by `angle` \[rad\] (positive about z), the tool keeping
+    /// the orientation `rot`.
+    pub fn circ_about(centre: &Pose, start: &Vector3<f64>, angle: f64, rot: &Matrix3<f64>) -> Result<Segment> {
+        finite_pose("centre", centre)?;
+        if !(start.iter().all(|v| v.is_finite()) && angle.is_finite() && rot.iter().all(|v| v.is_finite())) {
+            return Err(bad("circle", "start point, angle and orientation must be finite".into()));
+        }
+        let local = centre.inverse().transform_point(start);
+        let r = local.x.hypot(local.y);
+        if r == 0.0 || local.z.abs() > 1e-9 * r.max(1.0) {
+            return Err(bad(
+                "start",
+                format!(
+                    "the start point must lie in the xy plane of the centre frame, away from its origin (local {:.6}, {:.6}, {:.6})",
+                    local.x, local.y, local.z
+                ),
+            ));
+        }
+        let e1 = centre.rot * Vector3::new(local.x / r, local.y / r, 0.0);
+        let z = centre.rot.column(2).into_owned();
+        let (e2, phi) = if angle >= 0.0 { (z.cross(&e1), angle) } else { (-z.cross(&e1), -angle) };
+        let p = Pose::new(*rot, *start);
+        Ok(Segment { path: Path::Arc { c: centre.pos, e1, e2, r, phi }, rot: Self::rot(&p, &p, Orientation::Slerp) })
+    }
+
+    /// Path length \[m\] and rotation "length": the angle \[rad\] for SLERP, the
+    /// largest change of one angle for RPY interpolation.
+    pub fn lengths(&self) -> (f64, f64) {
+        let l = match self.path {
+            Path::Line { p0, p1 } => (p1 - p0).norm(),
+            Path::Arc { r, phi, .. } => r * phi,
+        };
+        let th = match self.rot {
+            Rot::Slerp { angle, .. } => angle,
+            Rot::Rpy { dphi, .. } => dphi.iter().fold(0.0f64, |m, d| m.max(d.abs())),
+        };
+        (l, th)
+    }
+
+    /// Start pose.
+    pub fn start(&self) -> Pose {
+        self.pose(0.0)
+    }
+
+    /// End pose.
+    pub fn end(&self) -> Pose {
+        self.pose(1.0)
+    }
+
+    /// Pose at u.
+    pub fn pose(&self, u: f64) -> Pose {
+        let (p, _, _) = self.point(u, 0.0, 0.0);
+        let (d, _, _) = self.increment(u, 0.0, 0.0);
+        Pose::new(d * self.rot0(), p)
+    }
+
+    fn rot0(&self) -> Matrix3<f64> {
+        match self.rot {
+            Rot::Slerp { r0, .. } => r0,
+            Rot::Rpy { conv, phi0, .. } => rpy_to_rot(phi0, conv),
+        }
+    }
+
+    /// p, ṗ, p̈ at u with u̇, ü.
+    fn point(&self, u: f64, ud: f64, udd: f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        match self.path {
+            Path::Line { p0, p1 } => {
+                let d = p1 - p0;
+                (p0 + d * u, d * ud, d * udd)
+            }
+            Path::Arc { c, e1, e2, r, phi } => {
+                let (s, co) = (phi * u).sin_cos();
+                let radial = e1 * co + e2 * s;
+                let tangent = e2 * co - e1 * s;
+                (
+                    c + radial * r,
+                    tangent * (r * phi * ud),
+                    tangent * (r * phi * udd) - radial * (r * phi * phi * ud * ud),
+                )
+            }
+        }
+    }
+
+    /// World-frame rotation increment Δ(u) = R(u)·R(0)ᵀ with its angular velocity and acceleration.
+    fn increment(&self, u: f64, ud: f64, udd: f64) -> RotState {
+        match self.rot {
+            Rot::Slerp { axis, angle, .. } => {
+                (axis_angle_to_rot(&(axis * (angle * u))), axis * (angle * ud), axis * (angle * udd))
+            }
+            Rot::Rpy { conv, phi0, dphi } => {
+                let phi = [phi0[0] + u * dphi[0], phi0[1] + u * dphi[1], phi0[2] + u * dphi[2]];
+                let r = rpy_to_rot(phi, conv);
+                // R is a product of three elementary rotations, angle i about axis i
+                // (x, y, z for indices 0, 1, 2): Rz(yaw)·Ry(pitch)·Rx(roll) for Zyx
+                // (rpy = [roll, pitch, yaw]), Rx(a)·Ry(b)·Rz(c) for Xyz.
+                let order = match conv {
+                    RpyConvention::Zyx => [2usize, 1, 0],
+                    RpyConvention::Xyz => [0usize, 1, 2],
+                };
+                // ω = Σ_k φ̇_k·w_k with w_k = (R_1⋯R_{k−1})·e_k, and
+                // α = Σ_k φ̈_k·w_k + φ̇_k·(ω_{<k} × w_k).
+                let (mut partial, mut omega, mut alpha) = (Matrix3::identity(), Vector3::zeros(), Vector3::zeros());
+                for i in order {
+                    let w = partial * Vector3::ith(i, 1.0);
+                    alpha += w * (dphi[i] * udd) + omega.cross(&w) * (dphi[i] * ud);
+                    omega += w * (dphi[i] * ud);
+                    partial *= match i {
+                        0 => rot_x(phi[i]),
+                        1 => rot_y(phi[i]),
+                        _ => rot_z(phi[i]),
+                    };
+                }
+                (r * rpy_to_rot(phi0, conv).transpose(), omega, alpha)
+            }
+        }
+    }
+}
+
+/// How consecutive segments join.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Blend {
+    /// Stop at every via point.
+    None,
+    /// Seed 004 (t_s = T1): the next segment starts when the previous one
+    /// begins to decelerate (the default).
+    #[default]
+    Deceleration,
+    /// The next segment starts this long \[s\] before the previous ends
+    /// (clamped to half the duration of either).
+    Time(f64),
+    /// The next segment starts when the previous has this much path \[m\]
+    /// left (clamped as for `Time`).
+    Distance(f64),
+}
+
+/// A timed sequence of segments.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartesianMotion {
+    segments: Vec<Segment>,
+    laws: Vec<TimeLaw>,
+    starts: Vec<f64>,
+    duration: f64,
+}
+
+impl CartesianMotion {
+    /// Times `segments` (each must start where the previous ends, within
+    /// 1e-9 m and 1e-9 rad) with laws of `profile` under `limits`, joined as
+    /// `blend` says.
+    ///
+    /// Errors: no segment; segments that do not join; invalid limits.
+    pub fn new(segments: Vec<Segment>, profile: Profile, limits: &CartesianLimits, blend: Blend) -> Result<Self> {
+        if segments.is_empty() {
+            return Err(bad("segments", "a Cartesian motion needs at least one segment".into()));
+        }
+        for (i, w) in segments.windows(2).enumerate() {
+            let (a, b) = (w[0].end(), w[1].start());
+            let dp = (a.pos - b.pos).norm();
+            let dr = rot_to_axis_angle(&(a.rot * b.rot.transpose())).norm();
+            if dp > 1e-9 || dr > 1e-9 {
+                return Err(bad(
+                    "segments",
+                    format!(
+                        "segment {} does not start where segment {} ends (off by {dp:.3e} m, {dr:.3e} rad)",
+                        i + 2,
+                        i + 1
+                    ),
+                ));
+            }
+        }
+        let mut laws = Vec::with_capacity(segments.len());
+        for seg in &segments {
+            let (l, th) = seg.lengths();
+            let mut shared = MotionLimits { vel: f64::INFINITY, acc: f64::INFINITY, jerk: None };
+            let jerk = |j: Option<f64>, what: &str| -> Result<Option<f64>> {
+                match (profile, j) {
+                    (Profile::SCurve, None) => Err(bad(what, "the scurve profile needs a jerk limit".into())),
+                    _ => Ok(j),
+                }
+            };
+            let lin_jerk = jerk(limits.jerk, "jmax")?;
+            let rot_jerk = jerk(limits.rot_jerk.or(limits.jerk), "rot_jmax")?;
+            for (len, v, a, j, what) in
+                [(l, limits.vel, limits.acc, lin_jerk, ""), (th, limits.rot_vel, limits.rot_acc, rot_jerk, "rot_")]
+            {
+                if !(v.is_finite() && v > 0.0 && a.is_finite() && a > 0.0) {
+                    return Err(bad(
+                        &format!("{what}limits"),
+                        format!("velocity {v} and acceleration {a} must be positive"),
+                    ));
+                }
+                if len > 0.0 {
+                    shared.vel = shared.vel.min(v / len);
+                    shared.acc = shared.acc.min(a / len);
+                    if let Some(j) = j {
+                        shared.jerk = Some(shared.jerk.unwrap_or(f64::INFINITY).min(j / len));
+                    }
+                }
+            }
+            let moving = shared.vel.is_finite();
+            laws.push(if moving {
+                TimeLaw::from_limits(profile, 1.0, &shared)?
+            } else {
+                TimeLaw::from_limits(profile, 0.0, &MotionLimits::with_jerk(1.0, 1.0, 1.0))?
+            });
+        }
+        let mut starts = vec![0.0];
+        let mut overlaps = Vec::with_capacity(segments.len().saturating_sub(1));
+        for i in 1..segments.len() {
+            let (prev, next) = (&laws[i - 1], &laws[i]);
+            let requested = match blend {
+                Blend::None => 0.0,
+                Blend::Deceleration => decel_time(prev),
+                Blend::Time(t) => t.max(0.0),
+                Blend::Distance(d) => {
+                    let (l, _) = segments[i - 1].lengths();
+                    if l <= 0.0 || d <= 0.0 {
+                        0.0
+                    } else {
+                        // Latest t with l·(1 − s(t)) ≥ d, by bisection on the monotone law.
+                        let target = 1.0 - (d / l).min(1.0);
+                        let (mut lo, mut hi) = (0.0, prev.duration());
+                        for _ in 0..100 {
+                            let mid = 0.5 * (lo + hi);
+                            if prev.at(mid).s < target {
+                                lo = mid;
+                            } else {
+                                hi = mid;
+                            }
+                        }
+                        prev.duration() - lo
+                    }
+                }
+            }
+            .min(0.5 * prev.duration())
+            .min(0.5 * next.duration());
+            // The two segments alone, the second starting `o` before the first ends.
+            let pair = |o: f64| CartesianMotion {
+                segments: vec![segments[i - 1], segments[i]],
+                laws: vec![*prev, *next],
+                starts: vec![0.0, prev.duration() - o],
+                duration: prev.duration() + next.duration() - o,
+            };
+            let fits = |o: f64| {
+                let p = pair(o);
+                o <= 0.0 || p.peak_ratio(limits, prev.duration() - o, prev.duration()) <= 1.0 + 1e-10
+            };
+            // Where the sum of the two would break a limit, blend less (down to a stop).
+            let overlap = if fits(requested) {
+                requested
+            } else {
+                let (mut lo, mut hi) = (0.0, requested);
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    if fits(mid) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                lo
+            };
+            overlaps.push(overlap);
+            starts.push(starts[i - 1] + prev.duration() - overlap);
+        }
+        let duration = starts.iter().zip(&laws).map(|(s, l)| s + l.duration()).fold(0.0, f64::max);
+        Ok(CartesianMotion { segments, laws, starts, duration })
+    }
+
+    /// The largest ratio of a velocity to its limit, or of an acceleration to
+    /// its limit (as a square root, the factor a uniform slow-down would
+    /// need), over \[t0, t1\]: sampled at 501 points, then every sampled
+    /// local maximum above 0.999 refined by golden-section search between its
+    /// neighbours (exact to ~1e-12 where the peak lies between two samples).
+    fn peak_ratio(&self, limits: &CartesianLimits, t0: f64, t1: f64) -> f64 {
+        let slerp = self.segments.iter().any(|s| matches!(s.rot, Rot::Slerp { .. }));
+        let ratio = |t: f64| {
+            let st = self.at(t);
+            let mut k = (st.vel.norm() / limits.vel).max((st.acc.norm() / limits.acc).sqrt());
+            if slerp {
+                k = k.max(st.omega.norm() / limits.rot_vel).max((st.alpha.norm() / limits.rot_acc).sqrt());
+            }
+            k
+        };
+        const N: usize = 500;
+        let h = (t1 - t0) / N as f64;
+        let vals: Vec<f64> = (0..=N).map(|k| ratio(t0 + h * k as f64)).collect();
+        let mut best = vals.iter().copied().fold(0.0, f64::max);
+        for k in 0..=N {
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(N));
+            // Only peaks near the limit matter; on a plateau only its first point.
+            if vals[k] > 1.0 - 1e-3 && (k == 0 || vals[k] > vals[a]) && vals[k] >= vals[b] {
+                let (mut lo, mut hi) = (t0 + h * a as f64, t0 + h * b as f64);
+                const G: f64 = 0.618_033_988_749_894_9;
+                for _ in 0..60 {
+                    let (m1, m2) = (hi - G * (hi - lo), lo + G * (hi - lo));
+                    if ratio(m1) < ratio(m2) {
+                        lo = m1;
+                    } else {
+                        hi = m2;
+                    }
+                }
+                best = best.max(ratio(0.5 * (lo + hi)));
+            }
+        }
+        best
+    }
+
+    /// Duration \[s\].
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// How long each blend lasts \[s\] (segment i + 1 starts this long before
+    /// segment i ends), after any reduction needed to respect the limits.
+    pub fn blend_times(&self) -> Vec<f64> {
+        (1..self.laws.len()).map(|i| self.starts[i - 1] + self.laws[i - 1].duration() - self.starts[i]).collect()
+    }
+
+    /// Start times \[s\] of the segments.
+    pub fn segment_starts(&self) -> &[f64] {
+        &self.starts
+    }
+
+    /// The segments' time laws.
+    pub fn laws(&self) -> &[TimeLaw] {
+        &self.laws
+    }
+
+    /// Pose, velocity and acceleration at time `t` \[s\] (clamped to the motion).
+    pub fn at(&self, t: f64) -> CartesianState {
+        let first = self.segments[0].start();
+        let (mut p, mut v, mut a) = (first.pos, Vector3::zeros(), Vector3::zeros());
+        let (mut r, mut w, mut al) = (first.rot, Vector3::zeros(), Vector3::zeros());
+        for ((seg, law), start) in self.segments.iter().zip(&self.laws).zip(&self.starts) {
+            let s = law.at(t - start);
+            let (pp, pv, pa) = seg.point(s.s, s.sd, s.sdd);
+            p += pp - seg.point(0.0, 0.0, 0.0).0;
+            v += pv;
+            a += pa;
+            let (d, dw, da) = seg.increment(s.s, s.sd, s.sdd);
+            // Compose Δ·(R, ω, α): ω' = ω_Δ + Δ·ω, α' = α_Δ + Δ·α + ω_Δ × (Δ·ω).
+            let (rw, ra) = (d * w, d * al);
+            al = da + ra + dw.cross(&rw);
+            w = dw + rw;
+            r = d * r;
+        }
+        CartesianState { pose: Pose::new(r, p), vel: v, omega: w, acc: a, alpha: al }
+    }
+
+    /// Poses split so that consecutive ones are at most `max_step` \[m\]
+    /// apart along the path and `max_angle` \[rad\] apart in orientation (seed
+    /// 000 used 1 cm for its controller), from start to end: the times at
+    /// which to sample.
+    pub fn resample_times(&self, max_step: f64, max_angle: f64) -> Result<Vec<f64>> {
+        if !(max_step > 0.0 && max_angle > 0.0) {
+            return Err(bad("max_step", format!("{max_step} m / {max_angle} rad must be positive")));
+        }
+        let mut out = vec![0.0];
+        let n = 20_000usize;
+        let mut last = self.at(0.0).pose;
+        let mut prev_t = 0.0;
+        for k in 1..=n {
+            let t = self.duration * k as f64 / n as f64;
+            let p = self.at(t).pose;
+            let far = |q: &Pose| {
+                (q.pos - last.pos).norm() > max_step
+                    || rot_to_axis_angle(&(q.rot * last.rot.transpose())).norm() > max_angle
+            };
+            if far(&p) {
+                // The last time still within reach, by bisection between prev_t and t.
+                let (mut lo, mut hi) = (prev_t, t);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if far(&self.at(mid).pose) {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                if lo <= *out.last().expect("non-empty") {
+                    return Err(bad("max_step", format!("{max_step} m is below the sampling resolution of this path")));
+                }
+                out.push(lo);
+                last = self.at(lo).pose;
+            }
+            prev_t = t;
+        }
+        if self.duration > *out.last().expect("non-empty") {
+            out.push(self.duration);
+        }
+        Ok(out)
+    }
+}
+
+/// How long `law` decelerates at its end (its last phases with s̈ < 0).
+fn decel_time(law: &TimeLaw) -> f64 {
+    let t = law.duration();
+    match law.profile() {
+        Profile::Trapezoid => law.phase_times().last().copied().unwrap_or(0.0),
+        Profile::SCurve => {
+            let p = law.phase_times();
+            // Phases after the cruise (or after the acceleration when there is none).
+            let half = if p.len() == 7 || p.len() == 5 { p.len() / 2 + 1 } else { p.len() / 2 };
+            p[half.min(p.len())..].iter().sum()
+        }
+        _ => t / 2.0,
+    }
+}

@@ -1,0 +1,231 @@
+//! Cartesian motions turned into joint trajectories: by inverse kinematics
+//! at every sample with continuity, or by resolved-rate integration.
+
+use nalgebra::{Matrix6, Matrix6xX, Vector6};
+
+use super::cart::CartesianMotion;
+use super::{sample_times, JointTrajectory};
+use crate::error::{Error, Result};
+use crate::ik::iiwa::IiwaIk;
+use crate::ik::{self, NumericIk, NumericOptions, Solutions};
+use crate::kin::Frame;
+use crate::math::{pose_error, Pose};
+use crate::model::Robot;
+
+/// How a Cartesian motion becomes joint values.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum JointMethod {
+    /// Inverse kinematics at every sample: the robot's analytic solver when it
+    /// has one (every solution, the one nearest the previous sample within
+    /// limits; for the iiwa the q3 selection rule of seed 004 §V-E,
+    /// q_k = f(q_{k−1}, T_k), with the direction of motion), else the numeric
+    /// solver started from the previous sample without restarts. Velocities
+    /// and accelerations are second-order finite differences of the samples.
+    #[default]
+    Ik,
+    /// Resolved rate (what seed 004 used for its joint velocity plots):
+    /// q̇ = J⁺(ẋ_d + k·e) with the damped pseudo-inverse J⁺ = Jᵀ(JJᵀ + λ²I)⁻¹,
+    /// integrated with the sample period; e is the pose error and k =
+    /// `gain`/dt.
+    ResolvedRate {
+        /// Damping λ.
+        damping: f64,
+        /// Error feedback per step, in (0, 1].
+        gain: f64,
+    },
+}
+
+/// Largest position \[m\] and orientation \[rad\] residual accepted from IK.
+const TRACK_TOL: f64 = 1e-6;
+
+/// Samples `motion` every `dt` \[s\] and converts it to joint values of
+/// `robot`, starting from `q_start` (which must reach the motion's start pose
+/// within 1e-6 m / 1e-6 rad). The result is not checked; see
+/// [`super::check`].
+///
+/// Errors: `q_start` wrong or not at the start pose; a sample the IK cannot
+/// reach (its time and the reason); for the 5-DOF arms, a path whose
+/// orientation they cannot follow.
+pub fn to_joints(
+    robot: &Robot,
+    motion: &CartesianMotion,
+    q_start: &[f64],
+    dt: f64,
+    method: JointMethod,
+) -> Result<JointTrajectory> {
+    robot.check_q(q_start)?;
+    let start = motion.at(0.0).pose;
+    let e = pose_error(&start, &robot.fk(q_start)?.pose);
+    if e.position_norm() > TRACK_TOL || e.rotation_angle() > TRACK_TOL {
+        return Err(Error::InvalidArgument {
+            what: "q_start".into(),
+            message: format!(
+                "the start configuration does not reach the motion's start pose (off by {:.3e} m, {:.3e} rad)",
+                e.position_norm(),
+                e.rotation_angle()
+            ),
+        });
+    }
+    let times = sample_times(motion.duration(), dt)?;
+    match method {
+        JointMethod::Ik => by_ik(robot, motion, q_start, &times),
+        JointMethod::ResolvedRate { damping, gain } => resolved_rate(robot, motion, q_start, &times, damping, gain),
+    }
+}
+
+fn at_time(t: f64, e: Error) -> Error {
+    match e {
+        Error::Unreachable { solver, reason } => {
+            Error::Unreachable { solver: format!("{solver}, at t = {t:.4} s of the path"), reason }
+        }
+        e => Error::InvalidArgument { what: format!("path sample at t = {t:.4} s"), message: e.to_string() },
+    }
+}
+
+fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]) -> Result<JointTrajectory> {
+    let n = robot.dof();
+    let iiwa = IiwaIk::new(robot).ok();
+    let analytic = if iiwa.is_some() { None } else { ik::analytic_solver(robot) };
+    let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
+    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
+    let mut prev = q_start.to_vec();
+    for (k, &t) in times.iter().enumerate() {
+        if k == 0 {
+            qs.push(prev.clone());
+            continue;
+        }
+        let st = motion.at(t);
+        let target = st.pose;
+        let sol = if let Some(ik) = &iiwa {
+            let dir = (st.vel.norm() > 1e-12).then_some(st.vel);
+            // q3 may drift by at most half of what its velocity limit allows per
+            // sample; every joint should stay within its own limit.
+            let dt = t - times[k - 1];
+            let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
+            let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
+            let steps: Vec<f64> = (0..7).map(|i| vmax(i) * dt).collect();
+            ik.select_within(&prev, &target, dir.as_ref(), window, &steps).map_err(|e| at_time(t, e))?
+        } else if let Some(solver) = &analytic {
+            let sols = solver.solve(&target).map_err(|e| at_time(t, e))?;
+            let accurate: Vec<_> = sols
+                .into_iter()
+                .filter(|s| s.position_error <= TRACK_TOL && s.orientation_error <= TRACK_TOL)
+                .collect();
+            accurate.nearest(robot, &prev).cloned().ok_or_else(|| {
+                at_time(
+                    t,
+                    Error::Unreachable {
+                        solver: solver.name().into(),
+                        reason: ik::Unreachable::Orientation {
+                            angle: f64::NAN,
+                            detail: "no solution reaches this pose of the path exactly (the arm cannot take its orientation)"
+                                .into(),
+                        },
+                    },
+                )
+            })?
+        } else {
+            numeric.solve_from(&target, &prev).map_err(|e| at_time(t, e))?
+        };
+        prev.clone_from(&sol.q);
+        qs.push(sol.q);
+    }
+    let mut traj = JointTrajectory::with_capacity(n, times.len());
+    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..times.len() {
+        derivatives(times, &qs, k, &mut qd, &mut qdd);
+        traj.push(times[k], &qs[k], &qd, &qdd)?;
+    }
+    Ok(traj)
+}
+
+/// First and second derivatives at sample `k` from the three nearest samples
+/// (Lagrange interpolation on non-uniform times; 0 for a single sample).
+fn derivatives(t: &[f64], q: &[Vec<f64>], k: usize, qd: &mut [f64], qdd: &mut [f64]) {
+    if t.len() < 3 {
+        qd.fill(0.0);
+        qdd.fill(0.0);
+        if t.len() == 2 {
+            for i in 0..qd.len() {
+                qd[i] = (q[1][i] - q[0][i]) / (t[1] - t[0]);
+            }
+        }
+        return;
+    }
+    let c = k.clamp(1, t.len() - 2);
+    let (x0, x1, x2) = (t[c - 1], t[c], t[c + 1]);
+    let x = t[k];
+    // Derivatives of the Lagrange basis polynomials at x.
+    let d = [
+        (2.0 * x - x1 - x2) / ((x0 - x1) * (x0 - x2)),
+        (2.0 * x - x0 - x2) / ((x1 - x0) * (x1 - x2)),
+        (2.0 * x - x0 - x1) / ((x2 - x0) * (x2 - x1)),
+    ];
+    let dd = [2.0 / ((x0 - x1) * (x0 - x2)), 2.0 / ((x1 - x0) * (x1 - x2)), 2.0 / ((x2 - x0) * (x2 - x1))];
+    for i in 0..qd.len() {
+        let (a, b, e) = (q[c - 1][i], q[c][i], q[c + 1][i]);
+        qd[i] = d[0] * a + d[1] * b + d[2] * e;
+        qdd[i] = dd[0] * a + dd[1] * b + dd[2] * e;
+    }
+}
+
+fn resolved_rate(
+    robot: &Robot,
+    motion: &CartesianMotion,
+    q_start: &[f64],
+    times: &[f64],
+    damping: f64,
+    gain: f64,
+) -> Result<JointTrajectory> {
+    if !(damping >= 0.0 && damping.is_finite() && gain > 0.0 && gain <= 1.0) {
+        return Err(Error::InvalidArgument {
+            what: "resolved rate".into(),
+            message: format!("damping {damping} must be ≥ 0 and gain {gain} in (0, 1]"),
+        });
+    }
+    let n = robot.dof();
+    let mut jac = Matrix6xX::zeros(n);
+    let mut q = q_start.to_vec();
+    let mut traj = JointTrajectory::with_capacity(n, times.len());
+    let mut rates: Vec<Vec<f64>> = Vec::with_capacity(times.len());
+    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
+    for (k, &t) in times.iter().enumerate() {
+        let st = motion.at(t);
+        let fk = robot.jacobian_into(&q, Frame::Base, &mut jac)?;
+        let step = if k + 1 < times.len() { times[k + 1] - t } else { times[k] - times[k.saturating_sub(1)] };
+        let e = pose_error(&st.pose, &fk.pose);
+        let fb = if step > 0.0 { gain / step } else { 0.0 };
+        let twist = Vector6::from_iterator(
+            (st.vel + e.translation * fb).iter().chain((st.omega + e.rotation * fb).iter()).copied(),
+        );
+        let jjt = &jac * jac.transpose() + Matrix6::identity() * (damping * damping);
+        let y = jjt.lu().solve(&twist).ok_or_else(|| Error::InvalidArgument {
+            what: "damping".into(),
+            message: format!("J·Jᵀ is singular at t = {t:.4} s; use a positive damping"),
+        })?;
+        let qd: Vec<f64> = (jac.transpose() * y).iter().copied().collect();
+        qs.push(q.clone());
+        rates.push(qd.clone());
+        for i in 0..n {
+            q[i] += qd[i] * step;
+        }
+        if q.iter().any(|v| !v.is_finite()) {
+            return Err(Error::InvalidArgument {
+                what: "resolved rate".into(),
+                message: format!("the integration diverged at t = {t:.4} s (near a singularity?)"),
+            });
+        }
+    }
+    let mut qdd = vec![0.0; n];
+    let mut scratch = vec![0.0; n];
+    for k in 0..times.len() {
+        derivatives(times, &rates, k, &mut qdd, &mut scratch);
+        traj.push(times[k], &qs[k], &rates[k], &qdd)?;
+    }
+    Ok(traj)
+}
+
+/// The tool pose of every sample of `traj` (for comparing a joint trajectory with its path).
+pub fn poses(robot: &Robot, traj: &JointTrajectory) -> Result<Vec<Pose>> {
+    (0..traj.len()).map(|k| robot.fk(traj.q(k)).map(|f| f.pose)).collect()
+}

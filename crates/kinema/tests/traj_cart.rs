@@ -1,0 +1,315 @@
+//! Cartesian motions (seed 004 §VIII-C/D): LIN, CIRC, blending, and their
+//! conversion to joint trajectories.
+
+use kinema::ik::iiwa::IiwaIk;
+use kinema::ik::IkSolver;
+use kinema::math::rot_to_axis_angle;
+use kinema::nalgebra::Vector3;
+use kinema::traj::{
+    check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile,
+    Segment, ViolationKind,
+};
+use kinema::{Pose, Robot, RpyConvention};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn limits() -> CartesianLimits {
+    CartesianLimits { vel: 0.2, acc: 0.5, jerk: Some(2.0), rot_vel: 0.5, rot_acc: 1.0, rot_jerk: Some(4.0) }
+}
+
+fn random_pose(rng: &mut ChaCha8Rng) -> Pose {
+    let xyz = [rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5), rng.random_range(0.0..0.8)];
+    let rpy = [rng.random_range(-3.0..3.0), rng.random_range(-1.4..1.4), rng.random_range(-3.0..3.0)];
+    Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx)
+}
+
+/// Velocities and accelerations of `m` against central differences of its poses and velocities.
+fn assert_derivatives_match(m: &CartesianMotion, label: &str) {
+    let h = 1e-6;
+    let t_end = m.duration();
+    for k in 1..200 {
+        let t = t_end * k as f64 / 200.0 + 3.7e-7; // off the phase boundaries
+        let (a, b, c) = (m.at(t - h), m.at(t), m.at(t + h));
+        let v_fd = (c.pose.pos - a.pose.pos) / (2.0 * h);
+        let w_fd = rot_to_axis_angle(&(c.pose.rot * a.pose.rot.transpose())) / (2.0 * h);
+        let acc_fd = (c.vel - a.vel) / (2.0 * h);
+        let alpha_fd = (c.omega - a.omega) / (2.0 * h);
+        let tol = |x: &Vector3<f64>| 1e-5 * (1.0 + x.norm());
+        assert!((v_fd - b.vel).norm() < tol(&b.vel), "{label} t={t}: v {v_fd} vs {}", b.vel);
+        assert!((w_fd - b.omega).norm() < tol(&b.omega), "{label} t={t}: ω {w_fd} vs {}", b.omega);
+        assert!((acc_fd - b.acc).norm() < 1e-4 * (1.0 + b.acc.norm()), "{label} t={t}: a {acc_fd} vs {}", b.acc);
+        assert!(
+            (alpha_fd - b.alpha).norm() < 1e-4 * (1.0 + b.alpha.norm()),
+            "{label} t={t}: α {alpha_fd} vs {}",
+            b.alpha
+        );
+    }
+}
+
+#[test]
+fn segments_velocities_and_accelerations_are_the_derivatives_of_their_poses() {
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    for case in 0..60 {
+        let (a, b, c) = (random_pose(&mut rng), random_pose(&mut rng), random_pose(&mut rng));
+        let orientation =
+            [Orientation::Slerp, Orientation::Rpy(RpyConvention::Zyx), Orientation::Rpy(RpyConvention::Xyz)][case % 3];
+        let profile = [Profile::SCurve, Profile::Quintic, Profile::Trapezoid][case % 3];
+        let segs = if case % 2 == 0 {
+            vec![Segment::lin(&a, &b, orientation).unwrap(), Segment::lin(&b, &c, orientation).unwrap()]
+        } else {
+            let aux = (a.pos + c.pos) / 2.0 + Vector3::new(0.1, -0.2, 0.15);
+            vec![Segment::circ_through(&a, &aux, &c).unwrap()]
+        };
+        let m = CartesianMotion::new(segs, profile, &limits(), Blend::Deceleration).unwrap();
+        assert_derivatives_match(&m, &format!("case {case}"));
+        // Exact ends.
+        let end = m.at(m.duration()).pose;
+        let want = c;
+        assert!((end.pos - want.pos).norm() < 1e-12, "case {case}: {}", (end.pos - want.pos).norm());
+        assert!(rot_to_axis_angle(&(end.rot * want.rot.transpose())).norm() < 1e-9, "case {case}");
+    }
+}
+
+#[test]
+fn blended_motions_respect_every_limit_and_keep_the_velocity_continuous() {
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    let lim = limits();
+    for case in 0..40 {
+        let pts: Vec<Pose> = (0..4).map(|_| random_pose(&mut rng)).collect();
+        let segs: Vec<Segment> =
+            pts.windows(2).map(|w| Segment::lin(&w[0], &w[1], Orientation::Slerp).unwrap()).collect();
+        let blend = [Blend::Deceleration, Blend::Time(0.3), Blend::Distance(0.05), Blend::None][case % 4];
+        let profile = [Profile::SCurve, Profile::Trapezoid, Profile::Quintic, Profile::Cubic][case / 4 % 4];
+        let m = CartesianMotion::new(segs, profile, &lim, blend).unwrap();
+        let n = 20_000;
+        let mut prev = m.at(0.0);
+        for k in 0..=n {
+            let t = m.duration() * k as f64 / n as f64;
+            let s = m.at(t);
+            assert!(s.vel.norm() <= lim.vel * (1.0 + 1e-9), "case {case} t={t}: |v| = {}", s.vel.norm());
+            assert!(s.omega.norm() <= lim.rot_vel * (1.0 + 1e-9), "case {case} t={t}: |ω| = {}", s.omega.norm());
+            if profile != Profile::Cubic {
+                assert!(s.acc.norm() <= lim.acc * (1.0 + 1e-9), "case {case} t={t}: |a| = {}", s.acc.norm());
+                assert!(s.alpha.norm() <= lim.rot_acc * (1.0 + 1e-9), "case {case} t={t}: |α| = {}", s.alpha.norm());
+            }
+            // Continuous velocity: no jump between fine samples.
+            let dt = m.duration() / n as f64;
+            assert!(
+                (s.vel - prev.vel).norm() <= lim.acc * 2.5 * dt + 1e-12 || profile == Profile::Cubic,
+                "case {case} t={t}"
+            );
+            prev = s;
+        }
+        let end = m.at(m.duration()).pose;
+        assert!((end.pos - pts[3].pos).norm() < 1e-12);
+        if blend != Blend::None {
+            // The corners are cut: the motion is shorter than stopping at every point.
+            let stop = CartesianMotion::new(
+                pts.windows(2).map(|w| Segment::lin(&w[0], &w[1], Orientation::Slerp).unwrap()).collect(),
+                profile,
+                &lim,
+                Blend::None,
+            )
+            .unwrap();
+            assert!(m.duration() <= stop.duration() + 1e-12, "case {case}: {} vs {}", m.duration(), stop.duration());
+        }
+    }
+}
+
+#[test]
+fn circ_through_an_auxiliary_point() {
+    let r = kinema::math::rot_y(std::f64::consts::FRAC_PI_2);
+    let a = Pose::new(r, Vector3::new(0.5, -0.2, 0.4));
+    let aux = Vector3::new(0.5, 0.0, 0.6);
+    let b = Pose::new(r, Vector3::new(0.5, 0.2, 0.4));
+    let seg = Segment::circ_through(&a, &aux, &b).unwrap();
+    // The circle through the three points: centre (0.5, 0, 0.4), radius 0.2.
+    let (len, rot) = seg.lengths();
+    assert!((len - std::f64::consts::PI * 0.2).abs() < 1e-12, "{len}"); // a half circle of radius 0.2
+    assert_eq!(rot, 0.0);
+    let closest = (0..=1000).map(|k| (seg.pose(k as f64 / 1000.0).pos - aux).norm()).fold(f64::INFINITY, f64::min);
+    assert!(closest < 1e-3, "{closest}");
+    assert!((seg.pose(0.5).pos - aux).norm() < 1e-12);
+    for k in 0..=100 {
+        let p = seg.pose(k as f64 / 100.0).pos;
+        assert!(((p - Vector3::new(0.5, 0.0, 0.4)).norm() - 0.2).abs() < 1e-12);
+    }
+    let line = Segment::circ_through(&a, &Vector3::new(0.5, 0.0, 0.4), &b).unwrap_err().to_string();
+    assert!(line.contains("line"), "{line}");
+    assert!(Segment::circ_through(&a, &Vector3::new(f64::NAN, 0.0, 0.0), &b).is_err());
+}
+
+#[test]
+fn circ_about_a_centre_frame_as_in_seed_004() {
+    let centre = Pose::new(kinema::math::rot_x(0.3), Vector3::new(0.5, 0.0, 0.5));
+    let start = centre.transform_point(&Vector3::new(0.1, 0.0, 0.0));
+    let rot = kinema::math::rot_y(1.0);
+    let seg = Segment::circ_about(&centre, &start, std::f64::consts::PI, &rot).unwrap();
+    let end = seg.end().pos;
+    assert!((end - centre.transform_point(&Vector3::new(-0.1, 0.0, 0.0))).norm() < 1e-12);
+    let quarter = seg.pose(0.5).pos;
+    assert!((quarter - centre.transform_point(&Vector3::new(0.0, 0.1, 0.0))).norm() < 1e-12);
+    assert!((seg.pose(0.3).rot - rot).norm() < 1e-12);
+    let back = Segment::circ_about(&centre, &start, -std::f64::consts::FRAC_PI_2, &rot).unwrap();
+    assert!((back.end().pos - centre.transform_point(&Vector3::new(0.0, -0.1, 0.0))).norm() < 1e-12);
+    let off = centre.transform_point(&Vector3::new(0.1, 0.0, 0.05));
+    assert!(Segment::circ_about(&centre, &off, 1.0, &rot).unwrap_err().to_string().contains("plane"));
+}
+
+fn iiwa() -> Robot {
+    Robot::builtin("lbr-iiwa-14-r820").unwrap()
+}
+
+#[test]
+fn seed_lin_example_within_cuadro_i() {
+    // Seed 004 §VIII-C1: Φ in Corke's Rx·Ry·Rz convention (SEED-NOTES).
+    let robot = iiwa();
+    let a = Pose::from_xyz_rpy([0.7373, -0.3271, 0.7325], [-0.6595, 1.4584, 1.2113], RpyConvention::Xyz);
+    let b = Pose::from_xyz_rpy([0.6, -0.6, 0.3], [0.0, 1.5708, 0.0], RpyConvention::Xyz);
+    let ik = IiwaIk::new(&robot).unwrap();
+    let q0 = ik.solve_within_limits(&a).unwrap()[0].q.clone();
+    let m = CartesianMotion::new(
+        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap();
+    let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik).unwrap();
+    let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+    assert!(report.violations.is_empty(), "{}", report.violations[0]);
+    // Every sample is on the line.
+    for k in 0..traj.len() {
+        let p = robot.fk(traj.q(k)).unwrap().pose;
+        let want = m.at(traj.times()[k]).pose;
+        assert!((p.pos - want.pos).norm() < 1e-6 && rot_to_axis_angle(&(p.rot * want.rot.transpose())).norm() < 1e-6);
+    }
+    // Resolved rate follows the same line (damped, with error feedback).
+    let rr = to_joints(&robot, &m, &q0, 0.01, JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 }).unwrap();
+    let worst = (0..rr.len())
+        .map(|k| (robot.fk(rr.q(k)).unwrap().pose.pos - m.at(rr.times()[k]).pose.pos).norm())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-3, "{worst}");
+}
+
+#[test]
+fn seed_continuous_lin_reports_or_avoids_the_wrist_flip() {
+    // Seed 004 §VIII-C2: (0.6, −0.6, 0.1) → (0.6, −0.6, 0.3) → (0.6, 0, 0.2), Φ = (0, π/2, 0).
+    let robot = iiwa();
+    let r = kinema::math::rpy_to_rot([0.0, 1.5708, 0.0], RpyConvention::Xyz);
+    let p = |x, y, z| Pose::new(r, Vector3::new(x, y, z));
+    let (p0, p1, p2) = (p(0.6, -0.6, 0.1), p(0.6, -0.6, 0.3), p(0.6, 0.0, 0.2));
+    let segs =
+        vec![Segment::lin(&p0, &p1, Orientation::Slerp).unwrap(), Segment::lin(&p1, &p2, Orientation::Slerp).unwrap()];
+    // The corner turns by ~99°: the trapezoid's constant accelerations cannot
+    // blend it without exceeding a_max, the S-curve's ramps can.
+    let trapezoid = CartesianMotion::new(segs.clone(), Profile::Trapezoid, &limits(), Blend::Deceleration).unwrap();
+    assert_eq!(trapezoid.blend_times(), [0.0]);
+    let m = CartesianMotion::new(segs, Profile::SCurve, &limits(), Blend::Deceleration).unwrap();
+    assert!(m.blend_times()[0] > 0.1, "{:?}", m.blend_times());
+    assert!(m.segment_starts()[1] < m.laws()[0].duration(), "the second segment starts before the first ends");
+    let ik = IiwaIk::new(&robot).unwrap();
+    // From the first within-limit solution with q3 = 0 the path crosses a wrist
+    // singularity (the seed saw one at t ≈ 3.25 s): the check names the joint and the time.
+    let q_a = ik.solve_within_limits(&p0).unwrap()[0].q.clone();
+    let traj = to_joints(&robot, &m, &q_a, 0.01, JointMethod::Ik).unwrap();
+    let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+    let v = report.violations.iter().find(|v| v.kind == ViolationKind::Velocity).expect("a velocity violation");
+    assert!(v.joint.is_some() && v.time > 1.0 && v.time < m.duration());
+    // With the elbow turned (q3 = −2.4) the same path stays within Cuadro I.
+    let q_b = ik.solve_q3(&p0, -2.4).unwrap().into_iter().find(|s| s.within_limits()).unwrap().q;
+    let traj = to_joints(&robot, &m, &q_b, 0.01, JointMethod::Ik).unwrap();
+    let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+    assert!(report.violations.is_empty(), "{}", report.violations[0]);
+}
+
+#[test]
+fn resampling_keeps_consecutive_poses_within_a_centimetre() {
+    let mut rng = ChaCha8Rng::seed_from_u64(43);
+    for _ in 0..10 {
+        let pts: Vec<Pose> = (0..3).map(|_| random_pose(&mut rng)).collect();
+        let segs = pts.windows(2).map(|w| Segment::lin(&w[0], &w[1], Orientation::Slerp).unwrap()).collect();
+        let m = CartesianMotion::new(segs, Profile::SCurve, &limits(), Blend::Deceleration).unwrap();
+        let times = m.resample_times(0.01, 0.05).unwrap();
+        assert_eq!(times[0], 0.0);
+        assert_eq!(*times.last().unwrap(), m.duration());
+        for w in times.windows(2) {
+            assert!(w[1] > w[0]);
+            let (a, b) = (m.at(w[0]).pose, m.at(w[1]).pose);
+            assert!((a.pos - b.pos).norm() <= 0.01 + 1e-12);
+            assert!(rot_to_axis_angle(&(a.rot * b.rot.transpose())).norm() <= 0.05 + 1e-12);
+        }
+        // Not needlessly fine: every step but the last reaches the centimetre or the angle.
+        for w in times[..times.len() - 1].windows(2) {
+            let (a, b) = (m.at(w[0]).pose, m.at(w[1]).pose);
+            let used =
+                ((a.pos - b.pos).norm() / 0.01).max(rot_to_axis_angle(&(a.rot * b.rot.transpose())).norm() / 0.05);
+            assert!(used > 0.99, "{used}");
+        }
+    }
+    assert!(CartesianMotion::new(vec![], Profile::SCurve, &limits(), Blend::None).is_err());
+}
+
+#[test]
+fn bad_cartesian_input_gives_clear_errors() {
+    let a = Pose::from_xyz_rpy([0.5, 0.0, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
+    let b = Pose::from_xyz_rpy([0.6, 0.0, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
+    let c = Pose::from_xyz_rpy([0.7, 0.1, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
+    let mut nan = a;
+    nan.pos.x = f64::NAN;
+    assert!(Segment::lin(&nan, &b, Orientation::Slerp).is_err());
+    // Segments that do not join.
+    let e = CartesianMotion::new(
+        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap(), Segment::lin(&c, &a, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("segment 2") && e.contains("segment 1"), "{e}");
+    let mut l = limits();
+    l.vel = 0.0;
+    assert!(CartesianMotion::new(
+        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &l,
+        Blend::None
+    )
+    .is_err());
+    let mut l = limits();
+    l.jerk = None;
+    l.rot_jerk = None;
+    assert!(CartesianMotion::new(
+        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
+        Profile::SCurve,
+        &l,
+        Blend::None
+    )
+    .is_err());
+    // A start configuration that is not at the start pose.
+    let robot = iiwa();
+    let m = CartesianMotion::new(
+        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap();
+    let e = to_joints(&robot, &m, robot.home(), 0.01, JointMethod::Ik).unwrap_err().to_string();
+    assert!(e.contains("start pose"), "{e}");
+    // An unreachable path: the error says when.
+    let far = Pose::from_xyz_rpy([2.0, 0.0, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
+    let start = Pose::from_xyz_rpy([0.5, 0.0, 0.5], [0.0, std::f64::consts::PI, 0.0], RpyConvention::Zyx);
+    let far = Pose::new(start.rot, far.pos);
+    let q0 = IiwaIk::new(&robot).unwrap().solve_within_limits(&start).unwrap()[0].q.clone();
+    let m = CartesianMotion::new(
+        vec![Segment::lin(&start, &far, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap();
+    let e = to_joints(&robot, &m, &q0, 0.05, JointMethod::Ik).unwrap_err().to_string();
+    assert!(e.contains("at t = "), "{e}");
+}
