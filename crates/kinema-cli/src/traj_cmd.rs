@@ -6,8 +6,11 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use kinema::analysis::{yoshikawa, Axes};
 use kinema::nalgebra::Matrix6xX;
-use kinema::traj::{JointTrajectory, MotionLimits, Profile, Ptp, PtpOptions, TimeLaw};
-use kinema::{Frame, Robot, RpyConvention};
+use kinema::traj::{
+    check, expression_trajectory, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr, JointMethod,
+    JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, TimeLaw,
+};
+use kinema::{Frame, Pose, Robot, RpyConvention};
 use serde_json::json;
 
 use crate::{print_json, write_atomically, RobotArg, RpyArg};
@@ -18,6 +21,157 @@ pub enum TrajCmd {
     Law(LawArgs),
     /// A synchronised point-to-point joint motion (seed 004 §VIII-B), checked against the limits.
     Ptp(PtpArgs),
+    /// Straight-line Cartesian motion through optional via points (seed 004 §VIII-C), converted to joints and checked.
+    Lin(LinArgs),
+    /// Circular Cartesian motion through an auxiliary point (KUKA CIRC style), converted to joints and checked.
+    Circ(CircArgs),
+    /// Joint curves from expressions of t, e.g. --joint 1 "3*sin(4*pi*t^2/2)" (seed 001 §4.2).
+    Expr(ExprArgs),
+    /// Check a joint trajectory CSV (t,q1..qn[,qd..][,qdd..]) against a robot's limits.
+    Check(CheckArgs),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum OrientationArg {
+    /// Spherical linear interpolation of the rotation.
+    Slerp,
+    /// Linear interpolation of the roll-pitch-yaw angles (seed 004 eq. 40), in the --rpy convention.
+    Rpy,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum MethodArg {
+    /// Inverse kinematics at every sample, nearest branch (iiwa: seed 004's q3 rule).
+    Ik,
+    /// Resolved rate with the damped pseudo-inverse of the Jacobian.
+    Rate,
+}
+
+#[derive(Args)]
+pub struct CartArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// Start configuration (comma-separated or a named pose); the motion starts at its tool pose.
+    #[arg(long, allow_hyphen_values = true)]
+    from: String,
+    /// Start configuration in degrees.
+    #[arg(long)]
+    deg: bool,
+    /// Roll-pitch-yaw convention of the poses (seed 004 writes xyz: Rx·Ry·Rz).
+    #[arg(long, value_enum, default_value = "zyx")]
+    rpy: RpyArg,
+    /// The time law of each segment.
+    #[arg(long, value_enum, default_value = "trapezoid")]
+    profile: ProfileArg,
+    /// Tool speed limit [m/s].
+    #[arg(long)]
+    vmax: f64,
+    /// Tool acceleration limit [m/s²].
+    #[arg(long)]
+    amax: f64,
+    /// Tool jerk limit [m/s³] (scurve).
+    #[arg(long)]
+    jmax: Option<f64>,
+    /// Angular speed limit [rad/s] (default: the number given to --vmax).
+    #[arg(long)]
+    rot_vmax: Option<f64>,
+    /// Angular acceleration limit [rad/s²] (default: the number given to --amax).
+    #[arg(long)]
+    rot_amax: Option<f64>,
+    /// How Cartesian poses become joint values.
+    #[arg(long, value_enum, default_value = "ik")]
+    method: MethodArg,
+    /// Sample period [s].
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Also report samples whose manipulability is below this value as violations.
+    #[arg(long)]
+    min_manip: Option<f64>,
+    /// Write the samples as CSV (t,q…,qd…,qdd…,x,y,z,roll,pitch,yaw,manipulability).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print a JSON summary (and the samples when --out is not given).
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct LinArgs {
+    #[command(flatten)]
+    cart: CartArgs,
+    /// Goal pose x,y,z,roll,pitch,yaw (m, rad).
+    #[arg(long, allow_hyphen_values = true)]
+    to: String,
+    /// Via poses x,y,z,roll,pitch,yaw, in order (repeat the option).
+    #[arg(long, allow_hyphen_values = true)]
+    via: Vec<String>,
+    /// Blending at via points: `decel` (seed 004: start the next segment when the previous decelerates),
+    /// `none`, a time in seconds (`0.3`) or a distance (`0.05m`).
+    #[arg(long, default_value = "decel")]
+    blend: String,
+    /// Orientation interpolation.
+    #[arg(long, value_enum, default_value = "slerp")]
+    orientation: OrientationArg,
+}
+
+#[derive(Args)]
+pub struct CircArgs {
+    #[command(flatten)]
+    cart: CartArgs,
+    /// Auxiliary point x,y,z the arc passes through (m).
+    #[arg(long, allow_hyphen_values = true)]
+    aux: String,
+    /// End pose x,y,z,roll,pitch,yaw (m, rad).
+    #[arg(long, allow_hyphen_values = true)]
+    to: String,
+}
+
+#[derive(Args)]
+pub struct ExprArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// A joint (1-based) and its expression of t, e.g. --joint 1 "3*sin(4*pi*t^2/2)"; repeat for more joints.
+    #[arg(long, num_args = 2, value_names = ["JOINT", "EXPR"], allow_hyphen_values = true)]
+    joint: Vec<String>,
+    /// Duration [s].
+    #[arg(long)]
+    duration: f64,
+    /// Values of the other joints (comma-separated or a named pose; default `home`).
+    #[arg(long, allow_hyphen_values = true, default_value = "home")]
+    q0: String,
+    /// Sample period [s].
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Roll-pitch-yaw convention of the pose columns.
+    #[arg(long, value_enum, default_value = "zyx")]
+    rpy: RpyArg,
+    /// Write the samples as CSV.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print a JSON summary (and the samples when --out is not given).
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    robot: RobotArg,
+    /// The trajectory CSV: a header with t and q1..qn, optionally qd1..qdn and qdd1..qddn
+    /// (estimated from the samples when absent); other columns are ignored.
+    file: PathBuf,
+    /// Velocity limits to check instead of the robot's (one value or one per joint).
+    #[arg(long, allow_hyphen_values = true)]
+    vmax: Option<String>,
+    /// Acceleration limits to check (one value or one per joint).
+    #[arg(long, allow_hyphen_values = true)]
+    amax: Option<String>,
+    /// Report samples whose manipulability is below this value.
+    #[arg(long)]
+    min_manip: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -123,6 +277,10 @@ pub fn traj(cmd: TrajCmd) -> Result<()> {
     match cmd {
         TrajCmd::Law(a) => law(a),
         TrajCmd::Ptp(a) => ptp(a),
+        TrajCmd::Lin(a) => lin(a),
+        TrajCmd::Circ(a) => circ(a),
+        TrajCmd::Expr(a) => expr(a),
+        TrajCmd::Check(a) => check_file(a),
     }
 }
 
@@ -225,11 +383,32 @@ fn ptp(a: PtpArgs) -> Result<()> {
     };
     let plan = Ptp::new(&robot, &from, &to, &opts)?;
     let traj = plan.sample(&robot, a.dt)?;
-    let conv: RpyConvention = a.rpy.into();
-    let rows = table(&robot, &traj, conv)?;
-    if let Some(path) = &a.out {
-        write_atomically(path, |out| {
-            let mut w = csv::Writer::from_writer(out);
+    let summary = json!({
+        "robot": robot.name(),
+        "motion": "ptp",
+        "profile": plan.law().profile().name(),
+        "duration": plan.duration(),
+        "phase_times": plan.law().phase_times(),
+    });
+    emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary)
+}
+
+/// Writes a checked trajectory: CSV to `out` (atomically) and/or a JSON
+/// summary (with the rows when there is no file) or CSV on stdout.
+fn emit(
+    robot: &Robot,
+    traj: &JointTrajectory,
+    conv: RpyConvention,
+    out: Option<&std::path::Path>,
+    as_json: bool,
+    mut summary: serde_json::Value,
+) -> Result<()> {
+    let rows = table(robot, traj, conv)?;
+    summary["samples"] = json!(rows.len());
+    let duration = traj.times().last().copied().unwrap_or(0.0);
+    if let Some(path) = out {
+        write_atomically(path, |w| {
+            let mut w = csv::Writer::from_writer(w);
             w.write_record(header(robot.dof(), conv))?;
             for row in &rows {
                 w.write_record(row.iter().map(|v| format!("{v:.12}")))?;
@@ -237,24 +416,16 @@ fn ptp(a: PtpArgs) -> Result<()> {
             w.flush()?;
             Ok(())
         })?;
-        eprintln!("wrote {} samples ({:.4} s) to {}", rows.len(), plan.duration(), path.display());
+        eprintln!("wrote {} samples ({duration:.4} s) to {}", rows.len(), path.display());
     }
-    let summary = json!({
-        "robot": robot.name(),
-        "profile": plan.law().profile().name(),
-        "duration": plan.duration(),
-        "phase_times": plan.law().phase_times(),
-        "samples": rows.len(),
-    });
-    if a.json {
-        let mut v = summary;
-        if a.out.is_none() {
-            v["columns"] = json!(header(robot.dof(), conv));
-            v["rows"] = json!(rows);
+    if as_json {
+        if out.is_none() {
+            summary["columns"] = json!(header(robot.dof(), conv));
+            summary["rows"] = json!(rows);
         }
-        return print_json(&v);
+        return print_json(&summary);
     }
-    if a.out.is_none() {
+    if out.is_none() {
         let mut w = csv::Writer::from_writer(std::io::stdout().lock());
         w.write_record(header(robot.dof(), conv))?;
         for row in &rows {
@@ -262,9 +433,254 @@ fn ptp(a: PtpArgs) -> Result<()> {
         }
         w.flush()?;
     } else {
-        println!("{} PTP on `{}`: {:.6} s, {} samples", summary["profile"], robot.name(), plan.duration(), rows.len());
+        println!("{} on `{}`: {duration:.6} s, {} samples", summary["motion"], robot.name(), rows.len());
     }
     Ok(())
+}
+
+/// x,y,z,roll,pitch,yaw → a pose.
+fn pose_arg(text: &str, conv: RpyConvention, what: &str) -> Result<Pose> {
+    let v = numbers(text, what)?;
+    if v.len() != 6 {
+        bail!("--{what}: {} values given; expected x,y,z,roll,pitch,yaw (m, rad)", v.len());
+    }
+    Ok(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
+}
+
+fn numbers(text: &str, what: &str) -> Result<Vec<f64>> {
+    text.split(',')
+        .map(|s| {
+            let x: f64 = s.trim().parse().with_context(|| format!("--{what}: `{}` is not a number", s.trim()))?;
+            if !x.is_finite() {
+                bail!("--{what}: {x} is not a finite number");
+            }
+            Ok(x)
+        })
+        .collect()
+}
+
+fn cart_motion(
+    robot: &Robot,
+    c: &CartArgs,
+    segments: impl FnOnce(Pose) -> Result<Vec<Segment>>,
+    blend: Blend,
+) -> Result<()> {
+    let q0 = robot.parse_q(&c.from, c.deg)?;
+    let start = robot.fk(&q0)?.pose;
+    let limits = CartesianLimits {
+        vel: c.vmax,
+        acc: c.amax,
+        jerk: c.jmax,
+        rot_vel: c.rot_vmax.unwrap_or(c.vmax),
+        rot_acc: c.rot_amax.unwrap_or(c.amax),
+        rot_jerk: c.jmax,
+    };
+    let profile: Profile = c.profile.into();
+    let motion = CartesianMotion::new(segments(start)?, profile, &limits, blend)?;
+    let method = match c.method {
+        MethodArg::Ik => JointMethod::Ik,
+        MethodArg::Rate => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
+    };
+    let traj = to_joints(robot, &motion, &q0, c.dt, method)?;
+    let opts = CheckOptions { min_manipulability: c.min_manip, ..CheckOptions::default() };
+    check(robot, &traj, &opts)?.into_result()?;
+    let summary = json!({
+        "robot": robot.name(),
+        "motion": "cartesian",
+        "profile": profile.name(),
+        "duration": motion.duration(),
+        "segment_starts": motion.segment_starts(),
+        "blend_times": motion.blend_times(),
+    });
+    emit(robot, &traj, c.rpy.into(), c.out.as_deref(), c.json, summary)
+}
+
+fn lin(a: LinArgs) -> Result<()> {
+    let robot = a.cart.robot.load()?;
+    let conv: RpyConvention = a.cart.rpy.into();
+    let orientation = match a.orientation {
+        OrientationArg::Slerp => Orientation::Slerp,
+        OrientationArg::Rpy => Orientation::Rpy(conv),
+    };
+    let mut poses = Vec::new();
+    for v in &a.via {
+        poses.push(pose_arg(v, conv, "via")?);
+    }
+    poses.push(pose_arg(&a.to, conv, "to")?);
+    let b = a.blend.trim();
+    let blend = match b {
+        "decel" => Blend::Deceleration,
+        "none" => Blend::None,
+        _ if b.ends_with('m') => Blend::Distance(
+            b.trim_end_matches('m')
+                .trim()
+                .parse()
+                .with_context(|| format!("--blend `{b}`: not a distance like 0.05m"))?,
+        ),
+        _ => Blend::Time(
+            b.parse().with_context(|| format!("--blend `{b}`: expected decel, none, seconds or metres (0.05m)"))?,
+        ),
+    };
+    cart_motion(
+        &robot,
+        &a.cart,
+        |start| {
+            let mut segs = Vec::new();
+            let mut from = start;
+            for p in &poses {
+                segs.push(Segment::lin(&from, p, orientation)?);
+                from = *p;
+            }
+            Ok(segs)
+        },
+        blend,
+    )
+}
+
+fn circ(a: CircArgs) -> Result<()> {
+    let robot = a.cart.robot.load()?;
+    let conv: RpyConvention = a.cart.rpy.into();
+    let aux = numbers(&a.aux, "aux")?;
+    if aux.len() != 3 {
+        bail!("--aux: {} values given; expected x,y,z (m)", aux.len());
+    }
+    let to = pose_arg(&a.to, conv, "to")?;
+    cart_motion(
+        &robot,
+        &a.cart,
+        |start| Ok(vec![Segment::circ_through(&start, &kinema::nalgebra::Vector3::new(aux[0], aux[1], aux[2]), &to)?]),
+        Blend::None,
+    )
+}
+
+fn expr(a: ExprArgs) -> Result<()> {
+    let robot = a.robot.load()?;
+    let q0 = robot.parse_q(&a.q0, false)?;
+    if a.joint.is_empty() {
+        bail!("give at least one --joint N EXPR");
+    }
+    let mut exprs = Vec::new();
+    for pair in a.joint.chunks(2) {
+        let j: usize = pair[0].trim().parse().with_context(|| format!("--joint `{}`: not a joint number", pair[0]))?;
+        if j == 0 {
+            bail!("--joint 0: joints are numbered from 1");
+        }
+        exprs.push((j - 1, Expr::parse(&pair[1])?));
+    }
+    let traj = expression_trajectory(&robot, &q0, &exprs, a.duration, a.dt)?;
+    check(&robot, &traj, &CheckOptions::default())?.into_result()?;
+    let summary = json!({
+        "robot": robot.name(),
+        "motion": "expression",
+        "duration": a.duration,
+        "expressions": exprs.iter().map(|(j, e)| json!({"joint": j + 1, "expr": e.text()})).collect::<Vec<_>>(),
+    });
+    emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary)
+}
+
+fn check_file(a: CheckArgs) -> Result<()> {
+    let robot = a.robot.load()?;
+    let traj = read_trajectory(&robot, &a.file)?;
+    let opts = CheckOptions {
+        vel: limits_arg(&robot, a.vmax.as_deref(), false, "vmax")?,
+        acc: limits_arg(&robot, a.amax.as_deref(), false, "amax")?,
+        min_manipulability: a.min_manip,
+        ..CheckOptions::default()
+    };
+    let report = check(&robot, &traj, &opts)?;
+    if a.json {
+        print_json(&json!({
+            "samples": report.samples,
+            "ok": report.violations.is_empty(),
+            "peak_velocity": report.peak_vel,
+            "peak_acceleration": report.peak_acc,
+            "min_manipulability": report.min_manipulability.map(|(t, m)| json!({"t": t, "value": m})),
+            "violations": report.violations.iter().map(|v| json!({
+                "kind": format!("{:?}", v.kind).to_lowercase(),
+                "t": v.time,
+                "sample": v.sample,
+                "joint": v.joint.map(|j| j + 1),
+                "value": v.value,
+                "limit": v.limit,
+                "message": v.to_string(),
+            })).collect::<Vec<_>>(),
+        }))?;
+    } else {
+        println!("{}: {} samples, {} violation(s)", a.file.display(), report.samples, report.violations.len());
+        for v in report.violations.iter().take(20) {
+            println!("  {v}");
+        }
+        if report.violations.len() > 20 {
+            println!("  … and {} more", report.violations.len() - 20);
+        }
+    }
+    if report.violations.is_empty() {
+        Ok(())
+    } else {
+        Err(crate::Exit(1).into())
+    }
+}
+
+/// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd* optional).
+fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTrajectory> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read `{}`", path.display()))?;
+    let mut rd = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
+    let head: Vec<String> = rd
+        .headers()
+        .with_context(|| format!("`{}`: no CSV header", path.display()))?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    let n = robot.dof();
+    let col = |name: &str| head.iter().position(|h| h == name);
+    let t_col = col("t").with_context(|| format!("`{}`: the header has no `t` column", path.display()))?;
+    let cols = |prefix: &str| -> Option<Vec<usize>> { (1..=n).map(|i| col(&format!("{prefix}{i}"))).collect() };
+    let q_cols = cols("q").with_context(|| {
+        format!(
+            "`{}`: the header must name q1..q{n} for robot `{}` (it has {})",
+            path.display(),
+            robot.name(),
+            head.join(",")
+        )
+    })?;
+    if col(&format!("q{}", n + 1)).is_some() {
+        bail!("`{}`: the file has more joint columns than robot `{}` ({n} joints)", path.display(), robot.name());
+    }
+    let (qd_cols, qdd_cols) = (cols("qd"), cols("qdd"));
+    let mut t = Vec::new();
+    let mut qs: Vec<Vec<f64>> = Vec::new();
+    let mut qds: Vec<Vec<f64>> = Vec::new();
+    let mut qdds: Vec<Vec<f64>> = Vec::new();
+    for rec in rd.records() {
+        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        let get = |c: usize| -> Result<f64> {
+            let s = rec.get(c).unwrap_or("");
+            s.parse::<f64>().with_context(|| {
+                format!("`{}` line {line}, column `{}`: `{s}` is not a number", path.display(), head[c])
+            })
+        };
+        t.push(get(t_col)?);
+        qs.push(q_cols.iter().map(|&c| get(c)).collect::<Result<_>>()?);
+        if let Some(c) = &qd_cols {
+            qds.push(c.iter().map(|&c| get(c)).collect::<Result<_>>()?);
+        }
+        if let Some(c) = &qdd_cols {
+            qdds.push(c.iter().map(|&c| get(c)).collect::<Result<_>>()?);
+        }
+    }
+    if t.is_empty() {
+        bail!("`{}` holds no samples", path.display());
+    }
+    let mut traj = JointTrajectory::with_capacity(n, t.len());
+    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..t.len() {
+        kinema::traj::joint::derivatives(&t, &qs, k, &mut qd, &mut qdd);
+        let qd_k = if qd_cols.is_some() { qds[k].clone() } else { qd.clone() };
+        let qdd_k = if qdd_cols.is_some() { qdds[k].clone() } else { qdd.clone() };
+        traj.push(t[k], &qs[k], &qd_k, &qdd_k)?;
+    }
+    Ok(traj)
 }
 
 /// The CSV header of a sampled trajectory.

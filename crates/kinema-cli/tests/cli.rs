@@ -535,3 +535,144 @@ fn traj_ptp_writes_a_checked_csv_or_nothing() {
             && v["rows"].as_array().unwrap().len() == v["samples"].as_u64().unwrap() as usize
     );
 }
+
+#[test]
+fn traj_lin_circ_expr_and_check_from_the_command_line() {
+    let dir = tempdir("traj-cart");
+    // Seed 004 §VIII-C1 start pose (Φ in Rx·Ry·Rz), solved by the analytic IK.
+    let ik = json(&[
+        "ik",
+        "-r",
+        "lbr-iiwa-14-r820",
+        "--pose",
+        "0.7373,-0.3271,0.7325,-0.6595,1.4584,1.2113",
+        "--rpy",
+        "xyz",
+        "--json",
+    ]);
+    let q0: Vec<String> = ik["solutions"][0]["q"].as_array().unwrap().iter().map(|v| v.to_string()).collect();
+    let from = format!("--from={}", q0.join(","));
+    let lin = dir.join("lin.csv");
+    let r = kinema(&[
+        "traj",
+        "lin",
+        "-r",
+        "lbr-iiwa-14-r820",
+        &from,
+        "--to",
+        "0.6,-0.6,0.3,0,1.5708,0",
+        "--rpy",
+        "xyz",
+        "--vmax",
+        "0.2",
+        "--amax",
+        "0.5",
+        "--out",
+        lin.to_str().unwrap(),
+    ]);
+    assert!(r.ok, "{}", r.stderr);
+    let text = std::fs::read_to_string(&lin).unwrap();
+    let last: Vec<f64> = text.lines().last().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    // The last sample's pose is the goal (compared as rotations: at pitch π/2
+    // the Rx·Ry·Rz angles are not unique).
+    let conv = kinema::RpyConvention::Xyz;
+    let got = kinema::Pose::from_xyz_rpy([last[22], last[23], last[24]], [last[25], last[26], last[27]], conv);
+    let want = kinema::Pose::from_xyz_rpy([0.6, -0.6, 0.3], [0.0, 1.5708, 0.0], conv);
+    assert!((got.pos - want.pos).norm() < 1e-6 && (got.rot - want.rot).norm() < 1e-6, "{last:?}");
+    // `traj check` accepts it, and rejects a copy with a jump, naming the time and the joint.
+    let v = json(&["traj", "check", "-r", "lbr-iiwa-14-r820", lin.to_str().unwrap(), "--json"]);
+    assert_eq!(v["ok"], true);
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let k = lines.len() / 2;
+    let mut fields: Vec<String> = lines[k].split(',').map(str::to_string).collect();
+    let q4: f64 = fields[4].parse().unwrap();
+    fields[4] = format!("{}", q4 + 1.5);
+    lines[k] = fields.join(",");
+    let jumpy = dir.join("jumpy.csv");
+    std::fs::write(&jumpy, lines.join("\n")).unwrap();
+    let r = kinema(&["traj", "check", "-r", "lbr-iiwa-14-r820", jumpy.to_str().unwrap()]);
+    assert!(!r.ok && r.stdout.contains("joint 4 jumps"), "{}", r.stdout);
+    // Only t and q columns: velocities are estimated from the samples.
+    let bare = dir.join("bare.csv");
+    std::fs::write(&bare, "t,q1,q2,q3,q4,q5,q6,q7\n0,0,0,0,0,0,0,0\n0.1,0.01,0,0,0,0,0,0\n0.2,0.02,0,0,0,0,0,0\n")
+        .unwrap();
+    let v = json(&["traj", "check", "-r", "lbr-iiwa-14-r820", bare.to_str().unwrap(), "--json"]);
+    assert!((v["peak_velocity"][0].as_f64().unwrap() - 0.1).abs() < 1e-12);
+    std::fs::write(&bare, "t,q1,q2\n0,0,0\n").unwrap();
+    let e = fails(&["traj", "check", "-r", "lbr-iiwa-14-r820", bare.to_str().unwrap()]);
+    assert!(e.contains("q1..q7"), "{e}");
+    std::fs::write(&bare, "t,q1,q2,q3,q4,q5,q6,q7\n0,0,0,zero,0,0,0,0\n").unwrap();
+    let e = fails(&["traj", "check", "-r", "lbr-iiwa-14-r820", bare.to_str().unwrap()]);
+    assert!(e.contains("line 2") && e.contains("q3") && e.contains("zero"), "{e}");
+
+    // CIRC through an auxiliary point, as JSON.
+    let v = json(&[
+        "traj",
+        "circ",
+        "-r",
+        "lbr-iiwa-14-r820",
+        &from,
+        "--aux",
+        "0.7,-0.5,0.6",
+        "--to",
+        "0.6,-0.6,0.3,0,1.5708,0",
+        "--rpy",
+        "xyz",
+        "--vmax",
+        "0.2",
+        "--amax",
+        "0.5",
+        "--profile",
+        "scurve",
+        "--jmax",
+        "2",
+        "--json",
+    ]);
+    assert!(
+        v["duration"].as_f64().unwrap() > 0.0
+            && v["rows"].as_array().unwrap().len() == v["samples"].as_u64().unwrap() as usize
+    );
+    // Collinear points: an error.
+    let e = fails(&[
+        "traj",
+        "circ",
+        "-r",
+        "lbr-iiwa-14-r820",
+        &from,
+        "--aux",
+        "0.66865,-0.46355,0.51625",
+        "--to",
+        "0.6,-0.6,0.3,0,1.5708,0",
+        "--rpy",
+        "xyz",
+        "--vmax",
+        "0.2",
+        "--amax",
+        "0.5",
+    ]);
+    assert!(e.contains("line"), "{e}");
+
+    // Seed 001's joint curve on ROMMEL.
+    let v = json(&[
+        "traj",
+        "expr",
+        "-r",
+        "rommel",
+        "--joint",
+        "1",
+        "0.5*sin(4*pi*t^2/2)",
+        "--duration",
+        "2",
+        "--dt",
+        "0.5",
+        "--json",
+    ]);
+    let rows = v["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 5);
+    let q1 = rows[1][1].as_f64().unwrap();
+    assert!((q1 - 0.5 * (std::f64::consts::PI / 2.0).sin()).abs() < 1e-12, "{q1}");
+    let e = fails(&["traj", "expr", "-r", "rommel", "--joint", "1", "sin(t", "--duration", "1"]);
+    assert!(e.contains("column 6"), "{e}");
+    let e = fails(&["traj", "expr", "-r", "rommel", "--joint", "9", "t", "--duration", "1"]);
+    assert!(e.contains("joint 9"), "{e}");
+}

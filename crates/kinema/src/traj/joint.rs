@@ -139,9 +139,10 @@ fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]
     Ok(traj)
 }
 
-/// First and second derivatives at sample `k` from the three nearest samples
-/// (Lagrange interpolation on non-uniform times; 0 for a single sample).
-fn derivatives(t: &[f64], q: &[Vec<f64>], k: usize, qd: &mut [f64], qdd: &mut [f64]) {
+/// First and second derivatives at sample `k` of `q` (one vector per time
+/// in `t`) from the three nearest samples (Lagrange interpolation on
+/// non-uniform times, second order; 0 for a single sample).
+pub fn derivatives(t: &[f64], q: &[Vec<f64>], k: usize, qd: &mut [f64], qdd: &mut [f64]) {
     if t.len() < 3 {
         qd.fill(0.0);
         qdd.fill(0.0);

@@ -23,12 +23,14 @@
 //! ```
 
 pub mod cart;
+pub mod expr;
 pub mod joint;
 pub mod law;
 
 use std::fmt;
 
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
+pub use expr::{expression_trajectory, Expr};
 pub use joint::{to_joints, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw};
 
