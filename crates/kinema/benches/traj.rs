@@ -1,5 +1,6 @@
 //! Trajectory benchmarks: planning a synchronised 7-DOF point-to-point motion
-//! (issue 4 target: S-curve plan ≤ 5 µs) and evaluating it.
+//! (issue 4 target: S-curve plan ≤ 5 µs), evaluating it, and sampling a LIN
+//! with IK at every sample (10 000 samples; target ≤ 10 ms).
 //!
 //! ```text
 //! cargo bench -p kinema --bench traj
@@ -13,8 +14,12 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use kinema::traj::{Profile, Ptp, PtpOptions};
-use kinema::Robot;
+use kinema::nalgebra::Vector3;
+use kinema::traj::{
+    check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
+    PtpOptions, Segment,
+};
+use kinema::{Pose, Robot};
 use rand::SeedableRng;
 
 const N: usize = 256;
@@ -48,6 +53,38 @@ fn traj(c: &mut Criterion) {
             black_box(q[0] + qd[0] + qdd[0])
         })
     });
+    g.finish();
+
+    // A 10 s LIN sampled at 1 kHz with IK at every sample (issue 4 target ≤ 10 ms):
+    // the iiwa (q3 rule, 21 closed-form solves per sample) and the PUMA 560 (Pieper, nearest of 8).
+    let mut g = c.benchmark_group("traj-lin-10s-1khz");
+    g.sample_size(10);
+    for name in ["lbr-iiwa-14-r820", "puma560"] {
+        let robot = Robot::builtin(name).expect("built-in");
+        let q0: Vec<f64> = match name {
+            "puma560" => vec![0.2, -0.6, 0.4, 0.3, 0.7, -0.2],
+            _ => vec![0.3, 0.6, -0.2, -1.2, 0.4, 0.9, 0.1],
+        };
+        let a = robot.fk(&q0).expect("valid").pose;
+        let b = Pose::new(a.rot * kinema::math::rot_x(0.2), a.pos + Vector3::new(0.05, 0.15, 0.1));
+        let seg = Segment::lin(&a, &b, Orientation::Slerp).expect("segment");
+        let lim = CartesianLimits::new(1.0, 1.0);
+        let motion = CartesianMotion::new(vec![seg], Profile::Quintic, &lim, Blend::None)
+            .and_then(|m| m.stretched_to(10.0))
+            .expect("motion");
+        let dt = motion.duration() / 10_000.0;
+        let traj = to_joints(&robot, &motion, &q0, dt, JointMethod::Ik).expect("reachable");
+        let report = check(&robot, &traj, &CheckOptions::default()).expect("checked");
+        eprintln!(
+            "{name}: LIN of {:.2} s, {} samples, {} violation(s)",
+            motion.duration(),
+            traj.len(),
+            report.violations.len()
+        );
+        g.bench_function(name, |bch| {
+            bch.iter(|| black_box(to_joints(&robot, &motion, &q0, dt, JointMethod::Ik).map(|t| t.len()).ok()))
+        });
+    }
     g.finish();
 }
 

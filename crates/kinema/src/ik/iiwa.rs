@@ -743,11 +743,11 @@ impl IiwaIk {
     /// [`IiwaIk::solve_q3`], or [`Unreachable::JointLimits`] if every
     /// solution in the window violates a limit.
     pub fn select(&self, q_prev: &[f64], target: &Pose, direction: Option<&Vector3<f64>>) -> Result<Solution> {
-        self.select_within(q_prev, target, direction, SELECT_WINDOW, &[SELECT_MAX_STEP; 7])
+        self.select_within(q_prev, target, direction, SELECT_WINDOW, 21, &[SELECT_MAX_STEP; 7])
     }
 
-    /// [`IiwaIk::select`] with the q3 window half-width `window` \[rad\] (searched
-    /// on a grid of 21 values) and per-joint preferred step limits
+    /// [`IiwaIk::select`] with the q3 window half-width `window` \[rad\] searched
+    /// on a grid of `points` values (odd; 1 keeps q3) and per-joint preferred step limits
     /// `max_steps` \[rad\] — for path following at a sample period dt, the
     /// joints' velocity limits times dt, so that q3's drift towards better
     /// manipulability never asks a joint to move faster than it can.
@@ -757,22 +757,23 @@ impl IiwaIk {
         target: &Pose,
         direction: Option<&Vector3<f64>>,
         window: f64,
+        points: usize,
         max_steps: &[f64],
     ) -> Result<Solution> {
         self.robot.check_q(q_prev)?;
-        if !(window >= 0.0 && window.is_finite()) || max_steps.len() != 7 {
+        if !(window >= 0.0 && window.is_finite()) || max_steps.len() != 7 || points % 2 == 0 {
             return Err(Error::InvalidArgument {
                 what: "window".into(),
                 message: format!(
-                    "q3 window {window} must be ≥ 0 and {} step limits given for 7 joints",
+                    "q3 window {window} must be ≥ 0, the grid ({points} points) odd, and {} step limits given for 7 joints",
                     max_steps.len()
                 ),
             });
         }
         let t = self.arm_target(target)?;
         let lim = self.robot.joints()[2].limits;
-        let steps: i64 = if window > 0.0 { 10 } else { 0 };
-        let step = window / 10.0;
+        let steps = if window > 0.0 { (points / 2) as i64 } else { 0 };
+        let step = if steps > 0 { window / steps as f64 } else { 0.0 };
         let mut cands: Vec<[f64; 7]> = Vec::new();
         let mut last_err = None;
         let mut rejected = Vec::new();

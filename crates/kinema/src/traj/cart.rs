@@ -491,6 +491,31 @@ impl CartesianMotion {
         best
     }
 
+    /// The same motion slowed down uniformly to last `duration` \[s\] (at least
+    /// its own): every time scaled by k = T′/T, so velocities shrink by k,
+    /// accelerations by k², jerks by k³, and every limit still holds.
+    pub fn stretched_to(&self, duration: f64) -> Result<Self> {
+        if !(duration.is_finite() && duration >= self.duration) {
+            return Err(bad(
+                "duration",
+                format!(
+                    "{duration} s: a motion can only be stretched to at least its own duration {} s",
+                    self.duration
+                ),
+            ));
+        }
+        if self.duration == 0.0 {
+            return Ok(self.clone());
+        }
+        let k = duration / self.duration;
+        Ok(CartesianMotion {
+            segments: self.segments.clone(),
+            laws: self.laws.iter().map(|l| l.stretched_to(l.duration() * k)).collect::<Result<_>>()?,
+            starts: self.starts.iter().map(|s| s * k).collect(),
+            duration,
+        })
+    }
+
     /// Duration \[s\].
     pub fn duration(&self) -> f64 {
         self.duration

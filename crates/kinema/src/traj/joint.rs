@@ -104,7 +104,10 @@ fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]
             let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
             let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
             let steps: Vec<f64> = (0..7).map(|i| vmax(i) * dt).collect();
-            ik.select_within(&prev, &target, dir.as_ref(), window, &steps).map_err(|e| at_time(t, e))?
+            // At a fine sample period the window is tiny: 5 grid points follow the
+            // manipulability gradient as well as 21 would.
+            let points = if window < ik::iiwa::SELECT_WINDOW { 5 } else { 21 };
+            ik.select_within(&prev, &target, dir.as_ref(), window, points, &steps).map_err(|e| at_time(t, e))?
         } else if let Some(solver) = &analytic {
             let sols = solver.solve(&target).map_err(|e| at_time(t, e))?;
             let accurate: Vec<_> = sols
