@@ -23,6 +23,7 @@
 //! ```
 
 pub mod cart;
+pub mod cell;
 pub mod expr;
 pub mod joint;
 pub mod law;
@@ -30,6 +31,7 @@ pub mod law;
 use std::fmt;
 
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
+pub use cell::{Cell, CellMember, CellReport};
 pub use expr::{expression_trajectory, Expr};
 pub use joint::{to_joints, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw};
