@@ -7,8 +7,8 @@ use clap::{Args, Subcommand, ValueEnum};
 use kinema::analysis::{yoshikawa, Axes};
 use kinema::nalgebra::Matrix6xX;
 use kinema::traj::{
-    check, expression_trajectory, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr, JointMethod,
-    JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, TimeLaw,
+    check, expression_trajectory, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr,
+    JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, TimeLaw,
 };
 use kinema::{Frame, Pose, Robot, RpyConvention};
 use serde_json::json;
@@ -84,6 +84,13 @@ pub struct CartArgs {
     /// Sample period [s].
     #[arg(long, default_value_t = 0.01)]
     dt: f64,
+    /// Instead of a fixed period, sample so that consecutive tool poses are at most this far apart [m]
+    /// (seed 000 sent its controller points 1 cm apart), and --max-angle [rad].
+    #[arg(long)]
+    max_step: Option<f64>,
+    /// With --max-step: the largest rotation between consecutive samples [rad].
+    #[arg(long, default_value_t = 0.05)]
+    max_angle: f64,
     /// Also report samples whose manipulability is below this value as violations.
     #[arg(long)]
     min_manip: Option<f64>,
@@ -481,7 +488,10 @@ fn cart_motion(
         MethodArg::Ik => JointMethod::Ik,
         MethodArg::Rate => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
     };
-    let traj = to_joints(robot, &motion, &q0, c.dt, method)?;
+    let traj = match c.max_step {
+        Some(step) => to_joints_at(robot, &motion, &q0, &motion.resample_times(step, c.max_angle)?, method)?,
+        None => to_joints(robot, &motion, &q0, c.dt, method)?,
+    };
     let opts = CheckOptions { min_manipulability: c.min_manip, ..CheckOptions::default() };
     check(robot, &traj, &opts)?.into_result()?;
     let summary = json!({

@@ -605,6 +605,34 @@ fn traj_lin_circ_expr_and_check_from_the_command_line() {
     let e = fails(&["traj", "check", "-r", "lbr-iiwa-14-r820", bare.to_str().unwrap()]);
     assert!(e.contains("line 2") && e.contains("q3") && e.contains("zero"), "{e}");
 
+    // Resampled so that consecutive tool positions are at most 1 cm apart (seed 000).
+    let v = json(&[
+        "traj",
+        "lin",
+        "-r",
+        "lbr-iiwa-14-r820",
+        &from,
+        "--to",
+        "0.6,-0.6,0.3,0,1.5708,0",
+        "--rpy",
+        "xyz",
+        "--vmax",
+        "0.2",
+        "--amax",
+        "0.5",
+        "--max-step",
+        "0.01",
+        "--json",
+    ]);
+    let rows = v["rows"].as_array().unwrap();
+    let xyz = |r: &Value| [22, 23, 24].map(|i| r[i].as_f64().unwrap());
+    for w in rows.windows(2) {
+        let (a, b) = (xyz(&w[0]), xyz(&w[1]));
+        let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+        assert!(d <= 0.01 + 1e-9, "{d}");
+    }
+    assert!(rows.len() > 50 && rows.len() < 80, "{}", rows.len()); // ~0.6 m of path
+
     // CIRC through an auxiliary point, as JSON.
     let v = json(&[
         "traj",

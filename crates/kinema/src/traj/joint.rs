@@ -53,7 +53,27 @@ pub fn to_joints(
     dt: f64,
     method: JointMethod,
 ) -> Result<JointTrajectory> {
+    let times = sample_times(motion.duration(), dt)?;
+    to_joints_at(robot, motion, q_start, &times, method)
+}
+
+/// As [`to_joints`], at the given increasing sample times (e.g. from
+/// [`CartesianMotion::resample_times`], so consecutive poses are at most a
+/// given distance apart, as seed 000 sent its controller).
+pub fn to_joints_at(
+    robot: &Robot,
+    motion: &CartesianMotion,
+    q_start: &[f64],
+    times: &[f64],
+    method: JointMethod,
+) -> Result<JointTrajectory> {
     robot.check_q(q_start)?;
+    if times.first() != Some(&0.0) || times.windows(2).any(|w| !(w[1] > w[0])) || times.iter().any(|t| !t.is_finite()) {
+        return Err(Error::InvalidArgument {
+            what: "times".into(),
+            message: "sample times must start at 0 and increase strictly".into(),
+        });
+    }
     let start = motion.at(0.0).pose;
     let e = pose_error(&start, &robot.fk(q_start)?.pose);
     if e.position_norm() > TRACK_TOL || e.rotation_angle() > TRACK_TOL {
@@ -66,7 +86,7 @@ pub fn to_joints(
             ),
         });
     }
-    let times = sample_times(motion.duration(), dt)?;
+    let times = times.to_vec();
     match method {
         JointMethod::Ik => by_ik(robot, motion, q_start, &times),
         JointMethod::ResolvedRate { damping, gain } => resolved_rate(robot, motion, q_start, &times, damping, gain),

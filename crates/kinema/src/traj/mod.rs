@@ -33,7 +33,7 @@ use std::fmt;
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
 pub use cell::{Cell, CellMember, CellReport};
 pub use expr::{expression_trajectory, Expr};
-pub use joint::{to_joints, JointMethod};
+pub use joint::{to_joints, to_joints_at, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw};
 
 use crate::analysis::{yoshikawa, Axes};
