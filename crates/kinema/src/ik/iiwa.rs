@@ -920,6 +920,11 @@ impl IkSolver for IiwaIk {
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         self.solve_q3(target, self.q3)
     }
+
+    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+        self.solve_q3_candidates(target, self.q3)?.write_into(out);
+        Ok(())
+    }
 }
 
 #[cfg(test)]

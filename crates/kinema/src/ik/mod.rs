@@ -173,6 +173,82 @@ pub fn wrap_angle(a: f64) -> f64 {
     }
 }
 
+/// Joint vectors of any length before their FK check, in reusable buffers
+/// (see [`IkSolver::candidates_into`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CandidateSet {
+    dof: usize,
+    q: Vec<f64>,
+    branch: Vec<Cow<'static, str>>,
+}
+
+impl CandidateSet {
+    /// An empty set.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Removes every candidate (keeps the buffers).
+    pub fn clear(&mut self) {
+        self.q.clear();
+        self.branch.clear();
+        self.dof = 0;
+    }
+
+    /// Appends a candidate; every candidate must have the same length.
+    pub fn push(&mut self, q: &[f64], branch: impl Into<Cow<'static, str>>) {
+        debug_assert!(self.branch.is_empty() || q.len() == self.dof);
+        self.dof = q.len();
+        self.q.extend_from_slice(q);
+        self.branch.push(branch.into());
+    }
+
+    /// Number of candidates.
+    pub fn len(&self) -> usize {
+        self.branch.len()
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.branch.is_empty()
+    }
+
+    /// Joint values of candidate `i`.
+    pub fn q(&self, i: usize) -> &[f64] {
+        &self.q[i * self.dof..(i + 1) * self.dof]
+    }
+
+    /// Branch label of candidate `i`.
+    pub fn branch(&self, i: usize) -> &str {
+        &self.branch[i]
+    }
+
+    /// Candidate `i` as a [`Solution`], its residual measured by FK on `robot` against `target`.
+    pub fn evaluate(&self, i: usize, robot: &Robot, target: &Pose) -> Result<Solution> {
+        Solution::evaluate(robot, self.q(i).to_vec(), target, self.branch[i].clone())
+    }
+
+    /// Index of the candidate within `robot`'s limits nearest to `q_prev`
+    /// ([`joint_distance`]); `None` if none is within limits.
+    pub fn nearest_within_limits(&self, robot: &Robot, q_prev: &[f64]) -> Option<usize> {
+        (0..self.len())
+            .filter(|&i| robot.limit_flags(self.q(i)).is_empty())
+            .map(|i| (i, joint_distance(robot, self.q(i), q_prev)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i)
+    }
+}
+
+impl<const N: usize, const M: usize> Candidates<N, M> {
+    /// Copies the candidates into a [`CandidateSet`] (cleared first).
+    pub fn write_into(&self, out: &mut CandidateSet) {
+        out.clear();
+        for (q, b) in self.iter() {
+            out.push(q, b);
+        }
+    }
+}
+
 /// Joint vectors from a closed form before any FK check: up to `M`
 /// candidates of `N` joints each with their branch labels, in a fixed-size
 /// buffer (no allocation). The analytic solvers' kernels
@@ -304,6 +380,20 @@ pub trait IkSolver: Send + Sync {
     /// including those outside the joint limits (flagged). Errors for a
     /// non-finite target and for an unreachable one ([`Error::Unreachable`]).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>>;
+
+    /// The joint vectors of [`IkSolver::solve`] without their FK residual
+    /// check, written into `out` (cleared first; its buffers are reused, so a
+    /// loop over many targets does not allocate per solution). For path
+    /// following, which checks only the solution it picks. The analytic
+    /// solvers override the default, which calls `solve`.
+    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        let sols = self.solve(target)?;
+        out.clear();
+        for s in sols {
+            out.push(&s.q, s.branch);
+        }
+        Ok(())
+    }
 
     /// Solutions within the joint limits; if there are none although the pose
     /// is reachable, an [`Unreachable::JointLimits`] error listing them.

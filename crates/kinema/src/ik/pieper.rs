@@ -370,7 +370,7 @@ impl PieperIk {
     }
 
     /// The arm solutions (θ1, θ2, θ3, label) for wrist centre `p`.
-    fn solve_arm(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+    fn solve_arm(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], &'static str)>, Unreachable> {
         match self.arm {
             ArmKind::ShoulderPlane => self.arm_shoulder_plane(p),
             ArmKind::IntersectingShoulder | ArmKind::ParallelShoulder => self.arm_pieper(p),
@@ -378,7 +378,7 @@ impl PieperIk {
         }
     }
 
-    fn arm_shoulder_plane(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+    fn arm_shoulder_plane(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], &'static str)>, Unreachable> {
         let [l1, l2, l3, l4, ..] = self.links;
         // v = A3·(0, 0, d4) = (f1, f2, f3) in frame 2.
         // g = Tz(d2)·Tx(a2)·Rx(α2)·v; with sα2 = 0: g = (f1 + a2, cα2 f2, cα2 f3 + d2).
@@ -451,7 +451,12 @@ impl PieperIk {
                 let cross = u1 * l2.a * s2 - u2 * l2.a * c2;
                 let up_side = if u1.abs() > AXIS_TOL { u1.signum() } else { 1.0 };
                 let up = cross * up_side * l1.sa >= 0.0;
-                let label = format!("shoulder-{sh}/elbow-{}", if up { "up" } else { "down" });
+                let label = match (sh, up) {
+                    ("right", true) => "shoulder-right/elbow-up",
+                    ("right", false) => "shoulder-right/elbow-down",
+                    (_, true) => "shoulder-left/elbow-up",
+                    (_, false) => "shoulder-left/elbow-down",
+                };
                 out.push(([t1, t2, t3], label));
             }
         }
@@ -466,7 +471,7 @@ impl PieperIk {
 
     /// The intersecting- and parallel-shoulder arrangements (Pieper's two
     /// special cases).
-    fn arm_pieper(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+    fn arm_pieper(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], &'static str)>, Unreachable> {
         let [l1, l2, l3, l4, ..] = self.links;
         let z = p.z - l1.d;
         let r2 = p.x * p.x + p.y * p.y + z * z;
@@ -546,7 +551,9 @@ impl PieperIk {
             for (sh, t2) in t2s.into_iter().enumerate() {
                 // Step 3: θ1 from (px, py) = Rz(θ1)·(w1, w2).
                 let t1 = theta1(l1, &g, t2, p);
-                out.push(([t1, t2, t3], format!("shoulder-{}/elbow-{e}", sh + 1)));
+                const LABELS: [[&str; 2]; 2] =
+                    [["shoulder-1/elbow-1", "shoulder-1/elbow-2"], ["shoulder-2/elbow-1", "shoulder-2/elbow-2"]];
+                out.push(([t1, t2, t3], LABELS[sh.min(1)][e - 1]));
             }
         }
         if out.is_empty() {
@@ -561,7 +568,7 @@ impl PieperIk {
     /// Pieper's general case: with P = c2·g1 − s2·g2 from |p − o1|² and
     /// Q = s2·g1 + c2·g2 from the height along axis 1, P² + Q² = g1² + g2²
     /// is an equation in θ3 alone (a quartic in tan(θ3/2)).
-    fn arm_general(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], String)>, Unreachable> {
+    fn arm_general(&self, p: &Vector3<f64>) -> std::result::Result<Vec<([f64; 3], &'static str)>, Unreachable> {
         let [l1, ..] = self.links;
         let z = p.z - l1.d;
         let r2 = p.x * p.x + p.y * p.y + z * z;
@@ -638,7 +645,8 @@ impl PieperIk {
             // Keep only exact solutions (a bracket may also straddle a pole-free sign change of rounding noise).
             let wc = self.arm_point([t1, t2, t3]);
             if (wc - p).norm() <= 1e-9 * (1.0 + p.norm()) {
-                out.push(([t1, t2, t3], format!("arm-{}", e + 1)));
+                const LABELS: [&str; 8] = ["arm-1", "arm-2", "arm-3", "arm-4", "arm-5", "arm-6", "arm-7", "arm-8"];
+                out.push(([t1, t2, t3], LABELS.get(e).copied().unwrap_or("arm")));
             }
         }
         if out.is_empty() {
@@ -762,6 +770,22 @@ fn intersecting_coeffs(links: &[Link; 6]) -> (f64, (f64, f64)) {
     (k, (a, b))
 }
 
+/// "{arm}/{wrist}" as a static string: the labels form a small fixed set, each
+/// built once and kept for the life of the program (so a solve does not
+/// format strings).
+fn combined_label(arm: &'static str, wrist: &'static str) -> &'static str {
+    use std::sync::{Mutex, OnceLock};
+    static TABLE: OnceLock<Mutex<Vec<(&'static str, &'static str, &'static str)>>> = OnceLock::new();
+    let table = TABLE.get_or_init(|| Mutex::new(Vec::new()));
+    let mut t = table.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(&(_, _, c)) = t.iter().find(|(a, w, _)| *a == arm && *w == wrist) {
+        return c;
+    }
+    let c: &'static str = Box::leak(format!("{arm}/{wrist}").into_boxed_str());
+    t.push((arm, wrist, c));
+    c
+}
+
 impl IkSolver for PieperIk {
     fn name(&self) -> &'static str {
         "pieper"
@@ -770,7 +794,14 @@ impl IkSolver for PieperIk {
     /// All (up to 8) solutions: each arm branch × {noflip, flip}, labelled
     /// as described in the [module documentation](self).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        let mut set = super::CandidateSet::new();
+        self.candidates_into(target, &mut set)?;
+        (0..set.len()).map(|i| set.evaluate(i, &self.robot, target)).collect()
+    }
+
+    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         check_target(target)?;
+        out.clear();
         let unreachable = |reason| Error::Unreachable { solver: "pieper".into(), reason };
         let t06 = self.dh0_from_flange(target);
         let p = t06.transform_point(&self.wc_in_flange);
@@ -787,7 +818,6 @@ impl IkSolver for PieperIk {
         let r = t06.rot * rx(l6).transpose();
         let r06: M3 =
             [[r[(0, 0)], r[(0, 1)], r[(0, 2)]], [r[(1, 0)], r[(1, 1)], r[(1, 2)]], [r[(2, 0)], r[(2, 1)], r[(2, 2)]]];
-        let mut sols = Vec::with_capacity(8);
         for (th, label) in arms {
             let r03 = mul(&mul(&rzrx(th[0], self.links[0]), &rzrx(th[1], self.links[1])), &rzrx(th[2], self.links[2]));
             let m = tmul(&r03, &r06);
@@ -797,15 +827,15 @@ impl IkSolver for PieperIk {
                 if !q.iter().all(|v| v.is_finite()) {
                     continue;
                 }
-                sols.push(Solution::evaluate(&self.robot, q, target, format!("{label}/{wl}"))?);
+                out.push(&q, combined_label(label, wl));
             }
         }
-        if sols.is_empty() {
+        if out.is_empty() {
             return Err(unreachable(Unreachable::OutsideReach {
                 by: 0.0,
                 boundary: "reach of the arm (no finite solution)".into(),
             }));
         }
-        Ok(sols)
+        Ok(())
     }
 }

@@ -471,6 +471,25 @@ impl IkSolver for ScaraIk {
     /// A target whose z axis is not vertical is [`Unreachable::Orientation`] with the
     /// tilt angle.
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        let (_, right, left) = self.zone_pair(target)?;
+        [(right, Elbow::Right), (left, Elbow::Left)]
+            .into_iter()
+            .map(|(q, elbow)| Solution::evaluate(&self.robot, q.to_vec(), target, elbow.label()))
+            .collect()
+    }
+
+    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+        let (_, right, left) = self.zone_pair(target)?;
+        out.clear();
+        out.push(&right, Elbow::Right.label());
+        out.push(&left, Elbow::Left.label());
+        Ok(())
+    }
+}
+
+impl ScaraIk {
+    /// The typed target of a pose and the zone rule's two elbow solutions.
+    fn zone_pair(&self, target: &Pose) -> Result<([f64; 4], [f64; 5], [f64; 5])> {
         check_target(target)?;
         let r = &target.rot;
         let tilt = r[(0, 2)].fast_hypot(r[(1, 2)]).fast_atan2(r[(2, 2)]);
@@ -488,9 +507,6 @@ impl IkSolver for ScaraIk {
         Self::check_typed(&t, &[])?;
         let right = self.zone_q(&t, Elbow::Right, None)?;
         let left = self.zone_q(&t, Elbow::Left, Some(right[4]))?;
-        [(right, Elbow::Right), (left, Elbow::Left)]
-            .into_iter()
-            .map(|(q, elbow)| Solution::evaluate(&self.robot, q.to_vec(), target, elbow.label()))
-            .collect()
+        Ok((t, right, left))
     }
 }

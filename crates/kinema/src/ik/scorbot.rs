@@ -442,6 +442,11 @@ impl IkSolver for ScorbotIk {
     /// for (β, γ) and four more labelled `…/flip` for (π − β, γ + π). Their
     /// `orientation_error` is the uncontrollable yaw error (see
     /// [`ScorbotIk::yaw_error`]); the list is sorted by it, smallest first.
+    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+        self.pose_candidates(target)?.write_into(out);
+        Ok(())
+    }
+
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         let raw = self.pose_candidates(target)?;
         let mut sols = raw.evaluate(&self.robot, target)?;

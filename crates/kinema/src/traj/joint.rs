@@ -7,7 +7,7 @@ use super::cart::CartesianMotion;
 use super::{sample_times, JointTrajectory};
 use crate::error::{Error, Result};
 use crate::ik::iiwa::IiwaIk;
-use crate::ik::{self, NumericIk, NumericOptions, Solutions};
+use crate::ik::{self, NumericIk, NumericOptions};
 use crate::kin::Frame;
 use crate::math::{pose_error, Pose};
 use crate::model::Robot;
@@ -17,8 +17,9 @@ use crate::model::Robot;
 pub enum JointMethod {
     /// Inverse kinematics at every sample: the robot's analytic solver when it
     /// has one (every solution, the one nearest the previous sample within
-    /// limits; for the iiwa the q3 selection rule of seed 004 §V-E,
-    /// q_k = f(q_{k−1}, T_k), with the direction of motion), else the numeric
+    /// limits and reaching the pose; for the iiwa the q3 selection rule of
+    /// seed 004 §V-E, q_k = f(q_{k−1}, T_k), with the direction of motion,
+    /// applied every [`Q3_DECISION_PERIOD`] with q3 interpolated between), else the numeric
     /// solver started from the previous sample without restarts. Velocities
     /// and accelerations are second-order finite differences of the samples.
     #[default]
@@ -102,57 +103,67 @@ fn at_time(t: f64, e: Error) -> Error {
     }
 }
 
+/// Period \[s\] at which the iiwa's q3 rule decides q3 along a path; between
+/// decisions q3 is interpolated linearly and each sample is one closed-form
+/// solve (the rule costs ~20 solves, a sample one).
+pub const Q3_DECISION_PERIOD: f64 = 0.02;
+
+fn unreachable_orientation(t: f64, solver: &str) -> Error {
+    at_time(
+        t,
+        Error::Unreachable {
+            solver: solver.into(),
+            reason: ik::Unreachable::Orientation {
+                angle: f64::NAN,
+                detail: "no solution reaches this pose of the path exactly (the arm cannot take its orientation)"
+                    .into(),
+            },
+        },
+    )
+}
+
+/// Whether `q` reaches `target` within [`TRACK_TOL`].
+fn reaches(robot: &Robot, q: &[f64], target: &Pose) -> Result<bool> {
+    let e = pose_error(target, &robot.fk(q)?.pose);
+    Ok(e.position_norm() <= TRACK_TOL && e.rotation_angle() <= TRACK_TOL)
+}
+
 fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]) -> Result<JointTrajectory> {
     let n = robot.dof();
-    let iiwa = IiwaIk::new(robot).ok();
-    let analytic = if iiwa.is_some() { None } else { ik::analytic_solver(robot) };
-    let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
-    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
-    let mut prev = q_start.to_vec();
-    for (k, &t) in times.iter().enumerate() {
-        if k == 0 {
-            qs.push(prev.clone());
-            continue;
+    let qs = if let Ok(ik) = IiwaIk::new(robot) {
+        iiwa_path(robot, &ik, motion, q_start, times)?
+    } else {
+        let analytic = ik::analytic_solver(robot);
+        let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
+        let mut set = ik::CandidateSet::new();
+        let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
+        qs.push(q_start.to_vec());
+        for &t in &times[1..] {
+            let target = motion.at(t).pose;
+            let prev = qs.last().expect("non-empty");
+            let q = if let Some(solver) = &analytic {
+                // Every solution; the nearest within limits that reaches the pose.
+                solver.candidates_into(&target, &mut set).map_err(|e| at_time(t, e))?;
+                let mut order: Vec<usize> =
+                    (0..set.len()).filter(|&i| robot.limit_flags(set.q(i)).is_empty()).collect();
+                order.sort_by(|&a, &b| {
+                    ik::joint_distance(robot, set.q(a), prev).total_cmp(&ik::joint_distance(robot, set.q(b), prev))
+                });
+                let mut found = None;
+                for i in order {
+                    if reaches(robot, set.q(i), &target)? {
+                        found = Some(set.q(i).to_vec());
+                        break;
+                    }
+                }
+                found.ok_or_else(|| unreachable_orientation(t, solver.name()))?
+            } else {
+                numeric.solve_from(&target, prev).map_err(|e| at_time(t, e))?.q
+            };
+            qs.push(q);
         }
-        let st = motion.at(t);
-        let target = st.pose;
-        let sol = if let Some(ik) = &iiwa {
-            let dir = (st.vel.norm() > 1e-12).then_some(st.vel);
-            // q3 may drift by at most half of what its velocity limit allows per
-            // sample; every joint should stay within its own limit.
-            let dt = t - times[k - 1];
-            let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
-            let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
-            let steps: Vec<f64> = (0..7).map(|i| vmax(i) * dt).collect();
-            // At a fine sample period the window is tiny: 5 grid points follow the
-            // manipulability gradient as well as 21 would.
-            let points = if window < ik::iiwa::SELECT_WINDOW { 5 } else { 21 };
-            ik.select_within(&prev, &target, dir.as_ref(), window, points, &steps).map_err(|e| at_time(t, e))?
-        } else if let Some(solver) = &analytic {
-            let sols = solver.solve(&target).map_err(|e| at_time(t, e))?;
-            let accurate: Vec<_> = sols
-                .into_iter()
-                .filter(|s| s.position_error <= TRACK_TOL && s.orientation_error <= TRACK_TOL)
-                .collect();
-            accurate.nearest(robot, &prev).cloned().ok_or_else(|| {
-                at_time(
-                    t,
-                    Error::Unreachable {
-                        solver: solver.name().into(),
-                        reason: ik::Unreachable::Orientation {
-                            angle: f64::NAN,
-                            detail: "no solution reaches this pose of the path exactly (the arm cannot take its orientation)"
-                                .into(),
-                        },
-                    },
-                )
-            })?
-        } else {
-            numeric.solve_from(&target, &prev).map_err(|e| at_time(t, e))?
-        };
-        prev.clone_from(&sol.q);
-        qs.push(sol.q);
-    }
+        qs
+    };
     let mut traj = JointTrajectory::with_capacity(n, times.len());
     let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
     for k in 0..times.len() {
@@ -160,6 +171,65 @@ fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]
         traj.push(times[k], &qs[k], &qd, &qdd)?;
     }
     Ok(traj)
+}
+
+/// The iiwa along a path: seed 004's q3 rule (q_k = f(q_{k−1}, T_k)) every
+/// [`Q3_DECISION_PERIOD`], with q3's drift limited by its velocity limit and
+/// every joint's step by its own; in between, q3 interpolated and the
+/// closed-form solution nearest to the previous sample.
+fn iiwa_path(
+    robot: &Robot,
+    ik: &IiwaIk,
+    motion: &CartesianMotion,
+    q_start: &[f64],
+    times: &[f64],
+) -> Result<Vec<Vec<f64>>> {
+    let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
+    let decide = |prev: &[f64], t: f64, dt: f64| -> Result<Vec<f64>> {
+        let st = motion.at(t);
+        let dir = (st.vel.norm() > 1e-12).then_some(st.vel);
+        let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
+        // 80 % of each joint's velocity limit: the samples between decisions
+        // do not move exactly linearly and must stay within the limit too.
+        let steps: Vec<f64> = (0..7).map(|i| 0.8 * vmax(i) * dt).collect();
+        // A small window needs few grid points to follow the manipulability gradient.
+        let points = if window < ik::iiwa::SELECT_WINDOW { 5 } else { 21 };
+        Ok(ik.select_within(prev, &st.pose, dir.as_ref(), window, points, &steps).map_err(|e| at_time(t, e))?.q)
+    };
+    // Decision samples: every sample at coarse periods, else about every Q3_DECISION_PERIOD.
+    let mut decisions = vec![0usize];
+    for k in 1..times.len() {
+        if times[k] - times[*decisions.last().expect("non-empty")] >= Q3_DECISION_PERIOD - 1e-12 || k + 1 == times.len()
+        {
+            decisions.push(k);
+        }
+    }
+    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
+    qs.push(q_start.to_vec());
+    let mut set = ik::CandidateSet::new();
+    for w in decisions.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let q_b = decide(&qs[a], times[b], times[b] - times[a])?;
+        let (q3a, q3b) = (qs[a][2], q_b[2]);
+        for k in a + 1..b {
+            let t = times[k];
+            let u = (t - times[a]) / (times[b] - times[a]);
+            let target = motion.at(t).pose;
+            let prev = &qs[k - 1];
+            let picked = ik.solve_q3_candidates(&target, q3a + u * (q3b - q3a)).ok().and_then(|c| {
+                c.write_into(&mut set);
+                set.nearest_within_limits(robot, prev).map(|i| set.q(i).to_vec())
+            });
+            let q = match picked {
+                Some(q) if reaches(robot, &q, &target)? => q,
+                // The interpolated q3 does not work here: decide at this sample.
+                _ => decide(prev, t, t - times[k - 1])?,
+            };
+            qs.push(q);
+        }
+        qs.push(q_b);
+    }
+    Ok(qs)
 }
 
 /// First and second derivatives at sample `k` of `q` (one vector per time
