@@ -133,9 +133,12 @@ struct Phase {
 }
 
 impl Phase {
+    /// The phase `u` seconds after its start. Callers keep `u` within the
+    /// phase's duration, so every derivative stays between its values at the
+    /// phase's ends (each is monotone or, for ṡ under constant jerk, peaks
+    /// only where s̈ = 0, which is a phase end in every profile built here).
     #[inline]
-    fn at(&self, t: f64) -> LawState {
-        let u = t - self.t0;
+    fn at_offset(&self, u: f64) -> LawState {
         LawState {
             s: self.s0 + u * (self.v0 + u * (self.a0 / 2.0 + u * self.j / 6.0)),
             sd: self.v0 + u * (self.a0 + u * self.j / 2.0),
@@ -315,7 +318,9 @@ impl TimeLaw {
                 a = a0;
             }
             let p = Phase { t0: t, s0: s, v0: v, a0: a, j };
-            let end = p.at(t + dt);
+            // The end state from the phase's own clock: t + dt − t would lose
+            // the digits of a short phase late in a long law.
+            let end = p.at_offset(dt);
             law.phases[law.n] = p;
             law.phase_times[law.n] = dt;
             law.n += 1;
@@ -406,12 +411,15 @@ impl TimeLaw {
             };
         }
         let i = self.phases[..self.n].iter().rposition(|p| p.t0 <= t).unwrap_or(0);
-        self.phases[i].at(t)
+        // Clamped so that rounding in t − t0 never carries a derivative past
+        // the value it has at the phase's end (the limit).
+        let u = (t - self.phases[i].t0).clamp(0.0, self.phase_times[i]);
+        self.phases[i].at_offset(u)
     }
 
     /// The largest |ṡ|, |s̈| and |s⃛| over the law, in closed form (for the
-    /// trapezoid and the S-curve: reached at the phase ends; the polynomials:
-    /// their known extrema). |s⃛| is infinite for the trapezoid, cubic and
+    /// trapezoid and the S-curve: reached at the phase ends, where s̈ crosses
+    /// zero or a constant phase starts; the polynomials: their known extrema). |s⃛| is infinite for the trapezoid, cubic and
     /// linear laws (jumps in acceleration) and |s̈| for the linear law.
     pub fn peaks(&self) -> LawState {
         if self.n == 0 {
@@ -423,11 +431,13 @@ impl TimeLaw {
                 LawState { s: 1.0, sd: 15.0 / (8.0 * t), sdd: 10.0 / (3f64.sqrt() * t * t), sddd: 60.0 / (t * t * t) }
             }
             Profile::Linear => LawState { s: 1.0, sd: 1.0 / t, sdd: f64::INFINITY, sddd: f64::INFINITY },
+            // ṡ peaks mid-way (τ = 1/2), inside the single phase; s̈ at the ends.
+            Profile::Cubic => LawState { s: 1.0, sd: 1.5 / t, sdd: 6.0 / (t * t), sddd: f64::INFINITY },
             p => {
                 let mut peak = LawState { s: 1.0, ..LawState::default() };
                 for i in 0..self.n {
                     let ph = &self.phases[i];
-                    for st in [ph.at(ph.t0), ph.at(ph.t0 + self.phase_times[i])] {
+                    for st in [ph.at_offset(0.0), ph.at_offset(self.phase_times[i])] {
                         peak.sd = peak.sd.max(st.sd.abs());
                         peak.sdd = peak.sdd.max(st.sdd.abs());
                     }
