@@ -658,7 +658,7 @@ fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTraject
     }
     let (qd_cols, qdd_cols) = (cols("qd"), cols("qdd"));
     let mut t = Vec::new();
-    let mut qs: Vec<Vec<f64>> = Vec::new();
+    let mut qs: Vec<f64> = Vec::new();
     let mut qds: Vec<Vec<f64>> = Vec::new();
     let mut qdds: Vec<Vec<f64>> = Vec::new();
     for rec in rd.records() {
@@ -671,7 +671,9 @@ fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTraject
             })
         };
         t.push(get(t_col)?);
-        qs.push(q_cols.iter().map(|&c| get(c)).collect::<Result<_>>()?);
+        for &c in &q_cols {
+            qs.push(get(c)?);
+        }
         if let Some(c) = &qd_cols {
             qds.push(c.iter().map(|&c| get(c)).collect::<Result<_>>()?);
         }
@@ -685,10 +687,10 @@ fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTraject
     let mut traj = JointTrajectory::with_capacity(n, t.len());
     let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
     for k in 0..t.len() {
-        kinema::traj::joint::derivatives(&t, &qs, k, &mut qd, &mut qdd);
+        kinema::traj::joint::derivatives(&t, &qs, n, k, &mut qd, &mut qdd);
         let qd_k = if qd_cols.is_some() { qds[k].clone() } else { qd.clone() };
         let qdd_k = if qdd_cols.is_some() { qdds[k].clone() } else { qdd.clone() };
-        traj.push(t[k], &qs[k], &qd_k, &qdd_k)?;
+        traj.push(t[k], &qs[k * n..(k + 1) * n], &qd_k, &qdd_k)?;
     }
     Ok(traj)
 }

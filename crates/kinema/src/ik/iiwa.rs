@@ -425,13 +425,42 @@ impl IiwaIk {
     /// All solutions (joint vectors, without FK evaluation) for a fixed q3,
     /// seed 004 eq. 3–11, with `q1_hint` used at the shoulder singularity.
     fn solve_q3_raw(&self, t: &ArmTarget, q3: f64, q1_hint: f64) -> Result<Candidates<7, 8>> {
+        self.solve_q3_branches(t, q3, q1_hint, None)
+    }
+
+    /// As [`Self::solve_q3_raw`]; with `near`, only the shoulder and elbow
+    /// branches `near` is unambiguously on (|sin q4| > 0.05 for the elbow; for
+    /// the shoulder, its q1 puts the wrist on the same side by more than half
+    /// the offset) — the others cannot be the continuation of a path through
+    /// `near`.
+    fn solve_q3_branches(
+        &self,
+        t: &ArmTarget,
+        q3: f64,
+        q1_hint: f64,
+        near: Option<&[f64]>,
+    ) -> Result<Candidates<7, 8>> {
         let w = &t.w;
         let el = self.elbow(w.norm())?;
         let (s3, c3) = q3.fast_sin_cos();
         let rho = w.x.fast_hypot(w.y);
         let mut out = Candidates::<7, 8>::default();
         let mut worst = 0.0f64;
+        // Shoulder offset of `near`'s q1 for this wrist point, and its elbow side.
+        let (u_near, elbow_near) = match near {
+            Some(q) => {
+                let (s1, c1) = q[0].fast_sin_cos();
+                {
+                    let s4 = q[3].fast_sin_cos().0;
+                    (Some(c1 * w.x + s1 * w.y), if s4.abs() > 0.05 { s4.signum() } else { 0.0 })
+                }
+            }
+            None => (None, 0.0),
+        };
         for elbow in [1.0, -1.0] {
+            if elbow * elbow_near < 0.0 {
+                continue;
+            }
             let s4 = elbow * el.s4;
             let q4 = s4.fast_atan2(el.c4);
             // Wrist point in frame 2 (seed 004 eq. 5: ²p₅).
@@ -448,6 +477,9 @@ impl IiwaIk {
             let r24 = rz(s3, c3) * ry(s4, el.c4);
             for shoulder in [1.0, -1.0] {
                 let u = shoulder * u_abs;
+                if u_near.is_some_and(|un| u * un < 0.0 && un.abs() > 0.5 * u_abs) {
+                    continue;
+                }
                 // Seed 004 eq. 9 (q1 = α ± arccos(x_w/R), one of the two chosen
                 // by FK) and eq. 8 (q2 = α ± arccos((z_w − d1)/R)) are correct but
                 // leave the choice of sign to a later FK test; they are written
@@ -551,6 +583,33 @@ impl IiwaIk {
         }
         let t = self.arm_target(target)?;
         self.solve_q3_raw(&t, q3, 0.0)
+    }
+
+    /// The candidates of [`IiwaIk::solve_q3_candidates`] that can continue a
+    /// path through the nearby configuration `near` (a sample earlier): those
+    /// on `near`'s shoulder and elbow side, both wrists (so usually 2 instead
+    /// of 8; all of them where `near` is close to a shoulder or elbow
+    /// singularity and its side is ambiguous). Same errors, plus a `near` that
+    /// is not 7 finite values.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::iiwa::IiwaIk;
+    /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+    /// let ik = IiwaIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let next = robot.fk(&[0.301, 0.5, -0.7, -1.199, 0.4, 0.8, 0.1])?.pose;
+    /// let c = ik.solve_q3_near(&next, -0.7, &q)?;
+    /// assert_eq!(c.len(), 2);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_q3_near(&self, target: &Pose, q3: f64, near: &[f64]) -> Result<Candidates<7, 8>> {
+        if !q3.is_finite() {
+            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+        }
+        self.robot.check_q(near)?;
+        let t = self.arm_target(target)?;
+        self.solve_q3_branches(&t, q3, near[0], Some(near))
     }
 
     /// The configuration bits of `q` ([`SHOULDER`] | [`ELBOW`] | [`WRIST`], a
@@ -760,6 +819,36 @@ impl IiwaIk {
         points: usize,
         max_steps: &[f64],
     ) -> Result<Solution> {
+        self.select_impl(q_prev, target, direction, window, points, max_steps, false)
+    }
+
+    /// [`IiwaIk::select_within`] for the next sample of a path through
+    /// `q_prev` (a few ms earlier): only the shoulder/elbow branches that can
+    /// continue the path are solved ([`IiwaIk::solve_q3_near`]); the others
+    /// would be jumps.
+    pub(crate) fn select_continuing(
+        &self,
+        q_prev: &[f64],
+        target: &Pose,
+        direction: Option<&Vector3<f64>>,
+        window: f64,
+        points: usize,
+        max_steps: &[f64],
+    ) -> Result<Solution> {
+        self.select_impl(q_prev, target, direction, window, points, max_steps, true)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn select_impl(
+        &self,
+        q_prev: &[f64],
+        target: &Pose,
+        direction: Option<&Vector3<f64>>,
+        window: f64,
+        points: usize,
+        max_steps: &[f64],
+        continuing: bool,
+    ) -> Result<Solution> {
         self.robot.check_q(q_prev)?;
         if !(window >= 0.0 && window.is_finite()) || max_steps.len() != 7 || points % 2 == 0 {
             return Err(Error::InvalidArgument {
@@ -782,7 +871,7 @@ impl IiwaIk {
             if !lim.contains(q3) {
                 continue;
             }
-            match self.solve_q3_raw(&t, q3, q_prev[0]) {
+            match self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev)) {
                 Ok(sols) => {
                     let best = sols
                         .qs()

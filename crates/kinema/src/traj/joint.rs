@@ -136,54 +136,47 @@ fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]
         let analytic = ik::analytic_solver(robot);
         let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
         let mut set = ik::CandidateSet::new();
-        let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
-        qs.push(q_start.to_vec());
+        let mut order = Vec::with_capacity(16);
+        // One configuration after another (row-major).
+        let mut qs: Vec<f64> = Vec::with_capacity(times.len() * n);
+        qs.extend_from_slice(q_start);
         for &t in &times[1..] {
             let target = motion.at(t).pose;
-            let prev = qs.last().expect("non-empty");
-            let q = if let Some(solver) = &analytic {
+            let prev = &qs[qs.len() - n..];
+            if let Some(solver) = &analytic {
                 // Every solution; the nearest within limits that reaches the pose.
                 solver.candidates_into(&target, &mut set).map_err(|e| at_time(t, e))?;
-                let mut order: Vec<usize> =
-                    (0..set.len()).filter(|&i| robot.limit_flags(set.q(i)).is_empty()).collect();
-                order.sort_by(|&a, &b| {
-                    ik::joint_distance(robot, set.q(a), prev).total_cmp(&ik::joint_distance(robot, set.q(b), prev))
-                });
+                order.clear();
+                order.extend(
+                    (0..set.len())
+                        .filter(|&i| robot.limit_flags(set.q(i)).is_empty())
+                        .map(|i| (ik::joint_distance(robot, set.q(i), prev), i)),
+                );
+                order.sort_by(|a, b| a.0.total_cmp(&b.0));
                 let mut found = None;
-                for i in order {
+                for &(_, i) in &order {
                     if reaches(robot, set.q(i), &target)? {
-                        found = Some(set.q(i).to_vec());
+                        found = Some(i);
                         break;
                     }
                 }
-                found.ok_or_else(|| unreachable_orientation(t, solver.name()))?
+                let i = found.ok_or_else(|| unreachable_orientation(t, solver.name()))?;
+                qs.extend_from_slice(set.q(i));
             } else {
-                numeric.solve_from(&target, prev).map_err(|e| at_time(t, e))?.q
-            };
-            qs.push(q);
+                let q = numeric.solve_from(&target, prev).map_err(|e| at_time(t, e))?.q;
+                qs.extend_from_slice(&q);
+            }
         }
         qs
     };
-    let mut traj = JointTrajectory::with_capacity(n, times.len());
-    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
-    for k in 0..times.len() {
-        derivatives(times, &qs, k, &mut qd, &mut qdd);
-        traj.push(times[k], &qs[k], &qd, &qdd)?;
-    }
-    Ok(traj)
+    JointTrajectory::from_positions(n, times.to_vec(), qs)
 }
 
 /// The iiwa along a path: seed 004's q3 rule (q_k = f(q_{k−1}, T_k)) every
 /// [`Q3_DECISION_PERIOD`], with q3's drift limited by its velocity limit and
 /// every joint's step by its own; in between, q3 interpolated and the
 /// closed-form solution nearest to the previous sample.
-fn iiwa_path(
-    robot: &Robot,
-    ik: &IiwaIk,
-    motion: &CartesianMotion,
-    q_start: &[f64],
-    times: &[f64],
-) -> Result<Vec<Vec<f64>>> {
+fn iiwa_path(robot: &Robot, ik: &IiwaIk, motion: &CartesianMotion, q_start: &[f64], times: &[f64]) -> Result<Vec<f64>> {
     let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
     let decide = |prev: &[f64], t: f64, dt: f64| -> Result<Vec<f64>> {
         let st = motion.at(t);
@@ -194,7 +187,7 @@ fn iiwa_path(
         let steps: Vec<f64> = (0..7).map(|i| 0.8 * vmax(i) * dt).collect();
         // A small window needs few grid points to follow the manipulability gradient.
         let points = if window < ik::iiwa::SELECT_WINDOW { 5 } else { 21 };
-        Ok(ik.select_within(prev, &st.pose, dir.as_ref(), window, points, &steps).map_err(|e| at_time(t, e))?.q)
+        Ok(ik.select_continuing(prev, &st.pose, dir.as_ref(), window, points, &steps).map_err(|e| at_time(t, e))?.q)
     };
     // Decision samples: every sample at coarse periods, else about every Q3_DECISION_PERIOD.
     let mut decisions = vec![0usize];
@@ -204,44 +197,52 @@ fn iiwa_path(
             decisions.push(k);
         }
     }
-    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
-    qs.push(q_start.to_vec());
+    let mut qs: Vec<f64> = Vec::with_capacity(times.len() * 7);
+    qs.extend_from_slice(q_start);
     let mut set = ik::CandidateSet::new();
     for w in decisions.windows(2) {
         let (a, b) = (w[0], w[1]);
-        let q_b = decide(&qs[a], times[b], times[b] - times[a])?;
-        let (q3a, q3b) = (qs[a][2], q_b[2]);
+        let q_b = decide(&qs[7 * a..7 * a + 7], times[b], times[b] - times[a])?;
+        let (q3a, q3b) = (qs[7 * a + 2], q_b[2]);
         for k in a + 1..b {
             let t = times[k];
             let u = (t - times[a]) / (times[b] - times[a]);
             let target = motion.at(t).pose;
-            let prev = &qs[k - 1];
-            let picked = ik.solve_q3_candidates(&target, q3a + u * (q3b - q3a)).ok().and_then(|c| {
+            let prev = &qs[7 * (k - 1)..7 * k];
+            // Only the branches that can continue the path through `prev`.
+            let picked = ik.solve_q3_near(&target, q3a + u * (q3b - q3a), prev).ok().and_then(|c| {
                 c.write_into(&mut set);
-                set.nearest_within_limits(robot, prev).map(|i| set.q(i).to_vec())
+                set.nearest_within_limits(robot, prev)
             });
-            let q = match picked {
-                Some(q) if reaches(robot, &q, &target)? => q,
+            match picked {
+                Some(i) if reaches(robot, set.q(i), &target)? => {
+                    let q: [f64; 7] = set.q(i).try_into().expect("7 joints");
+                    qs.extend_from_slice(&q);
+                }
                 // The interpolated q3 does not work here: decide at this sample.
-                _ => decide(prev, t, t - times[k - 1])?,
-            };
-            qs.push(q);
+                _ => {
+                    let q = decide(prev, t, t - times[k - 1])?;
+                    qs.extend_from_slice(&q);
+                }
+            }
         }
-        qs.push(q_b);
+        qs.extend_from_slice(&q_b);
     }
     Ok(qs)
 }
 
-/// First and second derivatives at sample `k` of `q` (one vector per time
-/// in `t`) from the three nearest samples (Lagrange interpolation on
-/// non-uniform times, second order; 0 for a single sample).
-pub fn derivatives(t: &[f64], q: &[Vec<f64>], k: usize, qd: &mut [f64], qdd: &mut [f64]) {
+/// First and second derivatives at sample `k` of the positions `q` (`dof`
+/// values per time in `t`, row-major) from the three nearest samples
+/// (Lagrange interpolation on non-uniform times, second order; 0 for a single
+/// sample, the difference quotient for two).
+pub fn derivatives(t: &[f64], q: &[f64], dof: usize, k: usize, qd: &mut [f64], qdd: &mut [f64]) {
+    let row = |k: usize| &q[k * dof..(k + 1) * dof];
     if t.len() < 3 {
         qd.fill(0.0);
         qdd.fill(0.0);
         if t.len() == 2 {
             for i in 0..qd.len() {
-                qd[i] = (q[1][i] - q[0][i]) / (t[1] - t[0]);
+                qd[i] = (row(1)[i] - row(0)[i]) / (t[1] - t[0]);
             }
         }
         return;
@@ -256,8 +257,9 @@ pub fn derivatives(t: &[f64], q: &[Vec<f64>], k: usize, qd: &mut [f64], qdd: &mu
         (2.0 * x - x0 - x1) / ((x2 - x0) * (x2 - x1)),
     ];
     let dd = [2.0 / ((x0 - x1) * (x0 - x2)), 2.0 / ((x1 - x0) * (x1 - x2)), 2.0 / ((x2 - x0) * (x2 - x1))];
+    let (qa, qb, qc) = (row(c - 1), row(c), row(c + 1));
     for i in 0..qd.len() {
-        let (a, b, e) = (q[c - 1][i], q[c][i], q[c + 1][i]);
+        let (a, b, e) = (qa[i], qb[i], qc[i]);
         qd[i] = d[0] * a + d[1] * b + d[2] * e;
         qdd[i] = dd[0] * a + dd[1] * b + dd[2] * e;
     }
@@ -281,7 +283,7 @@ fn resolved_rate(
     let mut jac = Matrix6xX::zeros(n);
     let mut q = q_start.to_vec();
     let mut traj = JointTrajectory::with_capacity(n, times.len());
-    let mut rates: Vec<Vec<f64>> = Vec::with_capacity(times.len());
+    let mut rates: Vec<f64> = Vec::with_capacity(times.len() * n);
     let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
     for (k, &t) in times.iter().enumerate() {
         let st = motion.at(t);
@@ -299,7 +301,7 @@ fn resolved_rate(
         })?;
         let qd: Vec<f64> = (jac.transpose() * y).iter().copied().collect();
         qs.push(q.clone());
-        rates.push(qd.clone());
+        rates.extend_from_slice(&qd);
         for i in 0..n {
             q[i] += qd[i] * step;
         }
@@ -313,8 +315,8 @@ fn resolved_rate(
     let mut qdd = vec![0.0; n];
     let mut scratch = vec![0.0; n];
     for k in 0..times.len() {
-        derivatives(times, &rates, k, &mut qdd, &mut scratch);
-        traj.push(times[k], &qs[k], &rates[k], &qdd)?;
+        derivatives(times, &rates, n, k, &mut qdd, &mut scratch);
+        traj.push(times[k], &qs[k], &rates[k * n..(k + 1) * n], &qdd)?;
     }
     Ok(traj)
 }

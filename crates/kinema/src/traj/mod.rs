@@ -281,6 +281,27 @@ impl JointTrajectory {
         }
     }
 
+    /// A trajectory from sampled positions alone: `q` holds one configuration
+    /// of `dof` values per time in `t` (row-major); velocities and
+    /// accelerations are second-order finite differences
+    /// ([`joint::derivatives`]). Errors: `q` not `dof` values per time.
+    pub fn from_positions(dof: usize, t: Vec<f64>, q: Vec<f64>) -> Result<Self> {
+        if q.len() != t.len() * dof {
+            return Err(Error::InvalidArgument {
+                what: "q".into(),
+                message: format!("{} values for {} samples of {dof} joints", q.len(), t.len()),
+            });
+        }
+        let mut qd = vec![0.0; q.len()];
+        let mut qdd = vec![0.0; q.len()];
+        if dof > 0 {
+            for (k, (v, a)) in qd.chunks_exact_mut(dof).zip(qdd.chunks_exact_mut(dof)).enumerate() {
+                joint::derivatives(&t, &q, dof, k, v, a);
+            }
+        }
+        Ok(JointTrajectory { dof, t, q, qd, qdd })
+    }
+
     /// Appends a sample. Errors if a slice does not have `dof` values.
     pub fn push(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<()> {
         for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
