@@ -187,8 +187,8 @@ fn fk_batch_file_round_trip_and_atomic_failure() {
     for (line, q) in lines.zip(&qs) {
         let f: Vec<&str> = line.split(',').collect();
         let p = robot.fk(q).unwrap().pose;
-        for k in 0..3 {
-            assert!((f[k].parse::<f64>().unwrap() - p.pos[k]).abs() < 1e-9, "{line}");
+        for (k, field) in f.iter().take(3).enumerate() {
+            assert!((field.parse::<f64>().unwrap() - p.pos[k]).abs() < 1e-9, "{line}");
         }
         assert_eq!(f[10], "true");
     }
@@ -577,6 +577,8 @@ fn traj_lin_circ_expr_and_check_from_the_command_line() {
     // the Rx·Ry·Rz angles are not unique).
     let conv = kinema::RpyConvention::Xyz;
     let got = kinema::Pose::from_xyz_rpy([last[22], last[23], last[24]], [last[25], last[26], last[27]], conv);
+    // 1.5708 is the program's literal pitch (90 deg rounded), not π/2.
+    #[allow(clippy::approx_constant)]
     let want = kinema::Pose::from_xyz_rpy([0.6, -0.6, 0.3], [0.0, 1.5708, 0.0], conv);
     assert!((got.pos - want.pos).norm() < 1e-6 && (got.rot - want.rot).norm() < 1e-6, "{last:?}");
     // `traj check` accepts it, and rejects a copy with a jump, naming the time and the joint.

@@ -36,6 +36,9 @@
 //! # Ok::<(), kinema::Error>(())
 //! ```
 #![warn(missing_docs)]
+// `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it is also
+// true for NaN, which is how inputs are rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub use nalgebra;
 

@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 const REL: f64 = 1e-9;
 
 fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
-    (rng.gen_range(lo.ln()..hi.ln())).exp()
+    (rng.random_range(lo.ln()..hi.ln())).exp()
 }
 
 fn random_limits(rng: &mut ChaCha8Rng) -> (f64, MotionLimits) {
@@ -192,7 +192,7 @@ fn derivatives_match_finite_differences_and_are_continuous() {
             let bounds = boundaries(&law);
             let pk = law.peaks();
             for k in 1..50 {
-                let t = t_end * (k as f64 + rng.gen_range(-0.4..0.4)) / 50.0;
+                let t = t_end * (k as f64 + rng.random_range(-0.4..0.4)) / 50.0;
                 if bounds.iter().any(|b| (b - t).abs() < 4.0 * h) {
                     continue;
                 }
@@ -306,7 +306,7 @@ fn time_scaling_law() {
             let quick = TimeLaw::from_limits(profile, d, &fast).unwrap();
             let ratio = slow.duration() / quick.duration();
             assert!((ratio - k).abs() < 1e-9 * k, "{profile}: {ratio} vs {k}");
-            let t = slow.duration() * rng.gen_range(0.0..1.0);
+            let t = slow.duration() * rng.random_range(0.0..1.0);
             assert!((slow.at(t).s - quick.at(t / k).s).abs() < 1e-9, "{profile}");
         }
     }
@@ -356,7 +356,7 @@ fn seed_short_move_recipe_is_slower() {
         let v_max = log_uniform(&mut rng, 0.05, 5.0);
         let a_max = log_uniform(&mut rng, 0.05, 50.0);
         // A short move: Δp < v²/a.
-        let dp = v_max * v_max / a_max * rng.gen_range(0.001..0.999);
+        let dp = v_max * v_max / a_max * rng.random_range(0.001..0.999);
         let tau = (dp / a_max).sqrt();
         let big_t = v_max / a_max;
         assert!(big_t > tau, "short move means τ < v/a");

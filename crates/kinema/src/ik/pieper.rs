@@ -775,7 +775,8 @@ fn intersecting_coeffs(links: &[Link; 6]) -> (f64, (f64, f64)) {
 /// format strings).
 fn combined_label(arm: &'static str, wrist: &'static str) -> &'static str {
     use std::sync::{Mutex, OnceLock};
-    static TABLE: OnceLock<Mutex<Vec<(&'static str, &'static str, &'static str)>>> = OnceLock::new();
+    type LabelTable = Mutex<Vec<(&'static str, &'static str, &'static str)>>;
+    static TABLE: OnceLock<LabelTable> = OnceLock::new();
     let table = TABLE.get_or_init(|| Mutex::new(Vec::new()));
     let mut t = table.lock().unwrap_or_else(|e| e.into_inner());
     if let Some(&(_, _, c)) = t.iter().find(|(a, w, _)| *a == arm && *w == wrist) {

@@ -241,8 +241,8 @@ pub fn derivatives(t: &[f64], q: &[f64], dof: usize, k: usize, qd: &mut [f64], q
         qd.fill(0.0);
         qdd.fill(0.0);
         if t.len() == 2 {
-            for i in 0..qd.len() {
-                qd[i] = (row(1)[i] - row(0)[i]) / (t[1] - t[0]);
+            for (i, v) in qd.iter_mut().enumerate() {
+                *v = (row(1)[i] - row(0)[i]) / (t[1] - t[0]);
             }
         }
         return;
