@@ -13,6 +13,7 @@ use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
 mod ik_cmd;
+mod lang_cmd;
 mod traj_cmd;
 
 /// An error that only sets the exit code (its message was already printed).
@@ -69,6 +70,12 @@ enum Cmd {
         #[command(subcommand)]
         cmd: traj_cmd::TrajCmd,
     },
+    /// Check a robot program: every diagnostic, nothing written (exit code 1 on errors).
+    Check(lang_cmd::ProgramArgs),
+    /// Run a robot program: write its joint signals as CSV (nothing is written on any error).
+    Run(lang_cmd::RunArgs),
+    /// Compile a robot program and print its motion plan (--listing).
+    Compile(lang_cmd::CompileArgs),
 }
 
 #[derive(Args)]
@@ -223,6 +230,9 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Selfmotion(a) => ik_cmd::selfmotion(a),
         Cmd::Bench(a) => bench(a),
         Cmd::Traj { cmd } => traj_cmd::traj(cmd),
+        Cmd::Check(a) => lang_cmd::check(a),
+        Cmd::Run(a) => lang_cmd::run(a),
+        Cmd::Compile(a) => lang_cmd::compile(a),
     }
 }
 

@@ -1,0 +1,146 @@
+//! `kinema check | run | compile PROGRAM`: the robot programming language.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use kinema::{Robot, RpyConvention};
+use kinema_lang::{render_all, Options, Plan};
+use serde_json::json;
+
+use crate::{print_json, traj_cmd, write_atomically, Exit, RobotArg};
+
+#[derive(Args)]
+pub struct ProgramArgs {
+    /// The program file (any name or extension).
+    program: PathBuf,
+    #[command(flatten)]
+    robot: RobotArg,
+    /// Sample period of the joint signals [s].
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Joint values at the start (rad and m, comma-separated, or a named pose); default `home`.
+    #[arg(long, allow_hyphen_values = true)]
+    start: Option<String>,
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    program: ProgramArgs,
+    /// Where to write the joint signals (CSV: t, q, q̇, q̈, tool pose, manipulability).
+    #[arg(long)]
+    out: PathBuf,
+    /// Also print a JSON summary: duration, motions, final joints and tool pose.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct CompileArgs {
+    #[command(flatten)]
+    program: ProgramArgs,
+    /// Print the motion plan: one line per motion with its source line, times, profile and target.
+    #[arg(long)]
+    listing: bool,
+    /// Print the plan as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Reads, compiles, prints the diagnostics; the plan, or exit code 1.
+fn build(a: &ProgramArgs) -> Result<(Robot, Plan, String)> {
+    let robot = a.robot.load()?;
+    let bytes = std::fs::read(&a.program).with_context(|| format!("cannot read {}", a.program.display()))?;
+    let src = String::from_utf8(bytes).map_err(|e| {
+        anyhow::anyhow!("{} is not UTF-8 text (byte {})", a.program.display(), e.utf8_error().valid_up_to())
+    })?;
+    let start = match &a.start {
+        Some(text) => Some(robot.parse_q(text, false)?),
+        None => None,
+    };
+    let opts = Options { dt: a.dt, start, ..Options::default() };
+    let name = a.program.display().to_string();
+    match kinema_lang::compile(&src, &robot, &opts) {
+        Ok(plan) => {
+            if !plan.warnings.is_empty() {
+                eprint!("{}", render_all(&plan.warnings, &name, &src));
+            }
+            Ok((robot, plan, name))
+        }
+        Err(diags) => {
+            eprint!("{}", render_all(&diags, &name, &src));
+            Err(Exit(1).into())
+        }
+    }
+}
+
+pub fn check(a: ProgramArgs) -> Result<()> {
+    let (robot, plan, name) = build(&a)?;
+    println!("{name}: ok on `{}` — {} motion(s), {:.4} s", robot.name(), plan.motions.len(), plan.duration());
+    Ok(())
+}
+
+fn summary(plan: &Plan) -> Result<serde_json::Value> {
+    let q = plan.final_q().to_vec();
+    let pose = plan.robot.fk(&q)?.pose;
+    Ok(json!({
+        "duration": plan.duration(),
+        "motions": plan.motions.len(),
+        "samples": plan.trajectory.len(),
+        "final_q": q,
+        "final_pose": {
+            "xyz": [pose.pos.x, pose.pos.y, pose.pos.z],
+            "rpy": pose.rpy(RpyConvention::Zyx),
+            "T": pose.to_matrix().row_iter().map(|r| r.iter().copied().collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        },
+    }))
+}
+
+pub fn run(a: RunArgs) -> Result<()> {
+    let (_robot, plan, _) = build(&a.program)?;
+    let robot = &plan.robot;
+    let conv = RpyConvention::Zyx;
+    let rows = traj_cmd::table(robot, &plan.trajectory, conv)?;
+    write_atomically(&a.out, |w| {
+        let mut w = csv::Writer::from_writer(w);
+        w.write_record(traj_cmd::header(robot.dof(), conv))?;
+        for row in &rows {
+            w.write_record(row.iter().map(|v| format!("{v:.12}")))?;
+        }
+        w.flush()?;
+        Ok(())
+    })?;
+    eprintln!("wrote {} samples ({:.4} s) to {}", rows.len(), plan.duration(), a.out.display());
+    if a.json {
+        print_json(&summary(&plan)?)?;
+    }
+    Ok(())
+}
+
+pub fn compile(a: CompileArgs) -> Result<()> {
+    let (robot, plan, name) = build(&a.program)?;
+    if a.json {
+        let motions: Vec<_> = plan
+            .motions
+            .iter()
+            .map(|m| json!({"line": m.line, "kind": m.kind, "start": m.start, "end": m.end, "profile": m.profile, "target": m.target}))
+            .collect();
+        let mut s = summary(&plan)?;
+        s["plan"] = json!(motions);
+        return print_json(&s);
+    }
+    if a.listing {
+        println!("# {name} on `{}`: {} motion(s), {:.4} s", robot.name(), plan.motions.len(), plan.duration());
+        println!("{:>5}  {:<8}  {:>10}  {:>10}  {:<24}  target", "line", "motion", "start [s]", "end [s]", "profile");
+        for m in &plan.motions {
+            println!(
+                "{:>5}  {:<8}  {:>10.4}  {:>10.4}  {:<24}  {}",
+                m.line, m.kind, m.start, m.end, m.profile, m.target
+            );
+        }
+    } else {
+        println!("{name}: {} motion(s), {:.4} s (use --listing for the plan)", plan.motions.len(), plan.duration());
+    }
+    Ok(())
+}

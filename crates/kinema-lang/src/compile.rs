@@ -1,0 +1,1466 @@
+//! From a syntax tree to a motion plan: a static check (names, units,
+//! argument counts, what the robot can do), then execution of the program
+//! on a model of the robot — inverse kinematics for every target, a time law
+//! for every motion, samples every `dt` — and the trajectory check, whose
+//! violations are reported at the line of the motion that caused them.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+use kinema::ik::scara::ScaraIk;
+use kinema::ik::{self, NumericIk};
+use kinema::math::{rpy_to_rot, Pose};
+use kinema::nalgebra::Vector3;
+use kinema::traj::{
+    self, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, JointTrajectory, Orientation, Profile,
+    Ptp, PtpOptions, Segment, TimeLaw,
+};
+use kinema::{Robot, RpyConvention};
+
+use crate::ast::{BinOp, Expr, MotionKind, MotionOpts, Program, Stmt, StmtKind, Target};
+use crate::diag::{line_col, Diagnostic};
+use crate::lexer::Span;
+use crate::units::{unit, Dim, Quantity};
+
+/// How a program is compiled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Sample period \[s\] of the joint signals.
+    pub dt: f64,
+    /// Joint values at the start; the robot's `home` pose when `None`.
+    pub start: Option<Vec<f64>>,
+    /// Largest number of samples a program may produce (a guard against
+    /// loops that would run for days).
+    pub max_samples: usize,
+    /// Largest number of statements executed (loops counted).
+    pub max_steps: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { dt: 0.01, start: None, max_samples: 5_000_000, max_steps: 1_000_000 }
+    }
+}
+
+/// One motion of the plan (statements that take time: motions, waits, the
+/// seed's instructions), in execution order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedMotion {
+    /// Source line (from 1) of the statement.
+    pub line: usize,
+    /// The statement's keyword (`PTP`, `LIN`, `CIRC`, `WAIT`, `HOME`, `MOVEXY`, …).
+    pub kind: String,
+    /// Start time \[s\].
+    pub start: f64,
+    /// End time \[s\].
+    pub end: f64,
+    /// The time law (`trapezoid`, `scurve`, `cubic`, `linear`, `cubic+linear`, `hold`).
+    pub profile: String,
+    /// Where the robot goes, in words and SI units.
+    pub target: String,
+}
+
+/// A compiled program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The motions in execution order.
+    pub motions: Vec<PlannedMotion>,
+    /// The joint signals: t, q, q̇, q̈ at every sample.
+    pub trajectory: JointTrajectory,
+    /// The robot as it ends the program (with the last TOOL).
+    pub robot: Robot,
+    /// Warnings (the program ran).
+    pub warnings: Vec<Diagnostic>,
+}
+
+impl Plan {
+    /// Total duration \[s\].
+    pub fn duration(&self) -> f64 {
+        self.trajectory.times().last().copied().unwrap_or(0.0)
+    }
+
+    /// The last joint values.
+    pub fn final_q(&self) -> &[f64] {
+        self.trajectory.q(self.trajectory.len() - 1)
+    }
+}
+
+/// Parses, checks and compiles `src` for `robot`. On any error nothing is
+/// produced and every diagnostic found is returned (errors and warnings).
+pub fn compile(src: &str, robot: &Robot, opts: &Options) -> Result<Plan, Vec<Diagnostic>> {
+    let (program, mut diags) = crate::parser::parse(src);
+    if diags.iter().any(Diagnostic::is_error) {
+        return Err(diags);
+    }
+    let Some(mut c) = Compiler::new(src, robot, opts, &mut diags) else { return Err(diags) };
+    c.static_block(&program.stmts, &mut Scope::default());
+    if !c.errors.is_empty() {
+        diags.append(&mut c.errors);
+        return Err(diags);
+    }
+    c.run(&program);
+    let Compiler { plan_motions, traj, robot_tool, warnings, errors, .. } = c;
+    diags.extend(warnings.iter().cloned());
+    diags.extend(errors);
+    if diags.iter().any(Diagnostic::is_error) {
+        return Err(diags);
+    }
+    Ok(Plan { motions: plan_motions, trajectory: traj, robot: robot_tool, warnings: diags })
+}
+
+/// Names visible during the static check.
+#[derive(Debug, Clone, Default)]
+struct Scope {
+    /// POS names declared so far: joint (true) or Cartesian (false).
+    positions: HashMap<String, bool>,
+    /// FOR counters in scope.
+    counters: Vec<String>,
+}
+
+/// A named position's value.
+#[derive(Debug, Clone)]
+enum PosValue {
+    Joint(Vec<f64>),
+    /// A pose in the world frame (the BASE in force when it was declared applied).
+    Cart(Pose),
+}
+
+/// Cartesian segments waiting for the end of a blended chain.
+struct Chain {
+    segments: Vec<Segment>,
+    /// (statement, line, keyword, target text) of each segment.
+    owners: Vec<(Span, usize, &'static str, String)>,
+    blend: Option<f64>,
+    blend_is_time: bool,
+    duration: Option<f64>,
+}
+
+struct Compiler<'a> {
+    src: &'a str,
+    robot: &'a Robot,
+    robot_tool: Robot,
+    opts: &'a Options,
+    scara: Option<ScaraIk>,
+    // State.
+    q: Vec<f64>,
+    traj: JointTrajectory,
+    speed: f64,
+    /// ACC p%: acceleration (and jerk) override.
+    acc_override: f64,
+    /// JVEL / JACC for revolute \[0\] and prismatic \[1\] joints.
+    jvel: [Option<f64>; 2],
+    jacc: [Option<f64>; 2],
+    cart: CartesianLimits,
+    profile: Profile,
+    base: Pose,
+    positions: HashMap<String, PosValue>,
+    counters: HashMap<String, f64>,
+    chain: Option<Chain>,
+    steps: usize,
+    stopped: bool,
+    // Output.
+    plan_motions: Vec<PlannedMotion>,
+    /// Statement span of each planned motion (for the trajectory check).
+    motion_spans: Vec<Span>,
+    warnings: Vec<Diagnostic>,
+    errors: Vec<Diagnostic>,
+}
+
+/// Defaults for Cartesian motions (an industrial controller's are similar):
+/// 0.25 m/s, 1 m/s², 5 m/s³; 90°/s, 180°/s², 900°/s³.
+fn default_cartesian() -> CartesianLimits {
+    CartesianLimits { vel: 0.25, acc: 1.0, jerk: Some(5.0), rot_vel: PI / 2.0, rot_acc: PI, rot_jerk: Some(5.0 * PI) }
+}
+
+impl<'a> Compiler<'a> {
+    fn new(src: &'a str, robot: &'a Robot, opts: &'a Options, diags: &mut Vec<Diagnostic>) -> Option<Self> {
+        let q = match &opts.start {
+            Some(q) => q.clone(),
+            None => robot.home().to_vec(),
+        };
+        let whole = 0..src.len().min(1);
+        if let Err(e) = robot.check_q(&q) {
+            diags.push(Diagnostic::error(whole, format!("start configuration: {e}")));
+            return None;
+        }
+        if !(opts.dt > 0.0 && opts.dt.is_finite()) {
+            diags.push(Diagnostic::error(whole, format!("the sample period must be positive, not {}", opts.dt)));
+            return None;
+        }
+        let mut traj = JointTrajectory::new(robot.dof());
+        let zeros = vec![0.0; robot.dof()];
+        traj.push(0.0, &q, &zeros, &zeros).ok()?;
+        Some(Compiler {
+            src,
+            robot,
+            robot_tool: robot.clone(),
+            opts,
+            scara: ScaraIk::new(robot).ok(),
+            q,
+            traj,
+            speed: 1.0,
+            acc_override: 1.0,
+            jvel: [None; 2],
+            jacc: [None; 2],
+            cart: default_cartesian(),
+            profile: Profile::Trapezoid,
+            base: Pose::IDENTITY,
+            positions: HashMap::new(),
+            counters: HashMap::new(),
+            chain: None,
+            steps: 0,
+            stopped: false,
+            plan_motions: Vec::new(),
+            motion_spans: Vec::new(),
+            warnings: Vec::new(),
+            errors: Vec::new(),
+        })
+    }
+
+    fn line(&self, span: &Span) -> usize {
+        line_col(self.src, span.start).0
+    }
+
+    fn err(&mut self, d: Diagnostic) {
+        // The same problem inside a loop is reported once.
+        if !self.errors.iter().any(|e| e.span == d.span && e.message == d.message) {
+            self.errors.push(d);
+        }
+        if self.errors.len() >= 50 {
+            self.stopped = true;
+        }
+    }
+
+    // ------------------------------------------------------------------
+    // Static check: every statement once, loop bodies once.
+    // ------------------------------------------------------------------
+
+    fn static_block(&mut self, stmts: &[Stmt], scope: &mut Scope) {
+        for s in stmts {
+            self.static_stmt(s, scope);
+        }
+    }
+
+    // Range checks read better inside their match arm than folded into its guard.
+    #[allow(clippy::collapsible_match)]
+    fn static_stmt(&mut self, s: &Stmt, scope: &mut Scope) {
+        let n = self.robot.dof();
+        match &s.kind {
+            StmtKind::Pos { name, value } => {
+                if let Some(joint) = self.static_target(value, scope) {
+                    if scope.counters.contains(&name.key) {
+                        self.err(Diagnostic::error(
+                            name.span.clone(),
+                            format!("`{}` is a FOR counter here", name.text),
+                        ));
+                    }
+                    scope.positions.insert(name.key.clone(), joint);
+                }
+            }
+            StmtKind::Motion { kind, relative, target, opts } => {
+                if *relative {
+                    if let Target::Named(nm) = target {
+                        self.err(
+                            Diagnostic::error(nm.span.clone(), "REL needs an offset written out, not a named position")
+                                .with_hint("write e.g. LIN REL CART(0mm, 0mm, -50mm)"),
+                        );
+                    }
+                    if *kind == MotionKind::Lin && matches!(target, Target::Joint(..)) {
+                        self.err(Diagnostic::error(target.span(), "LIN REL takes a Cartesian offset CART(...)"));
+                    }
+                }
+                self.static_target(target, scope);
+                self.static_opts(opts, scope);
+                if *kind == MotionKind::Lin {
+                    self.static_cartesian_capable(s);
+                }
+            }
+            StmtKind::Circ { aux, target, opts } => {
+                self.static_target(aux, scope);
+                self.static_target(target, scope);
+                self.static_opts(opts, scope);
+                self.static_cartesian_capable(s);
+            }
+            StmtKind::Speed(e) => {
+                if let Some(v) = self.static_expect(e, Dim::Percent, None, scope) {
+                    if known_bad(v, |v| v > 0.0 && v <= 1.0) {
+                        self.err(Diagnostic::error(
+                            e.span(),
+                            format!("SPEED must be in (0 %, 100 %], not {} %", v * 100.0),
+                        ));
+                    }
+                }
+            }
+            StmtKind::Vel(e) | StmtKind::Acc(e) | StmtKind::JVel(e) | StmtKind::JAcc(e) => {
+                let is_vel = matches!(s.kind, StmtKind::Vel(_) | StmtKind::JVel(_));
+                let dims = if is_vel { [Dim::LinVel, Dim::AngVel] } else { [Dim::LinAcc, Dim::AngAcc] };
+                let percent_ok = matches!(s.kind, StmtKind::Acc(_));
+                match self.static_eval(e, scope) {
+                    Some(q) if percent_ok && q.dim == Dim::Percent => {
+                        if known_bad(q.value, |v| v > 0.0 && v <= 1.0) {
+                            self.err(Diagnostic::error(
+                                e.span(),
+                                format!("ACC must be in (0 %, 100 %], not {} %", q.value * 100.0),
+                            ));
+                        }
+                    }
+                    Some(q) if dims.contains(&q.dim) => {
+                        if known_bad(q.value, |v| v > 0.0) {
+                            self.err(Diagnostic::error(e.span(), "must be positive"));
+                        }
+                    }
+                    Some(q) => self.err(Diagnostic::error(
+                        e.span(),
+                        format!(
+                            "expected {} or {}{}, found {}",
+                            dims[0],
+                            dims[1],
+                            if percent_ok { " or a percentage (%)" } else { "" },
+                            q.dim
+                        ),
+                    )),
+                    None => {}
+                }
+            }
+            StmtKind::Profile(name) => {
+                if parse_profile(&name.key).is_none() {
+                    self.err(
+                        Diagnostic::error(name.span.clone(), format!("unknown profile `{}`", name.text))
+                            .with_hint("profiles: trapezoid, scurve, quintic, cubic"),
+                    );
+                }
+            }
+            StmtKind::Tool(t) | StmtKind::Base(t) => {
+                if !matches!(t, Target::Cart(..)) && !matches!(t, Target::Named(_)) {
+                    self.err(Diagnostic::error(t.span(), "a frame is written CART(x, y, z, roll, pitch, yaw)"));
+                }
+                if let Some(true) = self.static_target(t, scope) {
+                    self.err(Diagnostic::error(t.span(), "a frame must be a Cartesian position, not joint values"));
+                }
+            }
+            StmtKind::Wait(e) => {
+                if let Some(v) = self.static_expect(e, Dim::Time, Some(1.0), scope) {
+                    if v < 0.0 {
+                        self.err(Diagnostic::error(e.span(), "a wait cannot be negative"));
+                    }
+                }
+            }
+            StmtKind::Home(e) => {
+                if let Some(e) = e {
+                    self.static_time(e, scope);
+                }
+            }
+            StmtKind::Loop { count, body } => {
+                if let Some(v) = self.static_expect(count, Dim::None, None, scope) {
+                    self.check_count(v, count.span());
+                }
+                self.static_block(body, &mut scope.clone());
+            }
+            StmtKind::For { var, from, to, body } => {
+                for e in [from, to] {
+                    if let Some(v) = self.static_expect(e, Dim::None, None, scope) {
+                        if !v.is_nan() && v.fract() != 0.0 {
+                            self.err(Diagnostic::error(e.span(), format!("FOR bounds are whole numbers, not {v}")));
+                        }
+                    }
+                }
+                let mut inner = scope.clone();
+                inner.counters.push(var.key.clone());
+                self.static_block(body, &mut inner);
+                let _ = n;
+            }
+            StmtKind::MoveZ { dz, time } | StmtKind::MoveTita { dtheta: dz, time } => {
+                self.static_scara(s);
+                let (dim, scale) = if matches!(s.kind, StmtKind::MoveZ { .. }) {
+                    (Dim::Length, 1e-3)
+                } else {
+                    (Dim::Angle, PI / 180.0)
+                };
+                self.static_expect(dz, dim, Some(scale), scope);
+                self.static_time(time, scope);
+            }
+            StmtKind::MoveXy { dx, dy, time } => {
+                self.static_scara(s);
+                self.static_expect(dx, Dim::Length, Some(1e-3), scope);
+                self.static_expect(dy, Dim::Length, Some(1e-3), scope);
+                self.static_time(time, scope);
+            }
+        }
+    }
+
+    fn check_count(&mut self, v: f64, span: Span) {
+        if known_bad(v, |v| v >= 1.0 && v.fract() == 0.0) {
+            self.err(
+                Diagnostic::error(span, format!("a loop count must be a positive whole number, not {v}"))
+                    .with_hint("LOOP 3 repeats its body three times"),
+            );
+        }
+    }
+
+    fn static_time(&mut self, e: &Expr, scope: &Scope) {
+        if let Some(v) = self.static_expect(e, Dim::Time, Some(1.0), scope) {
+            if known_bad(v, |v| v > 0.0) {
+                self.err(Diagnostic::error(e.span(), format!("a duration must be positive, not {v} s")));
+            }
+        }
+    }
+
+    fn static_scara(&mut self, s: &Stmt) {
+        if self.scara.is_none() {
+            self.err(
+                Diagnostic::error(
+                    s.keyword.clone(),
+                    format!(
+                        "{} is an instruction of the SCARA on a rail (seed 003); `{}` is not one",
+                        keyword_of(&s.kind),
+                        self.robot.name()
+                    ),
+                )
+                .with_hint("run it with --robot scara5, or use PTP/LIN with CART(...) targets"),
+            );
+        }
+    }
+
+    fn static_cartesian_capable(&mut self, s: &Stmt) {
+        if self.robot.dof() < 6 && ik::analytic_solver(self.robot).is_none() {
+            self.err(Diagnostic::error(
+                s.keyword.clone(),
+                format!(
+                    "`{}` has {} joints and no closed-form solver: it cannot follow a Cartesian line in position and orientation",
+                    self.robot.name(),
+                    self.robot.dof()
+                ),
+            ));
+        }
+    }
+
+    #[allow(clippy::collapsible_match)]
+    fn static_opts(&mut self, o: &MotionOpts, scope: &Scope) {
+        if let Some(d) = &o.duration {
+            self.static_time(d, scope);
+        }
+        if let Some(b) = &o.blend {
+            match self.static_eval(b, scope) {
+                Some(q) if q.dim == Dim::Length || q.dim == Dim::Time => {
+                    if known_bad(q.value, |v| v >= 0.0) {
+                        self.err(Diagnostic::error(b.span(), "a blend cannot be negative"));
+                    }
+                }
+                Some(q) => self.err(
+                    Diagnostic::error(b.span(), format!("BLEND takes a length or a time, found {}", q.dim))
+                        .with_hint("BLEND 20mm starts the next motion when 20 mm of this one are left; BLEND 0.2s, 0.2 s before its end"),
+                ),
+                None => {}
+            }
+        }
+    }
+
+    /// Checks a target; `Some(true)` for joint values, `Some(false)` for a pose.
+    fn static_target(&mut self, t: &Target, scope: &Scope) -> Option<bool> {
+        let n = self.robot.dof();
+        match t {
+            Target::Named(name) => {
+                if let Some(j) = scope.positions.get(&name.key) {
+                    return Some(*j);
+                }
+                if self.robot.pose(&name.key).is_ok() {
+                    return Some(true);
+                }
+                let known: Vec<String> =
+                    scope.positions.keys().cloned().chain(self.robot.poses().iter().map(|p| p.name.clone())).collect();
+                let hint = if known.is_empty() {
+                    "declare it first: POS name = CART(...) or JOINT(...)".to_string()
+                } else {
+                    format!("known positions: {}; declare new ones with POS name = ...", known.join(", "))
+                };
+                self.err(
+                    Diagnostic::error(name.span.clone(), format!("unknown position `{}`", name.text)).with_hint(hint),
+                );
+                None
+            }
+            Target::Joint(items, span) => {
+                if items.len() != n {
+                    self.err(
+                        Diagnostic::error(
+                            span.clone(),
+                            format!("JOINT has {} values; `{}` has {n} joints", items.len(), self.robot.name()),
+                        )
+                        .with_hint(format!("write {n} values, e.g. JOINT({})", joint_example(self.robot))),
+                    );
+                }
+                for (i, e) in items.iter().enumerate() {
+                    let dim = joint_dim(self.robot, i);
+                    self.static_expect(e, dim, None, scope);
+                }
+                Some(true)
+            }
+            Target::Cart(items, span) => {
+                if items.len() != 3 && items.len() != 6 {
+                    self.err(
+                        Diagnostic::error(
+                            span.clone(),
+                            format!("CART has {} values; it takes x, y, z or x, y, z, roll, pitch, yaw", items.len()),
+                        )
+                        .with_hint("e.g. CART(500mm, 0mm, 400mm, 0deg, 180deg, 0deg)"),
+                    );
+                }
+                for (i, e) in items.iter().enumerate() {
+                    let dim = if i < 3 { Dim::Length } else { Dim::Angle };
+                    self.static_expect(e, dim, None, scope);
+                }
+                Some(false)
+            }
+        }
+    }
+
+    /// Evaluates with FOR counters unknown (NaN); reports unknown names and
+    /// unit errors.
+    fn static_eval(&mut self, e: &Expr, scope: &Scope) -> Option<Quantity> {
+        let counters: HashMap<String, f64> = scope.counters.iter().map(|c| (c.clone(), f64::NAN)).collect();
+        match eval(e, &counters) {
+            Ok(q) => Some(q),
+            Err(d) => {
+                self.err(d);
+                None
+            }
+        }
+    }
+
+    /// The value in SI of an expression of dimension `dim`; a plain number
+    /// takes `default_scale` (the seed's mm, degrees and seconds) or, without
+    /// one, is only accepted when it is 0.
+    fn static_expect(&mut self, e: &Expr, dim: Dim, default_scale: Option<f64>, scope: &Scope) -> Option<f64> {
+        let q = self.static_eval(e, scope)?;
+        match coerce(q, dim, default_scale, e) {
+            Ok(v) => Some(v),
+            Err(d) => {
+                self.err(d);
+                None
+            }
+        }
+    }
+
+    // ------------------------------------------------------------------
+    // Execution.
+    // ------------------------------------------------------------------
+
+    fn run(&mut self, program: &Program) {
+        self.block(&program.stmts);
+        self.flush_chain();
+        if self.errors.is_empty() {
+            self.check_trajectory();
+        }
+    }
+
+    fn block(&mut self, stmts: &[Stmt]) {
+        for s in stmts {
+            if self.stopped {
+                return;
+            }
+            self.steps += 1;
+            if self.steps > self.opts.max_steps {
+                self.err(Diagnostic::error(
+                    s.keyword.clone(),
+                    format!(
+                        "the program executes more than {} statements (loops counted); it is cut here",
+                        self.opts.max_steps
+                    ),
+                ));
+                self.stopped = true;
+                return;
+            }
+            self.stmt(s);
+        }
+    }
+
+    fn value(&mut self, e: &Expr, dim: Dim, default_scale: Option<f64>) -> Option<f64> {
+        match eval(e, &self.counters).and_then(|q| coerce(q, dim, default_scale, e)) {
+            Ok(v) => Some(v),
+            Err(d) => {
+                self.err(d);
+                None
+            }
+        }
+    }
+
+    fn stmt(&mut self, s: &Stmt) {
+        // A statement that is not a blended Cartesian motion ends the chain.
+        let continues_chain = matches!(s.kind, StmtKind::Motion { kind: MotionKind::Lin, .. } | StmtKind::Circ { .. })
+            || matches!(
+                s.kind,
+                StmtKind::Pos { .. }
+                    | StmtKind::Speed(_)
+                    | StmtKind::Vel(_)
+                    | StmtKind::Acc(_)
+                    | StmtKind::JVel(_)
+                    | StmtKind::JAcc(_)
+            );
+        if !continues_chain {
+            self.flush_chain();
+        }
+        match &s.kind {
+            StmtKind::Pos { name, value } => {
+                if let Some(v) = self.resolve(value) {
+                    self.positions.insert(name.key.clone(), v);
+                }
+            }
+            StmtKind::Motion { kind: MotionKind::Ptp, relative, target, opts } => self.ptp(s, *relative, target, opts),
+            StmtKind::Motion { kind: MotionKind::Lin, relative, target, opts } => {
+                let Some(to) = self.cart_target(target, *relative) else { return };
+                let from = self.chain_end();
+                match Segment::lin(&from, &to, Orientation::Slerp) {
+                    Ok(seg) => self.push_segment(s, seg, opts, describe_pose(&to)),
+                    Err(e) => self.err(Diagnostic::error(s.span.clone(), format!("LIN: {e}"))),
+                }
+            }
+            StmtKind::Circ { aux, target, opts } => {
+                let (Some(a), Some(to)) = (self.cart_target(aux, false), self.cart_target(target, false)) else {
+                    return;
+                };
+                let from = self.chain_end();
+                match Segment::circ_through(&from, &a.pos, &to) {
+                    Ok(seg) => self.push_segment(
+                        s,
+                        seg,
+                        opts,
+                        format!("through ({}) to {}", fmt_xyz(&a.pos), describe_pose(&to)),
+                    ),
+                    Err(e) => self.err(Diagnostic::error(s.span.clone(), format!("CIRC: {e}")).with_hint(
+                        "the start, the auxiliary point and the end must be three distinct points not on one line",
+                    )),
+                }
+            }
+            StmtKind::Speed(e) => {
+                if let Some(v) = self.value(e, Dim::Percent, None) {
+                    self.speed = v;
+                }
+            }
+            StmtKind::Vel(e) | StmtKind::Acc(e) | StmtKind::JVel(e) | StmtKind::JAcc(e) => {
+                if let Ok(q) = eval(e, &self.counters) {
+                    match (&s.kind, q.dim) {
+                        (StmtKind::Vel(_), Dim::LinVel) => self.cart.vel = q.value,
+                        (StmtKind::Vel(_), Dim::AngVel) => self.cart.rot_vel = q.value,
+                        (StmtKind::Acc(_), Dim::LinAcc) => self.cart.acc = q.value,
+                        (StmtKind::Acc(_), Dim::AngAcc) => self.cart.rot_acc = q.value,
+                        (StmtKind::Acc(_), Dim::Percent) => self.acc_override = q.value,
+                        (StmtKind::JVel(_), Dim::AngVel) => self.jvel[0] = Some(q.value),
+                        (StmtKind::JVel(_), Dim::LinVel) => self.jvel[1] = Some(q.value),
+                        (StmtKind::JAcc(_), Dim::AngAcc) => self.jacc[0] = Some(q.value),
+                        (StmtKind::JAcc(_), Dim::LinAcc) => self.jacc[1] = Some(q.value),
+                        _ => {}
+                    }
+                }
+            }
+            StmtKind::Profile(name) => {
+                if let Some(p) = parse_profile(&name.key) {
+                    self.profile = p;
+                }
+            }
+            StmtKind::Tool(t) => {
+                if let Some(PosValue::Cart(p)) = self.resolve_frame(t) {
+                    match self.robot.with_tool(p) {
+                        Ok(r) => self.robot_tool = r,
+                        Err(e) => self.err(Diagnostic::error(t.span(), format!("TOOL: {e}"))),
+                    }
+                }
+            }
+            StmtKind::Base(t) => {
+                if let Some(PosValue::Cart(p)) = self.resolve_frame(t) {
+                    self.base = p;
+                }
+            }
+            StmtKind::Wait(e) => {
+                if let Some(t) = self.value(e, Dim::Time, Some(1.0)) {
+                    self.hold(s, t, "WAIT");
+                }
+            }
+            StmtKind::Home(e) => {
+                let duration = match e {
+                    Some(e) => match self.value(e, Dim::Time, Some(1.0)) {
+                        Some(t) => Some(t),
+                        None => return,
+                    },
+                    None => None,
+                };
+                let home = self.robot.home().to_vec();
+                if self.scara.is_some() {
+                    // Seed 003 §III-D: cubic for the joints of the XY plane, linear for z and θ.
+                    let Some(t) = duration.or_else(|| self.missing_duration(s, "HOME")) else { return };
+                    self.scara_move(s, home, t, "HOME", "home".into());
+                } else {
+                    let opts = MotionOpts::default();
+                    self.ptp_to(s, home, duration, &opts, "home".into());
+                }
+            }
+            StmtKind::Loop { count, body } => {
+                let Some(n) = self.value(count, Dim::None, None) else { return };
+                self.check_count(n, count.span());
+                if !(n >= 1.0 && n.fract() == 0.0) {
+                    return;
+                }
+                for _ in 0..(n as u64) {
+                    if self.stopped {
+                        return;
+                    }
+                    self.block(body);
+                }
+            }
+            StmtKind::For { var, from, to, body } => {
+                let (Some(a), Some(b)) = (self.value(from, Dim::None, None), self.value(to, Dim::None, None)) else {
+                    return;
+                };
+                let saved = self.counters.get(&var.key).copied();
+                let mut i = a;
+                while i <= b && !self.stopped {
+                    self.counters.insert(var.key.clone(), i);
+                    self.block(body);
+                    i += 1.0;
+                }
+                match saved {
+                    Some(v) => self.counters.insert(var.key.clone(), v),
+                    None => self.counters.remove(&var.key),
+                };
+            }
+            StmtKind::MoveZ { dz, time } => {
+                let (Some(dz), Some(t)) =
+                    (self.value(dz, Dim::Length, Some(1e-3)), self.value(time, Dim::Time, Some(1.0)))
+                else {
+                    return;
+                };
+                self.scara_relative(s, [0.0, 0.0, dz, 0.0], t, "MOVEZ");
+            }
+            StmtKind::MoveTita { dtheta, time } => {
+                let (Some(da), Some(t)) =
+                    (self.value(dtheta, Dim::Angle, Some(PI / 180.0)), self.value(time, Dim::Time, Some(1.0)))
+                else {
+                    return;
+                };
+                self.scara_relative(s, [0.0, 0.0, 0.0, da], t, "MOVETITA");
+            }
+            StmtKind::MoveXy { dx, dy, time } => {
+                let (Some(dx), Some(dy), Some(t)) = (
+                    self.value(dx, Dim::Length, Some(1e-3)),
+                    self.value(dy, Dim::Length, Some(1e-3)),
+                    self.value(time, Dim::Time, Some(1.0)),
+                ) else {
+                    return;
+                };
+                self.scara_relative(s, [dx, dy, 0.0, 0.0], t, "MOVEXY");
+            }
+        }
+    }
+
+    fn missing_duration(&mut self, s: &Stmt, what: &str) -> Option<f64> {
+        self.err(
+            Diagnostic::error(s.span.clone(), format!("{what} needs a duration on this robot"))
+                .with_hint(format!("write e.g. `{what} 5` (seconds), as seed 003 does")),
+        );
+        None
+    }
+
+    /// The value of a target: joint values or a world pose (with the BASE applied).
+    fn resolve(&mut self, t: &Target) -> Option<PosValue> {
+        match t {
+            Target::Named(name) => {
+                if let Some(v) = self.positions.get(&name.key) {
+                    return Some(v.clone());
+                }
+                match self.robot.pose(&name.key) {
+                    Ok(q) => Some(PosValue::Joint(q.to_vec())),
+                    Err(_) => {
+                        self.err(Diagnostic::error(name.span.clone(), format!("unknown position `{}`", name.text)));
+                        None
+                    }
+                }
+            }
+            Target::Joint(items, _) => {
+                let mut q = Vec::with_capacity(items.len());
+                for (i, e) in items.iter().enumerate() {
+                    q.push(self.value(e, joint_dim(self.robot, i), None)?);
+                }
+                Some(PosValue::Joint(q))
+            }
+            Target::Cart(items, _) => {
+                let p = self.cart_values(items)?;
+                Some(PosValue::Cart(self.base.mul(&p)))
+            }
+        }
+    }
+
+    fn cart_values(&mut self, items: &[Expr]) -> Option<Pose> {
+        let mut v = [0.0; 6];
+        for (i, e) in items.iter().enumerate().take(6) {
+            v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
+        }
+        if items.len() == 3 {
+            // Position only: keep the current orientation (in the base frame).
+            let current = self.base.inverse().mul(&self.current_pose());
+            return Some(Pose::new(current.rot, Vector3::new(v[0], v[1], v[2])));
+        }
+        Some(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], RpyConvention::Zyx))
+    }
+
+    /// A frame for TOOL/BASE: written in the robot's own frame, not the current BASE.
+    fn resolve_frame(&mut self, t: &Target) -> Option<PosValue> {
+        match t {
+            Target::Cart(items, _) => {
+                let mut v = [0.0; 6];
+                for (i, e) in items.iter().enumerate().take(6) {
+                    v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
+                }
+                Some(PosValue::Cart(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], RpyConvention::Zyx)))
+            }
+            other => self.resolve(other),
+        }
+    }
+
+    fn current_pose(&self) -> Pose {
+        self.robot_tool.fk(&self.q).map(|f| f.pose).unwrap_or_else(|_| Pose::IDENTITY)
+    }
+
+    /// The pose a Cartesian motion goes to (joint targets by FK).
+    fn cart_target(&mut self, t: &Target, relative: bool) -> Option<Pose> {
+        if relative {
+            let Target::Cart(items, _) = t else { return None };
+            let mut v = [0.0; 6];
+            for (i, e) in items.iter().enumerate().take(6) {
+                v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
+            }
+            let from = self.chain_end();
+            // An offset in the BASE frame: translation added, rotation applied on the left.
+            let rb = self.base.rot;
+            let dpos = rb * Vector3::new(v[0], v[1], v[2]);
+            let drot = rb * rpy_to_rot([v[3], v[4], v[5]], RpyConvention::Zyx) * rb.transpose();
+            return Some(Pose::new(drot * from.rot, from.pos + dpos));
+        }
+        match self.resolve(t)? {
+            PosValue::Cart(p) => Some(p),
+            PosValue::Joint(q) => match self.robot_tool.fk(&q) {
+                Ok(f) => Some(f.pose),
+                Err(e) => {
+                    self.err(Diagnostic::error(t.span(), e.to_string()));
+                    None
+                }
+            },
+        }
+    }
+
+    /// Where the robot is at the end of the pending chain (or now).
+    fn chain_end(&self) -> Pose {
+        match &self.chain {
+            Some(c) => c.segments.last().map(Segment::end).unwrap_or_else(|| self.current_pose()),
+            None => self.current_pose(),
+        }
+    }
+
+    fn push_segment(&mut self, s: &Stmt, seg: Segment, opts: &MotionOpts, target: String) {
+        let blend = match &opts.blend {
+            Some(b) => match eval(b, &self.counters) {
+                Ok(q) => Some((q.value, q.dim == Dim::Time)),
+                Err(d) => {
+                    self.err(d);
+                    return;
+                }
+            },
+            None => None,
+        };
+        let duration = match &opts.duration {
+            Some(d) => match self.value(d, Dim::Time, Some(1.0)) {
+                Some(t) => Some(t),
+                None => return,
+            },
+            None => None,
+        };
+        let kw: &'static str = if matches!(s.kind, StmtKind::Circ { .. }) { "CIRC" } else { "LIN" };
+        let line = self.line(&s.span);
+        let chain = self.chain.get_or_insert_with(|| Chain {
+            segments: Vec::new(),
+            owners: Vec::new(),
+            blend: None,
+            blend_is_time: false,
+            duration: None,
+        });
+        chain.segments.push(seg);
+        chain.owners.push((s.span.clone(), line, kw, target));
+        if let Some(d) = duration {
+            chain.duration = Some(chain.duration.unwrap_or(0.0) + d);
+        }
+        match blend {
+            Some((b, is_time)) => {
+                // One blend per chain: the smallest asked for.
+                if chain.blend.map_or(true, |c| b < c) {
+                    chain.blend = Some(b);
+                    chain.blend_is_time = is_time;
+                }
+            }
+            None => self.flush_chain(),
+        }
+    }
+
+    /// Plans, samples and appends the pending Cartesian chain.
+    fn flush_chain(&mut self) {
+        let Some(chain) = self.chain.take() else { return };
+        let first = chain.owners[0].0.clone();
+        let blend = match chain.blend {
+            Some(b) if chain.segments.len() > 1 => {
+                if chain.blend_is_time {
+                    Blend::Time(b)
+                } else {
+                    Blend::Distance(b)
+                }
+            }
+            _ => Blend::None,
+        };
+        let (k, ka) = (self.speed, self.acc_override);
+        let limits = CartesianLimits {
+            vel: self.cart.vel * k,
+            acc: self.cart.acc * k * k * ka,
+            jerk: self.cart.jerk.map(|j| j * k * k * k * ka),
+            rot_vel: self.cart.rot_vel * k,
+            rot_acc: self.cart.rot_acc * k * k * ka,
+            rot_jerk: self.cart.rot_jerk.map(|j| j * k * k * k * ka),
+        };
+        let profile = if self.profile.rest_to_rest() { self.profile } else { Profile::Trapezoid };
+        let mut motion = match CartesianMotion::new(chain.segments.clone(), profile, &limits, blend) {
+            Ok(m) => m,
+            Err(e) => {
+                self.err(Diagnostic::error(first, format!("cannot time this motion: {e}")));
+                return;
+            }
+        };
+        if let Some(d) = chain.duration {
+            match motion.stretched_to(d) {
+                Ok(m) => motion = m,
+                Err(e) => {
+                    self.err(
+                        Diagnostic::error(first, format!("{e}"))
+                            .with_hint("IN asks for an exact duration; it cannot be shorter than the motion allows at this SPEED/VEL/ACC"),
+                    );
+                    return;
+                }
+            }
+        }
+        let joints = match traj::to_joints(&self.robot_tool, &motion, &self.q, self.opts.dt, JointMethod::Ik) {
+            Ok(j) => j,
+            Err(e) => {
+                // Which segment: the time in the error, else the first.
+                let owner = chain.owners.first().expect("non-empty").clone();
+                self.err(
+                    Diagnostic::error(owner.0, format!("{} cannot be followed: {e}", owner.2))
+                        .with_hint("move the target, change the start configuration, or use PTP"),
+                );
+                return;
+            }
+        };
+        let t0 = self.traj.times().last().copied().unwrap_or(0.0);
+        let starts = motion.segment_starts().to_vec();
+        let laws: Vec<f64> = motion.laws().iter().map(TimeLaw::duration).collect();
+        for (i, (span, line, kw, target)) in chain.owners.iter().enumerate() {
+            let end = if i + 1 < chain.owners.len() { starts[i + 1] } else { motion.duration() };
+            let _ = laws[i];
+            self.plan_motions.push(PlannedMotion {
+                line: *line,
+                kind: kw.to_string(),
+                start: t0 + starts[i],
+                end: t0 + end.max(starts[i]),
+                profile: profile.name().to_string(),
+                target: target.clone(),
+            });
+            self.motion_spans.push(span.clone());
+        }
+        self.append(&joints, t0);
+    }
+
+    fn append(&mut self, j: &JointTrajectory, t0: f64) {
+        if self.traj.len() + j.len() > self.opts.max_samples {
+            let span = self.motion_spans.last().cloned().unwrap_or(0..0);
+            self.err(Diagnostic::error(
+                span,
+                format!(
+                    "the program produces more than {} samples; it is cut here (raise dt or shorten the program)",
+                    self.opts.max_samples
+                ),
+            ));
+            self.stopped = true;
+            return;
+        }
+        for k in 1..j.len() {
+            // Cannot fail: same joint count, finite values, increasing times.
+            let _ = self.traj.push(t0 + j.times()[k], j.q(k), j.qd(k), j.qdd(k));
+        }
+        if !j.is_empty() {
+            self.q = j.q(j.len() - 1).to_vec();
+        }
+    }
+
+    fn hold(&mut self, s: &Stmt, t: f64, kind: &str) {
+        let t0 = self.traj.times().last().copied().unwrap_or(0.0);
+        if t > 0.0 {
+            let Ok(times) = traj::sample_times(t, self.opts.dt) else { return };
+            let mut j = JointTrajectory::with_capacity(self.robot.dof(), times.len());
+            let z = vec![0.0; self.robot.dof()];
+            for &tt in &times {
+                let _ = j.push(tt, &self.q, &z, &z);
+            }
+            self.record(s, kind, t0, t0 + t, "hold", "stand still".into());
+            self.append(&j, t0);
+        }
+    }
+
+    fn record(&mut self, s: &Stmt, kind: &str, start: f64, end: f64, profile: &str, target: String) {
+        let line = self.line(&s.span);
+        self.plan_motions.push(PlannedMotion { line, kind: kind.into(), start, end, profile: profile.into(), target });
+        self.motion_spans.push(s.span.clone());
+    }
+
+    fn ptp(&mut self, s: &Stmt, relative: bool, target: &Target, opts: &MotionOpts) {
+        let duration = match &opts.duration {
+            Some(d) => match self.value(d, Dim::Time, Some(1.0)) {
+                Some(t) => Some(t),
+                None => return,
+            },
+            None => None,
+        };
+        if opts.blend.is_some() {
+            self.warnings.push(
+                Diagnostic::warning(s.span.clone(), "BLEND on a PTP is ignored: the motion stops at its target")
+                    .with_hint("blending applies to LIN and CIRC"),
+            );
+        }
+        let q_to = if relative {
+            match target {
+                Target::Joint(items, _) => {
+                    let mut q = self.q.clone();
+                    for (i, e) in items.iter().enumerate() {
+                        let Some(d) = self.value(e, joint_dim(self.robot, i), None) else { return };
+                        if let Some(qi) = q.get_mut(i) {
+                            *qi += d;
+                        }
+                    }
+                    q
+                }
+                _ => {
+                    let Some(pose) = self.cart_target(target, true) else { return };
+                    let Some(q) = self.ik(s, &pose) else { return };
+                    q
+                }
+            }
+        } else {
+            match self.resolve(target) {
+                Some(PosValue::Joint(q)) => q,
+                Some(PosValue::Cart(pose)) => {
+                    let Some(q) = self.ik(s, &pose) else { return };
+                    q
+                }
+                None => return,
+            }
+        };
+        let text = format!("joints [{}]", q_to.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", "));
+        self.ptp_to(s, q_to, duration, opts, text);
+    }
+
+    /// The configuration reaching `pose` nearest to the current one, within limits.
+    fn ik(&mut self, s: &Stmt, pose: &Pose) -> Option<Vec<f64>> {
+        let robot = self.robot_tool.clone();
+        let result = match ik::analytic_solver(&robot) {
+            Some(solver) => solver.solve_within_limits(pose).and_then(|sols| {
+                let ok: Vec<_> =
+                    sols.into_iter().filter(|s| s.position_error < 1e-6 && s.orientation_error < 1e-6).collect();
+                let best = ok.iter().min_by(|a, b| {
+                    ik::joint_distance(&robot, &a.q, &self.q).total_cmp(&ik::joint_distance(&robot, &b.q, &self.q))
+                });
+                match best {
+                    Some(b) => Ok(b.q.clone()),
+                    None => Err(kinema::Error::Unreachable {
+                        solver: solver.name().into(),
+                        reason: ik::Unreachable::Orientation {
+                            angle: f64::NAN,
+                            detail: format!(
+                                "no solution within limits reaches the orientation (this arm has {} joints)",
+                                robot.dof()
+                            ),
+                        },
+                    }),
+                }
+            }),
+            None => NumericIk::new(&robot).solve_from(pose, &self.q).map(|s| s.q),
+        };
+        match result {
+            Ok(q) => Some(q),
+            Err(e) => {
+                self.err(Diagnostic::error(s.span.clone(), format!("target unreachable: {e}")).with_hint(
+                    "check the position against the robot's reach and the orientation against what the arm can take",
+                ));
+                None
+            }
+        }
+    }
+
+    fn ptp_to(&mut self, s: &Stmt, q_to: Vec<f64>, duration: Option<f64>, _opts: &MotionOpts, text: String) {
+        if let Err(e) = self.robot.check_q(&q_to) {
+            self.err(Diagnostic::error(s.span.clone(), e.to_string()));
+            return;
+        }
+        if let Some(i) = self.robot.limit_flags(&q_to).indices().next() {
+            let j = &self.robot.joints()[i];
+            self.err(Diagnostic::error(
+                s.span.clone(),
+                format!(
+                    "the target puts joint {} ({}) at {:.6}, outside its limits [{:.6}, {:.6}]",
+                    i + 1,
+                    j.name,
+                    q_to[i],
+                    j.limits.min,
+                    j.limits.max
+                ),
+            ));
+            return;
+        }
+        let kw = keyword_of(&s.kind).to_string();
+        let t0 = self.traj.times().last().copied().unwrap_or(0.0);
+        let from = self.q.clone();
+        let profile = self.profile;
+        let j = match duration {
+            // Exactly the stated time; the trajectory check reports any limit it breaks.
+            Some(t) => {
+                let Some(law) = self.law_for(s, profile, t) else { return };
+                let laws = vec![law; from.len()];
+                self.sample_laws(&from, &q_to, &laws)
+            }
+            None => {
+                let o = self.ptp_options(profile);
+                match Ptp::new(self.robot, &from, &q_to, &o).and_then(|p| p.sample_unchecked(self.opts.dt)) {
+                    Ok(j) => Some(j),
+                    Err(e) => {
+                        self.err(Diagnostic::error(s.span.clone(), format!("{kw}: {e}")).with_hint(if kw == "HOME" {
+                            "give HOME a duration (`HOME 3s`) or set joint limits with JVEL and JACC".to_string()
+                        } else {
+                            format!(
+                                "give the motion a duration (`{kw} … IN 2s`) or set joint limits with JVEL and JACC"
+                            )
+                        }));
+                        return;
+                    }
+                }
+            }
+        };
+        let Some(j) = j else { return };
+        let end = t0 + j.times().last().copied().unwrap_or(0.0);
+        self.record(s, &kw, t0, end, profile.name(), text);
+        self.append(&j, t0);
+    }
+
+    /// PTP limits per joint: JVEL/JACC for the joint's kind, capped by the
+    /// robot's own limit, else the robot's; the ACC override scales the
+    /// accelerations. An S-curve needs jerk limits: without the robot's, a
+    /// joint's jerk is 10 × its acceleration per second (full acceleration
+    /// reached in 0.1 s).
+    fn ptp_options(&self, profile: Profile) -> PtpOptions {
+        let pick = |given: &[Option<f64>; 2], own: Option<f64>, prismatic: bool| -> Option<f64> {
+            match (given[usize::from(prismatic)], own) {
+                (Some(g), Some(o)) => Some(g.min(o)),
+                (Some(g), None) => Some(g),
+                (None, o) => o,
+            }
+        };
+        let joints = self.robot.joints();
+        let vel: Option<Vec<f64>> =
+            joints.iter().map(|j| pick(&self.jvel, j.limits.vel, j.kind == kinema::JointType::Prismatic)).collect();
+        let acc: Option<Vec<f64>> = joints
+            .iter()
+            .map(|j| {
+                pick(&self.jacc, j.limits.acc, j.kind == kinema::JointType::Prismatic).map(|a| a * self.acc_override)
+            })
+            .collect();
+        let jerk: Option<Vec<f64>> = acc.as_ref().map(|acc| {
+            joints.iter().zip(acc).map(|(j, a)| j.limits.jerk.map_or(10.0 * a, |x| x * self.acc_override)).collect()
+        });
+        PtpOptions { profile, vel, acc, jerk, speed: self.speed, duration: None }
+    }
+
+    fn law_for(&mut self, s: &Stmt, profile: Profile, t: f64) -> Option<TimeLaw> {
+        match TimeLaw::from_duration(profile, t) {
+            Ok(l) => Some(l),
+            Err(e) => {
+                self.err(Diagnostic::error(s.span.clone(), e.to_string()));
+                None
+            }
+        }
+    }
+
+    /// Joint i goes from `from[i]` to `to[i]` with `laws[i]` (all of one duration).
+    fn sample_laws(&mut self, from: &[f64], to: &[f64], laws: &[TimeLaw]) -> Option<JointTrajectory> {
+        let duration = laws[0].duration();
+        let times = traj::sample_times(duration, self.opts.dt).ok()?;
+        let n = from.len();
+        let mut j = JointTrajectory::with_capacity(n, times.len());
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for &t in &times {
+            for i in 0..n {
+                let st = laws[i].at(t);
+                let d = to[i] - from[i];
+                q[i] = from[i] + st.s * d;
+                qd[i] = st.sd * d;
+                qdd[i] = st.sdd * d;
+            }
+            j.push(t, &q, &qd, &qdd).ok()?;
+        }
+        Some(j)
+    }
+
+    /// Seed 003's relative moves: `delta` = [dx, dy, dz, dα] of the tool.
+    fn scara_relative(&mut self, s: &Stmt, delta: [f64; 4], t: f64, kw: &str) {
+        let Some(ik) = self.scara.clone() else { return };
+        let pose = self.current_pose();
+        let alpha = pose.rot[(1, 0)].atan2(pose.rot[(0, 0)]);
+        let target = [pose.pos.x + delta[0], pose.pos.y + delta[1], pose.pos.z + delta[2], alpha + delta[3]];
+        let q_to = if delta[0] == 0.0 && delta[1] == 0.0 {
+            // Z and θ alone: only joint 4 (z) or 5 (θ) moves, as the seed's linear law does.
+            let mut q = self.q.clone();
+            if delta[2] != 0.0 {
+                let dzdq = self.dz_dq4();
+                q[3] += delta[2] / dzdq;
+            }
+            q[4] += delta[3];
+            q
+        } else {
+            match ik.solve_zone(target, Some(&self.q)) {
+                Ok(sol) => {
+                    let mut q = sol.q;
+                    // Keep θ continuous: the nearest equivalent of q5 to the present one.
+                    while q[4] - self.q[4] > PI {
+                        q[4] -= 2.0 * PI;
+                    }
+                    while self.q[4] - q[4] > PI {
+                        q[4] += 2.0 * PI;
+                    }
+                    q
+                }
+                Err(e) => {
+                    self.err(
+                        Diagnostic::error(s.span.clone(), format!("{kw} to ({:.4}, {:.4}) m is unreachable: {e}", target[0], target[1]))
+                            .with_hint("seed 003 skips points outside the rectangle-shaped workspace; this program would lose them"),
+                    );
+                    return;
+                }
+            }
+        };
+        let text = format!("tool ({:.4}, {:.4}, {:.4}) m, θ {:.4} rad", target[0], target[1], target[2], target[3]);
+        self.scara_move(s, q_to, t, kw, text);
+    }
+
+    /// ∂z/∂q4 of the tool (the vertical axis is linear in q4).
+    fn dz_dq4(&self) -> f64 {
+        let mut q = self.q.clone();
+        let z0 = self.current_pose().pos.z;
+        q[3] += 0.01;
+        let z1 = self.robot_tool.fk(&q).map(|f| f.pose.pos.z).unwrap_or(z0 - 0.01);
+        (z1 - z0) / 0.01
+    }
+
+    /// Seed 003 §III-D: joints 1–3 (rail, shoulder, elbow: the XY plane) and the
+    /// wrist's compensation of them follow a cubic; z and θ alone follow a
+    /// linear law. Lasts exactly `t`.
+    fn scara_move(&mut self, s: &Stmt, q_to: Vec<f64>, t: f64, kw: &str, text: String) {
+        if let Some(i) = self.robot.limit_flags(&q_to).indices().next() {
+            let j = &self.robot.joints()[i];
+            self.err(Diagnostic::error(
+                s.span.clone(),
+                format!(
+                    "{kw} puts joint {} ({}) at {:.6}, outside its limits [{:.6}, {:.6}]",
+                    i + 1,
+                    j.name,
+                    q_to[i],
+                    j.limits.min,
+                    j.limits.max
+                ),
+            ));
+            return;
+        }
+        let (Some(cubic), Some(linear)) = (self.law_for(s, Profile::Cubic, t), self.law_for(s, Profile::Linear, t))
+        else {
+            return;
+        };
+        let xy_moves = (0..3).any(|i| q_to[i] != self.q[i]);
+        let laws: Vec<TimeLaw> = (0..5).map(|i| if i < 3 || (i == 4 && xy_moves) { cubic } else { linear }).collect();
+        let from = self.q.clone();
+        let Some(j) = self.sample_laws(&from, &q_to, &laws) else { return };
+        let t0 = self.traj.times().last().copied().unwrap_or(0.0);
+        let profile = if xy_moves { "cubic (xy) + linear (z)" } else { "linear" };
+        self.record(s, kw, t0, t0 + t, profile, text);
+        self.append(&j, t0);
+    }
+
+    /// The trajectory check; each violation at the line of its motion.
+    fn check_trajectory(&mut self) {
+        let report = match traj::check(self.robot, &self.traj, &CheckOptions::default()) {
+            Ok(r) => r,
+            Err(e) => {
+                self.err(Diagnostic::error(0..0, format!("trajectory check: {e}")));
+                return;
+            }
+        };
+        let mut seen = Vec::new();
+        for v in report.violations {
+            let k = self
+                .plan_motions
+                .iter()
+                .position(|m| v.time > m.start - 1e-12 && v.time <= m.end + 1e-12)
+                .unwrap_or(self.plan_motions.len().saturating_sub(1));
+            let key = (k, v.joint, v.kind as u8);
+            if seen.contains(&key) {
+                continue;
+            }
+            seen.push(key);
+            let span = self.motion_spans.get(k).cloned().unwrap_or(0..0);
+            let joint = v.joint.map(|j| format!(" ({})", self.robot.joints()[j].name)).unwrap_or_default();
+            self.err(
+                Diagnostic::error(span, format!("limit violated{joint}: {v}"))
+                    .with_hint("slow the motion down (SPEED, VEL, ACC or a longer IN/time) or move the target"),
+            );
+        }
+    }
+}
+
+/// A value known at check time (FOR counters are NaN there) that fails `ok`.
+fn known_bad(v: f64, ok: impl Fn(f64) -> bool) -> bool {
+    !v.is_nan() && !ok(v)
+}
+
+/// The statement keyword, for messages.
+fn keyword_of(k: &StmtKind) -> &'static str {
+    match k {
+        StmtKind::Pos { .. } => "POS",
+        StmtKind::Motion { kind: MotionKind::Ptp, .. } => "PTP",
+        StmtKind::Motion { kind: MotionKind::Lin, .. } => "LIN",
+        StmtKind::Circ { .. } => "CIRC",
+        StmtKind::Speed(_) => "SPEED",
+        StmtKind::Vel(_) => "VEL",
+        StmtKind::Acc(_) => "ACC",
+        StmtKind::JVel(_) => "JVEL",
+        StmtKind::JAcc(_) => "JACC",
+        StmtKind::Profile(_) => "PROFILE",
+        StmtKind::Tool(_) => "TOOL",
+        StmtKind::Base(_) => "BASE",
+        StmtKind::Wait(_) => "WAIT",
+        StmtKind::Home(_) => "HOME",
+        StmtKind::Loop { .. } => "LOOP",
+        StmtKind::For { .. } => "FOR",
+        StmtKind::MoveZ { .. } => "MOVEZ",
+        StmtKind::MoveTita { .. } => "MOVETITA",
+        StmtKind::MoveXy { .. } => "MOVEXY",
+    }
+}
+
+fn parse_profile(key: &str) -> Option<Profile> {
+    match key {
+        "trapezoid" | "trapezoidal" => Some(Profile::Trapezoid),
+        "scurve" | "s-curve" => Some(Profile::SCurve),
+        "quintic" => Some(Profile::Quintic),
+        "cubic" => Some(Profile::Cubic),
+        _ => None,
+    }
+}
+
+fn joint_dim(robot: &Robot, i: usize) -> Dim {
+    match robot.joints().get(i).map(|j| j.kind) {
+        Some(kinema::JointType::Prismatic) => Dim::Length,
+        _ => Dim::Angle,
+    }
+}
+
+fn joint_example(robot: &Robot) -> String {
+    robot
+        .joints()
+        .iter()
+        .map(|j| if j.kind == kinema::JointType::Prismatic { "0mm" } else { "0deg" })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn fmt_xyz(p: &Vector3<f64>) -> String {
+    format!("{:.4}, {:.4}, {:.4}", p.x, p.y, p.z)
+}
+
+fn describe_pose(p: &Pose) -> String {
+    let r = p.rpy(RpyConvention::Zyx);
+    format!("xyz ({}) m, rpy ({:.4}, {:.4}, {:.4}) rad", fmt_xyz(&p.pos), r[0], r[1], r[2])
+}
+
+/// Evaluates an expression to SI with its dimension.
+pub(crate) fn eval(e: &Expr, counters: &HashMap<String, f64>) -> Result<Quantity, Diagnostic> {
+    match e {
+        Expr::Num { value, unit: None, .. } => Ok(Quantity { value: *value, dim: Dim::None }),
+        Expr::Num { value, unit: Some(u), span } => match unit(u) {
+            Some((scale, dim)) => Ok(Quantity { value: value * scale, dim }),
+            None => Err(Diagnostic::error(span.clone(), format!("unknown unit `{u}`"))),
+        },
+        Expr::Var(name) => match counters.get(&name.key) {
+            Some(v) => Ok(Quantity { value: *v, dim: Dim::None }),
+            None => Err(Diagnostic::error(name.span.clone(), format!("unknown name `{}` in an expression", name.text))
+                .with_hint("only FOR counters can be used in expressions; numbers need their unit, e.g. 50mm")),
+        },
+        Expr::Neg(inner, _) => {
+            let q = eval(inner, counters)?;
+            Ok(Quantity { value: -q.value, dim: q.dim })
+        }
+        Expr::Bin { op, lhs, rhs, span } => {
+            let (a, b) = (eval(lhs, counters)?, eval(rhs, counters)?);
+            let mismatch =
+                |what: &str| Diagnostic::error(span.clone(), format!("cannot {what} {} and {}", a.dim, b.dim));
+            match op {
+                BinOp::Add | BinOp::Sub => {
+                    if a.dim != b.dim {
+                        return Err(mismatch(if *op == BinOp::Add { "add" } else { "subtract" })
+                            .with_hint("both sides need the same kind of unit, e.g. 50mm + 2cm"));
+                    }
+                    let value = if *op == BinOp::Add { a.value + b.value } else { a.value - b.value };
+                    Ok(Quantity { value, dim: a.dim })
+                }
+                BinOp::Mul => match (a.dim, b.dim) {
+                    (Dim::None, d) | (d, Dim::None) => Ok(Quantity { value: a.value * b.value, dim: d }),
+                    _ => Err(mismatch("multiply").with_hint("one side of * must be a plain number")),
+                },
+                BinOp::Div => {
+                    if b.value == 0.0 {
+                        return Err(Diagnostic::error(span.clone(), "division by zero"));
+                    }
+                    match (a.dim, b.dim) {
+                        (d, Dim::None) => Ok(Quantity { value: a.value / b.value, dim: d }),
+                        (x, y) if x == y => Ok(Quantity { value: a.value / b.value, dim: Dim::None }),
+                        _ => Err(mismatch("divide")),
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A quantity as a value of dimension `dim` (see [`Compiler::static_expect`]).
+fn coerce(q: Quantity, dim: Dim, default_scale: Option<f64>, e: &Expr) -> Result<f64, Diagnostic> {
+    if q.dim == dim {
+        return Ok(q.value);
+    }
+    if q.dim == Dim::None {
+        if let Some(scale) = default_scale {
+            return Ok(q.value * scale);
+        }
+        if dim == Dim::None || q.value == 0.0 {
+            return Ok(q.value);
+        }
+        let example = match dim {
+            Dim::Length => "50mm or 0.05m",
+            Dim::Angle => "30deg or 0.5rad",
+            Dim::Time => "2s",
+            Dim::Percent => "50%",
+            Dim::LinVel => "250mm/s",
+            Dim::AngVel => "90deg/s",
+            Dim::LinAcc => "1m/s^2",
+            Dim::AngAcc => "180deg/s^2",
+            Dim::None => "",
+        };
+        return Err(Diagnostic::error(e.span(), format!("missing unit: expected {dim}"))
+            .with_hint(format!("write e.g. {example}")));
+    }
+    Err(Diagnostic::error(e.span(), format!("expected {dim}, found {}", q.dim)))
+}
