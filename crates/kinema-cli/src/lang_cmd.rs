@@ -119,7 +119,7 @@ pub fn run(a: RunArgs) -> Result<()> {
 }
 
 pub fn compile(a: CompileArgs) -> Result<()> {
-    let (robot, plan, name) = build(&a.program)?;
+    let (_robot, plan, name) = build(&a.program)?;
     if a.json {
         let motions: Vec<_> = plan
             .motions
@@ -131,14 +131,8 @@ pub fn compile(a: CompileArgs) -> Result<()> {
         return print_json(&s);
     }
     if a.listing {
-        println!("# {name} on `{}`: {} motion(s), {:.4} s", robot.name(), plan.motions.len(), plan.duration());
-        println!("{:>5}  {:<8}  {:>10}  {:>10}  {:<24}  target", "line", "motion", "start [s]", "end [s]", "profile");
-        for m in &plan.motions {
-            println!(
-                "{:>5}  {:<8}  {:>10.4}  {:>10.4}  {:<24}  {}",
-                m.line, m.kind, m.start, m.end, m.profile, m.target
-            );
-        }
+        println!("# {name}");
+        print!("{}", plan.listing());
     } else {
         println!("{name}: {} motion(s), {:.4} s (use --listing for the plan)", plan.motions.len(), plan.duration());
     }

@@ -83,6 +83,29 @@ impl Plan {
     pub fn final_q(&self) -> &[f64] {
         self.trajectory.q(self.trajectory.len() - 1)
     }
+
+    /// The motion plan as text: a header, then one line per motion with its
+    /// source line, keyword, start and end time, profile and target.
+    pub fn listing(&self) -> String {
+        let mut out = format!(
+            "# `{}`: {} motion(s), {:.4} s\n{:>5}  {:<8}  {:>10}  {:>10}  {:<24}  target\n",
+            self.robot.name(),
+            self.motions.len(),
+            self.duration(),
+            "line",
+            "motion",
+            "start [s]",
+            "end [s]",
+            "profile"
+        );
+        for m in &self.motions {
+            out.push_str(&format!(
+                "{:>5}  {:<8}  {:>10.4}  {:>10.4}  {:<24}  {}\n",
+                m.line, m.kind, m.start, m.end, m.profile, m.target
+            ));
+        }
+        out
+    }
 }
 
 /// Parses, checks and compiles `src` for `robot`. On any error nothing is
@@ -133,6 +156,8 @@ struct Chain {
     blend: Option<f64>,
     blend_is_time: bool,
     duration: Option<f64>,
+    /// Some motions of the chain have IN, others not.
+    partial_in: bool,
 }
 
 struct Compiler<'a> {
@@ -879,12 +904,20 @@ impl<'a> Compiler<'a> {
             blend: None,
             blend_is_time: false,
             duration: None,
+            partial_in: false,
         });
         chain.segments.push(seg);
         chain.owners.push((s.span.clone(), line, kw, target));
-        if let Some(d) = duration {
-            chain.duration = Some(chain.duration.unwrap_or(0.0) + d);
-        }
+        // IN on a chain: the durations add up when every motion of it has one.
+        chain.duration = match (chain.segments.len(), chain.duration, duration) {
+            (1, _, d) => d,
+            (_, Some(total), Some(d)) => Some(total + d),
+            (_, None, None) => None,
+            _ => {
+                chain.partial_in = true;
+                None
+            }
+        };
         match blend {
             Some((b, is_time)) => {
                 // One blend per chain: the smallest asked for.
@@ -901,6 +934,15 @@ impl<'a> Compiler<'a> {
     fn flush_chain(&mut self) {
         let Some(chain) = self.chain.take() else { return };
         let first = chain.owners[0].0.clone();
+        if chain.partial_in {
+            self.warnings.push(
+                Diagnostic::warning(
+                    first.clone(),
+                    "IN is ignored on this blended chain: give it on every motion of the chain or on none",
+                )
+                .with_hint("the chain is timed as one motion; its duration is the sum of the motions' IN"),
+            );
+        }
         let blend = match chain.blend {
             Some(b) if chain.segments.len() > 1 => {
                 if chain.blend_is_time {
@@ -937,6 +979,20 @@ impl<'a> Compiler<'a> {
                             .with_hint("IN asks for an exact duration; it cannot be shorter than the motion allows at this SPEED/VEL/ACC"),
                     );
                     return;
+                }
+            }
+        }
+        if let Blend::Distance(_) | Blend::Time(_) = blend {
+            for (i, b) in motion.blend_times().iter().enumerate() {
+                if *b <= 0.0 {
+                    let (span, line, ..) = &chain.owners[i];
+                    self.warnings.push(
+                        Diagnostic::warning(
+                            span.clone(),
+                            format!("the blend after line {line} was reduced to nothing: the corner is too sharp for the limits with this profile"),
+                        )
+                        .with_hint("PROFILE scurve can blend sharper corners; or lower the speed"),
+                    );
                 }
             }
         }
@@ -1055,7 +1111,7 @@ impl<'a> Compiler<'a> {
                 None => return,
             }
         };
-        let text = format!("joints [{}]", q_to.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", "));
+        let text = format!("joints [{}]", fmt_joints(&q_to));
         self.ptp_to(s, q_to, duration, opts, text);
     }
 
@@ -1245,7 +1301,11 @@ impl<'a> Compiler<'a> {
                 }
             }
         };
-        let text = format!("tool ({:.4}, {:.4}, {:.4}) m, θ {:.4} rad", target[0], target[1], target[2], target[3]);
+        let text = format!(
+            "tool ({}) m, θ {} rad",
+            fmt_xyz(&Vector3::new(target[0], target[1], target[2])),
+            fmt_angle(target[3])
+        );
         self.scara_move(s, q_to, t, kw, text);
     }
 
@@ -1286,7 +1346,11 @@ impl<'a> Compiler<'a> {
         let from = self.q.clone();
         let Some(j) = self.sample_laws(&from, &q_to, &laws) else { return };
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
-        let profile = if xy_moves { "cubic (xy) + linear (z)" } else { "linear" };
+        let profile = match (xy_moves, kw) {
+            (true, "HOME") => "cubic (xy) + linear (z, θ)",
+            (true, _) => "cubic",
+            (false, _) => "linear",
+        };
         self.record(s, kw, t0, t0 + t, profile, text);
         self.append(&j, t0);
     }
@@ -1307,7 +1371,9 @@ impl<'a> Compiler<'a> {
                 .iter()
                 .position(|m| v.time > m.start - 1e-12 && v.time <= m.end + 1e-12)
                 .unwrap_or(self.plan_motions.len().saturating_sub(1));
-            let key = (k, v.joint, v.kind as u8);
+            // A jump is the velocity excess seen between two samples: one report per joint and motion.
+            let kind = if v.kind == traj::ViolationKind::Jump { traj::ViolationKind::Velocity } else { v.kind };
+            let key = (k, v.joint, kind as u8);
             if seen.contains(&key) {
                 continue;
             }
@@ -1378,13 +1444,32 @@ fn joint_example(robot: &Robot) -> String {
         .join(", ")
 }
 
+/// A value to 4 decimals, the same on every machine: no `-0.0000`.
+fn fmt4(v: f64) -> String {
+    if v.abs() < 5e-5 {
+        "0.0000".into()
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// An angle to 4 decimals in (−π, π], −π shown as π (rounding decides between them).
+fn fmt_angle(a: f64) -> String {
+    let a = ik::wrap_angle(a);
+    fmt4(if a < -PI + 5e-5 { a + 2.0 * PI } else { a })
+}
+
 fn fmt_xyz(p: &Vector3<f64>) -> String {
-    format!("{:.4}, {:.4}, {:.4}", p.x, p.y, p.z)
+    format!("{}, {}, {}", fmt4(p.x), fmt4(p.y), fmt4(p.z))
+}
+
+fn fmt_joints(q: &[f64]) -> String {
+    q.iter().map(|v| fmt4(*v)).collect::<Vec<_>>().join(", ")
 }
 
 fn describe_pose(p: &Pose) -> String {
     let r = p.rpy(RpyConvention::Zyx);
-    format!("xyz ({}) m, rpy ({:.4}, {:.4}, {:.4}) rad", fmt_xyz(&p.pos), r[0], r[1], r[2])
+    format!("xyz ({}) m, rpy ({}, {}, {}) rad", fmt_xyz(&p.pos), fmt_angle(r[0]), fmt_angle(r[1]), fmt_angle(r[2]))
 }
 
 /// Evaluates an expression to SI with its dimension.

@@ -1,0 +1,375 @@
+//! The language end to end: hand-computed SCARA programs, one test per
+//! instruction, every diagnostic, golden listings.
+
+use std::f64::consts::PI;
+
+use kinema::Robot;
+use kinema_lang::{compile, Diagnostic, Options, Plan};
+
+fn robot(name: &str) -> Robot {
+    Robot::builtin(name).unwrap()
+}
+
+fn ok(src: &str, robot: &Robot) -> Plan {
+    compile(src, robot, &Options::default())
+        .unwrap_or_else(|d| panic!("{}", kinema_lang::render_all(&d, "test.prg", src)))
+}
+
+fn errors(src: &str, robot: &Robot) -> Vec<Diagnostic> {
+    match compile(src, robot, &Options::default()) {
+        Ok(_) => panic!("expected errors for:\n{src}"),
+        Err(d) => d.into_iter().filter(|d| d.is_error()).collect(),
+    }
+}
+
+/// The one error of `src`, its 1-based line and its message.
+fn one_error(src: &str, robot: &Robot) -> (usize, String) {
+    let e = errors(src, robot);
+    assert_eq!(e.len(), 1, "{e:#?}");
+    (kinema_lang::diag::line_col(src, e[0].span.start).0, e[0].message.clone())
+}
+
+fn tool(robot: &Robot, q: &[f64]) -> kinema::Pose {
+    robot.fk(q).unwrap().pose
+}
+
+/// Seed 003's loop, computed by hand: every move is relative, so after each
+/// pass of the loop the tool is back where it started; the duration is the
+/// sum of the stated times.
+#[test]
+fn scara_loop_duration_and_final_pose_by_hand() {
+    let r = robot("scara5");
+    let src = "HOME 3;\nLOOP 4\n  MOVEXY 150, -200, 2;\n  MOVEZ -80, 1;\n  PAUSE 0.5;\n  MOVEZ +80, 1;\n  MOVETITA 90, 1;\n  MOVEXY -150, 200, 2;\n  MOVETITA -90, 1.5;\nEND\n";
+    let plan = ok(src, &r);
+    // 3 + 4 × (2 + 1 + 0.5 + 1 + 1 + 2 + 1.5) = 39 s.
+    assert!((plan.duration() - 39.0).abs() < 1e-9, "{}", plan.duration());
+    assert_eq!(plan.motions.len(), 1 + 4 * 7);
+    let start = tool(&r, r.home());
+    let end = tool(&r, plan.final_q());
+    assert!((end.pos - start.pos).norm() < 1e-9, "{} vs {}", end.pos, start.pos);
+    assert!((end.rot - start.rot).norm() < 1e-9);
+    // Halfway through the first pass (after MOVEXY and MOVEZ): 150 mm, −200 mm, −80 mm away.
+    let k = plan.trajectory.times().iter().position(|&t| (t - 6.0).abs() < 1e-9).unwrap();
+    let p = tool(&r, plan.trajectory.q(k)).pos - start.pos;
+    assert!((p - kinema::nalgebra::Vector3::new(0.15, -0.2, -0.08)).norm() < 1e-9, "{p}");
+    // Continuous: no joint moves more than it could in one sample, velocities continuous
+    // at the cubic's ends (zero at every instruction boundary of MOVEXY).
+    for k in 1..plan.trajectory.len() {
+        let (a, b) = (plan.trajectory.q(k - 1), plan.trajectory.q(k));
+        assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 0.05), "jump at sample {k}");
+    }
+}
+
+#[test]
+fn the_shipped_scara_program_runs_39_s_and_ends_at_home() {
+    let r = robot("scara5");
+    let src = include_str!("../../../examples/programs/scara_pick_place.prg");
+    let plan = ok(src, &r);
+    assert!((plan.duration() - 39.0).abs() < 1e-9);
+    assert!(plan.final_q().iter().zip(r.home()).all(|(a, b)| (a - b).abs() < 1e-12));
+}
+
+#[test]
+fn the_shipped_iiwa_program_runs_within_limits() {
+    let r = robot("lbr-iiwa-14-r820");
+    let src = include_str!("../../../examples/programs/iiwa_draw.prg");
+    let plan = ok(src, &r);
+    assert!(plan.motions.iter().any(|m| m.kind == "CIRC"));
+    let report = kinema::traj::check(&r, &plan.trajectory, &Default::default()).unwrap();
+    assert!(report.violations.is_empty());
+    assert!(plan.final_q().iter().zip(r.home()).all(|(a, b)| (a - b).abs() < 1e-9));
+}
+
+// ---------------------------------------------------------------- instructions
+
+#[test]
+fn movez_is_linear_in_time_and_exact() {
+    let r = robot("scara5");
+    let plan = ok("MOVEZ -50, 2", &r);
+    let z0 = tool(&r, r.home()).pos.z;
+    let n = plan.trajectory.len();
+    for k in 0..n {
+        let t = plan.trajectory.times()[k];
+        let z = tool(&r, plan.trajectory.q(k)).pos.z;
+        assert!((z - (z0 - 0.05 * t / 2.0)).abs() < 1e-12, "t {t}: {z}");
+    }
+    assert_eq!(plan.motions[0].profile, "linear");
+}
+
+#[test]
+fn movetita_turns_the_tool_only() {
+    let r = robot("scara5");
+    let plan = ok("MOVETITA 45, 1.5", &r);
+    let a = tool(&r, r.home());
+    let b = tool(&r, plan.final_q());
+    assert!((a.pos - b.pos).norm() < 1e-12);
+    let turn = (a.rot.transpose() * b.rot)[(1, 0)].atan2((a.rot.transpose() * b.rot)[(0, 0)]);
+    assert!((turn - PI / 4.0).abs() < 1e-12, "{turn}");
+    assert!((plan.duration() - 1.5).abs() < 1e-12);
+}
+
+#[test]
+fn movexy_follows_a_cubic_in_joint_space_and_keeps_the_tool_angle() {
+    let r = robot("scara5");
+    let plan = ok("MOVEXY 100, -100, 2", &r);
+    let a = tool(&r, r.home());
+    let b = tool(&r, plan.final_q());
+    assert!((b.pos - a.pos - kinema::nalgebra::Vector3::new(0.1, -0.1, 0.0)).norm() < 1e-9);
+    assert!((a.rot - b.rot).norm() < 1e-9, "the tool angle is kept");
+    // Rest to rest: zero joint velocity at both ends, peak 1.5·Δ/T in the middle (cubic).
+    let traj = &plan.trajectory;
+    let last = traj.len() - 1;
+    assert!(traj.qd(0).iter().chain(traj.qd(last)).all(|v| v.abs() < 1e-12));
+    let mid = traj.times().iter().position(|&t| (t - 1.0).abs() < 1e-9).unwrap();
+    for i in 0..3 {
+        let d = plan.final_q()[i] - r.home()[i];
+        assert!((traj.qd(mid)[i] - 1.5 * d / 2.0).abs() < 1e-9, "joint {i}");
+    }
+}
+
+#[test]
+fn home_and_pause_on_the_scara() {
+    let r = robot("scara5");
+    let plan = ok("MOVEXY 50, 0, 1; PAUSE 2; HOME 3", &r);
+    assert!((plan.duration() - 6.0).abs() < 1e-12);
+    assert_eq!(plan.motions.iter().map(|m| m.kind.as_str()).collect::<Vec<_>>(), ["MOVEXY", "WAIT", "HOME"]);
+    assert!(plan.final_q().iter().zip(r.home()).all(|(a, b)| (a - b).abs() < 1e-12));
+    // PAUSE holds every joint.
+    let k = plan.trajectory.times().iter().position(|&t| (t - 2.0).abs() < 1e-9).unwrap();
+    assert_eq!(plan.trajectory.q(k), plan.trajectory.q(k + 10));
+}
+
+#[test]
+fn keywords_are_case_insensitive_and_the_seed_forms_parse_as_printed() {
+    let r = robot("scara5");
+    let a = ok("home 1;\nloop 2\nmovexy +10 , -10 , 1 ;\nMoveXY -10,+10,1;\nend\n", &r);
+    assert!((a.duration() - 5.0).abs() < 1e-12);
+}
+
+#[test]
+fn ptp_to_joints_cartesian_and_relative() {
+    let r = robot("lbr-iiwa-14-r820");
+    let src = "JACC 90deg/s^2\nPTP JOINT(10deg, 20deg, 0, -60deg, 0, 40deg, 0)\nPTP REL JOINT(5deg, 0, 0, 0, 0, 0, 0) IN 2s\n";
+    let plan = ok(src, &r);
+    let q = plan.final_q();
+    assert!((q[0] - 15f64.to_radians()).abs() < 1e-12 && (q[3] + 60f64.to_radians()).abs() < 1e-12);
+    let m = &plan.motions[1];
+    assert!((m.end - m.start - 2.0).abs() < 1e-12, "IN gives the exact duration");
+    // A Cartesian target by IK, nearest the current configuration.
+    let p = tool(&r, q);
+    let rpy = p.rpy(kinema::RpyConvention::Zyx);
+    let src2 = format!(
+        "{src}PTP CART({}m, {}m, {}m, {}rad, {}rad, {}rad)\nPTP REL CART(0mm, 0mm, 50mm)\n",
+        p.pos.x,
+        p.pos.y,
+        p.pos.z - 0.1,
+        rpy[0],
+        rpy[1],
+        rpy[2]
+    );
+    let plan = ok(&src2, &r);
+    let end = tool(&r, plan.final_q());
+    assert!((end.pos - (p.pos - kinema::nalgebra::Vector3::new(0.0, 0.0, 0.05))).norm() < 1e-9);
+    assert!((end.rot - p.rot).norm() < 1e-9);
+}
+
+#[test]
+fn lin_and_circ_follow_their_paths_and_blend() {
+    let r = robot("lbr-iiwa-14-r820");
+    let head = "VEL 200mm/s\nPOS a = CART(550mm, -150mm, 300mm, 0deg, 180deg, 0deg)\nJACC 90deg/s^2\nPTP a\n";
+    // A straight line: every sample on the segment.
+    let plan = ok(&format!("{head}LIN REL CART(0mm, 200mm, 0mm)\n"), &r);
+    let k0 = plan.trajectory.times().iter().position(|&t| t >= plan.motions[1].start).unwrap();
+    for k in k0..plan.trajectory.len() {
+        let p = tool(&r, plan.trajectory.q(k)).pos;
+        assert!((p.x - 0.55).abs() < 1e-6 && (p.z - 0.3).abs() < 1e-6 && p.y > -0.15 - 1e-9 && p.y < 0.05 + 1e-9);
+    }
+    // A CIRC through an auxiliary point: every sample on the circle.
+    let plan =
+        ok(&format!("{head}CIRC CART(600mm, -100mm, 300mm), CART(650mm, -150mm, 300mm, 0deg, 180deg, 0deg)\n"), &r);
+    let k0 = plan.trajectory.times().iter().position(|&t| t >= plan.motions[1].start).unwrap();
+    for k in k0..plan.trajectory.len() {
+        let p = tool(&r, plan.trajectory.q(k)).pos;
+        let d = ((p.x - 0.6).powi(2) + (p.y + 0.15).powi(2)).sqrt();
+        assert!((d - 0.05).abs() < 1e-6 && (p.z - 0.3).abs() < 1e-6, "{p}");
+    }
+    // BLEND: the chain does not stop at the corner, and is shorter than stopping.
+    let stop = ok(&format!("{head}PROFILE scurve\nLIN REL CART(0mm, 200mm, 0mm)\nLIN REL CART(100mm, 0mm, 0mm)\n"), &r);
+    let blend = ok(
+        &format!("{head}PROFILE scurve\nLIN REL CART(0mm, 200mm, 0mm) BLEND 30mm\nLIN REL CART(100mm, 0mm, 0mm)\n"),
+        &r,
+    );
+    assert!(blend.warnings.is_empty(), "{:?}", blend.warnings);
+    // The trapezoid cannot blend a right angle at full acceleration: a warning says so.
+    let sharp = ok(&format!("{head}LIN REL CART(0mm, 200mm, 0mm) BLEND 30mm\nLIN REL CART(100mm, 0mm, 0mm)\n"), &r);
+    assert!(sharp.warnings.iter().any(|w| w.message.contains("reduced to nothing")), "{:?}", sharp.warnings);
+    assert!(blend.duration() < stop.duration() - 0.05, "{} vs {}", blend.duration(), stop.duration());
+    let corner = blend.motions[2].start + 0.5 * (blend.motions[1].end - blend.motions[2].start);
+    let k = blend.trajectory.times().iter().position(|&t| t >= blend.motions[2].start).unwrap();
+    assert!(blend.trajectory.qd(k).iter().any(|v| v.abs() > 1e-3), "moving at {corner}");
+}
+
+#[test]
+fn speed_override_scales_time() {
+    let r = robot("lbr-iiwa-14-r820");
+    let head = "POS a = CART(550mm, -150mm, 300mm, 0deg, 180deg, 0deg)\nJACC 90deg/s^2\nPTP a\n";
+    let full = ok(&format!("{head}LIN REL CART(0mm, 200mm, 0mm)\n"), &r);
+    let half = ok(&format!("{head}SPEED 50%\nLIN REL CART(0mm, 200mm, 0mm)\n"), &r);
+    let (a, b) = (&full.motions[1], &half.motions[1]);
+    assert!(((b.end - b.start) / (a.end - a.start) - 2.0).abs() < 1e-9, "v·k, a·k², j·k³ is a time scaling by 1/k");
+}
+
+#[test]
+fn for_counts_and_its_counter_is_usable() {
+    let r = robot("scara5");
+    let plan = ok("FOR i = 1 TO 3\n  MOVEZ -10*i, 1\nEND\n", &r);
+    assert_eq!(plan.motions.len(), 3);
+    let dz = tool(&r, plan.final_q()).pos.z - tool(&r, r.home()).pos.z;
+    assert!((dz + 0.06).abs() < 1e-12, "{dz}");
+}
+
+#[test]
+fn tool_and_base_frames() {
+    let r = robot("lbr-iiwa-14-r820");
+    // With a 100 mm tool along z, the tool point of the same joints lies 100 mm further along the flange z.
+    let plan = ok("TOOL CART(0mm, 0mm, 100mm, 0deg, 0deg, 0deg)\nWAIT 0.1s\n", &r);
+    let flange = tool(&r, plan.final_q());
+    let with_tool = plan.robot.fk(plan.final_q()).unwrap().pose;
+    assert!((with_tool.pos - flange.pos - flange.rot.column(2) * 0.1).norm() < 1e-12);
+    // A BASE shifts later Cartesian targets.
+    let src = "JACC 90deg/s^2\nBASE CART(0mm, 100mm, 0mm, 0deg, 0deg, 0deg)\nPTP CART(550mm, -150mm, 300mm, 0deg, 180deg, 0deg)\n";
+    let plan = ok(src, &r);
+    let p = tool(&r, plan.final_q()).pos;
+    assert!((p - kinema::nalgebra::Vector3::new(0.55, -0.05, 0.3)).norm() < 1e-9, "{p}");
+}
+
+// ---------------------------------------------------------------- diagnostics
+
+#[test]
+fn syntax_errors_are_all_reported_with_their_lines() {
+    let r = robot("scara5");
+    let src = "HOME 1\nMOVEXY 10 10, 1\nFOO 3\nMOVEZ , 1\nLOOP 2\nMOVEZ 1, 1\n";
+    let e = errors(src, &r);
+    let lines: Vec<usize> = e.iter().map(|d| kinema_lang::diag::line_col(src, d.span.start).0).collect();
+    assert_eq!(lines, [2, 3, 4, 5], "{e:#?}");
+    assert!(e[1].message.contains("unknown statement `FOO`"));
+    assert!(e[3].message.contains("LOOP without END"));
+    // A misspelt keyword gets a suggestion.
+    let e = errors("MOVXY 1, 2, 3", &r);
+    assert_eq!(e[0].hint.as_deref(), Some("did you mean MOVEXY?"));
+    let e = errors("END\n", &r);
+    assert!(e[0].message.contains("END without LOOP"));
+}
+
+#[test]
+fn semantic_errors() {
+    let s = robot("scara5");
+    let iiwa = robot("lbr-iiwa-14-r820");
+    let cases: &[(&Robot, &str, usize, &str)] = &[
+        (&iiwa, "PTP nowhere", 1, "unknown position `nowhere`"),
+        (&iiwa, "WAIT 1s\nPTP JOINT(0deg, 1deg)", 2, "JOINT has 2 values; `lbr-iiwa-14-r820` has 7 joints"),
+        (&iiwa, "LIN CART(1m, 2m)", 1, "CART has 2 values"),
+        (&iiwa, "WAIT 5mm", 1, "expected a time (s, ms), found a length"),
+        (&iiwa, "PTP JOINT(1, 0, 0, 0, 0, 0, 0)", 1, "missing unit: expected an angle"),
+        (&iiwa, "SPEED 150%", 1, "SPEED must be in (0 %, 100 %]"),
+        (&iiwa, "VEL 2s", 1, "expected a linear speed"),
+        (&iiwa, "LOOP 0\nWAIT 1s\nEND", 1, "a loop count must be a positive whole number, not 0"),
+        (&iiwa, "LOOP 2.5\nWAIT 1s\nEND", 1, "not 2.5"),
+        (&iiwa, "FOR i = 1 TO 2.5\nWAIT 1s\nEND", 1, "FOR bounds are whole numbers"),
+        (&iiwa, "MOVEZ -10, 1", 1, "MOVEZ is an instruction of the SCARA on a rail"),
+        (&iiwa, "PROFILE wobbly", 1, "unknown profile `wobbly`"),
+        (&iiwa, "WAIT 1s + 2mm", 1, "cannot add a time (s, ms) and a length"),
+        (&iiwa, "WAIT j", 1, "unknown name `j`"),
+        (&iiwa, "WAIT 1s / 0", 1, "division by zero"),
+        (&s, "MOVEZ 5s, 1", 1, "expected a length"),
+        (&s, "HOME 0", 1, "a duration must be positive"),
+        (&iiwa, "LIN REL JOINT(0, 0, 0, 0, 0, 0, 0)", 1, "LIN REL takes a Cartesian offset"),
+    ];
+    for (r, src, line, msg) in cases {
+        let (l, m) = one_error(src, r);
+        assert_eq!(l, *line, "{src}: {m}");
+        assert!(m.contains(msg), "{src}: `{m}` does not contain `{msg}`");
+    }
+}
+
+#[test]
+fn several_semantic_errors_in_one_run() {
+    let r = robot("lbr-iiwa-14-r820");
+    let e = errors("PTP a\nWAIT 3mm\nLOOP 0\nWAIT 1s\nEND\nMOVEZ 1, 1\n", &r);
+    assert_eq!(e.len(), 4, "{e:#?}");
+}
+
+#[test]
+fn unreachable_targets_name_the_line_and_the_reason() {
+    let s = robot("scara5");
+    // Beyond the rail: the zone rule reports how far outside the rectangle.
+    let (line, msg) = one_error("HOME 1\nMOVEXY 0, 900, 2\n", &s);
+    assert_eq!(line, 2);
+    assert!(msg.contains("unreachable") && msg.contains("outside"), "{msg}");
+    let r = robot("lbr-iiwa-14-r820");
+    let (line, msg) = one_error("JACC 90deg/s^2\nWAIT 1s\nPTP CART(3m, 0m, 0.5m, 0deg, 0deg, 0deg)\n", &r);
+    assert_eq!(line, 3);
+    assert!(msg.contains("target unreachable") && msg.contains("outside"), "{msg}");
+}
+
+#[test]
+fn limit_violations_name_the_line_the_joint_and_the_time() {
+    let s = robot("scara5");
+    // z would go to 0.25 m of its 0.2 m stroke.
+    let (line, msg) = one_error("HOME 1\nMOVEZ -150, 1\n", &s);
+    assert_eq!(line, 2);
+    assert!(msg.contains("joint 4 (z)") && msg.contains("outside its limits"), "{msg}");
+    // The iiwa's A1 at 85 °/s (Cuadro I): 90° in 0.5 s is too fast; the check names the joint and the time.
+    let r = robot("lbr-iiwa-14-r820");
+    let (line, msg) = one_error("WAIT 1s\nPTP REL JOINT(90deg, 0, 0, 0, 0, 0, 0) IN 0.5s\n", &r);
+    assert_eq!(line, 2);
+    assert!(msg.contains("A1") && msg.contains("velocity") && msg.contains("t = "), "{msg}");
+}
+
+#[test]
+fn rendered_diagnostics_show_file_line_column_source_and_hint() {
+    let r = robot("lbr-iiwa-14-r820");
+    let src = "WAIT 1s\n  WAIT 5mm\n";
+    let e = errors(src, &r);
+    let text = kinema_lang::render_all(&e, "prog.krl", src);
+    assert!(text.starts_with("prog.krl:2:8: error: expected a time"), "{text}");
+    assert!(text.contains("  WAIT 5mm"), "{text}");
+    assert!(text.contains("1 error(s)"), "{text}");
+}
+
+#[test]
+fn runaway_programs_are_cut_with_an_error() {
+    let r = robot("scara5");
+    let opts = Options { max_steps: 1000, ..Options::default() };
+    let e = compile("LOOP 1000000\nLOOP 1000000\nPAUSE 0.01\nEND\nEND\n", &r, &opts).unwrap_err();
+    assert!(e.iter().any(|d| d.message.contains("more than 1000 statements")), "{e:#?}");
+    let opts = Options { max_samples: 500, ..Options::default() };
+    let e = compile("PAUSE 100\n", &r, &opts).unwrap_err();
+    assert!(e.iter().any(|d| d.message.contains("more than 500 samples")), "{e:#?}");
+}
+
+// ---------------------------------------------------------------- golden listings
+
+/// Each `tests/golden/*.prg` compiles to exactly its `.listing` (robot named
+/// on the first line as `// robot: NAME`). `UPDATE_GOLDEN=1` rewrites them.
+#[test]
+fn golden_listings() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
+    let mut count = 0;
+    let mut entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    entries.sort();
+    for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "prg")) {
+        let src = std::fs::read_to_string(&path).unwrap();
+        let name = src.lines().next().and_then(|l| l.strip_prefix("// robot: ")).expect("first line names the robot");
+        let plan = ok(&src, &robot(name.trim()));
+        let got = plan.listing();
+        let want_path = path.with_extension("listing");
+        if std::env::var_os("UPDATE_GOLDEN").is_some() {
+            std::fs::write(&want_path, &got).unwrap();
+        }
+        let want = std::fs::read_to_string(&want_path).unwrap_or_default();
+        assert_eq!(got, want, "{} changed; rerun with UPDATE_GOLDEN=1 if that is intended", path.display());
+        count += 1;
+    }
+    assert!(count >= 3, "{count}");
+}
