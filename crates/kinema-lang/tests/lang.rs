@@ -373,3 +373,26 @@ fn golden_listings() {
     }
     assert!(count >= 3, "{count}");
 }
+
+/// The Scorbot square (seed 000 Fig. 6): each 100 mm edge at 20 mm/s with
+/// 100 mm/s² takes 0.2 s to accelerate (2 mm), 4.8 s to cruise 96 mm and
+/// 0.2 s to stop: 5.2 s; with the 4 s PTP and HOME, 4 + 8 × 5.2 + 4 = 49.6 s.
+/// Every sample of the edges lies on the square, pen vertical.
+#[test]
+fn scorbot_square_by_hand() {
+    let r = robot("scorbot-er-v-plus");
+    let plan = ok(include_str!("../../../examples/programs/scorbot_square.prg"), &r);
+    assert!((plan.duration() - 49.6).abs() < 1e-9, "{}", plan.duration());
+    let (t0, t1) = (plan.motions[1].start, plan.motions[8].end);
+    for k in 0..plan.trajectory.len() {
+        let t = plan.trajectory.times()[k];
+        if t < t0 || t > t1 {
+            continue;
+        }
+        let p = tool(&r, plan.trajectory.q(k));
+        let on_x_edge = (p.pos.x - 0.35).abs() < 1e-6 || (p.pos.x - 0.45).abs() < 1e-6;
+        let on_y_edge = (p.pos.y + 0.05).abs() < 1e-6 || (p.pos.y - 0.05).abs() < 1e-6;
+        assert!(on_x_edge || on_y_edge, "t {t}: {}", p.pos);
+        assert!((p.pos.z - 0.15).abs() < 1e-6 && (p.rot.column(2) + kinema::nalgebra::Vector3::z()).norm() < 1e-6);
+    }
+}
