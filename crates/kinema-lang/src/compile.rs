@@ -158,6 +158,8 @@ struct Chain {
     duration: Option<f64>,
     /// Some motions of the chain have IN, others not.
     partial_in: bool,
+    /// Blends given both as lengths and as times.
+    mixed_blend: bool,
 }
 
 struct Compiler<'a> {
@@ -208,6 +210,21 @@ impl<'a> Compiler<'a> {
             diags.push(Diagnostic::error(whole, format!("start configuration: {e}")));
             return None;
         }
+        if let Some(i) = robot.limit_flags(&q).indices().next() {
+            let j = &robot.joints()[i];
+            diags.push(Diagnostic::error(
+                whole,
+                format!(
+                    "start configuration: joint {} ({}) at {:.6} is outside its limits [{:.6}, {:.6}]",
+                    i + 1,
+                    j.name,
+                    q[i],
+                    j.limits.min,
+                    j.limits.max
+                ),
+            ));
+            return None;
+        }
         if !(opts.dt > 0.0 && opts.dt.is_finite()) {
             diags.push(Diagnostic::error(whole, format!("the sample period must be positive, not {}", opts.dt)));
             return None;
@@ -244,6 +261,12 @@ impl<'a> Compiler<'a> {
 
     fn line(&self, span: &Span) -> usize {
         line_col(self.src, span.start).0
+    }
+
+    fn warn(&mut self, d: Diagnostic) {
+        if !self.warnings.iter().any(|w| w.span == d.span && w.message == d.message) {
+            self.warnings.push(d);
+        }
     }
 
     fn err(&mut self, d: Diagnostic) {
@@ -657,17 +680,33 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::Speed(e) => {
                 if let Some(v) = self.value(e, Dim::Percent, None) {
-                    self.speed = v;
+                    if known_bad(v, |v| v > 0.0 && v <= 1.0) {
+                        self.err(Diagnostic::error(
+                            e.span(),
+                            format!("SPEED must be in (0 %, 100 %], not {} %", v * 100.0),
+                        ));
+                    } else {
+                        self.speed = v;
+                    }
                 }
             }
             StmtKind::Vel(e) | StmtKind::Acc(e) | StmtKind::JVel(e) | StmtKind::JAcc(e) => {
                 if let Ok(q) = eval(e, &self.counters) {
+                    if known_bad(q.value, |v| v > 0.0 && (q.dim != Dim::Percent || v <= 1.0)) {
+                        self.err(Diagnostic::error(
+                            e.span(),
+                            format!("out of range: {} (must be positive, at most 100 %)", q.value),
+                        ));
+                        return;
+                    }
                     match (&s.kind, q.dim) {
                         (StmtKind::Vel(_), Dim::LinVel) => self.cart.vel = q.value,
                         (StmtKind::Vel(_), Dim::AngVel) => self.cart.rot_vel = q.value,
                         (StmtKind::Acc(_), Dim::LinAcc) => self.cart.acc = q.value,
                         (StmtKind::Acc(_), Dim::AngAcc) => self.cart.rot_acc = q.value,
-                        (StmtKind::Acc(_), Dim::Percent) => self.acc_override = q.value,
+                        (StmtKind::Acc(_), Dim::Percent) if q.value > 0.0 && q.value <= 1.0 => {
+                            self.acc_override = q.value
+                        }
                         (StmtKind::JVel(_), Dim::AngVel) => self.jvel[0] = Some(q.value),
                         (StmtKind::JVel(_), Dim::LinVel) => self.jvel[1] = Some(q.value),
                         (StmtKind::JAcc(_), Dim::AngAcc) => self.jacc[0] = Some(q.value),
@@ -684,7 +723,12 @@ impl<'a> Compiler<'a> {
             StmtKind::Tool(t) => {
                 if let Some(PosValue::Cart(p)) = self.resolve_frame(t) {
                     match self.robot.with_tool(p) {
-                        Ok(r) => self.robot_tool = r,
+                        Ok(r) => {
+                            if self.scara.is_some() {
+                                self.scara = ScaraIk::new(&r).ok();
+                            }
+                            self.robot_tool = r;
+                        }
                         Err(e) => self.err(Diagnostic::error(t.span(), format!("TOOL: {e}"))),
                     }
                 }
@@ -696,7 +740,11 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::Wait(e) => {
                 if let Some(t) = self.value(e, Dim::Time, Some(1.0)) {
-                    self.hold(s, t, "WAIT");
+                    if t < 0.0 {
+                        self.err(Diagnostic::error(e.span(), format!("a wait cannot be negative ({t} s)")));
+                    } else {
+                        self.hold(s, t, "WAIT");
+                    }
                 }
             }
             StmtKind::Home(e) => {
@@ -734,6 +782,13 @@ impl<'a> Compiler<'a> {
                 let (Some(a), Some(b)) = (self.value(from, Dim::None, None), self.value(to, Dim::None, None)) else {
                     return;
                 };
+                if a.fract() != 0.0 || b.fract() != 0.0 {
+                    self.err(Diagnostic::error(
+                        from.span().start..to.span().end,
+                        format!("FOR bounds are whole numbers, not {a} and {b}"),
+                    ));
+                    return;
+                }
                 let saved = self.counters.get(&var.key).copied();
                 let mut i = a;
                 while i <= b && !self.stopped {
@@ -818,8 +873,8 @@ impl<'a> Compiler<'a> {
             v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
         }
         if items.len() == 3 {
-            // Position only: keep the current orientation (in the base frame).
-            let current = self.base.inverse().mul(&self.current_pose());
+            // Position only: keep the orientation the robot will have (in the base frame).
+            let current = self.base.inverse().mul(&self.chain_end());
             return Some(Pose::new(current.rot, Vector3::new(v[0], v[1], v[2])));
         }
         Some(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], RpyConvention::Zyx))
@@ -905,6 +960,7 @@ impl<'a> Compiler<'a> {
             blend_is_time: false,
             duration: None,
             partial_in: false,
+            mixed_blend: false,
         });
         chain.segments.push(seg);
         chain.owners.push((s.span.clone(), line, kw, target));
@@ -921,9 +977,13 @@ impl<'a> Compiler<'a> {
         match blend {
             Some((b, is_time)) => {
                 // One blend per chain: the smallest asked for.
-                if chain.blend.map_or(true, |c| b < c) {
-                    chain.blend = Some(b);
-                    chain.blend_is_time = is_time;
+                match chain.blend {
+                    None => {
+                        chain.blend = Some(b);
+                        chain.blend_is_time = is_time;
+                    }
+                    Some(c) if chain.blend_is_time == is_time => chain.blend = Some(c.min(b)),
+                    Some(_) => chain.mixed_blend = true,
                 }
             }
             None => self.flush_chain(),
@@ -934,8 +994,17 @@ impl<'a> Compiler<'a> {
     fn flush_chain(&mut self) {
         let Some(chain) = self.chain.take() else { return };
         let first = chain.owners[0].0.clone();
+        if chain.mixed_blend {
+            self.warn(
+                Diagnostic::warning(
+                    first.clone(),
+                    "this blended chain mixes BLEND lengths and times: only the kind given first is used",
+                )
+                .with_hint("give every BLEND of a chain in mm/m or every one in s"),
+            );
+        }
         if chain.partial_in {
-            self.warnings.push(
+            self.warn(
                 Diagnostic::warning(
                     first.clone(),
                     "IN is ignored on this blended chain: give it on every motion of the chain or on none",
@@ -986,7 +1055,7 @@ impl<'a> Compiler<'a> {
             for (i, b) in motion.blend_times().iter().enumerate() {
                 if *b <= 0.0 {
                     let (span, line, ..) = &chain.owners[i];
-                    self.warnings.push(
+                    self.warn(
                         Diagnostic::warning(
                             span.clone(),
                             format!("the blend after line {line} was reduced to nothing: the corner is too sharp for the limits with this profile"),
@@ -1078,7 +1147,7 @@ impl<'a> Compiler<'a> {
             None => None,
         };
         if opts.blend.is_some() {
-            self.warnings.push(
+            self.warn(
                 Diagnostic::warning(s.span.clone(), "BLEND on a PTP is ignored: the motion stops at its target")
                     .with_hint("blending applies to LIN and CIRC"),
             );
@@ -1184,7 +1253,13 @@ impl<'a> Compiler<'a> {
                 self.sample_laws(&from, &q_to, &laws)
             }
             None => {
-                let o = self.ptp_options(profile);
+                let o = match self.ptp_options(profile, &from, &q_to) {
+                    Ok(o) => o,
+                    Err(message) => {
+                        self.err(Diagnostic::error(s.span.clone(), format!("{kw}: {message}")));
+                        return;
+                    }
+                };
                 match Ptp::new(self.robot, &from, &q_to, &o).and_then(|p| p.sample_unchecked(self.opts.dt)) {
                     Ok(j) => Some(j),
                     Err(e) => {
@@ -1211,7 +1286,7 @@ impl<'a> Compiler<'a> {
     /// accelerations. An S-curve needs jerk limits: without the robot's, a
     /// joint's jerk is 10 × its acceleration per second (full acceleration
     /// reached in 0.1 s).
-    fn ptp_options(&self, profile: Profile) -> PtpOptions {
+    fn ptp_options(&self, profile: Profile, from: &[f64], to: &[f64]) -> std::result::Result<PtpOptions, String> {
         let pick = |given: &[Option<f64>; 2], own: Option<f64>, prismatic: bool| -> Option<f64> {
             match (given[usize::from(prismatic)], own) {
                 (Some(g), Some(o)) => Some(g.min(o)),
@@ -1220,18 +1295,31 @@ impl<'a> Compiler<'a> {
             }
         };
         let joints = self.robot.joints();
-        let vel: Option<Vec<f64>> =
-            joints.iter().map(|j| pick(&self.jvel, j.limits.vel, j.kind == kinema::JointType::Prismatic)).collect();
-        let acc: Option<Vec<f64>> = joints
-            .iter()
-            .map(|j| {
-                pick(&self.jacc, j.limits.acc, j.kind == kinema::JointType::Prismatic).map(|a| a * self.acc_override)
-            })
-            .collect();
-        let jerk: Option<Vec<f64>> = acc.as_ref().map(|acc| {
-            joints.iter().zip(acc).map(|(j, a)| j.limits.jerk.map_or(10.0 * a, |x| x * self.acc_override)).collect()
-        });
-        PtpOptions { profile, vel, acc, jerk, speed: self.speed, duration: None }
+        let (mut vel, mut acc) = (Vec::with_capacity(joints.len()), Vec::with_capacity(joints.len()));
+        for (i, j) in joints.iter().enumerate() {
+            let prismatic = j.kind == kinema::JointType::Prismatic;
+            let v = pick(&self.jvel, j.limits.vel, prismatic);
+            let a = pick(&self.jacc, j.limits.acc, prismatic).map(|a| a * self.acc_override);
+            let moves = to[i] != from[i];
+            for (value, what) in [(v, "JVEL"), (a, "JACC")] {
+                if value.is_none() && moves {
+                    let unit = if prismatic { "mm/s" } else { "deg/s" };
+                    let unit = if what == "JACC" { format!("{unit}^2") } else { unit.to_string() };
+                    return Err(format!(
+                        "joint {} ({}) moves but neither the robot model nor the program gives it a {}; set one with `{what} <value> {unit}` or give the motion a duration",
+                        i + 1,
+                        j.name,
+                        if what == "JVEL" { "speed limit" } else { "acceleration limit" }
+                    ));
+                }
+            }
+            // A joint that does not move needs no limit; any positive value does.
+            vel.push(v.unwrap_or(1.0));
+            acc.push(a.unwrap_or(1.0));
+        }
+        let jerk =
+            joints.iter().zip(&acc).map(|(j, a)| j.limits.jerk.map_or(10.0 * a, |x| x * self.acc_override)).collect();
+        Ok(PtpOptions { profile, vel: Some(vel), acc: Some(acc), jerk: Some(jerk), speed: self.speed, duration: None })
     }
 
     fn law_for(&mut self, s: &Stmt, profile: Profile, t: f64) -> Option<TimeLaw> {
@@ -1347,7 +1435,7 @@ impl<'a> Compiler<'a> {
         let Some(j) = self.sample_laws(&from, &q_to, &laws) else { return };
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
         let profile = match (xy_moves, kw) {
-            (true, "HOME") => "cubic (xy) + linear (z, θ)",
+            (true, "HOME") => "cubic + linear (z)",
             (true, _) => "cubic",
             (false, _) => "linear",
         };

@@ -16,7 +16,7 @@ pub type Span = Range<usize>;
 /// What a token is.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Tok {
-    /// A name or keyword (letters, digits, `_`, `-` inside; starts with a letter or `_`).
+    /// A name or keyword (letters, digits, `_`, and `-` before a letter; starts with a letter or `_`).
     Ident(String),
     /// A number with its optional unit (lower case, e.g. `"mm"`, `"deg/s"`, `"%"`).
     Number(f64, Option<String>),
@@ -180,12 +180,13 @@ pub fn lex(src: &str) -> (Vec<Token>, Vec<Diagnostic>) {
     (toks, diags)
 }
 
-/// A `-` inside a name (robot and pose names such as `lbr-iiwa`): followed by
-/// a letter or digit and preceded by one.
+/// A `-` inside a name (pose names such as `sing-q2-q3`): preceded by a
+/// letter or digit of the name and followed by a letter. `p-1` is `p` minus
+/// 1; a subtraction of two names needs spaces (`a - b`).
 fn is_inner_dash(bytes: &[u8], i: usize) -> bool {
     bytes[i] == b'-'
         && i > 0
-        && bytes[i - 1].is_ascii_alphabetic()
+        && bytes[i - 1].is_ascii_alphanumeric()
         && bytes.get(i + 1).is_some_and(|b| b.is_ascii_alphabetic())
 }
 

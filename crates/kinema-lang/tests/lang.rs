@@ -396,3 +396,32 @@ fn scorbot_square_by_hand() {
         assert!((p.pos.z - 0.15).abs() < 1e-6 && (p.rot.column(2) + kinema::nalgebra::Vector3::z()).norm() < 1e-6);
     }
 }
+
+/// Found in review: JVEL/JACC on a robot with both joint kinds, counter
+/// values out of range at run time, names with a dash after a digit, and a
+/// start outside the limits.
+#[test]
+fn review_findings_stay_fixed() {
+    let s = robot("scara5");
+    // Only revolute joints move: the angular JVEL/JACC suffice.
+    let plan = ok("JVEL 30deg/s\nJACC 60deg/s^2\nPTP REL JOINT(0mm, 10deg, 0deg, 0mm, 0deg)\n", &s);
+    assert!(plan.duration() > 0.3);
+    // The rail moves too: the error names it and the statement to use.
+    let (line, msg) = one_error("JVEL 30deg/s\nJACC 60deg/s^2\nPTP REL JOINT(50mm, 10deg, 0deg, 0mm, 0deg)\n", &s);
+    assert_eq!(line, 3);
+    assert!(msg.contains("joint 1 (rail)") && msg.contains("JVEL <value> mm/s"), "{msg}");
+    // A counter makes SPEED 150 %.
+    let iiwa = robot("lbr-iiwa-14-r820");
+    let (line, msg) = one_error("FOR i = 1 TO 3\n  SPEED i * 50%\nEND\n", &iiwa);
+    assert_eq!(line, 2);
+    assert!(msg.contains("SPEED must be in"), "{msg}");
+    let (_, msg) = one_error("FOR i = 1 TO 2\n  WAIT 1s - i * 1s\nEND\n", &iiwa);
+    assert!(msg.contains("cannot be negative"), "{msg}");
+    // The iiwa's named pose `sing-q2-q3` can be used by name.
+    let e = kinema_lang::check("PTP sing-q2-q3 IN 3s\n", &iiwa, &Options::default());
+    assert!(e.iter().all(|d| !d.message.contains("unknown")), "{e:?}");
+    // A start outside the limits is refused up front.
+    let opts = Options { start: Some(vec![0.0, 0.0, 0.0, 0.5, 0.0]), ..Options::default() };
+    let e = compile("WAIT 1s", &s, &opts).unwrap_err();
+    assert!(e[0].message.contains("start configuration: joint 4 (z)"), "{e:?}");
+}
