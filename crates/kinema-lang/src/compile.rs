@@ -210,19 +210,8 @@ impl<'a> Compiler<'a> {
             diags.push(Diagnostic::error(whole, format!("start configuration: {e}")));
             return None;
         }
-        if let Some(i) = robot.limit_flags(&q).indices().next() {
-            let j = &robot.joints()[i];
-            diags.push(Diagnostic::error(
-                whole,
-                format!(
-                    "start configuration: joint {} ({}) at {:.6} is outside its limits [{:.6}, {:.6}]",
-                    i + 1,
-                    j.name,
-                    q[i],
-                    j.limits.min,
-                    j.limits.max
-                ),
-            ));
+        if let Some(m) = outside_limits(robot, &q) {
+            diags.push(Diagnostic::error(whole, format!("start configuration: {m}")));
             return None;
         }
         if !(opts.dt > 0.0 && opts.dt.is_finite()) {
@@ -1226,19 +1215,8 @@ impl<'a> Compiler<'a> {
             self.err(Diagnostic::error(s.span.clone(), e.to_string()));
             return;
         }
-        if let Some(i) = self.robot.limit_flags(&q_to).indices().next() {
-            let j = &self.robot.joints()[i];
-            self.err(Diagnostic::error(
-                s.span.clone(),
-                format!(
-                    "the target puts joint {} ({}) at {:.6}, outside its limits [{:.6}, {:.6}]",
-                    i + 1,
-                    j.name,
-                    q_to[i],
-                    j.limits.min,
-                    j.limits.max
-                ),
-            ));
+        if let Some(m) = outside_limits(self.robot, &q_to) {
+            self.err(Diagnostic::error(s.span.clone(), format!("the target puts {m}")));
             return;
         }
         let kw = keyword_of(&s.kind).to_string();
@@ -1410,19 +1388,8 @@ impl<'a> Compiler<'a> {
     /// wrist's compensation of them follow a cubic; z and θ alone follow a
     /// linear law. Lasts exactly `t`.
     fn scara_move(&mut self, s: &Stmt, q_to: Vec<f64>, t: f64, kw: &str, text: String) {
-        if let Some(i) = self.robot.limit_flags(&q_to).indices().next() {
-            let j = &self.robot.joints()[i];
-            self.err(Diagnostic::error(
-                s.span.clone(),
-                format!(
-                    "{kw} puts joint {} ({}) at {:.6}, outside its limits [{:.6}, {:.6}]",
-                    i + 1,
-                    j.name,
-                    q_to[i],
-                    j.limits.min,
-                    j.limits.max
-                ),
-            ));
+        if let Some(m) = outside_limits(self.robot, &q_to) {
+            self.err(Diagnostic::error(s.span.clone(), format!("{kw} puts {m}")));
             return;
         }
         let (Some(cubic), Some(linear)) = (self.law_for(s, Profile::Cubic, t), self.law_for(s, Profile::Linear, t))
@@ -1474,6 +1441,21 @@ impl<'a> Compiler<'a> {
             );
         }
     }
+}
+
+/// "joint i (name) at v, outside its limits [min, max]" for the first joint of
+/// `q` outside its limits.
+fn outside_limits(robot: &Robot, q: &[f64]) -> Option<String> {
+    let i = robot.limit_flags(q).indices().next()?;
+    let j = &robot.joints()[i];
+    Some(format!(
+        "joint {} ({}) at {:.6}, outside its limits [{:.6}, {:.6}]",
+        i + 1,
+        j.name,
+        q[i],
+        j.limits.min,
+        j.limits.max
+    ))
 }
 
 /// A value known at check time (FOR counters are NaN there) that fails `ok`.
