@@ -181,6 +181,11 @@ fn seed_lin_example_within_cuadro_i() {
     let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik).unwrap();
     let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
     assert!(report.violations.is_empty(), "{}", report.violations[0]);
+    // q3 turns smoothly: its rate changes by at most Q3_ACCELERATION between
+    // decisions (the seed's greedy rule alone reversed q3 at full speed,
+    // 131 rad/s² in these differences).
+    let worst = (0..traj.len()).map(|k| traj.qdd(k)[2].abs()).fold(0.0, f64::max);
+    assert!(worst <= 2.5 * kinema::traj::joint::Q3_ACCELERATION, "q̈3 up to {worst} rad/s²");
     // Every sample is on the line.
     for k in 0..traj.len() {
         let p = robot.fk(traj.q(k)).unwrap().pose;

@@ -819,29 +819,34 @@ impl IiwaIk {
         points: usize,
         max_steps: &[f64],
     ) -> Result<Solution> {
-        self.select_impl(q_prev, target, direction, window, points, max_steps, false)
+        self.robot.check_q(q_prev)?;
+        self.select_impl(q_prev, q_prev[2], target, direction, window, points, max_steps, false)
     }
 
     /// [`IiwaIk::select_within`] for the next sample of a path through
-    /// `q_prev` (a few ms earlier): only the shoulder/elbow branches that can
-    /// continue the path are solved ([`IiwaIk::solve_q3_near`]); the others
-    /// would be jumps.
+    /// `q_prev` (a few ms earlier), with the q3 grid centred on `center` (the
+    /// path's prediction of q3) instead of q_prev\[2\]: only the
+    /// shoulder/elbow branches that can continue the path are solved
+    /// ([`IiwaIk::solve_q3_near`]); the others would be jumps.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn select_continuing(
         &self,
         q_prev: &[f64],
+        center: f64,
         target: &Pose,
         direction: Option<&Vector3<f64>>,
         window: f64,
         points: usize,
         max_steps: &[f64],
     ) -> Result<Solution> {
-        self.select_impl(q_prev, target, direction, window, points, max_steps, true)
+        self.select_impl(q_prev, center, target, direction, window, points, max_steps, true)
     }
 
     #[allow(clippy::too_many_arguments)]
     fn select_impl(
         &self,
         q_prev: &[f64],
+        center: f64,
         target: &Pose,
         direction: Option<&Vector3<f64>>,
         window: f64,
@@ -863,29 +868,34 @@ impl IiwaIk {
         let lim = self.robot.joints()[2].limits;
         let steps = if window > 0.0 { (points / 2) as i64 } else { 0 };
         let step = if steps > 0 { window / steps as f64 } else { 0.0 };
-        let mut cands: Vec<[f64; 7]> = Vec::new();
+        // Grid index of each candidate (k in −steps..=steps) and its joint values.
+        let mut cands: Vec<(i64, [f64; 7])> = Vec::new();
         let mut last_err = None;
         let mut rejected = Vec::new();
+        let nearest = |q3: f64| -> Result<Option<[f64; 7]>> {
+            let sols = self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev))?;
+            Ok(sols
+                .qs()
+                .iter()
+                .filter(|q| self.robot.limit_flags(&q[..]).is_empty())
+                .map(|q| (joint_distance(&self.robot, q, q_prev), q))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, q)| *q))
+        };
         for k in -steps..=steps {
-            let q3 = q_prev[2] + k as f64 * step;
+            let q3 = center + k as f64 * step;
             if !lim.contains(q3) {
                 continue;
             }
-            match self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev)) {
-                Ok(sols) => {
-                    let best = sols
-                        .qs()
-                        .iter()
-                        .filter(|q| self.robot.limit_flags(&q[..]).is_empty())
-                        .map(|q| (joint_distance(&self.robot, q, q_prev), q))
-                        .min_by(|a, b| a.0.total_cmp(&b.0));
-                    match best {
-                        Some((_, q)) => cands.push(*q),
-                        None => rejected.extend(sols.qs().iter().map(|q| {
+            match nearest(q3) {
+                Ok(Some(q)) => cands.push((k, q)),
+                Ok(None) => {
+                    if let Ok(sols) = self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev)) {
+                        rejected.extend(sols.qs().iter().map(|q| {
                             let joints: Vec<String> =
                                 self.robot.limit_flags(q).indices().map(|i| format!("q{}", i + 1)).collect();
                             format!("{} at q3 = {q3:.4} ({})", config_label(bits(q)), joints.join(", "))
-                        })),
+                        }));
                     }
                 }
                 Err(e) => last_err = Some(e),
@@ -900,24 +910,29 @@ impl IiwaIk {
             return Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected } });
         }
         let small = |q: &[f64; 7]| q.iter().zip(q_prev).zip(max_steps).all(|((a, b), m)| (a - b).abs() <= *m);
-        if cands.iter().any(small) {
-            cands.retain(small);
+        if cands.iter().any(|(_, q)| small(q)) {
+            cands.retain(|(_, q)| small(q));
         }
-        let heights: Vec<f64> = cands.iter().map(|q| self.elbow_height(q)).collect();
+        let heights: Vec<f64> = cands.iter().map(|(_, q)| self.elbow_height(q)).collect();
+        let score_of = |q: &[f64; 7]| -> Result<f64> {
+            match direction {
+                Some(v) => {
+                    let j = self.robot.jacobian(q, Frame::Base)?;
+                    manipulability_along(&j, Axes::Translation, v)
+                }
+                None => Ok(0.0),
+            }
+        };
+        let mut scores = vec![f64::NEG_INFINITY; cands.len()];
         let pick = if heights.iter().any(|&h| h > 0.0) {
             let mut best = (f64::NEG_INFINITY, f64::INFINITY, 0usize);
-            for (i, q) in cands.iter().enumerate() {
+            for (i, (_, q)) in cands.iter().enumerate() {
                 if heights[i] <= 0.0 {
                     continue;
                 }
                 let dist = joint_distance(&self.robot, q, q_prev);
-                let score = match direction {
-                    Some(v) => {
-                        let j = self.robot.jacobian(q, Frame::Base)?;
-                        manipulability_along(&j, Axes::Translation, v)?
-                    }
-                    None => 0.0,
-                };
+                let score = score_of(q)?;
+                scores[i] = score;
                 if score > best.0 || (score == best.0 && dist < best.1) {
                     best = (score, dist, i);
                 }
@@ -926,7 +941,25 @@ impl IiwaIk {
         } else {
             (0..cands.len()).max_by(|&a, &b| heights[a].total_cmp(&heights[b])).unwrap_or(0)
         };
-        let q = cands[pick];
+        // Between grid points: the vertex of the parabola through the best
+        // score and its two grid neighbours. Without it the choice hops between
+        // neighbouring grid points when the maximum lies between them, and q3
+        // chatters at the decision rate.
+        let mut q = cands[pick].1;
+        if direction.is_some() && step > 0.0 && pick > 0 && pick + 1 < cands.len() {
+            let (km, k0, kp) = (cands[pick - 1].0, cands[pick].0, cands[pick + 1].0);
+            let (sm, s0, sp) = (scores[pick - 1], scores[pick], scores[pick + 1]);
+            let curvature = sm - 2.0 * s0 + sp;
+            if km + 1 == k0 && k0 + 1 == kp && sm.is_finite() && sp.is_finite() && curvature < 0.0 {
+                let delta = (0.5 * (sm - sp) / curvature).clamp(-0.5, 0.5);
+                let q3 = center + (k0 as f64 + delta) * step;
+                if let Ok(Some(refined)) = nearest(q3) {
+                    if small(&refined) && self.elbow_height(&refined) > 0.0 && score_of(&refined)? >= s0 {
+                        q = refined;
+                    }
+                }
+            }
+        }
         Solution::evaluate(&self.robot, q.to_vec(), target, config_label(bits(&q)))
     }
 

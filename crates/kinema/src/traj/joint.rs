@@ -108,6 +108,13 @@ fn at_time(t: f64, e: Error) -> Error {
     }
 }
 
+/// Largest change of q3's rate \[rad/s²\] the iiwa's q3 rule asks for along a
+/// path when the model gives joint 3 no acceleration limit: the rule
+/// searches q3 around the constant-rate prediction within ±a·dt² per
+/// decision, so q3 turns smoothly instead of reversing at full speed (seed
+/// 004's rule alone maximises manipulability greedily and chatters).
+pub const Q3_ACCELERATION: f64 = 5.0;
+
 /// Period \[s\] at which the iiwa's q3 rule decides q3 along a path; between
 /// decisions q3 is interpolated linearly and each sample is one closed-form
 /// solve (the rule costs ~20 solves, a sample one).
@@ -296,23 +303,46 @@ fn generic_path(
 
 /// The iiwa along a path: seed 004's q3 rule (q_k = f(q_{k−1}, T_k)) every
 /// [`Q3_DECISION_PERIOD`], with q3's drift limited by its velocity limit and
-/// every joint's step by its own; in between, q3 interpolated and the
+/// every joint's step by its own and its rate's change by
+/// [`Q3_ACCELERATION`]; in between, q3 interpolated (cubic Hermite) and the
 /// closed-form solution nearest to the previous sample. (Newton tracking of
 /// the other six joints with q3 held was tried: 9.9 ms instead of 8.6 ms for
 /// the 10 s LIN at 1 kHz — the 7-joint Jacobian and a 6×6 LU cost more than
 /// the closed form on the two branches that can continue the path.)
 fn iiwa_path(robot: &Robot, ik: &IiwaIk, motion: &CartesianMotion, q_start: &[f64], times: &[f64]) -> Result<Vec<f64>> {
     let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
-    let decide = |prev: &[f64], t: f64, dt: f64| -> Result<Vec<f64>> {
+    let amax3 = robot.joints()[2].limits.acc.unwrap_or(Q3_ACCELERATION);
+    // q3's rate at the last decision: the next q3 is searched around the
+    // constant-rate prediction, within what Q3_ACCELERATION allows.
+    // The decision and whether it came from the smooth (rate-continuing) search.
+    let decide = |prev: &[f64], rate: f64, t: f64, dt: f64| -> Result<(Vec<f64>, bool)> {
         let st = motion.at(t);
         let dir = (st.vel.norm() > 1e-12).then_some(st.vel);
-        let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
         // 80 % of each joint's velocity limit: the samples between decisions
         // do not move exactly linearly and must stay within the limit too.
         let steps: Vec<f64> = (0..7).map(|i| 0.8 * vmax(i) * dt).collect();
-        // A small window needs few grid points to follow the manipulability gradient.
+        let within = |q: &[f64]| q.iter().zip(prev).zip(&steps).all(|((a, b), m)| (a - b).abs() <= *m);
+        // First around q3's constant-rate prediction, its rate changing by at
+        // most amax3·dt: three grid points and the parabola through them.
+        let window = (0.5 * vmax(2) * dt).min(amax3 * dt * dt).min(ik::iiwa::SELECT_WINDOW);
+        let points = if window < ik::iiwa::SELECT_WINDOW { 3 } else { 21 };
+        let smooth = ik.select_continuing(prev, prev[2] + rate * dt, &st.pose, dir.as_ref(), window, points, &steps);
+        if let Ok(sol) = &smooth {
+            if within(&sol.q) {
+                return Ok((sol.q.clone(), true));
+            }
+        }
+        // That would make another joint jump (a singularity ahead): search the
+        // whole window q3's velocity limit allows around the present q3.
+        let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
         let points = if window < ik::iiwa::SELECT_WINDOW { 5 } else { 21 };
-        Ok(ik.select_continuing(prev, &st.pose, dir.as_ref(), window, points, &steps).map_err(|e| at_time(t, e))?.q)
+        match ik.select_continuing(prev, prev[2], &st.pose, dir.as_ref(), window, points, &steps) {
+            Ok(sol) => Ok((sol.q, false)),
+            Err(e) => match smooth {
+                Ok(sol) => Ok((sol.q, false)),
+                Err(_) => Err(at_time(t, e)),
+            },
+        }
     };
     // Decision samples: every sample at coarse periods, else about every Q3_DECISION_PERIOD.
     let mut decisions = vec![0usize];
@@ -325,34 +355,85 @@ fn iiwa_path(robot: &Robot, ik: &IiwaIk, motion: &CartesianMotion, q_start: &[f6
     let mut qs: Vec<f64> = Vec::with_capacity(times.len() * 7);
     qs.extend_from_slice(q_start);
     let mut set = ik::CandidateSet::new();
-    for w in decisions.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let q_b = decide(&qs[7 * a..7 * a + 7], times[b], times[b] - times[a])?;
+    let mut rate = 0.0;
+    // Whether `q` can follow `prev` within the joints' velocity limits over `dt`.
+    let fits = |q: &[f64], prev: &[f64], dt: f64| {
+        q.iter().zip(prev).enumerate().all(|(i, (a, b))| (a - b).abs() <= vmax(i) * dt)
+    };
+    // The segment from the anchor sample `a` to the next decision sample.
+    let mut a = 0usize;
+    let mut next = 1usize;
+    while next < decisions.len() {
+        let b = decisions[next];
+        let (q_b, smooth) = decide(&qs[7 * a..7 * a + 7], rate, times[b], times[b] - times[a])?;
         let (q3a, q3b) = (qs[7 * a + 2], q_b[2]);
+        let mut reanchored = false;
         for k in a + 1..b {
             let t = times[k];
             let u = (t - times[a]) / (times[b] - times[a]);
             let target = motion.at(t).pose;
             let prev = &qs[7 * (k - 1)..7 * k];
-            let q3 = q3a + u * (q3b - q3a);
-            // Only the branches that can continue the path through `prev`.
-            let picked = ik.solve_q3_near(&target, q3, prev).ok().and_then(|c| {
-                c.write_into(&mut set);
-                set.nearest_within_limits(robot, prev)
-            });
-            match picked {
-                Some(i) if reaches(robot, set.q(i), &target)? => {
-                    let q: [f64; 7] = set.q(i).try_into().expect("7 joints");
-                    qs.extend_from_slice(&q);
+            // After a smooth decision, a cubic Hermite from (q3a, rate) to (q3b,
+            // secant): q3's rate is continuous at the decisions (each segment
+            // ends at its secant slope, the next starts with it), so q̈3 stays
+            // near Q3_ACCELERATION instead of being impulses at the decisions.
+            // After an escape from a singularity (a wide-window decision), a
+            // straight line, which cannot overshoot towards it.
+            let linear = q3a + (q3b - q3a) * u;
+            let hermite = if smooth {
+                let h = u * u * (2.0 - u);
+                q3a + (q3b - q3a) * h + (times[b] - times[a]) * rate * u * (1.0 - u) * (1.0 - u)
+            } else {
+                linear
+            };
+            let dt_k = t - times[k - 1];
+            let mut found: Option<[f64; 7]> = None;
+            for q3 in [hermite, linear] {
+                // Only the branches that can continue the path through `prev`.
+                let picked = ik.solve_q3_near(&target, q3, prev).ok().and_then(|c| {
+                    c.write_into(&mut set);
+                    set.nearest_within_limits(robot, prev)
+                });
+                if let Some(i) = picked {
+                    if fits(set.q(i), prev, dt_k) && reaches(robot, set.q(i), &target)? {
+                        found = Some(set.q(i).try_into().expect("7 joints"));
+                        break;
+                    }
                 }
-                // The interpolated q3 does not work here: decide at this sample.
-                _ => {
-                    let q = decide(prev, t, t - times[k - 1])?;
+                if hermite == linear {
+                    break;
+                }
+            }
+            match found {
+                Some(q) => qs.extend_from_slice(&q),
+                // The planned q3 does not work here: decide at this sample and
+                // plan the rest of the segment again from it.
+                None => {
+                    let (q, _) = decide(prev, rate, t, dt_k)?;
+                    rate = (q[2] - prev[2]) / dt_k;
                     qs.extend_from_slice(&q);
+                    a = k;
+                    reanchored = true;
+                    break;
                 }
             }
         }
-        qs.extend_from_slice(&q_b);
+        if reanchored {
+            continue;
+        }
+        let prev = &qs[7 * (b - 1)..7 * b];
+        let dt_b = times[b] - times[b - 1];
+        if fits(&q_b, prev, dt_b) {
+            rate = (q_b[2] - q3a) / (times[b] - times[a]);
+            qs.extend_from_slice(&q_b);
+        } else {
+            // The samples before it drifted from the plan: decide from the last one.
+            let (q, _) = decide(prev, rate, times[b], dt_b)?;
+            rate = (q[2] - prev[2]) / dt_b;
+            qs.extend_from_slice(&q);
+        }
+        a = b;
+        next += 1;
     }
     Ok(qs)
 }
