@@ -14,6 +14,8 @@ BASE CART(0mm, 0mm, 0mm, 0deg, 0deg, 0deg)
 POS above = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)
 POS bent = JOINT(0deg, 30deg, 0deg, -60deg, 0deg, 60deg, 0deg)
 PTP bent
+// joint targets in the listing stay independent of the q3 rule's path
+PTP REL JOINT(5deg, 0, 0, 0, 0, 0, 0) IN 1s
 PTP above
 LIN REL CART(0mm, 0mm, -100mm)
 FOR i = 1 TO 2
@@ -21,7 +23,6 @@ FOR i = 1 TO 2
   CIRC CART(600mm, 100mm * i - 100mm, 300mm), CART(650mm, -150mm + 100mm * i, 300mm, 0deg, 180deg, 0deg) BLEND 0.1s
   LIN CART(550mm, -150mm, 300mm, 0deg, 180deg, 0deg)
 END
-PTP REL JOINT(5deg, 0, 0, 0, 0, 0, 0) IN 1s
 LIN REL CART(0mm, 0mm, 50mm) IN 2s
 WAIT 250ms
 PAUSE 0.25
