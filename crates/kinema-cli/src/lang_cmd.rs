@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use kinema::{Robot, RpyConvention};
+use kinema::RpyConvention;
 use kinema_lang::{render_all, Options, Plan};
 use serde_json::json;
 
@@ -49,7 +49,7 @@ pub struct CompileArgs {
 }
 
 /// Reads, compiles, prints the diagnostics; the plan, or exit code 1.
-fn build(a: &ProgramArgs) -> Result<(Robot, Plan, String)> {
+fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
     let robot = a.robot.load()?;
     let bytes = std::fs::read(&a.program).with_context(|| format!("cannot read {}", a.program.display()))?;
     let src = String::from_utf8(bytes).map_err(|e| {
@@ -66,7 +66,7 @@ fn build(a: &ProgramArgs) -> Result<(Robot, Plan, String)> {
             if !plan.warnings.is_empty() {
                 eprint!("{}", render_all(&plan.warnings, &name, &src));
             }
-            Ok((robot, plan, name))
+            Ok((plan, name))
         }
         Err(diags) => {
             eprint!("{}", render_all(&diags, &name, &src));
@@ -76,8 +76,8 @@ fn build(a: &ProgramArgs) -> Result<(Robot, Plan, String)> {
 }
 
 pub fn check(a: ProgramArgs) -> Result<()> {
-    let (robot, plan, name) = build(&a)?;
-    println!("{name}: ok on `{}` — {} motion(s), {:.4} s", robot.name(), plan.motions.len(), plan.duration());
+    let (plan, name) = build(&a)?;
+    println!("{name}: ok on `{}` — {} motion(s), {:.4} s", plan.robot.name(), plan.motions.len(), plan.duration());
     Ok(())
 }
 
@@ -98,7 +98,7 @@ fn summary(plan: &Plan) -> Result<serde_json::Value> {
 }
 
 pub fn run(a: RunArgs) -> Result<()> {
-    let (_robot, plan, _) = build(&a.program)?;
+    let (plan, _) = build(&a.program)?;
     let robot = &plan.robot;
     let conv = RpyConvention::Zyx;
     let rows = traj_cmd::table(robot, &plan.trajectory, conv)?;
@@ -119,7 +119,7 @@ pub fn run(a: RunArgs) -> Result<()> {
 }
 
 pub fn compile(a: CompileArgs) -> Result<()> {
-    let (_robot, plan, name) = build(&a.program)?;
+    let (plan, name) = build(&a.program)?;
     if a.json {
         let motions: Vec<_> = plan
             .motions

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 
 use kinema::ik::scara::ScaraIk;
-use kinema::ik::{self, NumericIk};
+use kinema::ik::{self, NumericIk, Solutions};
 use kinema::math::{rpy_to_rot, Pose};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{
@@ -281,7 +281,6 @@ impl<'a> Compiler<'a> {
     // Range checks read better inside their match arm than folded into its guard.
     #[allow(clippy::collapsible_match)]
     fn static_stmt(&mut self, s: &Stmt, scope: &mut Scope) {
-        let n = self.robot.dof();
         match &s.kind {
             StmtKind::Pos { name, value } => {
                 if let Some(joint) = self.static_target(value, scope) {
@@ -404,7 +403,6 @@ impl<'a> Compiler<'a> {
                 let mut inner = scope.clone();
                 inner.counters.push(var.key.clone());
                 self.static_block(body, &mut inner);
-                let _ = n;
             }
             StmtKind::MoveZ { dz, time } | StmtKind::MoveTita { dtheta: dz, time } => {
                 self.static_scara(s);
@@ -750,8 +748,7 @@ impl<'a> Compiler<'a> {
                     let Some(t) = duration.or_else(|| self.missing_duration(s, "HOME")) else { return };
                     self.scara_move(s, home, t, "HOME", "home".into());
                 } else {
-                    let opts = MotionOpts::default();
-                    self.ptp_to(s, home, duration, &opts, "home".into());
+                    self.ptp_to(s, home, duration, "home".into());
                 }
             }
             StmtKind::Loop { count, body } => {
@@ -856,11 +853,17 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    fn cart_values(&mut self, items: &[Expr]) -> Option<Pose> {
+    /// The values of CART(...) in SI: x, y, z and roll, pitch, yaw (0 where not written).
+    fn cart_numbers(&mut self, items: &[Expr]) -> Option<[f64; 6]> {
         let mut v = [0.0; 6];
         for (i, e) in items.iter().enumerate().take(6) {
             v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
         }
+        Some(v)
+    }
+
+    fn cart_values(&mut self, items: &[Expr]) -> Option<Pose> {
+        let v = self.cart_numbers(items)?;
         if items.len() == 3 {
             // Position only: keep the orientation the robot will have (in the base frame).
             let current = self.base.inverse().mul(&self.chain_end());
@@ -873,10 +876,7 @@ impl<'a> Compiler<'a> {
     fn resolve_frame(&mut self, t: &Target) -> Option<PosValue> {
         match t {
             Target::Cart(items, _) => {
-                let mut v = [0.0; 6];
-                for (i, e) in items.iter().enumerate().take(6) {
-                    v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
-                }
+                let v = self.cart_numbers(items)?;
                 Some(PosValue::Cart(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], RpyConvention::Zyx)))
             }
             other => self.resolve(other),
@@ -891,10 +891,7 @@ impl<'a> Compiler<'a> {
     fn cart_target(&mut self, t: &Target, relative: bool) -> Option<Pose> {
         if relative {
             let Target::Cart(items, _) = t else { return None };
-            let mut v = [0.0; 6];
-            for (i, e) in items.iter().enumerate().take(6) {
-                v[i] = self.value(e, if i < 3 { Dim::Length } else { Dim::Angle }, None)?;
-            }
+            let v = self.cart_numbers(items)?;
             let from = self.chain_end();
             // An offset in the BASE frame: translation added, rotation applied on the left.
             let rb = self.base.rot;
@@ -1068,10 +1065,8 @@ impl<'a> Compiler<'a> {
         };
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
         let starts = motion.segment_starts().to_vec();
-        let laws: Vec<f64> = motion.laws().iter().map(TimeLaw::duration).collect();
         for (i, (span, line, kw, target)) in chain.owners.iter().enumerate() {
             let end = if i + 1 < chain.owners.len() { starts[i + 1] } else { motion.duration() };
-            let _ = laws[i];
             self.plan_motions.push(PlannedMotion {
                 line: *line,
                 kind: kw.to_string(),
@@ -1170,20 +1165,17 @@ impl<'a> Compiler<'a> {
             }
         };
         let text = format!("joints [{}]", fmt_joints(&q_to));
-        self.ptp_to(s, q_to, duration, opts, text);
+        self.ptp_to(s, q_to, duration, text);
     }
 
     /// The configuration reaching `pose` nearest to the current one, within limits.
     fn ik(&mut self, s: &Stmt, pose: &Pose) -> Option<Vec<f64>> {
-        let robot = self.robot_tool.clone();
-        let result = match ik::analytic_solver(&robot) {
+        let robot = &self.robot_tool;
+        let result = match ik::analytic_solver(robot) {
             Some(solver) => solver.solve_within_limits(pose).and_then(|sols| {
                 let ok: Vec<_> =
                     sols.into_iter().filter(|s| s.position_error < 1e-6 && s.orientation_error < 1e-6).collect();
-                let best = ok.iter().min_by(|a, b| {
-                    ik::joint_distance(&robot, &a.q, &self.q).total_cmp(&ik::joint_distance(&robot, &b.q, &self.q))
-                });
-                match best {
+                match ok.nearest(robot, &self.q) {
                     Some(b) => Ok(b.q.clone()),
                     None => Err(kinema::Error::Unreachable {
                         solver: solver.name().into(),
@@ -1197,7 +1189,7 @@ impl<'a> Compiler<'a> {
                     }),
                 }
             }),
-            None => NumericIk::new(&robot).solve_from(pose, &self.q).map(|s| s.q),
+            None => NumericIk::new(robot).solve_from(pose, &self.q).map(|s| s.q),
         };
         match result {
             Ok(q) => Some(q),
@@ -1210,7 +1202,7 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    fn ptp_to(&mut self, s: &Stmt, q_to: Vec<f64>, duration: Option<f64>, _opts: &MotionOpts, text: String) {
+    fn ptp_to(&mut self, s: &Stmt, q_to: Vec<f64>, duration: Option<f64>, text: String) {
         if let Err(e) = self.robot.check_q(&q_to) {
             self.err(Diagnostic::error(s.span.clone(), e.to_string()));
             return;

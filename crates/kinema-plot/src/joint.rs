@@ -58,21 +58,13 @@ impl JointCurves {
         let joints = robot.joints();
         let all_revolute = joints.iter().all(|j| j.kind == JointType::Revolute);
         let all_prismatic = joints.iter().all(|j| j.kind == JointType::Prismatic);
-        let (scale, unit) = if all_revolute {
-            (180.0 / std::f64::consts::PI, "deg")
+        let (scale, units) = if all_revolute {
+            (180.0 / std::f64::consts::PI, ["deg", "deg/s", "deg/s²"])
         } else if all_prismatic {
-            (1000.0, "mm")
+            (1000.0, ["mm", "mm/s", "mm/s²"])
         } else {
-            (1.0, "rad or m")
+            (1.0, ["rad or m", "rad/s or m/s", "rad/s² or m/s²"])
         };
-        let units = if all_revolute {
-            ["deg", "deg/s", "deg/s²"]
-        } else if all_prismatic {
-            ["mm", "mm/s", "mm/s²"]
-        } else {
-            ["rad or m", "rad/s or m/s", "rad/s² or m/s²"]
-        };
-        let _ = unit;
         let mut series: [Vec<Vec<f64>>; 3] = Default::default();
         for (p, s) in series.iter_mut().enumerate() {
             *s = (0..n)

@@ -819,8 +819,9 @@ impl IiwaIk {
         points: usize,
         max_steps: &[f64],
     ) -> Result<Solution> {
-        self.robot.check_q(q_prev)?;
-        self.select_impl(q_prev, q_prev[2], target, direction, window, points, max_steps, false)
+        // select_impl checks q_prev (a short or non-finite one gives a NaN centre first).
+        let center = q_prev.get(2).copied().unwrap_or(f64::NAN);
+        self.select_impl(q_prev, center, target, direction, window, points, max_steps, false)
     }
 
     /// [`IiwaIk::select_within`] for the next sample of a path through
@@ -872,32 +873,30 @@ impl IiwaIk {
         let mut cands: Vec<(i64, [f64; 7])> = Vec::new();
         let mut last_err = None;
         let mut rejected = Vec::new();
-        let nearest = |q3: f64| -> Result<Option<[f64; 7]>> {
-            let sols = self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev))?;
-            Ok(sols
-                .qs()
+        let solve = |q3: f64| self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev));
+        // The solution within limits nearest to q_prev.
+        let nearest = |sols: &Candidates<7, 8>| -> Option<[f64; 7]> {
+            sols.qs()
                 .iter()
                 .filter(|q| self.robot.limit_flags(&q[..]).is_empty())
                 .map(|q| (joint_distance(&self.robot, q, q_prev), q))
                 .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, q)| *q))
+                .map(|(_, q)| *q)
         };
         for k in -steps..=steps {
             let q3 = center + k as f64 * step;
             if !lim.contains(q3) {
                 continue;
             }
-            match nearest(q3) {
-                Ok(Some(q)) => cands.push((k, q)),
-                Ok(None) => {
-                    if let Ok(sols) = self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev)) {
-                        rejected.extend(sols.qs().iter().map(|q| {
-                            let joints: Vec<String> =
-                                self.robot.limit_flags(q).indices().map(|i| format!("q{}", i + 1)).collect();
-                            format!("{} at q3 = {q3:.4} ({})", config_label(bits(q)), joints.join(", "))
-                        }));
-                    }
-                }
+            match solve(q3) {
+                Ok(sols) => match nearest(&sols) {
+                    Some(q) => cands.push((k, q)),
+                    None => rejected.extend(sols.qs().iter().map(|q| {
+                        let joints: Vec<String> =
+                            self.robot.limit_flags(q).indices().map(|i| format!("q{}", i + 1)).collect();
+                        format!("{} at q3 = {q3:.4} ({})", config_label(bits(q)), joints.join(", "))
+                    })),
+                },
                 Err(e) => last_err = Some(e),
             }
         }
@@ -953,7 +952,7 @@ impl IiwaIk {
             if km + 1 == k0 && k0 + 1 == kp && sm.is_finite() && sp.is_finite() && curvature < 0.0 {
                 let delta = (0.5 * (sm - sp) / curvature).clamp(-0.5, 0.5);
                 let q3 = center + (k0 as f64 + delta) * step;
-                if let Ok(Some(refined)) = nearest(q3) {
+                if let Some(refined) = solve(q3).ok().as_ref().and_then(nearest) {
                     if small(&refined) && self.elbow_height(&refined) > 0.0 && score_of(&refined)? >= s0 {
                         q = refined;
                     }
