@@ -121,6 +121,19 @@ pub struct SelfMotionSample {
     pub within_limits: bool,
 }
 
+/// One case of [`IiwaIk::validation_cases`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidationCase {
+    /// The random configuration \[rad\].
+    pub q: Vec<f64>,
+    /// max_i |q_i − q_inv,i| to the nearest solution with the same q3 \[rad\]
+    /// (infinite if the target was reported unreachable).
+    pub error: f64,
+    /// Whether the case is at least [`REGULAR_MARGIN`] away from the
+    /// singularities (see [`ValidationReport::max_error_regular`]).
+    pub regular: bool,
+}
+
 /// Result of [`IiwaIk::validate`] (seed 004 §V-C).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ValidationReport {
@@ -986,37 +999,22 @@ impl IiwaIk {
     /// instead, which is at most 7 times larger. A case whose target is
     /// reported unreachable counts with an infinite error.
     pub fn validate(&self, n: usize, seed: u64) -> ValidationReport {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut q = vec![0.0; 7];
+        let cases = self.validation_cases(n, seed);
         let (mut max_error, mut sum, mut ok) = (0.0f64, 0.0, 0usize);
         let mut worst_q = Vec::new();
         let (mut max_regular, mut regular) = (0.0f64, 0usize);
-        for _ in 0..n {
-            self.robot.random_q_into(&mut rng, &mut q);
-            let err = self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.pose).ok()).map_or(f64::INFINITY, |t| {
-                match self.solve_q3_raw(&t, q[2], 0.0) {
-                    Ok(sols) => sols
-                        .qs()
-                        .iter()
-                        .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
-                        .fold(f64::INFINITY, f64::min),
-                    Err(_) => f64::INFINITY,
-                }
-            });
-            if err <= RECOVERED_TOLERANCE {
+        for c in cases {
+            if c.error <= RECOVERED_TOLERANCE {
                 ok += 1;
             }
-            let (s2, c2) = q[1].fast_sin_cos();
-            let (s4, c4) = q[3].fast_sin_cos();
-            let u = c2 * self.d5 * q[2].cos() * s4 + s2 * (self.d3 + self.d5 * c4);
-            if s4.abs().min(q[5].sin().abs()).min(u.abs() / (self.d3 + self.d5)) >= REGULAR_MARGIN {
+            if c.regular {
                 regular += 1;
-                max_regular = max_regular.max(err);
+                max_regular = max_regular.max(c.error);
             }
-            sum += err;
-            if err > max_error || worst_q.is_empty() {
-                max_error = max_error.max(err);
-                worst_q = q.clone();
+            sum += c.error;
+            if c.error > max_error || worst_q.is_empty() {
+                max_error = max_error.max(c.error);
+                worst_q = c.q;
             }
         }
         ValidationReport {
@@ -1028,6 +1026,34 @@ impl IiwaIk {
             max_error_regular: max_regular,
             regular_cases: regular,
         }
+    }
+
+    /// The cases of [`IiwaIk::validate`] one by one, in order (for a plot of
+    /// the error per case, seed 004 Fig. 6).
+    pub fn validation_cases(&self, n: usize, seed: u64) -> Vec<ValidationCase> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut q = vec![0.0; 7];
+        (0..n)
+            .map(|_| {
+                self.robot.random_q_into(&mut rng, &mut q);
+                let error =
+                    self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.pose).ok()).map_or(f64::INFINITY, |t| {
+                        match self.solve_q3_raw(&t, q[2], 0.0) {
+                            Ok(sols) => sols
+                                .qs()
+                                .iter()
+                                .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
+                                .fold(f64::INFINITY, f64::min),
+                            Err(_) => f64::INFINITY,
+                        }
+                    });
+                let (s2, c2) = q[1].fast_sin_cos();
+                let (s4, c4) = q[3].fast_sin_cos();
+                let u = c2 * self.d5 * q[2].cos() * s4 + s2 * (self.d3 + self.d5 * c4);
+                let regular = s4.abs().min(q[5].sin().abs()).min(u.abs() / (self.d3 + self.d5)) >= REGULAR_MARGIN;
+                ValidationCase { q: q.clone(), error, regular }
+            })
+            .collect()
     }
 }
 

@@ -545,32 +545,14 @@ pub struct RoundTripReport {
 /// the iiwa's q3) need not recover the original; the residual still shows
 /// that every answer reaches its target.
 pub fn round_trip(robot: &Robot, solver: &dyn IkSolver, n: usize, seed: u64) -> Result<RoundTripReport> {
-    use rand::SeedableRng;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let cases = round_trip_cases(robot, solver, n, seed)?;
     let (mut solved, mut recovered, mut max_error, mut sum, mut max_res) = (0, 0, 0.0f64, 0.0, 0.0f64);
-    for _ in 0..n {
-        let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q)?.pose;
-        let Ok(sols) = solver.solve(&target) else { continue };
-        if sols.is_empty() {
-            continue;
-        }
+    for c in cases.iter().flatten() {
         solved += 1;
-        let err = |s: &Solution| {
-            s.q.iter()
-                .zip(&q)
-                .zip(robot.joints())
-                .map(|((a, b), j)| {
-                    let d = a - b;
-                    (if j.kind == crate::JointType::Revolute { wrap_angle(d) } else { d }).abs()
-                })
-                .fold(0.0f64, f64::max)
-        };
-        let best = sols.iter().map(err).fold(f64::INFINITY, f64::min);
-        max_res = sols.iter().map(|s| s.position_error).fold(max_res, f64::max);
-        max_error = max_error.max(best);
-        sum += best;
-        if best <= 1e-9 {
+        max_res = max_res.max(c.position_residual);
+        max_error = max_error.max(c.error);
+        sum += c.error;
+        if c.error <= 1e-9 {
             recovered += 1;
         }
     }
@@ -582,6 +564,55 @@ pub fn round_trip(robot: &Robot, solver: &dyn IkSolver, n: usize, seed: u64) -> 
         recovered_fraction: if n > 0 { recovered as f64 / n as f64 } else { 0.0 },
         max_position_residual: max_res,
     })
+}
+
+/// One solved case of [`round_trip_cases`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoundTripCase {
+    /// The random configuration.
+    pub q: Vec<f64>,
+    /// Largest |Δq| (wrapped angles) to the nearest returned solution \[rad or m\].
+    pub error: f64,
+    /// Largest FK position residual of the returned solutions \[m\].
+    pub position_residual: f64,
+}
+
+/// The cases of [`round_trip`] one by one, in order: `None` where the solver
+/// returned an error or no solution.
+pub fn round_trip_cases(
+    robot: &Robot,
+    solver: &dyn IkSolver,
+    n: usize,
+    seed: u64,
+) -> Result<Vec<Option<RoundTripCase>>> {
+    use rand::SeedableRng;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q)?.pose;
+        let sols = match solver.solve(&target) {
+            Ok(s) if !s.is_empty() => s,
+            _ => {
+                out.push(None);
+                continue;
+            }
+        };
+        let err = |s: &Solution| {
+            s.q.iter()
+                .zip(&q)
+                .zip(robot.joints())
+                .map(|((a, b), j)| {
+                    let d = a - b;
+                    (if j.kind == crate::JointType::Revolute { wrap_angle(d) } else { d }).abs()
+                })
+                .fold(0.0f64, f64::max)
+        };
+        let error = sols.iter().map(err).fold(f64::INFINITY, f64::min);
+        let position_residual = sols.iter().map(|s| s.position_error).fold(0.0, f64::max);
+        out.push(Some(RoundTripCase { q, error, position_residual }));
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -27,6 +27,7 @@ pub mod cell;
 pub mod expr;
 pub mod joint;
 pub mod law;
+pub mod track;
 
 use std::fmt;
 
@@ -35,6 +36,7 @@ pub use cell::{Cell, CellMember, CellReport};
 pub use expr::{expression_trajectory, Expr};
 pub use joint::{to_joints, to_joints_at, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw};
+pub use track::{distances_to_path, PathDistance};
 
 use crate::analysis::{yoshikawa, Axes};
 use crate::error::{Error, Result};
