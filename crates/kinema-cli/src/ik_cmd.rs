@@ -116,22 +116,14 @@ fn target(a: &IkArgs, robot: &Robot) -> Result<(Pose, Option<[bool; 6]>)> {
 }
 
 fn solution_json(robot: &Robot, s: &Solution, deg: bool) -> Value {
-    let q: Vec<f64> =
-        s.q.iter()
-            .zip(robot.joints())
-            .map(|(v, j)| if deg && j.kind == kinema::JointType::Revolute { v.to_degrees() } else { *v })
-            .collect();
-    let mut v = json!({
-        "q": q,
-        "branch": s.branch,
-        "within_limits": s.within_limits(),
-        "position_error": s.position_error,
-        "orientation_error": s.orientation_error,
-    });
-    if let Some(n) = s.numeric {
-        v["iterations"] = json!(n.iterations);
-        v["restarts"] = json!(n.restarts);
-        v["stop"] = json!(n.stop.to_string());
+    let mut v = kinema_serve::json::solution(s);
+    if deg {
+        let q: Vec<f64> =
+            s.q.iter()
+                .zip(robot.joints())
+                .map(|(v, j)| if j.kind == kinema::JointType::Revolute { v.to_degrees() } else { *v })
+                .collect();
+        v["q"] = json!(q);
     }
     v
 }

@@ -13,15 +13,15 @@ use crate::{print_json, traj_cmd, write_atomically, Exit, RobotArg};
 #[derive(Args)]
 pub struct ProgramArgs {
     /// The program file (any name or extension).
-    program: PathBuf,
+    pub(crate) program: PathBuf,
     #[command(flatten)]
-    robot: RobotArg,
+    pub(crate) robot: RobotArg,
     /// Sample period of the joint signals [s].
     #[arg(long, default_value_t = 0.01)]
-    dt: f64,
+    pub(crate) dt: f64,
     /// Joint values at the start (rad and m, comma-separated, or a named pose); default `home`.
     #[arg(long, allow_hyphen_values = true)]
-    start: Option<String>,
+    pub(crate) start: Option<String>,
 }
 
 #[derive(Args)]
@@ -49,7 +49,7 @@ pub struct CompileArgs {
 }
 
 /// Reads, compiles, prints the diagnostics; the plan, or exit code 1.
-fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
+pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
     let robot = a.robot.load()?;
     let bytes = std::fs::read(&a.program).with_context(|| format!("cannot read {}", a.program.display()))?;
     let src = String::from_utf8(bytes).map_err(|e| {

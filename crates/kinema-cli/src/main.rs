@@ -14,6 +14,8 @@ use serde_json::{json, Value};
 
 mod ik_cmd;
 mod lang_cmd;
+mod plot_cmd;
+mod serve_cmd;
 mod traj_cmd;
 
 /// An error that only sets the exit code (its message was already printed).
@@ -76,6 +78,13 @@ enum Cmd {
     Run(lang_cmd::RunArgs),
     /// Compile a robot program and print its motion plan (--listing).
     Compile(lang_cmd::CompileArgs),
+    /// Pictures: robot, workspace, trajectory, ellipsoids, self-motion, IK error, tracking (.svg or .png).
+    Plot {
+        #[command(subcommand)]
+        cmd: plot_cmd::PlotCmd,
+    },
+    /// Start the interactive 3D viewer on 127.0.0.1 (Ctrl-C to stop).
+    Serve(serve_cmd::ServeArgs),
 }
 
 #[derive(Args)]
@@ -233,6 +242,8 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
         Cmd::Compile(a) => lang_cmd::compile(a),
+        Cmd::Plot { cmd } => plot_cmd::plot(cmd),
+        Cmd::Serve(a) => serve_cmd::run(a),
     }
 }
 
@@ -294,34 +305,9 @@ fn conv_name(c: RpyConvention) -> &'static str {
 }
 
 fn info(r: &Robot, as_json: bool) -> Result<()> {
-    let joints: Vec<Value> = r
-        .joints()
-        .iter()
-        .map(|j| {
-            let geometry = match j.geometry {
-                LinkGeometry::Dh { convention, d, a, alpha, theta } => json!({
-                    "convention": format!("{convention:?}").to_lowercase(), "d": d, "a": a, "alpha": alpha, "theta": theta,
-                }),
-                LinkGeometry::General { origin, axis } => json!({
-                    "xyz": [origin.pos.x, origin.pos.y, origin.pos.z],
-                    "rpy": origin.rpy(RpyConvention::Zyx),
-                    "axis": [axis.x, axis.y, axis.z],
-                }),
-            };
-            json!({
-                "name": j.name, "type": format!("{:?}", j.kind).to_lowercase(), "offset": j.offset, "geometry": geometry,
-                "min": j.limits.min, "max": j.limits.max, "vel": j.limits.vel, "acc": j.limits.acc, "jerk": j.limits.jerk,
-            })
-        })
-        .collect();
     if as_json {
-        let poses: serde_json::Map<String, Value> = r.poses().iter().map(|p| (p.name.clone(), json!(p.q))).collect();
-        return print_json(&json!({
-            "name": r.name(), "dof": r.dof(), "convention": format!("{:?}", r.convention()).to_lowercase(),
-            "manufacturer": r.metadata().manufacturer, "source": r.metadata().source, "notes": r.metadata().notes,
-            "joints": joints, "base": pose_json(r.base(), RpyConvention::Zyx), "tool": pose_json(r.tool(), RpyConvention::Zyx),
-            "poses": poses,
-        }));
+        // The same JSON as the viewer's `GET /api/robots/{name}`.
+        return print_json(&kinema_serve::json::robot_info(r));
     }
     let m = r.metadata();
     println!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.convention());

@@ -631,16 +631,23 @@ fn check_file(a: CheckArgs) -> Result<()> {
     }
 }
 
-/// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd* optional).
-fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTrajectory> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read `{}`", path.display()))?;
-    let mut rd = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
+/// Opens a CSV file with a header line (cells trimmed, `#` lines skipped):
+/// the reader positioned at the first record and the header's names.
+pub(crate) fn open_csv(path: &std::path::Path) -> Result<(csv::Reader<std::fs::File>, Vec<String>)> {
+    let file = std::fs::File::open(path).with_context(|| format!("cannot read `{}`", path.display()))?;
+    let mut rd = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(file);
     let head: Vec<String> = rd
         .headers()
         .with_context(|| format!("`{}`: no CSV header", path.display()))?
         .iter()
         .map(str::to_string)
         .collect();
+    Ok((rd, head))
+}
+
+/// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd* optional).
+pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTrajectory> {
+    let (mut rd, head) = open_csv(path)?;
     let n = robot.dof();
     let col = |name: &str| head.iter().position(|h| h == name);
     let t_col = col("t").with_context(|| format!("`{}`: the header has no `t` column", path.display()))?;

@@ -762,3 +762,86 @@ fn language_errors_exit_non_zero_and_write_nothing() {
     assert!(fails(&["check", prog.to_str().unwrap(), "--robot", "scara5"]).contains("not UTF-8"));
     assert!(fails(&["check", "/nonexistent/prog", "--robot", "scara5"]).contains("cannot read"));
 }
+
+#[test]
+fn plot_writes_every_kind_of_picture_or_nothing() {
+    let dir = tempdir("plot");
+    let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let iiwa_q = "0.3,0.6,0.4,-1.2,0.3,0.9,0.1";
+    let square = program("scorbot_square.prg");
+    // Desired square and a measured run 2 mm outside it.
+    std::fs::write(dir.join("desired.csv"), "x,y,z\n0,0,0\n0.1,0,0\n0.1,0.1,0\n0,0.1,0\n0,0,0\n").unwrap();
+    std::fs::write(dir.join("measured.csv"), "x,y,z\n0.05,-0.002,0\n0.102,0.05,0\n0.05,0.102,0\n-0.002,0.05,0\n")
+        .unwrap();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["robot", "--robot", "scorbot-er-v-plus", "--q", "home"].into_iter().map(String::from).collect(), "a.svg"),
+        (
+            vec!["robot", "--robot", "lbr-iiwa-14-r820", "--q", iiwa_q, "--3d"].into_iter().map(String::from).collect(),
+            "b.png",
+        ),
+        (vec!["workspace", "--robot", "scara5", "--samples", "20000"].into_iter().map(String::from).collect(), "c.png"),
+        (vec!["ellipsoid", "--robot", "puma560", "--q", "qn"].into_iter().map(String::from).collect(), "d.svg"),
+        (
+            vec!["selfmotion", "--robot", "lbr-iiwa-14-r820", "--q", iiwa_q, "--steps", "90"]
+                .into_iter()
+                .map(String::from)
+                .collect(),
+            "e.png",
+        ),
+        (
+            vec!["ik-error", "--robot", "lbr-iiwa-14-r820", "--cases", "300"].into_iter().map(String::from).collect(),
+            "f.svg",
+        ),
+        (
+            vec!["traj", "--robot", "scorbot-er-v-plus", "--program", &square, "--dt", "0.05", "--kind", "cartesian"]
+                .into_iter()
+                .map(String::from)
+                .collect(),
+            "g.png",
+        ),
+        (
+            vec!["tracking".into(), "--desired".into(), p("desired.csv"), "--measured".into(), p("measured.csv")],
+            "h.svg",
+        ),
+    ];
+    for (args, file) in &cases {
+        let mut all: Vec<&str> = vec!["plot"];
+        all.extend(args.iter().map(String::as_str));
+        let out = p(file);
+        all.extend(["--out", &out, "--size", "700x500"]);
+        let r = kinema(&all);
+        assert!(r.ok, "kinema {all:?}: {}", r.stderr);
+        let bytes = std::fs::read(&out).unwrap();
+        if file.ends_with(".png") {
+            let img = image::load_from_memory(&bytes).unwrap();
+            assert_eq!((img.width(), img.height()), (700, 500), "{file}");
+        } else {
+            assert!(String::from_utf8(bytes).unwrap().starts_with("<svg"), "{file}");
+        }
+    }
+    let r = kinema(&[
+        "plot",
+        "tracking",
+        "--desired",
+        &p("desired.csv"),
+        "--measured",
+        &p("measured.csv"),
+        "--out",
+        &p("t.svg"),
+    ]);
+    assert!(r.stderr.contains("tracking error 2.000 ± 0.000 mm"), "{}", r.stderr);
+    // Errors: nothing is written, the message says what was wrong.
+    let bad = p("bad.png");
+    assert!(fails(&["plot", "robot", "--robot", "puma560", "--q", "1,2", "--out", &bad]).contains("joint"));
+    assert!(
+        fails(&["plot", "robot", "--robot", "puma560", "--q", "home", "--out", &p("x.pdf")]).contains(".svg or .png")
+    );
+    assert!(fails(&["plot", "robot", "--robot", "puma560", "--q", "home", "--out", &bad, "--size", "big"])
+        .contains("WIDTHxHEIGHT"));
+    assert!(fails(&["plot", "selfmotion", "--robot", "puma560", "--q", "home", "--out", &bad]).contains("puma560"));
+    std::fs::write(dir.join("nan.csv"), "x,y,z\n0,nan,0\n").unwrap();
+    assert!(fails(&["plot", "tracking", "--desired", &p("desired.csv"), "--measured", &p("nan.csv"), "--out", &bad])
+        .contains("row 2"));
+    assert!(!std::path::Path::new(&bad).exists());
+    assert!(std::fs::read_dir(&dir).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().contains("kinema-tmp")));
+}

@@ -5,7 +5,7 @@ use kinema::{JointType, Robot};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::{drawing, Error, Plot, Result, FONT};
+use crate::{color, drawing, Plot, Result, FONT};
 
 /// Joint positions, velocities and accelerations of a trajectory against
 /// time: three panels, one curve per joint (in degrees for revolute joints,
@@ -23,38 +23,12 @@ pub struct JointCurves {
     units: [&'static str; 3],
 }
 
-/// The colour of joint `i`.
-fn color(i: usize) -> RGBColor {
-    const C: [RGBColor; 8] = [
-        RGBColor(31, 119, 180),
-        RGBColor(255, 127, 14),
-        RGBColor(44, 160, 44),
-        RGBColor(214, 39, 40),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(227, 119, 194),
-        RGBColor(127, 127, 127),
-    ];
-    C[i % C.len()]
-}
-
 impl JointCurves {
     /// The curves of `traj` (a trajectory of `robot`). Errors: a joint count
     /// other than the robot's, fewer than two samples.
     pub fn new(robot: &Robot, traj: &JointTrajectory) -> Result<Self> {
+        crate::check_traj(robot, traj, 2)?;
         let n = robot.dof();
-        if traj.dof() != n {
-            return Err(Error::Invalid {
-                what: "the trajectory".into(),
-                message: format!("it has {} joints; `{}` has {n}", traj.dof(), robot.name()),
-            });
-        }
-        if traj.len() < 2 {
-            return Err(Error::Invalid {
-                what: "the trajectory".into(),
-                message: "it needs at least two samples".into(),
-            });
-        }
         let joints = robot.joints();
         let all_revolute = joints.iter().all(|j| j.kind == JointType::Revolute);
         let all_prismatic = joints.iter().all(|j| j.kind == JointType::Prismatic);
@@ -130,13 +104,9 @@ impl JointCurves {
 
 impl Plot for JointCurves {
     fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
-        let (w, h) = area.dim_in_pixel();
+        let (w, _) = area.dim_in_pixel();
         let font_px = (w / 70).clamp(10, 16);
-        let title_h = (h / 20).max(20);
-        let (title, body) = area.split_vertically(title_h);
-        title
-            .titled(&format!("{}: joint trajectory", self.name), (FONT, (title_h as f64 * 0.6) as u32))
-            .map_err(drawing)?;
+        let body = crate::title_area(area, &format!("{}: joint trajectory", self.name))?;
         let panels = body.split_evenly((3, 1));
         let (t0, t1) = (self.t[0], *self.t.last().expect("two samples"));
         let what = ["position", "velocity", "acceleration"];
@@ -182,14 +152,7 @@ impl Plot for JointCurves {
                 }
             }
             if p == 0 {
-                chart
-                    .configure_series_labels()
-                    .label_font((FONT, font_px))
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK.mix(0.3))
-                    .position(SeriesLabelPosition::UpperRight)
-                    .draw()
-                    .map_err(drawing)?;
+                crate::legend(&mut chart, font_px, SeriesLabelPosition::UpperRight)?;
             }
         }
         Ok(())

@@ -24,16 +24,26 @@
 //! ```
 #![warn(missing_docs)]
 
+mod curves;
+mod ikerror;
 mod joint;
 mod robot;
+mod scene;
+mod tracking;
+mod workspace;
 
 use std::sync::OnceLock;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+pub use curves::{CartesianCurves, ManipulabilityCurve};
+pub use ikerror::IkErrorPlot;
 pub use joint::JointCurves;
 pub use robot::RobotView;
+pub use scene::{EllipsoidView, Robot3d, SelfMotionView, ToolPath3d};
+pub use tracking::TrackingPlot;
+pub use workspace::{Section, WorkspaceCloud, WorkspaceOptions};
 
 /// What can go wrong while plotting.
 #[non_exhaustive]
@@ -99,6 +109,77 @@ fn register_font() -> Result<()> {
     } else {
         Err(Error::Drawing("the embedded DejaVu Sans font could not be loaded".into()))
     }
+}
+
+/// Draws `title` in a band at the top of `area` and returns the rest.
+pub(crate) fn title_area<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>> {
+    let (_, h) = area.dim_in_pixel();
+    let title_h = (h / 14).clamp(24, 50);
+    let (top, body) = area.split_vertically(title_h);
+    top.titled(title, (FONT, (title_h as f64 * 0.55) as u32)).map_err(drawing)?;
+    Ok(body)
+}
+
+/// A tick label: at most three decimals, no trailing zeros, no "-0".
+pub(crate) fn tidy(v: &f64) -> String {
+    let s = format!("{v:.3}");
+    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.') } else { &s };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+/// Draws the legend of `chart`'s labelled series at `pos`.
+pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    font_px: u32,
+    pos: SeriesLabelPosition,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .label_font((FONT, font_px))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.3))
+        .position(pos)
+        .draw()
+        .map_err(drawing)
+}
+
+/// Checks that `traj` is a trajectory of `robot` with at least `min` samples.
+pub(crate) fn check_traj(robot: &kinema::Robot, traj: &kinema::traj::JointTrajectory, min: usize) -> Result<()> {
+    if traj.dof() != robot.dof() {
+        return Err(Error::Invalid {
+            what: "the trajectory".into(),
+            message: format!("it has {} joints; `{}` has {}", traj.dof(), robot.name(), robot.dof()),
+        });
+    }
+    if traj.len() < min {
+        return Err(Error::Invalid {
+            what: "the trajectory".into(),
+            message: format!("it has {} samples; at least {min} are needed", traj.len()),
+        });
+    }
+    Ok(())
+}
+
+/// The colour of series `i` (joint `i + 1`, measured set `i + 1`, …).
+pub(crate) fn color(i: usize) -> RGBColor {
+    const C: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+    ];
+    C[i % C.len()]
 }
 
 pub(crate) fn drawing<E: std::fmt::Debug>(e: E) -> Error {

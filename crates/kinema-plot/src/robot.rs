@@ -5,7 +5,7 @@ use kinema::{Pose, Robot};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::{drawing, Plot, Result, FONT};
+use crate::{drawing, tidy, Plot, Result, FONT};
 
 /// A robot drawn at one configuration: the side view (world x horizontal, z
 /// up) and the top view (x horizontal, y up) side by side, at the same scale
@@ -48,12 +48,8 @@ impl RobotView {
 
 impl Plot for RobotView {
     fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
-        let (w, h) = area.dim_in_pixel();
-        let title_h = (h / 12).max(20);
-        let (title, body) = area.split_vertically(title_h);
-        title
-            .titled(&format!("{} at the given configuration", self.name), (FONT, (title_h as f64 * 0.6) as u32))
-            .map_err(drawing)?;
+        let (w, _) = area.dim_in_pixel();
+        let body = crate::title_area(area, &format!("{} at the given configuration", self.name))?;
         let halves = body.split_evenly((1, 2));
         let pts = self.points();
         let n = pts.len();
@@ -72,6 +68,8 @@ impl Plot for RobotView {
                 .configure_mesh()
                 .x_desc("x [m]")
                 .y_desc(v_label)
+                .x_label_formatter(&tidy)
+                .y_label_formatter(&tidy)
                 .label_style((FONT, font_px))
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()

@@ -1,0 +1,283 @@
+//! `kinema plot …`: pictures (SVG or PNG by the output's extension).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use kinema::nalgebra::Vector3;
+use kinema::Robot;
+use kinema_plot::{
+    render, CartesianCurves, EllipsoidView, Format, IkErrorPlot, JointCurves, ManipulabilityCurve, Plot, Robot3d,
+    RobotView, Section, SelfMotionView, ToolPath3d, TrackingPlot, WorkspaceCloud, WorkspaceOptions,
+};
+
+use crate::{lang_cmd, traj_cmd, write_atomically, QArg, RobotArg};
+
+#[derive(Subcommand)]
+pub enum PlotCmd {
+    /// The robot at a configuration: side and top views (seed 000 Fig. 2), or --3d with the link frames.
+    Robot {
+        #[command(flatten)]
+        robot: RobotArg,
+        #[command(flatten)]
+        q: QArg,
+        /// An oblique 3D view with every link frame (seed 004 Fig. 5).
+        #[arg(long = "3d")]
+        three_d: bool,
+        #[command(flatten)]
+        out: OutArg,
+    },
+    /// The tool's workspace from random configurations: side section and top view, points and boundary.
+    Workspace {
+        #[command(flatten)]
+        robot: RobotArg,
+        /// Number of random configurations.
+        #[arg(long, default_value_t = 200_000)]
+        samples: usize,
+        /// Seed of the random configurations.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Side panel: r–z section (default when joint 1 is revolute) or the x–z projection.
+        #[arg(long, value_enum)]
+        section: Option<SectionArg>,
+        /// Cells per side of the grid that outlines the boundary.
+        #[arg(long, default_value_t = 120)]
+        grid: usize,
+        #[command(flatten)]
+        out: OutArg,
+    },
+    /// A trajectory (CSV from `kinema traj`/`kinema run`, or a program): joint, Cartesian, 3D path or manipulability curves.
+    Traj {
+        #[command(flatten)]
+        robot: RobotArg,
+        /// A trajectory CSV with columns t, q1..qn (and optionally qd1.., qdd1..).
+        #[arg(long, required_unless_present = "program", conflicts_with = "program")]
+        csv: Option<PathBuf>,
+        /// A robot program to run (see docs/language.md).
+        #[arg(long)]
+        program: Option<PathBuf>,
+        /// Sample period for --program [s].
+        #[arg(long, default_value_t = 0.01)]
+        dt: f64,
+        /// What to draw.
+        #[arg(long, value_enum, default_value = "joint")]
+        kind: TrajKind,
+        #[command(flatten)]
+        out: OutArg,
+    },
+    /// Manipulability ellipsoids (translation at the tool over the robot, and rotation) at a configuration.
+    Ellipsoid {
+        #[command(flatten)]
+        robot: RobotArg,
+        #[command(flatten)]
+        q: QArg,
+        #[command(flatten)]
+        out: OutArg,
+    },
+    /// The iiwa's self-motion through a configuration: elbow circle and joint values against ψ (seed 004 Fig. 7).
+    Selfmotion {
+        #[command(flatten)]
+        robot: RobotArg,
+        #[command(flatten)]
+        q: QArg,
+        /// Samples of the arm angle over a full turn.
+        #[arg(long, default_value_t = 360)]
+        steps: usize,
+        #[command(flatten)]
+        out: OutArg,
+    },
+    /// IK round-trip error per case over random configurations (seed 004 Fig. 6; the iiwa with each case's q3).
+    IkError {
+        #[command(flatten)]
+        robot: RobotArg,
+        /// Number of random configurations.
+        #[arg(long, default_value_t = 1000)]
+        cases: usize,
+        /// Seed of the random configurations.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        out: OutArg,
+    },
+    /// Desired versus measured paths and the tracking error (seed 000 Fig. 5–6); CSV columns x,y,z in metres.
+    Tracking {
+        /// The desired path (a polyline).
+        #[arg(long)]
+        desired: PathBuf,
+        /// One or more measured runs.
+        #[arg(long, num_args = 1.., required = true)]
+        measured: Vec<PathBuf>,
+        #[command(flatten)]
+        out: OutArg,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum SectionArg {
+    /// Distance from the base z axis against height.
+    Radial,
+    /// Projection on the x–z plane.
+    Xz,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TrajKind {
+    /// Joint positions, velocities and accelerations with the limits.
+    Joint,
+    /// Tool position, velocity and acceleration.
+    Cartesian,
+    /// The tool path in 3D with the robot at both ends.
+    Path,
+    /// Manipulability along the trajectory.
+    Manipulability,
+}
+
+#[derive(Args)]
+pub struct OutArg {
+    /// The picture to write: .svg or .png.
+    #[arg(long)]
+    out: PathBuf,
+    /// Width x height in pixels (default depends on the plot).
+    #[arg(long)]
+    size: Option<String>,
+}
+
+impl OutArg {
+    fn write(&self, plot: &impl Plot, default: (u32, u32)) -> Result<()> {
+        let format = Format::from_path(&self.out)
+            .with_context(|| format!("`{}`: the output must end in .svg or .png", self.out.display()))?;
+        let size = match &self.size {
+            Some(s) => parse_size(s)?,
+            None => default,
+        };
+        let bytes = render(plot, format, size)?;
+        write_atomically(&self.out, |w| Ok(w.write_all(&bytes)?))?;
+        eprintln!("wrote {} ({}×{})", self.out.display(), size.0, size.1);
+        Ok(())
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let parse = |(w, h): (&str, &str)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?));
+    s.split_once(['x', 'X', '×'])
+        .and_then(parse)
+        .with_context(|| format!("--size `{s}`: expected WIDTHxHEIGHT in pixels, e.g. 1200x800"))
+}
+
+fn read_points(path: &Path) -> Result<Vec<Vector3<f64>>> {
+    let (mut rd, head) = traj_cmd::open_csv(path)?;
+    let cols: Option<Vec<usize>> = ["x", "y", "z"].iter().map(|c| head.iter().position(|h| h == c)).collect();
+    let cols = cols
+        .with_context(|| format!("`{}`: the header must name x, y, z (it has {})", path.display(), head.join(",")))?;
+    let mut pts = Vec::new();
+    for (i, rec) in rd.records().enumerate() {
+        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
+        let mut p = Vector3::zeros();
+        for (k, &c) in cols.iter().enumerate() {
+            let cell = rec.get(c).unwrap_or("");
+            p[k] = cell
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("`{}` row {}: `{cell}` is not a finite number", path.display(), i + 2))?;
+        }
+        pts.push(p);
+    }
+    if pts.is_empty() {
+        bail!("`{}`: no points", path.display());
+    }
+    Ok(pts)
+}
+
+pub fn plot(cmd: PlotCmd) -> Result<()> {
+    match cmd {
+        PlotCmd::Robot { robot, q, three_d, out } => {
+            let r = robot.load()?;
+            let q = r.parse_q(&q.q, q.deg)?;
+            if three_d {
+                out.write(&Robot3d::new(&r, &q)?, (900, 800))
+            } else {
+                out.write(&RobotView::new(&r, &q)?, (1100, 550))
+            }
+        }
+        PlotCmd::Workspace { robot, samples, seed, section, grid, out } => {
+            let r = robot.load()?;
+            let section = section.map(|s| match s {
+                SectionArg::Radial => Section::Radial,
+                SectionArg::Xz => Section::Xz,
+            });
+            let bar = indicatif::ProgressBar::new(samples as u64);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} configurations ({per_sec}, eta {eta})")
+                    .expect("a valid template"),
+            );
+            let cloud = WorkspaceCloud::sample(&r, &WorkspaceOptions { samples, seed, section, grid }, |done| {
+                bar.set_position(done as u64)
+            });
+            bar.finish_and_clear();
+            out.write(&cloud?, (1200, 600))
+        }
+        PlotCmd::Traj { robot, csv, program, dt, kind, out } => {
+            let (r, traj) = match (csv, program) {
+                (Some(path), _) => {
+                    let r = robot.load()?;
+                    let t = traj_cmd::read_trajectory(&r, &path)?;
+                    (r, t)
+                }
+                (None, Some(program)) => {
+                    let (plan, _) = lang_cmd::build(&lang_cmd::ProgramArgs { program, robot, dt, start: None })?;
+                    (plan.robot, plan.trajectory)
+                }
+                (None, None) => bail!("give --csv or --program"),
+            };
+            match kind {
+                TrajKind::Joint => out.write(&JointCurves::new(&r, &traj)?, (1200, 900)),
+                TrajKind::Cartesian => out.write(&CartesianCurves::new(&r, &traj)?, (1200, 900)),
+                TrajKind::Path => out.write(&ToolPath3d::new(&r, &traj)?, (900, 800)),
+                TrajKind::Manipulability => out.write(&ManipulabilityCurve::new(&r, &traj)?, (1200, 700)),
+            }
+        }
+        PlotCmd::Ellipsoid { robot, q, out } => {
+            let r = robot.load()?;
+            let q = r.parse_q(&q.q, q.deg)?;
+            out.write(&EllipsoidView::new(&r, &q)?, (1400, 700))
+        }
+        PlotCmd::Selfmotion { robot, q, steps, out } => {
+            let r = robot.load()?;
+            let q = r.parse_q(&q.q, q.deg)?;
+            out.write(&SelfMotionView::new(&r, &q, steps)?, (1400, 700))
+        }
+        PlotCmd::IkError { robot, cases, seed, out } => {
+            let r = robot.load()?;
+            let plot = ik_error(&r, cases, seed)?;
+            let (max, mean) = plot.max_mean();
+            eprintln!("{cases} cases: max error {max:.3e}, mean {mean:.3e}");
+            out.write(&plot, (1100, 600))
+        }
+        PlotCmd::Tracking { desired, measured, out } => {
+            let d = read_points(&desired)?;
+            let m = measured.iter().map(|p| read_points(p)).collect::<Result<Vec<_>>>()?;
+            let plot = TrackingPlot::new(d, m)?;
+            let (mean, sd) = plot.mean_error();
+            eprintln!("tracking error {:.3} ± {:.3} mm", mean * 1e3, sd * 1e3);
+            out.write(&plot, (1300, 600))
+        }
+    }
+}
+
+/// The iiwa's own validation (same q3 per case) when the robot has that
+/// shape, else the analytic solver's round trip, else the numeric solver's.
+fn ik_error(r: &Robot, cases: usize, seed: u64) -> Result<IkErrorPlot> {
+    if cases == 0 || cases > 10_000_000 {
+        bail!("--cases {cases}: expected 1 to 10 000 000");
+    }
+    if kinema::ik::IiwaIk::new(r).is_ok() {
+        return Ok(IkErrorPlot::iiwa(r, cases, seed)?);
+    }
+    let solver: Box<dyn kinema::ik::IkSolver> = match kinema::ik::analytic_solver(r) {
+        Some(s) => s,
+        None => Box::new(kinema::ik::NumericIk::new(r)),
+    };
+    Ok(IkErrorPlot::round_trip(r, solver.as_ref(), cases, seed)?)
+}

@@ -1,0 +1,618 @@
+//! The request handler: routing, the JSON API and the embedded page, as pure
+//! functions of (method, path, body).
+
+use kinema::analysis::{self, Axes};
+use kinema::ik::{IiwaIk, IkSolver, NumericIk, NumericOptions, Solutions};
+use kinema::nalgebra::Matrix4;
+use kinema::traj::{
+    check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
+    PtpOptions, Segment,
+};
+use kinema::{Frame, Pose, Robot, RpyConvention};
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+use crate::error::{Error, Result};
+use crate::json;
+
+/// Largest request body accepted \[bytes\] (1 MiB); larger ones get 413.
+pub const MAX_BODY: usize = 1 << 20;
+
+/// Largest number of samples `/api/traj` and `/api/run` produce.
+pub const MAX_SAMPLES: usize = 200_000;
+
+const INDEX_HTML: &str = include_str!("../assets/index.html");
+const APP_JS: &str = include_str!("../assets/app.js");
+const STYLE_CSS: &str = include_str!("../assets/style.css");
+
+/// An answer: status, content type, extra headers and body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reply {
+    /// HTTP status code.
+    pub status: u16,
+    /// The `Content-Type` header.
+    pub content_type: &'static str,
+    /// Further headers (name, value), e.g. `Allow` on a 405.
+    pub headers: Vec<(&'static str, String)>,
+    /// The body.
+    pub body: Vec<u8>,
+}
+
+impl Reply {
+    /// A JSON reply.
+    pub fn json(status: u16, value: &Value) -> Reply {
+        Reply {
+            status,
+            content_type: "application/json; charset=utf-8",
+            headers: Vec::new(),
+            body: serde_json::to_vec(value).unwrap_or_else(|_| b"{\"error\":\"unserialisable answer\"}".to_vec()),
+        }
+    }
+
+    /// The JSON error reply for `e`: `{"error": message}` (a program's
+    /// errors also carry `diagnostics`, the rendered report), with `Allow`
+    /// on a 405.
+    pub fn error(e: &Error) -> Reply {
+        let (status, body) = error_json(e);
+        let mut r = Reply::json(status, &body);
+        if let Error::MethodNotAllowed { allowed, .. } = e {
+            r.headers.push(("Allow", allowed.to_string()));
+        }
+        r
+    }
+}
+
+fn error_json(e: &Error) -> (u16, Value) {
+    let mut body = json!({ "error": e.to_string() });
+    if let Error::Program { rendered, .. } = e {
+        body["diagnostics"] = json!(rendered);
+    }
+    (e.status(), body)
+}
+
+/// The robots a server knows and its request handler.
+///
+/// The robots are the built-in ones plus, optionally, a default robot (which
+/// may come from a file; it replaces a built-in robot of the same name).
+/// Requests name robots only from this list — never a file path.
+#[derive(Debug, Clone)]
+pub struct App {
+    robots: Vec<Robot>,
+    default: usize,
+}
+
+impl App {
+    /// The built-in robots and `default_robot` (default: the first built-in
+    /// robot, in name order).
+    pub fn new(default_robot: Option<Robot>) -> Result<App> {
+        let mut robots = Robot::builtins()?;
+        let default = match default_robot {
+            Some(r) => match robots.iter().position(|b| b.name() == r.name()) {
+                Some(i) => {
+                    robots[i] = r;
+                    i
+                }
+                None => {
+                    robots.push(r);
+                    robots.len() - 1
+                }
+            },
+            None => 0,
+        };
+        if robots.is_empty() {
+            return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
+        }
+        Ok(App { robots, default })
+    }
+
+    /// The robot requests get when they name none.
+    pub fn default_robot(&self) -> &Robot {
+        &self.robots[self.default]
+    }
+
+    /// Answers one request: the page and its assets under `/`, the JSON API
+    /// under `/api/`. Never panics on any input (the server also wraps it in
+    /// `catch_unwind`). `path` may carry a query string, which is ignored.
+    pub fn handle(&self, method: &str, path: &str, body: &[u8]) -> Reply {
+        let path = path.split(['?', '#']).next().unwrap_or("");
+        let asset = match path {
+            "/" | "/index.html" => Some(("text/html; charset=utf-8", INDEX_HTML)),
+            "/app.js" => Some(("text/javascript; charset=utf-8", APP_JS)),
+            "/style.css" => Some(("text/css; charset=utf-8", STYLE_CSS)),
+            _ => None,
+        };
+        if let Some((content_type, text)) = asset {
+            if method != "GET" && method != "HEAD" {
+                return Reply::error(&Error::MethodNotAllowed {
+                    method: method.into(),
+                    path: path.into(),
+                    allowed: "GET, HEAD",
+                });
+            }
+            return Reply {
+                status: 200,
+                content_type,
+                headers: vec![("Cache-Control", "no-cache".into())],
+                body: text.as_bytes().to_vec(),
+            };
+        }
+        let (status, value) = self.api(method, path, body);
+        let mut reply = Reply::json(status, &value);
+        if status == 405 {
+            let allowed = if path.starts_with("/api/robots") { "GET, HEAD" } else { "POST" };
+            reply.headers.push(("Allow", allowed.into()));
+        }
+        reply
+    }
+
+    /// The JSON API alone: `(status, json)`; errors are `{"error": "…"}`
+    /// with a 4xx status.
+    pub fn api(&self, method: &str, path: &str, body: &[u8]) -> (u16, Value) {
+        let path = path.split(['?', '#']).next().unwrap_or("");
+        match self.route(method, path, body) {
+            Ok(v) => (200, v),
+            Err(e) => error_json(&e),
+        }
+    }
+
+    fn route(&self, method: &str, path: &str, body: &[u8]) -> Result<Value> {
+        let path = path.strip_suffix('/').filter(|p| !p.is_empty()).unwrap_or(path);
+        let get = |allowed_ok: bool| -> Result<()> {
+            if allowed_ok {
+                Ok(())
+            } else {
+                Err(Error::MethodNotAllowed { method: method.into(), path: path.into(), allowed: "GET, HEAD" })
+            }
+        };
+        let is_get = method == "GET" || method == "HEAD";
+        if path == "/api/robots" {
+            get(is_get)?;
+            return Ok(self
+                .robots
+                .iter()
+                .enumerate()
+                .map(|(i, r)| json::robot_summary(r, i == self.default))
+                .collect());
+        }
+        if let Some(name) = path.strip_prefix("/api/robots/") {
+            get(is_get)?;
+            return Ok(json::robot_info(self.robot_named(name, true)?));
+        }
+        let post: fn(&App, &[u8]) -> Result<Value> = match path {
+            "/api/fk" => App::fk,
+            "/api/ik" => App::ik,
+            "/api/traj" => App::traj,
+            "/api/run" => App::run,
+            "/api/manip" => App::manip,
+            _ => return Err(Error::NotFound { path: path.into() }),
+        };
+        if method != "POST" {
+            return Err(Error::MethodNotAllowed { method: method.into(), path: path.into(), allowed: "POST" });
+        }
+        post(self, body)
+    }
+
+    fn robot_named(&self, name: &str, in_path: bool) -> Result<&Robot> {
+        self.robots.iter().find(|r| r.name() == name).ok_or_else(|| Error::UnknownRobot {
+            name: name.into(),
+            known: self.robots.iter().map(Robot::name).collect::<Vec<_>>().join(", "),
+            in_path,
+        })
+    }
+
+    fn robot(&self, name: &Option<String>) -> Result<&Robot> {
+        match name {
+            Some(n) => self.robot_named(n, false),
+            None => Ok(self.default_robot()),
+        }
+    }
+
+    fn fk(&self, body: &[u8]) -> Result<Value> {
+        let req: QReq = parse(body, "/api/fk", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
+        let r = self.robot(&req.robot)?;
+        let mut frames = vec![Pose::IDENTITY; r.dof() + 2];
+        let fk = r.link_frames_into(&req.q, &mut frames)?;
+        Ok(json::fk(r, &req.q, &fk, &frames))
+    }
+
+    fn manip(&self, body: &[u8]) -> Result<Value> {
+        let req: QReq = parse(body, "/api/manip", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
+        let r = self.robot(&req.robot)?;
+        let fk = r.fk(&req.q)?;
+        let j = r.jacobian(&req.q, Frame::Base)?;
+        let rep = analysis::report(&j)?;
+        let p = fk.pose.pos;
+        let centre = [p.x, p.y, p.z];
+        Ok(json!({
+            "robot": r.name(), "q": req.q,
+            "yoshikawa": rep.yoshikawa,
+            "yoshikawa_translation": rep.yoshikawa_translation,
+            "yoshikawa_rotation": rep.yoshikawa_rotation,
+            "condition": if rep.condition.is_finite() { json!(rep.condition) } else { Value::Null },
+            "rank": rep.rank,
+            "singular_values": rep.singular_values,
+            "ellipsoid_translation": json::ellipsoid(&analysis::ellipsoid(&j, Axes::Translation)?, centre),
+            "ellipsoid_rotation": json::ellipsoid(&analysis::ellipsoid(&j, Axes::Rotation)?, centre),
+        }))
+    }
+
+    fn ik(&self, body: &[u8]) -> Result<Value> {
+        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3", "q0", "solver" ("auto" | "analytic" | "numeric"), "seed""#;
+        let req: IkReq = parse(body, "/api/ik", SHAPE)?;
+        let r = self.robot(&req.robot)?;
+        let target = req.target().pose(SHAPE)?;
+        kinema::ik::check_target(&target)?;
+        if let Some(q0) = &req.q0 {
+            r.check_q(q0)?;
+        }
+        let solver = req.solver.as_deref().unwrap_or("auto");
+        if !["auto", "analytic", "numeric"].contains(&solver) {
+            return Err(bad(format!("/api/ik: solver `{solver}` is not one of auto, analytic, numeric")));
+        }
+        let iiwa = IiwaIk::new(r).ok().filter(|_| solver != "numeric");
+        // The iiwa solves at a given q3: the request's, else q0's, else the solver's default (0).
+        let q3 = req.q3.or_else(|| req.q0.as_ref().map(|q| q[2]).filter(|_| iiwa.is_some()));
+        if let Some(v) = req.q3 {
+            if !v.is_finite() {
+                return Err(bad(format!("/api/ik: q3 = {v}; it must be a finite angle in rad")));
+            }
+        }
+        let (name, result) = match (&iiwa, q3) {
+            (Some(s), Some(q3)) => ("iiwa", s.solve_q3(&target, q3)),
+            (None, Some(_)) if req.q3.is_some() => {
+                return Err(Error::Unprocessable {
+                    message: format!(
+                        "q3 selects the iiwa's closed form, which does not fit robot `{}` (or solver `{solver}` was asked for)",
+                        r.name()
+                    ),
+                })
+            }
+            _ => {
+                let analytic = if solver == "numeric" { None } else { kinema::ik::analytic_solver(r) };
+                match analytic {
+                    Some(s) => (s.name(), s.solve(&target)),
+                    None if solver == "analytic" => {
+                        return Err(Error::Unprocessable {
+                            message: format!(
+                                "robot `{}` has no analytic solver (analytic solvers: iiwa-type 7R, 6R with a spherical wrist, Scorbot, SCARA on a rail, ROMMEL); use \"solver\": \"numeric\"",
+                                r.name()
+                            ),
+                        })
+                    }
+                    None => {
+                        let opts = NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() };
+                        let s = NumericIk::with_options(r, opts)?;
+                        let result = match &req.q0 {
+                            Some(q0) => s.solve_from(&target, q0).map(|x| vec![x]),
+                            None => s.solve(&target),
+                        };
+                        ("numeric", result)
+                    }
+                }
+            }
+        };
+        let solutions = result?;
+        let nearest = req.q0.as_ref().and_then(|q0| {
+            let best = solutions.nearest(r, q0)?;
+            solutions.iter().position(|s| std::ptr::eq(s, best))
+        });
+        Ok(json!({
+            "robot": r.name(),
+            "solver": name,
+            "q3": q3.filter(|_| name == "iiwa"),
+            "target": json::pose(&target),
+            "solutions": solutions.iter().map(json::solution).collect::<Vec<_>>(),
+            "nearest": nearest,
+        }))
+    }
+
+    fn traj(&self, body: &[u8]) -> Result<Value> {
+        const SHAPE: &str = r#"{"robot": "NAME", "kind": "ptp", "from": [q], "to": [q]} or {"robot": "NAME", "kind": "lin", "from": [q], "T": [[…] × 4] or "position" + "rpy"}, optional "dt" [s], "profile", "speed" [%], "duration" [s], "jvel", "jacc", "jjerk" (ptp: one value or one per joint, rad/s… or m/s…), "vmax" [m/s], "amax" [m/s²] (lin)"#;
+        let req: TrajReq = parse(body, "/api/traj", SHAPE)?;
+        let r = self.robot(&req.robot)?;
+        let dt = req.dt.unwrap_or(0.01);
+        check_dt(dt)?;
+        let profile = match req.profile.as_deref() {
+            None => Profile::Trapezoid,
+            Some(name) => *Profile::ALL.iter().find(|p| p.name() == name).ok_or_else(|| {
+                let names: Vec<&str> = Profile::ALL.iter().map(|p| p.name()).collect();
+                bad(format!("/api/traj: profile `{name}` is not one of {}", names.join(", ")))
+            })?,
+        };
+        r.check_q(&req.from)?;
+        let (traj, duration) = match req.kind.as_str() {
+            "ptp" => {
+                let to =
+                    req.to.as_ref().ok_or_else(|| bad(format!("/api/traj: ptp needs \"to\"; expected {SHAPE}")))?;
+                let speed = req.speed.unwrap_or(100.0);
+                if !(speed > 0.0 && speed <= 100.0) {
+                    return Err(bad(format!("/api/traj: speed {speed} must be a percentage in (0, 100]")));
+                }
+                let opts = PtpOptions {
+                    profile,
+                    speed: speed / 100.0,
+                    vel: req.jvel.as_ref().map(OneOrMany::values),
+                    acc: req.jacc.as_ref().map(OneOrMany::values),
+                    jerk: req.jjerk.as_ref().map(OneOrMany::values),
+                    duration: req.duration,
+                };
+                let plan = Ptp::new(r, &req.from, to, &opts)?;
+                cap_samples(plan.duration(), dt)?;
+                (plan.sample(r, dt)?, plan.duration())
+            }
+            "lin" => {
+                let target = req.target().pose(SHAPE)?;
+                kinema::ik::check_target(&target)?;
+                let (vmax, amax) = (req.vmax.unwrap_or(0.25), req.amax.unwrap_or(1.0));
+                for (what, v) in [("vmax", vmax), ("amax", amax)] {
+                    if !(v.is_finite() && v > 0.0) {
+                        return Err(bad(format!("/api/traj: {what} = {v} must be a positive number")));
+                    }
+                }
+                let start = r.fk(&req.from)?.pose;
+                let seg = Segment::lin(&start, &target, Orientation::Slerp)?;
+                let mut limits = CartesianLimits::new(vmax, amax);
+                if profile == Profile::SCurve {
+                    limits.jerk = Some(amax * 10.0);
+                    limits.rot_jerk = Some(amax * 10.0);
+                }
+                let motion = CartesianMotion::new(vec![seg], profile, &limits, Blend::None)?;
+                cap_samples(motion.duration(), dt)?;
+                let traj = to_joints(r, &motion, &req.from, dt, JointMethod::Ik)?;
+                check(r, &traj, &CheckOptions::default())?.into_result()?;
+                (traj, motion.duration())
+            }
+            other => return Err(bad(format!("/api/traj: kind `{other}` is not ptp or lin; expected {SHAPE}"))),
+        };
+        let mut v = json::trajectory(&traj);
+        v["robot"] = json!(r.name());
+        v["kind"] = json!(req.kind);
+        v["profile"] = json!(profile.name());
+        v["duration"] = json!(duration);
+        Ok(v)
+    }
+
+    fn run(&self, body: &[u8]) -> Result<Value> {
+        const SHAPE: &str = r#"{"robot": "NAME", "program": "TEXT", "dt": seconds, "start": [q]}"#;
+        let req: RunReq = parse(body, "/api/run", SHAPE)?;
+        let r = self.robot(&req.robot)?;
+        let dt = req.dt.unwrap_or(0.01);
+        check_dt(dt)?;
+        if let Some(q) = &req.start {
+            r.check_q(q)?;
+        }
+        let opts =
+            kinema_lang::Options { dt, start: req.start.clone(), max_samples: MAX_SAMPLES, ..Default::default() };
+        const FILE: &str = "program";
+        let plan = kinema_lang::compile(&req.program, r, &opts).map_err(|diags| {
+            let first = diags.iter().find(|d| d.is_error()).or(diags.first());
+            Error::Program {
+                first: first.map_or_else(|| "no diagnostic".into(), |d| d.one_line(FILE, &req.program)),
+                rendered: kinema_lang::render_all(&diags, FILE, &req.program),
+            }
+        })?;
+        let mut v = json::trajectory(&plan.trajectory);
+        v["robot"] = json!(r.name());
+        v["motions"] = plan
+            .motions
+            .iter()
+            .map(|m| json!({"line": m.line, "kind": m.kind, "start": m.start, "end": m.end, "profile": m.profile, "target": m.target}))
+            .collect();
+        v["warnings"] = plan.warnings.iter().map(|d| json!(d.one_line(FILE, &req.program))).collect();
+        v["warnings_rendered"] = json!(kinema_lang::render_all(&plan.warnings, FILE, &req.program));
+        Ok(v)
+    }
+}
+
+fn bad(message: String) -> Error {
+    Error::BadRequest { message }
+}
+
+fn check_dt(dt: f64) -> Result<()> {
+    if !(dt.is_finite() && (1e-4..=1.0).contains(&dt)) {
+        return Err(bad(format!("dt = {dt} s; the sample period must lie in [0.0001, 1] s")));
+    }
+    Ok(())
+}
+
+fn cap_samples(duration: f64, dt: f64) -> Result<()> {
+    let n = duration / dt + 2.0;
+    if !(n <= MAX_SAMPLES as f64) {
+        return Err(Error::Unprocessable {
+            message: format!(
+                "{duration:.3} s sampled every {dt} s gives about {n:.0} samples; at most {MAX_SAMPLES} are produced — use a larger dt"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Parses a JSON body, naming the endpoint and the expected shape on failure.
+fn parse<T: DeserializeOwned>(body: &[u8], endpoint: &str, shape: &str) -> Result<T> {
+    let text = std::str::from_utf8(body).map_err(|e| {
+        bad(format!("{endpoint}: the body is not UTF-8 text (byte {}); expected JSON {shape}", e.valid_up_to()))
+    })?;
+    if text.trim().is_empty() {
+        return Err(bad(format!("{endpoint}: the body is empty; expected JSON {shape}")));
+    }
+    serde_json::from_str(text).map_err(|e| bad(format!("{endpoint}: {e}; expected JSON {shape}")))
+}
+
+/// A body with a robot and joint values.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct QReq {
+    robot: Option<String>,
+    q: Vec<f64>,
+}
+
+/// A target pose: a 4×4 matrix or a position and roll-pitch-yaw angles
+/// (`rpy_convention`: `zyx`, the default, R = Rz·Ry·Rx, or `xyz`).
+struct Target<'a> {
+    t: &'a Option<[[f64; 4]; 4]>,
+    position: &'a Option<[f64; 3]>,
+    rpy: &'a Option<[f64; 3]>,
+    rpy_convention: &'a Option<String>,
+}
+
+impl Target<'_> {
+    fn pose(&self, shape: &str) -> Result<Pose> {
+        match (self.t, self.position, self.rpy) {
+            (Some(t), None, None) => {
+                let m = Matrix4::from_fn(|r, c| t[r][c]);
+                if m.iter().any(|v| !v.is_finite()) {
+                    return Err(bad("T contains a non-finite value".into()));
+                }
+                Pose::from_matrix(&m).ok_or_else(|| Error::Unprocessable {
+                    message: "T is not a rigid transform: the last row must be 0 0 0 1 and the 3×3 block a rotation"
+                        .into(),
+                })
+            }
+            (None, Some(p), Some(rpy)) => {
+                let conv = match self.rpy_convention.as_deref() {
+                    None | Some("zyx") => RpyConvention::Zyx,
+                    Some("xyz") => RpyConvention::Xyz,
+                    Some(other) => return Err(bad(format!("rpy_convention `{other}` is not zyx or xyz"))),
+                };
+                Ok(Pose::from_xyz_rpy(*p, *rpy, conv))
+            }
+            _ => Err(bad(format!("give the target as \"T\" alone or as \"position\" and \"rpy\"; expected {shape}"))),
+        }
+    }
+}
+
+// The target fields are repeated in `IkReq` and `TrajReq`: serde's `flatten`
+// does not combine with `deny_unknown_fields`.
+impl IkReq {
+    fn target(&self) -> Target<'_> {
+        Target { t: &self.t, position: &self.position, rpy: &self.rpy, rpy_convention: &self.rpy_convention }
+    }
+}
+
+impl TrajReq {
+    fn target(&self) -> Target<'_> {
+        Target { t: &self.t, position: &self.position, rpy: &self.rpy, rpy_convention: &self.rpy_convention }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct IkReq {
+    robot: Option<String>,
+    #[serde(rename = "T")]
+    t: Option<[[f64; 4]; 4]>,
+    position: Option<[f64; 3]>,
+    rpy: Option<[f64; 3]>,
+    rpy_convention: Option<String>,
+    q3: Option<f64>,
+    q0: Option<Vec<f64>>,
+    solver: Option<String>,
+    seed: Option<u64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TrajReq {
+    robot: Option<String>,
+    kind: String,
+    from: Vec<f64>,
+    to: Option<Vec<f64>>,
+    #[serde(rename = "T")]
+    t: Option<[[f64; 4]; 4]>,
+    position: Option<[f64; 3]>,
+    rpy: Option<[f64; 3]>,
+    rpy_convention: Option<String>,
+    dt: Option<f64>,
+    profile: Option<String>,
+    speed: Option<f64>,
+    duration: Option<f64>,
+    jvel: Option<OneOrMany>,
+    jacc: Option<OneOrMany>,
+    jjerk: Option<OneOrMany>,
+    vmax: Option<f64>,
+    amax: Option<f64>,
+}
+
+/// Joint limits: one value for every joint or one per joint.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum OneOrMany {
+    One(f64),
+    Many(Vec<f64>),
+}
+
+impl OneOrMany {
+    fn values(&self) -> Vec<f64> {
+        match self {
+            OneOrMany::One(v) => vec![*v],
+            OneOrMany::Many(v) => v.clone(),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RunReq {
+    robot: Option<String>,
+    program: String,
+    dt: Option<f64>,
+    start: Option<Vec<f64>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn app() -> App {
+        App::new(None).unwrap()
+    }
+
+    #[test]
+    fn assets_are_served_and_the_query_is_ignored() {
+        let a = app();
+        for (path, kind) in [
+            ("/", "text/html"),
+            ("/index.html?x=1", "text/html"),
+            ("/app.js", "javascript"),
+            ("/style.css", "text/css"),
+        ] {
+            let r = a.handle("GET", path, b"");
+            assert_eq!(r.status, 200, "{path}");
+            assert!(r.content_type.contains(kind));
+            assert!(!r.body.is_empty());
+        }
+        let r = a.handle("POST", "/app.js", b"");
+        assert_eq!(r.status, 405);
+        assert!(r.headers.iter().any(|(h, v)| *h == "Allow" && v.contains("GET")));
+    }
+
+    #[test]
+    fn the_default_robot_is_first_choice_and_named_robots_are_found() {
+        let puma = Robot::builtin("puma560").unwrap();
+        let a = App::new(Some(puma)).unwrap();
+        assert_eq!(a.default_robot().name(), "puma560");
+        let (status, v) = a.api("POST", "/api/fk", br#"{"q": [0, 0, 0, 0, 0, 0]}"#);
+        assert_eq!(status, 200);
+        assert_eq!(v["robot"], "puma560");
+        let (status, v) = a.api("GET", "/api/robots/", b"");
+        assert_eq!(status, 200);
+        assert!(v.as_array().unwrap().iter().any(|r| r["name"] == "puma560" && r["default"] == true));
+    }
+
+    #[test]
+    fn every_error_is_json_with_its_status() {
+        let a = app();
+        for (method, path, body, status) in [
+            ("GET", "/nope", &b""[..], 404),
+            ("PATCH", "/api/ik", b"", 405),
+            ("POST", "/api/ik", b"{", 400),
+            ("POST", "/api/run", br#"{"program": "WAIT 1mm"}"#, 422),
+        ] {
+            let r = a.handle(method, path, body);
+            assert_eq!(r.status, status, "{method} {path}");
+            let v: Value = serde_json::from_slice(&r.body).unwrap();
+            assert!(v["error"].is_string());
+        }
+    }
+}

@@ -1,0 +1,66 @@
+//! # kinema-serve — the interactive 3D viewer of kinema
+//!
+//! A small local HTTP/1.1 server (its own, on [`std::net::TcpListener`], with
+//! the request head parsed by `httparse`) with a JSON API backed by the
+//! `kinema` and `kinema-lang` libraries, and a web page embedded in the
+//! binary that draws the robot on a 2D canvas with its own 3D projection
+//! (no JavaScript library, nothing downloaded at run time).
+//!
+//! * [`Server`] — binds a TCP address ([`Server::bind`]), tells its
+//!   [`Server::url`], and serves requests on a few worker threads, either in
+//!   the calling thread ([`Server::run`]) or in the background
+//!   ([`Server::spawn`] → [`Running`], stopped by [`Running::stop`] or when
+//!   dropped).
+//! * [`App`] — the robots the server knows and the request handler as a pure
+//!   function: [`App::handle`] takes a method, a path and a body and returns a
+//!   [`Reply`]; [`App::api`] is the JSON part, `(status, json)`. No socket is
+//!   needed to test it.
+//! * [`Error`] — everything that can go wrong, each with the HTTP status it
+//!   maps to ([`Error::status`]).
+//!
+//! The API (every answer is JSON; every error is `{"error": "…"}` with a 4xx
+//! status, 500 only if a handler panicked):
+//!
+//! | method and path | body | answer |
+//! |---|---|---|
+//! | `GET /api/robots` | — | `[{name, dof, description, joint_types, manufacturer, source, default}]` |
+//! | `GET /api/robots/{name}` | — | the fields of `kinema info --json`, plus `home` and `ik` |
+//! | `POST /api/fk` | `{robot?, q}` | `T` (4 rows), position, rpy, quaternion, `within_limits`, `frames`, `joints` |
+//! | `POST /api/ik` | `{robot?, T}` or `{robot?, position, rpy}`, optional `q3`, `q0`, `solver` | every solution: `q`, `branch`, `within_limits`, residuals |
+//! | `POST /api/traj` | `{robot?, kind: "ptp", from, to}` or `{kind: "lin", from, T \| position+rpy}` | `t`, `q`, `qd`, `qdd` |
+//! | `POST /api/run` | `{robot?, program, dt?, start?}` | `t`, `q`, `qd`, `qdd`, `motions`, `warnings` |
+//! | `POST /api/manip` | `{robot?, q}` | manipulability, translational and rotational ellipsoids |
+//!
+//! ## Example
+//!
+//! ```
+//! use kinema_serve::{App, Server};
+//!
+//! // The handler alone, without a socket:
+//! let app = App::new(None)?;
+//! let (status, json) = app.api("POST", "/api/fk", br#"{"robot": "puma560", "q": [0, 0, 0, 0, 0, 0]}"#);
+//! assert_eq!(status, 200);
+//! assert_eq!(json["T"].as_array().map(Vec::len), Some(4));
+//! let (status, json) = app.api("POST", "/api/fk", br#"{"robot": "puma560", "q": [0, 0]}"#);
+//! assert_eq!(status, 422);
+//! assert!(json["error"].as_str().unwrap().contains("6 joints"));
+//!
+//! // A real server on a free port, stopped when `running` is dropped:
+//! let running = Server::bind("127.0.0.1:0", None)?.spawn();
+//! assert!(running.url().starts_with("http://127.0.0.1:"));
+//! running.stop();
+//! # Ok::<(), kinema_serve::Error>(())
+//! ```
+#![warn(missing_docs)]
+// As in the core library: `!(x > 0.0)` is used on purpose, since unlike
+// `x <= 0.0` it is also true for NaN, which is how inputs are rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod api;
+mod error;
+pub mod json;
+mod server;
+
+pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES};
+pub use error::{Error, Result};
+pub use server::{Running, Server};

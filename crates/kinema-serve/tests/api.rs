@@ -1,0 +1,636 @@
+//! HTTP-level tests of the API: a real server on a free port, requests over
+//! plain TCP sockets, answers compared with the library.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::time::Duration;
+
+use kinema::ik::IiwaIk;
+use kinema::{Frame, Robot};
+use kinema_serve::{Running, Server, MAX_BODY};
+use rand::SeedableRng;
+use serde_json::{json, Value};
+
+/// One answer: status, raw header block, body parsed as JSON (Null if not JSON).
+struct Answer {
+    status: u16,
+    headers: String,
+    json: Value,
+}
+
+fn start() -> Running {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").expect("built-in robot");
+    Server::bind("127.0.0.1:0", Some(robot)).expect("binds a free port").spawn()
+}
+
+/// Sends `head` (request line and headers, without the blank line) and
+/// `body`, reads the whole answer (the request asks to close).
+fn raw(addr: SocketAddr, head: &str, body: &[u8]) -> Answer {
+    let mut req = format!("{head}\r\nConnection: close\r\n\r\n").into_bytes();
+    req.extend_from_slice(body);
+    exchange(addr, &req)
+}
+
+/// Sends `req` as it is and reads the whole answer (the server closes after it).
+fn exchange(addr: SocketAddr, req: &[u8]) -> Answer {
+    let mut s = TcpStream::connect(addr).expect("connects");
+    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    // The server may answer (and close) before reading everything it was sent.
+    let _ = s.write_all(req);
+    let mut out = Vec::new();
+    let _ = s.read_to_end(&mut out);
+    let split = out.windows(4).position(|w| w == b"\r\n\r\n").unwrap_or(out.len());
+    let headers = String::from_utf8_lossy(&out[..split]).into_owned();
+    let body = out.get(split + 4..).unwrap_or_default();
+    let status = headers.split_whitespace().nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
+    assert!(!headers.to_ascii_lowercase().contains("transfer-encoding"), "bodies are sent with a Content-Length");
+    Answer { status, headers, json: serde_json::from_slice(body).unwrap_or(Value::Null) }
+}
+
+fn call(addr: SocketAddr, method: &str, path: &str, body: &[u8]) -> Answer {
+    let head = format!(
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}",
+        body.len()
+    );
+    raw(addr, &head, body)
+}
+
+fn post(addr: SocketAddr, path: &str, body: &Value) -> Answer {
+    call(addr, "POST", path, body.to_string().as_bytes())
+}
+
+fn rows(v: &Value) -> Vec<Vec<f64>> {
+    v.as_array()
+        .expect("rows")
+        .iter()
+        .map(|r| r.as_array().expect("row").iter().map(|x| x.as_f64().expect("number")).collect())
+        .collect()
+}
+
+fn floats(v: &Value) -> Vec<f64> {
+    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
+}
+
+#[test]
+fn robots_list_and_info() {
+    let server = start();
+    let addr = server.local_addr();
+    let list = call(addr, "GET", "/api/robots", b"");
+    assert_eq!(list.status, 200);
+    let names: Vec<&str> = list.json.as_array().unwrap().iter().map(|r| r["name"].as_str().unwrap()).collect();
+    assert_eq!(names.len(), kinema::builtin_names().count());
+    for r in list.json.as_array().unwrap() {
+        assert!(r["dof"].as_u64().unwrap() >= 5);
+        assert!(!r["description"].as_str().unwrap().is_empty());
+        assert_eq!(r["default"].as_bool(), Some(r["name"] == "lbr-iiwa-14-r820"));
+    }
+    let info = call(addr, "GET", "/api/robots/puma560", b"");
+    assert_eq!(info.status, 200);
+    let puma = Robot::builtin("puma560").unwrap();
+    assert_eq!(info.json["dof"], 6);
+    assert_eq!(floats(&info.json["home"]), puma.home());
+    assert_eq!(info.json["joints"].as_array().unwrap().len(), 6);
+    assert_eq!(info.json["joints"][0]["type"], "revolute");
+    assert!(info.json["joints"][0]["geometry"]["d"].is_number());
+    assert!(info.json["poses"]["qr"].is_array());
+    assert_eq!(info.json["ik"]["analytic"], "pieper");
+    let iiwa = call(addr, "GET", "/api/robots/lbr-iiwa-14-r820", b"");
+    assert_eq!(iiwa.json["ik"]["q3"], true);
+    // The page and its assets.
+    let page = raw(addr, &format!("GET / HTTP/1.1\r\nHost: {addr}"), b"");
+    assert_eq!(page.status, 200);
+    assert!(page.headers.contains("text/html"));
+}
+
+#[test]
+fn fk_equals_the_library() {
+    let server = start();
+    let addr = server.local_addr();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    for name in kinema::builtin_names() {
+        let robot = Robot::builtin(name).unwrap();
+        for _ in 0..5 {
+            let q = robot.random_q(&mut rng);
+            let a = post(addr, "/api/fk", &json!({"robot": name, "q": q}));
+            assert_eq!(a.status, 200, "{name}: {}", a.json);
+            let fk = robot.fk(&q).unwrap();
+            let t = rows(&a.json["T"]);
+            let expected = fk.pose.to_rows();
+            for r in 0..4 {
+                for c in 0..4 {
+                    assert!((t[r][c] - expected[r][c]).abs() <= 1e-12, "{name} T[{r}][{c}]");
+                }
+            }
+            assert_eq!(a.json["within_limits"], fk.within_limits());
+            let frames = robot.link_frames(&q).unwrap();
+            let got = a.json["frames"].as_array().unwrap();
+            assert_eq!(got.len(), frames.len());
+            for (f, g) in frames.iter().zip(got) {
+                let p = floats(&g["position"]);
+                assert!((f.pos - kinema::nalgebra::Vector3::new(p[0], p[1], p[2])).norm() <= 1e-12);
+            }
+            assert_eq!(a.json["joints"].as_array().unwrap().len(), robot.dof());
+        }
+    }
+}
+
+#[test]
+fn ik_reaches_the_target_and_recovers_q_with_its_q3() {
+    let server = start();
+    let addr = server.local_addr();
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    for _ in 0..20 {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let a = post(addr, "/api/ik", &json!({"T": target.to_rows(), "q3": q[2], "q0": q}));
+        assert_eq!(a.status, 200, "{}", a.json);
+        assert_eq!(a.json["solver"], "iiwa");
+        let sols = a.json["solutions"].as_array().unwrap();
+        assert!(!sols.is_empty());
+        let mut best = f64::INFINITY;
+        for s in sols {
+            let sq = floats(&s["q"]);
+            // Each solution reaches the target, as the server says and as FK says.
+            assert!(s["position_error"].as_f64().unwrap() < 1e-9);
+            assert!(s["orientation_error"].as_f64().unwrap() < 1e-9);
+            let e = kinema::math::pose_error(&target, &robot.fk(&sq).unwrap().pose);
+            assert!(e.position_norm() < 1e-9 && e.rotation_angle() < 1e-9);
+            assert!(s["branch"].is_string() && s["within_limits"].is_boolean());
+            let d = sq.iter().zip(&q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            best = best.min(d);
+        }
+        assert!(best < 1e-7, "the original q is among the solutions (closest {best:e})");
+        // `nearest` points at the original.
+        let n = a.json["nearest"].as_u64().expect("nearest with q0") as usize;
+        let nq = floats(&sols[n]["q"]);
+        assert!(nq.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-7));
+    }
+    // The same through position + rpy, and through the library's closed form at q3.
+    let q = [0.3, 0.6, -0.4, -1.1, 0.2, 0.9, -0.3];
+    let p = robot.fk(&q).unwrap().pose;
+    let rpy = p.rpy(kinema::RpyConvention::Zyx);
+    let a = post(addr, "/api/ik", &json!({"position": [p.pos.x, p.pos.y, p.pos.z], "rpy": rpy, "q3": q[2]}));
+    assert_eq!(a.status, 200);
+    let lib = IiwaIk::new(&robot).unwrap().solve_q3(&p, q[2]).unwrap();
+    assert_eq!(a.json["solutions"].as_array().unwrap().len(), lib.len());
+}
+
+#[test]
+fn ik_unreachable_and_other_robots() {
+    let server = start();
+    let addr = server.local_addr();
+    let a = post(addr, "/api/ik", &json!({"position": [3.0, 0.0, 0.5], "rpy": [0, 3.0, 0]}));
+    assert_eq!(a.status, 422);
+    assert!(a.json["error"].as_str().unwrap().contains("unreachable"), "{}", a.json);
+    // A robot without an analytic solver: numeric, from q0.
+    let panda = Robot::builtin("panda").unwrap();
+    let q = [0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5];
+    let t = panda.fk(&q).unwrap().pose;
+    let a = post(addr, "/api/ik", &json!({"robot": "panda", "T": t.to_rows(), "q0": panda.home()}));
+    assert_eq!(a.status, 200, "{}", a.json);
+    assert_eq!(a.json["solver"], "numeric");
+    assert!(a.json["solutions"][0]["position_error"].as_f64().unwrap() < 1e-6);
+    // q3 on a robot that is not an iiwa.
+    let a = post(addr, "/api/ik", &json!({"robot": "panda", "T": t.to_rows(), "q3": 0.1}));
+    assert_eq!(a.status, 422);
+    assert!(a.json["error"].as_str().unwrap().contains("q3"));
+}
+
+#[test]
+fn manipulability_matches_the_library() {
+    let server = start();
+    let addr = server.local_addr();
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let q = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0];
+    let a = post(addr, "/api/manip", &json!({"q": q}));
+    assert_eq!(a.status, 200);
+    let rep = kinema::analysis::report(&robot.jacobian(&q, Frame::Base).unwrap()).unwrap();
+    assert!((a.json["yoshikawa"].as_f64().unwrap() - rep.yoshikawa).abs() < 1e-12);
+    let e = &a.json["ellipsoid_translation"];
+    assert_eq!(floats(&e["radii"]).len(), 3);
+    assert_eq!(rows(&e["axes"]).len(), 3);
+    let c = floats(&e["centre"]);
+    assert!((c[2] - robot.fk(&q).unwrap().pose.pos.z).abs() < 1e-12);
+}
+
+#[test]
+fn trajectories_and_programs() {
+    let server = start();
+    let addr = server.local_addr();
+    let from = [0.0, 0.3, 0.0, -1.0, 0.0, 0.5, 0.0];
+    let to = [0.5, 0.6, -0.2, -1.4, 0.3, 0.9, 0.4];
+    let a = post(addr, "/api/traj", &json!({"kind": "ptp", "from": from, "to": to, "jacc": 2.0, "dt": 0.01}));
+    assert_eq!(a.status, 200, "{}", a.json);
+    let t = floats(&a.json["t"]);
+    let q = rows(&a.json["q"]);
+    assert_eq!(t.len(), q.len());
+    assert_eq!(t[0], 0.0);
+    assert!((t[t.len() - 1] - a.json["duration"].as_f64().unwrap()).abs() < 1e-12);
+    assert!(q[0].iter().zip(&from).all(|(a, b)| (a - b).abs() < 1e-12));
+    assert!(q[q.len() - 1].iter().zip(&to).all(|(a, b)| (a - b).abs() < 1e-9));
+    assert_eq!(rows(&a.json["qd"]).len(), t.len());
+
+    // LIN to a pose 10 cm lower, tool orientation kept.
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let start_q = [0.0, 0.6, 0.0, -1.3, 0.0, 0.8, 0.0];
+    let p = robot.fk(&start_q).unwrap().pose;
+    let goal = [p.pos.x + 0.05, p.pos.y, p.pos.z - 0.1];
+    let a = post(
+        addr,
+        "/api/traj",
+        &json!({"kind": "lin", "from": start_q, "position": goal, "rpy": p.rpy(kinema::RpyConvention::Zyx), "vmax": 0.2, "amax": 1.0}),
+    );
+    assert_eq!(a.status, 200, "{}", a.json);
+    let q = rows(&a.json["q"]);
+    let end = robot.fk(q.last().unwrap()).unwrap().pose.pos;
+    assert!((end - kinema::nalgebra::Vector3::from(goal)).norm() < 1e-6);
+
+    // The sample cap.
+    let a = post(
+        addr,
+        "/api/traj",
+        &json!({"kind": "ptp", "from": from, "to": to, "jacc": 2.0, "duration": 100.0, "dt": 0.0001}),
+    );
+    assert_eq!(a.status, 422);
+    assert!(a.json["error"].as_str().unwrap().contains("200000"), "{}", a.json);
+
+    // A program from examples/.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/programs/");
+    let program = std::fs::read_to_string(format!("{dir}scorbot_square.prg")).unwrap();
+    let a = post(addr, "/api/run", &json!({"robot": "scorbot-er-v-plus", "program": program, "dt": 0.05}));
+    assert_eq!(a.status, 200, "{}", a.json);
+    let t = floats(&a.json["t"]);
+    assert!(t.len() > 10);
+    assert_eq!(rows(&a.json["q"]).len(), t.len());
+    assert_eq!(rows(&a.json["qdd"])[0].len(), 5);
+    assert!(a.json["motions"].as_array().unwrap().len() >= 6);
+    assert!(a.json["warnings"].is_array());
+    // A program with an error: 422 with the rendered diagnostics, no colour codes.
+    let a = post(addr, "/api/run", &json!({"program": "PTP nowhere\nWAIT 5mm\n"}));
+    assert_eq!(a.status, 422);
+    let d = a.json["diagnostics"].as_str().unwrap();
+    assert!(d.contains("program:2:6") && d.contains("WAIT 5mm") && !d.contains('\u{1b}'), "{d}");
+    assert!(a.json["error"].as_str().unwrap().starts_with("the program does not compile"));
+    // A program that would produce too many samples.
+    let a = post(addr, "/api/run", &json!({"program": "WAIT 100s\n", "dt": 0.0001}));
+    assert_eq!(a.status, 422, "{}", a.json);
+}
+
+#[test]
+fn bad_requests_get_4xx_and_a_json_error() {
+    let server = start();
+    let addr = server.local_addr();
+    let cases: &[(&str, &str, &[u8], u16, &str)] = &[
+        ("POST", "/api/fk", b"{\"q\": [0, 0.5", 400, "expected JSON"),
+        ("POST", "/api/fk", b"", 400, "empty"),
+        ("POST", "/api/fk", b"[1, 2]", 400, "expected JSON"),
+        ("POST", "/api/fk", b"{\"q\": [NaN, 0, 0, 0, 0, 0, 0]}", 400, "expected"),
+        ("POST", "/api/fk", b"{\"q\": [1e999, 0, 0, 0, 0, 0, 0]}", 400, "out of range"),
+        ("POST", "/api/fk", b"{\"q\": [0, \"x\", 0, 0, 0, 0, 0]}", 400, "invalid type"),
+        ("POST", "/api/fk", b"{\"q\": [0, 0, 0], \"qq\": 1}", 400, "unknown field"),
+        ("POST", "/api/fk", b"{\"q\": [0, 0.5]}", 422, "7 joints, but 2"),
+        ("POST", "/api/fk", b"{\"robot\": \"r2d2\", \"q\": [0]}", 422, "unknown robot `r2d2`"),
+        ("POST", "/api/fk", b"\xff\xfe{}", 400, "UTF-8"),
+        ("POST", "/api/manip", b"{\"q\": []}", 422, "7 joints"),
+        ("POST", "/api/ik", b"{\"position\": [0.5, 0, 0.5]}", 400, "\"T\" alone or"),
+        ("POST", "/api/ik", b"{\"T\": [[1,0,0,0],[0,1,0,0],[0,0,1,0]]}", 400, "length 3"),
+        ("POST", "/api/ik", b"{\"T\": [[2,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}", 422, "rotation"),
+        ("POST", "/api/ik", b"{\"T\": [[1,0,0,0.5],[0,1,0,0],[0,0,1,0.5],[0,0,0,1]], \"q0\": [1]}", 422, "7 joints"),
+        (
+            "POST",
+            "/api/ik",
+            b"{\"T\": [[1,0,0,0.5],[0,1,0,0],[0,0,1,0.5],[0,0,0,1]], \"solver\": \"magic\"}",
+            400,
+            "solver",
+        ),
+        ("POST", "/api/traj", b"{\"kind\": \"ptp\", \"from\": [0,0,0,0,0,0,0]}", 400, "needs \"to\""),
+        ("POST", "/api/traj", b"{\"kind\": \"spline\", \"from\": [0,0,0,0,0,0,0]}", 400, "kind `spline`"),
+        (
+            "POST",
+            "/api/traj",
+            b"{\"kind\": \"ptp\", \"from\": [0,0,0,0,0,0,0], \"to\": [0,0,0,0,0,0,0], \"dt\": 0}",
+            400,
+            "dt",
+        ),
+        (
+            "POST",
+            "/api/traj",
+            b"{\"kind\": \"ptp\", \"from\": [0,0,0,0,0,0,0], \"to\": [9,0,0,0,0,0,0]}",
+            422,
+            "outside its limits",
+        ),
+        ("POST", "/api/run", b"{\"program\": 42}", 400, "invalid type"),
+        ("POST", "/api/run", b"{\"program\": \"HOME\", \"start\": [0]}", 422, "7 joints"),
+        ("GET", "/api/fk", b"", 405, "use POST"),
+        ("PUT", "/api/run", b"{}", 405, "use POST"),
+        ("POST", "/api/robots", b"{}", 405, "use GET"),
+        ("DELETE", "/api/robots/puma560", b"", 405, "use GET"),
+        ("GET", "/api/robots/r2d2", b"", 404, "unknown robot `r2d2`"),
+        ("GET", "/api/nothing", b"", 404, "no such path"),
+        ("GET", "/etc/passwd", b"", 404, "no such path"),
+        ("POST", "/", b"{}", 405, "GET"),
+    ];
+    for (method, path, body, status, text) in cases {
+        let a = call(addr, method, path, body);
+        let shown = String::from_utf8_lossy(body);
+        assert_eq!(a.status, *status, "{method} {path} {shown}: {}", a.json);
+        let e = a.json["error"].as_str().unwrap_or_else(|| panic!("{method} {path}: no JSON error: {}", a.headers));
+        assert!(e.contains(text), "{method} {path} {shown}: `{e}` lacks `{text}`");
+        assert!(a.headers.to_ascii_lowercase().contains("content-type: application/json"));
+        if *status == 405 {
+            assert!(a.headers.contains("Allow:"), "{}", a.headers);
+        }
+    }
+    // Still answering.
+    assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
+}
+
+#[test]
+fn oversized_bodies_get_413_without_being_read() {
+    let server = start();
+    let addr = server.local_addr();
+    // Announce 2 MiB but send only a little: the answer comes before the body.
+    let head = format!(
+        "POST /api/run HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}",
+        2 * MAX_BODY
+    );
+    let a = raw(addr, &head, &[b'{'; 1000]);
+    assert_eq!(a.status, 413, "{}", a.headers);
+    assert!(a.json["error"].as_str().unwrap().contains("1048576"));
+    // A body just over the limit, sent whole.
+    let mut body = b"{\"program\": \"".to_vec();
+    body.resize(MAX_BODY + 10, b' ');
+    let a = call(addr, "POST", "/api/run", &body);
+    assert_eq!(a.status, 413);
+    // Still answering.
+    let a = post(addr, "/api/fk", &json!({"q": [0, 0, 0, 0, 0, 0, 0]}));
+    assert_eq!(a.status, 200);
+}
+
+#[test]
+fn stops_and_frees_the_port() {
+    let server = start();
+    let addr = server.local_addr();
+    assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
+    server.stop();
+    // The workers and the acceptor are gone and the listener is closed.
+    let start = std::time::Instant::now();
+    while Server::bind(addr, None).is_err() {
+        assert!(start.elapsed() < Duration::from_secs(5), "the port is free again");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Reads one answer from a connection that stays open: status, header block
+/// and body (by its Content-Length; none for `HEAD`). `pending` keeps what
+/// was read beyond it.
+fn read_answer(s: &mut TcpStream, pending: &mut Vec<u8>, head_request: bool) -> (u16, String, Vec<u8>) {
+    let mut chunk = [0u8; 65536];
+    let end = loop {
+        if let Some(i) = pending.windows(4).position(|w| w == b"\r\n\r\n") {
+            break i;
+        }
+        let n = s.read(&mut chunk).expect("reads an answer");
+        assert!(n > 0, "the connection closed before an answer: {}", String::from_utf8_lossy(pending));
+        pending.extend_from_slice(&chunk[..n]);
+    };
+    let headers = String::from_utf8_lossy(&pending[..end]).into_owned();
+    pending.drain(..end + 4);
+    let status = headers.split_whitespace().nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
+    let length: usize = headers
+        .lines()
+        .find_map(|l| l.to_ascii_lowercase().strip_prefix("content-length:").map(|v| v.trim().parse().unwrap()))
+        .expect("a Content-Length");
+    let length = if head_request || status == 100 { 0 } else { length };
+    while pending.len() < length {
+        let n = s.read(&mut chunk).expect("reads a body");
+        assert!(n > 0, "the connection closed within a body");
+        pending.extend_from_slice(&chunk[..n]);
+    }
+    let body = pending.drain(..length).collect();
+    (status, headers, body)
+}
+
+/// Whether the server closes `s` within `limit` (reading and discarding).
+fn closed_within(s: &mut TcpStream, limit: Duration) -> bool {
+    let start = std::time::Instant::now();
+    s.set_read_timeout(Some(Duration::from_millis(50))).unwrap();
+    let mut sink = [0u8; 1024];
+    while start.elapsed() < limit {
+        match s.read(&mut sink) {
+            Ok(0) => return true,
+            Ok(_) => {}
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {}
+            Err(_) => return true,
+        }
+    }
+    false
+}
+
+#[test]
+fn huge_announced_bodies_are_refused_at_once_and_the_server_goes_on() {
+    let server = start();
+    let addr = server.local_addr();
+    for length in ["100000000000", "99999999999999999999999999999"] {
+        for expect in ["", "\r\nExpect: 100-continue"] {
+            let t0 = std::time::Instant::now();
+            let head = format!("POST /api/run HTTP/1.1\r\nHost: {addr}\r\nContent-Length: {length}{expect}");
+            let a = raw(addr, &head, b"{\"program\": ");
+            assert_eq!(a.status, 413, "{}", a.headers);
+            assert!(!a.headers.contains("100 Continue"), "{}", a.headers);
+            assert!(a.headers.contains("Connection: close"), "{}", a.headers);
+            assert!(a.json["error"].as_str().unwrap().contains("1048576"), "{}", a.json);
+            assert!(t0.elapsed() < Duration::from_secs(3), "answered at once");
+        }
+    }
+    // Still answering.
+    let a = post(addr, "/api/fk", &json!({"q": [0, 0, 0, 0, 0, 0, 0]}));
+    assert_eq!(a.status, 200);
+}
+
+#[test]
+fn oversized_heads_garbage_and_chunked_bodies_are_refused() {
+    let server = start();
+    let addr = server.local_addr();
+    let a = raw(addr, &format!("GET /api/robots HTTP/1.1\r\nHost: {addr}\r\nX-Filler: {}", "a".repeat(20_000)), b"");
+    assert_eq!(a.status, 431, "{}", a.headers);
+    assert!(a.json["error"].as_str().unwrap().contains("16384"), "{}", a.json);
+    let many: String = (0..100).map(|i| format!("\r\nX-{i}: y")).collect();
+    let a = raw(addr, &format!("GET /api/robots HTTP/1.1\r\nHost: {addr}{many}"), b"");
+    assert_eq!(a.status, 431, "{}", a.headers);
+    for garbage in [
+        &b"\x16\x03\x01\x02\x00\x01\x00\x01\xfc\x03\x03\r\n\r\n"[..],
+        b"hello there\r\n\r\n",
+        b"GET / HTTP/9.9\r\n\r\n",
+    ] {
+        let a = exchange(addr, garbage);
+        assert_eq!(a.status, 400, "{}: {}", String::from_utf8_lossy(garbage), a.headers);
+        assert!(a.json["error"].as_str().unwrap().contains("not valid HTTP"), "{}", a.json);
+    }
+    let a = raw(
+        addr,
+        &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nTransfer-Encoding: chunked"),
+        b"2\r\n{}\r\n0\r\n\r\n",
+    );
+    assert_eq!(a.status, 411, "{}", a.headers);
+    assert!(a.json["error"].as_str().unwrap().contains("Content-Length"), "{}", a.json);
+    let a =
+        raw(addr, &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-Length: 2\r\nContent-Length: 3"), b"{}");
+    assert_eq!(a.status, 400, "{}", a.headers);
+    let a = raw(addr, &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-Length: two"), b"{}");
+    assert_eq!(a.status, 400, "{}", a.headers);
+    assert!(a.headers.to_ascii_lowercase().contains("content-type: application/json"));
+    // Still answering.
+    assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
+}
+
+#[test]
+fn stalled_and_silent_clients_do_not_block_other_requests() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let server = Server::bind("127.0.0.1:0", Some(robot)).unwrap().with_read_timeout(Duration::from_secs(1)).spawn();
+    let addr = server.local_addr();
+    // Five clients (one more than the workers) send half a head and stall.
+    let mut stalled: Vec<TcpStream> = (0..5)
+        .map(|_| {
+            let mut s = TcpStream::connect(addr).unwrap();
+            s.write_all(format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-").as_bytes()).unwrap();
+            s
+        })
+        .collect();
+    std::thread::sleep(Duration::from_millis(100));
+    let t0 = std::time::Instant::now();
+    assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
+    assert!(t0.elapsed() < Duration::from_secs(4), "answered after the read timeout: {:?}", t0.elapsed());
+    for s in &mut stalled {
+        assert!(closed_within(s, Duration::from_secs(4)), "a stalled client is dropped");
+    }
+    // A client trickling its head is dropped at the read timeout too.
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.write_all(b"GET /api/robots HTTP/1.1\r\n").unwrap();
+    let t0 = std::time::Instant::now();
+    let mut closed = false;
+    while t0.elapsed() < Duration::from_secs(4) {
+        if s.write_all(b"X-Slow: y\r\n").is_err() || closed_within(&mut s, Duration::from_millis(100)) {
+            closed = true;
+            break;
+        }
+    }
+    assert!(closed, "a trickling client is dropped");
+    drop(server);
+
+    // Silent connections (as browsers open ahead of use) give way to a
+    // request that waits, well within the default 10 s read timeout.
+    let server = start();
+    let addr = server.local_addr();
+    let silent: Vec<TcpStream> = (0..6).map(|_| TcpStream::connect(addr).unwrap()).collect();
+    std::thread::sleep(Duration::from_millis(100));
+    let t0 = std::time::Instant::now();
+    assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
+    assert!(t0.elapsed() < Duration::from_secs(4), "answered after {:?}", t0.elapsed());
+    drop(silent);
+}
+
+#[test]
+fn expect_100_continue_is_answered_before_the_body() {
+    let server = start();
+    let addr = server.local_addr();
+    let mut body = json!({"q": [0, 0, 0, 0, 0, 0, 0], "robot": "lbr-iiwa-14-r820"}).to_string();
+    body.push_str(&" ".repeat(2000));
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let head = format!(
+        "POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nExpect: 100-continue\r\n\r\n",
+        body.len()
+    );
+    s.write_all(head.as_bytes()).unwrap();
+    let mut pending = Vec::new();
+    let mut chunk = [0u8; 256];
+    while !pending.ends_with(b"\r\n\r\n") {
+        let n = s.read(&mut chunk).unwrap();
+        assert!(n > 0);
+        pending.extend_from_slice(&chunk[..n]);
+    }
+    assert_eq!(pending, b"HTTP/1.1 100 Continue\r\n\r\n");
+    s.write_all(body.as_bytes()).unwrap();
+    let (status, _, body) = read_answer(&mut s, &mut Vec::new(), false);
+    assert_eq!(status, 200);
+    let v: Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(v["T"].as_array().map(Vec::len), Some(4));
+}
+
+#[test]
+fn keep_alive_serves_requests_one_after_the_other() {
+    let server = start();
+    let addr = server.local_addr();
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let mut pending = Vec::new();
+    s.write_all(format!("GET /api/robots HTTP/1.1\r\nHost: {addr}\r\n\r\n").as_bytes()).unwrap();
+    let (status, headers, body) = read_answer(&mut s, &mut pending, false);
+    assert_eq!(status, 200);
+    assert!(!headers.contains("Connection: close"), "{headers}");
+    assert!(headers.contains("X-Content-Type-Options: nosniff"), "{headers}");
+    assert!(serde_json::from_slice::<Value>(&body).unwrap().is_array());
+    let fk = json!({"q": [0, 0, 0, 0, 0, 0, 0]}).to_string();
+    s.write_all(
+        format!("POST /api/fk?x=1 HTTP/1.1\r\nHost: {addr}\r\nContent-Length: {}\r\n\r\n{fk}", fk.len()).as_bytes(),
+    )
+    .unwrap();
+    let (status, _, body) = read_answer(&mut s, &mut pending, false);
+    assert_eq!(status, 200);
+    assert!(serde_json::from_slice::<Value>(&body).unwrap()["T"].is_array());
+    // HEAD: the headers of GET, no body.
+    s.write_all(format!("HEAD / HTTP/1.1\r\nHost: {addr}\r\n\r\n").as_bytes()).unwrap();
+    let (status, headers, _) = read_answer(&mut s, &mut pending, true);
+    assert_eq!(status, 200);
+    assert!(headers.contains("text/html") && !headers.contains("Content-Length: 0"), "{headers}");
+    // Two pipelined requests, the second asking to close.
+    s.write_all(
+        format!(
+            "GET /api/robots/puma560 HTTP/1.1\r\nHost: {addr}\r\n\r\nGET /api/nothing HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+        )
+        .as_bytes(),
+    )
+    .unwrap();
+    let (status, _, body) = read_answer(&mut s, &mut pending, false);
+    assert_eq!(status, 200, "{}", String::from_utf8_lossy(&body));
+    assert_eq!(serde_json::from_slice::<Value>(&body).unwrap()["dof"], 6);
+    let (status, headers, _) = read_answer(&mut s, &mut pending, false);
+    assert_eq!(status, 404);
+    assert!(headers.contains("Connection: close"), "{headers}");
+    assert!(pending.is_empty() && closed_within(&mut s, Duration::from_secs(3)));
+    // HTTP/1.0 closes unless asked to keep alive.
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    s.write_all(b"GET /api/robots HTTP/1.0\r\nConnection: keep-alive\r\n\r\n").unwrap();
+    let (status, headers, _) = read_answer(&mut s, &mut pending, false);
+    assert_eq!(status, 200);
+    assert!(headers.contains("Connection: keep-alive"), "{headers}");
+    s.write_all(b"GET /style.css HTTP/1.0\r\n\r\n").unwrap();
+    let (status, headers, _) = read_answer(&mut s, &mut pending, false);
+    assert_eq!(status, 200);
+    assert!(headers.contains("text/css") && headers.contains("Connection: close"), "{headers}");
+    assert!(closed_within(&mut s, Duration::from_secs(3)));
+}
+
+#[test]
+fn stop_is_prompt_with_connections_open() {
+    let server = start();
+    let addr = server.local_addr();
+    let mut idle = TcpStream::connect(addr).unwrap();
+    idle.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    idle.write_all(format!("GET /api/robots HTTP/1.1\r\nHost: {addr}\r\n\r\n").as_bytes()).unwrap();
+    assert_eq!(read_answer(&mut idle, &mut Vec::new(), false).0, 200);
+    let mut stalled = TcpStream::connect(addr).unwrap();
+    stalled.write_all(b"GET /api/robots HTTP/1.1\r\n").unwrap();
+    let _silent = TcpStream::connect(addr).unwrap();
+    std::thread::sleep(Duration::from_millis(100));
+    let t0 = std::time::Instant::now();
+    server.stop();
+    assert!(t0.elapsed() < Duration::from_secs(2), "stopped after {:?}", t0.elapsed());
+    assert!(closed_within(&mut idle, Duration::from_secs(1)));
+    assert!(closed_within(&mut stalled, Duration::from_secs(1)));
+    // The listener is closed: the port can be bound again.
+    assert!(Server::bind(addr, None).is_ok());
+}
