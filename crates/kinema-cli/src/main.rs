@@ -286,24 +286,6 @@ fn shown(kind: JointType, v: f64) -> f64 {
     }
 }
 
-fn pose_json(p: &Pose, conv: RpyConvention) -> Value {
-    let q = p.quaternion();
-    json!({
-        "T": p.to_rows(),
-        "position": [p.pos.x, p.pos.y, p.pos.z],
-        "rpy": p.rpy(conv),
-        "rpy_convention": conv_name(conv),
-        "quaternion_wxyz": [q.w, q.i, q.j, q.k],
-    })
-}
-
-fn conv_name(c: RpyConvention) -> &'static str {
-    match c {
-        RpyConvention::Zyx => "zyx",
-        RpyConvention::Xyz => "xyz",
-    }
-}
-
 fn info(r: &Robot, as_json: bool) -> Result<()> {
     if as_json {
         // The same JSON as the viewer's `GET /api/robots/{name}`.
@@ -405,10 +387,6 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
     Ok(())
 }
 
-fn out_of_limits_json(r: &Robot, fk: &kinema::Fk) -> Vec<Value> {
-    fk.out_of_limits.indices().map(|i| json!({"joint": i + 1, "name": r.joints()[i].name})).collect()
-}
-
 fn fk(a: FkArgs) -> Result<()> {
     let r = a.robot.load()?;
     let conv: RpyConvention = a.rpy.into();
@@ -419,11 +397,11 @@ fn fk(a: FkArgs) -> Result<()> {
     let fk = r.fk(&q)?;
     let p = fk.pose;
     if a.json {
-        let mut v = pose_json(&p, conv);
+        let mut v = kinema_serve::json::pose_in(&p, conv);
         v["robot"] = json!(r.name());
         v["q"] = json!(q);
         v["within_limits"] = json!(fk.within_limits());
-        v["out_of_limits"] = json!(out_of_limits_json(&r, &fk));
+        v["out_of_limits"] = kinema_serve::json::out_of_limits(&r, &fk);
         return print_json(&v);
     }
     println!(
@@ -440,7 +418,7 @@ fn fk(a: FkArgs) -> Result<()> {
     println!("position  [m]   x = {:.6}  y = {:.6}  z = {:.6}", p.pos.x, p.pos.y, p.pos.z);
     println!(
         "rpy ({})  [deg] {:.4}, {:.4}, {:.4}   [rad] {:.6}, {:.6}, {:.6}",
-        conv_name(conv),
+        kinema_serve::json::conv_name(conv),
         rpy[0].to_degrees(),
         rpy[1].to_degrees(),
         rpy[2].to_degrees(),
@@ -584,7 +562,9 @@ fn jacobian(a: JacobianArgs) -> Result<()> {
     let r = a.robot.load()?;
     let q = r.parse_q(&a.q.q, a.q.deg)?;
     let (j, kind) = match a.analytic {
-        Some(c) => (r.analytic_jacobian(&q, c.into())?, format!("analytic (rpy {})", conv_name(c.into()))),
+        Some(c) => {
+            (r.analytic_jacobian(&q, c.into())?, format!("analytic (rpy {})", kinema_serve::json::conv_name(c.into())))
+        }
         None => {
             let frame = match a.frame {
                 FrameArg::Base => Frame::Base,

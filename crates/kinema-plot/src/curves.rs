@@ -95,13 +95,14 @@ impl CartesianCurves {
         let n = traj.len();
         let mut pos = Vec::with_capacity(n);
         let mut vel = Vec::with_capacity(3 * n);
-        let mut ws = kinema::Workspace::new(robot);
+        let mut j = kinema::nalgebra::Matrix6xX::zeros(robot.dof());
         for k in 0..n {
-            let j = ws.jacobian(robot, traj.q(k), Frame::Base)?;
+            // The Jacobian's forward kinematics gives the position too.
+            let fk = robot.jacobian_into(traj.q(k), Frame::Base, &mut j)?;
             let qd = kinema::nalgebra::DVector::from_column_slice(traj.qd(k));
             let v = j.fixed_rows::<3>(0) * qd;
             vel.extend_from_slice(v.as_slice());
-            pos.push(robot.fk(traj.q(k))?.pose.pos);
+            pos.push(fk.pose.pos);
         }
         let mut acc = vec![0.0; 3 * n];
         let (mut a, mut scratch) = ([0.0; 3], [0.0; 3]);

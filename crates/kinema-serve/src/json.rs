@@ -9,14 +9,33 @@ use serde_json::{json, Map, Value};
 
 /// A pose as `kinema fk --json` prints it (roll-pitch-yaw in the zyx convention).
 pub(crate) fn pose(p: &Pose) -> Value {
+    pose_in(p, RpyConvention::Zyx)
+}
+
+/// A pose with its roll-pitch-yaw in `conv`: `T` as 4 rows, `position`,
+/// `rpy`, `rpy_convention` (`"zyx"` or `"xyz"`) and `quaternion_wxyz`.
+pub fn pose_in(p: &Pose, conv: RpyConvention) -> Value {
     let q = p.quaternion();
     json!({
         "T": p.to_rows(),
         "position": [p.pos.x, p.pos.y, p.pos.z],
-        "rpy": p.rpy(RpyConvention::Zyx),
-        "rpy_convention": "zyx",
+        "rpy": p.rpy(conv),
+        "rpy_convention": conv_name(conv),
         "quaternion_wxyz": [q.w, q.i, q.j, q.k],
     })
+}
+
+/// The name of a roll-pitch-yaw convention in JSON and on the command line.
+pub fn conv_name(c: RpyConvention) -> &'static str {
+    match c {
+        RpyConvention::Zyx => "zyx",
+        RpyConvention::Xyz => "xyz",
+    }
+}
+
+/// The joints `fk` flags as outside their limits: `[{"joint": i (from 1), "name"}]`.
+pub fn out_of_limits(r: &Robot, fk: &Fk) -> Value {
+    fk.out_of_limits.indices().map(|i| json!({"joint": i + 1, "name": r.joints()[i].name})).collect()
 }
 
 fn kind_name(kind: JointType) -> &'static str {
@@ -97,8 +116,7 @@ pub(crate) fn fk(r: &Robot, q: &[f64], fk: &Fk, frames: &[Pose]) -> Value {
     v["robot"] = json!(r.name());
     v["q"] = json!(q);
     v["within_limits"] = json!(fk.within_limits());
-    v["out_of_limits"] =
-        fk.out_of_limits.indices().map(|i| json!({"joint": i + 1, "name": r.joints()[i].name})).collect();
+    v["out_of_limits"] = out_of_limits(r, fk);
     v["frames"] = frames
         .iter()
         .map(|f| {
