@@ -15,6 +15,7 @@ use serde_json::{json, Value};
 mod ik_cmd;
 mod lang_cmd;
 mod plot_cmd;
+mod scorbot_cmd;
 mod serve_cmd;
 mod traj_cmd;
 
@@ -85,6 +86,12 @@ enum Cmd {
     },
     /// Start the interactive 3D viewer on 127.0.0.1 (Ctrl-C to stop).
     Serve(serve_cmd::ServeArgs),
+    /// The Scorbot-ER V Plus on real hardware: encoder counts, controller simulator and client,
+    /// tracking accuracy, calibration (seed 000).
+    Scorbot {
+        #[command(subcommand)]
+        cmd: scorbot_cmd::ScorbotCmd,
+    },
 }
 
 #[derive(Args)]
@@ -244,6 +251,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Compile(a) => lang_cmd::compile(a),
         Cmd::Plot { cmd } => plot_cmd::plot(cmd),
         Cmd::Serve(a) => serve_cmd::run(a),
+        Cmd::Scorbot { cmd } => scorbot_cmd::run(cmd),
     }
 }
 

@@ -1,7 +1,7 @@
 //! Desired versus measured path with the tracking error (seed 000 Fig. 5–6).
 
 use kinema::nalgebra::Vector3;
-use kinema::traj::distances_to_path;
+use kinema::traj::{distances_to_path, tracking_error, TrackingError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -21,6 +21,8 @@ pub struct TrackingPlot {
     errors: Vec<Vec<(f64, f64)>>,
     /// Mean distance of each run \[m\].
     pub run_means: Vec<f64>,
+    /// Seed 000's error over the runs, from [`kinema::traj::tracking_error`].
+    summary: TrackingError,
     axes: (usize, usize),
 }
 
@@ -34,11 +36,12 @@ impl TrackingPlot {
                 message: "at least one run with at least one point is needed".into(),
             });
         }
+        let summary = tracking_error(&desired, &measured)?;
+        let run_means = summary.run_means.clone();
+        // The per-point distances, for the right-hand chart.
         let mut errors = Vec::with_capacity(measured.len());
-        let mut run_means = Vec::with_capacity(measured.len());
         for m in &measured {
             let d = distances_to_path(m, &desired)?;
-            run_means.push(d.iter().map(|d| d.distance).sum::<f64>() / d.len() as f64);
             errors.push(d.iter().map(|d| (d.arc_length, d.distance)).collect());
         }
         // Draw on the plane of the two widest axes of the desired path.
@@ -50,17 +53,18 @@ impl TrackingPlot {
         let mut idx = [0usize, 1, 2];
         idx.sort_by(|&a, &b| extent(b).total_cmp(&extent(a)));
         let axes = (idx[0].min(idx[1]), idx[0].max(idx[1]));
-        Ok(TrackingPlot { desired, measured, errors, run_means, axes })
+        Ok(TrackingPlot { desired, measured, errors, run_means, summary, axes })
     }
 
     /// Mean and standard deviation over the runs of their mean distance \[m\]
     /// (the deviation is 0 for a single run).
     pub fn mean_error(&self) -> (f64, f64) {
-        let n = self.run_means.len() as f64;
-        let mean = self.run_means.iter().sum::<f64>() / n;
-        let var =
-            if n > 1.0 { self.run_means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (n - 1.0) } else { 0.0 };
-        (mean, var.sqrt())
+        (self.summary.mean, self.summary.spread)
+    }
+
+    /// Seed 000's tracking error of the runs (per-run means, mean and spread \[m\]).
+    pub fn tracking_error(&self) -> &TrackingError {
+        &self.summary
     }
 }
 

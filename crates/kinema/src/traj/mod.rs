@@ -36,7 +36,7 @@ pub use cell::{Cell, CellMember, CellReport};
 pub use expr::{expression_trajectory, Expr};
 pub use joint::{to_joints, to_joints_at, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw};
-pub use track::{distances_to_path, PathDistance};
+pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 
 use crate::analysis::{yoshikawa, Axes};
 use crate::error::{Error, Result};

@@ -1,0 +1,556 @@
+//! `kinema scorbot`: the Scorbot-ER V Plus on real hardware (seed 000 §III-B,
+//! §IV-B) — encoder counts, the controller simulator, a client for the real
+//! controller, tracking metrics and calibration.
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use kinema::Robot;
+use kinema_scorbot::acl::Client;
+use kinema_scorbot::encoder::Constants;
+use kinema_scorbot::follow::{self, PlanOptions, SendMode};
+use kinema_scorbot::sim::{self, Fault, SimConfig};
+use kinema_scorbot::{calib, metrics};
+use serde_json::json;
+
+use crate::print_json;
+
+/// The model the subcommands work with.
+const ROBOT: &str = "scorbot-er-v-plus";
+
+#[derive(Subcommand)]
+pub enum ScorbotCmd {
+    /// Motor encoder counts for joint angles (seed 000 eq. 24), with the tool-position uncertainty.
+    Counts(CountsArgs),
+    /// Joint angles and tool position for motor encoder counts (eq. 24 inverted).
+    Angles(AnglesArgs),
+    /// Run the controller simulator on a pseudo-terminal or a TCP port (Ctrl-C to stop).
+    Sim(SimArgs),
+    /// Talk to a controller (or the simulator): home, move, follow a path, where, abort.
+    Connect(ConnectArgs),
+    /// Tracking accuracy of measured paths: seed 000's mean error and ISO 9283 AT_p, RT_p, AP_p, RP_p.
+    Track(TrackArgs),
+    /// Estimate the encoder constants from commanded counts and measured tool positions.
+    Calibrate(CalibrateArgs),
+}
+
+#[derive(Args)]
+pub struct ConstantsArg {
+    /// Encoder constants: `factory` (Tabla II/III factory columns), `calibrated` (the seed's calibrated
+    /// counts per degree and measured home offsets), `CPD/HOME` (e.g. `factory/measured`), or a .toml file.
+    #[arg(long, default_value = "calibrated")]
+    constants: String,
+}
+
+impl ConstantsArg {
+    fn load(&self) -> Result<Constants> {
+        Ok(Constants::load(&self.constants)?)
+    }
+}
+
+#[derive(Args)]
+pub struct CountsArgs {
+    /// Joint values θ1…θ5, comma-separated (rad, or degrees with --deg), or a named pose such as `home`.
+    #[arg(long, allow_hyphen_values = true)]
+    q: String,
+    /// The joint values are in degrees.
+    #[arg(long)]
+    deg: bool,
+    #[command(flatten)]
+    constants: ConstantsArg,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct AnglesArgs {
+    /// Motor counts c1…c5, comma-separated.
+    #[arg(long, allow_hyphen_values = true)]
+    counts: String,
+    /// Print the angles in degrees.
+    #[arg(long)]
+    deg: bool,
+    #[command(flatten)]
+    constants: ConstantsArg,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct SimArgs {
+    /// Serve on a new pseudo-terminal and print its device path.
+    #[arg(long, conflicts_with = "tcp", required_unless_present = "tcp")]
+    pty: bool,
+    /// Serve on this TCP address (e.g. 127.0.0.1:7777; port 0 picks a free one).
+    #[arg(long)]
+    tcp: Option<String>,
+    /// Multiply every motion's duration by this (1 = nominal: homing 5 s, moves of seconds).
+    #[arg(long, default_value_t = 1.0)]
+    time_scale: f64,
+    /// Inject a fault: drop@CMD, garble@CMD, delay=SECONDS@CMD or disconnect@CMD, each optionally #N
+    /// for the N-th such command (e.g. garble@LISTPV#2). Repeatable.
+    #[arg(long = "fault")]
+    faults: Vec<String>,
+    /// The constants stored in the simulated controller (used for its limits and Cartesian coordinates).
+    #[arg(long, default_value = "factory")]
+    constants: String,
+    /// The constants of the simulated physical arm (where it really goes for given counts).
+    #[arg(long, default_value = "calibrated")]
+    true_constants: String,
+    /// Record the physical tool position during motions (an external camera) to this CSV (x,y,z in m).
+    #[arg(long)]
+    record: Option<PathBuf>,
+    /// Measurement noise of the recording, standard deviation per axis [mm].
+    #[arg(long, default_value_t = 0.0)]
+    noise_mm: f64,
+    /// Seed of the recording noise.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+}
+
+#[derive(Args)]
+pub struct ConnectArgs {
+    /// Serial device of the controller (9600 baud, 8N1, no flow control), e.g. /dev/ttyUSB0.
+    #[arg(long, conflicts_with = "tcp", required_unless_present = "tcp")]
+    port: Option<String>,
+    /// TCP address of the controller (a serial-to-network bridge or `kinema scorbot sim --tcp`).
+    #[arg(long)]
+    tcp: Option<String>,
+    /// Longest wait for a reply (and for a command's echo) [s].
+    #[arg(long, default_value_t = 3.0)]
+    timeout: f64,
+    /// Longest wait for a motion to end [s].
+    #[arg(long, default_value_t = 120.0)]
+    motion_timeout: f64,
+    #[command(flatten)]
+    constants: ConstantsArg,
+    #[command(subcommand)]
+    action: Action,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ModeArg {
+    /// A position vector and one smooth MOVES.
+    Vector,
+    /// One MOVED per point.
+    Points,
+}
+
+#[derive(Subcommand)]
+enum Action {
+    /// Home the arm (HOME) and wait until it is done.
+    Home,
+    /// Move to joint angles (MOVED), converted to counts with --constants.
+    Move {
+        /// Joint values θ1…θ5, comma-separated (rad, or degrees with --deg), or a named pose.
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// The joint values are in degrees.
+        #[arg(long)]
+        deg: bool,
+        /// Duration [s] (default: from the controller's speed).
+        #[arg(long)]
+        time: Option<f64>,
+    },
+    /// Follow a Cartesian path: CSV with x,y,z [m] and optional pitch, roll columns.
+    Follow {
+        /// The path CSV.
+        path: PathBuf,
+        /// The pitch and roll columns are in degrees (default radians).
+        #[arg(long)]
+        deg: bool,
+        /// Largest step between points after resampling [m] (seed 000: 1 cm).
+        #[arg(long, default_value_t = follow::SEED_MAX_STEP)]
+        max_step: f64,
+        /// How to send the points.
+        #[arg(long, value_enum, default_value = "vector")]
+        mode: ModeArg,
+        /// Duration of the whole path (vector) or of each step (points) [s].
+        #[arg(long)]
+        time: Option<f64>,
+        /// Print the plan and send nothing.
+        #[arg(long)]
+        dry_run: bool,
+    },
+    /// Print where the arm is: counts, joint angles, tool position.
+    Where {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Stop any motion (A).
+    Abort,
+}
+
+#[derive(Args)]
+pub struct TrackArgs {
+    /// The desired path: CSV with columns x,y,z [m].
+    #[arg(long)]
+    desired: PathBuf,
+    /// Measured paths (one file per repetition): CSV with columns x,y,z [m].
+    #[arg(long, num_args = 1.., required = true)]
+    measured: Vec<PathBuf>,
+    /// Print JSON (metres).
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct CalibrateArgs {
+    /// Samples: CSV with columns c1,c2,c3,c4,c5 (commanded counts) and x,y,z (measured tool position, m).
+    #[arg(long)]
+    data: PathBuf,
+    /// Starting constants (a preset or a .toml file).
+    #[arg(long, default_value = "factory")]
+    initial: String,
+    /// Also estimate the link lengths.
+    #[arg(long)]
+    links: bool,
+    /// Write the estimated constants to this .toml file (usable with --constants).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+pub(crate) fn run(cmd: ScorbotCmd) -> Result<()> {
+    match cmd {
+        ScorbotCmd::Counts(a) => counts(a),
+        ScorbotCmd::Angles(a) => angles(a),
+        ScorbotCmd::Sim(a) => sim_run(a),
+        ScorbotCmd::Connect(a) => connect(a),
+        ScorbotCmd::Track(a) => track(a),
+        ScorbotCmd::Calibrate(a) => calibrate(a),
+    }
+}
+
+fn robot() -> Result<Robot> {
+    Ok(Robot::builtin(ROBOT)?)
+}
+
+fn parse_list(text: &str, what: &str, n: usize) -> Result<Vec<f64>> {
+    let v = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|_| anyhow::anyhow!("{what}: `{}` is not a number", t.trim())))
+        .collect::<Result<Vec<f64>>>()?;
+    if v.len() != n {
+        bail!("{what}: {} values given; expected {n}", v.len());
+    }
+    Ok(v)
+}
+
+fn limits_text(robot: &Robot, q: &[f64]) -> Vec<String> {
+    robot
+        .limit_flags(q)
+        .indices()
+        .map(|j| {
+            let l = &robot.joints()[j].limits;
+            format!(
+                "joint {} ({}) = {:.2}° outside [{:.0}°, {:.0}°]",
+                j + 1,
+                robot.joints()[j].name,
+                q[j].to_degrees(),
+                l.min.to_degrees(),
+                l.max.to_degrees()
+            )
+        })
+        .collect()
+}
+
+fn counts(a: CountsArgs) -> Result<()> {
+    let robot = robot()?;
+    let c = a.constants.load()?;
+    let q = robot.parse_q(&a.q, a.deg)?;
+    let exact = c.counts(&q)?;
+    let counts = c.counts_rounded(&q)?;
+    let u = c.tool_uncertainty(&robot, &q)?;
+    let p = robot.fk(&q)?.pose.pos;
+    let outside = limits_text(&robot, &q);
+    if a.json {
+        return print_json(&json!({
+            "constants": c.name,
+            "q": q,
+            "counts": counts,
+            "counts_exact": exact,
+            "tool_position": [p.x, p.y, p.z],
+            "tool_sigma": u.sigma,
+            "tool_sigma_radius": u.radius,
+            "out_of_limits": outside,
+        }));
+    }
+    println!("constants: {}", c.name);
+    println!("counts    {}", counts.map(|v| v.to_string()).join("  "));
+    println!("tool      x {:.2}  y {:.2}  z {:.2} mm", p.x * 1e3, p.y * 1e3, p.z * 1e3);
+    if u.radius > 0.0 {
+        println!(
+            "tool 1σ   x {:.2}  y {:.2}  z {:.2} mm  (radius {:.2} mm, from the constants' ± columns)",
+            u.sigma[0] * 1e3,
+            u.sigma[1] * 1e3,
+            u.sigma[2] * 1e3,
+            u.radius * 1e3
+        );
+    } else {
+        println!("tool 1σ   not known (these constants have no uncertainties)");
+    }
+    for o in outside {
+        println!("warning: {o}");
+    }
+    Ok(())
+}
+
+fn angles(a: AnglesArgs) -> Result<()> {
+    let robot = robot()?;
+    let c = a.constants.load()?;
+    let counts = parse_list(&a.counts, "--counts", 5)?;
+    let q = c.angles(&counts)?;
+    let p = robot.fk(&q)?.pose.pos;
+    let outside = limits_text(&robot, &q);
+    let shown: Vec<f64> = if a.deg { q.iter().map(|v| v.to_degrees()).collect() } else { q.to_vec() };
+    if a.json {
+        return print_json(&json!({
+            "constants": c.name,
+            "counts": counts,
+            "q": shown,
+            "unit": if a.deg { "deg" } else { "rad" },
+            "tool_position": [p.x, p.y, p.z],
+            "out_of_limits": outside,
+        }));
+    }
+    println!("constants: {}", c.name);
+    println!(
+        "q         {}  {}",
+        shown.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join("  "),
+        if a.deg { "deg" } else { "rad" }
+    );
+    println!("tool      x {:.2}  y {:.2}  z {:.2} mm", p.x * 1e3, p.y * 1e3, p.z * 1e3);
+    for o in outside {
+        println!("warning: {o}");
+    }
+    Ok(())
+}
+
+fn sim_run(a: SimArgs) -> Result<()> {
+    if !(a.time_scale.is_finite() && a.time_scale >= 0.0) {
+        bail!("--time-scale {}: it must be a finite number ≥ 0", a.time_scale);
+    }
+    if !(a.noise_mm.is_finite() && a.noise_mm >= 0.0) {
+        bail!("--noise-mm {}: it must be a finite number ≥ 0", a.noise_mm);
+    }
+    let faults = a
+        .faults
+        .iter()
+        .map(|f| f.parse::<Fault>().with_context(|| format!("--fault {f}")))
+        .collect::<Result<Vec<_>>>()?;
+    let config = SimConfig {
+        constants: Constants::load(&a.constants).context("--constants")?,
+        true_constants: Constants::load(&a.true_constants).context("--true-constants")?,
+        time_scale: a.time_scale,
+        faults,
+        record: a.record,
+        noise: a.noise_mm * 1e-3,
+        seed: a.seed,
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    if let Some(addr) = a.tcp {
+        let listener = std::net::TcpListener::bind(&addr).with_context(|| format!("cannot listen on {addr}"))?;
+        println!("kinema scorbot sim: tcp {}", listener.local_addr()?);
+        eprintln!("simulated Controller-A (ACL, Scorbot-ER V Plus); Ctrl-C to stop");
+        sim::serve_tcp(listener, config, stop)?;
+    } else {
+        let pty = sim::PtySim::open(config)?;
+        println!("kinema scorbot sim: pty {}", pty.path());
+        eprintln!("simulated Controller-A (ACL, Scorbot-ER V Plus); Ctrl-C to stop");
+        pty.run(stop)?;
+    }
+    Ok(())
+}
+
+fn seconds_to_hundredths(s: Option<f64>, what: &str) -> Result<Option<u32>> {
+    s.map(|s| {
+        if !(s.is_finite() && s > 0.0 && s <= 3600.0) {
+            bail!("{what} {s}: a duration in seconds, > 0 and ≤ 3600");
+        }
+        Ok((s * 100.0).round().max(1.0) as u32)
+    })
+    .transpose()
+}
+
+fn connect(a: ConnectArgs) -> Result<()> {
+    let secs = |v: f64, what: &str| -> Result<Duration> {
+        if !(v.is_finite() && v > 0.0 && v <= 86_400.0) {
+            bail!("{what} {v}: seconds, > 0");
+        }
+        Ok(Duration::from_secs_f64(v))
+    };
+    let reply_timeout = secs(a.timeout, "--timeout")?;
+    let motion_timeout = secs(a.motion_timeout, "--motion-timeout")?;
+    let robot = robot()?;
+    let c = a.constants.load()?;
+    // A dry run needs no controller.
+    if let Action::Follow { path, deg, max_step, dry_run: true, .. } = &a.action {
+        let points = follow::read_path_csv(path, *deg)?;
+        let plan = follow::plan(&robot, &c, &points, &PlanOptions { max_step: *max_step, q0: None })?;
+        return print_json(&json!({
+            "points": plan.points.len(),
+            "counts": plan.counts,
+            "branches": plan.branches,
+        }));
+    }
+    let mut arm = match (&a.port, &a.tcp) {
+        (Some(p), _) => Client::open_serial(p)?,
+        (None, Some(t)) => Client::connect_tcp(t, reply_timeout)?,
+        (None, None) => bail!("give --port DEVICE or --tcp ADDRESS"),
+    };
+    arm.reply_timeout = reply_timeout;
+    arm.motion_timeout = motion_timeout;
+    match a.action {
+        Action::Home => {
+            arm.home()?;
+            eprintln!("homed");
+        }
+        Action::Abort => {
+            arm.abort()?;
+            eprintln!("aborted");
+        }
+        Action::Move { q, deg, time } => {
+            let q = robot.parse_q(&q, deg)?;
+            let outside = limits_text(&robot, &q);
+            if !outside.is_empty() {
+                bail!("not sent: {}", outside.join("; "));
+            }
+            let counts = c.counts_rounded(&q)?;
+            arm.defp("KMOVE")?;
+            arm.set_joint_position("KMOVE", counts)?;
+            arm.move_d("KMOVE", seconds_to_hundredths(time, "--time")?)?;
+            eprintln!("moved to counts {counts:?}");
+        }
+        Action::Follow { path, deg, max_step, mode, time, dry_run: _ } => {
+            let points = follow::read_path_csv(&path, deg)?;
+            let plan = follow::plan(&robot, &c, &points, &PlanOptions { max_step, q0: None })?;
+            let bar = indicatif::ProgressBar::new(plan.points.len() as u64);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{msg} {bar:30} {pos}/{len} [{elapsed}]")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            bar.set_message("sending");
+            let mode = match mode {
+                ModeArg::Vector => SendMode::Vector,
+                ModeArg::Points => SendMode::Points,
+            };
+            let result = follow::execute(
+                &mut arm,
+                &plan,
+                "KPATH",
+                mode,
+                seconds_to_hundredths(time, "--time")?,
+                &mut |done, total| {
+                    bar.set_length(total as u64);
+                    bar.set_position(done as u64);
+                },
+            );
+            bar.finish_and_clear();
+            result?;
+            eprintln!("followed {} points ({} given)", plan.points.len(), points.len());
+        }
+        Action::Where { json } => {
+            arm.here("KHERE")?;
+            let r = arm.listpv("KHERE")?;
+            let q = c.angles(&r.counts.map(|v| v as f64))?;
+            let p = robot.fk(&q)?.pose.pos;
+            if json {
+                return print_json(&json!({
+                    "counts": r.counts,
+                    "q": q,
+                    "tool_position": [p.x, p.y, p.z],
+                    "controller_cartesian": r.cartesian,
+                }));
+            }
+            println!("counts    {}", r.counts.map(|v| v.to_string()).join("  "));
+            println!("q         {} deg", q.map(|v| format!("{:.3}", v.to_degrees())).join("  "));
+            println!("tool      x {:.2}  y {:.2}  z {:.2} mm (this model)", p.x * 1e3, p.y * 1e3, p.z * 1e3);
+            if let Some(x) = r.cartesian {
+                println!(
+                    "controller X {:.1}  Y {:.1}  Z {:.1} mm  P {:.1}  R {:.1} deg",
+                    x[0] as f64 / 10.0,
+                    x[1] as f64 / 10.0,
+                    x[2] as f64 / 10.0,
+                    x[3] as f64 / 10.0,
+                    x[4] as f64 / 10.0
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+fn track(a: TrackArgs) -> Result<()> {
+    let desired = metrics::read_points_csv(&a.desired)?;
+    let runs = a.measured.iter().map(|m| metrics::read_points_csv(m)).collect::<Result<Vec<_>, _>>()?;
+    let r = metrics::track(&desired, &runs, &metrics::TrackOptions::default())?;
+    if a.json {
+        return print_json(&serde_json::to_value(&r)?);
+    }
+    let mm = |v: f64| format!("{:.3} mm", v * 1e3);
+    let opt = |v: Option<f64>| v.map_or("— (needs two or more runs)".to_string(), mm);
+    println!("{} measured run(s) against a desired path, {} evaluation points", r.runs, r.points);
+    println!(
+        "mean error (seed 000)   {} ± {}   runs: {}",
+        mm(r.mean_error),
+        mm(r.mean_error_spread),
+        r.run_mean_errors.iter().map(|v| mm(*v)).collect::<Vec<_>>().join(", ")
+    );
+    println!("ISO 9283 AT_p            {}", mm(r.at_p));
+    println!("ISO 9283 RT_p            {}", opt(r.rt_p));
+    println!("ISO 9283 AP_p (end pose) {}", mm(r.ap_p));
+    println!("ISO 9283 RP_p (end pose) {}", opt(r.rp_p));
+    if r.fallback_points > 0 {
+        println!(
+            "note: at {} evaluation point(s) a run did not cross the normal plane nearby; its nearest point was used",
+            r.fallback_points
+        );
+    }
+    Ok(())
+}
+
+fn calibrate(a: CalibrateArgs) -> Result<()> {
+    let robot = robot()?;
+    let samples = calib::read_samples_csv(&a.data)?;
+    let options = calib::CalibrationOptions {
+        initial: Constants::load(&a.initial).context("--initial")?,
+        estimate_links: a.links,
+        ..calib::CalibrationOptions::default()
+    };
+    let c = calib::calibrate(&robot, &samples, &options)?;
+    if let Some(out) = &a.out {
+        let text = c.constants.to_toml();
+        crate::write_atomically(out, |w| {
+            use std::io::Write;
+            w.write_all(text.as_bytes())?;
+            Ok(())
+        })?;
+        eprintln!("wrote the estimated constants to {}", out.display());
+    }
+    if a.json {
+        return print_json(&serde_json::to_value(&c)?);
+    }
+    println!(
+        "{} samples, {} iterations, rms residual {:.3} mm, max {:.3} mm, condition {:.1}",
+        c.samples,
+        c.iterations,
+        c.rms_residual * 1e3,
+        c.max_residual * 1e3,
+        c.condition_number
+    );
+    println!("{:<12} {:>14} {:>12} {:>14}  unit", "parameter", "estimate", "1σ", "initial");
+    for p in &c.parameters {
+        println!("{:<12} {:>14.4} {:>12.4} {:>14.4}  {}", p.name, p.value, p.sigma, p.initial, p.unit);
+    }
+    Ok(())
+}
