@@ -12,12 +12,12 @@
 //!
 //! Run: `cargo run -p kinema-scorbot --example 01_calibrate_square`
 
-use kinema::ik::scorbot::ScorbotIk;
 use kinema::nalgebra::Vector3;
 use kinema::traj::tracking_error;
 use kinema::Robot;
 use kinema_scorbot::calib::{calibrate, tool_position, CalibrationOptions, Sample};
 use kinema_scorbot::encoder::Constants;
+use kinema_scorbot::follow::{self, PathPoint, PlanOptions, SEED_MAX_STEP};
 use kinema_scorbot::metrics::{track, TrackOptions};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -27,28 +27,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let assumed = Constants::named("factory")?;
     let truth = Constants::named("calibrated")?;
 
-    // The desired square and its joint-space plan (independent of the constants).
-    let desired = square(0.35, 0.30, 0.05, 0.01);
-    let ik = ScorbotIk::new(&robot)?;
-    let plan = desired
-        .iter()
-        .map(|p| {
-            let sols = ik.solve_xyz_pitch_roll([p.x, p.y, p.z], 60f64.to_radians(), 0.0)?;
-            sols.into_iter()
-                .find(|s| s.branch == "front/elbow-up" && s.within_limits())
-                .map(|s| s.q)
-                .ok_or_else(|| format!("no front/elbow-up solution within limits at {:?}", p.as_slice()).into())
-        })
-        .collect::<Result<Vec<Vec<f64>>, Box<dyn std::error::Error>>>()?;
-
-    // What the arm does with counts computed from `constants`.
+    // The desired square as sent (a point every cm), and what the arm does
+    // with counts planned from `constants` by seed 000's path following
+    // (resampling, closed-form IK, eq. 24): it moves by the TRUE constants.
+    let desired: Vec<Vector3<f64>> = follow::resample(&square(), SEED_MAX_STEP)?.iter().map(|p| p.position).collect();
     let follow = |constants: &Constants| -> Result<Vec<Vector3<f64>>, Box<dyn std::error::Error>> {
-        plan.iter()
-            .map(|q| {
-                let counts = constants.counts_rounded(q)?.map(|c| c as f64);
-                Ok(tool_position(&robot, &truth, &counts)?)
-            })
-            .collect()
+        let plan = follow::plan(&robot, constants, &square(), &PlanOptions::default())?;
+        plan.counts.iter().map(|c| Ok(tool_position(&robot, &truth, &c.map(|v| v as f64))?)).collect()
     };
     let before = follow(&assumed)?;
 
@@ -97,18 +82,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// A square of half side `h` \[m\] in the xz plane at y = 0 around (`cx`, `cz`),
-/// a point every `step` \[m\], closed.
-fn square(cx: f64, cz: f64, h: f64, step: f64) -> Vec<Vector3<f64>> {
-    let corners = [(-h, -h), (h, -h), (h, h), (-h, h), (-h, -h)];
-    let n = (2.0 * h / step).round() as usize;
-    let mut out = Vec::new();
-    for w in corners.windows(2) {
-        for k in 0..n {
-            let t = k as f64 / n as f64;
-            out.push(Vector3::new(cx + w[0].0 + t * (w[1].0 - w[0].0), 0.0, cz + w[0].1 + t * (w[1].1 - w[0].1)));
-        }
-    }
-    out.push(out[0]);
-    out
+/// Seed 000 Fig. 6: a 10 cm square in the xz plane (y = 0) centred at
+/// x = 0.35 m, z = 0.30 m, with pitch 60° and roll 0.
+fn square() -> Vec<PathPoint> {
+    let corners = [(0.30, 0.25), (0.40, 0.25), (0.40, 0.35), (0.30, 0.35), (0.30, 0.25)];
+    corners.iter().map(|&(x, z)| PathPoint::new(Vector3::new(x, 0.0, z), 60f64.to_radians(), 0.0)).collect()
 }

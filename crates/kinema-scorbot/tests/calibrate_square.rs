@@ -2,30 +2,22 @@
 //! constants, followed by an arm with the true (seed's calibrated/measured)
 //! constants — before and after calibrating from simulated measurements.
 
-use kinema::ik::scorbot::ScorbotIk;
 use kinema::nalgebra::Vector3;
 use kinema::traj::tracking_error;
 use kinema::Robot;
 use kinema_scorbot::calib::{calibrate, tool_position, CalibrationOptions, Sample};
 use kinema_scorbot::encoder::Constants;
+use kinema_scorbot::follow::{self, PathPoint, PlanOptions, SEED_MAX_STEP};
 use kinema_scorbot::metrics::{track, TrackOptions};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// A square of half side `h` \[m\] in the xz plane at y = 0 around (`cx`, `cz`),
-/// a point every `step` \[m\], closed.
-fn square(cx: f64, cz: f64, h: f64, step: f64) -> Vec<Vector3<f64>> {
-    let corners = [(-h, -h), (h, -h), (h, h), (-h, h), (-h, -h)];
-    let n = (2.0 * h / step).round() as usize;
-    let mut out = Vec::new();
-    for w in corners.windows(2) {
-        for k in 0..n {
-            let t = k as f64 / n as f64;
-            out.push(Vector3::new(cx + w[0].0 + t * (w[1].0 - w[0].0), 0.0, cz + w[0].1 + t * (w[1].1 - w[0].1)));
-        }
-    }
-    out.push(out[0]);
-    out
+/// Seed 000 Fig. 6: a 10 cm square in the xz plane (y = 0) centred at
+/// x = 0.35 m, z = 0.30 m, with pitch 60° (pitch 0 needs more than the
+/// elbow's ±130° there) and roll 0.
+fn square() -> Vec<PathPoint> {
+    let corners = [(0.30, 0.25), (0.40, 0.25), (0.40, 0.35), (0.30, 0.35), (0.30, 0.25)];
+    corners.iter().map(|&(x, z)| PathPoint::new(Vector3::new(x, 0.0, z), 60f64.to_radians(), 0.0)).collect()
 }
 
 fn gauss(rng: &mut ChaCha8Rng) -> f64 {
@@ -40,27 +32,15 @@ fn calibration_removes_the_systematic_error_of_the_square() {
     let assumed = Constants::named("factory").unwrap();
     let truth = Constants::named("calibrated").unwrap();
 
-    // 10 cm square at x = 0.35 m, z = 0.30 m, 1 cm between points; pitch 60°
-    // (pitch 0 needs more than the elbow's ±130° there), roll 0.
-    let desired = square(0.35, 0.30, 0.05, 0.01);
-    let ik = ScorbotIk::new(&robot).unwrap();
-    let plan: Vec<Vec<f64>> = desired
-        .iter()
-        .map(|p| {
-            let sols = ik.solve_xyz_pitch_roll([p.x, p.y, p.z], 60f64.to_radians(), 0.0).unwrap();
-            let s = sols.into_iter().find(|s| s.branch == "front/elbow-up" && s.within_limits()).unwrap();
-            assert!(s.position_error < 1e-9);
-            s.q
-        })
-        .collect();
-    // The physical arm: counts from `constants`, motion by the true constants.
+    // The desired path as sent (a point every cm) and what the arm does with
+    // counts planned with `constants` (seed 000's path following), moving by
+    // the true constants.
+    let desired: Vec<Vector3<f64>> =
+        follow::resample(&square(), SEED_MAX_STEP).unwrap().iter().map(|p| p.position).collect();
     let follow = |constants: &Constants| -> Vec<Vector3<f64>> {
-        plan.iter()
-            .map(|q| {
-                let counts = constants.counts_rounded(q).unwrap().map(|c| c as f64);
-                tool_position(&robot, &truth, &counts).unwrap()
-            })
-            .collect()
+        let plan = follow::plan(&robot, constants, &square(), &PlanOptions::default()).unwrap();
+        assert!(plan.branches.iter().all(|b| b == "front/elbow-up"));
+        plan.counts.iter().map(|c| tool_position(&robot, &truth, &c.map(|v| v as f64)).unwrap()).collect()
     };
     // Sanity: with the true constants the arm follows the square to within rounding of the counts.
     let ideal = tracking_error(&desired, &[follow(&truth)]).unwrap();
