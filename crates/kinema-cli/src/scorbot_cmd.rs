@@ -337,8 +337,8 @@ fn angles(a: AnglesArgs) -> Result<()> {
 }
 
 fn sim_run(a: SimArgs) -> Result<()> {
-    if !(a.time_scale.is_finite() && a.time_scale >= 0.0) {
-        bail!("--time-scale {}: it must be a finite number ≥ 0", a.time_scale);
+    if !(a.time_scale.is_finite() && a.time_scale > 0.0 && a.time_scale <= 1e6) {
+        bail!("--time-scale {}: it must be > 0 and ≤ 1e6 (1 = nominal durations)", a.time_scale);
     }
     if !(a.noise_mm.is_finite() && a.noise_mm >= 0.0) {
         bail!("--noise-mm {}: it must be a finite number ≥ 0", a.noise_mm);

@@ -1001,14 +1001,20 @@ fn scorbot_calibrate_recovers_constants_from_simulated_measurements() {
     for i in 0..3 {
         assert!((est.home_offsets[i] - truth.home_offsets[i]).abs() < 1e-2, "{est:?}");
     }
-    // The estimated file is usable wherever constants are taken.
+    // The estimated file is usable wherever constants are taken, and gives the
+    // true arm's counts.
     let c = json(&["scorbot", "counts", "--q", "home", "--constants", out.to_str().unwrap(), "--json"]);
-    assert!(c["tool_sigma_radius"].as_f64().unwrap() >= 0.0);
-    // Too little data: refused, and no file written.
+    let t = json(&["scorbot", "counts", "--q", "home", "--constants", "calibrated", "--json"]);
+    for i in 0..3 {
+        assert!(
+            (c["counts_exact"][i].as_f64().unwrap() - t["counts_exact"][i].as_f64().unwrap()).abs() < 0.05,
+            "{c} {t}"
+        );
+    }
+    // Too little data: refused with the reason, and no file written.
     std::fs::write(&data, "c1,c2,c3,c4,c5,x,y,z\n0,0,0,0,0,0.1,0,0.5\n").unwrap();
     let out2 = dir.join("none.toml");
-    assert!(
-        !fails(&["scorbot", "calibrate", "--data", data.to_str().unwrap(), "--out", out2.to_str().unwrap()]).is_empty()
-    );
+    let e = fails(&["scorbot", "calibrate", "--data", data.to_str().unwrap(), "--out", out2.to_str().unwrap()]);
+    assert!(e.contains("sample"), "{e}");
     assert!(!out2.exists());
 }

@@ -40,17 +40,40 @@ pub trait Link: Read + Write + Send {
     /// Sets how long one `read` may block before failing with
     /// `TimedOut`/`WouldBlock`.
     fn set_timeout(&mut self, timeout: Duration) -> io::Result<()>;
+
+    /// Reads what has already arrived without waiting: `WouldBlock` when
+    /// nothing has. The default waits at most a millisecond.
+    fn read_now(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        self.set_timeout(Duration::from_millis(1))?;
+        self.read(buf)
+    }
 }
 
 impl Link for TcpStream {
     fn set_timeout(&mut self, timeout: Duration) -> io::Result<()> {
         self.set_read_timeout(Some(timeout.max(Duration::from_millis(1))))
     }
+
+    fn read_now(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        self.set_nonblocking(true)?;
+        let r = self.read(buf);
+        self.set_nonblocking(false)?;
+        r
+    }
 }
 
 impl Link for Box<dyn serialport::SerialPort> {
     fn set_timeout(&mut self, timeout: Duration) -> io::Result<()> {
         serialport::SerialPort::set_timeout(self.as_mut(), timeout).map_err(io::Error::from)
+    }
+
+    fn read_now(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let waiting = self.bytes_to_read().map_err(io::Error::from)?;
+        if waiting == 0 {
+            return Err(io::Error::new(io::ErrorKind::WouldBlock, "nothing received"));
+        }
+        let n = buf.len().min(waiting as usize);
+        self.read(&mut buf[..n])
     }
 }
 
@@ -94,6 +117,9 @@ pub struct PositionReadout {
 pub const DEFAULT_REPLY_TIMEOUT: Duration = Duration::from_secs(3);
 /// Default for [`Client::motion_timeout`].
 pub const DEFAULT_MOTION_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// Most pages of one listing the client asks for.
+const MAX_PAGES: usize = 10_000;
 
 /// Commands after which the controller answers only when a motion has ended.
 const WAITING: [&str; 5] = ["HOME", "MOVED", "MOVES", "OPEN", "CLOSE"];
@@ -215,6 +241,7 @@ impl Client {
         let mut raw: Vec<u8> = Vec::new();
         let mut lines: Vec<String> = Vec::new();
         let mut echoed = false;
+        let mut pages = 0usize;
         let mut deadline = Instant::now() + self.reply_timeout;
         loop {
             // Consume complete lines.
@@ -242,7 +269,15 @@ impl Client {
                     continue;
                 }
                 if text.contains("Type <cr>") {
-                    // A paged listing: ask for the next page.
+                    // A paged listing: ask for the next page (but not forever).
+                    pages += 1;
+                    if pages > MAX_PAGES {
+                        return Err(Error::Protocol {
+                            command: line.into(),
+                            message: format!("more than {MAX_PAGES} pages"),
+                            raw: String::from_utf8_lossy(&raw).into_owned(),
+                        });
+                    }
                     self.link.write_all(b"\r").map_err(|e| io_error(e, &format!("paging `{line}`")))?;
                     deadline = Instant::now() + self.reply_timeout;
                     continue;
@@ -270,6 +305,14 @@ impl Client {
             let got = self.read_some(deadline - now, line)?;
             if !got && echoed && String::from_utf8_lossy(&self.pending).contains("Type <cr>") {
                 // A page prompt printed without a line end, and nothing after it.
+                pages += 1;
+                if pages > MAX_PAGES {
+                    return Err(Error::Protocol {
+                        command: line.into(),
+                        message: format!("more than {MAX_PAGES} pages"),
+                        raw: String::from_utf8_lossy(&raw).into_owned(),
+                    });
+                }
                 raw.append(&mut self.pending);
                 self.link.write_all(b"\r").map_err(|e| io_error(e, &format!("paging `{line}`")))?;
                 deadline = Instant::now() + self.reply_timeout;
@@ -311,10 +354,9 @@ impl Client {
     /// timeout) so they cannot be taken for this command's reply.
     fn discard_stale(&mut self) -> Result<()> {
         self.pending.clear();
-        self.link.set_timeout(Duration::from_millis(1)).map_err(|e| io_error(e, "setting the read timeout"))?;
         let mut buf = [0u8; 512];
         loop {
-            match self.link.read(&mut buf) {
+            match self.link.read_now(&mut buf) {
                 Ok(0) => return Err(Error::Disconnected { during: "checking for stale input".into() }),
                 Ok(_) => continue,
                 Err(e)
@@ -330,13 +372,22 @@ impl Client {
         }
     }
 
-    /// Runs a command that must answer `Done.`.
+    /// Runs a command that answers `Done.` (required after a motion command;
+    /// after the others, a reply without any line is accepted too, as some
+    /// controller firmware prints nothing). Any other text is a protocol error.
     fn done(&mut self, line: &str) -> Result<()> {
         let reply = self.command(line)?;
-        if reply.lines.iter().any(|l| l.trim() == "Done.") {
+        let keyword = line.split_whitespace().next().unwrap_or("").to_ascii_uppercase();
+        let motion = MOTION.contains(&keyword.as_str());
+        let said_done = reply.lines.iter().any(|l| l.trim() == "Done.");
+        // HOME announces itself before it ends.
+        let other =
+            reply.lines.iter().map(|l| l.trim()).any(|l| !l.is_empty() && l != "Done." && !l.starts_with("HOMING"));
+        if (said_done || !motion) && !other {
             Ok(())
         } else {
-            let err = Error::Protocol { command: line.into(), message: "expected `Done.`".into(), raw: reply.raw };
+            let message = if other { "expected only `Done.`" } else { "expected `Done.`" };
+            let err = Error::Protocol { command: line.into(), message: message.into(), raw: reply.raw };
             self.fault = Some(err.to_string());
             Err(err)
         }
@@ -514,14 +565,11 @@ fn parse_listpv(reply: &Reply) -> Result<PositionReadout> {
     let mut cart = [None; 5];
     let bad = |message: String| Error::Protocol { command: reply.command.clone(), message, raw: reply.raw.clone() };
     for line in &reply.lines {
-        // Pairs may be written `1:100` or `1: 100`.
-        let joined = line.replace(": ", ":").replace(":  ", ":");
-        for tok in joined.split_whitespace() {
+        // Pairs `k:value`, with any spacing after the colon (`1:100`, `1: 100`,
+        // `1:   100` when a controller right-aligns its columns).
+        let mut tokens = line.split_whitespace();
+        while let Some(tok) = tokens.next() {
             let Some((k, v)) = tok.split_once(':') else { continue };
-            let v = v.trim();
-            if v.is_empty() {
-                continue;
-            }
             let slot = match k.to_ascii_uppercase().as_str() {
                 "1" => &mut counts[0],
                 "2" => &mut counts[1],
@@ -535,7 +583,8 @@ fn parse_listpv(reply: &Reply) -> Result<PositionReadout> {
                 "R" => &mut cart[4],
                 _ => continue,
             };
-            *slot = Some(v.parse::<i64>().map_err(|_| bad(format!("`{tok}` is not an integer coordinate")))?);
+            let v = if v.is_empty() { tokens.next().unwrap_or("") } else { v };
+            *slot = Some(v.parse::<i64>().map_err(|_| bad(format!("`{k}:{v}` is not an integer coordinate")))?);
         }
     }
     let Some(counts) = collect(counts) else {
@@ -636,6 +685,11 @@ mod tests {
         let r = c.listpv("P1").unwrap();
         assert_eq!(r.counts, [0, -3437, 2867, 738, -738]);
         assert_eq!(r.cartesian, Some([1691, 0, 5044, -636, 0]));
+        // Right-aligned columns.
+        let (mut c, _) = client(&["LISTPV P1\r\nPosition P1\r\n 1:     0  2: -3437  3:   2867 4:738 5:  -738\r\n>"]);
+        let r = c.listpv("P1").unwrap();
+        assert_eq!(r.counts, [0, -3437, 2867, 738, -738]);
+        assert_eq!(r.cartesian, None);
         assert_eq!(sent.lock().unwrap()[0], "LISTPV P1\r");
     }
 
@@ -669,6 +723,23 @@ mod tests {
         assert!(matches!(&e, Error::Protocol { raw, .. } if raw.contains("qz%&")), "{e}");
         let (mut c, _) = client(&["LISTPV A\r\nPosition A\r\n 1:0 2:x\r\n>"]);
         assert!(c.listpv("A").unwrap_err().to_string().contains("`2:x`"));
+        // A motion command must say `Done.`; a setting may say nothing.
+        let (mut c, _) = client(&["MOVED P\r\n>"]);
+        assert!(matches!(c.move_d("P", None), Err(Error::Protocol { .. })));
+        let (mut c, _) = client(&["SPEED 20\r\n>", "HOME\r\nHOMING...\r\nDone.\r\n>"]);
+        c.speed(20).unwrap();
+        c.home().unwrap();
+    }
+
+    #[test]
+    fn endless_paging_is_cut_off() {
+        let page = "X\r\nType <cr> to continue\r\n";
+        let mut answers = vec![format!("LISTP\r\n{page}")];
+        answers.extend(std::iter::repeat(page.to_string()).take(MAX_PAGES + 1));
+        let refs: Vec<&str> = answers.iter().map(String::as_str).collect();
+        let (mut c, _) = client(&refs);
+        let e = c.list_positions().unwrap_err();
+        assert!(e.to_string().contains("pages"), "{e}");
     }
 
     #[test]

@@ -301,6 +301,11 @@ impl Constants {
     /// model) caused by the constants' uncertainties, for an arm commanded with
     /// the counts these constants give for `q` (see the module documentation).
     ///
+    /// The ten constants are treated as independent (true of the seed's
+    /// tables). Constants written by a calibration are correlated (its h4 and
+    /// h5 derive from one estimated pitch offset); for those the full
+    /// covariance of `calib::Calibration` is the better guide.
+    ///
     /// # Examples
     /// ```
     /// use kinema_scorbot::encoder::Constants;

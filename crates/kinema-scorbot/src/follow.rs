@@ -183,10 +183,15 @@ pub fn plan(robot: &Robot, constants: &Constants, path: &[PathPoint], options: &
     Ok(FollowPlan { points, q, counts, branches })
 }
 
+/// Most positions sent as one vector; longer plans are split into several
+/// vectors, each followed smoothly (the arm may pause between them).
+pub const VECTOR_LIMIT: usize = 1000;
+
 /// How [`execute`] sends a plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SendMode {
-    /// `DIMP v[n]`, `SETPV` for every point, then one `MOVES v 1 n` (smooth).
+    /// `DIMP v[n]`, `SETPV` for every point, then one `MOVES v 1 n` (smooth);
+    /// plans longer than [`VECTOR_LIMIT`] go as several vectors `v`, `v2`, ….
     Vector,
     /// `DEFP p`, then for every point `SETPV` and `MOVED p` (stops at each point).
     Points,
@@ -211,13 +216,23 @@ pub fn execute(
     }
     match mode {
         SendMode::Vector => {
-            client.dimp(name, n)?;
-            for (k, c) in plan.counts.iter().enumerate() {
-                client.set_joint_position(&format!("{name}[{}]", k + 1), *c)?;
-                progress(k + 1, n + 1);
+            // Vectors of at most VECTOR_LIMIT points: `name`, `name2`, `name3`, …
+            // each sent and then moved through with one MOVES.
+            let chunks = n.div_ceil(VECTOR_LIMIT);
+            let mut done = 0;
+            for (k, chunk) in plan.counts.chunks(VECTOR_LIMIT).enumerate() {
+                let vname = if k == 0 { name.to_string() } else { format!("{name}{}", k + 1) };
+                client.dimp(&vname, chunk.len())?;
+                for (i, c) in chunk.iter().enumerate() {
+                    client.set_joint_position(&format!("{vname}[{}]", i + 1), *c)?;
+                    done += 1;
+                    progress(done, n + chunks);
+                }
+                let share = time.map(|t| ((t as f64 * chunk.len() as f64 / n as f64).round() as u32).max(1));
+                client.moves(&vname, 1, chunk.len(), share)?;
+                done += 1;
+                progress(done, n + chunks);
             }
-            client.moves(name, 1, n, time)?;
-            progress(n + 1, n + 1);
         }
         SendMode::Points => {
             client.defp(name)?;

@@ -271,3 +271,26 @@ fn the_client_works_over_a_pseudo_terminal() {
     stop.store(true, Ordering::SeqCst);
     t.join().unwrap().unwrap();
 }
+
+#[test]
+fn plans_longer_than_one_vector_go_as_several() {
+    let sim = start(config(&[]));
+    let mut c = client(&sim);
+    c.home().unwrap();
+    let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
+    let line = [
+        PathPoint::new(Vector3::new(0.40, 0.0, 0.20), 0.0, 0.0),
+        PathPoint::new(Vector3::new(0.50, 0.0, 0.20), 0.0, 0.0),
+        PathPoint::new(Vector3::new(0.50, 0.0, 0.30), 0.0, 0.0),
+    ];
+    let opts = PlanOptions { max_step: 0.00015, q0: None };
+    let plan = follow::plan(&robot, &Constants::named("calibrated").unwrap(), &line, &opts).unwrap();
+    assert!(plan.points.len() > follow::VECTOR_LIMIT, "{}", plan.points.len());
+    let mut last = (0, 0);
+    follow::execute(&mut c, &plan, "LONG", SendMode::Vector, None, &mut |d, t| last = (d, t)).unwrap();
+    assert_eq!(last.0, last.1);
+    assert_eq!(last.1, plan.points.len() + 2);
+    assert_eq!(here(&mut c), *plan.counts.last().unwrap());
+    // The second vector exists and holds the points after the first thousand.
+    assert_eq!(c.listpv("LONG2[1]").unwrap().counts, plan.counts[follow::VECTOR_LIMIT]);
+}

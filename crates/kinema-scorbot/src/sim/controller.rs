@@ -52,6 +52,14 @@ const HOME_SECONDS: f64 = 5.0;
 const GRIPPER_SECONDS: f64 = 0.5;
 /// Sampling period of the recorded tool position \[s of nominal time\].
 const SAMPLE_PERIOD: f64 = 0.01;
+
+/// Most samples recorded for one motion; a longer motion is sampled more
+/// coarsely so a slow move cannot stall the controller or flood the disk.
+pub const MAX_SAMPLES_PER_MOTION: usize = 20_000;
+
+/// Most samples recorded in a session (about 60 MB of CSV); later motions are
+/// not recorded and [`Controller::take_record_error`] reports it once.
+pub const MAX_SAMPLES: usize = 1_000_000;
 /// Largest accepted time scale.
 const MAX_TIME_SCALE: f64 = 1e6;
 
@@ -234,6 +242,7 @@ pub struct Controller {
     disconnect: bool,
 
     samples: Vec<[f64; 3]>,
+    record_full: bool,
     record_error: Option<Error>,
 }
 
@@ -298,6 +307,7 @@ impl Controller {
             seen: HashMap::new(),
             disconnect: false,
             samples: Vec::new(),
+            record_full: false,
             record_error: None,
         };
         c.write_record();
@@ -482,6 +492,12 @@ impl Controller {
 
     fn on_line(&mut self, t: Duration, line: Line) {
         if matches!(self.mode, Mode::Waiting) && is_abort(&line) {
+            self.execute(t, line);
+        } else if is_abort(&line) && matches!(self.mode, Mode::Paging { .. }) {
+            // An abort ends a paused listing (with its prompt), then runs.
+            if let Mode::Paging { ctx, .. } = std::mem::replace(&mut self.mode, Mode::Idle) {
+                self.emit_prompt(t, ctx);
+            }
             self.execute(t, line);
         } else if self.type_ahead.len() < MAX_TYPE_AHEAD {
             self.type_ahead.push_back(line);
@@ -1122,15 +1138,30 @@ impl Controller {
     // ----- recording --------------------------------------------------------
 
     /// Records the physical tool position along `a` up to `until` \[s,
-    /// simulated offset\], every 10 ms of nominal time, and rewrites the file.
+    /// simulated offset\], every 10 ms of nominal time (coarser if the motion
+    /// would give more than [`MAX_SAMPLES_PER_MOTION`]), and appends the new
+    /// rows to the file.
     fn sample(&mut self, a: &Active, until: f64) {
         if self.record.is_none() || matches!(a.kind, MotionKind::Gripper { .. }) {
             return;
         }
+        if self.samples.len() >= MAX_SAMPLES {
+            if !self.record_full {
+                self.record_full = true;
+                let path = self.record.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
+                self.record_error = Some(Error::File {
+                    path,
+                    message: format!("{MAX_SAMPLES} samples recorded; later motions are not recorded"),
+                });
+            }
+            return;
+        }
         let nominal = until / self.time_scale;
-        let n = (nominal / SAMPLE_PERIOD - 1e-9).ceil().max(0.0) as usize;
+        let period = SAMPLE_PERIOD.max(nominal / MAX_SAMPLES_PER_MOTION as f64);
+        let n = (nominal / period - 1e-9).ceil().max(0.0) as usize;
+        let from = self.samples.len();
         for k in 0..=n {
-            let tau = (k as f64 * SAMPLE_PERIOD).min(nominal);
+            let tau = (k as f64 * period).min(nominal);
             let counts = a.at(tau * self.time_scale);
             let Ok(q) = self.true_constants.angles(&counts) else { continue };
             let Ok(fk) = self.robot.fk(&q) else { continue };
@@ -1143,17 +1174,31 @@ impl Controller {
             }
             self.samples.push(s);
         }
-        self.write_record();
+        self.append_record(from);
     }
 
+    /// Creates the record file with its header (atomically).
     fn write_record(&mut self) {
         let Some(path) = &self.record else { return };
-        let mut text = String::with_capacity(8 + 64 * self.samples.len());
-        text.push_str("x,y,z\n");
-        for s in &self.samples {
+        if let Err(e) = write_atomically(path, b"x,y,z\n") {
+            if self.record_error.is_none() {
+                self.record_error = Some(Error::File { path: path.display().to_string(), message: e.to_string() });
+            }
+        }
+    }
+
+    /// Appends the samples from index `from` on to the record file, in one write.
+    fn append_record(&mut self, from: usize) {
+        let Some(path) = &self.record else { return };
+        let mut text = String::with_capacity(64 * (self.samples.len() - from));
+        for s in &self.samples[from..] {
             let _ = writeln!(text, "{},{},{}", s[0], s[1], s[2]);
         }
-        if let Err(e) = write_atomically(path, text.as_bytes()) {
+        let result = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .and_then(|mut f| std::io::Write::write_all(&mut f, text.as_bytes()));
+        if let Err(e) = result {
             if self.record_error.is_none() {
                 self.record_error = Some(Error::File { path: path.display().to_string(), message: e.to_string() });
             }
@@ -1253,7 +1298,7 @@ fn parse_ref(s: &str) -> std::result::Result<PosRef, String> {
 
 fn parse_value(s: &str) -> std::result::Result<i64, String> {
     match s.parse::<i64>() {
-        Ok(v) if v.abs() <= MAX_VALUE => Ok(v),
+        Ok(v) if (-MAX_VALUE..=MAX_VALUE).contains(&v) => Ok(v),
         _ => Err(bad(&format!("value `{s}`; an integer of at most {MAX_VALUE} in magnitude"))),
     }
 }

@@ -75,7 +75,7 @@ use std::time::Duration;
 use crate::encoder::{Constants, CountsPerDegree, HomeOffsets};
 use crate::error::Error;
 
-pub use controller::{Controller, LIMIT_TOLERANCE, MAX_LINE, MAX_TYPE_AHEAD};
+pub use controller::{Controller, LIMIT_TOLERANCE, MAX_LINE, MAX_SAMPLES, MAX_SAMPLES_PER_MOTION, MAX_TYPE_AHEAD};
 pub use transport::serve_tcp;
 #[cfg(unix)]
 pub use transport::PtySim;
@@ -109,8 +109,11 @@ pub struct SimConfig {
     /// position every 10 ms of nominal motion time during every arm motion
     /// (`HOME`, `MOVE`, `MOVED`, `MOVES`; each motion's samples run from its
     /// start to its end or stop, both included). The file is created with its
-    /// header when the controller starts and rewritten atomically (temporary
-    /// file + rename) with every sample so far at the end of each motion.
+    /// header when the controller starts (atomically: temporary file +
+    /// rename); each motion's rows are appended in one write when it ends. A
+    /// long motion is sampled more coarsely (at most
+    /// [`MAX_SAMPLES_PER_MOTION`] rows), and recording stops after
+    /// [`MAX_SAMPLES`] rows.
     pub record: Option<PathBuf>,
     /// Standard deviation of the Gaussian measurement noise added to each
     /// recorded coordinate \[m\]. Default 0.

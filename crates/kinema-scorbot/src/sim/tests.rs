@@ -386,6 +386,20 @@ fn listp_pages_after_twenty_lines() {
     assert!(c.control_on());
     // Empty list: just the prompt.
     assert_eq!(say(&mut sim(1.0), t, "LISTP"), "LISTP\r\n>");
+    // An abort ends a paused listing with its prompt, then answers as usual.
+    assert!(say(&mut c, t, "LISTP").ends_with("Type <cr> to continue\r\n"));
+    assert_eq!(say(&mut c, t, "a"), ">a\r\nDone.\r\n>");
+    ok(&mut c, t, "CON");
+}
+
+#[test]
+fn extreme_values_are_refused_not_fatal() {
+    let mut c = sim(1.0);
+    ok(&mut c, ms(0), "DEFP A");
+    for v in ["-9223372036854775808", "9223372036854775807", "99999999999999999999", "-0x10", "1e9"] {
+        let out = say(&mut c, ms(0), &format!("SETPV A 1 {v}"));
+        assert!(out.contains("*** BAD ARGUMENT"), "{v}: {out:?}");
+    }
 }
 
 #[test]
@@ -524,6 +538,13 @@ fn record_holds_the_physical_tool_positions() {
     assert_eq!(rows.len(), 603);
     let last: Vec<f64> = rows[602].split(',').map(|v| v.parse().unwrap()).collect();
     assert_eq!(last, rec[601].to_vec());
+    // A very slow move (an hour nominal) is sampled more coarsely, not 360 000 times.
+    ok(&mut c, ms(200), "SETPV A 1 0");
+    say(&mut c, ms(200), "MOVED A 360000");
+    wait_prompt(&mut c, ms(200), ms(100_000));
+    let added = c.recorded().len() - 602;
+    assert_eq!(added, MAX_SAMPLES_PER_MOTION + 1);
+    assert_eq!(std::fs::read_to_string(&path).unwrap().lines().count(), 603 + added);
     std::fs::remove_dir_all(&dir).ok();
 }
 
