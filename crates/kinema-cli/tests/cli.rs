@@ -956,9 +956,9 @@ fn scorbot_track_reports_the_seed_error_and_iso_9283() {
     assert!((f("mean_error") - 0.002).abs() < 1e-12, "{v}");
     // Run means 1 mm and 3 mm: sample standard deviation √2 mm.
     assert!((f("mean_error_spread") - 2f64.sqrt() * 1e-3).abs() < 1e-12, "{v}");
-    assert!((f("at_p") - 0.002).abs() < 1e-12 && (f("ap_p") - 0.002).abs() < 1e-12);
+    assert!((f("AT_p") - 0.002).abs() < 1e-12 && (f("AP_p") - 0.002).abs() < 1e-12);
     // l = 1 mm for both runs: l̄ + 3·S_l = 1 mm.
-    assert!((f("rt_p") - 0.001).abs() < 1e-12 && (f("rp_p") - 0.001).abs() < 1e-12, "{v}");
+    assert!((f("RT_p") - 0.001).abs() < 1e-12 && (f("RP_p") - 0.001).abs() < 1e-12, "{v}");
     let text = kinema(&["scorbot", "track", "--desired", &d, "--measured", &paths[0]]);
     assert!(
         text.ok && text.stdout.contains("1.000 mm") && text.stdout.contains("needs two or more runs"),

@@ -98,7 +98,8 @@ impl Default for TrackOptions {
 }
 
 /// Tracking figures of measured runs against a desired path (see the module
-/// documentation). All lengths in metres.
+/// documentation). All lengths in metres. Serialised with the ISO figures
+/// under their names: `AT_p`, `RT_p`, `AP_p`, `RP_p` (`null` with one run).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TrackingReport {
     /// Seed 000's error: mean over the runs of each run's mean distance to
@@ -109,12 +110,16 @@ pub struct TrackingReport {
     /// Each run's mean distance to the desired path \[m\].
     pub run_mean_errors: Vec<f64>,
     /// ISO 9283 path accuracy AT_p \[m\].
+    #[serde(rename = "AT_p")]
     pub at_p: f64,
     /// ISO 9283 path repeatability RT_p \[m\]; `None` with one run.
+    #[serde(rename = "RT_p")]
     pub rt_p: Option<f64>,
     /// ISO 9283 pose accuracy AP_p of the final pose \[m\].
+    #[serde(rename = "AP_p")]
     pub ap_p: f64,
     /// ISO 9283 pose repeatability RP_l of the final pose \[m\]; `None` with one run.
+    #[serde(rename = "RP_p")]
     pub rp_p: Option<f64>,
     /// Number of evaluation points m along the desired path.
     pub points: usize,
