@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use kinema::ik::{IkSolver, NumericIk, NumericOptions, Solution, Solutions};
+use kinema::ik::{IkRequest, NumericOptions, Solution, SolverChoice};
 use kinema::nalgebra::{Matrix4, Vector3};
 use kinema::{Error, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
@@ -153,7 +153,7 @@ fn solve(
     mask: Option<[bool; 6]>,
     q0: Option<&[f64]>,
 ) -> Result<(&'static str, Solved)> {
-    use kinema::ik::{iiwa::IiwaIk, rommel::RommelIk, scara::ScaraIk, scorbot::ScorbotIk};
+    use kinema::ik::{rommel::RommelIk, scara::ScaraIk, scorbot::ScorbotIk};
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
     if typed && a.solver == SolverArg::Numeric {
@@ -178,42 +178,22 @@ fn solve(
         let p = position()?.expect("clap requires --position");
         return Ok(("scara", s.solve_zone([p[0], p[1], p[2], ang(alpha)], q0).map(|s| vec![s])));
     }
-    if let Some(q3) = a.q3 {
-        return Ok(("iiwa", IiwaIk::new(robot)?.solve_q3(pose, ang(q3))));
-    }
-    if let Some(psi) = a.psi {
-        let s = IiwaIk::new(robot)?;
-        let all: Vec<Solution> = (0u8..8).filter_map(|c| s.solve_psi(pose, ang(psi), c).ok()).collect();
-        if all.is_empty() {
-            // Report the reason the first configuration gives.
-            return Ok(("iiwa", s.solve_psi(pose, ang(psi), 0).map(|x| vec![x])));
-        }
-        return Ok(("iiwa", Ok(all)));
-    }
-    // iiwa with a previous configuration: seed 004 §V-E's q_k = f(q_{k−1}, T_k)
-    // (q3 searched near the previous one), else the closed form at q3 = q0[2].
-    if let (Some(q0), None, false, true) = (q0, mask, a.all, a.solver != SolverArg::Numeric) {
-        if let Ok(s) = IiwaIk::new(robot) {
-            return Ok(("iiwa", s.select(q0, pose, None).map(|x| vec![x]).or_else(|_| s.solve_q3(pose, q0[2]))));
-        }
-    }
-    let analytic =
-        if mask.is_none() && a.solver != SolverArg::Numeric { kinema::ik::analytic_solver(robot) } else { None };
-    match (a.solver, analytic) {
-        (SolverArg::Analytic, None) => bail!(
-            "robot `{}` has no analytic solver for this target (analytic solvers: iiwa-type 7R, 6R with a spherical wrist, Scorbot, SCARA on a rail, ROMMEL; position-only targets are numeric); use --solver numeric",
-            robot.name()
-        ),
-        (_, Some(s)) => Ok((s.name(), s.solve(pose))),
-        (_, None) => {
-            let opts = NumericOptions { seed: a.seed, mask, ..Default::default() };
-            let solver = NumericIk::with_options(robot, opts)?;
-            let result = match q0 {
-                Some(q0) => solver.solve_from(pose, q0).map(|s| vec![s]),
-                None => solver.solve(pose),
-            };
-            Ok(("numeric", result))
-        }
+    let request = IkRequest {
+        solver: match a.solver {
+            SolverArg::Auto => SolverChoice::Auto,
+            SolverArg::Analytic => SolverChoice::Analytic,
+            SolverArg::Numeric => SolverChoice::Numeric,
+        },
+        q0,
+        all: a.all,
+        q3: a.q3.map(ang),
+        psi: a.psi.map(ang),
+        numeric: NumericOptions { seed: a.seed, mask, ..Default::default() },
+    };
+    match kinema::ik::solve_request(robot, pose, &request) {
+        Ok((name, solutions)) => Ok((name, Ok(solutions))),
+        Err(e @ Error::Unreachable { .. }) => Ok(("", Err(e))),
+        Err(e) => Err(e.into()),
     }
 }
 
@@ -222,33 +202,19 @@ pub fn ik(a: IkArgs) -> Result<()> {
     let (pose, mask) = target(&a, &robot)?;
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
     let (name, result) = solve(&a, &robot, &pose, mask, q0.as_deref())?;
-    let mut solutions = match result {
+    let solutions = match result {
         Ok(s) => s,
         Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),
         Err(e) => return Err(e.into()),
     };
-    if !a.all && !solutions.iter().any(Solution::within_limits) {
-        let rejected: Vec<String> = solutions
-            .iter()
-            .map(|s| {
-                let j: Vec<String> = s.out_of_limits.indices().map(|i| format!("q{}", i + 1)).collect();
-                format!("{} ({})", s.branch, j.join(", "))
-            })
-            .collect();
-        let reason = kinema::ik::Unreachable::JointLimits { rejected };
-        return unreachable(&a, name, &reason.to_string());
-    }
-    if !a.all {
-        solutions.retain(Solution::within_limits);
-    }
-    let chosen: Vec<&Solution> = if a.all {
-        solutions.iter().collect()
+    let chosen: Vec<Solution> = if a.all {
+        solutions
     } else {
-        let pick = match &q0 {
-            Some(q0) => solutions.nearest(&robot, q0),
-            None => solutions.iter().find(|s| s.within_limits()).or(solutions.first()),
-        };
-        pick.into_iter().collect()
+        match kinema::ik::pick_one(&robot, name, solutions, q0.as_deref()) {
+            Ok(s) => vec![s],
+            Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),
+            Err(e) => return Err(e.into()),
+        }
     };
     if a.json {
         let list: Vec<Value> = chosen.iter().map(|s| solution_json(&robot, s, a.deg)).collect();

@@ -23,12 +23,14 @@ use crate::model::{JointSet, Robot};
 pub mod iiwa;
 pub mod numeric;
 pub mod pieper;
+mod request;
 pub mod rommel;
 pub mod scara;
 pub mod scorbot;
 
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
+pub use request::{pick_one, solve_request, IkRequest, SolverChoice};
 
 /// How a numeric solve ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds the kinema Python package and runs its tests, in a throwaway venv.
+#
+#   crates/kinema-py/ci.sh            (from anywhere; the CI calls it from the repo root)
+#
+# Needs Rust (cargo), a C compiler and Python ≥ 3.9 with pip and venv (python3,
+# or $PYTHON). Downloads pinned maturin/numpy/pytest from PyPI and the crates in
+# Cargo.lock. Cargo output goes to crates/kinema-py/target (gitignored; reused
+# between runs), or to $KINEMA_PY_TARGET_DIR. Exits non-zero on any failure.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+python="${PYTHON:-python3}"
+export CARGO_TARGET_DIR="${KINEMA_PY_TARGET_DIR:-$here/target}"
+
+MATURIN_VERSION=1.16.0
+NUMPY_VERSION=2.4.6
+PYTEST_VERSION=9.2.0
+
+start=$(date +%s)
+step_start=$start
+step() {
+  local now
+  now=$(date +%s)
+  echo "== kinema-py: $1 (after $((now - step_start)) s of the previous step, $((now - start)) s total)"
+  step_start=$now
+}
+
+tmp="$(mktemp -d "${TMPDIR:-/tmp}/kinema-py-ci.XXXXXX")"
+trap 'rm -rf "$tmp"' EXIT
+
+step "venv in $tmp with $("$python" --version 2>&1)"
+"$python" -m venv "$tmp/venv"
+py="$tmp/venv/bin/python"
+"$py" -m pip install --quiet --disable-pip-version-check \
+  "maturin==$MATURIN_VERSION" "numpy==$NUMPY_VERSION" "pytest==$PYTEST_VERSION"
+
+step "maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
+"$tmp/venv/bin/maturin" build --release --locked --quiet \
+  --manifest-path "$here/Cargo.toml" --interpreter "$py" --out "$tmp/wheels"
+"$py" -m pip install --quiet --disable-pip-version-check --no-index --find-links "$tmp/wheels" kinema
+
+step "pytest"
+# Run from the temp dir so that the installed package, not the source tree, is imported.
+(cd "$tmp" && "$py" -m pytest -q -p no:cacheprovider "$here/tests")
+
+step "done"
+echo "kinema-py: all steps passed in $(( $(date +%s) - start )) s"

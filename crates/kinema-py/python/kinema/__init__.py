@@ -1,0 +1,44 @@
+"""kinema — kinematics of serial robot arms, from Python.
+
+A thin binding of the Rust library ``kinema``: every number is computed by the
+Rust core; this package converts arguments and returns numpy arrays.
+
+Example::
+
+    import numpy as np
+    import kinema
+
+    robot = kinema.Robot.builtin("puma560")
+    T = robot.fkine(robot.home)               # 4x4 ndarray
+    J = robot.jacob0(robot.home)              # 6xn, rows vx vy vz wx wy wz
+    sol = robot.ik(T)                         # IkSolution
+    Ts = robot.fkine_batch(np.zeros((1000, robot.n)))  # (1000, 4, 4), GIL released
+
+Units are SI (metres, radians). Errors derive from :class:`KinemaError`;
+bad input also derives from ``ValueError``.
+"""
+
+from ._errors import (
+    DescriptionError,
+    InvalidInput,
+    KinemaError,
+    RobotFileError,
+    TrajectoryError,
+    UnknownRobot,
+    Unreachable,
+)
+from ._kinema import IkSolution, JointTrajectory, Robot, __version__
+
+__all__ = [
+    "Robot",
+    "IkSolution",
+    "JointTrajectory",
+    "KinemaError",
+    "InvalidInput",
+    "UnknownRobot",
+    "DescriptionError",
+    "RobotFileError",
+    "Unreachable",
+    "TrajectoryError",
+    "__version__",
+]

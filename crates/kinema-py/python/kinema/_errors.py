@@ -1,0 +1,64 @@
+"""The exceptions kinema raises.
+
+Every exception derives from :class:`KinemaError`. Bad input (a joint vector of
+the wrong length, NaN, an array of the wrong shape, an unknown robot or pose
+name, a malformed robot file) also derives from :class:`ValueError`, so code
+that already catches ``ValueError`` keeps working. The message is the text the
+Rust core (and the ``kinema`` command line) prints for the same mistake.
+"""
+
+from typing import Optional
+
+
+class KinemaError(Exception):
+    """Base class of every exception raised by kinema."""
+
+
+class InvalidInput(KinemaError, ValueError):
+    """An argument kinema cannot use: wrong joint count, a non-finite value,
+    an array of the wrong shape, an unknown option or named pose."""
+
+
+class UnknownRobot(InvalidInput):
+    """A name that is not one of the built-in robots."""
+
+
+class DescriptionError(KinemaError, ValueError):
+    """A robot description (TOML or URDF) that is malformed or inconsistent.
+    The message names the file, and for TOML the line and column."""
+
+
+class RobotFileError(KinemaError, OSError):
+    """A robot description file that cannot be read."""
+
+
+class Unreachable(KinemaError):
+    """An inverse-kinematics target that cannot be reached.
+
+    Attributes:
+        solver: name of the solver that decided (``"iiwa"``, ``"pieper"``,
+            ``"numeric"``, ...).
+        reason: why, in words (outside the reach, every solution violates a
+            joint limit, no convergence, ...).
+    """
+
+    def __init__(self, message: str, solver: Optional[str] = None, reason: Optional[str] = None) -> None:
+        super().__init__(message)
+        self.solver = solver
+        self.reason = reason
+
+
+class TrajectoryError(KinemaError):
+    """A planned trajectory that breaks a limit (position, velocity,
+    acceleration, jerk); the message names the first violation and the count."""
+
+
+__all__ = [
+    "KinemaError",
+    "InvalidInput",
+    "UnknownRobot",
+    "DescriptionError",
+    "RobotFileError",
+    "Unreachable",
+    "TrajectoryError",
+]

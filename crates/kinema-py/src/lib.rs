@@ -1,0 +1,701 @@
+//! Python bindings of the kinema core (`import kinema`).
+//!
+//! Glue only: arguments are converted to the core's types, the core computes,
+//! and the results are returned as numpy arrays. Every number comes from the
+//! `kinema` crate. Errors of the core become Python exceptions (defined in
+//! `python/kinema/_errors.py`) carrying the core's `Display` text, which is
+//! what the command line prints.
+//!
+//! Layout conventions of the arrays handed to Python: homogeneous transforms
+//! are 4×4 row-major (C order); Jacobians are 6×n with rows
+//! \[vx vy vz ωx ωy ωz\]; batches stack along the first axis.
+
+use std::sync::Arc;
+
+use kinema::analysis::{self, Axes};
+use kinema::ik::{pick_one, solve_request, IkRequest, NumericOptions, Solution, SolverChoice};
+use kinema::nalgebra::{Matrix4, Matrix6xX};
+use kinema::traj::{Profile, Ptp, PtpOptions};
+use kinema::{Error, Frame, Pose, Robot};
+use numpy::ndarray::{Array, Dimension, IntoDimension};
+use numpy::{IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use rayon::prelude::*;
+
+pyo3::import_exception!(kinema._errors, KinemaError);
+pyo3::import_exception!(kinema._errors, InvalidInput);
+pyo3::import_exception!(kinema._errors, UnknownRobot);
+pyo3::import_exception!(kinema._errors, DescriptionError);
+pyo3::import_exception!(kinema._errors, RobotFileError);
+pyo3::import_exception!(kinema._errors, Unreachable);
+pyo3::import_exception!(kinema._errors, TrajectoryError);
+
+/// A core error as a Python exception with the core's message.
+fn to_py(e: Error) -> PyErr {
+    let message = e.to_string();
+    // A batch error is classified by what is wrong with the configuration.
+    let kind = match &e {
+        Error::InBatch { source, .. } => source.as_ref(),
+        other => other,
+    };
+    match kind {
+        Error::Unreachable { solver, reason } => Unreachable::new_err((message, solver.clone(), reason.to_string())),
+        Error::UnknownRobot { .. } => UnknownRobot::new_err(message),
+        Error::JointCount { .. }
+        | Error::NonFinite { .. }
+        | Error::UnknownPose { .. }
+        | Error::InvalidArgument { .. }
+        | Error::RpySingularity { .. } => InvalidInput::new_err(message),
+        Error::Description { .. } | Error::Urdf { .. } | Error::InvalidModel { .. } => {
+            DescriptionError::new_err(message)
+        }
+        Error::Io { .. } => RobotFileError::new_err(message),
+        Error::Trajectory { .. } => TrajectoryError::new_err(message),
+        _ => KinemaError::new_err(message),
+    }
+}
+
+fn invalid(message: String) -> PyErr {
+    InvalidInput::new_err(message)
+}
+
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!("({})", shape.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")),
+    }
+}
+
+/// `obj` (a numpy array, list, tuple, …) as a C-contiguous float64 array.
+/// Arrays that already are one are not copied.
+fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArrayDyn<'py, f64>> {
+    if let Ok(a) = obj.downcast::<PyArrayDyn<f64>>() {
+        if a.is_c_contiguous() {
+            return Ok(a.readonly());
+        }
+    }
+    if obj.is_instance_of::<PyString>() {
+        return Err(invalid(format!("`{what}` must be an array of numbers, not a string")));
+    }
+    let np = obj.py().import("numpy")?;
+    let kwargs = PyDict::new(obj.py());
+    kwargs.set_item("dtype", "float64")?;
+    kwargs.set_item("order", "C")?;
+    let converted = np
+        .call_method("asarray", (obj,), Some(&kwargs))
+        .map_err(|e| invalid(format!("`{what}` cannot be read as an array of float64 numbers: {e}")))?;
+    Ok(converted.downcast_into::<PyArrayDyn<f64>>()?.readonly())
+}
+
+/// Checks that `a` has `ndim` dimensions and, where `expected` gives one, that size.
+fn check_shape(a: &PyReadonlyArrayDyn<'_, f64>, what: &str, expected: &[Option<usize>], hint: &str) -> PyResult<()> {
+    let shape = a.shape();
+    let fits = shape.len() == expected.len() && shape.iter().zip(expected).all(|(s, e)| e.map_or(true, |e| *s == e));
+    if fits {
+        return Ok(());
+    }
+    let want: Vec<String> = expected.iter().map(|e| e.map_or("N".to_string(), |v| v.to_string())).collect();
+    let want = if want.len() == 1 { format!("({},)", want[0]) } else { format!("({})", want.join(", ")) };
+    Err(invalid(format!("`{what}` must have shape {want}{hint}, got shape {}", shape_text(shape))))
+}
+
+/// A C-order numpy array of `shape` from row-major `data` (moved, not copied).
+fn to_numpy<'py, D: IntoDimension>(py: Python<'py>, shape: D, data: Vec<f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>>
+where
+    D::Dim: Dimension,
+{
+    let a = Array::from_shape_vec(shape.into_dimension(), data)
+        .map_err(|e| KinemaError::new_err(format!("internal shape error: {e}")))?;
+    Ok(a.into_dyn().into_pyarray(py))
+}
+
+fn push_pose(out: &mut [f64], pose: &Pose) {
+    for (r, row) in pose.to_rows().iter().enumerate() {
+        out[4 * r..4 * r + 4].copy_from_slice(row);
+    }
+}
+
+/// Writes the column-major 6×n Jacobian `j` row-major into `out`.
+fn push_jacobian(out: &mut [f64], j: &Matrix6xX<f64>) {
+    let n = j.ncols();
+    for r in 0..6 {
+        for c in 0..n {
+            out[r * n + c] = j[(r, c)];
+        }
+    }
+}
+
+fn parse_axes(axes: &str) -> PyResult<Axes> {
+    match axes {
+        "all" => Ok(Axes::All),
+        "trans" => Ok(Axes::Translation),
+        "rot" => Ok(Axes::Rotation),
+        other => Err(invalid(format!("invalid `axes`: `{other}`; use \"all\", \"trans\" or \"rot\""))),
+    }
+}
+
+/// A serial robot arm (immutable). Load one with :meth:`Robot.builtin` or
+/// :meth:`Robot.from_file`.
+///
+/// Units are SI: metres and radians. Joint vectors are 1-D arrays (or lists)
+/// of ``n`` values; transforms are 4×4 homogeneous matrices
+/// (``base_from_tool``); Jacobian rows are ``[vx vy vz ωx ωy ωz]``.
+#[pyclass(frozen, name = "Robot", module = "kinema")]
+struct PyRobot {
+    robot: Arc<Robot>,
+}
+
+/// One inverse-kinematics solution.
+///
+/// Attributes:
+///     q: joint values (1-D float64 array, rad / m).
+///     branch: branch label, e.g. ``"shoulder-left/elbow-up/wrist-noflip"`` or ``"numeric"``.
+///     solver: the solver that found it (``"iiwa"``, ``"pieper"``, ``"scorbot"``, ``"numeric"``, ...).
+///     residual: ``(position_error [m], orientation_error [rad])`` measured by
+///         forward kinematics of ``q`` against the target.
+///     within_limits: whether every joint value is within its limits.
+///     success: ``within_limits`` and both residuals at most the numeric
+///         solver's default tolerances (1e-6 m, 1e-6 rad).
+///     iterations, restarts: what the numeric solver did (``None`` for analytic solutions).
+#[pyclass(frozen, name = "IkSolution", module = "kinema")]
+struct PyIkSolution {
+    #[pyo3(get)]
+    q: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    branch: String,
+    #[pyo3(get)]
+    solver: String,
+    #[pyo3(get)]
+    position_error: f64,
+    #[pyo3(get)]
+    orientation_error: f64,
+    #[pyo3(get)]
+    within_limits: bool,
+    #[pyo3(get)]
+    success: bool,
+    #[pyo3(get)]
+    iterations: Option<usize>,
+    #[pyo3(get)]
+    restarts: Option<usize>,
+}
+
+#[pymethods]
+impl PyIkSolution {
+    /// ``(position_error [m], orientation_error [rad])``.
+    #[getter]
+    fn residual(&self) -> (f64, f64) {
+        (self.position_error, self.orientation_error)
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let q = self.q.bind(py).repr()?;
+        Ok(format!(
+            "IkSolution(q={q}, branch='{}', solver='{}', residual=({:.3e}, {:.3e}), within_limits={}, success={})",
+            self.branch,
+            self.solver,
+            self.position_error,
+            self.orientation_error,
+            if self.within_limits { "True" } else { "False" },
+            if self.success { "True" } else { "False" },
+        ))
+    }
+}
+
+impl PyIkSolution {
+    fn new(py: Python<'_>, s: &Solution, solver: &str) -> Self {
+        let tol = NumericOptions::default();
+        let within_limits = s.within_limits();
+        PyIkSolution {
+            q: PyArray1::from_slice(py, &s.q).unbind(),
+            branch: s.branch.to_string(),
+            solver: solver.to_string(),
+            position_error: s.position_error,
+            orientation_error: s.orientation_error,
+            within_limits,
+            success: within_limits
+                && s.position_error <= tol.tol_position
+                && s.orientation_error <= tol.tol_orientation,
+            iterations: s.numeric.map(|n| n.iterations),
+            restarts: s.numeric.map(|n| n.restarts),
+        }
+    }
+}
+
+/// A sampled joint trajectory (from :meth:`Robot.ptp`).
+///
+/// Attributes:
+///     t: sample times, shape (K,) [s], from 0 to ``duration`` inclusive.
+///     q, qd, qdd: joint positions, velocities and accelerations, shape (K, n)
+///         (rad, rad/s, rad/s²; m for prismatic joints).
+///     duration: length of the motion [s].
+///     profile: the time law's family (``"trapezoid"``, ``"scurve"``, ...).
+///     phase_times: times at which the time law changes phase [s].
+#[pyclass(frozen, name = "JointTrajectory", module = "kinema")]
+struct PyJointTrajectory {
+    #[pyo3(get)]
+    t: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    q: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    qd: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    qdd: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    duration: f64,
+    #[pyo3(get)]
+    profile: &'static str,
+    #[pyo3(get)]
+    phase_times: Vec<f64>,
+}
+
+#[pymethods]
+impl PyJointTrajectory {
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "JointTrajectory({} samples, duration={:.6} s, profile='{}')",
+            self.t.bind(py).len(),
+            self.duration,
+            self.profile
+        )
+    }
+}
+
+/// A limit argument: None, one number (every joint) or one per joint.
+fn limit_values(obj: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Option<Vec<f64>>> {
+    let Some(obj) = obj else { return Ok(None) };
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let a = f64_array(obj, what)?;
+    if a.ndim() > 1 {
+        return Err(invalid(format!(
+            "`{what}` must be one number or one per joint, got shape {}",
+            shape_text(a.shape())
+        )));
+    }
+    Ok(Some(a.as_slice()?.to_vec()))
+}
+
+impl PyRobot {
+    fn dof(&self) -> usize {
+        self.robot.dof()
+    }
+
+    /// A joint vector argument: a 1-D array of numbers, or the name of a pose.
+    fn joint_vector(&self, obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+        if let Ok(name) = obj.downcast::<PyString>() {
+            return self.robot.pose(name.to_str()?).map(<[f64]>::to_vec).map_err(to_py);
+        }
+        let a = f64_array(obj, what)?;
+        check_shape(&a, what, &[None], " (one value per joint)")?;
+        Ok(a.as_slice()?.to_vec())
+    }
+
+    /// Calls `f` on a joint vector argument without copying it when it already is float64.
+    fn with_q<T>(&self, obj: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> kinema::Result<T>) -> PyResult<T> {
+        if obj.is_instance_of::<PyString>() {
+            let q = self.joint_vector(obj, "q")?;
+            return f(&q).map_err(to_py);
+        }
+        let a = f64_array(obj, "q")?;
+        if a.ndim() == 2 {
+            return Err(invalid(format!(
+                "`q` must be one configuration of shape ({},), got shape {}; use the *_batch methods for many",
+                self.dof(),
+                shape_text(a.shape())
+            )));
+        }
+        check_shape(&a, "q", &[None], " (one value per joint)")?;
+        f(a.as_slice()?).map_err(to_py)
+    }
+
+    /// An (N, n) batch argument, copied (the computation runs without the GIL).
+    fn batch(&self, obj: &Bound<'_, PyAny>) -> PyResult<(usize, Vec<f64>)> {
+        let a = f64_array(obj, "Q")?;
+        let n = self.dof();
+        check_shape(&a, "Q", &[None, Some(n)], &format!(" (one row of {n} joint values per configuration)"))?;
+        Ok((a.shape()[0], a.as_slice()?.to_vec()))
+    }
+
+    fn jacobian(&self, py: Python<'_>, q: &Bound<'_, PyAny>, frame: Frame) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let j = self.with_q(q, |q| self.robot.jacobian(q, frame))?;
+        let mut out = vec![0.0; 6 * n];
+        push_jacobian(&mut out, &j);
+        Ok(to_numpy(py, (6, n), out)?.unbind())
+    }
+
+    fn jacobian_batch(&self, py: Python<'_>, qs: &Bound<'_, PyAny>, frame: Frame) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let n = self.dof();
+        let (count, qs) = self.batch(qs)?;
+        let robot = Arc::clone(&self.robot);
+        let out = py
+            .allow_threads(move || -> kinema::Result<Vec<f64>> {
+                // Every configuration is checked before any work, as `Robot::fk_batch` does.
+                for (index, q) in qs.chunks_exact(n).enumerate() {
+                    robot.check_q(q).map_err(|e| Error::InBatch { index, source: Box::new(e) })?;
+                }
+                let mut out = vec![0.0; count * 6 * n];
+                out.par_chunks_mut(6 * n).zip(qs.par_chunks_exact(n)).with_min_len(256).try_for_each_init(
+                    || Matrix6xX::zeros(n),
+                    |j, (o, q)| {
+                        robot.jacobian_into(q, frame, j)?;
+                        push_jacobian(o, j);
+                        Ok::<(), Error>(())
+                    },
+                )?;
+                Ok(out)
+            })
+            .map_err(to_py)?;
+        Ok(to_numpy(py, (count, 6, n), out)?.unbind())
+    }
+}
+
+#[pymethods]
+impl PyRobot {
+    /// A built-in robot by name, e.g. ``"puma560"``, ``"lbr-iiwa-14-r820"``,
+    /// ``"scorbot-er-v-plus"`` (see :meth:`Robot.builtins`).
+    ///
+    /// Raises:
+    ///     UnknownRobot: the name is not a built-in robot (the message lists them).
+    #[staticmethod]
+    fn builtin(name: &str) -> PyResult<Self> {
+        Robot::builtin(name).map(|r| PyRobot { robot: Arc::new(r) }).map_err(to_py)
+    }
+
+    /// Names of the built-in robots, sorted.
+    #[staticmethod]
+    fn builtins() -> Vec<&'static str> {
+        kinema::builtin_names().collect()
+    }
+
+    /// Loads a robot description file: ``.toml`` (kinema's format) or
+    /// ``.urdf``. For URDF, ``tip`` names the last link of the chain (default:
+    /// the only leaf link).
+    ///
+    /// Raises:
+    ///     RobotFileError: the file cannot be read.
+    ///     DescriptionError: the description is malformed (file, line, column in the message).
+    ///     InvalidInput: ``tip`` given for a TOML file.
+    #[staticmethod]
+    #[pyo3(signature = (path, tip=None))]
+    fn from_file(path: std::path::PathBuf, tip: Option<&str>) -> PyResult<Self> {
+        Robot::from_file(&path, tip).map(|r| PyRobot { robot: Arc::new(r) }).map_err(to_py)
+    }
+
+    /// Robot name, e.g. ``"puma560"``.
+    #[getter]
+    fn name(&self) -> &str {
+        self.robot.name()
+    }
+
+    /// Number of joints (degrees of freedom).
+    #[getter]
+    fn n(&self) -> usize {
+        self.dof()
+    }
+
+    /// Joint names, base first.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.robot.joints().iter().map(|j| j.name.clone()).collect()
+    }
+
+    /// Joint types as a string such as ``"RRRRRR"`` (R revolute, P prismatic).
+    #[getter]
+    fn joint_types(&self) -> String {
+        self.robot.joint_types()
+    }
+
+    /// Joint position limits, a 2×n array: row 0 the lower, row 1 the upper
+    /// limits (rad / m; ±inf where a joint is unbounded).
+    #[getter]
+    fn qlim(&self, py: Python<'_>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let joints = self.robot.joints();
+        let data = joints.iter().map(|j| j.limits.min).chain(joints.iter().map(|j| j.limits.max)).collect();
+        Ok(to_numpy(py, (2, joints.len()), data)?.unbind())
+    }
+
+    /// The ``home`` configuration (1-D array).
+    #[getter]
+    fn home<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.robot.home())
+    }
+
+    /// Named configurations as a dict ``{name: array}`` (``home`` among them).
+    #[getter]
+    fn poses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for p in self.robot.poses() {
+            d.set_item(&p.name, PyArray1::from_slice(py, &p.q))?;
+        }
+        Ok(d)
+    }
+
+    /// A named configuration (1-D array).
+    ///
+    /// Raises:
+    ///     InvalidInput: the robot has no pose of that name (the message lists its poses).
+    fn pose<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.robot.pose(name).map(|q| PyArray1::from_slice(py, q)).map_err(to_py)
+    }
+
+    /// Forward kinematics: the tool pose ``base_from_tool`` as a 4×4 array.
+    ///
+    /// ``q`` is a 1-D array or list of n joint values (rad / m) or the name of
+    /// a pose. Values outside the joint limits are computed anyway.
+    ///
+    /// Raises:
+    ///     InvalidInput: wrong number of values, NaN/inf, or not 1-D.
+    fn fkine(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let fk = self.with_q(q, |q| self.robot.fk(q))?;
+        let mut out = vec![0.0; 16];
+        push_pose(&mut out, &fk.pose);
+        Ok(to_numpy(py, (4, 4), out)?.unbind())
+    }
+
+    /// All frames along the chain as an (n+2)×4×4 array: index 0 the base
+    /// frame, index i the frame of link i, index n+1 the tool frame, all in
+    /// the base frame.
+    fn fkine_all(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let frames = self.with_q(q, |q| self.robot.link_frames(q))?;
+        let mut out = vec![0.0; 16 * frames.len()];
+        for (o, f) in out.chunks_exact_mut(16).zip(&frames) {
+            push_pose(o, f);
+        }
+        Ok(to_numpy(py, (frames.len(), 4, 4), out)?.unbind())
+    }
+
+    /// Geometric Jacobian in the base frame, a 6×n array with rows
+    /// ``[vx vy vz ωx ωy ωz]`` (velocity of the tool point, angular velocity).
+    fn jacob0(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        self.jacobian(py, q, Frame::Base)
+    }
+
+    /// Geometric Jacobian in the tool frame, a 6×n array with rows
+    /// ``[vx vy vz ωx ωy ωz]`` expressed in tool axes.
+    fn jacobe(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        self.jacobian(py, q, Frame::Tool)
+    }
+
+    /// Yoshikawa manipulability √det(J·Jᵀ) of the base-frame Jacobian's rows
+    /// ``axes``: ``"all"`` (6 rows), ``"trans"`` (vx vy vz) or ``"rot"`` (ωx ωy ωz).
+    /// 0 when the selected block has more rows than the robot has joints.
+    #[pyo3(signature = (q, axes="all"))]
+    fn manipulability(&self, q: &Bound<'_, PyAny>, axes: &str) -> PyResult<f64> {
+        let axes = parse_axes(axes)?;
+        self.with_q(q, |q| analysis::yoshikawa(&self.robot.jacobian(q, Frame::Base)?, axes))
+    }
+
+    /// Forward kinematics of N configurations, an (N, n) array → (N, 4, 4).
+    /// Runs without the GIL, in parallel over all cores. Every row is checked
+    /// before any work; a bad row raises InvalidInput naming its index.
+    #[allow(non_snake_case)]
+    fn fkine_batch(&self, py: Python<'_>, Q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let (count, qs) = self.batch(Q)?;
+        let robot = Arc::clone(&self.robot);
+        let out = py
+            .allow_threads(move || -> kinema::Result<Vec<f64>> {
+                let fks = robot.fk_batch(&qs)?;
+                let mut out = vec![0.0; 16 * fks.len()];
+                out.par_chunks_mut(16)
+                    .zip(fks.par_iter())
+                    .with_min_len(1024)
+                    .for_each(|(o, fk)| push_pose(o, &fk.pose));
+                Ok(out)
+            })
+            .map_err(to_py)?;
+        Ok(to_numpy(py, (count, 4, 4), out)?.unbind())
+    }
+
+    /// Base-frame Jacobians of N configurations, an (N, n) array → (N, 6, n).
+    /// Runs without the GIL, in parallel over all cores.
+    #[allow(non_snake_case)]
+    fn jacob0_batch(&self, py: Python<'_>, Q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        self.jacobian_batch(py, Q, Frame::Base)
+    }
+
+    /// Tool-frame Jacobians of N configurations, an (N, n) array → (N, 6, n).
+    /// Runs without the GIL, in parallel over all cores.
+    #[allow(non_snake_case)]
+    fn jacobe_batch(&self, py: Python<'_>, Q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+        self.jacobian_batch(py, Q, Frame::Tool)
+    }
+
+    /// Inverse kinematics of the 4×4 target ``T`` (``base_from_tool``).
+    ///
+    /// Chooses the solver as ``kinema ik`` does. ``solver``: ``"auto"`` (the
+    /// robot's analytic solver when it has one, else numeric), ``"analytic"``
+    /// or ``"numeric"`` (damped least squares with restarts seeded by ``seed``).
+    /// ``q0``: previous configuration (array or pose name): the numeric solver
+    /// starts there, and the solution nearest to it is returned. iiwa-type
+    /// arms only: ``q3`` solves with that fixed q3 (up to 8 solutions), ``psi``
+    /// at that arm angle (one solution per global configuration).
+    ///
+    /// Returns one :class:`IkSolution` within the joint limits (nearest to
+    /// ``q0`` when given), or with ``all=True`` a list of every solution found,
+    /// including those outside the limits (``within_limits`` False).
+    ///
+    /// Raises:
+    ///     Unreachable: no solution (outside the reach, every solution violates
+    ///         a limit, no convergence); ``.solver`` and ``.reason`` say which and why.
+    ///     InvalidInput: ``T`` not a 4×4 rigid transform, bad ``q0``, unknown
+    ///         ``solver``, ``q3``/``psi`` on a robot that is not iiwa-type.
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    #[pyo3(signature = (T, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0))]
+    fn ik(
+        &self,
+        py: Python<'_>,
+        T: &Bound<'_, PyAny>,
+        all: bool,
+        q0: Option<&Bound<'_, PyAny>>,
+        solver: &str,
+        q3: Option<f64>,
+        psi: Option<f64>,
+        seed: u64,
+    ) -> PyResult<PyObject> {
+        let solver = match solver {
+            "auto" => SolverChoice::Auto,
+            "analytic" => SolverChoice::Analytic,
+            "numeric" => SolverChoice::Numeric,
+            other => {
+                return Err(invalid(format!("invalid `solver`: `{other}`; use \"auto\", \"analytic\" or \"numeric\"")))
+            }
+        };
+        if q3.is_some() && psi.is_some() {
+            return Err(invalid("give `q3` or `psi`, not both".into()));
+        }
+        if (q3.is_some() || psi.is_some()) && solver == SolverChoice::Numeric {
+            return Err(invalid("`q3` and `psi` select the iiwa's analytic solver; drop solver=\"numeric\"".into()));
+        }
+        let t = f64_array(T, "T")?;
+        check_shape(&t, "T", &[Some(4), Some(4)], " (a homogeneous transform)")?;
+        let m = Matrix4::from_row_slice(t.as_slice()?);
+        let target = Pose::from_matrix(&m).ok_or_else(|| {
+            invalid(
+                "`T` is not a rigid transform: it must be finite, the last row 0 0 0 1 and the 3×3 block a rotation"
+                    .into(),
+            )
+        })?;
+        let q0 = q0.map(|q| self.joint_vector(q, "q0")).transpose()?;
+        if let Some(q0) = &q0 {
+            self.robot.check_q(q0).map_err(to_py)?;
+        }
+        let robot = Arc::clone(&self.robot);
+        // The same solver choice and selection as `kinema ik` (core: ik::solve_request, ik::pick_one).
+        let (name, solutions) = py
+            .allow_threads(move || -> kinema::Result<(&'static str, Vec<Solution>)> {
+                let request = IkRequest {
+                    solver,
+                    q0: q0.as_deref(),
+                    all,
+                    q3,
+                    psi,
+                    numeric: NumericOptions { seed, ..Default::default() },
+                };
+                let (name, found) = solve_request(&robot, &target, &request)?;
+                if all {
+                    return Ok((name, found));
+                }
+                Ok((name, vec![pick_one(&robot, name, found, q0.as_deref())?]))
+            })
+            .map_err(to_py)?;
+        let mut list: Vec<PyIkSolution> = solutions.iter().map(|s| PyIkSolution::new(py, s, name)).collect();
+        if all {
+            return Ok(list.into_pyobject(py)?.into_any().unbind());
+        }
+        match list.pop() {
+            Some(one) => Ok(Bound::new(py, one)?.into_any().unbind()),
+            None => Err(KinemaError::new_err("the solver returned no solution")),
+        }
+    }
+
+    /// Point-to-point motion in joint space from ``q0`` to ``qf`` (seed 004
+    /// eq. 38: every joint follows one shared time law, so all start and stop
+    /// together), sampled every ``dt`` seconds plus the end time.
+    ///
+    /// ``profile``: ``"trapezoid"``, ``"scurve"``, ``"cubic"``, ``"quintic"`` or
+    /// ``"linear"``. ``vmax``/``amax``/``jmax``: velocity, acceleration and jerk
+    /// limits (one value for every joint or one per joint; default: the robot's). ``speed``: override in
+    /// (0, 1] (velocity limits × speed, acceleration × speed², jerk × speed³).
+    /// ``duration``: stretch the motion to this many seconds. The sampled
+    /// trajectory is checked against the robot's limits, as ``kinema traj ptp`` does.
+    ///
+    /// Raises:
+    ///     InvalidInput: bad joint vectors, limits, profile, ``dt`` or ``speed``.
+    ///     TrajectoryError: the sampled trajectory breaks a limit.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (q0, qf, dt, profile="trapezoid", vmax=None, amax=None, jmax=None, speed=1.0, duration=None))]
+    fn ptp(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        qf: &Bound<'_, PyAny>,
+        dt: f64,
+        profile: &str,
+        vmax: Option<&Bound<'_, PyAny>>,
+        amax: Option<&Bound<'_, PyAny>>,
+        jmax: Option<&Bound<'_, PyAny>>,
+        speed: f64,
+        duration: Option<f64>,
+    ) -> PyResult<PyJointTrajectory> {
+        let from = self.joint_vector(q0, "q0")?;
+        let to = self.joint_vector(qf, "qf")?;
+        let opts = PtpOptions {
+            profile: profile.parse::<Profile>().map_err(to_py)?,
+            vel: limit_values(vmax, "vmax")?,
+            acc: limit_values(amax, "amax")?,
+            jerk: limit_values(jmax, "jmax")?,
+            speed,
+            duration,
+        };
+        let robot = Arc::clone(&self.robot);
+        let (plan, traj) = py
+            .allow_threads(move || -> kinema::Result<_> {
+                let plan = Ptp::new(&robot, &from, &to, &opts)?;
+                let traj = plan.sample(&robot, dt)?;
+                Ok((plan, traj))
+            })
+            .map_err(to_py)?;
+        let (k, n) = (traj.len(), traj.dof());
+        let (mut q, mut qd, mut qdd) =
+            (Vec::with_capacity(k * n), Vec::with_capacity(k * n), Vec::with_capacity(k * n));
+        for i in 0..k {
+            q.extend_from_slice(traj.q(i));
+            qd.extend_from_slice(traj.qd(i));
+            qdd.extend_from_slice(traj.qdd(i));
+        }
+        Ok(PyJointTrajectory {
+            t: to_numpy(py, k, traj.times().to_vec())?.unbind(),
+            q: to_numpy(py, (k, n), q)?.unbind(),
+            qd: to_numpy(py, (k, n), qd)?.unbind(),
+            qdd: to_numpy(py, (k, n), qdd)?.unbind(),
+            duration: plan.duration(),
+            profile: plan.law().profile().name(),
+            phase_times: plan.law().phase_times().to_vec(),
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Robot('{}', n={})", self.robot.name(), self.dof())
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other.downcast::<PyRobot>().is_ok_and(|o| *o.get().robot == *self.robot)
+    }
+}
+
+/// Compiled part of the ``kinema`` package (import ``kinema``, not this).
+#[pymodule]
+fn _kinema(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyRobot>()?;
+    m.add_class::<PyIkSolution>()?;
+    m.add_class::<PyJointTrajectory>()?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
