@@ -14,13 +14,17 @@ use std::sync::Arc;
 
 use kinema::analysis::{self, Axes};
 use kinema::ik::{pick_one, solve_request, IkRequest, NumericOptions, Solution, SolverChoice};
-use kinema::nalgebra::{Matrix4, Matrix6xX};
-use kinema::traj::{Profile, Ptp, PtpOptions};
-use kinema::{Error, Frame, Pose, Robot};
+use kinema::nalgebra::{Matrix4, Matrix6xX, Vector3};
+use kinema::traj::{
+    check, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod,
+    JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, TimeLaw,
+};
+use kinema::{Error, Frame, Pose, Robot, RpyConvention};
+use kinema_lang::{PlannedMotion, Severity};
 use numpy::ndarray::{Array, Dimension, IntoDimension};
 use numpy::{IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyString};
+use pyo3::types::{PyDict, PyList, PyString};
 use rayon::prelude::*;
 
 pyo3::import_exception!(kinema._errors, KinemaError);
@@ -30,6 +34,7 @@ pyo3::import_exception!(kinema._errors, DescriptionError);
 pyo3::import_exception!(kinema._errors, RobotFileError);
 pyo3::import_exception!(kinema._errors, Unreachable);
 pyo3::import_exception!(kinema._errors, TrajectoryError);
+pyo3::import_exception!(kinema._errors, ProgramError);
 
 /// A core error as a Python exception with the core's message.
 fn to_py(e: Error) -> PyErr {
@@ -222,15 +227,24 @@ impl PyIkSolution {
     }
 }
 
-/// A sampled joint trajectory (from :meth:`Robot.ptp`).
+/// A sampled joint trajectory (from :meth:`Robot.ptp`, :meth:`Robot.lin`
+/// or :meth:`Robot.circ`).
 ///
 /// Attributes:
 ///     t: sample times, shape (K,) [s], from 0 to ``duration`` inclusive.
 ///     q, qd, qdd: joint positions, velocities and accelerations, shape (K, n)
-///         (rad, rad/s, rad/s²; m for prismatic joints).
+///         (rad, rad/s, rad/s²; m for prismatic joints). For Cartesian
+///         motions ``qd`` and ``qdd`` are the core's finite differences of
+///         ``q`` (method ``"ik"``) or the resolved rates (method ``"rate"``).
 ///     duration: length of the motion [s].
 ///     profile: the time law's family (``"trapezoid"``, ``"scurve"``, ...).
-///     phase_times: times at which the time law changes phase [s].
+///     phase_times: durations of the time law's phases [s] (zero-length
+///         phases left out); empty for a Cartesian motion of several segments.
+///     poses: Cartesian motions only: the planned tool pose
+///         (``base_from_tool``) at every sample time, shape (K, 4, 4); ``None``
+///         for ``ptp``. Forward kinematics of ``q`` reaches them to 1e-6.
+///     segment_starts: start time of each segment [s] (``[0.0]`` for ``ptp``).
+///     blend_times: how long each blend between consecutive segments lasts [s].
 #[pyclass(frozen, name = "JointTrajectory", module = "kinema")]
 struct PyJointTrajectory {
     #[pyo3(get)]
@@ -247,6 +261,12 @@ struct PyJointTrajectory {
     profile: &'static str,
     #[pyo3(get)]
     phase_times: Vec<f64>,
+    #[pyo3(get)]
+    poses: Option<Py<PyArrayDyn<f64>>>,
+    #[pyo3(get)]
+    segment_starts: Vec<f64>,
+    #[pyo3(get)]
+    blend_times: Vec<f64>,
 }
 
 #[pymethods]
@@ -262,6 +282,297 @@ impl PyJointTrajectory {
             self.duration,
             self.profile
         )
+    }
+}
+
+/// t (K,), q, q̇, q̈ (K, n) of a core trajectory as numpy arrays.
+type TrajArrays = [Py<PyArrayDyn<f64>>; 4];
+
+fn traj_arrays(py: Python<'_>, traj: &JointTrajectory) -> PyResult<TrajArrays> {
+    let (k, n) = (traj.len(), traj.dof());
+    let (mut q, mut qd, mut qdd) = (Vec::with_capacity(k * n), Vec::with_capacity(k * n), Vec::with_capacity(k * n));
+    for i in 0..k {
+        q.extend_from_slice(traj.q(i));
+        qd.extend_from_slice(traj.qd(i));
+        qdd.extend_from_slice(traj.qdd(i));
+    }
+    Ok([
+        to_numpy(py, k, traj.times().to_vec())?.unbind(),
+        to_numpy(py, (k, n), q)?.unbind(),
+        to_numpy(py, (k, n), qd)?.unbind(),
+        to_numpy(py, (k, n), qdd)?.unbind(),
+    ])
+}
+
+/// A time law s(t) from 0 to 1 scaled by a distance (from :func:`time_law`).
+///
+/// The motion it describes is ``distance · s(t)``; :meth:`sample` returns
+/// position, velocity, acceleration and jerk of that motion.
+///
+/// Attributes:
+///     profile: the family (``"trapezoid"``, ``"scurve"``, ``"cubic"``,
+///         ``"quintic"``, ``"linear"``).
+///     distance: the distance covered (unit of the limits).
+///     duration: T [s].
+///     phase_times: durations of the phases [s], in order (zero-length ones
+///         left out): trapezoid (t_acc, t_cruise, t_dec), S-curve up to
+///         seven, the polynomials and the linear law one.
+///     peaks: ``(velocity, acceleration, jerk)``: the largest magnitudes over
+///         the law, in closed form, scaled by ``distance``; ``inf`` where the
+///         family's derivative jumps (trapezoid, cubic and linear jerk,
+///         linear acceleration).
+#[pyclass(frozen, name = "TimeLaw", module = "kinema")]
+struct PyTimeLaw {
+    law: TimeLaw,
+    #[pyo3(get)]
+    distance: f64,
+}
+
+#[pymethods]
+impl PyTimeLaw {
+    #[getter]
+    fn profile(&self) -> &'static str {
+        self.law.profile().name()
+    }
+
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.law.duration()
+    }
+
+    #[getter]
+    fn phase_times(&self) -> Vec<f64> {
+        self.law.phase_times().to_vec()
+    }
+
+    #[getter]
+    fn peaks(&self) -> (f64, f64, f64) {
+        let p = self.law.peaks();
+        let scale = |v: f64| if v.is_finite() { v * self.distance } else { f64::INFINITY };
+        (scale(p.sd), scale(p.sdd), scale(p.sddd))
+    }
+
+    /// The law at the times ``t`` [s] (a number or an array of any shape):
+    /// ``(p, v, a, j)``, four float64 arrays of ``t``'s shape with
+    /// ``p = distance·s(t)``, ``v = distance·ṡ(t)``, ``a = distance·s̈(t)``,
+    /// ``j = distance·s⃛(t)``. Before 0, ``p = 0``; after the end,
+    /// ``p = distance``; the derivatives are 0 there. ``j`` is 0 where the
+    /// family's jerk is an impulse.
+    ///
+    /// Raises:
+    ///     InvalidInput: ``t`` is not numeric or contains NaN.
+    fn sample(&self, py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<TrajArrays> {
+        let times = f64_array(t, "t")?;
+        let shape = times.shape().to_vec();
+        let times = times.as_slice()?;
+        if times.iter().any(|v| v.is_nan()) {
+            return Err(invalid("`t` contains NaN".into()));
+        }
+        let d = self.distance;
+        let count = times.len();
+        let (mut p, mut v, mut a, mut j) = (
+            Vec::with_capacity(count),
+            Vec::with_capacity(count),
+            Vec::with_capacity(count),
+            Vec::with_capacity(count),
+        );
+        for &ti in times {
+            let st = self.law.at(ti);
+            p.push(st.s * d);
+            v.push(st.sd * d);
+            a.push(st.sdd * d);
+            j.push(st.sddd * d);
+        }
+        Ok([
+            to_numpy(py, shape.clone(), p)?.unbind(),
+            to_numpy(py, shape.clone(), v)?.unbind(),
+            to_numpy(py, shape.clone(), a)?.unbind(),
+            to_numpy(py, shape, j)?.unbind(),
+        ])
+    }
+
+    /// Sample times 0, dt, 2·dt, … and the end time itself, as a 1-D array
+    /// (the times :meth:`Robot.ptp` and ``kinema traj law --dt`` use).
+    ///
+    /// Raises:
+    ///     InvalidInput: ``dt`` is not a positive time step.
+    fn times(&self, py: Python<'_>, dt: f64) -> PyResult<Py<PyArrayDyn<f64>>> {
+        let t = sample_times(self.law.duration(), dt).map_err(to_py)?;
+        Ok(to_numpy(py, t.len(), t)?.unbind())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "TimeLaw(profile='{}', distance={}, duration={:.6} s)",
+            self.law.profile().name(),
+            self.distance,
+            self.law.duration()
+        )
+    }
+}
+
+/// A time law, as ``kinema traj law`` builds it: the fastest law of
+/// ``profile`` that covers ``distance`` within the limits ``vmax``, ``amax``
+/// (and ``jmax``; needed by ``"scurve"``, optional for ``"quintic"``), or —
+/// with ``duration`` instead of limits — a law lasting ``duration`` seconds
+/// (trapezoid and S-curve in thirds: accelerate, cruise, brake).
+///
+/// ``profile``: ``"trapezoid"``, ``"scurve"``, ``"cubic"``, ``"quintic"`` or
+/// ``"linear"`` (``amax`` may be left out for ``"linear"``). ``distance`` (≥ 0)
+/// and the limits share one unit (m, rad, …); the law's samples are scaled by
+/// ``distance`` (1 by default: the normalised law s(t)).
+///
+/// Raises:
+///     InvalidInput: unknown profile; both or neither of ``duration`` and the
+///         limits; a limit, distance or duration that is not positive and
+///         finite; ``jmax`` missing for the S-curve.
+#[pyfunction]
+#[pyo3(signature = (profile="trapezoid", distance=1.0, vmax=None, amax=None, jmax=None, duration=None))]
+fn time_law(
+    profile: &str,
+    distance: f64,
+    vmax: Option<f64>,
+    amax: Option<f64>,
+    jmax: Option<f64>,
+    duration: Option<f64>,
+) -> PyResult<PyTimeLaw> {
+    let profile = profile.parse::<Profile>().map_err(to_py)?;
+    let law = if let Some(duration) = duration {
+        if vmax.is_some() || amax.is_some() || jmax.is_some() {
+            return Err(invalid("give either `duration` or the limits `vmax`, `amax` (and `jmax`), not both".into()));
+        }
+        if !(distance.is_finite() && distance >= 0.0) {
+            return Err(invalid(format!("invalid `distance`: {distance} must be a finite number ≥ 0")));
+        }
+        TimeLaw::from_duration(profile, duration)
+    } else {
+        let Some(vel) = vmax else {
+            return Err(invalid("give either `duration` or the limits `vmax` and `amax` (and `jmax`)".into()));
+        };
+        let acc = match amax {
+            Some(a) => a,
+            // The linear law has no acceleration phase; the core ignores this limit.
+            None if profile == Profile::Linear => f64::INFINITY,
+            None => return Err(invalid(format!("the {profile} profile needs an acceleration limit `amax`"))),
+        };
+        TimeLaw::from_limits(profile, distance, &MotionLimits { vel, acc, jerk: jmax })
+    }
+    .map_err(to_py)?;
+    Ok(PyTimeLaw { law, distance })
+}
+
+/// A 4×4 row-major block as a pose, or the error naming `what`.
+fn pose_from_rows(rows: &[f64], what: &str) -> PyResult<Pose> {
+    Pose::from_matrix(&Matrix4::from_row_slice(rows)).ok_or_else(|| {
+        invalid(format!(
+            "`{what}` is not a rigid transform: it must be finite, the last row 0 0 0 1 and the 3×3 block a rotation"
+        ))
+    })
+}
+
+/// A 4×4 homogeneous transform argument.
+fn pose_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Pose> {
+    let t = f64_array(obj, what)?;
+    check_shape(&t, what, &[Some(4), Some(4)], " (a homogeneous transform)")?;
+    pose_from_rows(t.as_slice()?, what)
+}
+
+/// Several 4×4 transforms: a (V, 4, 4) array or a list of 4×4 arrays (one 4×4 is one pose).
+fn pose_list(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Pose>> {
+    let t = f64_array(obj, what)?;
+    if t.ndim() == 2 {
+        return Ok(vec![pose_arg(obj, what)?]);
+    }
+    check_shape(&t, what, &[None, Some(4), Some(4)], " (homogeneous transforms)")?;
+    t.as_slice()?.chunks_exact(16).enumerate().map(|(i, rows)| pose_from_rows(rows, &format!("{what}[{i}]"))).collect()
+}
+
+/// A point x, y, z \[m\], or the position of a 4×4 transform.
+fn point_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
+    let a = f64_array(obj, what)?;
+    if a.ndim() == 2 {
+        return Ok(pose_arg(obj, what)?.pos);
+    }
+    check_shape(&a, what, &[Some(3)], " (a point x, y, z, or a 4×4 transform)")?;
+    let p = a.as_slice()?;
+    Ok(Vector3::new(p[0], p[1], p[2]))
+}
+
+fn parse_rpy(text: &str) -> PyResult<RpyConvention> {
+    match text {
+        "zyx" => Ok(RpyConvention::Zyx),
+        "xyz" => Ok(RpyConvention::Xyz),
+        other => Err(invalid(format!("invalid `rpy`: `{other}`; use \"zyx\" or \"xyz\""))),
+    }
+}
+
+/// `blend` of :meth:`Robot.lin`, read as `kinema traj lin --blend` reads it.
+fn parse_blend(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Blend> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else { return Ok(Blend::Deceleration) };
+    let bad = |b: &str| {
+        invalid(format!("invalid `blend`: `{b}`; use \"decel\", \"none\", seconds (0.3) or metres (\"0.05m\")"))
+    };
+    let Ok(text) = obj.downcast::<PyString>() else {
+        let seconds: f64 = obj.extract().map_err(|_| bad(&obj.to_string()))?;
+        return Ok(Blend::Time(seconds));
+    };
+    let text = text.to_str()?;
+    let b = text.trim();
+    Ok(match b {
+        "decel" => Blend::Deceleration,
+        "none" => Blend::None,
+        _ if b.ends_with('m') => Blend::Distance(b.trim_end_matches('m').trim().parse().map_err(|_| bad(text))?),
+        _ => Blend::Time(b.parse().map_err(|_| bad(text))?),
+    })
+}
+
+/// The options shared by :meth:`Robot.lin` and :meth:`Robot.circ`.
+struct CartOptions {
+    profile: Profile,
+    limits: CartesianLimits,
+    method: JointMethod,
+    dt: f64,
+    max_step: Option<f64>,
+    max_angle: f64,
+    min_manip: Option<f64>,
+}
+
+impl CartOptions {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        profile: &str,
+        vmax: f64,
+        amax: f64,
+        jmax: Option<f64>,
+        [rot_vmax, rot_amax, rot_jmax]: [Option<f64>; 3],
+        method: &str,
+        dt: f64,
+        max_step: Option<f64>,
+        max_angle: f64,
+        min_manip: Option<f64>,
+    ) -> PyResult<Self> {
+        let method = match method {
+            "ik" => JointMethod::Ik,
+            // The gains `kinema traj lin --method rate` uses.
+            "rate" => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
+            other => return Err(invalid(format!("invalid `method`: `{other}`; use \"ik\" or \"rate\""))),
+        };
+        Ok(CartOptions {
+            profile: profile.parse::<Profile>().map_err(to_py)?,
+            limits: CartesianLimits {
+                vel: vmax,
+                acc: amax,
+                jerk: jmax,
+                rot_vel: rot_vmax.unwrap_or(vmax),
+                rot_acc: rot_amax.unwrap_or(amax),
+                rot_jerk: rot_jmax.or(jmax),
+            },
+            method,
+            dt,
+            max_step,
+            max_angle,
+            min_manip,
+        })
     }
 }
 
@@ -353,6 +664,52 @@ impl PyRobot {
             })
             .map_err(to_py)?;
         Ok(to_numpy(py, (count, 6, n), out)?.unbind())
+    }
+
+    /// Plans the segments `segments(start pose)` from `q0`, converts them to
+    /// joints and checks them (what `kinema traj lin|circ` does), without the GIL.
+    fn cartesian(
+        &self,
+        py: Python<'_>,
+        q0: Vec<f64>,
+        o: CartOptions,
+        blend: Blend,
+        segments: impl FnOnce(Pose) -> kinema::Result<Vec<Segment>> + Send,
+    ) -> PyResult<PyJointTrajectory> {
+        let robot = Arc::clone(&self.robot);
+        let (motion, traj, poses) = py
+            .allow_threads(move || -> kinema::Result<_> {
+                let start = robot.fk(&q0)?.pose;
+                let motion = CartesianMotion::new(segments(start)?, o.profile, &o.limits, blend)?;
+                let traj = match o.max_step {
+                    Some(step) => {
+                        to_joints_at(&robot, &motion, &q0, &motion.resample_times(step, o.max_angle)?, o.method)?
+                    }
+                    None => to_joints(&robot, &motion, &q0, o.dt, o.method)?,
+                };
+                let opts = CheckOptions { min_manipulability: o.min_manip, ..CheckOptions::default() };
+                check(&robot, &traj, &opts)?.into_result()?;
+                let mut poses = vec![0.0; 16 * traj.len()];
+                for (out, &t) in poses.chunks_exact_mut(16).zip(traj.times()) {
+                    push_pose(out, &motion.at(t).pose);
+                }
+                Ok((motion, traj, poses))
+            })
+            .map_err(to_py)?;
+        let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
+        let laws = motion.laws();
+        Ok(PyJointTrajectory {
+            t,
+            q,
+            qd,
+            qdd,
+            duration: motion.duration(),
+            profile: laws[0].profile().name(),
+            phase_times: if laws.len() == 1 { laws[0].phase_times().to_vec() } else { Vec::new() },
+            poses: Some(to_numpy(py, (traj.len(), 4, 4), poses)?.unbind()),
+            segment_starts: motion.segment_starts().to_vec(),
+            blend_times: motion.blend_times(),
+        })
     }
 }
 
@@ -573,15 +930,7 @@ impl PyRobot {
         if (q3.is_some() || psi.is_some()) && solver == SolverChoice::Numeric {
             return Err(invalid("`q3` and `psi` select the iiwa's analytic solver; drop solver=\"numeric\"".into()));
         }
-        let t = f64_array(T, "T")?;
-        check_shape(&t, "T", &[Some(4), Some(4)], " (a homogeneous transform)")?;
-        let m = Matrix4::from_row_slice(t.as_slice()?);
-        let target = Pose::from_matrix(&m).ok_or_else(|| {
-            invalid(
-                "`T` is not a rigid transform: it must be finite, the last row 0 0 0 1 and the 3×3 block a rotation"
-                    .into(),
-            )
-        })?;
+        let target = pose_arg(T, "T")?;
         let q0 = q0.map(|q| self.joint_vector(q, "q0")).transpose()?;
         if let Some(q0) = &q0 {
             self.robot.check_q(q0).map_err(to_py)?;
@@ -662,23 +1011,159 @@ impl PyRobot {
                 Ok((plan, traj))
             })
             .map_err(to_py)?;
-        let (k, n) = (traj.len(), traj.dof());
-        let (mut q, mut qd, mut qdd) =
-            (Vec::with_capacity(k * n), Vec::with_capacity(k * n), Vec::with_capacity(k * n));
-        for i in 0..k {
-            q.extend_from_slice(traj.q(i));
-            qd.extend_from_slice(traj.qd(i));
-            qdd.extend_from_slice(traj.qdd(i));
-        }
+        let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
         Ok(PyJointTrajectory {
-            t: to_numpy(py, k, traj.times().to_vec())?.unbind(),
-            q: to_numpy(py, (k, n), q)?.unbind(),
-            qd: to_numpy(py, (k, n), qd)?.unbind(),
-            qdd: to_numpy(py, (k, n), qdd)?.unbind(),
+            t,
+            q,
+            qd,
+            qdd,
             duration: plan.duration(),
             profile: plan.law().profile().name(),
             phase_times: plan.law().phase_times().to_vec(),
+            poses: None,
+            segment_starts: vec![0.0],
+            blend_times: Vec::new(),
         })
+    }
+
+    /// Straight-line Cartesian motion (LIN, seed 004 §VIII-C) from the tool
+    /// pose of ``q0`` to the 4×4 pose ``T`` (``base_from_tool``), through the
+    /// optional ``via`` poses (a list of 4×4 arrays or one (V, 4, 4) array),
+    /// converted to joint values and checked against the robot's limits, as
+    /// ``kinema traj lin`` does.
+    ///
+    /// ``q0``: start configuration (array or pose name); to start from a pose,
+    /// pass ``robot.ik(T0).q``. ``dt``: sample period [s]. ``vmax`` [m/s],
+    /// ``amax`` [m/s²], ``jmax`` [m/s³]: tool-point limits; ``rot_vmax``
+    /// [rad/s], ``rot_amax`` [rad/s²], ``rot_jmax`` [rad/s³]: angular limits
+    /// (default: the same numbers). ``profile``: the time law of each segment.
+    /// ``blend`` at via points: ``"decel"`` (the next segment starts when the
+    /// previous one decelerates), ``"none"``, a time in seconds (``0.3`` or
+    /// ``"0.3"``) or a distance (``"0.05m"``). ``orientation``: ``"slerp"`` or
+    /// ``"rpy"`` (linear roll-pitch-yaw angles in the convention ``rpy``,
+    /// ``"zyx"`` or ``"xyz"``). ``method``: ``"ik"`` (inverse kinematics at
+    /// every sample, nearest branch) or ``"rate"`` (resolved rate, damping
+    /// 0.01, gain 0.5). ``max_step`` [m] / ``max_angle`` [rad]: instead of a
+    /// fixed period, sample so that consecutive poses are at most this far
+    /// apart. ``min_manip``: also reject samples whose translational
+    /// manipulability is below this value.
+    ///
+    /// Raises:
+    ///     InvalidInput: bad joint vector, pose, limit, option or ``dt``.
+    ///     Unreachable: a sample of the path that inverse kinematics cannot
+    ///         reach (``.solver`` names the time along the path).
+    ///     TrajectoryError: the joint trajectory breaks a limit.
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    #[pyo3(signature = (q0, T, dt, *, vmax, amax, via=None, profile="trapezoid", jmax=None, rot_vmax=None,
+        rot_amax=None, rot_jmax=None, blend=None, orientation="slerp", rpy="zyx", method="ik", max_step=None,
+        max_angle=0.05, min_manip=None))]
+    fn lin(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        T: &Bound<'_, PyAny>,
+        dt: f64,
+        vmax: f64,
+        amax: f64,
+        via: Option<&Bound<'_, PyAny>>,
+        profile: &str,
+        jmax: Option<f64>,
+        rot_vmax: Option<f64>,
+        rot_amax: Option<f64>,
+        rot_jmax: Option<f64>,
+        blend: Option<&Bound<'_, PyAny>>,
+        orientation: &str,
+        rpy: &str,
+        method: &str,
+        max_step: Option<f64>,
+        max_angle: f64,
+        min_manip: Option<f64>,
+    ) -> PyResult<PyJointTrajectory> {
+        let q0 = self.joint_vector(q0, "q0")?;
+        let mut poses = match via {
+            Some(v) if !v.is_none() => pose_list(v, "via")?,
+            _ => Vec::new(),
+        };
+        poses.push(pose_arg(T, "T")?);
+        let orientation = match orientation {
+            "slerp" => Orientation::Slerp,
+            "rpy" => Orientation::Rpy(parse_rpy(rpy)?),
+            other => return Err(invalid(format!("invalid `orientation`: `{other}`; use \"slerp\" or \"rpy\""))),
+        };
+        let blend = parse_blend(blend)?;
+        let opts = CartOptions::new(
+            profile,
+            vmax,
+            amax,
+            jmax,
+            [rot_vmax, rot_amax, rot_jmax],
+            method,
+            dt,
+            max_step,
+            max_angle,
+            min_manip,
+        )?;
+        self.cartesian(py, q0, opts, blend, move |start| {
+            let mut segments = Vec::with_capacity(poses.len());
+            let mut from = start;
+            for p in &poses {
+                segments.push(Segment::lin(&from, p, orientation)?);
+                from = *p;
+            }
+            Ok(segments)
+        })
+    }
+
+    /// Circular Cartesian motion (CIRC, as KUKA CIRC / ABB MoveC) from the
+    /// tool pose of ``q0`` through the point ``via`` (x, y, z [m]; a 4×4 pose
+    /// gives its position) to the 4×4 pose ``T``, the orientation turning
+    /// from the start's to ``T``'s by SLERP; converted to joint values and
+    /// checked, as ``kinema traj circ`` does. The other arguments are those
+    /// of :meth:`lin`.
+    ///
+    /// Raises:
+    ///     InvalidInput: start, ``via`` and end on one line or coinciding;
+    ///         bad joint vector, pose, limit, option or ``dt``.
+    ///     Unreachable: a sample of the arc that inverse kinematics cannot reach.
+    ///     TrajectoryError: the joint trajectory breaks a limit.
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    #[pyo3(signature = (q0, via, T, dt, *, vmax, amax, profile="trapezoid", jmax=None, rot_vmax=None,
+        rot_amax=None, rot_jmax=None, method="ik", max_step=None, max_angle=0.05, min_manip=None))]
+    fn circ(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        via: &Bound<'_, PyAny>,
+        T: &Bound<'_, PyAny>,
+        dt: f64,
+        vmax: f64,
+        amax: f64,
+        profile: &str,
+        jmax: Option<f64>,
+        rot_vmax: Option<f64>,
+        rot_amax: Option<f64>,
+        rot_jmax: Option<f64>,
+        method: &str,
+        max_step: Option<f64>,
+        max_angle: f64,
+        min_manip: Option<f64>,
+    ) -> PyResult<PyJointTrajectory> {
+        let q0 = self.joint_vector(q0, "q0")?;
+        let aux = point_arg(via, "via")?;
+        let to = pose_arg(T, "T")?;
+        let opts = CartOptions::new(
+            profile,
+            vmax,
+            amax,
+            jmax,
+            [rot_vmax, rot_amax, rot_jmax],
+            method,
+            dt,
+            max_step,
+            max_angle,
+            min_manip,
+        )?;
+        self.cartesian(py, q0, opts, Blend::None, move |start| Ok(vec![Segment::circ_through(&start, &aux, &to)?]))
     }
 
     fn __repr__(&self) -> String {
@@ -690,12 +1175,170 @@ impl PyRobot {
     }
 }
 
+/// A robot program run on a robot model (from :func:`run_program`): the
+/// joint signals ``kinema run`` writes, and the motion plan.
+///
+/// Attributes:
+///     t: sample times, shape (K,) [s].
+///     q, qd, qdd: joint positions, velocities and accelerations, shape
+///         (K, n): the ``t,q…,qd…,qdd…`` columns of ``kinema run``'s CSV.
+///     duration: total duration [s].
+///     motions: one dict per motion, in execution order, with keys
+///         ``line`` (source line, from 1), ``kind`` (``"PTP"``, ``"LIN"``,
+///         ``"WAIT"``, ...), ``start``, ``end`` [s], ``profile`` and ``target``
+///         (as ``kinema compile --json`` prints them).
+///     warnings: the program's warnings, one line each
+///         (``file:line:col: warning: message``).
+///     robot: the robot as it ends the program (with its last ``TOOL``).
+#[pyclass(frozen, name = "Plan", module = "kinema")]
+struct PyPlan {
+    #[pyo3(get)]
+    t: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    q: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    qd: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    qdd: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    duration: f64,
+    #[pyo3(get)]
+    warnings: Vec<String>,
+    #[pyo3(get)]
+    robot: Py<PyRobot>,
+    plan_motions: Vec<PlannedMotion>,
+    plan_listing: String,
+}
+
+#[pymethods]
+impl PyPlan {
+    #[getter]
+    fn motions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for m in &self.plan_motions {
+            let d = PyDict::new(py);
+            d.set_item("line", m.line)?;
+            d.set_item("kind", &m.kind)?;
+            d.set_item("start", m.start)?;
+            d.set_item("end", m.end)?;
+            d.set_item("profile", &m.profile)?;
+            d.set_item("target", &m.target)?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// The motion plan as text (``kinema compile --listing``): a header, then
+    /// one line per motion with its source line, keyword, start and end
+    /// time, profile and target.
+    fn listing(&self) -> String {
+        self.plan_listing.clone()
+    }
+
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "Plan({} motion(s), {} samples, duration={:.6} s)",
+            self.plan_motions.len(),
+            self.t.bind(py).len(),
+            self.duration
+        )
+    }
+}
+
+/// Compiles and runs the robot program ``text`` (the kinema language,
+/// ``docs/language.md``; seed 003's SCARA statements too) on ``robot``, as
+/// ``kinema run`` does: inverse kinematics for every target, a time law per
+/// motion, samples every ``dt`` seconds, every sample checked against the
+/// limits.
+///
+/// ``robot``: a :class:`Robot`, or what ``kinema run --robot`` takes (a
+/// built-in name or a .toml/.urdf path). ``start``: joint values at the
+/// start (array or pose name; default ``home``). ``filename``: the name the
+/// diagnostics give the program.
+///
+/// Returns a :class:`Plan`.
+///
+/// Raises:
+///     ProgramError: the program does not compile or run (syntax, names,
+///         units, unreachable targets, limit violations). The message is the
+///         report ``kinema run`` prints (``file:line:col: error: …``, the
+///         source line underlined, hints); ``.diagnostics`` lists the errors
+///         as ``(line, col, message)``.
+///     InvalidInput, UnknownRobot, DescriptionError, RobotFileError: a bad
+///         ``robot`` or ``start``.
+#[pyfunction]
+#[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>"))]
+fn run_program(
+    py: Python<'_>,
+    text: String,
+    robot: &Bound<'_, PyAny>,
+    dt: f64,
+    start: Option<&Bound<'_, PyAny>>,
+    filename: &str,
+) -> PyResult<PyPlan> {
+    let robot = match robot.downcast::<PyRobot>() {
+        Ok(r) => Arc::clone(&r.get().robot),
+        Err(_) => {
+            let spec: String = robot
+                .extract()
+                .map_err(|_| invalid("`robot` must be a kinema.Robot, a built-in robot name or a file path".into()))?;
+            Arc::new(Robot::load(&spec, None).map_err(to_py)?)
+        }
+    };
+    let start = match start.filter(|s| !s.is_none()) {
+        Some(s) => Some(PyRobot { robot: Arc::clone(&robot) }.joint_vector(s, "start")?),
+        None => None,
+    };
+    let opts = kinema_lang::Options { dt, start, ..kinema_lang::Options::default() };
+    let compiled = {
+        let text = text.clone();
+        py.allow_threads(move || kinema_lang::compile(&text, &robot, &opts))
+    };
+    match compiled {
+        Ok(plan) => {
+            let [t, q, qd, qdd] = traj_arrays(py, &plan.trajectory)?;
+            Ok(PyPlan {
+                t,
+                q,
+                qd,
+                qdd,
+                duration: plan.duration(),
+                warnings: plan.warnings.iter().map(|d| d.one_line(filename, &text)).collect(),
+                plan_listing: plan.listing(),
+                plan_motions: plan.motions,
+                robot: Py::new(py, PyRobot { robot: Arc::new(plan.robot) })?,
+            })
+        }
+        Err(diags) => {
+            let message = kinema_lang::render_all(&diags, filename, &text);
+            let mut errors: Vec<_> = diags.iter().filter(|d| d.severity == Severity::Error).collect();
+            errors.sort_by_key(|d| d.span.start);
+            let list: Vec<(usize, usize, String)> = errors
+                .iter()
+                .map(|d| {
+                    let (line, col) = kinema_lang::diag::line_col(&text, d.span.start);
+                    (line, col, d.message.clone())
+                })
+                .collect();
+            Err(ProgramError::new_err((message.trim_end().to_string(), list)))
+        }
+    }
+}
+
 /// Compiled part of the ``kinema`` package (import ``kinema``, not this).
 #[pymodule]
 fn _kinema(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRobot>()?;
     m.add_class::<PyIkSolution>()?;
     m.add_class::<PyJointTrajectory>()?;
+    m.add_class::<PyTimeLaw>()?;
+    m.add_class::<PyPlan>()?;
+    m.add_function(wrap_pyfunction!(time_law, m)?)?;
+    m.add_function(wrap_pyfunction!(run_program, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

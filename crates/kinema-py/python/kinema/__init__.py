@@ -13,6 +13,9 @@ Example::
     J = robot.jacob0(robot.home)              # 6xn, rows vx vy vz wx wy wz
     sol = robot.ik(T)                         # IkSolution
     Ts = robot.fkine_batch(np.zeros((1000, robot.n)))  # (1000, 4, 4), GIL released
+    tr = robot.ptp(robot.home, q1, 0.01)      # JointTrajectory; also lin, circ
+    law = kinema.time_law("scurve", 0.5, vmax=1.0, amax=2.0, jmax=20.0)  # TimeLaw
+    plan = kinema.run_program(program_text, robot)  # Plan: t, q, qd, qdd like `kinema run`
 
 Units are SI (metres, radians). Errors derive from :class:`KinemaError`;
 bad input also derives from ``ValueError``.
@@ -22,17 +25,22 @@ from ._errors import (
     DescriptionError,
     InvalidInput,
     KinemaError,
+    ProgramError,
     RobotFileError,
     TrajectoryError,
     UnknownRobot,
     Unreachable,
 )
-from ._kinema import IkSolution, JointTrajectory, Robot, __version__
+from ._kinema import IkSolution, JointTrajectory, Plan, Robot, TimeLaw, __version__, run_program, time_law
 
 __all__ = [
     "Robot",
     "IkSolution",
     "JointTrajectory",
+    "TimeLaw",
+    "Plan",
+    "time_law",
+    "run_program",
     "KinemaError",
     "InvalidInput",
     "UnknownRobot",
@@ -40,5 +48,6 @@ __all__ = [
     "RobotFileError",
     "Unreachable",
     "TrajectoryError",
+    "ProgramError",
     "__version__",
 ]

@@ -7,7 +7,7 @@ that already catches ``ValueError`` keeps working. The message is the text the
 Rust core (and the ``kinema`` command line) prints for the same mistake.
 """
 
-from typing import Optional
+from typing import Iterable, List, Optional, Tuple
 
 
 class KinemaError(Exception):
@@ -53,6 +53,24 @@ class TrajectoryError(KinemaError):
     acceleration, jerk); the message names the first violation and the count."""
 
 
+
+class ProgramError(KinemaError, ValueError):
+    """A robot program that does not compile or run (:func:`kinema.run_program`).
+
+    The message is the report ``kinema run`` prints: for every diagnostic
+    ``file:line:col: error: message``, the source line with the place
+    underlined and a hint, then a count.
+
+    Attributes:
+        diagnostics: the errors as ``(line, col, message)`` tuples, line and
+            column counted from 1 (the column in characters), in source order.
+    """
+
+    def __init__(self, message: str, diagnostics: Iterable[Tuple[int, int, str]] = ()) -> None:
+        super().__init__(message)
+        self.diagnostics: List[Tuple[int, int, str]] = [tuple(d) for d in diagnostics]  # type: ignore[misc]
+
+
 __all__ = [
     "KinemaError",
     "InvalidInput",
@@ -61,4 +79,5 @@ __all__ = [
     "RobotFileError",
     "Unreachable",
     "TrajectoryError",
+    "ProgramError",
 ]

@@ -1,7 +1,7 @@
 """Type stubs of the compiled part of kinema (re-exported by ``kinema``)."""
 
 import os
-from typing import Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -13,6 +13,7 @@ ArrayLike = Union[npt.ArrayLike, Sequence[float]]
 JointVector = Union[ArrayLike, str]
 """n joint values (rad / m), or the name of one of the robot's poses."""
 F64Array = npt.NDArray[np.float64]
+ProfileName = Literal["trapezoid", "scurve", "cubic", "quintic", "linear"]
 
 class IkSolution:
     """One inverse-kinematics solution."""
@@ -49,7 +50,7 @@ class IkSolution:
         """Restarts of the numeric solver (None for analytic solutions)."""
 
 class JointTrajectory:
-    """A sampled joint trajectory (from Robot.ptp)."""
+    """A sampled joint trajectory (from Robot.ptp, Robot.lin or Robot.circ)."""
 
     @property
     def t(self) -> F64Array:
@@ -71,8 +72,90 @@ class JointTrajectory:
         """Time-law family: trapezoid, scurve, cubic, quintic or linear."""
     @property
     def phase_times(self) -> List[float]:
-        """Times at which the time law changes phase [s]."""
+        """Durations of the time law's phases [s]; empty for a Cartesian motion of several segments."""
+    @property
+    def poses(self) -> Optional[F64Array]:
+        """Planned tool poses at the sample times, shape (K, 4, 4) (lin, circ); None for ptp."""
+    @property
+    def segment_starts(self) -> List[float]:
+        """Start time of each segment [s] ([0.0] for ptp)."""
+    @property
+    def blend_times(self) -> List[float]:
+        """Duration of each blend between consecutive segments [s]."""
     def __len__(self) -> int: ...
+
+class TimeLaw:
+    """A time law s(t) from 0 to 1, scaled by ``distance`` (from time_law)."""
+
+    @property
+    def profile(self) -> str:
+        """Family: trapezoid, scurve, cubic, quintic or linear."""
+    @property
+    def distance(self) -> float:
+        """Distance covered (unit of the limits)."""
+    @property
+    def duration(self) -> float:
+        """Duration T [s]."""
+    @property
+    def phase_times(self) -> List[float]:
+        """Durations of the phases [s] (zero-length phases left out)."""
+    @property
+    def peaks(self) -> Tuple[float, float, float]:
+        """Largest |velocity|, |acceleration|, |jerk| (scaled by distance; inf where unbounded)."""
+    def sample(self, t: ArrayLike) -> Tuple[F64Array, F64Array, F64Array, F64Array]:
+        """(p, v, a, j) at the times t, each of t's shape. Raises InvalidInput for NaN."""
+    def times(self, dt: float) -> F64Array:
+        """0, dt, 2 dt, ... and the end time. Raises InvalidInput for a bad dt."""
+
+def time_law(
+    profile: ProfileName = "trapezoid",
+    distance: float = 1.0,
+    vmax: Optional[float] = None,
+    amax: Optional[float] = None,
+    jmax: Optional[float] = None,
+    duration: Optional[float] = None,
+) -> TimeLaw:
+    """The fastest law within vmax/amax/jmax covering distance, or one lasting duration. Raises InvalidInput."""
+
+class Plan:
+    """A robot program run on a robot (from run_program): kinema run's joint signals and the motion plan."""
+
+    @property
+    def t(self) -> F64Array:
+        """Sample times, shape (K,) [s]."""
+    @property
+    def q(self) -> F64Array:
+        """Joint positions, shape (K, n)."""
+    @property
+    def qd(self) -> F64Array:
+        """Joint velocities, shape (K, n)."""
+    @property
+    def qdd(self) -> F64Array:
+        """Joint accelerations, shape (K, n)."""
+    @property
+    def duration(self) -> float:
+        """Total duration [s]."""
+    @property
+    def motions(self) -> List[Dict[str, Any]]:
+        """One dict per motion: line, kind, start, end, profile, target."""
+    @property
+    def warnings(self) -> List[str]:
+        """Warnings, one line each: file:line:col: warning: message."""
+    @property
+    def robot(self) -> "Robot":
+        """The robot as it ends the program (with its last TOOL)."""
+    def listing(self) -> str:
+        """The motion plan as text (kinema compile --listing)."""
+    def __len__(self) -> int: ...
+
+def run_program(
+    text: str,
+    robot: Union["Robot", str],
+    dt: float = 0.01,
+    start: Optional[JointVector] = None,
+    filename: str = "<program>",
+) -> Plan:
+    """Compiles and runs a robot program as `kinema run` does. Raises ProgramError."""
 
 class Robot:
     """A serial robot arm (immutable). SI units; Jacobian rows [vx vy vz wx wy wz]."""
@@ -130,7 +213,7 @@ class Robot:
         q0: JointVector,
         qf: JointVector,
         dt: float,
-        profile: Literal["trapezoid", "scurve", "cubic", "quintic", "linear"] = "trapezoid",
+        profile: ProfileName = "trapezoid",
         vmax: Optional[ArrayLike] = None,
         amax: Optional[ArrayLike] = None,
         jmax: Optional[ArrayLike] = None,
@@ -138,6 +221,49 @@ class Robot:
         duration: Optional[float] = None,
     ) -> JointTrajectory:
         """Synchronised point-to-point joint motion sampled every dt. Raises InvalidInput, TrajectoryError."""
+    def lin(
+        self,
+        q0: JointVector,
+        T: ArrayLike,
+        dt: float,
+        *,
+        vmax: float,
+        amax: float,
+        via: Optional[ArrayLike] = None,
+        profile: ProfileName = "trapezoid",
+        jmax: Optional[float] = None,
+        rot_vmax: Optional[float] = None,
+        rot_amax: Optional[float] = None,
+        rot_jmax: Optional[float] = None,
+        blend: Union[Literal["decel", "none"], str, float, None] = "decel",
+        orientation: Literal["slerp", "rpy"] = "slerp",
+        rpy: Literal["zyx", "xyz"] = "zyx",
+        method: Literal["ik", "rate"] = "ik",
+        max_step: Optional[float] = None,
+        max_angle: float = 0.05,
+        min_manip: Optional[float] = None,
+    ) -> JointTrajectory:
+        """Straight-line Cartesian motion from fkine(q0) through via to T. Raises InvalidInput, Unreachable, TrajectoryError."""
+    def circ(
+        self,
+        q0: JointVector,
+        via: ArrayLike,
+        T: ArrayLike,
+        dt: float,
+        *,
+        vmax: float,
+        amax: float,
+        profile: ProfileName = "trapezoid",
+        jmax: Optional[float] = None,
+        rot_vmax: Optional[float] = None,
+        rot_amax: Optional[float] = None,
+        rot_jmax: Optional[float] = None,
+        method: Literal["ik", "rate"] = "ik",
+        max_step: Optional[float] = None,
+        max_angle: float = 0.05,
+        min_manip: Optional[float] = None,
+    ) -> JointTrajectory:
+        """Circular arc from fkine(q0) through the point via to T. Raises InvalidInput, Unreachable, TrajectoryError."""
     @overload
     def ik(
         self,

@@ -1,0 +1,151 @@
+"""run_program: the example programs give what `kinema run` writes; program properties; diagnostics."""
+
+import csv
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import kinema
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+PROGRAMS = ROOT / "examples" / "programs"
+EXAMPLES = [
+    ("iiwa_draw.prg", "lbr-iiwa-14-r820"),
+    ("scara_pick_place.prg", "scara5"),
+    ("scorbot_square.prg", "scorbot-er-v-plus"),
+]
+
+SEED_003 = """
+// seed 003, Fig. 8
+HOME 2;
+LOOP 2
+  MOVEZ -50, 1;
+  MOVEXY 100, -50, 2;
+  MOVEZ +50, 1;
+END
+"""
+
+
+def kinema_binary():
+    """The `kinema` command line built in this repository ($KINEMA_BIN, else the newest of target/{release,debug})."""
+    if os.environ.get("KINEMA_BIN"):
+        return pathlib.Path(os.environ["KINEMA_BIN"])
+    built = [p for p in (ROOT / "target" / "release" / "kinema", ROOT / "target" / "debug" / "kinema") if p.exists()]
+    return max(built, key=lambda p: p.stat().st_mtime) if built else None
+
+
+@pytest.mark.parametrize("program,robot", EXAMPLES)
+def test_examples_equal_kinema_run(tmp_path, program, robot):
+    text = (PROGRAMS / program).read_text(encoding="utf-8")
+    plan = kinema.run_program(text, kinema.Robot.builtin(robot), filename=program)
+    n = plan.robot.n
+    k = len(plan)
+    assert isinstance(plan, kinema.Plan) and plan.q.shape == plan.qd.shape == plan.qdd.shape == (k, n)
+    assert plan.t[0] == 0.0 and plan.t[-1] == plan.duration and np.all(np.diff(plan.t) > 0)
+    lo, hi = plan.robot.qlim
+    assert np.all(plan.q >= lo - 1e-9) and np.all(plan.q <= hi + 1e-9)
+    starts = [m["start"] for m in plan.motions]
+    assert starts == sorted(starts) and plan.motions[-1]["end"] == pytest.approx(plan.duration)
+    assert plan.warnings == []
+    exe = kinema_binary()
+    if exe is None:
+        pytest.skip("the kinema command line is not built (cargo build -p kinema-cli); properties checked only")
+    out = tmp_path / "signals.csv"
+    subprocess.run(
+        [str(exe), "run", str(PROGRAMS / program), "--robot", robot, "--out", str(out)],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
+    with out.open(newline="") as f:
+        rows = list(csv.reader(f))
+    head, data = rows[0], np.array(rows[1:], dtype=float)
+    col = {name: i for i, name in enumerate(head)}
+    assert data.shape[0] == k
+    # The CSV holds 12 decimals.
+    assert np.abs(data[:, col["t"]] - plan.t).max() < 1e-11
+    for prefix, mine in (("q", plan.q), ("qd", plan.qd), ("qdd", plan.qdd)):
+        theirs = data[:, [col[f"{prefix}{i}"] for i in range(1, n + 1)]]
+        assert np.abs(theirs - mine).max() < 1e-9 * max(1.0, np.abs(mine).max()), prefix
+    # And the tool pose columns are forward kinematics of q with the program's final robot.
+    F = plan.robot.fkine_batch(plan.q)
+    assert np.abs(data[:, [col["x"], col["y"], col["z"]]] - F[:, :3, 3]).max() < 1e-9
+
+
+def test_seed_003_program():
+    plan = kinema.run_program(SEED_003, "scara5")
+    assert plan.duration == pytest.approx(10.0, abs=1e-9)  # 2 + 2 × (1 + 2 + 1)
+    assert [m["kind"] for m in plan.motions] == ["HOME"] + ["MOVEZ", "MOVEXY", "MOVEZ"] * 2
+    assert [m["line"] for m in plan.motions][:4] == [3, 5, 6, 7]
+    assert "HOME" in plan.listing() and plan.listing().startswith("# `scara5`")
+    assert np.allclose(plan.q[0], plan.robot.home)
+    assert "Plan(7 motion(s)" in repr(plan)
+    # dt sets the sample period; the robot may be given by name or as a Robot.
+    coarse = kinema.run_program(SEED_003, kinema.Robot.builtin("scara5"), dt=0.1)
+    assert np.all(np.diff(coarse.t) <= 0.1 + 1e-12) and len(coarse) < len(plan) / 5
+
+
+def test_ptp_wait_and_lin_in_a_program():
+    r = kinema.Robot.builtin("lbr-iiwa-14-r820")
+    target = np.radians([10, 20, 0, -60, 0, 30, 0])
+    text = (
+        "JACC 90 deg/s^2\n"
+        "PTP JOINT(10deg, 20deg, 0deg, -60deg, 0deg, 30deg, 0deg) IN 2s\n"
+        "WAIT 1s\n"
+        "VEL 100 mm/s\nACC 500 mm/s^2\n"
+        "LIN REL CART(0mm, 0mm, -100mm)\n"
+    )
+    plan = kinema.run_program(text, r, start="home")
+    assert [m["kind"] for m in plan.motions] == ["PTP", "WAIT", "LIN"]
+    assert plan.motions[0]["end"] == pytest.approx(2.0) and plan.motions[1]["end"] == pytest.approx(3.0)
+    hold = (plan.t >= 2.0 - 1e-12) & (plan.t <= 3.0 + 1e-12)
+    assert np.allclose(plan.q[hold], target, atol=1e-12)
+    # The LIN goes 100 mm straight down from the PTP's end.
+    lin = plan.t >= 3.0 - 1e-12
+    P = r.fkine_batch(plan.q[lin])[:, :3, 3]
+    top = r.fkine(target)[:3, 3]
+    assert np.abs(P[:, :2] - top[:2]).max() < 1e-9
+    assert P[-1, 2] == pytest.approx(top[2] - 0.1, abs=1e-9) and np.all(np.diff(P[:, 2]) <= 1e-12)
+    # A start configuration other than home.
+    other = kinema.run_program("WAIT 0.5s\n", r, start=target)
+    assert np.allclose(other.q, target) and other.duration == pytest.approx(0.5)
+
+
+def test_warnings_do_not_stop_the_program():
+    text = "JACC 90 deg/s^2\nPTP JOINT(10deg, 20deg, 0deg, -60deg, 0deg, 30deg, 0deg) BLEND 10mm\n"
+    plan = kinema.run_program(text, "lbr-iiwa-14-r820", filename="w.prg")
+    assert len(plan.warnings) == 1 and plan.warnings[0].startswith("w.prg:2:")
+    assert "warning: BLEND on a PTP is ignored" in plan.warnings[0]
+
+
+def test_program_errors():
+    text = "PTP nowhere\nWAIT 5mm\n"
+    with pytest.raises(kinema.ProgramError) as e:
+        kinema.run_program(text, "lbr-iiwa-14-r820", filename="prog.prg")
+    assert isinstance(e.value, ValueError) and isinstance(e.value, kinema.KinemaError)
+    message = str(e.value)
+    assert message.startswith("prog.prg:1:5: error: unknown position `nowhere`")
+    assert "prog.prg:2:6: error: expected a time (s, ms), found a length (mm, cm, m)" in message
+    assert " 2 │ WAIT 5mm" in message and "known positions: home" in message
+    assert message.endswith("prog.prg: 2 error(s), 0 warning(s); nothing was run")
+    assert e.value.diagnostics == [
+        (1, 5, "unknown position `nowhere`"),
+        (2, 6, "expected a time (s, ms), found a length (mm, cm, m)"),
+    ]
+    with pytest.raises(kinema.ProgramError, match=r"^<program>:1:1: error: the sample period must be positive"):
+        kinema.run_program("WAIT 1s\n", "scara5", dt=0.0)
+    # Unreachable targets and limit violations are diagnostics too.
+    with pytest.raises(kinema.ProgramError, match=r"^<program>:1:1: error: LIN cannot be followed: unreachable target"):
+        kinema.run_program("LIN CART(3m, 0m, 0.5m, 0deg, 180deg, 0deg)\n", "lbr-iiwa-14-r820")
+    with pytest.raises(kinema.UnknownRobot):
+        kinema.run_program("WAIT 1s\n", "no-such-robot")
+    with pytest.raises(kinema.InvalidInput, match="`robot` must be a kinema.Robot"):
+        kinema.run_program("WAIT 1s\n", 42)
+    # A start configuration of the wrong length is the compiler's diagnostic at 1:1 (the CLI rejects it earlier).
+    with pytest.raises(kinema.ProgramError, match=r"^<program>:1:1: error: start configuration: .* has 7 joints"):
+        kinema.run_program("WAIT 1s\n", "lbr-iiwa-14-r820", start=[0.0, 0.0])
+    with pytest.raises(kinema.InvalidInput, match="no-such-pose"):
+        kinema.run_program("WAIT 1s\n", "lbr-iiwa-14-r820", start="no-such-pose")
