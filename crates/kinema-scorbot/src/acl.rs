@@ -269,17 +269,8 @@ impl Client {
                     continue;
                 }
                 if text.contains("Type <cr>") {
-                    // A paged listing: ask for the next page (but not forever).
-                    pages += 1;
-                    if pages > MAX_PAGES {
-                        return Err(Error::Protocol {
-                            command: line.into(),
-                            message: format!("more than {MAX_PAGES} pages"),
-                            raw: String::from_utf8_lossy(&raw).into_owned(),
-                        });
-                    }
-                    self.link.write_all(b"\r").map_err(|e| io_error(e, &format!("paging `{line}`")))?;
-                    deadline = Instant::now() + self.reply_timeout;
+                    // A paged listing: ask for the next page.
+                    deadline = self.next_page(&mut pages, line, &raw)?;
                     continue;
                 }
                 lines.push(text);
@@ -305,17 +296,8 @@ impl Client {
             let got = self.read_some(deadline - now, line)?;
             if !got && echoed && String::from_utf8_lossy(&self.pending).contains("Type <cr>") {
                 // A page prompt printed without a line end, and nothing after it.
-                pages += 1;
-                if pages > MAX_PAGES {
-                    return Err(Error::Protocol {
-                        command: line.into(),
-                        message: format!("more than {MAX_PAGES} pages"),
-                        raw: String::from_utf8_lossy(&raw).into_owned(),
-                    });
-                }
+                deadline = self.next_page(&mut pages, line, &raw)?;
                 raw.append(&mut self.pending);
-                self.link.write_all(b"\r").map_err(|e| io_error(e, &format!("paging `{line}`")))?;
-                deadline = Instant::now() + self.reply_timeout;
             }
         }
         let raw = String::from_utf8_lossy(&raw).into_owned();
@@ -323,6 +305,21 @@ impl Client {
             return Err(Error::Controller { command: line.into(), message: bad.trim().to_string(), raw });
         }
         Ok(Reply { command: line.into(), lines, raw })
+    }
+
+    /// Asks a paged listing for its next page (a carriage return), at most
+    /// [`MAX_PAGES`] times per command; returns the new reply deadline.
+    fn next_page(&mut self, pages: &mut usize, line: &str, raw: &[u8]) -> Result<Instant> {
+        *pages += 1;
+        if *pages > MAX_PAGES {
+            return Err(Error::Protocol {
+                command: line.into(),
+                message: format!("more than {MAX_PAGES} pages"),
+                raw: String::from_utf8_lossy(raw).into_owned(),
+            });
+        }
+        self.link.write_all(b"\r").map_err(|e| io_error(e, &format!("paging `{line}`")))?;
+        Ok(Instant::now() + self.reply_timeout)
     }
 
     /// Reads what is available within `wait` into `pending`; whether
