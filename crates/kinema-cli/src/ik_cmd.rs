@@ -272,7 +272,9 @@ pub fn validate(a: ValidateArgs) -> Result<()> {
         json!({
             "robot": robot.name(), "solver": "iiwa (same q3)", "cases": r.cases, "max_error": r.max_error,
             "mean_error": r.mean_error, "recovered_fraction": r.recovered_fraction,
-            "max_error_away_from_singularities": r.max_error_regular, "regular_cases": r.regular_cases,
+            "max_error_over_limit": r.max_error_over_limit,
+            "max_error_well_conditioned": r.max_error_well_conditioned,
+            "well_conditioned_cases": r.well_conditioned_cases,
         })
     } else {
         let Some(solver) = kinema::ik::analytic_solver(&robot) else {
@@ -295,6 +297,16 @@ pub fn validate(a: ValidateArgs) -> Result<()> {
         v["mean_error"].as_f64().unwrap_or(f64::NAN),
         v["recovered_fraction"].as_f64().unwrap_or(0.0) * 100.0
     );
+    if let (Some(ratio), Some(wc), Some(n)) = (
+        v["max_error_over_limit"].as_f64(),
+        v["max_error_well_conditioned"].as_f64(),
+        v["well_conditioned_cases"].as_u64(),
+    ) {
+        println!(
+            "max |Δq| over the {n} well-conditioned cases (target rounding moves the solution ≤ 1e-13) {wc:.3e}; \
+             worst error / rounding limit {ratio:.2}"
+        );
+    }
     Ok(())
 }
 

@@ -423,6 +423,9 @@ fn ik_validate_and_selfmotion() {
     let v = json(&["ik-validate", "--robot", "lbr-iiwa-14-r820", "--n", "500", "--json"]);
     assert!(v["max_error"].as_f64().unwrap() < 1e-9, "{v}");
     assert_eq!(v["recovered_fraction"], 1.0);
+    assert!(v["max_error_well_conditioned"].as_f64().unwrap() <= 1e-12, "{v}");
+    assert!(v["well_conditioned_cases"].as_u64().unwrap() > 450, "{v}");
+    assert!(v["max_error_over_limit"].as_f64().unwrap() < 5.0, "{v}");
     let v = json(&["ik-validate", "--robot", "scorbot-er-v-plus", "--n", "500", "--json"]);
     assert_eq!(v["solver"], "scorbot");
     assert!(v["max_error"].as_f64().unwrap() < 1e-9, "{v}");
