@@ -321,6 +321,21 @@ pub fn pose_error(target: &Pose, actual: &Pose) -> PoseError {
     }
 }
 
+/// Coefficients of P in [`atan2`]: atan(z) = z + z³·P(z²) for |z| ≤ tan(π/8).
+const ATAN_POLY: [f64; 11] = [
+    -0.333_333_333_333_333_3,
+    0.199_999_999_999_955_2,
+    -0.142_857_142_846_665_42,
+    0.111_111_110_152_563_61,
+    -0.090_909_045_781_239_03,
+    0.076_921_831_908_260_87,
+    -0.066_645_114_473_819_48,
+    0.058_581_489_128_022_1,
+    -0.050_854_497_379_402_6,
+    0.039_231_658_295_587_19,
+    -0.019_176_887_119_062_26,
+];
+
 /// atan2(y, x), fast and accurate: the same quadrant conventions as
 /// [`f64::atan2`] and an error of at most a few ulp (checked against it in the
 /// tests), about twice as fast as the C library's.
@@ -339,19 +354,7 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
     const PI_HI: f64 = std::f64::consts::PI;
     const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
-    const C: [f64; 11] = [
-        -0.333_333_333_333_333_3,
-        0.199_999_999_999_955_2,
-        -0.142_857_142_846_665_42,
-        0.111_111_110_152_563_61,
-        -0.090_909_045_781_239_03,
-        0.076_921_831_908_260_87,
-        -0.066_645_114_473_819_48,
-        0.058_581_489_128_022_1,
-        -0.050_854_497_379_402_6,
-        0.039_231_658_295_587_19,
-        -0.019_176_887_119_062_26,
-    ];
+    const C: [f64; 11] = ATAN_POLY;
     let (ax, ay) = (x.abs(), y.abs());
     let swap = ay > ax;
     let (num, den) = if swap { (ax, ay) } else { (ay, ax) };
@@ -374,6 +377,76 @@ pub fn atan2(y: f64, x: f64) -> f64 {
         r = (PI_HI - r) + PI_LO;
     }
     r.copysign(y)
+}
+
+/// [`atan2`] of `L` independent pairs at once, lane `i` = `atan2(y[i], x[i])`
+/// bit for bit. Written without branches on the data (selections by 0/1
+/// factors and conditional moves) so the compiler evaluates the lanes in SIMD
+/// registers; the IK kernels gather their independent angles into one call.
+/// Lanes with a zero, infinite or NaN argument are redone by [`atan2`].
+#[inline(always)]
+pub fn atan2_lanes<const L: usize>(y: [f64; L], x: [f64; L]) -> [f64; L] {
+    const TAN_PI_8: f64 = 0.414_213_562_373_095_03;
+    const PIO4_HI: f64 = std::f64::consts::FRAC_PI_4;
+    const PIO4_LO: f64 = 3.061_616_997_868_383e-17;
+    const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
+    const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
+    const PI_HI: f64 = std::f64::consts::PI;
+    const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
+    let c = ATAN_POLY;
+    let mut out = [0.0; L];
+    let mut special = false;
+    for i in 0..L {
+        let (ax, ay) = (x[i].abs(), y[i].abs());
+        let swap = ay > ax;
+        let num = if swap { ax } else { ay };
+        let den = if swap { ay } else { ax };
+        special |= !(den > 0.0 && den < f64::INFINITY);
+        // b = 1 above tan(π/8): z = (num − den)/(num + den), else num/den (b·den
+        // and b·num are exact, so both forms equal the scalar ones bit for bit).
+        let b = if num > TAN_PI_8 * den { 1.0 } else { 0.0 };
+        let z = (num - b * den) / (den + b * num);
+        let s = z * z;
+        let (s2, s4) = (s * s, s * s * (s * s));
+        let p = (c[0] + c[1] * s + (c[2] + c[3] * s) * s2)
+            + (c[4] + c[5] * s + (c[6] + c[7] * s) * s2) * s4
+            + (c[8] + c[9] * s + c[10] * s2) * (s4 * s4);
+        let poly = z * s * p;
+        let r = b * PIO4_HI + (z + (poly + b * PIO4_LO));
+        let r = if swap { (PIO2_HI - r) + PIO2_LO } else { r };
+        let r = if x[i].is_sign_negative() { (PI_HI - r) + PI_LO } else { r };
+        out[i] = r.copysign(y[i]);
+    }
+    if special {
+        for i in 0..L {
+            let den = x[i].abs().max(y[i].abs());
+            if !(den > 0.0 && den < f64::INFINITY) {
+                out[i] = atan2(y[i], x[i]);
+            }
+        }
+    }
+    out
+}
+
+/// [`atan2_lanes`] of 8 pairs, run with 256-bit vectors where the CPU has
+/// AVX2 (checked at run time; the same operations in the same order, so the
+/// result is the same bit for bit on either path).
+#[inline]
+pub fn atan2_x8(y: [f64; 8], x: [f64; 8]) -> [f64; 8] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2 (checked just above).
+            return unsafe { atan2_x8_avx2(y, x) };
+        }
+    }
+    atan2_lanes(y, x)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn atan2_x8_avx2(y: [f64; 8], x: [f64; 8]) -> [f64; 8] {
+    atan2_lanes(y, x)
 }
 
 /// √(x² + y²) without the C library's `hypot` cost: the plain formula where
@@ -490,6 +563,45 @@ pub(crate) fn sin_cos_kernel<M: crate::chain::Madd>(x: f64) -> (f64, f64) {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn atan2_lanes_equal_scalar_atan2_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(22);
+        let specials = [0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, 1e-310, -1e300];
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for k in 0..200_000 {
+            let (mut y, mut x) = ([0.0; 8], [0.0; 8]);
+            for i in 0..8 {
+                let mag = |rng: &mut rand_chacha::ChaCha8Rng| 10f64.powf(rng.random_range(-8.0..8.0));
+                (y[i], x[i]) = (mag(&mut rng), mag(&mut rng));
+                match rng.random_range(0..6) {
+                    0 => y[i] = x[i] * std::f64::consts::FRAC_PI_8.tan() * (1.0 + rng.random_range(-1e-9..1e-9)),
+                    1 => y[i] = x[i],
+                    // Every 16th case one lane gets a zero, infinite, NaN or subnormal argument.
+                    2 if k % 16 == 0 => y[i] = specials[rng.random_range(0..specials.len())],
+                    3 if k % 16 == 0 => x[i] = specials[rng.random_range(0..specials.len())],
+                    _ => {}
+                }
+                if rng.random_bool(0.5) {
+                    y[i] = -y[i];
+                }
+                if rng.random_bool(0.5) {
+                    x[i] = -x[i];
+                }
+            }
+            let (portable, dispatched) = (super::atan2_lanes(y, x), super::atan2_x8(y, x));
+            let four = super::atan2_lanes([y[0], y[1], y[2], y[3]], [x[0], x[1], x[2], x[3]]);
+            for i in 0..8 {
+                let want = super::atan2(y[i], x[i]);
+                assert!(same(portable[i], want), "lane {i}: atan2({}, {}) = {} ≠ {want}", y[i], x[i], portable[i]);
+                assert!(same(dispatched[i], want), "lane {i}: atan2_x8({}, {}) = {}", y[i], x[i], dispatched[i]);
+                if i < 4 {
+                    assert!(same(four[i], want), "4 lanes, lane {i}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn fast_atan2_matches_the_standard_library() {
         use rand::{Rng, SeedableRng};

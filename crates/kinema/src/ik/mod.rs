@@ -479,6 +479,24 @@ pub(crate) struct ElbowAngle {
 /// sine/cosine evaluation. A point outside the annulus by more than `tol` is
 /// an [`AnnulusMiss`].
 pub(crate) fn two_link_elbow(r: f64, l1: f64, l2: f64, tol: f64) -> std::result::Result<ElbowAngle, AnnulusMiss> {
+    let t = two_link_elbow_terms(r, l1, l2, tol)?;
+    Ok(ElbowAngle { angle: 2.0 * t.half_y.fast_atan2(t.half_x), sin: t.sin, cos: t.cos })
+}
+
+/// [`two_link_elbow`] without its one `atan2`: the angle is
+/// 2·atan2(`half_y`, `half_x`), left to the caller (a kernel that gathers
+/// several angles into one [`crate::math::atan2_lanes`] call).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ElbowTerms {
+    pub half_y: f64,
+    pub half_x: f64,
+    pub sin: f64,
+    pub cos: f64,
+}
+
+/// The terms of [`two_link_elbow`] (same arguments, same misses).
+#[inline]
+pub(crate) fn two_link_elbow_terms(r: f64, l1: f64, l2: f64, tol: f64) -> std::result::Result<ElbowTerms, AnnulusMiss> {
     let (outer, inner) = (l1 + l2, (l1 - l2).abs());
     if r > outer + tol {
         return Err(AnnulusMiss { by: r - outer, radius: outer, outer: true });
@@ -490,11 +508,12 @@ pub(crate) fn two_link_elbow(r: f64, l1: f64, l2: f64, tol: f64) -> std::result:
     let den = ((r - inner) * (r + inner)).max(0.0);
     let sum = num + den;
     if sum == 0.0 {
-        return Ok(ElbowAngle { angle: 0.0, sin: 0.0, cos: 1.0 });
+        return Ok(ElbowTerms { half_y: 0.0, half_x: 1.0, sin: 0.0, cos: 1.0 });
     }
     // With t = tan(θ/2) = √(num/den): cos θ = (1 − t²)/(1 + t²), sin θ = 2t/(1 + t²).
-    Ok(ElbowAngle {
-        angle: 2.0 * num.sqrt().fast_atan2(den.sqrt()),
+    Ok(ElbowTerms {
+        half_y: num.sqrt(),
+        half_x: den.sqrt(),
         sin: 2.0 * (num * den).sqrt() / sum,
         cos: (den - num) / sum,
     })

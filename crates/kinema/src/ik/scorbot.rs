@@ -359,18 +359,20 @@ impl ScorbotIk {
     ) {
         let (a1, a2, a3, d1, d5) = (self.a1, self.a2, self.a3, self.d1, self.d5);
         let rxy = p.x.fast_hypot(p.y);
-        let (phi, sp, cp) = if rxy > AXIS_TOL {
-            (p.y.fast_atan2(p.x), p.y / rxy, p.x / rxy)
-        } else {
-            let (sp, cp) = axis_yaw.fast_sin_cos();
-            (axis_yaw, sp, cp)
-        };
+        let on_axis = rxy <= AXIS_TOL;
+        let (sp, cp) = if on_axis { axis_yaw.fast_sin_cos() } else { (p.y / rxy, p.x / rxy) };
         let th234 = -beta; // seed 000 eq. 13
         let (s234, c234) = th234.fast_sin_cos();
+        // The seven angles of the four solutions are independent once the
+        // sines and cosines are known; they are gathered into one
+        // `atan2_lanes` call (lane 0: θ1 of the front; 1–2: the elbow
+        // half-angles of front and back; 3–6: θ2 of each branch; 7 unused).
+        let (mut ys, mut xs) = ([0.0; 8], [1.0; 8]);
+        (ys[0], xs[0]) = (p.y, p.x);
+        let mut elbows = [None; 2];
         for (k, side) in ["front", "back"].into_iter().enumerate() {
             // Seed 000 eq. 15 gives only θ1 = atan2(y, x); θ1 + π reaches over the back.
             let back = k == 1;
-            let th1 = if back { wrap_angle(phi + PI) } else { phi };
             let (s1, c1) = if back { (-sp, -cp) } else { (sp, cp) };
             // Seed 000 eq. 18: the wrist point relative to the shoulder, in the arm plane.
             let k1 = p.x * c1 + p.y * s1 - a1 - d5 * c234;
@@ -380,28 +382,44 @@ impl ScorbotIk {
             // 2·a2²·a3²; it is 2·a2·a3: cos θ3 = (k1² + k2² − a2² − a3²)/(2·a2·a3).
             // Evaluated in the equivalent half-angle form (`two_link_elbow`),
             // accurate near the stretched and folded arm where acos loses half the digits.
-            let elbow = match super::two_link_elbow(rho, a2, a3, REACH_TOL) {
+            let elbow = match super::two_link_elbow_terms(rho, a2, a3, REACH_TOL) {
                 Ok(e) => e,
                 Err(annulus) => {
                     miss[k] = Some(Miss { annulus, side });
                     continue;
                 }
             };
+            elbows[k] = Some(elbow);
+            (ys[1 + k], xs[1 + k]) = (elbow.half_y, elbow.half_x);
             // Seed 000 claims eq. 17 (θ3 = +acos ≥ 0) is "codo arriba" while defining
             // codo arriba as θ3 < 0: with θ2 from eq. 20, θ3 > 0 puts the elbow *below*
             // the shoulder–wrist line when the wrist is in front, above it at the back.
             let up_sign = if back { 1.0 } else { -1.0 };
-            let (th3_abs, s3a, c3) = (elbow.angle, elbow.sin, elbow.cos);
             for (e, sign) in [up_sign, -up_sign].into_iter().enumerate() {
-                let th3 = sign * th3_abs;
-                let s3 = sign * s3a;
                 // Seed 000 eq. 19 is misprinted (k1 = c2·B − s2·A, k2 = c2·B + s2·A);
                 // correctly k1 = A·c2 − B·s2, k2 = B·c2 + A·s2 with A = a2 + a3·c3,
                 // B = a3·s3, which eq. 20 inverts (eq. 20 itself is right).
                 // Seed 000 eq. 23 (θ2 = −atan(s2, c2) for the other elbow) is wrong:
                 // θ2 is recomputed from eq. 20 with the new θ3 (B changes sign).
-                let (a, b) = (a2 + a3 * c3, a3 * s3);
-                let th2 = if rho > 1e-15 { (a * k2 - b * k1).fast_atan2(a * k1 + b * k2) } else { 0.0 };
+                let (a, b) = (a2 + a3 * elbow.cos, a3 * sign * elbow.sin);
+                if rho > 1e-15 {
+                    (ys[3 + 2 * k + e], xs[3 + 2 * k + e]) = (a * k2 - b * k1, a * k1 + b * k2);
+                }
+            }
+        }
+        let angles = crate::math::atan2_x8(ys, xs);
+        let phi = if on_axis { axis_yaw } else { angles[0] };
+        for (k, elbow) in elbows.iter().enumerate() {
+            if elbow.is_none() {
+                continue;
+            }
+            let back = k == 1;
+            let th1 = if back { wrap_angle(phi + PI) } else { phi };
+            let up_sign = if back { 1.0 } else { -1.0 };
+            let th3_abs = 2.0 * angles[1 + k];
+            for (e, sign) in [up_sign, -up_sign].into_iter().enumerate() {
+                let th3 = sign * th3_abs;
+                let th2 = angles[3 + 2 * k + e];
                 let th4 = wrap_angle(th234 - th2 - th3); // seed 000 eq. 22
                 let th5 = roll_for(th1);
                 let theta = [th1, th2, th3, th4, th5];
