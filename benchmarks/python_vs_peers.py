@@ -15,7 +15,8 @@ configurations (uniform within kinema's `robot.qlim`) for every library:
   (best of --repeats runs), next to the same loop around the builtin `len(q)`: the
   "bare Python call". The ratio printed is  t(f) / t(len), both loop included.
   `np.ndarray.copy(q)` is timed the same way as the floor of any call that returns
-  a new numpy array.
+  a new numpy array. kinema is also timed writing into a preallocated array,
+  `for q in qs: f(q, out=T)` (row "kinema `out=`").
 * batch fkine of --batch-n configurations: kinema's `fkine_batch(Q)` against a
   per-call list comprehension `[f(q) for q in Q]`; the toolbox loop is timed on
   --loop-sample configurations and extrapolated (printed as such).
@@ -347,6 +348,23 @@ def time_loop(f, qs, repeats):
     return min(per), float(np.median(per))
 
 
+def time_loop_out(f, qs, out, repeats):
+    """As time_loop, for `for q in qs: f(q, out=out)`."""
+    per = []
+    gc_was = gc.isenabled()
+    gc.disable()
+    try:
+        for _ in range(repeats):
+            t0 = time.perf_counter_ns()
+            for q in qs:
+                f(q, out=out)
+            per.append((time.perf_counter_ns() - t0) / len(qs))
+    finally:
+        if gc_was:
+            gc.enable()
+    return min(per), float(np.median(per))
+
+
 def time_empty_loop(qs, repeats):
     per = []
     for _ in range(repeats):
@@ -485,6 +503,13 @@ def main():
                   f"   = {f_best / t_bare:.1f}× / {j_best / t_bare:.1f}× the bare call   [{k} calls × {reps}]")
             rows_call.append((rname, p.name, f_best, j_best, k))
             if p.name == "kinema":
+                T_out, J_out = np.empty((4, 4)), np.empty((6, n))
+                fo_best, fo_med = time_loop_out(robot.fkine, qs, T_out, args.repeats)
+                jo_best, jo_med = time_loop_out(robot.jacob0, qs, J_out, args.repeats)
+                print(f"  {'kinema out=':<14} fkine {fmt_ns(fo_best)} ({fmt_ns(fo_med)})   jacob0 {fmt_ns(jo_best)} "
+                      f"({fmt_ns(jo_med)})   = {fo_best / t_bare:.1f}× / {jo_best / t_bare:.1f}× the bare call   "
+                      f"[f(q, out=preallocated), {args.n} calls × {args.repeats}]")
+                rows_call.append((rname, "kinema `out=`", fo_best, jo_best, args.n))
                 for what, t in (("fkine", f_best), ("jacob0", j_best)):
                     r = t / t_bare
                     verdicts.append(f"{rname} per-call {what}: {fmt_ns(t)} ns = {r:.1f}× a bare `len(q)` call "
@@ -503,6 +528,14 @@ def main():
         rows_batch.append((rname, "kinema `fkine_batch(Q)`", t_kb, False, args.batch_n))
         idx = rng.integers(0, args.batch_n, size=min(8, args.batch_n))
         dmax = max(float(np.abs(Tb[i] - robot.fkine(Qb[i])).max()) for i in idx)
+        kbo = []  # into a preallocated array (Tb, already written once)
+        for _ in range(3):
+            t0 = time.perf_counter()
+            robot.fkine_batch(Qb, out=Tb)
+            kbo.append(time.perf_counter() - t0)
+        print(f"  kinema fkine_batch(Q, out=T) (preallocated T, best of 3) {min(kbo):.3f} s "
+              f"({min(kbo) / args.batch_n * 1e9:.0f} ns per configuration)")
+        rows_batch.append((rname, "kinema `fkine_batch(Q, out=T)` (preallocated T)", min(kbo), False, args.batch_n))
         del Tb
         if dmax > 0:
             print(f"  note: fkine_batch differs from fkine by {dmax:.1e}")
@@ -567,7 +600,8 @@ def main():
           f"load average {load0[0]:.2f} at start / {load1[0]:.2f} at end, seed {args.seed}.\n")
     print(f"Per call: mean ns per call of `for q in qs: f(q)`, best of {args.repeats} runs; "
           "ratio = that time / the same loop around `len(q)`. `np.ndarray.copy(q)` (a C method returning a new "
-          "array) is shown as the floor of any call that returns a fresh numpy array.\n")
+          "array) is shown as the floor of any call that returns a fresh numpy array; \"kinema `out=`\" is "
+          "`for q in qs: f(q, out=T)` with T preallocated.\n")
     print("| robot | library | fkine ns/call | jacob0 ns/call | fkine ÷ bare call | jacob0 ÷ bare call | calls |")
     print("|---|---|---:|---:|---:|---:|---:|")
     bare = {}
@@ -582,7 +616,7 @@ def main():
     print("|---|---|---:|---:|---:|")
     kb = {}
     for rname, lab, t, extrap, k in rows_batch:
-        if lab.startswith("kinema `fkine_batch"):
+        if lab == "kinema `fkine_batch(Q)`":
             kb[rname] = t
         ex = f" (extrapolated from {k:,})" if extrap else ""
         print(f"| {rname} | {lab}{ex} | {t:.3f} | {t / args.batch_n * 1e9:,.0f} | {t / kb[rname]:.1f}× |")

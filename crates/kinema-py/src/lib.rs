@@ -10,6 +10,8 @@
 //! are 4×4 row-major (C order); Jacobians are 6×n with rows
 //! \[vx vy vz ωx ωy ωz\]; batches stack along the first axis.
 
+mod fast;
+
 use std::sync::Arc;
 
 use kinema::analysis::{self, Axes};
@@ -25,7 +27,6 @@ use numpy::ndarray::{Array, Dimension, IntoDimension};
 use numpy::{IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
-use rayon::prelude::*;
 
 pyo3::import_exception!(kinema._errors, KinemaError);
 pyo3::import_exception!(kinema._errors, InvalidInput);
@@ -118,16 +119,6 @@ where
 fn push_pose(out: &mut [f64], pose: &Pose) {
     for (r, row) in pose.to_rows().iter().enumerate() {
         out[4 * r..4 * r + 4].copy_from_slice(row);
-    }
-}
-
-/// Writes the column-major 6×n Jacobian `j` row-major into `out`.
-fn push_jacobian(out: &mut [f64], j: &Matrix6xX<f64>) {
-    let n = j.ncols();
-    for r in 0..6 {
-        for c in 0..n {
-            out[r * n + c] = j[(r, c)];
-        }
     }
 }
 
@@ -607,8 +598,13 @@ impl PyRobot {
         Ok(a.as_slice()?.to_vec())
     }
 
-    /// Calls `f` on a joint vector argument without copying it when it already is float64.
+    /// Calls `f` on a joint vector argument: float64 arrays and lists of numbers
+    /// are copied to the stack (`fast::read_joints`), anything else is converted by numpy.
     fn with_q<T>(&self, obj: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> kinema::Result<T>) -> PyResult<T> {
+        let mut buf = [0.0; fast::MAX_FAST_JOINTS];
+        if let Some(len) = fast::read_joints(obj, &mut buf) {
+            return f(&buf[..len]).map_err(to_py);
+        }
         if obj.is_instance_of::<PyString>() {
             let q = self.joint_vector(obj, "q")?;
             return f(&q).map_err(to_py);
@@ -625,45 +621,35 @@ impl PyRobot {
         f(a.as_slice()?).map_err(to_py)
     }
 
-    /// An (N, n) batch argument, copied (the computation runs without the GIL).
-    fn batch(&self, obj: &Bound<'_, PyAny>) -> PyResult<(usize, Vec<f64>)> {
-        let a = f64_array(obj, "Q")?;
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        frame: Frame,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dof();
-        check_shape(&a, "Q", &[None, Some(n)], &format!(" (one row of {n} joint values per configuration)"))?;
-        Ok((a.shape()[0], a.as_slice()?.to_vec()))
+        fast::with_jacobian(n, |j| {
+            self.with_q(q, |q| self.robot.jacobian_into(q, frame, j))?;
+            fast::result_array(py, out, [6, n], |o| fast::jacobian_rows(j, o))
+        })
     }
 
-    fn jacobian(&self, py: Python<'_>, q: &Bound<'_, PyAny>, frame: Frame) -> PyResult<Py<PyArrayDyn<f64>>> {
+    fn jacobian_batch<'py>(
+        &self,
+        py: Python<'py>,
+        qs: &Bound<'py, PyAny>,
+        frame: Frame,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dof();
-        let j = self.with_q(q, |q| self.robot.jacobian(q, frame))?;
-        let mut out = vec![0.0; 6 * n];
-        push_jacobian(&mut out, &j);
-        Ok(to_numpy(py, (6, n), out)?.unbind())
-    }
-
-    fn jacobian_batch(&self, py: Python<'_>, qs: &Bound<'_, PyAny>, frame: Frame) -> PyResult<Py<PyArrayDyn<f64>>> {
-        let n = self.dof();
-        let (count, qs) = self.batch(qs)?;
-        let robot = Arc::clone(&self.robot);
-        let out = py
-            .allow_threads(move || -> kinema::Result<Vec<f64>> {
-                // Every configuration is checked before any work, as `Robot::fk_batch` does.
-                for (index, q) in qs.chunks_exact(n).enumerate() {
-                    robot.check_q(q).map_err(|e| Error::InBatch { index, source: Box::new(e) })?;
-                }
-                let mut out = vec![0.0; count * 6 * n];
-                out.par_chunks_mut(6 * n).zip(qs.par_chunks_exact(n)).with_min_len(256).try_for_each_init(
-                    || Matrix6xX::zeros(n),
-                    |j, (o, q)| {
-                        robot.jacobian_into(q, frame, j)?;
-                        push_jacobian(o, j);
-                        Ok::<(), Error>(())
-                    },
-                )?;
-                Ok(out)
-            })
-            .map_err(to_py)?;
-        Ok(to_numpy(py, (count, 6, n), out)?.unbind())
+        let robot = &*self.robot;
+        let row = |j: &mut Matrix6xX<f64>, q: &[f64], o: &mut _| {
+            robot.jacobian_into(q, frame, j)?;
+            fast::jacobian_rows(j, o);
+            Ok(())
+        };
+        fast::batch(py, robot, qs, "Q", out, [6, n], || Matrix6xX::zeros(n), row)
     }
 
     /// Plans the segments `segments(start pose)` from `q0`, converts them to
@@ -807,13 +793,21 @@ impl PyRobot {
     /// ``q`` is a 1-D array or list of n joint values (rad / m) or the name of
     /// a pose. Values outside the joint limits are computed anyway.
     ///
+    /// ``out``: a writeable C-contiguous float64 array of shape (4, 4) to
+    /// write the result into (and return) instead of a new array.
+    ///
     /// Raises:
-    ///     InvalidInput: wrong number of values, NaN/inf, or not 1-D.
-    fn fkine(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
+    ///     InvalidInput: wrong number of values, NaN/inf, or not 1-D; an
+    ///         ``out`` of the wrong type, dtype, shape or layout, or read-only.
+    #[pyo3(signature = (q, out=None))]
+    fn fkine<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let fk = self.with_q(q, |q| self.robot.fk(q))?;
-        let mut out = vec![0.0; 16];
-        push_pose(&mut out, &fk.pose);
-        Ok(to_numpy(py, (4, 4), out)?.unbind())
+        fast::result_array(py, out, [4, 4], |o| fast::put(o, &fast::pose_rows(&fk.pose)))
     }
 
     /// All frames along the chain as an (n+2)×4×4 array: index 0 the base
@@ -830,14 +824,28 @@ impl PyRobot {
 
     /// Geometric Jacobian in the base frame, a 6×n array with rows
     /// ``[vx vy vz ωx ωy ωz]`` (velocity of the tool point, angular velocity).
-    fn jacob0(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
-        self.jacobian(py, q, Frame::Base)
+    /// ``out``: as in :meth:`fkine`, of shape (6, n).
+    #[pyo3(signature = (q, out=None))]
+    fn jacob0<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.jacobian(py, q, Frame::Base, out)
     }
 
     /// Geometric Jacobian in the tool frame, a 6×n array with rows
     /// ``[vx vy vz ωx ωy ωz]`` expressed in tool axes.
-    fn jacobe(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
-        self.jacobian(py, q, Frame::Tool)
+    /// ``out``: as in :meth:`fkine`, of shape (6, n).
+    #[pyo3(signature = (q, out=None))]
+    fn jacobe<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.jacobian(py, q, Frame::Tool, out)
     }
 
     /// Yoshikawa manipulability √det(J·Jᵀ) of the base-frame Jacobian's rows
@@ -850,38 +858,56 @@ impl PyRobot {
     }
 
     /// Forward kinematics of N configurations, an (N, n) array → (N, 4, 4).
-    /// Runs without the GIL, in parallel over all cores. Every row is checked
-    /// before any work; a bad row raises InvalidInput naming its index.
+    /// Runs without the GIL, in parallel over all cores. A bad row (NaN/inf)
+    /// raises InvalidInput naming the first such index.
+    ///
+    /// ``out``: a writeable C-contiguous float64 array of shape (N, 4, 4) to
+    /// write the result into (and return) instead of a new array. With
+    /// ``out``, ``Q`` is not copied and the call holds the GIL (still running
+    /// in parallel over all cores), so that no Python thread can use ``out``
+    /// while it is written. A bad row leaves ``out`` partly written.
     #[allow(non_snake_case)]
-    fn fkine_batch(&self, py: Python<'_>, Q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
-        let (count, qs) = self.batch(Q)?;
-        let robot = Arc::clone(&self.robot);
-        let out = py
-            .allow_threads(move || -> kinema::Result<Vec<f64>> {
-                let fks = robot.fk_batch(&qs)?;
-                let mut out = vec![0.0; 16 * fks.len()];
-                out.par_chunks_mut(16)
-                    .zip(fks.par_iter())
-                    .with_min_len(1024)
-                    .for_each(|(o, fk)| push_pose(o, &fk.pose));
-                Ok(out)
-            })
-            .map_err(to_py)?;
-        Ok(to_numpy(py, (count, 4, 4), out)?.unbind())
+    #[pyo3(signature = (Q, out=None))]
+    fn fkine_batch<'py>(
+        &self,
+        py: Python<'py>,
+        Q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let robot = &*self.robot;
+        let row = |_: &mut (), q: &[f64], o: &mut _| {
+            fast::put(o, &fast::pose_rows(&robot.fk(q)?.pose));
+            Ok(())
+        };
+        fast::batch(py, robot, Q, "Q", out, [4, 4], || (), row)
     }
 
     /// Base-frame Jacobians of N configurations, an (N, n) array → (N, 6, n).
-    /// Runs without the GIL, in parallel over all cores.
+    /// Runs without the GIL, in parallel over all cores. ``out``: as in
+    /// :meth:`fkine_batch`, of shape (N, 6, n).
     #[allow(non_snake_case)]
-    fn jacob0_batch(&self, py: Python<'_>, Q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
-        self.jacobian_batch(py, Q, Frame::Base)
+    #[pyo3(signature = (Q, out=None))]
+    fn jacob0_batch<'py>(
+        &self,
+        py: Python<'py>,
+        Q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.jacobian_batch(py, Q, Frame::Base, out)
     }
 
     /// Tool-frame Jacobians of N configurations, an (N, n) array → (N, 6, n).
-    /// Runs without the GIL, in parallel over all cores.
+    /// Runs without the GIL, in parallel over all cores. ``out``: as in
+    /// :meth:`fkine_batch`, of shape (N, 6, n).
     #[allow(non_snake_case)]
-    fn jacobe_batch(&self, py: Python<'_>, Q: &Bound<'_, PyAny>) -> PyResult<Py<PyArrayDyn<f64>>> {
-        self.jacobian_batch(py, Q, Frame::Tool)
+    #[pyo3(signature = (Q, out=None))]
+    fn jacobe_batch<'py>(
+        &self,
+        py: Python<'py>,
+        Q: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.jacobian_batch(py, Q, Frame::Tool, out)
     }
 
     /// Inverse kinematics of the 4×4 target ``T`` (``base_from_tool``).

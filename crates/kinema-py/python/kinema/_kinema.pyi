@@ -192,22 +192,24 @@ class Robot:
         """Named configurations."""
     def pose(self, name: str) -> F64Array:
         """A named configuration. Raises InvalidInput for an unknown name."""
-    def fkine(self, q: JointVector) -> F64Array:
-        """Tool pose base_from_tool, shape (4, 4)."""
+    def fkine(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
+        """Tool pose base_from_tool, shape (4, 4); written into ``out`` (a writeable C-contiguous
+        float64 (4, 4) array, returned) when given. Raises InvalidInput for a bad ``q`` or ``out``."""
     def fkine_all(self, q: JointVector) -> F64Array:
         """Base, link 1..n and tool frames, shape (n + 2, 4, 4)."""
-    def jacob0(self, q: JointVector) -> F64Array:
-        """Geometric Jacobian in the base frame, shape (6, n)."""
-    def jacobe(self, q: JointVector) -> F64Array:
-        """Geometric Jacobian in the tool frame, shape (6, n)."""
+    def jacob0(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
+        """Geometric Jacobian in the base frame, shape (6, n); into ``out`` as in fkine."""
+    def jacobe(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
+        """Geometric Jacobian in the tool frame, shape (6, n); into ``out`` as in fkine."""
     def manipulability(self, q: JointVector, axes: Literal["all", "trans", "rot"] = "all") -> float:
         """Yoshikawa manipulability of the selected Jacobian rows."""
-    def fkine_batch(self, Q: ArrayLike) -> F64Array:
-        """(N, n) configurations -> (N, 4, 4) poses; GIL released, parallel."""
-    def jacob0_batch(self, Q: ArrayLike) -> F64Array:
-        """(N, n) configurations -> (N, 6, n) base-frame Jacobians; GIL released, parallel."""
-    def jacobe_batch(self, Q: ArrayLike) -> F64Array:
-        """(N, n) configurations -> (N, 6, n) tool-frame Jacobians; GIL released, parallel."""
+    def fkine_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
+        """(N, n) configurations -> (N, 4, 4) poses; GIL released, parallel. With ``out`` (a
+        writeable C-contiguous float64 (N, 4, 4) array, returned): no copies, GIL held, parallel."""
+    def jacob0_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
+        """(N, n) configurations -> (N, 6, n) base-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
+    def jacobe_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
+        """(N, n) configurations -> (N, 6, n) tool-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
     def ptp(
         self,
         q0: JointVector,
