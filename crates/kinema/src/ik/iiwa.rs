@@ -198,6 +198,17 @@ struct ArmTarget {
     w: Vector3<f64>,
 }
 
+/// One (elbow, shoulder) branch of the fixed-q3 kernel, waiting for its angles.
+#[derive(Clone, Copy)]
+struct IiwaBranch {
+    /// q1 when it is not computed (wrist on the axis of joint 1: the hint).
+    q1_fixed: Option<f64>,
+    /// ⁴R₇ is a wrist singularity: q5 = 0 and q7 takes the sum.
+    singular: bool,
+    /// Offset of the `/front` (8) or `/back` (16) labels in `LABELS`.
+    side: usize,
+}
+
 /// Elbow angle of a wrist distance: cos q4 and |sin q4|.
 #[derive(Clone, Copy)]
 struct Elbow {
@@ -223,21 +234,34 @@ fn zyz(m: &Matrix3<f64>, sign: f64, hint: f64) -> (f64, f64, f64) {
     (wrap_angle(a), b, wrap_angle(c))
 }
 
-/// Both ZYZ triples of `m`, sin b ≥ 0 first: the same as [`zyz`] with sign +1
-/// and −1, the second derived from the first as (a + π, −b, c + π) instead of
-/// being solved again (at |sin b| < [`SINGULAR_SIN`]: (hint, −b, c)).
-fn zyz_pair(m: &Matrix3<f64>, hint: f64) -> [(f64, f64, f64); 2] {
+/// The atan2 arguments (y, x) of both ZYZ triples of `m` (see [`zyz`]):
+/// b (sin b ≥ 0), a and c, and whether |sin b| < [`SINGULAR_SIN`] (then a =
+/// `hint`, and its arguments are (0, 1), not used). [`zyz_pair_of`] makes the
+/// two triples from the three angles; the kernel of [`IiwaIk::solve_q3`]
+/// batches the atan2s of several matrices in between.
+#[inline]
+fn zyz_args(m: &Matrix3<f64>, hint: f64) -> ([(f64, f64); 3], bool) {
     let sb = m[(0, 2)].fast_hypot(m[(1, 2)]);
-    let b = sb.fast_atan2(m[(2, 2)]);
-    let (a, sa, ca) = if sb < SINGULAR_SIN {
+    let singular = sb < SINGULAR_SIN;
+    let (a, sa, ca) = if singular {
         let (sa, ca) = hint.fast_sin_cos();
-        (hint, sa, ca)
+        ((0.0, 1.0), sa, ca)
     } else {
-        (m[(1, 2)].fast_atan2(m[(0, 2)]), m[(1, 2)] / sb, m[(0, 2)] / sb)
+        ((m[(1, 2)], m[(0, 2)]), m[(1, 2)] / sb, m[(0, 2)] / sb)
     };
-    let c = (ca * m[(1, 0)] - sa * m[(0, 0)]).fast_atan2(ca * m[(1, 1)] - sa * m[(0, 1)]);
-    let (a, c) = (wrap_angle(a), wrap_angle(c));
-    if sb < SINGULAR_SIN {
+    // Rz(c) = Ry(−b)·Rz(−a)·m; its row 1 is row 1 of Rz(−a)·m.
+    let c = (ca * m[(1, 0)] - sa * m[(0, 0)], ca * m[(1, 1)] - sa * m[(0, 1)]);
+    ([(sb, m[(2, 2)]), a, c], singular)
+}
+
+/// Both ZYZ triples from the angles of [`zyz_args`]' arguments, sin b ≥ 0
+/// first: the same as [`zyz`] with sign +1 and −1, the second derived from
+/// the first as (a + π, −b, c + π) instead of being solved again (when
+/// `singular`: a = `hint` and (hint, −b, c)).
+#[inline]
+fn zyz_pair_of([b, a, c]: [f64; 3], singular: bool, hint: f64) -> [(f64, f64, f64); 2] {
+    let (a, c) = (wrap_angle(if singular { hint } else { a }), wrap_angle(c));
+    if singular {
         [(a, b, c), (a, -b, c)]
     } else {
         [(a, b, c), (wrap_angle(a + PI), -b, wrap_angle(c + PI))]
@@ -466,7 +490,6 @@ impl IiwaIk {
         let el = self.elbow(w.norm())?;
         let (s3, c3) = q3.fast_sin_cos();
         let rho = w.x.fast_hypot(w.y);
-        let mut out = Candidates::<7, 8>::default();
         let mut worst = 0.0f64;
         // Shoulder offset of `near`'s q1 for this wrist point, and its elbow side.
         let (u_near, elbow_near) = match near {
@@ -479,13 +502,19 @@ impl IiwaIk {
             }
             None => (None, 0.0),
         };
-        for elbow in [1.0, -1.0] {
+        // Up to four (elbow, shoulder) branches, each with its q1, q2, q4 and
+        // the two ZYZ triples of ⁴R₇. No angle depends on another through an
+        // atan2, so all (at most 4 × 5 + 2) are gathered into one batch
+        // (`atan2_x8` × 3, lanes below) after the sines and cosines are known.
+        let (mut ys, mut xs) = ([0.0; 24], [1.0; 24]);
+        let mut branches: [Option<IiwaBranch>; 4] = [None; 4];
+        for (e, elbow) in [1.0, -1.0].into_iter().enumerate() {
             if elbow * elbow_near < 0.0 {
                 continue;
             }
             let s4 = elbow * el.s4;
-            let q4 = s4.fast_atan2(el.c4);
-            // Wrist point in frame 2 (seed 004 eq. 5: ²p₅).
+            (ys[20 + e], xs[20 + e]) = (s4, el.c4); // q4
+                                                    // Wrist point in frame 2 (seed 004 eq. 5: ²p₅).
             let (px, py, pz) = (self.d5 * c3 * s4, self.d5 * s3 * s4, self.d3 + self.d5 * el.c4);
             // (wx, wy) = Rz(q1)·(u, py) and (u, wz) = the (x, z) part of Ry(q2)·²p₅:
             // u² = ρ² − py², in factored form.
@@ -497,11 +526,13 @@ impl IiwaIk {
             let u_abs = (gap.max(0.0) * (rho + py.abs())).sqrt();
             // Rz(q3)·Ry(q4), shared by both shoulders.
             let r24 = rz(s3, c3) * ry(s4, el.c4);
-            for shoulder in [1.0, -1.0] {
+            for (sh, shoulder) in [1.0, -1.0].into_iter().enumerate() {
                 let u = shoulder * u_abs;
                 if u_near.is_some_and(|un| u * un < 0.0 && un.abs() > 0.5 * u_abs) {
                     continue;
                 }
+                let slot = 2 * e + sh;
+                let lane = 5 * slot;
                 // Seed 004 eq. 9 (q1 = α ± arccos(x_w/R), one of the two chosen
                 // by FK) and eq. 8 (q2 = α ± arccos((z_w − d1)/R)) are correct but
                 // leave the choice of sign to a later FK test; they are written
@@ -509,31 +540,54 @@ impl IiwaIk {
                 // q1 = ∠(wx, wy) − ∠(u, py) and q2 = ∠(wz, u) − ∠(pz, px), one
                 // atan2 of cross and dot product each, which picks the matching
                 // pair directly and keeps full precision.
-                let (q1, s1, c1, u) = if u.fast_hypot(py) < SINGULAR_SIN {
+                let (q1_fixed, s1, c1, u) = if u.fast_hypot(py) < SINGULAR_SIN {
                     // Wrist on the axis of joint 1: q1 is free; recompute u for the chosen q1.
                     let (s1, c1) = q1_hint.fast_sin_cos();
-                    (q1_hint, s1, c1, c1 * w.x + s1 * w.y)
+                    (Some(q1_hint), s1, c1, c1 * w.x + s1 * w.y)
                 } else {
                     let (y, x) = (w.y * u - w.x * py, w.x * u + w.y * py);
                     let h = y.fast_hypot(x);
-                    (y.fast_atan2(x), y / h, x / h, u)
+                    (ys[lane], xs[lane]) = (y, x);
+                    (None, y / h, x / h, u)
                 };
                 let (y, x) = (u * pz - w.z * px, w.z * pz + u * px);
                 let h = y.fast_hypot(x);
-                let (q2, s2, c2) = if h > 0.0 { (y.fast_atan2(x), y / h, x / h) } else { (0.0, 0.0, 1.0) };
+                let (s2, c2) = if h > 0.0 {
+                    (ys[lane + 1], xs[lane + 1]) = (y, x);
+                    (y / h, x / h)
+                } else {
+                    (0.0, 1.0)
+                };
                 let r04 = rz(s1, c1) * ry(s2, c2) * r24;
-                let r47 = r04.tr_mul(&t.r07);
-                // Seed 004 eq. 10–11 (ZYZ angles of ⁴T₇) are right up to a
-                // multiple of 2π: eq. 10's q5 = atan2(·) + π and eq. 11's
-                // q7 = atan2(·) − π leave (−π, π] (e.g. q5 = 190° instead of
-                // −170°, which is outside the ±170° limit though the pose is
-                // the same); every angle is wrapped to (−π, π] here.
-                let side = if shoulder > 0.0 { 8 } else { 16 };
-                for (q5, q6, q7) in zyz_pair(&r47, 0.0) {
-                    let q = [q1, q2, q3, q4, q5, q6, q7];
-                    // Coinciding solutions (singular cases) are kept once.
-                    out.push_unique(q, LABELS[side + usize::from(bits(&q))], 1e-12, true);
+                // ZYZ of ⁴R₇: the arguments of b, a and c (a = 0 when singular).
+                let (args, singular) = zyz_args(&r04.tr_mul(&t.r07), 0.0);
+                for (k, (y, x)) in args.into_iter().enumerate() {
+                    (ys[lane + 2 + k], xs[lane + 2 + k]) = (y, x);
                 }
+                branches[slot] = Some(IiwaBranch { q1_fixed, singular, side: if shoulder > 0.0 { 8 } else { 16 } });
+            }
+        }
+        let mut angles = [0.0; 24];
+        for k in 0..3 {
+            let lanes = 8 * k..8 * k + 8;
+            let (y, x) = (ys[lanes.clone()].try_into().unwrap_or([0.0; 8]), xs[lanes].try_into().unwrap_or([1.0; 8]));
+            angles[8 * k..8 * k + 8].copy_from_slice(&crate::math::atan2_x8(y, x));
+        }
+        let mut out = Candidates::<7, 8>::default();
+        for (slot, branch) in branches.iter().enumerate() {
+            let Some(b) = branch else { continue };
+            let a = &angles[5 * slot..5 * slot + 5];
+            let (q1, q2, q4) = (b.q1_fixed.unwrap_or(a[0]), a[1], angles[20 + slot / 2]);
+            // Seed 004 eq. 10–11 (ZYZ angles of ⁴T₇) are right up to a
+            // multiple of 2π: eq. 10's q5 = atan2(·) + π and eq. 11's
+            // q7 = atan2(·) − π leave (−π, π] (e.g. q5 = 190° instead of
+            // −170°, which is outside the ±170° limit though the pose is
+            // the same); every angle is wrapped to (−π, π] here.
+            let pair = zyz_pair_of([a[2], a[3], a[4]], b.singular, 0.0);
+            for (q5, q6, q7) in pair {
+                let q = [q1, q2, q3, q4, q5, q6, q7];
+                // Coinciding solutions (singular cases) are kept once.
+                out.push_unique(q, LABELS[b.side + usize::from(bits(&q))], 1e-12, true);
             }
         }
         if out.is_empty() {
@@ -1100,13 +1154,14 @@ mod tests {
     use crate::math::rot_x;
 
     #[test]
-    fn zyz_pair_equals_two_zyz_solves() {
+    fn zyz_args_and_pair_equal_two_zyz_solves() {
         use rand::Rng;
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         for k in 0..5000 {
             let b = if k % 10 == 0 { [0.0, PI, 1e-13, -1e-13][k / 10 % 4] } else { rng.random_range(-PI..PI) };
             let m = rot_z(rng.random_range(-PI..PI)) * rot_y(b) * rot_z(rng.random_range(-PI..PI));
-            let pair = zyz_pair(&m, 0.4);
+            let (args, singular) = zyz_args(&m, 0.4);
+            let pair = zyz_pair_of(args.map(|(y, x)| y.atan2(x)), singular, 0.4);
             for (got, sign) in pair.iter().zip([1.0, -1.0]) {
                 let want = zyz(&m, sign, 0.4);
                 for (g, w) in [got.0, got.1, got.2].iter().zip([want.0, want.1, want.2]) {
