@@ -2,8 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use kinema::ik::{IkRequest, NumericOptions, Solution, SolverChoice};
-use kinema::nalgebra::{Matrix4, Vector3};
+use kinema::ik::{IkRequest, IkTarget, NumericOptions, Solution, SolverChoice};
+use kinema::nalgebra::Matrix4;
 use kinema::{Error, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
@@ -88,29 +88,24 @@ fn numbers(text: &str, what: &str, count: usize) -> Result<Vec<f64>> {
     Ok(v)
 }
 
-/// The target pose and which task components it constrains.
-fn target(a: &IkArgs, robot: &Robot) -> Result<(Pose, Option<[bool; 6]>)> {
+/// The target of --T, --pose or --position (position only; `solve` adds the
+/// typed targets' pitch/roll, approach or α to it).
+fn target(a: &IkArgs) -> Result<IkTarget> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     if let Some(t) = &a.t {
         let v = numbers(t, "--T", 16)?;
         let m = Matrix4::from_row_slice(&v);
         let pose = Pose::from_matrix(&m)
             .context("--T is not a rigid transform: the last row must be 0 0 0 1 and the 3×3 block a rotation")?;
-        return Ok((pose, None));
+        return Ok(IkTarget::Pose(pose));
     }
     if let Some(p) = &a.pose {
         let v = numbers(p, "--pose", 6)?;
         let conv: RpyConvention = a.rpy.into();
-        return Ok((Pose::from_xyz_rpy([v[0], v[1], v[2]], [ang(v[3]), ang(v[4]), ang(v[5])], conv), None));
+        return Ok(IkTarget::Pose(Pose::from_xyz_rpy([v[0], v[1], v[2]], [ang(v[3]), ang(v[4]), ang(v[5])], conv)));
     }
     if let Some(p) = &a.position {
-        let v = numbers(p, "--position", 3)?;
-        let fk = robot.fk(robot.home())?;
-        // Orientation is free: keep home's rotation as a placeholder, masked out.
-        return Ok((
-            Pose::new(fk.pose.rot, Vector3::new(v[0], v[1], v[2])),
-            Some([true, true, true, false, false, false]),
-        ));
+        return Ok(IkTarget::Position(triple(p, "--position")?));
     }
     bail!("give a target: --T \"16 numbers\", --pose x,y,z,roll,pitch,yaw or --position x,y,z")
 }
@@ -145,39 +140,33 @@ fn triple(text: &str, what: &str) -> Result<[f64; 3]> {
 
 type Solved = kinema::Result<Vec<Solution>>;
 
-/// Runs the solver the arguments ask for; returns its name and its result.
-fn solve(
-    a: &IkArgs,
-    robot: &Robot,
-    pose: &Pose,
-    mask: Option<[bool; 6]>,
-    q0: Option<&[f64]>,
-) -> Result<(&'static str, Solved)> {
-    use kinema::ik::{rommel::RommelIk, scara::ScaraIk, scorbot::ScorbotIk};
+/// Runs the solver the arguments ask for (the core's `ik::solve_target`);
+/// returns its name and its result.
+fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(&'static str, Solved)> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
+    // The core refuses these too; checked here first so that the message names the flags.
     let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
     if typed && a.solver == SolverArg::Numeric {
         bail!("--pitch/--roll, --approach, --alpha, --q3 and --psi select an analytic solver; drop --solver numeric");
     }
-    if (a.q3.is_some() || a.psi.is_some()) && mask.is_some() {
+    if (a.q3.is_some() || a.psi.is_some()) && !matches!(target, IkTarget::Pose(_)) {
         bail!("--q3 and --psi need a full target pose: give --T or --pose");
     }
-    let position = || a.position.as_deref().map(|p| triple(p, "--position")).transpose();
-    if let (Some(pitch), Some(roll)) = (a.pitch, a.roll) {
-        let s = ScorbotIk::new(robot)?;
-        let p = position()?.expect("clap requires --position");
-        return Ok(("scorbot", s.solve_xyz_pitch_roll(p, ang(pitch), ang(roll))));
-    }
-    if let Some(ap) = &a.approach {
-        let s = RommelIk::new(robot)?;
-        let p = position()?.expect("clap requires --position");
-        return Ok(("rommel", s.solve_position_approach(p, triple(ap, "--approach")?)));
-    }
-    if let Some(alpha) = a.alpha {
-        let s = ScaraIk::new(robot)?;
-        let p = position()?.expect("clap requires --position");
-        return Ok(("scara", s.solve_zone([p[0], p[1], p[2], ang(alpha)], q0).map(|s| vec![s])));
-    }
+    // clap makes --pitch/--roll, --approach and --alpha require --position.
+    let target = match target {
+        IkTarget::Position(position) => {
+            if let (Some(pitch), Some(roll)) = (a.pitch, a.roll) {
+                IkTarget::PositionPitchRoll { position, pitch: ang(pitch), roll: ang(roll) }
+            } else if let Some(ap) = &a.approach {
+                IkTarget::PositionApproach { position, approach: triple(ap, "--approach")? }
+            } else if let Some(alpha) = a.alpha {
+                IkTarget::PositionAlpha { position, alpha: ang(alpha) }
+            } else {
+                target
+            }
+        }
+        other => other,
+    };
     let request = IkRequest {
         solver: match a.solver {
             SolverArg::Auto => SolverChoice::Auto,
@@ -188,9 +177,9 @@ fn solve(
         all: a.all,
         q3: a.q3.map(ang),
         psi: a.psi.map(ang),
-        numeric: NumericOptions { seed: a.seed, mask, ..Default::default() },
+        numeric: NumericOptions { seed: a.seed, ..Default::default() },
     };
-    match kinema::ik::solve_request(robot, pose, &request) {
+    match kinema::ik::solve_target(robot, &target, &request) {
         Ok((name, solutions)) => Ok((name, Ok(solutions))),
         Err(e @ Error::Unreachable { .. }) => Ok(("", Err(e))),
         Err(e) => Err(e.into()),
@@ -199,9 +188,9 @@ fn solve(
 
 pub fn ik(a: IkArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    let (pose, mask) = target(&a, &robot)?;
+    let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
-    let (name, result) = solve(&a, &robot, &pose, mask, q0.as_deref())?;
+    let (name, result) = solve(&a, &robot, target, q0.as_deref())?;
     let solutions = match result {
         Ok(s) => s,
         Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),

@@ -606,7 +606,7 @@ fn check_file(a: CheckArgs) -> Result<()> {
             "peak_acceleration": report.peak_acc,
             "min_manipulability": report.min_manipulability.map(|(t, m)| json!({"t": t, "value": m})),
             "violations": report.violations.iter().map(|v| json!({
-                "kind": format!("{:?}", v.kind).to_lowercase(),
+                "kind": v.kind.name(),
                 "t": v.time,
                 "sample": v.sample,
                 "joint": v.joint.map(|j| j + 1),
@@ -666,8 +666,8 @@ pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<J
     let (qd_cols, qdd_cols) = (cols("qd"), cols("qdd"));
     let mut t = Vec::new();
     let mut qs: Vec<f64> = Vec::new();
-    let mut qds: Vec<Vec<f64>> = Vec::new();
-    let mut qdds: Vec<Vec<f64>> = Vec::new();
+    let mut qds: Vec<f64> = Vec::new();
+    let mut qdds: Vec<f64> = Vec::new();
     for rec in rd.records() {
         let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
         let line = rec.position().map_or(0, |p| p.line());
@@ -681,25 +681,17 @@ pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<J
         for &c in &q_cols {
             qs.push(get(c)?);
         }
-        if let Some(c) = &qd_cols {
-            qds.push(c.iter().map(|&c| get(c)).collect::<Result<_>>()?);
-        }
-        if let Some(c) = &qdd_cols {
-            qdds.push(c.iter().map(|&c| get(c)).collect::<Result<_>>()?);
+        for (cols, out) in [(&qd_cols, &mut qds), (&qdd_cols, &mut qdds)] {
+            for &c in cols.iter().flatten() {
+                out.push(get(c)?);
+            }
         }
     }
     if t.is_empty() {
         bail!("`{}` holds no samples", path.display());
     }
-    let mut traj = JointTrajectory::with_capacity(n, t.len());
-    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
-    for k in 0..t.len() {
-        kinema::traj::joint::derivatives(&t, &qs, n, k, &mut qd, &mut qdd);
-        let qd_k = if qd_cols.is_some() { qds[k].clone() } else { qd.clone() };
-        let qdd_k = if qdd_cols.is_some() { qdds[k].clone() } else { qdd.clone() };
-        traj.push(t[k], &qs[k * n..(k + 1) * n], &qd_k, &qdd_k)?;
-    }
-    Ok(traj)
+    // Velocities and accelerations the file does not give are estimated from the positions.
+    Ok(JointTrajectory::from_samples(n, t, qs, qd_cols.map(|_| qds), qdd_cols.map(|_| qdds))?)
 }
 
 /// The CSV header of a sampled trajectory.

@@ -15,11 +15,12 @@ mod fast;
 use std::sync::Arc;
 
 use kinema::analysis::{self, Axes};
-use kinema::ik::{pick_one, solve_request, IkRequest, NumericOptions, Solution, SolverChoice};
+use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice};
 use kinema::nalgebra::{Matrix4, Matrix6xX, Vector3};
 use kinema::traj::{
-    check, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod,
-    JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, TimeLaw,
+    check, expression_trajectory, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion,
+    CheckOptions, CheckReport, Expr, JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions,
+    Segment, TimeLaw,
 };
 use kinema::{Error, Frame, Pose, Robot, RpyConvention};
 use kinema_lang::{PlannedMotion, Severity};
@@ -199,7 +200,9 @@ impl PyIkSolution {
 }
 
 impl PyIkSolution {
-    fn new(py: Python<'_>, s: &Solution, solver: &str) -> Self {
+    /// `orientation_free`: the target left the orientation free (position
+    /// only), so `success` does not ask for a small orientation residual.
+    fn new(py: Python<'_>, s: &Solution, solver: &str, orientation_free: bool) -> Self {
         let tol = NumericOptions::default();
         let within_limits = s.within_limits();
         PyIkSolution {
@@ -211,7 +214,7 @@ impl PyIkSolution {
             within_limits,
             success: within_limits
                 && s.position_error <= tol.tol_position
-                && s.orientation_error <= tol.tol_orientation,
+                && (orientation_free || s.orientation_error <= tol.tol_orientation),
             iterations: s.numeric.map(|n| n.iterations),
             restarts: s.numeric.map(|n| n.restarts),
         }
@@ -273,6 +276,79 @@ impl PyJointTrajectory {
             self.duration,
             self.profile
         )
+    }
+}
+
+/// What :meth:`Robot.check` found (``kinema traj check --json``).
+///
+/// Attributes:
+///     ok: no violation.
+///     samples: number of samples checked.
+///     peak_velocity, peak_acceleration: the largest |q̇|, |q̈| per joint, shape (n,).
+///     min_manipulability: ``(t, value)`` of the smallest manipulability when
+///         ``min_manip`` was given, else ``None``.
+///     violations: one dict per problem, in sample order, with keys ``kind``
+///         (``"position"``, ``"velocity"``, ``"acceleration"``, ``"jump"``,
+///         ``"malformed"``, ``"nearsingular"``), ``t`` [s], ``sample`` (from 0),
+///         ``joint`` (from 1, ``None`` when no joint is concerned), ``value``,
+///         ``limit`` and ``message`` (the line ``kinema traj check`` prints).
+#[pyclass(frozen, name = "CheckReport", module = "kinema")]
+struct PyCheckReport {
+    report: CheckReport,
+}
+
+#[pymethods]
+impl PyCheckReport {
+    #[getter]
+    fn ok(&self) -> bool {
+        self.report.violations.is_empty()
+    }
+
+    #[getter]
+    fn samples(&self) -> usize {
+        self.report.samples
+    }
+
+    #[getter]
+    fn peak_velocity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.report.peak_vel)
+    }
+
+    #[getter]
+    fn peak_acceleration<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.report.peak_acc)
+    }
+
+    #[getter]
+    fn min_manipulability(&self) -> Option<(f64, f64)> {
+        self.report.min_manipulability
+    }
+
+    #[getter]
+    fn violations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for v in &self.report.violations {
+            let d = PyDict::new(py);
+            d.set_item("kind", v.kind.name())?;
+            d.set_item("t", v.time)?;
+            d.set_item("sample", v.sample)?;
+            d.set_item("joint", v.joint.map(|j| j + 1))?;
+            d.set_item("value", v.value)?;
+            d.set_item("limit", v.limit)?;
+            d.set_item("message", v.to_string())?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// Raises :class:`TrajectoryError` (count and first violation in the
+    /// message, as every planner of kinema does) when a limit is broken.
+    fn raise_if_violations(&self) -> PyResult<()> {
+        self.report.clone().into_result().map(|_| ()).map_err(to_py)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("CheckReport({} samples, {} violation(s))", self.report.samples, self.report.violations.len())
     }
 }
 
@@ -461,32 +537,81 @@ fn pose_from_rows(rows: &[f64], what: &str) -> PyResult<Pose> {
     })
 }
 
-/// A 4×4 homogeneous transform argument.
-fn pose_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Pose> {
+/// What a pose argument may be, for shape errors.
+const POSE_SHAPES: &str = " (a homogeneous transform) or (6,) (x, y, z, roll, pitch, yaw)";
+
+/// x, y, z \[m\], roll, pitch, yaw \[rad\] in `conv` as a pose (as the CLI
+/// reads `--pose` and `--to`), or the error naming `what`.
+fn pose_from_xyz_rpy(v: &[f64], what: &str, conv: RpyConvention) -> PyResult<Pose> {
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+        return Err(invalid(format!("`{what}` contains {x}; all values must be finite")));
+    }
+    Ok(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
+}
+
+/// A pose argument: a 4×4 homogeneous transform, or 6 numbers x, y, z, roll,
+/// pitch, yaw (roll-pitch-yaw convention `conv`).
+fn pose_arg(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Pose> {
     let t = f64_array(obj, what)?;
-    check_shape(&t, what, &[Some(4), Some(4)], " (a homogeneous transform)")?;
+    if t.shape() == [6] {
+        return pose_from_xyz_rpy(t.as_slice()?, what, conv);
+    }
+    check_shape(&t, what, &[Some(4), Some(4)], POSE_SHAPES)?;
     pose_from_rows(t.as_slice()?, what)
 }
 
-/// Several 4×4 transforms: a (V, 4, 4) array or a list of 4×4 arrays (one 4×4 is one pose).
-fn pose_list(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Pose>> {
+/// Several poses: a (V, 4, 4) array or a list of 4×4 arrays, a (V, 6) array
+/// or a list of x, y, z, roll, pitch, yaw rows; one pose (4×4 or 6 numbers)
+/// is a list of one.
+fn pose_list(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Vec<Pose>> {
     let t = f64_array(obj, what)?;
-    if t.ndim() == 2 {
-        return Ok(vec![pose_arg(obj, what)?]);
+    match t.shape() {
+        [6] | [4, 4] => Ok(vec![pose_arg(obj, what, conv)?]),
+        [_, 6] => t
+            .as_slice()?
+            .chunks_exact(6)
+            .enumerate()
+            .map(|(i, row)| pose_from_xyz_rpy(row, &format!("{what}[{i}]"), conv))
+            .collect(),
+        _ => {
+            check_shape(
+                &t,
+                what,
+                &[None, Some(4), Some(4)],
+                " (homogeneous transforms) or (V, 6) (x, y, z, roll, pitch, yaw each)",
+            )?;
+            t.as_slice()?
+                .chunks_exact(16)
+                .enumerate()
+                .map(|(i, rows)| pose_from_rows(rows, &format!("{what}[{i}]")))
+                .collect()
+        }
     }
-    check_shape(&t, what, &[None, Some(4), Some(4)], " (homogeneous transforms)")?;
-    t.as_slice()?.chunks_exact(16).enumerate().map(|(i, rows)| pose_from_rows(rows, &format!("{what}[{i}]"))).collect()
 }
 
-/// A point x, y, z \[m\], or the position of a 4×4 transform.
-fn point_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vector3<f64>> {
+/// A point x, y, z \[m\], or the position of a pose (4×4, or x, y, z, roll, pitch, yaw).
+fn point_arg(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Vector3<f64>> {
     let a = f64_array(obj, what)?;
-    if a.ndim() == 2 {
-        return Ok(pose_arg(obj, what)?.pos);
+    if a.ndim() == 2 || a.shape() == [6] {
+        return Ok(pose_arg(obj, what, conv)?.pos);
     }
-    check_shape(&a, what, &[Some(3)], " (a point x, y, z, or a 4×4 transform)")?;
-    let p = a.as_slice()?;
-    Ok(Vector3::new(p[0], p[1], p[2]))
+    check_shape(&a, what, &[Some(3)], " (a point x, y, z, or a pose)")?;
+    finite_point(a.as_slice()?, what).map(Vector3::from)
+}
+
+/// Three finite numbers, or the error naming `what` (as the CLI words it).
+fn finite_point(v: &[f64], what: &str) -> PyResult<[f64; 3]> {
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+        return Err(invalid(format!("`{what}` contains {x}; all values must be finite")));
+    }
+    Ok([v[0], v[1], v[2]])
+}
+
+/// A 3-vector argument (x, y, z).
+fn vec3_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 3]> {
+    let a = f64_array(obj, what)?;
+    check_shape(&a, what, &[Some(3)], " (x, y, z)")?;
+    finite_point(a.as_slice()?, what)
 }
 
 fn parse_rpy(text: &str) -> PyResult<RpyConvention> {
@@ -565,6 +690,55 @@ impl CartOptions {
             min_manip,
         })
     }
+}
+
+/// The target of :meth:`Robot.ik` from its keywords (what `kinema ik` reads
+/// from --T/--pose, --position, --pitch/--roll, --approach and --alpha).
+#[allow(non_snake_case)]
+fn ik_target(
+    T: Option<&Bound<'_, PyAny>>,
+    position: Option<&Bound<'_, PyAny>>,
+    pitch: Option<f64>,
+    roll: Option<f64>,
+    approach: Option<&Bound<'_, PyAny>>,
+    alpha: Option<f64>,
+    conv: RpyConvention,
+) -> PyResult<IkTarget> {
+    let T = T.filter(|t| !t.is_none());
+    let position = position.filter(|p| !p.is_none());
+    let approach = approach.filter(|a| !a.is_none());
+    let typed = [pitch.is_some() || roll.is_some(), approach.is_some(), alpha.is_some()];
+    let position = match (T, position) {
+        (Some(_), Some(_)) => return Err(invalid("give `T` or `position`, not both".into())),
+        (None, None) => {
+            return Err(invalid(
+                "give a target: `T` (a 4×4 pose or x, y, z, roll, pitch, yaw) or `position` (x, y, z)".into(),
+            ))
+        }
+        (Some(_), None) if typed.iter().any(|&t| t) => {
+            return Err(invalid("`pitch`/`roll`, `approach` and `alpha` go with `position` (x, y, z), not `T`".into()))
+        }
+        (Some(t), None) => return pose_arg(t, "T", conv).map(IkTarget::Pose),
+        (None, Some(p)) => p,
+    };
+    if typed.iter().filter(|&&t| t).count() > 1 {
+        return Err(invalid(
+            "give one typed target: `pitch` and `roll` (Scorbot), `approach` (ROMMEL) or `alpha` (SCARA)".into(),
+        ));
+    }
+    let position = vec3_arg(position, "position")?;
+    Ok(match (pitch, roll, approach, alpha) {
+        (Some(pitch), Some(roll), _, _) => IkTarget::PositionPitchRoll { position, pitch, roll },
+        (Some(_), None, _, _) => {
+            return Err(invalid("`pitch` needs `roll` too (Scorbot: position, pitch and roll)".into()))
+        }
+        (None, Some(_), _, _) => {
+            return Err(invalid("`roll` needs `pitch` too (Scorbot: position, pitch and roll)".into()))
+        }
+        (_, _, Some(a), _) => IkTarget::PositionApproach { position, approach: vec3_arg(a, "approach")? },
+        (_, _, _, Some(alpha)) => IkTarget::PositionAlpha { position, alpha },
+        _ => IkTarget::Position(position),
+    })
 }
 
 /// A limit argument: None, one number (every joint) or one per joint.
@@ -910,37 +1084,76 @@ impl PyRobot {
         self.jacobian_batch(py, Q, Frame::Tool, out)
     }
 
-    /// Inverse kinematics of the 4×4 target ``T`` (``base_from_tool``).
+    /// Inverse kinematics: joint values that put the tool at a target, as
+    /// ``kinema ik`` finds them (core: ``ik::solve_target``, ``ik::pick_one``).
     ///
-    /// Chooses the solver as ``kinema ik`` does. ``solver``: ``"auto"`` (the
-    /// robot's analytic solver when it has one, else numeric), ``"analytic"``
-    /// or ``"numeric"`` (damped least squares with restarts seeded by ``seed``).
-    /// ``q0``: previous configuration (array or pose name): the numeric solver
-    /// starts there, and the solution nearest to it is returned. iiwa-type
-    /// arms only: ``q3`` solves with that fixed q3 (up to 8 solutions), ``psi``
-    /// at that arm angle (one solution per global configuration).
+    /// The target is one of:
+    ///
+    /// * ``T``: a full pose ``base_from_tool``, a 4×4 array or 6 numbers
+    ///   x, y, z [m], roll, pitch, yaw [rad] in the convention ``rpy``
+    ///   (``"zyx"``: R = Rz(yaw)·Ry(pitch)·Rx(roll), the default of
+    ///   ``kinema ik --pose``; ``"xyz"``: Rx·Ry·Rz). The robot's analytic
+    ///   solver, or the numeric one.
+    /// * ``position=[x, y, z]`` alone: the tool point [m], orientation free
+    ///   (``--position``): the numeric solver with a position-only task mask.
+    ///   The solutions' ``orientation_error`` is measured against the ``home``
+    ///   orientation (a placeholder, as the CLI prints it); ``success`` ignores it.
+    /// * ``position`` with ``pitch`` and ``roll`` [rad]: Scorbot (seed 000
+    ///   eq. 13: pitch β = −(θ2 + θ3 + θ4), roll γ = θ5; the yaw follows from
+    ///   the position), up to four solutions.
+    /// * ``position`` with ``approach=[ax, ay, az]``: ROMMEL, the tool z axis
+    ///   along the approach (any non-zero length; q5 = 0), up to four solutions.
+    /// * ``position`` with ``alpha`` [rad]: SCARA on a rail, tool angle
+    ///   α = q2 + q3 + q5, the rail placed by seed 003's zone rule, elbow side
+    ///   and q5 kept from ``q0``; one solution.
+    ///
+    /// A typed target on a robot of another family raises that solver's own
+    /// error (e.g. "the Scorbot solver needs 5 revolute joints …").
+    ///
+    /// ``solver``: ``"auto"`` (the robot's analytic solver when it has one,
+    /// else numeric), ``"analytic"`` or ``"numeric"`` (damped least squares
+    /// with restarts seeded by ``seed``; not with typed targets, ``q3`` or
+    /// ``psi``). ``q0``: previous configuration (array or pose name): the
+    /// numeric solver starts there, and the solution nearest to it is
+    /// returned. iiwa-type arms and a full pose only: ``q3`` solves with that
+    /// fixed q3 (up to 8 solutions), ``psi`` at that arm angle (one solution
+    /// per global configuration).
     ///
     /// Returns one :class:`IkSolution` within the joint limits (nearest to
     /// ``q0`` when given), or with ``all=True`` a list of every solution found,
     /// including those outside the limits (``within_limits`` False).
     ///
     /// Raises:
-    ///     Unreachable: no solution (outside the reach, every solution violates
-    ///         a limit, no convergence); ``.solver`` and ``.reason`` say which and why.
-    ///     InvalidInput: ``T`` not a 4×4 rigid transform, bad ``q0``, unknown
-    ///         ``solver``, ``q3``/``psi`` on a robot that is not iiwa-type.
+    ///     Unreachable: no solution (outside the reach, an approach the arm
+    ///         cannot take, every solution violates a limit, no convergence);
+    ///         ``.solver`` and ``.reason`` say which and why.
+    ///     InvalidInput: no target, or ``T`` and ``position`` both; ``pitch``
+    ///         without ``roll`` (or the reverse), typed keywords without
+    ///         ``position`` or more than one typed target; ``T`` not a 4×4 rigid
+    ///         transform or 6 numbers; non-finite values; bad ``q0``; unknown
+    ///         ``solver`` or ``rpy``; a typed target, ``q3`` or ``psi`` with
+    ///         ``solver="numeric"``; ``q3`` and ``psi`` both, or with a
+    ///         position-only or typed target; ``q3``/``psi`` on a robot that is
+    ///         not iiwa-type; a typed target on a robot of another family.
     #[allow(non_snake_case, clippy::too_many_arguments)]
-    #[pyo3(signature = (T, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0))]
+    #[pyo3(signature = (T=None, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0, *, position=None,
+        pitch=None, roll=None, approach=None, alpha=None, rpy="zyx"))]
     fn ik(
         &self,
         py: Python<'_>,
-        T: &Bound<'_, PyAny>,
+        T: Option<&Bound<'_, PyAny>>,
         all: bool,
         q0: Option<&Bound<'_, PyAny>>,
         solver: &str,
         q3: Option<f64>,
         psi: Option<f64>,
         seed: u64,
+        position: Option<&Bound<'_, PyAny>>,
+        pitch: Option<f64>,
+        roll: Option<f64>,
+        approach: Option<&Bound<'_, PyAny>>,
+        alpha: Option<f64>,
+        rpy: &str,
     ) -> PyResult<PyObject> {
         let solver = match solver {
             "auto" => SolverChoice::Auto,
@@ -950,19 +1163,9 @@ impl PyRobot {
                 return Err(invalid(format!("invalid `solver`: `{other}`; use \"auto\", \"analytic\" or \"numeric\"")))
             }
         };
-        if q3.is_some() && psi.is_some() {
-            return Err(invalid("give `q3` or `psi`, not both".into()));
-        }
-        if (q3.is_some() || psi.is_some()) && solver == SolverChoice::Numeric {
-            return Err(invalid("`q3` and `psi` select the iiwa's analytic solver; drop solver=\"numeric\"".into()));
-        }
-        let target = pose_arg(T, "T")?;
-        let q0 = q0.map(|q| self.joint_vector(q, "q0")).transpose()?;
-        if let Some(q0) = &q0 {
-            self.robot.check_q(q0).map_err(to_py)?;
-        }
+        let target = ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?;
+        let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
         let robot = Arc::clone(&self.robot);
-        // The same solver choice and selection as `kinema ik` (core: ik::solve_request, ik::pick_one).
         let (name, solutions) = py
             .allow_threads(move || -> kinema::Result<(&'static str, Vec<Solution>)> {
                 let request = IkRequest {
@@ -973,14 +1176,15 @@ impl PyRobot {
                     psi,
                     numeric: NumericOptions { seed, ..Default::default() },
                 };
-                let (name, found) = solve_request(&robot, &target, &request)?;
+                let (name, found) = solve_target(&robot, &target, &request)?;
                 if all {
                     return Ok((name, found));
                 }
                 Ok((name, vec![pick_one(&robot, name, found, q0.as_deref())?]))
             })
             .map_err(to_py)?;
-        let mut list: Vec<PyIkSolution> = solutions.iter().map(|s| PyIkSolution::new(py, s, name)).collect();
+        let free = target.orientation_free();
+        let mut list: Vec<PyIkSolution> = solutions.iter().map(|s| PyIkSolution::new(py, s, name, free)).collect();
         if all {
             return Ok(list.into_pyobject(py)?.into_any().unbind());
         }
@@ -1053,10 +1257,15 @@ impl PyRobot {
     }
 
     /// Straight-line Cartesian motion (LIN, seed 004 §VIII-C) from the tool
-    /// pose of ``q0`` to the 4×4 pose ``T`` (``base_from_tool``), through the
-    /// optional ``via`` poses (a list of 4×4 arrays or one (V, 4, 4) array),
-    /// converted to joint values and checked against the robot's limits, as
-    /// ``kinema traj lin`` does.
+    /// pose of ``q0`` to the pose ``T`` (``base_from_tool``), through the
+    /// optional ``via`` poses, converted to joint values and checked against
+    /// the robot's limits, as ``kinema traj lin`` does.
+    ///
+    /// A pose is a 4×4 array or, as ``kinema traj lin --to/--via`` reads it,
+    /// 6 numbers x, y, z [m], roll, pitch, yaw [rad] in the convention
+    /// ``rpy`` (``"zyx"``: R = Rz(yaw)·Ry(pitch)·Rx(roll), the default;
+    /// ``"xyz"``: Rx·Ry·Rz, seed 004's). ``via``: one pose, a list of poses
+    /// of one form, a (V, 4, 4) or a (V, 6) array.
     ///
     /// ``q0``: start configuration (array or pose name); to start from a pose,
     /// pass ``robot.ik(T0).q``. ``dt``: sample period [s]. ``vmax`` [m/s],
@@ -1075,7 +1284,7 @@ impl PyRobot {
     /// manipulability is below this value.
     ///
     /// Raises:
-    ///     InvalidInput: bad joint vector, pose, limit, option or ``dt``.
+    ///     InvalidInput: bad joint vector, pose, limit, option, ``rpy`` or ``dt``.
     ///     Unreachable: a sample of the path that inverse kinematics cannot
     ///         reach (``.solver`` names the time along the path).
     ///     TrajectoryError: the joint trajectory breaks a limit.
@@ -1106,14 +1315,15 @@ impl PyRobot {
         min_manip: Option<f64>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
+        let conv = parse_rpy(rpy)?;
         let mut poses = match via {
-            Some(v) if !v.is_none() => pose_list(v, "via")?,
+            Some(v) if !v.is_none() => pose_list(v, "via", conv)?,
             _ => Vec::new(),
         };
-        poses.push(pose_arg(T, "T")?);
+        poses.push(pose_arg(T, "T", conv)?);
         let orientation = match orientation {
             "slerp" => Orientation::Slerp,
-            "rpy" => Orientation::Rpy(parse_rpy(rpy)?),
+            "rpy" => Orientation::Rpy(conv),
             other => return Err(invalid(format!("invalid `orientation`: `{other}`; use \"slerp\" or \"rpy\""))),
         };
         let blend = parse_blend(blend)?;
@@ -1141,11 +1351,12 @@ impl PyRobot {
     }
 
     /// Circular Cartesian motion (CIRC, as KUKA CIRC / ABB MoveC) from the
-    /// tool pose of ``q0`` through the point ``via`` (x, y, z [m]; a 4×4 pose
-    /// gives its position) to the 4×4 pose ``T``, the orientation turning
-    /// from the start's to ``T``'s by SLERP; converted to joint values and
-    /// checked, as ``kinema traj circ`` does. The other arguments are those
-    /// of :meth:`lin`.
+    /// tool pose of ``q0`` through the point ``via`` (x, y, z [m]; a pose
+    /// gives its position) to the pose ``T``, the orientation turning from
+    /// the start's to ``T``'s by SLERP; converted to joint values and checked,
+    /// as ``kinema traj circ`` does. Poses are 4×4 arrays or 6 numbers x, y,
+    /// z, roll, pitch, yaw in the convention ``rpy`` (as ``--to`` with
+    /// ``--rpy``). The other arguments are those of :meth:`lin`.
     ///
     /// Raises:
     ///     InvalidInput: start, ``via`` and end on one line or coinciding;
@@ -1154,7 +1365,7 @@ impl PyRobot {
     ///     TrajectoryError: the joint trajectory breaks a limit.
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (q0, via, T, dt, *, vmax, amax, profile="trapezoid", jmax=None, rot_vmax=None,
-        rot_amax=None, rot_jmax=None, method="ik", max_step=None, max_angle=0.05, min_manip=None))]
+        rot_amax=None, rot_jmax=None, rpy="zyx", method="ik", max_step=None, max_angle=0.05, min_manip=None))]
     fn circ(
         &self,
         py: Python<'_>,
@@ -1169,14 +1380,16 @@ impl PyRobot {
         rot_vmax: Option<f64>,
         rot_amax: Option<f64>,
         rot_jmax: Option<f64>,
+        rpy: &str,
         method: &str,
         max_step: Option<f64>,
         max_angle: f64,
         min_manip: Option<f64>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
-        let aux = point_arg(via, "via")?;
-        let to = pose_arg(T, "T")?;
+        let conv = parse_rpy(rpy)?;
+        let aux = point_arg(via, "via", conv)?;
+        let to = pose_arg(T, "T", conv)?;
         let opts = CartOptions::new(
             profile,
             vmax,
@@ -1190,6 +1403,164 @@ impl PyRobot {
             min_manip,
         )?;
         self.cartesian(py, q0, opts, Blend::None, move |start| Ok(vec![Segment::circ_through(&start, &aux, &to)?]))
+    }
+
+    /// Joint curves from expressions of t (``kinema traj expr``, seed 001
+    /// §4.2): the joints in ``joints`` follow their expressions, the others
+    /// hold their values in ``q0`` (default ``home``); sampled every ``dt``
+    /// seconds over [0, ``duration``] plus the end time, velocities and
+    /// accelerations from the symbolic derivatives, checked against the
+    /// robot's limits.
+    ///
+    /// ``joints``: ``{joint: expression}`` or a list of ``(joint, expression)``
+    /// pairs, joints numbered from 1 as in ``--joint 1 "3*sin(4*pi*t^2/2)"``.
+    /// Expressions use ``t``, numbers, ``pi``, ``e``, ``+ - * / ^``, and
+    /// functions such as ``sin``, ``cos``, ``exp``, ``sqrt``, ``min``, ``max``.
+    ///
+    /// Returns a :class:`JointTrajectory` with ``profile == "expression"``.
+    ///
+    /// Raises:
+    ///     InvalidInput: no joint, a joint number out of range, an expression
+    ///         that does not parse (its column in the message) or is not finite
+    ///         at some sample, a bad ``q0``, ``duration`` or ``dt``.
+    ///     TrajectoryError: the trajectory breaks a limit.
+    #[pyo3(signature = (joints, duration, dt=0.01, q0=None))]
+    fn expr(
+        &self,
+        py: Python<'_>,
+        joints: &Bound<'_, PyAny>,
+        duration: f64,
+        dt: f64,
+        q0: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyJointTrajectory> {
+        let q0 = match q0.filter(|q| !q.is_none()) {
+            Some(q) => self.joint_vector(q, "q0")?,
+            None => self.robot.home().to_vec(),
+        };
+        let pairs: Vec<(i64, String)> = match joints.downcast::<PyDict>() {
+            Ok(d) => d.items().extract(),
+            Err(_) => joints.try_iter().and_then(|it| it.map(|p| p?.extract()).collect()),
+        }
+        .map_err(|_| {
+            invalid("`joints` must be a dict {joint: expression} or (joint, expression) pairs, joints from 1".into())
+        })?;
+        if pairs.is_empty() {
+            return Err(invalid("give at least one joint expression, e.g. {1: \"0.5*sin(t)\"}".into()));
+        }
+        let mut exprs = Vec::with_capacity(pairs.len());
+        for (j, text) in pairs {
+            if j < 1 {
+                return Err(invalid(format!("`joints`: joint {j}: joints are numbered from 1")));
+            }
+            exprs.push((j as usize - 1, Expr::parse(&text).map_err(to_py)?));
+        }
+        let robot = Arc::clone(&self.robot);
+        let traj = py
+            .allow_threads(move || -> kinema::Result<_> {
+                let traj = expression_trajectory(&robot, &q0, &exprs, duration, dt)?;
+                check(&robot, &traj, &CheckOptions::default())?.into_result()?;
+                Ok(traj)
+            })
+            .map_err(to_py)?;
+        let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
+        Ok(PyJointTrajectory {
+            t,
+            q,
+            qd,
+            qdd,
+            duration: traj.times().last().copied().unwrap_or(0.0),
+            profile: "expression",
+            phase_times: Vec::new(),
+            poses: None,
+            segment_starts: vec![0.0],
+            blend_times: Vec::new(),
+        })
+    }
+
+    /// Checks a joint trajectory against the robot's limits, as
+    /// ``kinema traj check`` checks a CSV file: position limits, velocity and
+    /// acceleration limits (the robot's, or ``vmax``/``amax``: one value or
+    /// one per joint), jumps between samples larger than the velocity limit
+    /// allows, non-finite values and times that do not increase, and with
+    /// ``min_manip`` samples whose manipulability (all six Jacobian rows) is
+    /// below it.
+    ///
+    /// The trajectory: a :class:`JointTrajectory` or :class:`Plan`, or the
+    /// arrays ``t`` (K,) [s] and ``q`` (K, n), with ``qd``, ``qdd`` (K, n)
+    /// optional — estimated from the positions when absent (second-order
+    /// differences, as for a file without ``qd``/``qdd`` columns). A CSV
+    /// written by ``kinema traj`` reads with
+    /// ``np.genfromtxt(path, delimiter=",", names=True)``.
+    ///
+    /// Returns a :class:`CheckReport` (a trajectory that breaks a limit is
+    /// reported, not raised; see :meth:`CheckReport.raise_if_violations`).
+    ///
+    /// Raises:
+    ///     InvalidInput: arrays of the wrong shape, no samples, bad limits.
+    #[pyo3(signature = (t, q=None, qd=None, qdd=None, *, vmax=None, amax=None, min_manip=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn check(
+        &self,
+        py: Python<'_>,
+        t: &Bound<'_, PyAny>,
+        q: Option<&Bound<'_, PyAny>>,
+        qd: Option<&Bound<'_, PyAny>>,
+        qdd: Option<&Bound<'_, PyAny>>,
+        vmax: Option<&Bound<'_, PyAny>>,
+        amax: Option<&Bound<'_, PyAny>>,
+        min_manip: Option<f64>,
+    ) -> PyResult<PyCheckReport> {
+        let [q, qd, qdd] = [q, qd, qdd].map(|a| a.filter(|a| !a.is_none()));
+        let given = |arrays: [&Py<PyArrayDyn<f64>>; 4]| {
+            if q.is_some() || qd.is_some() || qdd.is_some() {
+                return Err(invalid("give a trajectory or the arrays `t`, `q` (`qd`, `qdd`), not both".into()));
+            }
+            Ok(arrays.map(|a| a.bind(py).clone().into_any()))
+        };
+        let arrays = if let Ok(tr) = t.downcast::<PyJointTrajectory>() {
+            let tr = tr.get();
+            Some(given([&tr.t, &tr.q, &tr.qd, &tr.qdd])?)
+        } else if let Ok(plan) = t.downcast::<PyPlan>() {
+            let plan = plan.get();
+            Some(given([&plan.t, &plan.q, &plan.qd, &plan.qdd])?)
+        } else {
+            None
+        };
+        let (t, q, qd, qdd) = match &arrays {
+            Some([t, q, qd, qdd]) => (t, Some(q), Some(qd), Some(qdd)),
+            None => (t, q, qd, qdd),
+        };
+        let Some(q) = q else {
+            return Err(invalid("`q` is missing: give the joint positions, shape (K, n), with the times `t`".into()));
+        };
+        let n = self.dof();
+        let t = f64_array(t, "t")?;
+        check_shape(&t, "t", &[None], " (one time per sample)")?;
+        let k = t.len();
+        let hint = format!(" (one row of {n} joint values per time in `t`)");
+        let rows = |a: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<f64>> {
+            let a = f64_array(a, what)?;
+            check_shape(&a, what, &[Some(k), Some(n)], &hint)?;
+            Ok(a.as_slice()?.to_vec())
+        };
+        let q = rows(q, "q")?;
+        let qd = qd.map(|a| rows(a, "qd")).transpose()?;
+        let qdd = qdd.map(|a| rows(a, "qdd")).transpose()?;
+        let times = t.as_slice()?.to_vec();
+        let opts = CheckOptions {
+            vel: limit_values(vmax, "vmax")?,
+            acc: limit_values(amax, "amax")?,
+            min_manipulability: min_manip,
+            ..CheckOptions::default()
+        };
+        let robot = Arc::clone(&self.robot);
+        let report = py
+            .allow_threads(move || -> kinema::Result<_> {
+                let traj = JointTrajectory::from_samples(n, times, q, qd, qdd)?;
+                check(&robot, &traj, &opts)
+            })
+            .map_err(to_py)?;
+        Ok(PyCheckReport { report })
     }
 
     fn __repr__(&self) -> String {
@@ -1363,6 +1734,7 @@ fn _kinema(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyJointTrajectory>()?;
     m.add_class::<PyTimeLaw>()?;
     m.add_class::<PyPlan>()?;
+    m.add_class::<PyCheckReport>()?;
     m.add_function(wrap_pyfunction!(time_law, m)?)?;
     m.add_function(wrap_pyfunction!(run_program, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

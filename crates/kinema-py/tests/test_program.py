@@ -1,16 +1,14 @@
 """run_program: the example programs give what `kinema run` writes; program properties; diagnostics."""
 
 import csv
-import os
-import pathlib
 import subprocess
 
 import numpy as np
 import pytest
 
 import kinema
+from cli import ROOT, kinema_binary
 
-ROOT = pathlib.Path(__file__).resolve().parents[3]
 PROGRAMS = ROOT / "examples" / "programs"
 EXAMPLES = [
     ("iiwa_draw.prg", "lbr-iiwa-14-r820"),
@@ -27,14 +25,6 @@ LOOP 2
   MOVEZ +50, 1;
 END
 """
-
-
-def kinema_binary():
-    """The `kinema` command line built in this repository ($KINEMA_BIN, else the newest of target/{release,debug})."""
-    if os.environ.get("KINEMA_BIN"):
-        return pathlib.Path(os.environ["KINEMA_BIN"])
-    built = [p for p in (ROOT / "target" / "release" / "kinema", ROOT / "target" / "debug" / "kinema") if p.exists()]
-    return max(built, key=lambda p: p.stat().st_mtime) if built else None
 
 
 @pytest.mark.parametrize("program,robot", EXAMPLES)

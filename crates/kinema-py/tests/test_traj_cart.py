@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import kinema
+from cli import cli_json, needs_cli
 
 
 def rot_xyz(a, b, c):
@@ -121,6 +122,77 @@ def test_lin_options(iiwa):
     # ptp has no Cartesian poses.
     p = r.ptp(q0, rpy.q[-1], 0.01, amax=1.0)
     assert p.poses is None and p.segment_starts == [0.0] and p.blend_times == []
+
+
+def rot_zyx(roll, pitch, yaw):
+    """R = Rz(yaw)·Ry(pitch)·Rx(roll) (the default `rpy`)."""
+    return rot_xyz(0, 0, yaw) @ rot_xyz(0, pitch, 0) @ rot_xyz(roll, 0, 0)
+
+
+def test_poses_as_six_numbers(iiwa):
+    """Goals and via poses as x, y, z, roll, pitch, yaw (both conventions) give the 4×4 forms' motions."""
+    r, q0 = iiwa
+    rng = np.random.default_rng(70)
+    done = 0
+    for case in range(12):
+        xyz = GOAL[:3, 3] + rng.uniform(-0.05, 0.05, 3)
+        angles = np.array([0.0, 1.5708, 0.0]) + rng.uniform(-0.2, 0.2, 3)
+        rpy = ["xyz", "zyx"][case % 2]
+        R = rot_xyz(*angles) if rpy == "xyz" else rot_zyx(*angles)
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, xyz
+        six = [*xyz, *angles]
+        via4 = transform([0.65, -0.45, 0.55], [0.0, 1.5708, 0.0])
+        via6 = [0.65, -0.45, 0.55, 0.0, 1.5708, 0.0]
+        kw = dict(vmax=0.2, amax=0.5, rot_vmax=0.5, rot_amax=1.0)
+        try:
+            want = r.lin(q0, T, 0.01, via=via4, **kw)
+        except (kinema.Unreachable, kinema.TrajectoryError) as e:
+            with pytest.raises(type(e)):
+                r.lin(q0, six, 0.01, via=[via6] if rpy == "xyz" else None, rpy=rpy, **kw)
+            continue
+        if rpy == "xyz":
+            got = r.lin(q0, six, 0.01, via=np.array([via6]), rpy="xyz", **kw)  # (V, 6)
+        else:
+            got = r.lin(q0, six, 0.01, via=via4, **kw)  # the default convention, a 4×4 via
+        assert len(got) == len(want) and np.abs(got.q - want.q).max() < 1e-9
+        assert np.abs(got.poses - want.poses).max() < 1e-12
+        done += 1
+        circ4 = r.circ(q0, [0.7, -0.5, 0.6], T, 0.01, vmax=0.2, amax=0.5, rot_vmax=0.5, rot_amax=1.0)
+        circ6 = r.circ(q0, [0.7, -0.5, 0.6, 9.0, 9.0, 9.0], six, 0.01, vmax=0.2, amax=0.5, rot_vmax=0.5,
+                       rot_amax=1.0, rpy=rpy)
+        assert np.abs(circ6.q - circ4.q).max() < 1e-9
+    assert done >= 6, done
+    with pytest.raises(kinema.InvalidInput, match=r"`T` contains NaN; all values must be finite"):
+        r.lin(q0, [0.6, -0.6, 0.3, 0.0, np.nan, 0.0], 0.01, vmax=0.2, amax=0.5)
+    with pytest.raises(kinema.InvalidInput, match=r"`via\[1\]` contains inf"):
+        r.lin(q0, GOAL, 0.01, vmax=0.2, amax=0.5, via=[[0.6, -0.5, 0.4, 0, 0, 0], [0.6, -0.5, 0.4, 0, np.inf, 0]])
+    with pytest.raises(kinema.InvalidInput, match=r"`via` must have shape \(N, 4, 4\) \(homogeneous transforms\) or \(V, 6\)"):
+        r.lin(q0, GOAL, 0.01, vmax=0.2, amax=0.5, via=np.zeros((2, 5)))
+    with pytest.raises(kinema.InvalidInput, match=r"`T` must have shape \(4, 4\) \(a homogeneous transform\) or \(6,\)"):
+        r.circ(q0, [0.7, -0.5, 0.6], [0.6, -0.6, 0.3], 0.01, vmax=0.2, amax=0.5)
+    with pytest.raises(kinema.InvalidInput, match=r"invalid `rpy`: `zxy`"):
+        r.circ(q0, [0.7, -0.5, 0.6], GOAL, 0.01, vmax=0.2, amax=0.5, rpy="zxy")
+
+
+@needs_cli
+def test_lin_and_circ_equal_the_cli(iiwa):
+    """`kinema traj lin|circ --json` (poses as 6 numbers, --rpy xyz) gives the same joint samples."""
+    r, q0 = iiwa
+    start = ",".join(repr(float(v)) for v in q0)
+    common = ["-r", "lbr-iiwa-14-r820", "--from", start, "--rpy", "xyz", "--vmax", "0.2", "--amax", "0.5", "--json"]
+    goal = [0.6, -0.6, 0.3, 0.0, 1.5708, 0.0]
+    text = ",".join(map(repr, goal))
+    via = [0.65, -0.45, 0.55, 0.0, 1.5708, 0.0]
+    out = cli_json(["traj", "lin", *common, "--to", text, "--via", ",".join(map(repr, via)), "--blend", "none"])
+    tr = r.lin(q0, goal, 0.01, vmax=0.2, amax=0.5, via=[via], blend="none", rpy="xyz")
+    rows = np.array(out["rows"])
+    assert rows.shape[0] == len(tr) and out["duration"] == tr.duration and out["segment_starts"] == tr.segment_starts
+    assert np.abs(rows[:, 0] - tr.t).max() < 1e-15 and np.abs(rows[:, 1:8] - tr.q).max() < 1e-12
+    out = cli_json(["traj", "circ", *common, "--to", text, "--aux", "0.7,-0.5,0.6"])
+    tr = r.circ(q0, [0.7, -0.5, 0.6], goal, 0.01, vmax=0.2, amax=0.5, rpy="xyz")
+    rows = np.array(out["rows"])
+    assert rows.shape[0] == len(tr) and np.abs(rows[:, 1:8] - tr.q).max() < 1e-12
 
 
 def circumcircle(a, b, c):

@@ -11,9 +11,10 @@ Example::
     robot = kinema.Robot.builtin("puma560")
     T = robot.fkine(robot.home)               # 4x4 ndarray
     J = robot.jacob0(robot.home)              # 6xn, rows vx vy vz wx wy wz
-    sol = robot.ik(T)                         # IkSolution
+    sol = robot.ik(T)                         # IkSolution; also ik(position=[x, y, z])
     Ts = robot.fkine_batch(np.zeros((1000, robot.n)))  # (1000, 4, 4), GIL released
-    tr = robot.ptp(robot.home, q1, 0.01)      # JointTrajectory; also lin, circ
+    tr = robot.ptp(robot.home, q1, 0.01)      # JointTrajectory; also lin, circ, expr
+    report = robot.check(tr)                  # CheckReport, as `kinema traj check`
     law = kinema.time_law("scurve", 0.5, vmax=1.0, amax=2.0, jmax=20.0)  # TimeLaw
     plan = kinema.run_program(program_text, robot)  # Plan: t, q, qd, qdd like `kinema run`
 
@@ -31,7 +32,17 @@ from ._errors import (
     UnknownRobot,
     Unreachable,
 )
-from ._kinema import IkSolution, JointTrajectory, Plan, Robot, TimeLaw, __version__, run_program, time_law
+from ._kinema import (
+    CheckReport,
+    IkSolution,
+    JointTrajectory,
+    Plan,
+    Robot,
+    TimeLaw,
+    __version__,
+    run_program,
+    time_law,
+)
 
 __all__ = [
     "Robot",
@@ -39,6 +50,7 @@ __all__ = [
     "JointTrajectory",
     "TimeLaw",
     "Plan",
+    "CheckReport",
     "time_law",
     "run_program",
     "KinemaError",

@@ -14,6 +14,10 @@ JointVector = Union[ArrayLike, str]
 """n joint values (rad / m), or the name of one of the robot's poses."""
 F64Array = npt.NDArray[np.float64]
 ProfileName = Literal["trapezoid", "scurve", "cubic", "quintic", "linear"]
+PoseLike = ArrayLike
+"""A pose: a 4x4 homogeneous transform, or 6 numbers x, y, z [m], roll, pitch, yaw [rad] (convention ``rpy``)."""
+RpyName = Literal["zyx", "xyz"]
+SolverName = Literal["auto", "analytic", "numeric"]
 
 class IkSolution:
     """One inverse-kinematics solution."""
@@ -50,7 +54,7 @@ class IkSolution:
         """Restarts of the numeric solver (None for analytic solutions)."""
 
 class JointTrajectory:
-    """A sampled joint trajectory (from Robot.ptp, Robot.lin or Robot.circ)."""
+    """A sampled joint trajectory (from Robot.ptp, Robot.lin, Robot.circ or Robot.expr)."""
 
     @property
     def t(self) -> F64Array:
@@ -69,10 +73,10 @@ class JointTrajectory:
         """Length of the motion [s]."""
     @property
     def profile(self) -> str:
-        """Time-law family: trapezoid, scurve, cubic, quintic or linear."""
+        """Time-law family: trapezoid, scurve, cubic, quintic or linear; ``"expression"`` for Robot.expr."""
     @property
     def phase_times(self) -> List[float]:
-        """Durations of the time law's phases [s]; empty for a Cartesian motion of several segments."""
+        """Durations of the time law's phases [s]; empty for a Cartesian motion of several segments and for expr."""
     @property
     def poses(self) -> Optional[F64Array]:
         """Planned tool poses at the sample times, shape (K, 4, 4) (lin, circ); None for ptp."""
@@ -83,6 +87,30 @@ class JointTrajectory:
     def blend_times(self) -> List[float]:
         """Duration of each blend between consecutive segments [s]."""
     def __len__(self) -> int: ...
+
+class CheckReport:
+    """What Robot.check found (kinema traj check --json)."""
+
+    @property
+    def ok(self) -> bool:
+        """No violation."""
+    @property
+    def samples(self) -> int:
+        """Number of samples checked."""
+    @property
+    def peak_velocity(self) -> F64Array:
+        """Largest |qd| per joint, shape (n,)."""
+    @property
+    def peak_acceleration(self) -> F64Array:
+        """Largest |qdd| per joint, shape (n,)."""
+    @property
+    def min_manipulability(self) -> Optional[Tuple[float, float]]:
+        """(t, value) of the smallest manipulability when min_manip was given, else None."""
+    @property
+    def violations(self) -> List[Dict[str, Any]]:
+        """One dict per problem: kind, t, sample (from 0), joint (from 1 or None), value, limit, message."""
+    def raise_if_violations(self) -> None:
+        """Raises TrajectoryError when a limit is broken."""
 
 class TimeLaw:
     """A time law s(t) from 0 to 1, scaled by ``distance`` (from time_law)."""
@@ -223,10 +251,43 @@ class Robot:
         duration: Optional[float] = None,
     ) -> JointTrajectory:
         """Synchronised point-to-point joint motion sampled every dt. Raises InvalidInput, TrajectoryError."""
+    def expr(
+        self,
+        joints: Union[Dict[int, str], Sequence[Tuple[int, str]]],
+        duration: float,
+        dt: float = 0.01,
+        q0: Optional[JointVector] = None,
+    ) -> JointTrajectory:
+        """Joints (numbered from 1) following expressions of t, the others at q0 (home); checked.
+
+        Raises InvalidInput, TrajectoryError."""
+    @overload
+    def check(
+        self,
+        t: Union[JointTrajectory, Plan],
+        *,
+        vmax: Optional[ArrayLike] = None,
+        amax: Optional[ArrayLike] = None,
+        min_manip: Optional[float] = None,
+    ) -> CheckReport:
+        """Checks a trajectory against the robot's limits (kinema traj check). Raises InvalidInput."""
+    @overload
+    def check(
+        self,
+        t: ArrayLike,
+        q: ArrayLike,
+        qd: Optional[ArrayLike] = None,
+        qdd: Optional[ArrayLike] = None,
+        *,
+        vmax: Optional[ArrayLike] = None,
+        amax: Optional[ArrayLike] = None,
+        min_manip: Optional[float] = None,
+    ) -> CheckReport:
+        """Checks samples t (K,), q (K, n) [qd, qdd estimated when absent]. Raises InvalidInput."""
     def lin(
         self,
         q0: JointVector,
-        T: ArrayLike,
+        T: PoseLike,
         dt: float,
         *,
         vmax: float,
@@ -239,18 +300,20 @@ class Robot:
         rot_jmax: Optional[float] = None,
         blend: Union[Literal["decel", "none"], str, float, None] = "decel",
         orientation: Literal["slerp", "rpy"] = "slerp",
-        rpy: Literal["zyx", "xyz"] = "zyx",
+        rpy: RpyName = "zyx",
         method: Literal["ik", "rate"] = "ik",
         max_step: Optional[float] = None,
         max_angle: float = 0.05,
         min_manip: Optional[float] = None,
     ) -> JointTrajectory:
-        """Straight-line Cartesian motion from fkine(q0) through via to T. Raises InvalidInput, Unreachable, TrajectoryError."""
+        """Straight-line Cartesian motion from fkine(q0) through via to T (4x4 or x, y, z, roll, pitch, yaw).
+
+        Raises InvalidInput, Unreachable, TrajectoryError."""
     def circ(
         self,
         q0: JointVector,
         via: ArrayLike,
-        T: ArrayLike,
+        T: PoseLike,
         dt: float,
         *,
         vmax: float,
@@ -260,6 +323,7 @@ class Robot:
         rot_vmax: Optional[float] = None,
         rot_amax: Optional[float] = None,
         rot_jmax: Optional[float] = None,
+        rpy: RpyName = "zyx",
         method: Literal["ik", "rate"] = "ik",
         max_step: Optional[float] = None,
         max_angle: float = 0.05,
@@ -269,24 +333,58 @@ class Robot:
     @overload
     def ik(
         self,
-        T: ArrayLike,
+        T: Optional[PoseLike] = None,
         all: Literal[False] = False,
         q0: Optional[JointVector] = None,
-        solver: Literal["auto", "analytic", "numeric"] = "auto",
+        solver: SolverName = "auto",
         q3: Optional[float] = None,
         psi: Optional[float] = None,
         seed: int = 0,
+        *,
+        position: Optional[ArrayLike] = None,
+        pitch: Optional[float] = None,
+        roll: Optional[float] = None,
+        approach: Optional[ArrayLike] = None,
+        alpha: Optional[float] = None,
+        rpy: RpyName = "zyx",
     ) -> IkSolution:
-        """One solution within limits (nearest to q0 when given). Raises Unreachable."""
+        """One solution within limits (nearest to q0 when given) of a pose T or of position=[x, y, z]
+        (alone, or with pitch and roll: Scorbot; approach: ROMMEL; alpha: SCARA). Raises Unreachable, InvalidInput."""
     @overload
     def ik(
         self,
-        T: ArrayLike,
+        T: Optional[PoseLike] = None,
+        *,
         all: Literal[True],
         q0: Optional[JointVector] = None,
-        solver: Literal["auto", "analytic", "numeric"] = "auto",
+        solver: SolverName = "auto",
         q3: Optional[float] = None,
         psi: Optional[float] = None,
         seed: int = 0,
+        position: Optional[ArrayLike] = None,
+        pitch: Optional[float] = None,
+        roll: Optional[float] = None,
+        approach: Optional[ArrayLike] = None,
+        alpha: Optional[float] = None,
+        rpy: RpyName = "zyx",
     ) -> List[IkSolution]:
-        """Every solution found, also those outside the limits. Raises Unreachable."""
+        """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""
+    @overload
+    def ik(
+        self,
+        T: Optional[PoseLike],
+        all: Literal[True],
+        q0: Optional[JointVector] = None,
+        solver: SolverName = "auto",
+        q3: Optional[float] = None,
+        psi: Optional[float] = None,
+        seed: int = 0,
+        *,
+        position: Optional[ArrayLike] = None,
+        pitch: Optional[float] = None,
+        roll: Optional[float] = None,
+        approach: Optional[ArrayLike] = None,
+        alpha: Optional[float] = None,
+        rpy: RpyName = "zyx",
+    ) -> List[IkSolution]:
+        """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""

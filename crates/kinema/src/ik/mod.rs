@@ -30,7 +30,7 @@ pub mod scorbot;
 
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
-pub use request::{pick_one, solve_request, IkRequest, SolverChoice};
+pub use request::{pick_one, solve_request, solve_target, IkRequest, IkTarget, SolverChoice};
 
 /// How a numeric solve ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,7 +1,14 @@
 //! One IK request as the command line, the viewer and the Python bindings make
-//! it: which solver, an optional previous configuration, the iiwa's q3 or ψ,
-//! and the rule that picks one solution from many.
+//! it: what the tool must reach ([`IkTarget`]: a full pose, a position, or a
+//! robot family's typed target), which solver, an optional previous
+//! configuration, the iiwa's q3 or ψ, and the rule that picks one solution
+//! from many.
 
+use nalgebra::Vector3;
+
+use super::rommel::RommelIk;
+use super::scara::ScaraIk;
+use super::scorbot::ScorbotIk;
 use super::{analytic_solver, IiwaIk, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
@@ -18,6 +25,69 @@ pub enum SolverChoice {
     /// The numeric solver.
     Numeric,
 }
+
+/// What the tool must reach (see [`solve_target`]). Positions are tool points
+/// in the world frame (the frame of [`Robot::fk`]) \[m\]; angles \[rad\].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum IkTarget {
+    /// A full tool pose `base_from_tool`: the robot's analytic solver or the
+    /// numeric one ([`solve_request`]).
+    Pose(Pose),
+    /// The tool point alone, the orientation free: the numeric solver with
+    /// the position-only task mask \[x, y, z\]. The solutions' residuals are
+    /// measured against this position with the orientation of the robot's
+    /// `home` pose as a placeholder, so their `orientation_error` means
+    /// nothing (see [`IkTarget::orientation_free`]).
+    Position([f64; 3]),
+    /// Scorbot (seed 000 eq. 13): the tool point with pitch β = −(θ2 + θ3 + θ4)
+    /// and roll γ = θ5; the yaw follows from the position
+    /// ([`ScorbotIk::solve_xyz_pitch_roll`], up to four solutions).
+    PositionPitchRoll {
+        /// Tool point \[m\].
+        position: [f64; 3],
+        /// Pitch β \[rad\] (positive points the approach downwards).
+        pitch: f64,
+        /// Roll γ \[rad\].
+        roll: f64,
+    },
+    /// ROMMEL (seed 001): the tool point with the tool z axis along
+    /// `approach` (any non-zero vector, normalised), q5 = 0
+    /// ([`RommelIk::solve_position_approach`], up to four solutions).
+    PositionApproach {
+        /// Tool point \[m\].
+        position: [f64; 3],
+        /// Approach direction (tool z axis), world frame.
+        approach: [f64; 3],
+    },
+    /// SCARA on a rail (seed 003): the tool point with the tool angle
+    /// α = q2 + q3 + q5 about the vertical, the rail placed by the zone rule;
+    /// elbow side and q5 follow `IkRequest::q0` when given
+    /// ([`ScaraIk::solve_zone`], one solution).
+    PositionAlpha {
+        /// Tool point \[m\].
+        position: [f64; 3],
+        /// Tool angle α \[rad\].
+        alpha: f64,
+    },
+}
+
+impl IkTarget {
+    /// Whether the orientation is not part of the target ([`IkTarget::Position`]):
+    /// then a solution's `orientation_error` is measured against a placeholder
+    /// (the `home` orientation) and says nothing about success. The typed
+    /// targets measure it against the orientation they fix, so it is ~0.
+    pub fn orientation_free(&self) -> bool {
+        matches!(self, IkTarget::Position(_))
+    }
+
+    /// Whether this is a robot family's typed target (pitch/roll, approach, α).
+    pub fn is_typed(&self) -> bool {
+        !matches!(self, IkTarget::Pose(_) | IkTarget::Position(_))
+    }
+}
+
+/// The task mask of a position-only target: x, y, z.
+const POSITION_MASK: [bool; 6] = [true, true, true, false, false, false];
 
 /// A full-pose IK request (see [`solve_request`]).
 #[derive(Debug, Clone, Default)]
@@ -107,6 +177,101 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
     }
 }
 
+/// Solves `target` as `request` asks and returns the solver's name and every
+/// solution it gave — the dispatch of `kinema ik` for every kind of target.
+///
+/// * A full pose ([`IkTarget::Pose`]): [`solve_request`].
+/// * A position ([`IkTarget::Position`]): [`solve_request`] with the position-only task mask
+///   (numeric solver; [`SolverChoice::Analytic`] is refused as for any masked
+///   target). A mask in `request.numeric` is replaced.
+/// * The typed targets: the family's solver ([`ScorbotIk`], [`RommelIk`],
+///   [`ScaraIk`]) whatever the robot; a robot of another family gives that
+///   solver's own error ("the Scorbot solver needs 5 revolute joints …").
+///   `request.all` and `request.numeric` do not apply; the SCARA keeps the
+///   elbow side and q5 of `request.q0`.
+///
+/// Errors ([`Error::InvalidArgument`]) before any solving: both q3 and ψ;
+/// `q0` not a configuration of `robot`; a typed target, q3 or ψ with
+/// [`SolverChoice::Numeric`] (they select an analytic solver); q3 or ψ with a
+/// target that is not a full pose; a non-finite position. Then the solver's
+/// own errors: [`Error::Unreachable`] with the solver's name and the reason,
+/// or [`Error::InvalidArgument`] for non-finite or degenerate values.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, SolverChoice};
+/// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
+/// let q = [0.3, 1.2, -1.0, -0.6, 0.4];
+/// let p = robot.fk(&q)?.pose.pos;
+/// // Seed 000 eq. 13: pitch β = −(θ2 + θ3 + θ4), roll γ = θ5.
+/// let target = IkTarget::PositionPitchRoll { position: [p.x, p.y, p.z], pitch: -(1.2 - 1.0 - 0.6), roll: 0.4 };
+/// let (name, all) = solve_target(&robot, &target, &IkRequest::default())?;
+/// assert_eq!(name, "scorbot");
+/// let one = pick_one(&robot, name, all, Some(&q))?;
+/// assert!(one.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9));
+///
+/// // Position only: the numeric solver with a position mask.
+/// let (name, found) = solve_target(&robot, &IkTarget::Position([p.x, p.y, p.z]), &IkRequest::default())?;
+/// assert_eq!(name, "numeric");
+/// assert!(found[0].position_error < 1e-6);
+///
+/// // A typed target selects an analytic solver.
+/// let numeric = IkRequest { solver: SolverChoice::Numeric, ..Default::default() };
+/// assert!(solve_target(&robot, &target, &numeric).is_err());
+/// // A typed target of another family: that solver's own error.
+/// let alpha = IkTarget::PositionAlpha { position: [p.x, p.y, p.z], alpha: 0.0 };
+/// assert!(solve_target(&robot, &alpha, &IkRequest::default()).unwrap_err().to_string().contains("SCARA"));
+/// # Ok::<(), kinema::Error>(())
+/// ```
+pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
+    let invalid =
+        |what: &str, message: &str| Err(Error::InvalidArgument { what: what.into(), message: message.into() });
+    let iiwa = request.q3.is_some() || request.psi.is_some();
+    if request.q3.is_some() && request.psi.is_some() {
+        return invalid("q3", "give q3 or psi, not both");
+    }
+    if let Some(q0) = request.q0 {
+        robot.check_q(q0)?;
+    }
+    if (target.is_typed() || iiwa) && request.solver == SolverChoice::Numeric {
+        return invalid(
+            "solver",
+            "pitch/roll, approach and alpha targets, q3 and psi select an analytic solver; drop the numeric solver",
+        );
+    }
+    if iiwa && !matches!(target, IkTarget::Pose(_)) {
+        return invalid("target", "q3 and psi need a full target pose, not a position-only or typed target");
+    }
+    match *target {
+        IkTarget::Pose(ref pose) => solve_request(robot, pose, request),
+        IkTarget::Position(p) => {
+            if p.iter().any(|v| !v.is_finite()) {
+                return Err(Error::InvalidArgument {
+                    what: "position".into(),
+                    message: format!("{p:?}: all values must be finite"),
+                });
+            }
+            // The orientation is free: home's rotation is a placeholder, masked out.
+            let pose = Pose::new(robot.fk(robot.home())?.pose.rot, Vector3::from(p));
+            let mut masked = request.clone();
+            masked.numeric.mask = Some(POSITION_MASK);
+            solve_request(robot, &pose, &masked)
+        }
+        IkTarget::PositionPitchRoll { position, pitch, roll } => {
+            let s = ScorbotIk::new(robot)?;
+            Ok((s.name(), s.solve_xyz_pitch_roll(position, pitch, roll)?))
+        }
+        IkTarget::PositionApproach { position, approach } => {
+            let s = RommelIk::new(robot)?;
+            Ok((s.name(), s.solve_position_approach(position, approach)?))
+        }
+        IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
+            let s = ScaraIk::new(robot)?;
+            Ok((s.name(), vec![s.solve_zone([x, y, z, alpha], request.q0)?]))
+        }
+    }
+}
+
 /// The one solution to report from `solutions` of solver `solver`: within
 /// the joint limits, the nearest to `q0` when given, else the first.
 /// [`Error::Unreachable`] with [`Unreachable::JointLimits`] (naming each
@@ -129,4 +294,162 @@ pub fn pick_one(robot: &Robot, solver: &str, solutions: Vec<Solution>, q0: Optio
     };
     // `within` is not empty, so there is a pick.
     pick.ok_or_else(|| Error::InvalidArgument { what: "solutions".into(), message: "none to pick from".into() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ik::{scorbot::R_H, wrap_angle};
+    use crate::math::{rot_x, rot_y};
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn all() -> IkRequest<'static> {
+        IkRequest { all: true, ..Default::default() }
+    }
+
+    fn xyz(p: &Pose) -> [f64; 3] {
+        [p.pos.x, p.pos.y, p.pos.z]
+    }
+
+    /// A full pose goes through `solve_request` unchanged.
+    #[test]
+    fn pose_targets_are_solve_request() {
+        let robot = Robot::builtin("puma560").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(80);
+        for _ in 0..50 {
+            let q = robot.random_q(&mut rng);
+            let pose = robot.fk(&q).unwrap().pose;
+            let request = IkRequest { q0: Some(&q), ..Default::default() };
+            assert_eq!(
+                solve_target(&robot, &IkTarget::Pose(pose), &request).unwrap(),
+                solve_request(&robot, &pose, &request).unwrap()
+            );
+        }
+    }
+
+    /// Seed 000 eq. 13: every solution reaches the position with pitch
+    /// β = −θ234 and roll γ = θ5, i.e. R·R_h = Rz(yaw)·Ry(β)·Rx(γ) for some yaw.
+    #[test]
+    fn scorbot_pitch_roll_targets_are_reached() {
+        let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(81);
+        let mut recovered = 0;
+        for _ in 0..300 {
+            let q = robot.random_q(&mut rng);
+            let p = xyz(&robot.fk(&q).unwrap().pose);
+            let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
+            let target = IkTarget::PositionPitchRoll { position: p, pitch, roll };
+            let (name, sols) = solve_target(&robot, &target, &all()).unwrap();
+            assert_eq!(name, "scorbot");
+            assert_eq!(sols, ScorbotIk::new(&robot).unwrap().solve_xyz_pitch_roll(p, pitch, roll).unwrap());
+            for s in &sols {
+                let fk = robot.fk(&s.q).unwrap().pose;
+                assert!((fk.pos - Vector3::from(p)).norm() < 1e-9, "{s:?}");
+                let yaw_only = fk.rot * R_H * rot_x(roll).transpose() * rot_y(pitch).transpose();
+                assert!((yaw_only[(2, 2)] - 1.0).abs() < 1e-9, "{s:?}");
+            }
+            let want: Vec<f64> = q.iter().map(|v| wrap_angle(*v)).collect();
+            recovered += sols.iter().any(|s| s.q[..4].iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-7)) as usize;
+        }
+        assert_eq!(recovered, 300);
+    }
+
+    #[test]
+    fn rommel_approach_targets_are_reached() {
+        let robot = Robot::builtin("rommel").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(82);
+        for _ in 0..300 {
+            let q = robot.random_q(&mut rng);
+            let fk = robot.fk(&q).unwrap().pose;
+            let a = fk.rot.column(2) * 2.5; // any length
+            let target = IkTarget::PositionApproach { position: xyz(&fk), approach: [a.x, a.y, a.z] };
+            let (name, sols) = solve_target(&robot, &target, &all()).unwrap();
+            assert_eq!(name, "rommel");
+            assert!(!sols.is_empty());
+            for s in &sols {
+                let got = robot.fk(&s.q).unwrap().pose;
+                assert!((got.pos - fk.pos).norm() < 1e-9);
+                assert!((got.rot.column(2) - fk.rot.column(2)).norm() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn scara_alpha_targets_follow_the_zone_rule() {
+        let robot = Robot::builtin("scara5").unwrap();
+        let ik = ScaraIk::new(&robot).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(83);
+        let mut reached = 0;
+        for _ in 0..300 {
+            let q = robot.random_q(&mut rng);
+            let p = xyz(&robot.fk(&q).unwrap().pose);
+            let alpha = q[1] + q[2] + q[4];
+            let target = IkTarget::PositionAlpha { position: p, alpha };
+            let request = IkRequest { q0: Some(&q), ..Default::default() };
+            let zone = ik.solve_zone([p[0], p[1], p[2], alpha], Some(&q));
+            match solve_target(&robot, &target, &request) {
+                Ok((name, sols)) => {
+                    assert_eq!(name, "scara");
+                    assert_eq!(sols, vec![zone.unwrap()]);
+                    let s = &sols[0];
+                    let fk = robot.fk(&s.q).unwrap().pose;
+                    assert!((fk.pos - Vector3::from(p)).norm() < 1e-9);
+                    assert!(wrap_angle(s.q[1] + s.q[2] + s.q[4] - alpha).abs() < 1e-9);
+                    assert!(s.orientation_error < 1e-9);
+                    reached += 1;
+                }
+                Err(e) => assert_eq!(Err(e), zone),
+            }
+        }
+        assert!(reached > 60, "{reached}");
+    }
+
+    #[test]
+    fn position_targets_use_the_masked_numeric_solver() {
+        for name in ["puma560", "panda", "scorbot-er-v-plus"] {
+            let robot = Robot::builtin(name).unwrap();
+            let mut rng = ChaCha8Rng::seed_from_u64(84);
+            for _ in 0..15 {
+                let q = robot.random_q(&mut rng);
+                let p = xyz(&robot.fk(&q).unwrap().pose);
+                let (solver, sols) = solve_target(&robot, &IkTarget::Position(p), &IkRequest::default()).unwrap();
+                assert_eq!(solver, "numeric");
+                for s in &sols {
+                    assert!((robot.fk(&s.q).unwrap().pose.pos - Vector3::from(p)).norm() < 1e-6, "{name}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn wrong_combinations_are_refused() {
+        let scorbot = Robot::builtin("scorbot-er-v-plus").unwrap();
+        let iiwa = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        let typed = IkTarget::PositionPitchRoll { position: [0.4, 0.1, 0.3], pitch: 0.5, roll: 0.0 };
+        let message = |r: &Robot, t: &IkTarget, q: &IkRequest| solve_target(r, t, q).unwrap_err().to_string();
+        let numeric = IkRequest { solver: SolverChoice::Numeric, ..Default::default() };
+        assert!(message(&scorbot, &typed, &numeric).contains("select an analytic solver"));
+        let q3 = IkRequest { q3: Some(0.0), ..Default::default() };
+        let pose = iiwa.fk(iiwa.home()).unwrap().pose;
+        assert!(message(&iiwa, &IkTarget::Position(xyz(&pose)), &q3).contains("full target pose"));
+        let both = IkRequest { q3: Some(0.0), psi: Some(0.0), ..Default::default() };
+        assert!(message(&iiwa, &IkTarget::Pose(pose), &both).contains("not both"));
+        assert!(message(&iiwa, &typed, &IkRequest::default()).contains("Scorbot solver needs 5 revolute joints"));
+        let approach = IkTarget::PositionApproach { position: [0.4, 0.1, 0.3], approach: [0.0, 0.0, 1.0] };
+        assert!(message(&scorbot, &approach, &IkRequest::default()).contains("modified-DH"));
+        let short = [0.0, 1.0];
+        assert!(message(&scorbot, &typed, &IkRequest { q0: Some(&short), ..Default::default() }).contains("5 joints"));
+        let nan = IkTarget::Position([f64::NAN, 0.0, 0.0]);
+        assert!(message(&scorbot, &nan, &IkRequest::default()).contains("finite"));
+        // The analytic solver on a position-only target: refused as for any task mask.
+        let analytic = IkRequest { solver: SolverChoice::Analytic, ..Default::default() };
+        assert!(message(&scorbot, &IkTarget::Position([0.4, 0.1, 0.3]), &analytic).contains("no analytic solver"));
+        // Out of reach: the solver's reason.
+        let far = IkTarget::PositionPitchRoll { position: [2.0, 0.0, 0.3], pitch: 0.0, roll: 0.0 };
+        assert!(matches!(
+            solve_target(&scorbot, &far, &IkRequest::default()),
+            Err(Error::Unreachable { ref solver, .. }) if solver == "scorbot"
+        ));
+    }
 }

@@ -304,6 +304,54 @@ impl JointTrajectory {
         Ok(JointTrajectory { dof, t, q, qd, qdd })
     }
 
+    /// A trajectory from samples read elsewhere (a file, an array): `q`, and
+    /// `qd`/`qdd` when given, hold `dof` values per time in `t` (row-major);
+    /// missing velocities or accelerations are estimated from the positions
+    /// as in [`JointTrajectory::from_positions`] (what `kinema traj check`
+    /// does with a file without `qd`/`qdd` columns). Nothing else is checked
+    /// here: [`check`] reports non-finite values and times that do not increase.
+    ///
+    /// Errors: no samples; a slice that is not `dof` values per time.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::traj::JointTrajectory;
+    /// let t = vec![0.0, 0.1, 0.2];
+    /// let q = vec![0.0, 1.0, 0.01, 1.0, 0.02, 1.0]; // 2 joints
+    /// let traj = JointTrajectory::from_samples(2, t, q, None, None)?;
+    /// assert!((traj.qd(1)[0] - 0.1).abs() < 1e-12 && traj.qd(1)[1] == 0.0);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn from_samples(
+        dof: usize,
+        t: Vec<f64>,
+        q: Vec<f64>,
+        qd: Option<Vec<f64>>,
+        qdd: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        if t.is_empty() {
+            return Err(Error::InvalidArgument { what: "t".into(), message: "no samples".into() });
+        }
+        for (what, v) in [("qd", &qd), ("qdd", &qdd)] {
+            if let Some(v) = v {
+                if v.len() != t.len() * dof {
+                    return Err(Error::InvalidArgument {
+                        what: what.into(),
+                        message: format!("{} values for {} samples of {dof} joints", v.len(), t.len()),
+                    });
+                }
+            }
+        }
+        let mut traj = Self::from_positions(dof, t, q)?;
+        if let Some(v) = qd {
+            traj.qd = v;
+        }
+        if let Some(a) = qdd {
+            traj.qdd = a;
+        }
+        Ok(traj)
+    }
+
     /// Appends a sample. Errors if a slice does not have `dof` values.
     pub fn push(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<()> {
         for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
@@ -373,6 +421,22 @@ pub enum ViolationKind {
     Jump,
     /// Manipulability below the threshold (close to a singularity).
     NearSingular,
+}
+
+impl ViolationKind {
+    /// The lower-case name (`malformed`, `position`, `velocity`,
+    /// `acceleration`, `jump`, `nearsingular`), as `kinema traj check --json`
+    /// prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ViolationKind::Malformed => "malformed",
+            ViolationKind::Position => "position",
+            ViolationKind::Velocity => "velocity",
+            ViolationKind::Acceleration => "acceleration",
+            ViolationKind::Jump => "jump",
+            ViolationKind::NearSingular => "nearsingular",
+        }
+    }
 }
 
 /// One problem found by [`check`], with where and when.
@@ -546,4 +610,36 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
         }
     }
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn violation_names_are_the_lower_case_kinds() {
+        use ViolationKind::*;
+        for kind in [Malformed, Position, Velocity, Acceleration, Jump, NearSingular] {
+            assert_eq!(kind.name(), format!("{kind:?}").to_lowercase());
+        }
+    }
+
+    #[test]
+    fn from_samples_keeps_given_derivatives_and_estimates_the_others() {
+        let t = vec![0.0, 0.1, 0.25, 0.3];
+        let q: Vec<f64> = t.iter().flat_map(|&t: &f64| [t * t, (3.0 * t).sin()]).collect();
+        let estimated = JointTrajectory::from_positions(2, t.clone(), q.clone()).unwrap();
+        let qd: Vec<f64> = (0..8).map(|i| i as f64).collect();
+        let traj = JointTrajectory::from_samples(2, t.clone(), q.clone(), Some(qd.clone()), None).unwrap();
+        for k in 0..t.len() {
+            assert_eq!(traj.q(k), estimated.q(k));
+            assert_eq!(traj.qd(k), &qd[2 * k..2 * k + 2]);
+            assert_eq!(traj.qdd(k), estimated.qdd(k));
+        }
+        assert_eq!(JointTrajectory::from_samples(2, t.clone(), q.clone(), None, None).unwrap(), estimated);
+        assert!(JointTrajectory::from_samples(2, t.clone(), q.clone(), None, Some(vec![0.0; 3])).is_err());
+        assert!(JointTrajectory::from_samples(2, t, q[..6].to_vec(), None, None).is_err());
+        let e = JointTrajectory::from_samples(2, vec![], vec![], None, None).unwrap_err();
+        assert!(e.to_string().contains("no samples"), "{e}");
+    }
 }
