@@ -2,7 +2,7 @@
 //! functions of (method, path, body).
 
 use kinema::analysis::{self, Axes};
-use kinema::ik::{IiwaIk, IkSolver, NumericIk, NumericOptions, Solutions};
+use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, Solutions, SolverChoice};
 use kinema::nalgebra::Matrix4;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
@@ -246,53 +246,24 @@ impl App {
         if let Some(q0) = &req.q0 {
             r.check_q(q0)?;
         }
-        let solver = req.solver.as_deref().unwrap_or("auto");
-        if !["auto", "analytic", "numeric"].contains(&solver) {
-            return Err(bad(format!("/api/ik: solver `{solver}` is not one of auto, analytic, numeric")));
-        }
-        let iiwa = IiwaIk::new(r).ok().filter(|_| solver != "numeric");
-        // The iiwa solves at a given q3: the request's, else q0's, else the solver's default (0).
-        let q3 = req.q3.or_else(|| req.q0.as_ref().map(|q| q[2]).filter(|_| iiwa.is_some()));
-        if let Some(v) = req.q3 {
-            if !v.is_finite() {
-                return Err(bad(format!("/api/ik: q3 = {v}; it must be a finite angle in rad")));
-            }
-        }
-        let (name, result) = match (&iiwa, q3) {
-            (Some(s), Some(q3)) => ("iiwa", s.solve_q3(&target, q3)),
-            (None, Some(_)) if req.q3.is_some() => {
-                return Err(Error::Unprocessable {
-                    message: format!(
-                        "q3 selects the iiwa's closed form, which does not fit robot `{}` (or solver `{solver}` was asked for)",
-                        r.name()
-                    ),
-                })
-            }
-            _ => {
-                let analytic = if solver == "numeric" { None } else { kinema::ik::analytic_solver(r) };
-                match analytic {
-                    Some(s) => (s.name(), s.solve(&target)),
-                    None if solver == "analytic" => {
-                        return Err(Error::Unprocessable {
-                            message: format!(
-                                "robot `{}` has no analytic solver (analytic solvers: iiwa-type 7R, 6R with a spherical wrist, Scorbot, SCARA on a rail, ROMMEL); use \"solver\": \"numeric\"",
-                                r.name()
-                            ),
-                        })
-                    }
-                    None => {
-                        let opts = NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() };
-                        let s = NumericIk::with_options(r, opts)?;
-                        let result = match &req.q0 {
-                            Some(q0) => s.solve_from(&target, q0).map(|x| vec![x]),
-                            None => s.solve(&target),
-                        };
-                        ("numeric", result)
-                    }
-                }
-            }
+        let solver = match req.solver.as_deref().unwrap_or("auto") {
+            "auto" => SolverChoice::Auto,
+            "analytic" => SolverChoice::Analytic,
+            "numeric" => SolverChoice::Numeric,
+            other => return Err(bad(format!("/api/ik: solver `{other}` is not one of auto, analytic, numeric"))),
         };
-        let solutions = result?;
+        // Every solution (the viewer shows them all, `nearest` marks the one
+        // nearest q0); for the iiwa the closed form at the request's q3, else q0's.
+        let request = IkRequest {
+            solver,
+            q0: req.q0.as_deref(),
+            all: true,
+            q3: req.q3,
+            psi: None,
+            numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
+        };
+        let (name, solutions) = solve_target(r, &IkTarget::Pose(target), &request)?;
+        let q3 = req.q3.or_else(|| req.q0.as_ref().map(|q| q[2])).filter(|_| name == "iiwa");
         let nearest = req.q0.as_ref().and_then(|q0| {
             let best = solutions.nearest(r, q0)?;
             solutions.iter().position(|s| std::ptr::eq(s, best))

@@ -95,7 +95,9 @@ pub struct IkRequest<'a> {
     /// Which solver.
     pub solver: SolverChoice,
     /// A previous configuration \[rad, m\]: the numeric solver starts there;
-    /// for an iiwa-type arm without `all`, seed 004 §V-E's selection near it.
+    /// for an iiwa-type arm, seed 004 §V-E's selection near it, or with `all`
+    /// every closed-form solution at its q3 (the 8 branches, among them the
+    /// continuation of a path through `q0`).
     pub q0: Option<&'a [f64]>,
     /// Whether every solution is wanted (else one will be picked).
     pub all: bool,
@@ -133,11 +135,18 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
             message: "q3 and ψ need a full target pose, not a task mask".into(),
         });
     }
+    // q3 and ψ parameterise the iiwa's self-motion; another arm says why it is not one.
+    let iiwa = || {
+        IiwaIk::new(robot).map_err(|e| Error::InvalidArgument {
+            what: "q3".into(),
+            message: format!("q3 and ψ select the closed form of iiwa-type arms, which does not fit: {e}"),
+        })
+    };
     if let Some(q3) = request.q3 {
-        return Ok(("iiwa", IiwaIk::new(robot)?.solve_q3(target, q3)?));
+        return Ok(("iiwa", iiwa()?.solve_q3(target, q3)?));
     }
     if let Some(psi) = request.psi {
-        let s = IiwaIk::new(robot)?;
+        let s = iiwa()?;
         let all: Vec<Solution> = (0u8..8).filter_map(|c| s.solve_psi(target, psi, c).ok()).collect();
         if all.is_empty() {
             // The reason the first global configuration gives.
@@ -146,11 +155,15 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
         return Ok(("iiwa", all));
     }
     let numeric_only = masked || request.solver == SolverChoice::Numeric;
-    // iiwa with a previous configuration: seed 004 §V-E's q_k = f(q_{k−1}, T_k)
-    // (q3 searched near the previous one), else the closed form at q3 = q0[2].
-    if let (Some(q0), false, false) = (request.q0, request.all, numeric_only) {
+    // iiwa with a previous configuration: every closed-form solution at q3 =
+    // q0[2] when all are wanted; else seed 004 §V-E's q_k = f(q_{k−1}, T_k)
+    // (q3 searched near the previous one), falling back to that closed form.
+    if let (Some(q0), false) = (request.q0, numeric_only) {
         if let Ok(s) = IiwaIk::new(robot) {
             robot.check_q(q0)?;
+            if request.all {
+                return Ok(("iiwa", s.solve_q3(target, q0[2])?));
+            }
             return Ok(("iiwa", s.select(q0, target, None).map(|x| vec![x]).or_else(|_| s.solve_q3(target, q0[2]))?));
         }
     }
@@ -310,6 +323,36 @@ mod tests {
 
     fn xyz(p: &Pose) -> [f64; 3] {
         [p.pos.x, p.pos.y, p.pos.z]
+    }
+
+    /// iiwa with q0 and `all`: the closed form at q0's q3, which contains q0
+    /// itself; without `all`, one solution (§V-E's selection) near q0. q3
+    /// on an arm of another shape says why.
+    #[test]
+    fn iiwa_with_q0_and_all_solves_at_q0s_q3() {
+        let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        let ik = IiwaIk::new(&robot).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(85);
+        for _ in 0..200 {
+            let q = robot.random_q(&mut rng);
+            let pose = robot.fk(&q).unwrap().pose;
+            let request = IkRequest { q0: Some(&q), all: true, ..Default::default() };
+            let (name, sols) = solve_request(&robot, &pose, &request).unwrap();
+            assert_eq!(name, "iiwa");
+            assert_eq!(sols, ik.solve_q3(&pose, q[2]).unwrap());
+            let d = |s: &Solution| s.q.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max);
+            assert!(sols.iter().any(|s| d(s) < 1e-9));
+            let one = IkRequest { q0: Some(&q), ..Default::default() };
+            let (_, picked) = solve_request(&robot, &pose, &one).unwrap();
+            assert_eq!(picked.len(), 1);
+            // §V-E's rule (q3 near q0's, elbow up preferred): a nearby solution that reaches the pose.
+            assert!(picked[0].position_error < 1e-9 && picked[0].orientation_error < 1e-9);
+            assert!(d(&picked[0]) < 0.5, "{:?} vs {q:?}", picked[0].q);
+        }
+        let panda = Robot::builtin("panda").unwrap();
+        let pose = panda.fk(panda.home()).unwrap().pose;
+        let e = solve_request(&panda, &pose, &IkRequest { q3: Some(0.1), ..Default::default() }).unwrap_err();
+        assert!(e.to_string().contains("q3 and ψ select the closed form of iiwa-type arms"), "{e}");
     }
 
     /// A full pose goes through `solve_request` unchanged.
