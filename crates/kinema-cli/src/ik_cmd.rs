@@ -39,13 +39,13 @@ pub struct IkArgs {
     #[arg(long, value_enum, default_value = "auto")]
     solver: SolverArg,
     /// Scorbot: pitch β of the tool (seed 000 eq. 13), with --position and --roll.
-    #[arg(long, allow_hyphen_values = true, requires_all = ["position", "roll"])]
+    #[arg(long, allow_hyphen_values = true, requires_all = ["position", "roll"], conflicts_with_all = ["approach", "alpha"])]
     pitch: Option<f64>,
     /// Scorbot: roll γ of the tool (seed 000 eq. 13), with --position and --pitch.
     #[arg(long, allow_hyphen_values = true, requires_all = ["position", "pitch"])]
     roll: Option<f64>,
     /// ROMMEL: tool approach direction ax,ay,az, with --position.
-    #[arg(long, allow_hyphen_values = true, requires = "position")]
+    #[arg(long, allow_hyphen_values = true, requires = "position", conflicts_with = "alpha")]
     approach: Option<String>,
     /// SCARA: tool angle α = q2 + q3 + q5, with --position (the zone rule picks the rail).
     #[arg(long, allow_hyphen_values = true, requires = "position")]
