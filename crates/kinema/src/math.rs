@@ -321,6 +321,28 @@ pub fn pose_error(target: &Pose, actual: &Pose) -> PoseError {
     }
 }
 
+/// tan(π/8) and hi + lo splits of π/4, π/2 and π (the reductions of [`atan2`]).
+const TAN_PI_8: f64 = 0.414_213_562_373_095_03;
+const PIO4_HI: f64 = std::f64::consts::FRAC_PI_4;
+const PIO4_LO: f64 = 3.061_616_997_868_383e-17;
+const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
+const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
+const PI_HI: f64 = std::f64::consts::PI;
+const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
+
+/// z³·P(z²) for |z| ≤ tan(π/8): atan(z) = z + atan_tail(z) (the polynomial of
+/// [`atan2`], shared with [`atan2_lanes`] so both round alike).
+#[inline(always)]
+fn atan_tail(z: f64) -> f64 {
+    const C: [f64; 11] = ATAN_POLY;
+    let s = z * z;
+    let (s2, s4) = (s * s, s * s * (s * s));
+    let p = (C[0] + C[1] * s + (C[2] + C[3] * s) * s2)
+        + (C[4] + C[5] * s + (C[6] + C[7] * s) * s2) * s4
+        + (C[8] + C[9] * s + C[10] * s2) * (s4 * s4);
+    z * s * p
+}
+
 /// Coefficients of P in [`atan2`]: atan(z) = z + z³·P(z²) for |z| ≤ tan(π/8).
 const ATAN_POLY: [f64; 11] = [
     -0.333_333_333_333_333_3,
@@ -347,14 +369,6 @@ const ATAN_POLY: [f64; 11] = [
 /// 1e-17). Zero, infinite and NaN arguments go to the standard library.
 #[inline]
 pub fn atan2(y: f64, x: f64) -> f64 {
-    const TAN_PI_8: f64 = 0.414_213_562_373_095_03;
-    const PIO4_HI: f64 = std::f64::consts::FRAC_PI_4;
-    const PIO4_LO: f64 = 3.061_616_997_868_383e-17;
-    const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
-    const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
-    const PI_HI: f64 = std::f64::consts::PI;
-    const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
-    const C: [f64; 11] = ATAN_POLY;
     let (ax, ay) = (x.abs(), y.abs());
     let swap = ay > ax;
     let (num, den) = if swap { (ax, ay) } else { (ay, ax) };
@@ -363,12 +377,7 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     }
     let big = num > TAN_PI_8 * den;
     let z = if big { (num - den) / (num + den) } else { num / den };
-    let s = z * z;
-    let (s2, s4) = (s * s, s * s * (s * s));
-    let p = (C[0] + C[1] * s + (C[2] + C[3] * s) * s2)
-        + (C[4] + C[5] * s + (C[6] + C[7] * s) * s2) * s4
-        + (C[8] + C[9] * s + C[10] * s2) * (s4 * s4);
-    let poly = z * s * p;
+    let poly = atan_tail(z);
     let mut r = if big { PIO4_HI + (z + (poly + PIO4_LO)) } else { z + poly };
     if swap {
         r = (PIO2_HI - r) + PIO2_LO;
@@ -386,14 +395,6 @@ pub fn atan2(y: f64, x: f64) -> f64 {
 /// Lanes with a zero, infinite or NaN argument are redone by [`atan2`].
 #[inline(always)]
 pub fn atan2_lanes<const L: usize>(y: [f64; L], x: [f64; L]) -> [f64; L] {
-    const TAN_PI_8: f64 = 0.414_213_562_373_095_03;
-    const PIO4_HI: f64 = std::f64::consts::FRAC_PI_4;
-    const PIO4_LO: f64 = 3.061_616_997_868_383e-17;
-    const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
-    const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
-    const PI_HI: f64 = std::f64::consts::PI;
-    const PI_LO: f64 = 1.224_646_799_147_353_2e-16;
-    let c = ATAN_POLY;
     let mut out = [0.0; L];
     let mut special = false;
     for i in 0..L {
@@ -406,12 +407,7 @@ pub fn atan2_lanes<const L: usize>(y: [f64; L], x: [f64; L]) -> [f64; L] {
         // and b·num are exact, so both forms equal the scalar ones bit for bit).
         let b = if num > TAN_PI_8 * den { 1.0 } else { 0.0 };
         let z = (num - b * den) / (den + b * num);
-        let s = z * z;
-        let (s2, s4) = (s * s, s * s * (s * s));
-        let p = (c[0] + c[1] * s + (c[2] + c[3] * s) * s2)
-            + (c[4] + c[5] * s + (c[6] + c[7] * s) * s2) * s4
-            + (c[8] + c[9] * s + c[10] * s2) * (s4 * s4);
-        let poly = z * s * p;
+        let poly = atan_tail(z);
         let r = b * PIO4_HI + (z + (poly + b * PIO4_LO));
         let r = if swap { (PIO2_HI - r) + PIO2_LO } else { r };
         let r = if x[i].is_sign_negative() { (PI_HI - r) + PI_LO } else { r };
