@@ -4,19 +4,27 @@
     python benchmarks/python_vs_peers.py [--n 100000] [--batch-n 1000000] [--ik-n 1000] [--seed 0] [--quick]
 
 Run it inside a venv where `kinema` is installed (built from crates/kinema-py) and,
-optionally, `roboticstoolbox-python` and `pin`; a peer that cannot be imported is
-skipped with a printed line. `benchmarks/run_peers.sh` makes such a venv and runs this.
+optionally, `roboticstoolbox-python`, `pin` and `kinema_bare_call` (the native call
+floor, built from benchmarks/bare_call); one that cannot be imported is skipped with
+a printed line. `benchmarks/run_peers.sh` makes such a venv and runs this.
 The script installs nothing.
 
 What is measured, on `lbr-iiwa-14-r820` and `panda`, with the same seeded random
 configurations (uniform within kinema's `robot.qlim`) for every library:
 
-* per-call fkine and jacob0: mean ns per call of `for q in qs: f(q)` over --n calls
-  (best of --repeats runs), next to the same loop around the builtin `len(q)`: the
-  "bare Python call". The ratio printed is  t(f) / t(len), both loop included.
+* per-call fkine and jacob0: ns per call of `for q in w: f(q)` in the fastest
+  window w of --window calls (default 1000), the --n calls cut into windows and
+  passed over --repeats times, gc off, every row timed in turn in each window
+  (interleaved); next to the same for the builtin `len(q)`:
+  the "bare Python call". The ratio printed is t(f) / t(len), both loop included.
   `np.ndarray.copy(q)` is timed the same way as the floor of any call that returns
   a new numpy array. kinema is also timed writing into a preallocated array,
-  `for q in qs: f(q, out=T)` (row "kinema `out=`").
+  `for q in w: f(q, out=T)` (row "kinema `out=`").
+* the native call floor (if `kinema_bare_call` is importable): `Bare(n).noop(q)`,
+  `.array44(q)` and `.array6n(q)` (also with `out=`) go through kinema's call path
+  (PyO3 method, q read and result written as crates/kinema-py/src/fast.rs does)
+  with no kinematics. kinema is reported against the floor with the same result,
+  t(kinema) / t(floor), and "kinematics only" = t(kinema) - t(floor).
 * batch fkine of --batch-n configurations: kinema's `fkine_batch(Q)` against a
   per-call list comprehension `[f(q) for q in Q]`; the toolbox loop is timed on
   --loop-sample configurations and extrapolated (printed as such).
@@ -331,48 +339,66 @@ def pin_peer(pin, name, chain, rng):
 # --------------------------------------------------------------------------- timing
 
 
-def time_loop(f, qs, repeats):
-    """Mean ns per call of `for q in qs: f(q)`, best and median over `repeats` runs."""
-    per = []
-    gc_was = gc.isenabled()
-    gc.disable()
-    try:
-        for _ in range(repeats):
+def windows(qs, window):
+    """`qs` cut into consecutive windows of `window` calls (a short remainder is dropped); all of
+    `qs` as one window if it is not longer than `window`."""
+    if window <= 0 or len(qs) <= window:
+        return [qs]
+    return [qs[i : i + window] for i in range(0, len(qs) - window + 1, window)]
+
+
+class Timer:
+    """One per-call row: `for q in w: f(q)` (`f(q, out=out)` if `out` is given; `for q in w: pass`
+    if `f` is None) on the windows of the first `k` configurations, in `passes` passes."""
+
+    def __init__(self, f, k, passes, out=None):
+        self.f, self.k, self.passes, self.out = f, k, passes, out
+        self.per = []  # ns per call of each timed window
+
+    def run(self, w):
+        f, out = self.f, self.out
+        if f is None:
             t0 = time.perf_counter_ns()
-            for q in qs:
+            for q in w:
+                pass
+        elif out is None:
+            t0 = time.perf_counter_ns()
+            for q in w:
                 f(q)
-            per.append((time.perf_counter_ns() - t0) / len(qs))
-    finally:
-        if gc_was:
-            gc.enable()
-    return min(per), float(np.median(per))
+        else:
+            t0 = time.perf_counter_ns()
+            for q in w:
+                f(q, out=out)
+        self.per.append((time.perf_counter_ns() - t0) / len(w))
+
+    @property
+    def best(self):
+        return min(self.per)
+
+    @property
+    def median(self):
+        return float(np.median(self.per))
 
 
-def time_loop_out(f, qs, out, repeats):
-    """As time_loop, for `for q in qs: f(q, out=out)`."""
-    per = []
+def time_interleaved(timers, qs, repeats, window):
+    """Times every Timer in `timers` on the same windows of `window` configurations of `qs`,
+    interleaved: each pass goes through the windows, and in each window every row is timed in
+    turn (a row only on the windows of its first `k` configurations and in its first `passes`
+    passes), gc off. A row's time is its fastest window (`Timer.best`): the cost of the call with
+    the least of the other processes' load on this shared machine; interleaving exposes every row
+    to the same phases of that load (see benchmarks/README.md, "What is compared")."""
+    per_timer = [(t, windows(qs[: t.k], window)) for t in timers]
     gc_was = gc.isenabled()
     gc.disable()
     try:
-        for _ in range(repeats):
-            t0 = time.perf_counter_ns()
-            for q in qs:
-                f(q, out=out)
-            per.append((time.perf_counter_ns() - t0) / len(qs))
+        for rep in range(repeats):
+            for i in range(max(len(ws) for _, ws in per_timer)):
+                for t, ws in per_timer:
+                    if rep < t.passes and i < len(ws):
+                        t.run(ws[i])
     finally:
         if gc_was:
             gc.enable()
-    return min(per), float(np.median(per))
-
-
-def time_empty_loop(qs, repeats):
-    per = []
-    for _ in range(repeats):
-        t0 = time.perf_counter_ns()
-        for q in qs:
-            pass
-        per.append((time.perf_counter_ns() - t0) / len(qs))
-    return min(per)
 
 
 def time_listcomp(f, qs):
@@ -398,7 +424,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=100_000, help="calls per per-call timing run (default 100000)")
     ap.add_argument("--rtb-n", type=int, default=10_000, help="calls per per-call run for the toolbox (slow; default 10000)")
-    ap.add_argument("--repeats", type=int, default=5, help="per-call timing runs; the best is reported (default 5)")
+    ap.add_argument("--repeats", type=int, default=5, help="per-call timing passes over the configurations (default 5)")
+    ap.add_argument("--window", type=int, default=1000,
+                    help="calls per timed window; per call = the fastest window (default 1000)")
     ap.add_argument("--batch-n", type=int, default=1_000_000, help="configurations for batch fkine (default 1e6)")
     ap.add_argument("--loop-sample", type=int, default=20_000, help="toolbox loop sample, extrapolated (default 20000)")
     ap.add_argument("--ik-n", type=int, default=1000, help="IK targets per robot (default 1000)")
@@ -415,7 +443,7 @@ def main():
     print(f"# kinema vs peers — {started:%Y-%m-%d %H:%M %Z}")
     print(f"python {platform.python_version()}, numpy {np.__version__}, kinema {kinema.__version__}, "
           f"{os.cpu_count()} CPUs, load average at start {load0[0]:.2f} {load0[1]:.2f} {load0[2]:.2f}")
-    print(f"args: n={args.n} rtb_n={args.rtb_n} repeats={args.repeats} batch_n={args.batch_n} "
+    print(f"args: n={args.n} rtb_n={args.rtb_n} repeats={args.repeats} window={args.window} batch_n={args.batch_n} "
           f"loop_sample={args.loop_sample} ik_n={args.ik_n} seed={args.seed}")
 
     try:
@@ -433,8 +461,19 @@ def main():
         pin = None
         print(f"SKIP pinocchio: not importable ({type(exc).__name__}: {exc})")
 
+    try:
+        # the native call floor: a PyO3 module with kinema's per-call path and no kinematics
+        # (benchmarks/bare_call, built by run_peers.sh; not part of kinema)
+        import kinema_bare_call
+
+        print(f"kinema_bare_call {kinema_bare_call.__version__} (native call floor, benchmarks/bare_call)")
+    except Exception as exc:  # noqa: BLE001
+        kinema_bare_call = None
+        print(f"SKIP kinema_bare_call (native call floor): not importable ({type(exc).__name__}: {exc}); "
+              "build it from benchmarks/bare_call (see benchmarks/README.md)")
+
     rng = np.random.default_rng(args.seed)
-    rows_call, rows_batch, rows_ik, notes, verdicts = [], [], [], [], []
+    rows_call, rows_floor, rows_batch, rows_ik, notes, verdicts = [], [], [], [], [], []
 
     # the bare Python call: the same loop around the builtin len() on the same arrays
     for rname in ROBOTS:
@@ -483,37 +522,93 @@ def main():
         # --- per-call fkine / jacob0
         Qc = rng.uniform(lo, hi, size=(args.n, n))
         qs = [row.copy() for row in Qc]
-        t_empty = time_empty_loop(qs, args.repeats)
-        t_bare, t_bare_med = time_loop(len, qs, args.repeats)
-        print(f"per call, mean ns over {args.n} calls, best (median) of {args.repeats} runs:")
-        print(f"  empty loop `for q in qs: pass`      {fmt_ns(t_empty)}")
-        print(f"  bare call `len(q)` (builtin)         {fmt_ns(t_bare)} ({fmt_ns(t_bare_med)})")
-        rows_call.append((rname, "bare call `len(q)`", t_bare, None, args.n))
-        # a reference floor for any call that returns a new numpy array: a C-level copy
-        t_ufunc, t_ufunc_med = time_loop(np.ndarray.copy, qs, args.repeats)
-        print(f"  numpy `np.ndarray.copy(q)`           {fmt_ns(t_ufunc)} ({fmt_ns(t_ufunc_med)})"
-              f"   = {t_ufunc / t_bare:.1f}× the bare call")
-        rows_call.append((rname, "reference: `np.ndarray.copy(q)`", t_ufunc, None, args.n))
+        W = args.window
+        # every per-call row, timed interleaved on the same windows (time_interleaved)
+        tm = {"empty": Timer(None, args.n, args.repeats), "len": Timer(len, args.n, args.repeats),
+              "copy": Timer(np.ndarray.copy, args.n, args.repeats)}
+        # the native call floor: kinema's call path (frozen pyclass method, signature (q, out=None),
+        # q read and result written as crates/kinema-py/src/fast.rs does) without the kinematics
+        if kinema_bare_call is not None:
+            b = kinema_bare_call.Bare(n)
+            tm["noop"] = Timer(b.noop, args.n, args.repeats)
+            tm["new44"] = Timer(b.array44, args.n, args.repeats)
+            tm["new6n"] = Timer(b.array6n, args.n, args.repeats)
+            tm["out44"] = Timer(b.array44, args.n, args.repeats, out=np.empty((4, 4)))
+            tm["out6n"] = Timer(b.array6n, args.n, args.repeats, out=np.empty((6, n)))
         for p in peers:
             k = min(args.n, args.rtb_n) if p.name.startswith("rtb") else args.n
             reps = args.repeats if k == args.n else max(1, min(args.repeats, 2))
-            f_best, f_med = time_loop(p.fkine, qs[:k], reps)
-            j_best, j_med = time_loop(p.jacob0, qs[:k], reps)
-            print(f"  {p.name:<14} fkine {fmt_ns(f_best)} ({fmt_ns(f_med)})   jacob0 {fmt_ns(j_best)} ({fmt_ns(j_med)})"
-                  f"   = {f_best / t_bare:.1f}× / {j_best / t_bare:.1f}× the bare call   [{k} calls × {reps}]")
-            rows_call.append((rname, p.name, f_best, j_best, k))
+            tm[(p.name, "fkine")] = Timer(p.fkine, k, reps)
+            tm[(p.name, "jacob0")] = Timer(p.jacob0, k, reps)
             if p.name == "kinema":
-                T_out, J_out = np.empty((4, 4)), np.empty((6, n))
-                fo_best, fo_med = time_loop_out(robot.fkine, qs, T_out, args.repeats)
-                jo_best, jo_med = time_loop_out(robot.jacob0, qs, J_out, args.repeats)
-                print(f"  {'kinema out=':<14} fkine {fmt_ns(fo_best)} ({fmt_ns(fo_med)})   jacob0 {fmt_ns(jo_best)} "
-                      f"({fmt_ns(jo_med)})   = {fo_best / t_bare:.1f}× / {jo_best / t_bare:.1f}× the bare call   "
+                tm[("kinema out=", "fkine")] = Timer(robot.fkine, args.n, args.repeats, out=np.empty((4, 4)))
+                tm[("kinema out=", "jacob0")] = Timer(robot.jacob0, args.n, args.repeats, out=np.empty((6, n)))
+        time_interleaved(list(tm.values()), qs, args.repeats, W)
+
+        t_bare = tm["len"].best
+        print(f"per call, ns per call of the fastest (median) window of {min(W, args.n)} calls; "
+              f"{args.n} calls × {args.repeats} passes, all rows interleaved window by window:")
+        print(f"  empty loop `for q in qs: pass`      {fmt_ns(tm['empty'].best)}")
+        print(f"  bare call `len(q)` (builtin)         {fmt_ns(t_bare)} ({fmt_ns(tm['len'].median)})")
+        rows_call.append((rname, "bare call `len(q)`", t_bare, None, args.n, None))
+        # a reference floor for any call that returns a new numpy array: a C-level copy
+        t_copy = tm["copy"].best
+        print(f"  numpy `np.ndarray.copy(q)`           {fmt_ns(t_copy)} ({fmt_ns(tm['copy'].median)})"
+              f"   = {t_copy / t_bare:.1f}× the bare call")
+        rows_call.append((rname, "reference: `np.ndarray.copy(q)`", t_copy, None, args.n, None))
+        floor = None
+        if kinema_bare_call is not None:
+            noop, n44, n6n, o44, o6n = (tm[x] for x in ("noop", "new44", "new6n", "out44", "out6n"))
+            floor = {"new": (n44.best, n6n.best), "out": (o44.best, o6n.best)}
+            print(f"  native no-op `Bare.noop(q)`          {fmt_ns(noop.best)} ({fmt_ns(noop.median)})"
+                  f"   = {noop.best / t_bare:.1f}× the bare call")
+            print(f"  native new 4×4 / 6×n `Bare.array44(q)` {fmt_ns(n44.best)} ({fmt_ns(n44.median)}) / "
+                  f"`Bare.array6n(q)` {fmt_ns(n6n.best)} ({fmt_ns(n6n.median)})"
+                  f"   = {n44.best / t_bare:.1f}× / {n6n.best / t_bare:.1f}× the bare call")
+            print(f"  native `out=` 4×4 / 6×n              {fmt_ns(o44.best)} ({fmt_ns(o44.median)}) / "
+                  f"{fmt_ns(o6n.best)} ({fmt_ns(o6n.median)})"
+                  f"   = {o44.best / t_bare:.1f}× / {o6n.best / t_bare:.1f}× the bare call")
+            rows_call.append((rname, "native no-op call `Bare.noop(q)`", noop.best, noop.best, args.n, None))
+            rows_call.append((rname, "native call returning a new 4×4 / 6×n `Bare.array44(q)` / `Bare.array6n(q)`",
+                              n44.best, n6n.best, args.n, None))
+            rows_call.append((rname, "native call writing `out=` 4×4 / 6×n", o44.best, o6n.best, args.n, None))
+        for p in peers:
+            tf, tj = tm[(p.name, "fkine")], tm[(p.name, "jacob0")]
+            f_best, j_best, k, reps = tf.best, tj.best, tf.k, tf.passes
+            print(f"  {p.name:<14} fkine {fmt_ns(f_best)} ({fmt_ns(tf.median)})   jacob0 {fmt_ns(j_best)} "
+                  f"({fmt_ns(tj.median)})   = {f_best / t_bare:.1f}× / {j_best / t_bare:.1f}× the bare call   "
+                  f"[{k} calls × {reps}]")
+            rows_call.append((rname, p.name, f_best, j_best, k, "new"))
+            if p.name == "kinema":
+                tfo, tjo = tm[("kinema out=", "fkine")], tm[("kinema out=", "jacob0")]
+                fo_best, jo_best = tfo.best, tjo.best
+                print(f"  {'kinema out=':<14} fkine {fmt_ns(fo_best)} ({fmt_ns(tfo.median)})   jacob0 "
+                      f"{fmt_ns(jo_best)} ({fmt_ns(tjo.median)})   = {fo_best / t_bare:.1f}× / "
+                      f"{jo_best / t_bare:.1f}× the bare call   "
                       f"[f(q, out=preallocated), {args.n} calls × {args.repeats}]")
-                rows_call.append((rname, "kinema `out=`", fo_best, jo_best, args.n))
+                rows_call.append((rname, "kinema `out=`", fo_best, jo_best, args.n, "out"))
                 for what, t in (("fkine", f_best), ("jacob0", j_best)):
                     r = t / t_bare
                     verdicts.append(f"{rname} per-call {what}: {fmt_ns(t)} ns = {r:.1f}× a bare `len(q)` call "
                                     f"({fmt_ns(t_bare)} ns); target ≤ 1.5× -> {'MET' if r <= 1.5 else 'MISSED'}")
+                if floor is None:
+                    verdicts.append(f"{rname} per-call fkine/jacob0 against the native call floor: not measured "
+                                    "(kinema_bare_call not available)")
+                for i, (what, shape, fname) in enumerate(
+                    (("fkine", "4×4", "array44"), ("jacob0", "6×n", "array6n")) if floor is not None else ()
+                ):
+                    for kind, t, how in (("new", (f_best, j_best)[i], f"`{what}(q)`"),
+                                         ("out", (fo_best, jo_best)[i], f"`{what}(q, out=…)`")):
+                        t_floor = floor[kind][i]
+                        r = t / t_floor
+                        ref = f"`Bare.{fname}(q{', out=…' if kind == 'out' else ''})`"
+                        rows_floor.append((rname, f"kinema {how}", ref, t_floor, t))
+                        verdicts.append(
+                            f"{rname} per-call {what}{' with `out=`' if kind == 'out' else ''} against the native "
+                            f"call floor of the same result ({ref}, "
+                            f"{'a new ' + shape if kind == 'new' else shape + ' into `out`'}, {fmt_ns(t_floor)} ns): "
+                            f"{fmt_ns(t)} ns = {r:.2f}×; target ≤ 1.5× -> {'MET' if r <= 1.5 else 'MISSED'}; "
+                            f"kinematics only {fmt_ns(t - t_floor)} ns")
 
         # --- batch fkine
         Qb = rng.uniform(lo, hi, size=(args.batch_n, n))
@@ -598,19 +693,39 @@ def main():
     print("\n---\n")
     print(f"Measured {started:%Y-%m-%d}, Python {platform.python_version()}, {os.cpu_count()} CPUs, "
           f"load average {load0[0]:.2f} at start / {load1[0]:.2f} at end, seed {args.seed}.\n")
-    print(f"Per call: mean ns per call of `for q in qs: f(q)`, best of {args.repeats} runs; "
-          "ratio = that time / the same loop around `len(q)`. `np.ndarray.copy(q)` (a C method returning a new "
-          "array) is shown as the floor of any call that returns a fresh numpy array; \"kinema `out=`\" is "
-          "`for q in qs: f(q, out=T)` with T preallocated.\n")
-    print("| robot | library | fkine ns/call | jacob0 ns/call | fkine ÷ bare call | jacob0 ÷ bare call | calls |")
-    print("|---|---|---:|---:|---:|---:|---:|")
-    bare = {}
-    for rname, lib, f, j, k in rows_call:
-        if j is None:
-            bare.setdefault(rname, f)
-            print(f"| {rname} | {lib} | {fmt_ns(f)} | | {f / bare[rname]:.1f} | | {k:,} |")
-        else:
-            print(f"| {rname} | {lib} | {fmt_ns(f)} | {fmt_ns(j)} | {f / bare[rname]:.1f} | {j / bare[rname]:.1f} | {k:,} |")
+    print(f"Per call: ns per call of `for q in w: f(q)` in the fastest window w of {args.window:,} calls "
+          f"(all calls × {args.repeats} passes, cut into windows, every row timed in turn in each window; gc off); "
+          "ratio \"÷ bare call\" = that time / the same for `len(q)`. `np.ndarray.copy(q)` (a C method returning "
+          "a new array) is shown as the floor of any call that returns a fresh numpy array; \"kinema `out=`\" is "
+          "`for q in w: f(q, out=T)` with T preallocated. The native rows are `kinema_bare_call.Bare(n)` "
+          "(benchmarks/bare_call): kinema's call path (a method of a frozen PyO3 class, signature `(q, out=None)`, "
+          "q read and the result written as crates/kinema-py/src/fast.rs does) and no kinematics; "
+          "\"÷ native floor\" = time / the native call with the same result (a new 4×4 / 6×n array, or writing "
+          "into `out=` for the `out=` row).\n")
+    print("| robot | library | fkine ns/call | jacob0 ns/call | fkine ÷ bare call | jacob0 ÷ bare call "
+          "| fkine ÷ native floor | jacob0 ÷ native floor | calls |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+    bare, native = {}, {}
+    for rname, lib, f, j, k, kind in rows_call:
+        bare.setdefault(rname, f)  # the first row of each robot is `len(q)`
+        if lib.startswith("native call returning"):
+            native[(rname, "new")] = (f, j)
+        elif lib.startswith("native call writing"):
+            native[(rname, "out")] = (f, j)
+        fl = native.get((rname, kind)) if kind else None
+        cells = [fmt_ns(f), fmt_ns(j) if j is not None else "", f"{f / bare[rname]:.1f}",
+                 f"{j / bare[rname]:.1f}" if j is not None else "",
+                 f"{f / fl[0]:.2f}" if fl else "", f"{j / fl[1]:.2f}" if fl and j is not None else "", f"{k:,}"]
+        print(f"| {rname} | {lib} | {' | '.join(cells)} |")
+    if rows_floor:
+        print("\nkinema against the native call floor of the same result (issue 8's target read as \"within 1.5× "
+              "of a native call's overhead\"); kinematics only = t(kinema) − t(native floor):\n")
+        print("| robot | call | native floor (no kinematics) | floor ns/call | kinema ns/call | kinema ÷ floor "
+              "| kinematics only ns/call |")
+        print("|---|---|---|---:|---:|---:|---:|")
+        for rname, call, ref, t_floor, t in rows_floor:
+            print(f"| {rname} | {call} | {ref} | {fmt_ns(t_floor)} | {fmt_ns(t)} | {t / t_floor:.2f} "
+                  f"| {fmt_ns(t - t_floor)} |")
     print(f"\nBatch fkine of {args.batch_n:,} configurations (loops keep the results in a list):\n")
     print("| robot | method | seconds | ns per configuration | kinema `fkine_batch` faster by |")
     print("|---|---|---:|---:|---:|")

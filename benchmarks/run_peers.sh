@@ -5,9 +5,11 @@
 #
 # Makes a venv in a temp dir, pip installs pinned numpy, maturin, roboticstoolbox-python and pin
 # (Pinocchio) from PyPI, builds the kinema wheel from crates/kinema-py the way crates/kinema-py/ci.sh
-# does (maturin build --release --locked), installs it, and runs the benchmark, which ends with
-# Markdown tables. A peer that fails to install is reported and then skipped by the benchmark.
-# Cargo output goes to $KINEMA_PY_TARGET_DIR (default crates/kinema-py/target, as ci.sh).
+# does (maturin build --release --locked), installs it, builds and installs the benchmark's native
+# call floor `kinema_bare_call` from benchmarks/bare_call the same way (a reference for the timing,
+# not part of kinema), and runs the benchmark, which ends with Markdown tables. A peer that fails
+# to install is reported and then skipped by the benchmark.
+# Cargo output of both goes to $KINEMA_PY_TARGET_DIR (default crates/kinema-py/target, as ci.sh).
 # Needs Rust (cargo), a C compiler, Python >= 3.9 with venv ($PYTHON, default python3); the
 # peers' wheels exist for CPython 3.9-3.13 on x86_64/aarch64 Linux and macOS.
 set -euo pipefail
@@ -67,7 +69,12 @@ echo "== maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
   --manifest-path "$repo/crates/kinema-py/Cargo.toml" --interpreter "$py" --out "$tmp/wheels"
 "$py" -m pip install --quiet --disable-pip-version-check --no-index --find-links "$tmp/wheels" kinema
 
-echo "== installed: $("$py" -m pip freeze --disable-pip-version-check | grep -Ei '^(kinema|numpy|roboticstoolbox-python|pin|spatialmath-python)==' | tr '\n' ' ')"
+echo "== maturin build --release benchmarks/bare_call (kinema_bare_call: the native call floor, not part of kinema)"
+"$tmp/venv/bin/maturin" build --release --locked --quiet \
+  --manifest-path "$here/bare_call/Cargo.toml" --interpreter "$py" --out "$tmp/wheels"
+"$py" -m pip install --quiet --disable-pip-version-check --no-index --find-links "$tmp/wheels" kinema-bare-call
+
+echo "== installed: $("$py" -m pip freeze --disable-pip-version-check | grep -Ei '^(kinema|kinema[-_]bare[-_]call|numpy|roboticstoolbox-python|pin|spatialmath-python)==' | tr '\n' ' ')"
 echo "== python benchmarks/python_vs_peers.py $*"
 # from the temp dir, so that the installed package is imported
 cd "$tmp" && "$py" "$here/python_vs_peers.py" "$@"
