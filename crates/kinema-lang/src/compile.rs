@@ -1276,10 +1276,10 @@ impl<'a> Compiler<'a> {
                     let unit = if prismatic { "mm/s" } else { "deg/s" };
                     let unit = if what == "JACC" { format!("{unit}^2") } else { unit.to_string() };
                     return Err(format!(
-                        "joint {} ({}) moves but neither the robot model nor the program gives it a {}; set one with `{what} <value> {unit}` or give the motion a duration",
+                        "joint {} ({}) moves but neither the robot model nor the program gives it {}; set one with `{what} <value> {unit}` or give the motion a duration",
                         i + 1,
                         j.name,
-                        if what == "JVEL" { "speed limit" } else { "acceleration limit" }
+                        if what == "JVEL" { "a speed limit" } else { "an acceleration limit" }
                     ));
                 }
             }
