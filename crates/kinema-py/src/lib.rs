@@ -11,6 +11,7 @@
 //! \[vx vy vz ωx ωy ωz\]; batches stack along the first axis.
 
 mod fast;
+mod npio;
 
 use std::sync::Arc;
 
@@ -773,10 +774,10 @@ impl PyRobot {
     }
 
     /// Calls `f` on a joint vector argument: float64 arrays and lists of numbers
-    /// are copied to the stack (`fast::read_joints`), anything else is converted by numpy.
+    /// are copied to the stack (`npio::read_joints`), anything else is converted by numpy.
     fn with_q<T>(&self, obj: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> kinema::Result<T>) -> PyResult<T> {
-        let mut buf = [0.0; fast::MAX_FAST_JOINTS];
-        if let Some(len) = fast::read_joints(obj, &mut buf) {
+        let mut buf = [0.0; npio::MAX_FAST_JOINTS];
+        if let Some(len) = npio::read_joints(obj, &mut buf) {
             return f(&buf[..len]).map_err(to_py);
         }
         if obj.is_instance_of::<PyString>() {
@@ -805,7 +806,7 @@ impl PyRobot {
         let n = self.dof();
         fast::with_jacobian(n, |j| {
             self.with_q(q, |q| self.robot.jacobian_into(q, frame, j))?;
-            fast::result_array(py, out, [6, n], |o| fast::jacobian_rows(j, o))
+            npio::result_array(py, out, [6, n], |o| fast::jacobian_rows(j, o))
         })
     }
 
@@ -981,7 +982,7 @@ impl PyRobot {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let fk = self.with_q(q, |q| self.robot.fk(q))?;
-        fast::result_array(py, out, [4, 4], |o| fast::put(o, &fast::pose_rows(&fk.pose)))
+        npio::result_array(py, out, [4, 4], |o| npio::put(o, &fast::pose_rows(&fk.pose)))
     }
 
     /// All frames along the chain as an (n+2)×4×4 array: index 0 the base
@@ -1050,7 +1051,7 @@ impl PyRobot {
     ) -> PyResult<Bound<'py, PyAny>> {
         let robot = &*self.robot;
         let row = |_: &mut (), q: &[f64], o: &mut _| {
-            fast::put(o, &fast::pose_rows(&robot.fk(q)?.pose));
+            npio::put(o, &fast::pose_rows(&robot.fk(q)?.pose));
             Ok(())
         };
         fast::batch(py, robot, Q, "Q", out, [4, 4], || (), row)
