@@ -110,8 +110,13 @@ fn target(a: &IkArgs) -> Result<IkTarget> {
     bail!("give a target: --T \"16 numbers\", --pose x,y,z,roll,pitch,yaw or --position x,y,z")
 }
 
-fn solution_json(robot: &Robot, s: &Solution, deg: bool) -> Value {
+/// A solution as JSON; `orientation_free` (a position-only target): no
+/// `orientation_error` (null), as there is no target orientation to measure against.
+fn solution_json(robot: &Robot, s: &Solution, deg: bool, orientation_free: bool) -> Value {
     let mut v = kinema_serve::json::solution(s);
+    if orientation_free {
+        v["orientation_error"] = Value::Null;
+    }
     if deg {
         let q: Vec<f64> =
             s.q.iter()
@@ -141,8 +146,8 @@ fn triple(text: &str, what: &str) -> Result<[f64; 3]> {
 type Solved = kinema::Result<Vec<Solution>>;
 
 /// Runs the solver the arguments ask for (the core's `ik::solve_target`);
-/// returns its name and its result.
-fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(&'static str, Solved)> {
+/// returns its name, its result and whether the target leaves the orientation free.
+fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(&'static str, Solved, bool)> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     // The core refuses these too; checked here first so that the message names the flags.
     let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
@@ -179,9 +184,10 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
         psi: a.psi.map(ang),
         numeric: NumericOptions { seed: a.seed, ..Default::default() },
     };
+    let free = target.orientation_free();
     match kinema::ik::solve_target(robot, &target, &request) {
-        Ok((name, solutions)) => Ok((name, Ok(solutions))),
-        Err(e @ Error::Unreachable { .. }) => Ok(("", Err(e))),
+        Ok((name, solutions)) => Ok((name, Ok(solutions), free)),
+        Err(e @ Error::Unreachable { .. }) => Ok(("", Err(e), free)),
         Err(e) => Err(e.into()),
     }
 }
@@ -190,7 +196,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
     let robot = a.robot.load()?;
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
-    let (name, result) = solve(&a, &robot, target, q0.as_deref())?;
+    let (name, result, orientation_free) = solve(&a, &robot, target, q0.as_deref())?;
     let solutions = match result {
         Ok(s) => s,
         Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),
@@ -206,7 +212,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
         }
     };
     if a.json {
-        let list: Vec<Value> = chosen.iter().map(|s| solution_json(&robot, s, a.deg)).collect();
+        let list: Vec<Value> = chosen.iter().map(|s| solution_json(&robot, s, a.deg, orientation_free)).collect();
         return print_json(&json!({"robot": robot.name(), "solver": name, "solutions": list}));
     }
     println!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len());
@@ -220,10 +226,11 @@ pub fn ik(a: IkArgs) -> Result<()> {
                 })
                 .collect();
         println!("  [{}] ({unit})  branch {}", q.join(", "), s.branch);
+        let orientation =
+            if orientation_free { "orientation free".to_string() } else { format!("{:.3e} rad", s.orientation_error) };
         println!(
-            "    residual {:.3e} m, {:.3e} rad; {}{}",
+            "    residual {:.3e} m, {orientation}; {}{}",
             s.position_error,
-            s.orientation_error,
             if s.within_limits() { "within limits" } else { "OUTSIDE joint limits" },
             s.numeric.map_or(String::new(), |n| format!(
                 "; {} iterations, {} restarts, {}",

@@ -339,6 +339,8 @@ fn ik_numeric_reaches_fk_targets() {
 fn ik_position_only_and_unreachable_exit_code() {
     let v = json(&["ik", "--robot", "scorbot-er-v-plus", "--position", "0.3,0.1,0.4", "--solver", "numeric", "--json"]);
     assert!(v["solutions"][0]["position_error"].as_f64().unwrap() < 1e-6);
+    // No target orientation, so no orientation error to report.
+    assert!(v["solutions"][0]["orientation_error"].is_null(), "{v}");
     let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
         .args(["ik", "--robot", "ur5", "--position", "3,0,0", "--solver", "numeric", "--json"])
         .output()
