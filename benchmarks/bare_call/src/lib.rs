@@ -108,7 +108,10 @@ impl Bare {
             rows[..k].copy_from_slice(&q[..k]);
             rows
         })?;
-        result_array(py, out, [4, 4], |o| put(o, &rows))
+        result_array(py, out, [4, 4], |o| {
+            put(o, &rows);
+            Ok(())
+        })
     }
 
     /// Reads the ``n`` values of ``q`` and returns a 6×n float64 array whose
@@ -128,6 +131,7 @@ impl Bare {
             for row in o.chunks_exact_mut(n) {
                 put(row, &buf[..n]);
             }
+            Ok(())
         })
     }
 }

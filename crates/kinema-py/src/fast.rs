@@ -1,12 +1,10 @@
 //! The hot paths of `fkine`, `jacob0`, `jacobe` and their batch forms that
-//! involve the kinematics: result rows of poses and Jacobians, a per-thread
-//! Jacobian buffer, and the parallel batch writer. Reading `q` and creating
+//! involve the kinematics: result rows of poses and the parallel batch
+//! writer (Jacobian rows come from the core, written straight into numpy). Reading `q` and creating
 //! or checking the output arrays is in [`crate::npio`].
 
-use std::cell::RefCell;
 use std::mem::MaybeUninit;
 
-use kinema::nalgebra::Matrix6xX;
 use kinema::{Error, Pose, Robot};
 use numpy::{PyArray3, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -27,36 +25,6 @@ pub(crate) fn pose_rows(pose: &Pose) -> [f64; 16] {
         0.0, 0.0, 0.0, 1.0,
     ];
     rows
-}
-
-/// Writes the column-major 6×n Jacobian `j` row-major into `out` (6·n values).
-#[inline]
-pub(crate) fn jacobian_rows(j: &Matrix6xX<f64>, out: &mut Dst) {
-    let n = j.ncols();
-    for (c, col) in j.as_slice().chunks_exact(6).enumerate() {
-        for (r, v) in col.iter().enumerate() {
-            out[r * n + c].write(*v);
-        }
-    }
-}
-
-thread_local! {
-    /// A Jacobian buffer reused by the per-call functions of this thread.
-    static JACOBIAN: RefCell<Matrix6xX<f64>> = RefCell::new(Matrix6xX::zeros(0));
-}
-
-/// Calls `f` with a 6×n Jacobian buffer, reused between calls on one thread.
-pub(crate) fn with_jacobian<T>(n: usize, f: impl FnOnce(&mut Matrix6xX<f64>) -> T) -> T {
-    JACOBIAN.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut j) => {
-            if j.ncols() != n {
-                *j = Matrix6xX::zeros(n);
-            }
-            f(&mut j)
-        }
-        // Re-entered (e.g. from an `__array__` method called while reading `q`).
-        Err(_) => f(&mut Matrix6xX::zeros(n)),
-    })
 }
 
 /// Configurations per parallel task of the batch functions.

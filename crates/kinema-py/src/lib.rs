@@ -17,7 +17,7 @@ use std::sync::Arc;
 
 use kinema::analysis::{self, Axes};
 use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice};
-use kinema::nalgebra::{Matrix4, Matrix6xX, Vector3};
+use kinema::nalgebra::{Matrix4, Vector3};
 use kinema::traj::{
     check, expression_trajectory, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion,
     CheckOptions, CheckReport, Expr, JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions,
@@ -776,13 +776,18 @@ impl PyRobot {
     /// Calls `f` on a joint vector argument: float64 arrays and lists of numbers
     /// are copied to the stack (`npio::read_joints`), anything else is converted by numpy.
     fn with_q<T>(&self, obj: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> kinema::Result<T>) -> PyResult<T> {
+        self.with_q_py(obj, |q| f(q).map_err(to_py))
+    }
+
+    /// As [`PyRobot::with_q`], for an `f` that gives Python errors itself.
+    fn with_q_py<T>(&self, obj: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> PyResult<T>) -> PyResult<T> {
         let mut buf = [0.0; npio::MAX_FAST_JOINTS];
         if let Some(len) = npio::read_joints(obj, &mut buf) {
-            return f(&buf[..len]).map_err(to_py);
+            return f(&buf[..len]);
         }
         if obj.is_instance_of::<PyString>() {
             let q = self.joint_vector(obj, "q")?;
-            return f(&q).map_err(to_py);
+            return f(&q);
         }
         let a = f64_array(obj, "q")?;
         if a.ndim() == 2 {
@@ -793,7 +798,7 @@ impl PyRobot {
             )));
         }
         check_shape(&a, "q", &[None], " (one value per joint)")?;
-        f(a.as_slice()?).map_err(to_py)
+        f(a.as_slice()?)
     }
 
     fn jacobian<'py>(
@@ -804,9 +809,12 @@ impl PyRobot {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dof();
-        fast::with_jacobian(n, |j| {
-            self.with_q(q, |q| self.robot.jacobian_into(q, frame, j))?;
-            npio::result_array(py, out, [6, n], |o| fast::jacobian_rows(j, o))
+        // Row-major (the layout of the numpy array), written by the core
+        // straight into the result; on bad input it writes nothing.
+        self.with_q_py(q, |q| {
+            npio::result_array(py, out, [6, n], |o| {
+                self.robot.jacobian_rows_into_uninit(q, frame, o).map(|_| ()).map_err(to_py)
+            })
         })
     }
 
@@ -819,12 +827,8 @@ impl PyRobot {
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dof();
         let robot = &*self.robot;
-        let row = |j: &mut Matrix6xX<f64>, q: &[f64], o: &mut _| {
-            robot.jacobian_into(q, frame, j)?;
-            fast::jacobian_rows(j, o);
-            Ok(())
-        };
-        fast::batch(py, robot, qs, "Q", out, [6, n], || Matrix6xX::zeros(n), row)
+        let row = |_: &mut (), q: &[f64], o: &mut _| robot.jacobian_rows_into_uninit(q, frame, o).map(|_| ());
+        fast::batch(py, robot, qs, "Q", out, [6, n], || (), row)
     }
 
     /// Plans the segments `segments(start pose)` from `q0`, converts them to
@@ -982,7 +986,10 @@ impl PyRobot {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let fk = self.with_q(q, |q| self.robot.fk(q))?;
-        npio::result_array(py, out, [4, 4], |o| npio::put(o, &fast::pose_rows(&fk.pose)))
+        npio::result_array(py, out, [4, 4], |o| {
+            npio::put(o, &fast::pose_rows(&fk.pose));
+            Ok(())
+        })
     }
 
     /// All frames along the chain as an (n+2)×4×4 array: index 0 the base

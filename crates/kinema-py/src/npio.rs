@@ -151,19 +151,20 @@ pub(crate) unsafe fn elements<'a, D>(a: &'a Bound<'_, numpy::PyArray<f64, D>>) -
 }
 
 /// The result of a per-call function: `fill` writes its row-major values
-/// (all of them) into `out` when given (checked by [`check_out`], then
-/// returned), or else into a new array of shape `dims`.
+/// (all of them, or none and fails) into `out` when given (checked by
+/// [`check_out`], then returned), or else into a new array of shape `dims`
+/// (dropped unseen if `fill` fails).
 pub(crate) fn result_array<'py>(
     py: Python<'py>,
     out: Option<&Bound<'py, PyAny>>,
     dims: [usize; 2],
-    fill: impl FnOnce(&mut Dst),
+    fill: impl FnOnce(&mut Dst) -> PyResult<()>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let Some(out) = out else {
         // SAFETY: a new C-order array that no one else knows of yet; `fill`
-        // writes every element before it is returned.
+        // writes every element before it is returned, or it is not returned.
         let a = unsafe { PyArray2::<f64>::new(py, dims, false) };
-        fill(unsafe { elements(&a) });
+        fill(unsafe { elements(&a) })?;
         return Ok(a.into_any());
     };
     let a = check_out(out, &dims)?;
@@ -171,6 +172,6 @@ pub(crate) fn result_array<'py>(
     // float64 array of shape `dims`. The GIL is held and `fill` runs no Python
     // code, so this write is what `out[...] = result` in Python does; the
     // joint values were copied out before, so `out` may alias `q`.
-    fill(unsafe { elements(a.as_any().downcast_unchecked::<PyArray2<f64>>()) });
+    fill(unsafe { elements(a.as_any().downcast_unchecked::<PyArray2<f64>>()) })?;
     Ok(out.clone())
 }

@@ -150,6 +150,21 @@ def test_bad_out(robots):
     assert np.all(out == 7.0)
 
 
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+@pytest.mark.parametrize("f", PER_CALL)
+def test_non_finite_q_leaves_out_alone(robots, f, bad):
+    """The core writes Jacobian rows straight into `out`; it must write nothing for a bad q."""
+    r = robots["lbr-iiwa-14-r820"]
+    q = np.array(r.home, dtype=float)
+    q[3] = bad
+    out = np.full((4, 4) if f == "fkine" else (6, 7), 7.0)
+    with pytest.raises(kinema.InvalidInput, match=r"^joint 4 \(`A4`\) of robot `lbr-iiwa-14-r820` is (NaN|inf|-inf); joint values must be finite numbers$"):
+        getattr(r, f)(q, out=out)
+    assert np.all(out == 7.0)
+    with pytest.raises(kinema.InvalidInput):
+        getattr(r, f)(q)
+
+
 @pytest.mark.parametrize("name", ALL)
 def test_batches_bit_identical_to_per_call(robots, name):
     """Every row of thousands of random configurations; sizes around the parallel chunk (512)."""
@@ -214,7 +229,7 @@ def test_batch_error_is_the_first_bad_row(robots):
 
 
 def test_reentrant_jacobian(robots):
-    """A joint vector whose conversion calls back into kinema (the per-thread Jacobian buffer is busy)."""
+    """A joint vector whose conversion calls back into kinema while the outer call is under way."""
     r = robots["ur5"]
     q = random_q(r, np.random.default_rng(38))
 

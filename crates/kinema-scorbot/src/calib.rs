@@ -807,13 +807,23 @@ mod tests {
             let x = model.initial.clone();
             let (js, scales, _) = model.scaled_jacobian(&x, &samples).unwrap();
             for c in 0..x.len() {
-                let h = 1e-6 * x[c].abs().max(1.0);
+                // A step of ~1e-6 of each parameter's natural scale, so that
+                // every step turns a joint by about 1e-6 rad: rounding in FK
+                // then costs ~1e-10 of the derivative and truncation ~1e-12.
+                // (A home offset near 0 counts once got a step of 1e-6 counts,
+                // 1e-10 rad, where rounding alone was ~1e-6 of the derivative.)
+                let scale = match model.names[c].1 {
+                    "counts" => 1e4,
+                    "deg" => 60.0,
+                    _ => 1.0,
+                };
+                let h = 1e-6 * x[c].abs().max(scale);
                 let (mut xp, mut xm) = (x.clone(), x.clone());
                 xp[c] += h;
                 xm[c] -= h;
                 let fd = (model.predict(&xp, &samples).unwrap() - model.predict(&xm, &samples).unwrap()) / (2.0 * h);
                 let an = js.column(c) * scales[c];
-                assert!((&fd - &an).norm() <= 1e-6 * an.norm(), "{}: {} vs {}", model.names[c].0, fd, an);
+                assert!((&fd - &an).norm() <= 1e-7 * an.norm(), "{}: {} vs {}", model.names[c].0, fd, an);
             }
         }
     }

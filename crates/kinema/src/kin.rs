@@ -12,6 +12,9 @@
 use nalgebra::{Matrix3, Matrix6xX};
 use rayon::prelude::*;
 
+use std::mem::MaybeUninit;
+
+use crate::chain::{as_uninit, Layout};
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::{JointSet, Robot};
@@ -62,8 +65,15 @@ impl Robot {
     /// ```
     #[inline]
     pub fn fk(&self, q: &[f64]) -> Result<Fk> {
-        let out_of_limits = self.scan_q(q)?;
-        Ok(Fk { pose: self.chain.fk(q), out_of_limits })
+        if q.len() != self.dof() {
+            return Err(self.bad_q(q));
+        }
+        // The walk checks q on the way (finiteness, limits) in its vector registers.
+        let (pose, scanned) = self.chain.fk(q);
+        if !scanned.finite {
+            return Err(self.bad_q(q));
+        }
+        Ok(Fk { pose, out_of_limits: JointSet(scanned.outside) })
     }
 
     /// Forward kinematics of many configurations at once, in parallel over all
@@ -93,7 +103,10 @@ impl Robot {
         Ok(qs
             .par_chunks_exact(n)
             .with_min_len(1024)
-            .map(|q| Fk { pose: self.chain.fk(q), out_of_limits: self.limit_flags(q) })
+            .map(|q| {
+                let (pose, scanned) = self.chain.fk(q);
+                Fk { pose, out_of_limits: JointSet(scanned.outside) }
+            })
             .collect())
     }
 
@@ -124,19 +137,70 @@ impl Robot {
 
     /// Geometric Jacobian of the tool point, rows \[vx vy vz ωx ωy ωz\],
     /// expressed in `frame`, written into `out` (must be 6 × dof).
-    /// Returns the forward kinematics computed on the way. Does not allocate.
+    /// Returns the forward kinematics computed on the way. Does not allocate;
+    /// on an error `out` is left as it was.
     pub fn jacobian_into(&self, q: &[f64], frame: Frame, out: &mut Matrix6xX<f64>) -> Result<Fk> {
-        let out_of_limits = self.scan_q(q)?;
         let n = self.dof();
-        if out.ncols() != n {
+        if q.len() == n && out.ncols() != n {
             return Err(Error::InvalidArgument {
                 what: "out".into(),
                 message: format!("Jacobian buffer has {} columns, robot `{}` has {n} joints", out.ncols(), self.name()),
             });
         }
         // Column-major 6 × n storage: column i is data[6i..6i+6].
-        let pose = self.chain.jacobian(q, frame == Frame::Tool, out.as_mut_slice());
-        Ok(Fk { pose, out_of_limits })
+        self.jacobian_in(q, frame, Layout::ColumnMajor, as_uninit(out.as_mut_slice()))
+    }
+
+    /// As [`Robot::jacobian_into`], written row-major into a slice of
+    /// 6 · dof values: row r (vx, vy, vz, ωx, ωy, ωz) is
+    /// `out[r·dof..(r + 1)·dof]`, the layout of a C or NumPy 6 × dof array.
+    /// Does not allocate; on an error `out` is left as it was.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::{Frame, Robot};
+    /// let robot = Robot::builtin("ur5")?;
+    /// let mut rows = [0.0; 36];
+    /// robot.jacobian_rows_into(robot.home(), Frame::Base, &mut rows)?;
+    /// let j = robot.jacobian(robot.home(), Frame::Base)?;
+    /// assert_eq!(rows[5 * 6], j[(5, 0)]); // ωz of joint 1
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn jacobian_rows_into(&self, q: &[f64], frame: Frame, out: &mut [f64]) -> Result<Fk> {
+        self.jacobian_rows_into_uninit(q, frame, as_uninit(out))
+    }
+
+    /// As [`Robot::jacobian_rows_into`], into memory that need not be
+    /// initialised, such as a freshly allocated NumPy array: on `Ok` every one
+    /// of the 6 · dof values has been written, on an error none.
+    pub fn jacobian_rows_into_uninit(&self, q: &[f64], frame: Frame, out: &mut [MaybeUninit<f64>]) -> Result<Fk> {
+        let n = self.dof();
+        if q.len() == n && out.len() != 6 * n {
+            return Err(Error::InvalidArgument {
+                what: "out".into(),
+                message: format!(
+                    "has {} values, a 6 × {n} Jacobian of robot `{}` needs {}",
+                    out.len(),
+                    self.name(),
+                    6 * n
+                ),
+            });
+        }
+        self.jacobian_in(q, frame, Layout::RowMajor, out)
+    }
+
+    /// The Jacobian into `data` (of the right length) in `layout`.
+    #[inline]
+    fn jacobian_in(&self, q: &[f64], frame: Frame, layout: Layout, data: &mut [MaybeUninit<f64>]) -> Result<Fk> {
+        if q.len() != self.dof() {
+            return Err(self.bad_q(q));
+        }
+        // The walk checks q on the way and writes nothing when a value is not finite.
+        let (pose, scanned) = self.chain.jacobian(q, frame == Frame::Tool, layout, data);
+        if !scanned.finite {
+            return Err(self.bad_q(q));
+        }
+        Ok(Fk { pose, out_of_limits: JointSet(scanned.outside) })
     }
 
     /// Geometric Jacobian (allocating form of [`Robot::jacobian_into`]).

@@ -48,6 +48,7 @@ mod desc;
 mod error;
 pub mod ik;
 pub mod kin;
+mod lanes;
 pub mod math;
 pub mod model;
 mod registry;

@@ -405,7 +405,7 @@ impl Robot {
     /// The error for a joint vector that failed [`Robot::scan_q`] (kept out of line).
     #[cold]
     #[inline(never)]
-    fn bad_q(&self, q: &[f64]) -> Error {
+    pub(crate) fn bad_q(&self, q: &[f64]) -> Error {
         if q.len() != self.joints.len() {
             return Error::JointCount { robot: self.name.clone(), expected: self.joints.len(), got: q.len() };
         }

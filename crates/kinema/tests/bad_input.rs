@@ -407,6 +407,13 @@ fn wrong_joint_count() {
     let mut j = Matrix6xX::zeros(5);
     let e = robot.jacobian_into(robot.home(), Frame::Base, &mut j).unwrap_err();
     assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('5')), "{e:?}");
+    for len in [0, 35, 37, 42] {
+        let mut rows = vec![7.5; len];
+        let e = robot.jacobian_rows_into(robot.home(), Frame::Base, &mut rows).unwrap_err();
+        let want = format!("has {len} values, a 6 × 6 Jacobian of robot `puma560` needs 36");
+        assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && *message == want), "{e:?}");
+        assert!(rows.iter().all(|&v| v == 7.5));
+    }
     let mut frames = vec![Pose::IDENTITY; 6];
     let e = robot.link_frames_into(robot.home(), &mut frames).unwrap_err();
     assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('8')), "{e:?}");
@@ -432,6 +439,13 @@ fn non_finite_joint_values() {
                     assert!(s.contains(if bad.is_nan() { "NaN" } else { "inf" }), "{s}");
                 };
                 check(robot.fk(&q).unwrap_err());
+                // A caller's buffer is left as it was.
+                let mut buf = kinema::nalgebra::Matrix6xX::from_element(n, 7.5);
+                check(robot.jacobian_into(&q, Frame::Base, &mut buf).unwrap_err());
+                assert!(buf.iter().all(|&v| v == 7.5), "{name}: jacobian_into wrote into `out` on bad input");
+                let mut rows = vec![7.5; 6 * n];
+                check(robot.jacobian_rows_into(&q, Frame::Tool, &mut rows).unwrap_err());
+                assert!(rows.iter().all(|&v| v == 7.5), "{name}: jacobian_rows_into wrote into `out` on bad input");
                 check(robot.jacobian(&q, Frame::Base).unwrap_err());
                 check(robot.jacobian(&q, Frame::Tool).unwrap_err());
                 check(robot.analytic_jacobian(&q, RpyConvention::Xyz).unwrap_err());
