@@ -5,11 +5,13 @@
 //! [`Bare`] has the methods `noop`, `array44` and `array6n`. They do no
 //! kinematics but go through the same path as kinema's `Robot.fkine` and
 //! `Robot.jacob0` (crates/kinema-py): a method of a frozen pyclass with the
-//! signature `(q, out=None)`, the joint vector read as
-//! `crates/kinema-py/src/fast.rs` (`read_joints`) reads it, and the result
-//! written as `fast::result_array` writes it (a new C-order float64 array
-//! filled in place, or a checked `out` array). What kinema's `fkine(q)` costs
-//! beyond `array44(q)` is therefore its kinematics (and the core's check of `q`).
+//! signature `(q, out=None)`, the joint vector read as kinema-py's
+//! `npio::read_joints` reads it, and the result created as its
+//! `npio::result_array` creates it (a new C-order float64 array filled in
+//! place, or a checked `out` array) and filled with q's values where kinema's
+//! core writes the pose matrix or the Jacobian rows. What kinema's `fkine(q)`
+//! costs beyond `array44(q)` is therefore its kinematics (and the core's
+//! check of `q`).
 //!
 //! The readers and writers are kinema-py's own: `crates/kinema-py/src/npio.rs`
 //! is compiled into this crate too (`#[path]` below), so the two cannot drift
@@ -30,7 +32,16 @@ use pyo3::prelude::*;
 #[allow(dead_code)]
 mod npio;
 
-use npio::{put, read_joints, result_array, MAX_FAST_JOINTS};
+use npio::{read_joints, result_array, Dst, MAX_FAST_JOINTS};
+
+/// Writes `src` into `dst` (same length): the floor's stand-in for the
+/// values kinema's core writes into the result.
+#[inline]
+fn put(dst: &mut Dst, src: &[f64]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        d.write(*s);
+    }
+}
 
 /// The error of a bad argument (kinema-py raises its own `InvalidInput`, a `ValueError`).
 fn invalid(message: String) -> PyErr {

@@ -1,31 +1,17 @@
-//! The hot paths of `fkine`, `jacob0`, `jacobe` and their batch forms that
-//! involve the kinematics: result rows of poses and the parallel batch
-//! writer (Jacobian rows come from the core, written straight into numpy). Reading `q` and creating
+//! The parallel batch writer of `fkine_batch`, `jacob0_batch` and
+//! `jacobe_batch`. (The per-call and per-row results, pose matrices and
+//! Jacobian rows, are written by the core straight into numpy memory.) Reading `q` and creating
 //! or checking the output arrays is in [`crate::npio`].
 
 use std::mem::MaybeUninit;
 
-use kinema::{Error, Pose, Robot};
+use kinema::{Error, Robot};
 use numpy::{PyArray3, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
 use crate::npio::{check_out, elements, Dst};
 use crate::{check_shape, f64_array, invalid};
-
-/// The 4×4 row-major homogeneous matrix of `pose` (the same values as `Pose::to_rows`).
-#[inline]
-pub(crate) fn pose_rows(pose: &Pose) -> [f64; 16] {
-    let (r, p) = (&pose.rot, &pose.pos);
-    #[rustfmt::skip]
-    let rows = [
-        r[(0, 0)], r[(0, 1)], r[(0, 2)], p[0],
-        r[(1, 0)], r[(1, 1)], r[(1, 2)], p[1],
-        r[(2, 0)], r[(2, 1)], r[(2, 2)], p[2],
-        0.0, 0.0, 0.0, 1.0,
-    ];
-    rows
-}
 
 /// Configurations per parallel task of the batch functions.
 const BATCH_CHUNK: usize = 512;

@@ -985,10 +985,10 @@ impl PyRobot {
         q: &Bound<'py, PyAny>,
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let fk = self.with_q(q, |q| self.robot.fk(q))?;
-        npio::result_array(py, out, [4, 4], |o| {
-            npio::put(o, &fast::pose_rows(&fk.pose));
-            Ok(())
+        // The matrix rows are written by the core straight into the result;
+        // on bad input it writes nothing.
+        self.with_q_py(q, |q| {
+            npio::result_array(py, out, [4, 4], |o| self.robot.fk_matrix_into_uninit(q, o).map(|_| ()).map_err(to_py))
         })
     }
 
@@ -1057,10 +1057,7 @@ impl PyRobot {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let robot = &*self.robot;
-        let row = |_: &mut (), q: &[f64], o: &mut _| {
-            npio::put(o, &fast::pose_rows(&robot.fk(q)?.pose));
-            Ok(())
-        };
+        let row = |_: &mut (), q: &[f64], o: &mut _| robot.fk_matrix_into_uninit(q, o).map(|_| ());
         fast::batch(py, robot, Q, "Q", out, [4, 4], || (), row)
     }
 

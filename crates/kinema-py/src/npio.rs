@@ -128,14 +128,6 @@ pub(crate) fn check_out<'a, 'py>(
 /// Output memory: initialised (an `out` array) or not (a new array); only written.
 pub(crate) type Dst = [MaybeUninit<f64>];
 
-/// Writes `src` into `dst` (same length).
-#[inline]
-pub(crate) fn put(dst: &mut Dst, src: &[f64]) {
-    for (d, s) in dst.iter_mut().zip(src) {
-        d.write(*s);
-    }
-}
-
 /// `a`'s elements as write-only memory.
 ///
 /// # Safety

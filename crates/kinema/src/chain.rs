@@ -386,6 +386,19 @@ impl Chain {
         fk_core::<P4>(self, q)
     }
 
+    /// `base_from_tool` as the rows of its 4 × 4 homogeneous matrix, written
+    /// into `out` (nothing is written when a value of `q` is not finite),
+    /// and what the walk found about `q`.
+    #[inline]
+    pub(crate) fn fk_rows(&self, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
+        #[cfg(target_arch = "x86_64")]
+        if has_avx2_fma() {
+            // SAFETY: the CPU supports AVX2 and FMA (checked just above).
+            return unsafe { fk_rows_avx2(self, q, out) };
+        }
+        fk_rows_core::<P4>(self, q, out)
+    }
+
     /// Link frames `out[1..=n]` and the tool frame `out[n + 1]`; `out` has n + 2 entries.
     pub(crate) fn link_frames(&self, q: &[f64], out: &mut [Pose]) {
         #[cfg(target_arch = "x86_64")]
@@ -397,9 +410,10 @@ impl Chain {
     }
 
     /// Geometric Jacobian into the 6 × n storage `data` (`layout`, at least
-    /// 6·n values; all of the first 6·n are written), for `q` of length n;
-    /// returns `base_from_tool` and what the walk found about `q`. `data` is
-    /// left untouched when a value of `q` is not finite.
+    /// 6·n values; all of the first 6·n are written), for `q` of length n,
+    /// and `base_from_tool` into `pose` when one is given; returns what the
+    /// walk found about `q`. Nothing is written when a value of `q` is not
+    /// finite.
     #[inline]
     pub(crate) fn jacobian(
         &self,
@@ -407,24 +421,25 @@ impl Chain {
         tool_frame: bool,
         layout: Layout,
         data: &mut [MaybeUninit<f64>],
-    ) -> (Pose, Scanned) {
+        pose: Option<&mut Pose>,
+    ) -> Scanned {
         #[cfg(target_arch = "x86_64")]
         if has_avx2_fma() {
             // SAFETY: the CPU supports AVX2 and FMA (checked just above).
             return unsafe {
                 match (layout, tool_frame) {
-                    (Layout::ColumnMajor, false) => jacobian_avx2::<COLUMN_MAJOR, false>(self, q, data),
-                    (Layout::ColumnMajor, true) => jacobian_avx2::<COLUMN_MAJOR, true>(self, q, data),
-                    (Layout::RowMajor, false) => jacobian_avx2::<ROW_MAJOR, false>(self, q, data),
-                    (Layout::RowMajor, true) => jacobian_avx2::<ROW_MAJOR, true>(self, q, data),
+                    (Layout::ColumnMajor, false) => jacobian_avx2::<COLUMN_MAJOR, false>(self, q, data, pose),
+                    (Layout::ColumnMajor, true) => jacobian_avx2::<COLUMN_MAJOR, true>(self, q, data, pose),
+                    (Layout::RowMajor, false) => jacobian_avx2::<ROW_MAJOR, false>(self, q, data, pose),
+                    (Layout::RowMajor, true) => jacobian_avx2::<ROW_MAJOR, true>(self, q, data, pose),
                 }
             };
         }
         match (layout, tool_frame) {
-            (Layout::ColumnMajor, false) => jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data),
-            (Layout::ColumnMajor, true) => jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data),
-            (Layout::RowMajor, false) => jacobian_core::<P4, ROW_MAJOR, false>(self, q, data),
-            (Layout::RowMajor, true) => jacobian_core::<P4, ROW_MAJOR, true>(self, q, data),
+            (Layout::ColumnMajor, false) => jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, pose),
+            (Layout::ColumnMajor, true) => jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, pose),
+            (Layout::RowMajor, false) => jacobian_core::<P4, ROW_MAJOR, false>(self, q, data, pose),
+            (Layout::RowMajor, true) => jacobian_core::<P4, ROW_MAJOR, true>(self, q, data, pose),
         }
     }
 
@@ -435,12 +450,12 @@ impl Chain {
     }
 
     #[cfg(test)]
-    fn jacobian_portable(&self, q: &[f64], tool_frame: bool, data: &mut [f64]) -> Pose {
+    fn jacobian_portable(&self, q: &[f64], tool_frame: bool, data: &mut [f64]) {
         let data = as_uninit(data);
         if tool_frame {
-            jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data).0
+            jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, None);
         } else {
-            jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data).0
+            jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, None);
         }
     }
 
@@ -609,6 +624,23 @@ fn fk_core<V: Lanes>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
     (t.pose(), scanned)
 }
 
+/// The rows of the homogeneous matrix straight from the frame's lanes: the
+/// transpose of the columns (x, y, z, p) is the three upper rows (lane 3 of
+/// every column is zero), and the last row is (0, 0, 0, 1).
+#[inline(always)]
+fn fk_rows_core<V: Lanes>(ch: &Chain, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
+    let (t, scanned) = ch.walk::<V>(q, |_, _| {}, |_, _| {});
+    if scanned.finite {
+        let [r0, r1, r2, _] = V::transpose([t.x, t.y, t.z, t.p]);
+        let (head, tail) = out.split_at_mut(8);
+        r0.store_prefix(&mut head[..4]);
+        r1.store_prefix(&mut head[4..]);
+        r2.store_prefix(&mut tail[..4]);
+        V::from_array([0.0, 0.0, 0.0, 1.0]).store_prefix(&mut tail[4..]);
+    }
+    scanned
+}
+
 #[inline(always)]
 fn link_frames_core<V: Lanes>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
     let n = ch.n;
@@ -641,7 +673,8 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
     ch: &Chain,
     q: &[f64],
     data: &mut [MaybeUninit<f64>],
-) -> (Pose, Scanned) {
+    pose: Option<&mut Pose>,
+) -> Scanned {
     let n = ch.n;
     // First pass: each joint's axis origin and direction (unsigned), for the
     // padding joints too (written, never read), so the walk has no branch.
@@ -654,7 +687,10 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
         |_, _| {},
     );
     if !scanned.finite {
-        return (t.pose(), scanned);
+        return scanned;
+    }
+    if let Some(pose) = pose {
+        *pose = t.pose();
     }
     // Second pass, four joints at a time with one joint per lane: the six
     // rows of their columns are then six lane vectors. Per value, the same
@@ -721,7 +757,7 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
             }
         }
     }
-    (t.pose(), scanned)
+    scanned
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -737,6 +773,12 @@ unsafe fn fk_avx2(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
+unsafe fn fk_rows_avx2(ch: &Chain, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
+    fk_rows_core::<A4>(ch, q, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn link_frames_avx2(ch: &Chain, q: &[f64], out: &mut [Pose]) {
     link_frames_core::<A4>(ch, q, out)
 }
@@ -747,8 +789,9 @@ unsafe fn jacobian_avx2<const ROWS: bool, const TOOL: bool>(
     ch: &Chain,
     q: &[f64],
     data: &mut [MaybeUninit<f64>],
-) -> (Pose, Scanned) {
-    jacobian_core::<A4, ROWS, TOOL>(ch, q, data)
+    pose: Option<&mut Pose>,
+) -> Scanned {
+    jacobian_core::<A4, ROWS, TOOL>(ch, q, data, pose)
 }
 
 /// `a·b + c`, plain on the portable path, fused where the CPU has FMA.
@@ -912,7 +955,7 @@ mod tests {
             let (p1, p2) = (chain.fk(q).0, chain.fk_portable(q));
             assert!((p1.pos - p2.pos).norm() < tol && (p1.rot - p2.rot).norm() < tol, "{what}");
             for tool in [false, true] {
-                chain.jacobian(q, tool, Layout::ColumnMajor, super::as_uninit(&mut a));
+                chain.jacobian(q, tool, Layout::ColumnMajor, super::as_uninit(&mut a), None);
                 chain.jacobian_portable(q, tool, &mut b);
                 let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
                 assert!(diff < tol, "{what}: {diff}");

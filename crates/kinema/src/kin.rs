@@ -76,6 +76,48 @@ impl Robot {
         Ok(Fk { pose, out_of_limits: JointSet(scanned.outside) })
     }
 
+    /// Forward kinematics as the row-major 4 × 4 homogeneous matrix of
+    /// `base_from_tool` (row r, column c at `out[4·r + c]`; the layout of a
+    /// C or NumPy 4 × 4 array), written into `out`, which must have 16 values.
+    /// Returns the joints outside their limits. The same numbers as
+    /// [`Robot::fk`], without building a [`Pose`] first. Does not allocate;
+    /// on an error `out` is left as it was.
+    ///
+    /// # Examples
+    /// ```
+    /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+    /// let mut t = [0.0; 16];
+    /// let outside = robot.fk_matrix_into(robot.home(), &mut t)?;
+    /// assert!(outside.is_empty());
+    /// assert!((t[11] - 1.306).abs() < 1e-12); // z of the tool at home
+    /// assert_eq!(t[12..], [0.0, 0.0, 0.0, 1.0]);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn fk_matrix_into(&self, q: &[f64], out: &mut [f64]) -> Result<JointSet> {
+        self.fk_matrix_into_uninit(q, as_uninit(out))
+    }
+
+    /// As [`Robot::fk_matrix_into`], into memory that need not be
+    /// initialised, such as a freshly allocated NumPy array: on `Ok` all 16
+    /// values have been written, on an error none.
+    pub fn fk_matrix_into_uninit(&self, q: &[f64], out: &mut [MaybeUninit<f64>]) -> Result<JointSet> {
+        if q.len() != self.dof() {
+            return Err(self.bad_q(q));
+        }
+        let len = out.len();
+        let Ok(out) = <&mut [MaybeUninit<f64>; 16]>::try_from(out) else {
+            return Err(Error::InvalidArgument {
+                what: "out".into(),
+                message: format!("has {len} values, a 4 × 4 matrix needs 16"),
+            });
+        };
+        let scanned = self.chain.fk_rows(q, out);
+        if !scanned.finite {
+            return Err(self.bad_q(q));
+        }
+        Ok(JointSet(scanned.outside))
+    }
+
     /// Forward kinematics of many configurations at once, in parallel over all
     /// cores. `qs` holds the configurations one after another (row-major,
     /// `N × dof` values). Every configuration is checked before any work is done.
@@ -148,13 +190,17 @@ impl Robot {
             });
         }
         // Column-major 6 × n storage: column i is data[6i..6i+6].
-        self.jacobian_in(q, frame, Layout::ColumnMajor, as_uninit(out.as_mut_slice()))
+        let mut pose = Pose::IDENTITY;
+        let out_of_limits =
+            self.jacobian_in(q, frame, Layout::ColumnMajor, as_uninit(out.as_mut_slice()), Some(&mut pose))?;
+        Ok(Fk { pose, out_of_limits })
     }
 
     /// As [`Robot::jacobian_into`], written row-major into a slice of
     /// 6 · dof values: row r (vx, vy, vz, ωx, ωy, ωz) is
     /// `out[r·dof..(r + 1)·dof]`, the layout of a C or NumPy 6 × dof array.
-    /// Does not allocate; on an error `out` is left as it was.
+    /// Returns the joints outside their limits (like [`Robot::fk_matrix_into`],
+    /// no pose). Does not allocate; on an error `out` is left as it was.
     ///
     /// # Examples
     /// ```
@@ -166,14 +212,14 @@ impl Robot {
     /// assert_eq!(rows[5 * 6], j[(5, 0)]); // ωz of joint 1
     /// # Ok::<(), kinema::Error>(())
     /// ```
-    pub fn jacobian_rows_into(&self, q: &[f64], frame: Frame, out: &mut [f64]) -> Result<Fk> {
+    pub fn jacobian_rows_into(&self, q: &[f64], frame: Frame, out: &mut [f64]) -> Result<JointSet> {
         self.jacobian_rows_into_uninit(q, frame, as_uninit(out))
     }
 
     /// As [`Robot::jacobian_rows_into`], into memory that need not be
     /// initialised, such as a freshly allocated NumPy array: on `Ok` every one
     /// of the 6 · dof values has been written, on an error none.
-    pub fn jacobian_rows_into_uninit(&self, q: &[f64], frame: Frame, out: &mut [MaybeUninit<f64>]) -> Result<Fk> {
+    pub fn jacobian_rows_into_uninit(&self, q: &[f64], frame: Frame, out: &mut [MaybeUninit<f64>]) -> Result<JointSet> {
         let n = self.dof();
         if q.len() == n && out.len() != 6 * n {
             return Err(Error::InvalidArgument {
@@ -186,21 +232,29 @@ impl Robot {
                 ),
             });
         }
-        self.jacobian_in(q, frame, Layout::RowMajor, out)
+        self.jacobian_in(q, frame, Layout::RowMajor, out, None)
     }
 
-    /// The Jacobian into `data` (of the right length) in `layout`.
+    /// The Jacobian into `data` (of the right length) in `layout`, and the
+    /// pose into `pose` when given.
     #[inline]
-    fn jacobian_in(&self, q: &[f64], frame: Frame, layout: Layout, data: &mut [MaybeUninit<f64>]) -> Result<Fk> {
+    fn jacobian_in(
+        &self,
+        q: &[f64],
+        frame: Frame,
+        layout: Layout,
+        data: &mut [MaybeUninit<f64>],
+        pose: Option<&mut Pose>,
+    ) -> Result<JointSet> {
         if q.len() != self.dof() {
             return Err(self.bad_q(q));
         }
         // The walk checks q on the way and writes nothing when a value is not finite.
-        let (pose, scanned) = self.chain.jacobian(q, frame == Frame::Tool, layout, data);
+        let scanned = self.chain.jacobian(q, frame == Frame::Tool, layout, data, pose);
         if !scanned.finite {
             return Err(self.bad_q(q));
         }
-        Ok(Fk { pose, out_of_limits: JointSet(scanned.outside) })
+        Ok(JointSet(scanned.outside))
     }
 
     /// Geometric Jacobian (allocating form of [`Robot::jacobian_into`]).

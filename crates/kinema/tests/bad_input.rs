@@ -407,6 +407,13 @@ fn wrong_joint_count() {
     let mut j = Matrix6xX::zeros(5);
     let e = robot.jacobian_into(robot.home(), Frame::Base, &mut j).unwrap_err();
     assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && message.contains('5')), "{e:?}");
+    for len in [0, 15, 17] {
+        let mut t = vec![7.5; len];
+        let e = robot.fk_matrix_into(robot.home(), &mut t).unwrap_err();
+        let want = format!("has {len} values, a 4 × 4 matrix needs 16");
+        assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "out" && *message == want), "{e:?}");
+        assert!(t.iter().all(|&v| v == 7.5));
+    }
     for len in [0, 35, 37, 42] {
         let mut rows = vec![7.5; len];
         let e = robot.jacobian_rows_into(robot.home(), Frame::Base, &mut rows).unwrap_err();
@@ -440,6 +447,9 @@ fn non_finite_joint_values() {
                 };
                 check(robot.fk(&q).unwrap_err());
                 // A caller's buffer is left as it was.
+                let mut t = [7.5; 16];
+                check(robot.fk_matrix_into(&q, &mut t).unwrap_err());
+                assert!(t.iter().all(|&v| v == 7.5), "{name}: fk_matrix_into wrote into `out` on bad input");
                 let mut buf = kinema::nalgebra::Matrix6xX::from_element(n, 7.5);
                 check(robot.jacobian_into(&q, Frame::Base, &mut buf).unwrap_err());
                 assert!(buf.iter().all(|&v| v == 7.5), "{name}: jacobian_into wrote into `out` on bad input");

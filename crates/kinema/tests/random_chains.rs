@@ -173,6 +173,13 @@ fn fk_and_link_frames_equal_the_matrix_product() {
             let q = random_q(&mut rng, n);
             let naive = naive_frames(&robot, &q);
             let fk = robot.fk(&q).unwrap();
+            // The matrix form is the same pose, value for value, and the same limit flags.
+            let mut m = [0.0; 16];
+            assert_eq!(robot.fk_matrix_into(&q, &mut m).unwrap(), fk.out_of_limits);
+            let rows = fk.pose.to_rows();
+            for (k, (a, b)) in m.iter().zip(rows.iter().flatten()).enumerate() {
+                assert_eq!(a.to_bits(), b.to_bits(), "matrix entry {k}: {robot:?} at q = {q:?}");
+            }
             let e = pose_error(&fk.pose, &naive[n]);
             // Chains reach up to ~20 × 1.2 m; errors stay at rounding level.
             assert!(e < 1e-12, "FK differs by {e:e}: {robot:?} at q = {q:?}");
@@ -219,7 +226,8 @@ fn jacobians_equal_central_differences_of_the_matrix_product() {
         for frame in [Frame::Base, Frame::Tool] {
             let cols = robot.jacobian(&q, frame).unwrap();
             let mut rows = vec![0.0; 6 * n];
-            robot.jacobian_rows_into(&q, frame, &mut rows).unwrap();
+            let outside = robot.jacobian_rows_into(&q, frame, &mut rows).unwrap();
+            assert_eq!(outside, robot.fk(&q).unwrap().out_of_limits);
             for r in 0..6 {
                 for c in 0..n {
                     assert_eq!(rows[r * n + c].to_bits(), cols[(r, c)].to_bits(), "({r}, {c}) {frame:?}: {robot:?}");
