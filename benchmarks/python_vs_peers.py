@@ -22,7 +22,7 @@ configurations (uniform within kinema's `robot.qlim`) for every library:
   `for q in w: f(q, out=T)` (row "kinema `out=`").
 * the native call floor (if `kinema_bare_call` is importable): `Bare(n).noop(q)`,
   `.array44(q)` and `.array6n(q)` (also with `out=`) go through kinema's call path
-  (PyO3 method, q read and result written as crates/kinema-py/src/fast.rs does)
+  (PyO3 method, q read and the result array made as crates/kinema-py/src/npio.rs does)
   with no kinematics. kinema is reported against the floor with the same result,
   t(kinema) / t(floor), and "kinematics only" = t(kinema) - t(floor).
 * batch fkine of --batch-n configurations: kinema's `fkine_batch(Q)` against a
@@ -527,7 +527,7 @@ def main():
         tm = {"empty": Timer(None, args.n, args.repeats), "len": Timer(len, args.n, args.repeats),
               "copy": Timer(np.ndarray.copy, args.n, args.repeats)}
         # the native call floor: kinema's call path (frozen pyclass method, signature (q, out=None),
-        # q read and result written as crates/kinema-py/src/fast.rs does) without the kinematics
+        # q read and the result array made as crates/kinema-py/src/npio.rs does) without the kinematics
         if kinema_bare_call is not None:
             b = kinema_bare_call.Bare(n)
             tm["noop"] = Timer(b.noop, args.n, args.repeats)
@@ -699,7 +699,7 @@ def main():
           "a new array) is shown as the floor of any call that returns a fresh numpy array; \"kinema `out=`\" is "
           "`for q in w: f(q, out=T)` with T preallocated. The native rows are `kinema_bare_call.Bare(n)` "
           "(benchmarks/bare_call): kinema's call path (a method of a frozen PyO3 class, signature `(q, out=None)`, "
-          "q read and the result written as crates/kinema-py/src/fast.rs does) and no kinematics; "
+          "q read and the result array made as crates/kinema-py/src/npio.rs does) and no kinematics; "
           "\"÷ native floor\" = time / the native call with the same result (a new 4×4 / 6×n array, or writing "
           "into `out=` for the `out=` row).\n")
     print("| robot | library | fkine ns/call | jacob0 ns/call | fkine ÷ bare call | jacob0 ÷ bare call "

@@ -2,8 +2,8 @@
 //! numpy's conversion machinery: the part of the per-call path that knows
 //! nothing of kinematics.
 //!
-//! Shared, as source, by the package (`mod npio` in `lib.rs`, used by
-//! `fast.rs`) and by the benchmark's native floor `benchmarks/bare_call`
+//! Shared, as source, by the package (`mod npio` in `lib.rs`, used there
+//! and by `fast.rs`) and by the benchmark's native floor `benchmarks/bare_call`
 //! (included there with `#[path]`), so that the floor does exactly the work
 //! of kinema's call path. Each includer provides `invalid(String) -> PyErr`
 //! and `shape_text(&[usize]) -> String` at its crate root.
