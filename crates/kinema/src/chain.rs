@@ -744,7 +744,20 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
                 // c0 + cols ≤ n, so r·n + c0 + cols ≤ 6·n: the `cols` values
                 // at r·n + c0 are within it. (Checked slicing here was a
                 // tenth of the whole Jacobian's instructions.)
-                row.store_prefix(unsafe { std::slice::from_raw_parts_mut(base.add(r * n + c0), cols) });
+                let at = unsafe { std::slice::from_raw_parts_mut(base.add(r * n + c0), cols) };
+                // One test per block, masked stores in a short last block.
+                // Tried (2026-11-24): plain 128+64-bit stores with a branch
+                // on `cols` were 7 ns faster in a Rust loop but 12-16 ns
+                // slower per call from Python in two builds (placements);
+                // whole 4-lane stores spilling into the next row, blocks
+                // written last to first, gained in neither. Builds of this
+                // very code differ by ~10 ns per call from Python
+                // (benchmarks/compare_builds.py), so neither was taken.
+                if cols == 4 {
+                    row.store_prefix(at);
+                } else {
+                    row.store_prefix_masked(at);
+                }
             }
         } else {
             // Back to one joint per register: (vx vy vz ωx) and (ωy ωz 0 0).

@@ -222,11 +222,16 @@ fn jacobians_equal_central_differences_of_the_matrix_product() {
         }
         let j = robot.jacobian(&q, Frame::Base).unwrap();
         let e = (&j - &fd).abs().max();
-        // The row-major form is the same matrix, value for value, in both frames.
+        // The row-major form is the same matrix, value for value, in both
+        // frames: every value written (the buffer starts as a NaN with a
+        // payload no computation makes) and nothing past its end (4 guards).
+        const POISON: u64 = 0x7ff8_dead_beef_0001;
         for frame in [Frame::Base, Frame::Tool] {
             let cols = robot.jacobian(&q, frame).unwrap();
-            let mut rows = vec![0.0; 6 * n];
-            let outside = robot.jacobian_rows_into(&q, frame, &mut rows).unwrap();
+            let mut buf = vec![f64::from_bits(POISON); 6 * n + 4];
+            let outside = robot.jacobian_rows_into(&q, frame, &mut buf[..6 * n]).unwrap();
+            assert!(buf[6 * n..].iter().all(|g| g.to_bits() == POISON), "wrote past the end: {robot:?}");
+            let rows = &buf[..6 * n];
             assert_eq!(outside, robot.fk(&q).unwrap().out_of_limits);
             for r in 0..6 {
                 for c in 0..n {
