@@ -16,7 +16,7 @@ use crate::{check_shape, f64_array, invalid};
 /// Configurations per parallel task of the batch functions.
 const BATCH_CHUNK: usize = 512;
 
-/// A batch function: `row(scratch, q, out_row)` for every configuration `q`
+/// A batch function: `row(q, out_row)` for every configuration `q`
 /// of the (N, n) argument `qs` (`what` in messages), each writing all its
 /// values into its row of an (N, `dims[0]`, `dims[1]`) float64 array: a new
 /// one, or `out` (checked by [`check_out`], then returned).
@@ -26,22 +26,20 @@ const BATCH_CHUNK: usize = 512;
 /// use `out` while it is written. Either way the rows run in parallel over
 /// all cores. A configuration that the core rejects fails the call with the
 /// error of the first such row (`Error::InBatch`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn batch<'py, S>(
+pub(crate) fn batch<'py>(
     py: Python<'py>,
     robot: &Robot,
     qs: &Bound<'py, PyAny>,
     what: &str,
     out: Option<&Bound<'py, PyAny>>,
     dims: [usize; 2],
-    init: impl Fn() -> S + Sync + Send,
-    row: impl Fn(&mut S, &[f64], &mut Dst) -> kinema::Result<()> + Sync + Send,
+    row: impl Fn(&[f64], &mut Dst) -> kinema::Result<()> + Sync + Send,
 ) -> PyResult<Bound<'py, PyAny>> {
     let n = robot.dof();
     let a = f64_array(qs, what)?;
     check_shape(&a, what, &[None, Some(n)], &format!(" (one row of {n} joint values per configuration)"))?;
     let shape = [a.shape()[0], dims[0], dims[1]];
-    let run = |qs: &[f64], dst: &mut Dst| run_rows(robot, qs, dst, dims[0] * dims[1], &init, &row);
+    let run = |qs: &[f64], dst: &mut Dst| run_rows(robot, qs, dst, dims[0] * dims[1], &row);
     let Some(out) = out else {
         let qs = a.as_slice()?.to_vec();
         // SAFETY: a new C-order array that no one else knows of until it is
@@ -67,22 +65,20 @@ pub(crate) fn batch<'py, S>(
 }
 
 /// The rows of [`batch`]: `width` values of `dst` per configuration of `qs`.
-fn run_rows<S>(
+fn run_rows(
     robot: &Robot,
     qs: &[f64],
     dst: &mut Dst,
     width: usize,
-    init: &(impl Fn() -> S + Sync + Send),
-    row: &(impl Fn(&mut S, &[f64], &mut Dst) -> kinema::Result<()> + Sync + Send),
+    row: &(impl Fn(&[f64], &mut Dst) -> kinema::Result<()> + Sync + Send),
 ) -> kinema::Result<()> {
     let n = robot.dof();
-    let chunk = |s: &mut S, (o, q): (&mut Dst, &[f64])| {
-        o.chunks_exact_mut(width).zip(q.chunks_exact(n)).try_for_each(|(o, q)| row(s, q, o))
-    };
+    let chunk =
+        |(o, q): (&mut Dst, &[f64])| o.chunks_exact_mut(width).zip(q.chunks_exact(n)).try_for_each(|(o, q)| row(q, o));
     let done = if qs.len() <= n * BATCH_CHUNK {
-        chunk(&mut init(), (dst, qs))
+        chunk((dst, qs))
     } else {
-        dst.par_chunks_mut(width * BATCH_CHUNK).zip(qs.par_chunks(n * BATCH_CHUNK)).try_for_each_init(init, chunk)
+        dst.par_chunks_mut(width * BATCH_CHUNK).zip(qs.par_chunks(n * BATCH_CHUNK)).try_for_each(chunk)
     };
     done.or_else(|e| {
         // Report the first bad configuration, as a check before any work would.

@@ -827,8 +827,8 @@ impl PyRobot {
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dof();
         let robot = &*self.robot;
-        let row = |_: &mut (), q: &[f64], o: &mut _| robot.jacobian_rows_into_uninit(q, frame, o).map(|_| ());
-        fast::batch(py, robot, qs, "Q", out, [6, n], || (), row)
+        let row = |q: &[f64], o: &mut _| robot.jacobian_rows_into_uninit(q, frame, o).map(|_| ());
+        fast::batch(py, robot, qs, "Q", out, [6, n], row)
     }
 
     /// Plans the segments `segments(start pose)` from `q0`, converts them to
@@ -1057,8 +1057,8 @@ impl PyRobot {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let robot = &*self.robot;
-        let row = |_: &mut (), q: &[f64], o: &mut _| robot.fk_matrix_into_uninit(q, o).map(|_| ());
-        fast::batch(py, robot, Q, "Q", out, [4, 4], || (), row)
+        let row = |q: &[f64], o: &mut _| robot.fk_matrix_into_uninit(q, o).map(|_| ());
+        fast::batch(py, robot, Q, "Q", out, [4, 4], row)
     }
 
     /// Base-frame Jacobians of N configurations, an (N, n) array → (N, 6, n).

@@ -107,21 +107,16 @@ fn random_twist(rng: &mut ChaCha8Rng) -> f64 {
 fn random_joint(rng: &mut ChaCha8Rng, i: usize) -> Joint {
     let kind = if rng.random_bool(0.25) { JointType::Prismatic } else { JointType::Revolute };
     let len = |rng: &mut ChaCha8Rng| if rng.random_bool(0.3) { 0.0 } else { rng.random_range(-0.6..0.6) };
+    let dh = |convention, rng: &mut ChaCha8Rng| LinkGeometry::Dh {
+        convention,
+        d: len(rng),
+        a: len(rng),
+        alpha: random_twist(rng),
+        theta: if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-PI..PI) },
+    };
     let geometry = match rng.random_range(0..5) {
-        0 | 1 => LinkGeometry::Dh {
-            convention: DhConvention::Standard,
-            d: len(rng),
-            a: len(rng),
-            alpha: random_twist(rng),
-            theta: if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-PI..PI) },
-        },
-        2 | 3 => LinkGeometry::Dh {
-            convention: DhConvention::Modified,
-            d: len(rng),
-            a: len(rng),
-            alpha: random_twist(rng),
-            theta: if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-PI..PI) },
-        },
+        0 | 1 => dh(DhConvention::Standard, rng),
+        2 | 3 => dh(DhConvention::Modified, rng),
         _ => {
             let axis = match rng.random_range(0..3) {
                 0 => Vector3::z(),
