@@ -31,6 +31,8 @@ pub(crate) trait Lanes: Copy {
     fn to_array(self) -> [f64; 4];
     /// `self · b`, lane by lane.
     fn mul(self, b: Self) -> Self;
+    /// `self + b`, lane by lane.
+    fn add(self, b: Self) -> Self;
     /// `self − b`, lane by lane.
     fn sub(self, b: Self) -> Self;
     /// `self · b + c`, lane by lane (fused on [`A4`]).
@@ -109,6 +111,11 @@ impl Lanes for P4 {
     #[inline(always)]
     fn mul(self, b: P4) -> P4 {
         self.map2(b, |x, y| x * y)
+    }
+
+    #[inline(always)]
+    fn add(self, b: P4) -> P4 {
+        self.map2(b, |x, y| x + y)
     }
 
     #[inline(always)]
@@ -245,6 +252,12 @@ mod avx2 {
         fn mul(self, b: A4) -> A4 {
             // SAFETY: AVX is available.
             A4(unsafe { _mm256_mul_pd(self.0, b.0) })
+        }
+
+        #[inline(always)]
+        fn add(self, b: A4) -> A4 {
+            // SAFETY: AVX is available.
+            A4(unsafe { _mm256_add_pd(self.0, b.0) })
         }
 
         #[inline(always)]

@@ -1,11 +1,13 @@
 //! Forward kinematics, link frames and Jacobians of random arms against an
 //! independent computation.
 //!
-//! The arms mix every kind of joint the compiled chain distinguishes:
+//! Most arms mix every kind of joint the compiled chain distinguishes:
 //! standard and modified DH rows, revolute and prismatic, twists of 0, ±90°,
 //! ±180° and arbitrary angles, general (URDF-style) joints about ±z or any
 //! axis, random offsets, base and tool transforms, and chains longer than
-//! one eight-joint angle block. The oracle is the textbook product of 4×4
+//! one eight-joint angle block; a third are uniform chains of standard or of
+//! modified DH revolute joints with exact twists, which the chain walks
+//! without a branch per joint. The oracle is the textbook product of 4×4
 //! homogeneous matrices, with the standard library's sine and cosine, written
 //! here without any of the chain's tricks; the Jacobian is checked against
 //! central differences of that product.
@@ -104,17 +106,34 @@ fn random_twist(rng: &mut ChaCha8Rng) -> f64 {
     }
 }
 
-fn random_joint(rng: &mut ChaCha8Rng, i: usize) -> Joint {
-    let kind = if rng.random_bool(0.25) { JointType::Prismatic } else { JointType::Revolute };
+/// A random joint; with `uniform`, a revolute joint of that DH convention
+/// with an exact twist (0, ±90°, ±180°), so that a chain of them is one of
+/// the compiled chain's uniform straight-line shapes.
+fn random_joint(rng: &mut ChaCha8Rng, i: usize, uniform: Option<DhConvention>) -> Joint {
+    let kind = if uniform.is_none() && rng.random_bool(0.25) { JointType::Prismatic } else { JointType::Revolute };
     let len = |rng: &mut ChaCha8Rng| if rng.random_bool(0.3) { 0.0 } else { rng.random_range(-0.6..0.6) };
     let dh = |convention, rng: &mut ChaCha8Rng| LinkGeometry::Dh {
         convention,
         d: len(rng),
         a: len(rng),
-        alpha: random_twist(rng),
+        alpha: if uniform.is_some() {
+            [0.0, FRAC_PI_2, -FRAC_PI_2, PI, -PI][rng.random_range(0..5)]
+        } else {
+            random_twist(rng)
+        },
         theta: if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-PI..PI) },
     };
-    let geometry = match rng.random_range(0..5) {
+    let geometry = match uniform {
+        Some(convention) => dh(convention, rng),
+        None => random_geometry(rng, dh),
+    };
+    let offset = if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-1.0..1.0) };
+    Joint { name: format!("j{}", i + 1), kind, geometry, offset, limits: Limits::position(-PI, PI) }
+}
+
+/// A DH row of either convention (from `dh`) or a general joint.
+fn random_geometry(rng: &mut ChaCha8Rng, dh: impl Fn(DhConvention, &mut ChaCha8Rng) -> LinkGeometry) -> LinkGeometry {
+    match rng.random_range(0..5) {
         0 | 1 => dh(DhConvention::Standard, rng),
         2 | 3 => dh(DhConvention::Modified, rng),
         _ => {
@@ -125,15 +144,20 @@ fn random_joint(rng: &mut ChaCha8Rng, i: usize) -> Joint {
             };
             LinkGeometry::General { origin: random_pose(rng), axis }
         }
-    };
-    let offset = if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-1.0..1.0) };
-    Joint { name: format!("j{}", i + 1), kind, geometry, offset, limits: Limits::position(-PI, PI) }
+    }
 }
 
 fn random_robot(rng: &mut ChaCha8Rng) -> Robot {
     // Mostly arm-sized chains, some longer than one eight-joint block.
     let n = if rng.random_bool(0.8) { rng.random_range(1..=8) } else { rng.random_range(9..=20) };
-    let joints: Vec<Joint> = (0..n).map(|i| random_joint(rng, i)).collect();
+    // A third of the arms are uniform: all standard or all modified DH
+    // revolute joints with exact twists (the catalogue's arms are such chains).
+    let uniform = match rng.random_range(0..6) {
+        0 => Some(DhConvention::Standard),
+        1 => Some(DhConvention::Modified),
+        _ => None,
+    };
+    let joints: Vec<Joint> = (0..n).map(|i| random_joint(rng, i, uniform)).collect();
     let home = NamedPose { name: "home".into(), q: vec![0.0; n] };
     Robot::new(
         "random",
