@@ -182,6 +182,17 @@ impl Exact {
         let unturned = if swap { sy } else { sz };
         Some(Exact { swap: [if swap { MASK_TRUE } else { MASK_FALSE }; 4], sy, sz, unturned })
     }
+
+    /// Standard DH: the sign of the column that the joint's turn produces,
+    /// wherever the twist puts it (`sz` if swapped into z, else `sy`); the
+    /// walk takes it into sin θ and cos θ ([`AngleBlock::flip`]).
+    fn turned(&self) -> f64 {
+        if self.swap[0] == MASK_TRUE {
+            self.sz
+        } else {
+            self.sy
+        }
+    }
 }
 
 impl Step {
@@ -380,14 +391,7 @@ impl Chain {
             b.prismatic[k] = if j.kind == JointType::Prismatic { MASK_TRUE } else { MASK_FALSE };
             let tw = &rows[i].twist;
             b.flip[k] = match steps[i].kind {
-                // The turned y column ends up flipped by sz if swapped into z, else by sy.
-                StepKind::Standard => {
-                    if tw.swap[0] == MASK_TRUE {
-                        tw.sz
-                    } else {
-                        tw.sy
-                    }
-                }
+                StepKind::Standard => tw.turned(),
                 // The twist's flip sy of y comes before the turn, which is linear in y.
                 StepKind::Modified => tw.sy,
                 StepKind::General { .. } => 0.0,
