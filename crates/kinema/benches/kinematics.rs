@@ -20,6 +20,9 @@
 //! * `fk/<robot>` — `Robot::fk` (checks q, computes the tool pose, flags limits).
 //! * `jacobian/<robot>` — `Robot::jacobian_into(q, Frame::Base, &mut buf)` into a
 //!   preallocated `Matrix6xX`.
+//! * `jacobian/rows/<robot>` — `Robot::jacobian_rows_into(q, Frame::Base, &mut buf)`,
+//!   row-major into a preallocated slice: the layout of a C or numpy array (the
+//!   Python package's `jacob0`).
 //! * `fk/k/<robot>` — k: `set_joint_positions_unchecked` + `update_transforms`
 //!   (k's usual FK; computes and caches every node's world transform) and the
 //!   end node's `world_transform()`.
@@ -122,6 +125,15 @@ fn kinematics(c: &mut Criterion) {
                 })
             });
             black_box(&buf);
+            let mut rows = vec![0.0; 6 * n];
+            g.bench_function(format!("rows/{name}"), |b| {
+                let mut i = 0usize;
+                b.iter(|| {
+                    let q = black_box(q_at(i));
+                    i = i.wrapping_add(1);
+                    black_box(robot.jacobian_rows_into(q, Frame::Base, black_box(&mut rows)))
+                })
+            });
             g.bench_function(format!("k/{name}"), |b| {
                 let mut i = 0usize;
                 b.iter(|| {

@@ -285,6 +285,11 @@ pub(crate) struct Chain {
     /// Per joint: position limits on q, for the one-pass input scan.
     min: Vec<f64>,
     max: Vec<f64>,
+    /// Per joint of the padded chain, for the Jacobian's second pass (which
+    /// takes any four consecutive joints): the axis sign, and
+    /// [`MASK_TRUE`] for a prismatic joint.
+    axis_sign: Vec<f64>,
+    slides: Vec<f64>,
 }
 
 /// Joints per block of the padded chain.
@@ -398,6 +403,8 @@ impl Chain {
             };
         }
         let col = |j: usize| [base.rot[(0, j)], base.rot[(1, j)], base.rot[(2, j)], 0.0];
+        let axis_sign = blocks.iter().flat_map(|b| b.sign).collect();
+        let slides = blocks.iter().flat_map(|b| b.prismatic).collect();
         Chain {
             start: [col(0), col(1), col(2), [base.pos.x, base.pos.y, base.pos.z, 0.0]],
             n: joints.len(),
@@ -408,6 +415,8 @@ impl Chain {
             tool: (*tool != Pose::IDENTITY).then_some(*tool),
             min: joints.iter().map(|j| j.limits.min).collect(),
             max: joints.iter().map(|j| j.limits.max).collect(),
+            axis_sign,
+            slides,
         }
     }
 
@@ -778,11 +787,19 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
     // (No closures around lane operations: see `AngleBlock::angles`.)
     let tool = [t.x.to_array(), t.y.to_array(), t.z.to_array()];
     let zero = V::splat(0.0);
-    for c0 in (0..n).step_by(4) {
-        let block = &ch.blocks[c0 / BLOCK];
-        let lanes = c0 % BLOCK;
+    // Four consecutive joints per block. Row-major with n ≥ 4, the last
+    // block is the last four joints (overlapping the one before when 4 does
+    // not divide n, which then writes some values twice, the same both
+    // times), so every row store is a whole unmasked one: on AMD Zen 3 a
+    // masked 256-bit store costs ~7 cycles of throughput. Column-major, each
+    // column is two stores of its own, and an overlapping block would only
+    // add stores (Criterion: ~7 ns slower).
+    let whole = ROWS && n >= 4;
+    for b in 0..n.div_ceil(4) {
+        let c0 = if whole { (4 * b).min(n - 4) } else { 4 * b };
+        let cols = if whole { 4 } else { (n - c0).min(4) };
         // SAFETY: the walk wrote `axes[i]` for every i below the padded
-        // length, a multiple of 8, so for c0 + 3 < 4·⌈n/4⌉ ≤ that length.
+        // length, a multiple of 8, and c0 + 3 < 4·⌈n/4⌉ ≤ that length.
         let ax: [[[f64; 4]; 2]; 4] = std::array::from_fn(|k| unsafe { axes[c0 + k].assume_init() });
         let lane = |k: usize, j: usize| ax[k][j];
         let four = |j: usize| [lane(0, j), lane(1, j), lane(2, j), lane(3, j)];
@@ -791,12 +808,14 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
             V::transpose([V::from_array(o0), V::from_array(o1), V::from_array(o2), V::from_array(o3)]);
         let [zx, zy, zz, _] =
             V::transpose([V::from_array(z0), V::from_array(z1), V::from_array(z2), V::from_array(z3)]);
-        let sign = V::from_array(quarter(&block.sign, lanes / 4));
+        // SAFETY: `axis_sign` and `slides` have the padded length (above).
+        let (sign, slide) = unsafe {
+            (V::from_array(*ch.axis_sign.as_ptr().add(c0).cast()), V::from_array(*ch.slides.as_ptr().add(c0).cast()))
+        };
         let (zx, zy, zz) = (zx.mul(sign), zy.mul(sign), zz.mul(sign));
         // z × (p_tool − o); a prismatic joint moves the tool along z and turns nothing.
         let (rx, ry, rz) = (pex.sub(ox), pey.sub(oy), pez.sub(oz));
         let cross = [zy.msub(rz, zz.mul(ry)), zz.msub(rx, zx.mul(rz)), zx.msub(ry, zy.mul(rx))];
-        let slide = V::from_array(quarter(&block.prismatic, lanes / 4));
         let mut rows = [
             slide.select(zx, cross[0]),
             slide.select(zy, cross[1]),
@@ -813,7 +832,6 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
                 (rows[h], rows[h + 1], rows[h + 2]) = (dot3(v, tx), dot3(v, ty), dot3(v, tz));
             }
         }
-        let cols = (n - c0).min(4);
         if ROWS {
             let base = data.as_mut_ptr();
             for (r, row) in rows.iter().enumerate() {
@@ -822,15 +840,10 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
                 // at r·n + c0 are within it. (Checked slicing here was a
                 // tenth of the whole Jacobian's instructions.)
                 let at = unsafe { std::slice::from_raw_parts_mut(base.add(r * n + c0), cols) };
-                // One test per block, masked stores in a short last block.
-                // Tried (2026-11-24): plain 128+64-bit stores with a branch
-                // on `cols` were 7 ns faster in a Rust loop but 12-16 ns
-                // slower per call from Python in two builds (placements);
-                // whole 4-lane stores spilling into the next row, blocks
-                // written last to first, gained in neither. Builds of this
-                // very code differ by ~10 ns per call from Python
-                // (benchmarks/compare_builds.py), so neither was taken.
-                if cols == 4 {
+                // Rust loop, 2026-11-24 (iiwa, panda): 77-80 ns with a masked
+                // last block, 68-70 ns this way. From Python no difference
+                // beyond the ±10 ns of code placement (benchmarks/README.md).
+                if whole {
                     row.store_prefix(at);
                 } else {
                     row.store_prefix_masked(at);
