@@ -224,8 +224,6 @@ struct AngleBlock {
     /// Position limits on q, −∞/+∞ past the last joint: the walk scans q on the way.
     min: [f64; 8],
     max: [f64; 8],
-    /// [`MASK_TRUE`] for a prismatic joint, for the Jacobian's lane selects.
-    prismatic: [f64; 8],
     /// −0.0 where the straight-line step folds the twist's sign flip of the
     /// turned y column into sin θ and cos θ (see [`Angles`]), else 0.0.
     flip: [f64; 8],
@@ -285,8 +283,9 @@ pub(crate) struct Chain {
     /// Per joint: position limits on q, for the one-pass input scan.
     min: Vec<f64>,
     max: Vec<f64>,
-    /// Per joint of the padded chain, for the Jacobian's second pass (which
-    /// takes any four consecutive joints): the axis sign, and
+    /// Per joint of the padded chain (their length is the padded length, a
+    /// multiple of [`BLOCK`]), for the Jacobian's second pass, which takes any
+    /// four consecutive joints: the axis sign (0 for a padding joint), and
     /// [`MASK_TRUE`] for a prismatic joint.
     axis_sign: Vec<f64>,
     slides: Vec<f64>,
@@ -386,14 +385,12 @@ impl Chain {
             offset: [0.0; BLOCK],
             min: [f64::NEG_INFINITY; BLOCK],
             max: [f64::INFINITY; BLOCK],
-            prismatic: [MASK_FALSE; BLOCK],
             flip: [0.0; BLOCK],
         };
         let mut blocks = vec![empty; steps.len() / BLOCK];
         for (i, (&(_, sign, offset), j)) in compiled.iter().zip(joints).enumerate() {
             let (b, k) = (&mut blocks[i / BLOCK], i % BLOCK);
             (b.sign[k], b.offset[k], b.min[k], b.max[k]) = (sign, offset, j.limits.min, j.limits.max);
-            b.prismatic[k] = if j.kind == JointType::Prismatic { MASK_TRUE } else { MASK_FALSE };
             let tw = &rows[i].twist;
             b.flip[k] = match steps[i].kind {
                 StepKind::Standard => tw.turned(),
@@ -404,7 +401,10 @@ impl Chain {
         }
         let col = |j: usize| [base.rot[(0, j)], base.rot[(1, j)], base.rot[(2, j)], 0.0];
         let axis_sign = blocks.iter().flat_map(|b| b.sign).collect();
-        let slides = blocks.iter().flat_map(|b| b.prismatic).collect();
+        let mut slides = vec![MASK_FALSE; steps.len()];
+        for (s, j) in slides.iter_mut().zip(joints) {
+            *s = if j.kind == JointType::Prismatic { MASK_TRUE } else { MASK_FALSE };
+        }
         Chain {
             start: [col(0), col(1), col(2), [base.pos.x, base.pos.y, base.pos.z, 0.0]],
             n: joints.len(),
@@ -509,13 +509,14 @@ impl Chain {
     }
 
     #[cfg(test)]
-    fn jacobian_portable(&self, q: &[f64], tool_frame: bool, data: &mut [f64]) {
+    fn jacobian_portable(&self, q: &[f64], tool_frame: bool, layout: Layout, data: &mut [f64]) {
         let data = as_uninit(data);
-        if tool_frame {
-            jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, None);
-        } else {
-            jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, None);
-        }
+        match (layout, tool_frame) {
+            (Layout::ColumnMajor, false) => jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, None),
+            (Layout::ColumnMajor, true) => jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, None),
+            (Layout::RowMajor, false) => jacobian_core::<P4, ROW_MAJOR, false>(self, q, data, None),
+            (Layout::RowMajor, true) => jacobian_core::<P4, ROW_MAJOR, true>(self, q, data, None),
+        };
     }
 
     /// Walks the chain: `axis(i, f)` sees the frame whose z axis (times
@@ -763,7 +764,8 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
 ) -> Scanned {
     let n = ch.n;
     // First pass: each joint's axis origin and direction (unsigned), for the
-    // padding joints too (written, never read), so the walk has no branch.
+    // padding joints too, so the walk has no branch (a padding joint's axis
+    // is read only to fill the unused lanes of a short last block).
     let mut axes = [MaybeUninit::<[[f64; 4]; 2]>::uninit(); MAX_PADDED];
     let (t, scanned) = ch.walk::<V>(
         q,
@@ -808,7 +810,8 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
             V::transpose([V::from_array(o0), V::from_array(o1), V::from_array(o2), V::from_array(o3)]);
         let [zx, zy, zz, _] =
             V::transpose([V::from_array(z0), V::from_array(z1), V::from_array(z2), V::from_array(z3)]);
-        // SAFETY: `axis_sign` and `slides` have the padded length (above).
+        // SAFETY: `axis_sign` and `slides` have the padded length (see the
+        // fields), and c0 + 3 is below it (above).
         let (sign, slide) = unsafe {
             (V::from_array(*ch.axis_sign.as_ptr().add(c0).cast()), V::from_array(*ch.slides.as_ptr().add(c0).cast()))
         };
@@ -840,8 +843,8 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
                 // at r·n + c0 are within it. (Checked slicing here was a
                 // tenth of the whole Jacobian's instructions.)
                 let at = unsafe { std::slice::from_raw_parts_mut(base.add(r * n + c0), cols) };
-                // Rust loop, 2026-11-24 (iiwa, panda): 77-80 ns with a masked
-                // last block, 68-70 ns this way. From Python no difference
+                // Rust loop, 2026-11-24 (iiwa, panda, ur5): 76-80 ns with a masked
+                // last block, 67-70 ns this way. From Python no difference
                 // beyond the ±10 ns of code placement (benchmarks/README.md).
                 if whole {
                     row.store_prefix(at);
@@ -1049,10 +1052,12 @@ mod tests {
             let (p1, p2) = (chain.fk(q).0, chain.fk_portable(q));
             assert!((p1.pos - p2.pos).norm() < tol && (p1.rot - p2.rot).norm() < tol, "{what}");
             for tool in [false, true] {
-                chain.jacobian(q, tool, Layout::ColumnMajor, super::as_uninit(&mut a), None);
-                chain.jacobian_portable(q, tool, &mut b);
-                let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-                assert!(diff < tol, "{what}: {diff}");
+                for layout in [Layout::ColumnMajor, Layout::RowMajor] {
+                    chain.jacobian(q, tool, layout, super::as_uninit(&mut a), None);
+                    chain.jacobian_portable(q, tool, layout, &mut b);
+                    let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                    assert!(diff < tol, "{what} {layout:?}: {diff}");
+                }
             }
         };
         for name in crate::builtin_names() {
