@@ -388,9 +388,12 @@ impl Chain {
             flip: [0.0; BLOCK],
         };
         let mut blocks = vec![empty; steps.len() / BLOCK];
+        let (mut axis_sign, mut slides) = (vec![0.0; steps.len()], vec![MASK_FALSE; steps.len()]);
         for (i, (&(_, sign, offset), j)) in compiled.iter().zip(joints).enumerate() {
             let (b, k) = (&mut blocks[i / BLOCK], i % BLOCK);
             (b.sign[k], b.offset[k], b.min[k], b.max[k]) = (sign, offset, j.limits.min, j.limits.max);
+            axis_sign[i] = sign;
+            slides[i] = if j.kind == JointType::Prismatic { MASK_TRUE } else { MASK_FALSE };
             let tw = &rows[i].twist;
             b.flip[k] = match steps[i].kind {
                 StepKind::Standard => tw.turned(),
@@ -400,11 +403,6 @@ impl Chain {
             };
         }
         let col = |j: usize| [base.rot[(0, j)], base.rot[(1, j)], base.rot[(2, j)], 0.0];
-        let axis_sign = blocks.iter().flat_map(|b| b.sign).collect();
-        let mut slides = vec![MASK_FALSE; steps.len()];
-        for (s, j) in slides.iter_mut().zip(joints) {
-            *s = if j.kind == JointType::Prismatic { MASK_TRUE } else { MASK_FALSE };
-        }
         Chain {
             start: [col(0), col(1), col(2), [base.pos.x, base.pos.y, base.pos.z, 0.0]],
             n: joints.len(),
@@ -494,6 +492,20 @@ impl Chain {
                 }
             };
         }
+        self.jacobian_portable(q, tool_frame, layout, data, pose)
+    }
+
+    /// [`Chain::jacobian`] on the portable code path, whatever the CPU (also
+    /// for tests that compare paths).
+    #[inline]
+    fn jacobian_portable(
+        &self,
+        q: &[f64],
+        tool_frame: bool,
+        layout: Layout,
+        data: &mut [MaybeUninit<f64>],
+        pose: Option<&mut Pose>,
+    ) -> Scanned {
         match (layout, tool_frame) {
             (Layout::ColumnMajor, false) => jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, pose),
             (Layout::ColumnMajor, true) => jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, pose),
@@ -506,17 +518,6 @@ impl Chain {
     #[cfg(test)]
     fn fk_portable(&self, q: &[f64]) -> Pose {
         fk_core::<P4>(self, q).0
-    }
-
-    #[cfg(test)]
-    fn jacobian_portable(&self, q: &[f64], tool_frame: bool, layout: Layout, data: &mut [f64]) {
-        let data = as_uninit(data);
-        match (layout, tool_frame) {
-            (Layout::ColumnMajor, false) => jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, None),
-            (Layout::ColumnMajor, true) => jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, None),
-            (Layout::RowMajor, false) => jacobian_core::<P4, ROW_MAJOR, false>(self, q, data, None),
-            (Layout::RowMajor, true) => jacobian_core::<P4, ROW_MAJOR, true>(self, q, data, None),
-        };
     }
 
     /// Walks the chain: `axis(i, f)` sees the frame whose z axis (times
@@ -1054,7 +1055,7 @@ mod tests {
             for tool in [false, true] {
                 for layout in [Layout::ColumnMajor, Layout::RowMajor] {
                     chain.jacobian(q, tool, layout, super::as_uninit(&mut a), None);
-                    chain.jacobian_portable(q, tool, layout, &mut b);
+                    chain.jacobian_portable(q, tool, layout, super::as_uninit(&mut b), None);
                     let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
                     assert!(diff < tol, "{what} {layout:?}: {diff}");
                 }
