@@ -142,9 +142,9 @@ enum Shape {
     Mixed,
 }
 
-const SHAPE_STANDARD: u8 = 0;
-const SHAPE_MODIFIED: u8 = 1;
-const SHAPE_MIXED: u8 = 2;
+const SHAPE_STANDARD: u8 = Shape::Standard as u8;
+const SHAPE_MODIFIED: u8 = Shape::Modified as u8;
+const SHAPE_MIXED: u8 = Shape::Mixed as u8;
 
 /// An exact twist (0, ±90°, 180°) as lane masks, applied without a branch or
 /// a multiplication: y ← select(swap, z, y) ^ sy, z ← select(swap, y, z) ^ sz,
@@ -264,6 +264,8 @@ pub(crate) struct Scanned {
 /// exactly the identity). The loops then always run over whole blocks of
 /// eight joints: fully unrolled, without an exit after each joint, whose
 /// merge points made the register allocator keep the frame on the stack.
+/// Chains of [`EXACT`] joints also have walks of their own length, which
+/// skip the padding joints (see [`by_length`]).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Chain {
     /// `world_from_base` as columns x, y, z, p (lane 3 zero).
@@ -295,6 +297,73 @@ pub(crate) struct Chain {
 const BLOCK: usize = 8;
 /// Joints of the longest padded chain.
 const MAX_PADDED: usize = crate::model::MAX_JOINTS.div_ceil(BLOCK) * BLOCK;
+
+/// The joint counts whose hot loops are also compiled for exactly that many
+/// joints ([`by_length`]): those of the built-in robots, and of most arms
+/// (5, 6 and 7 axes).
+pub(crate) const EXACT: [usize; 3] = [5, 6, 7];
+
+/// Evaluates `$body` with the constant `$N` set to the chain's joint count
+/// `$n` when that is one of [`EXACT`], else to 0 (the padded walk), and
+/// `$CAP` to the Jacobian's axis buffer for that walk ([`BLOCK`] joints, or
+/// [`MAX_PADDED`] for the padded walk).
+///
+/// Why (benchmarks/README.md, "Exact-length walks, one function per
+/// shape"): a 7-joint chain walked as an 8-joint block pays a whole step for
+/// its padding joint, about 50 instructions; the padded Jacobian's 4 KB axis
+/// buffer makes a stack frame over a page, probed on every call; and with n
+/// a constant the Jacobian's second pass has no loop and no bounds left.
+///
+/// Comparisons, not a `match`: a `match` of four arms or more can become a
+/// jump table (ARCHITECTURE.md, "The hot loops").
+macro_rules! by_length {
+    ($n:expr, |$N:ident, $CAP:ident| $body:expr) => {{
+        let n: usize = $n;
+        if n == EXACT[2] {
+            const $N: usize = EXACT[2];
+            const $CAP: usize = BLOCK;
+            $body
+        } else if n == EXACT[1] {
+            const $N: usize = EXACT[1];
+            const $CAP: usize = BLOCK;
+            $body
+        } else if n == EXACT[0] {
+            const $N: usize = EXACT[0];
+            const $CAP: usize = BLOCK;
+            $body
+        } else {
+            const $N: usize = 0;
+            const $CAP: usize = MAX_PADDED;
+            $body
+        }
+    }};
+}
+
+/// Evaluates `$body` with the constant `$S` set to the chain's [`Shape`]
+/// (`SHAPE_*`), so that each kernel is compiled once per shape and a call
+/// runs one straight-line function with no branch on the shape. With the
+/// three walks in one function, the taken jumps between its distant parts
+/// cost from Python, where each call starts with the branch predictors and
+/// instruction caches holding the interpreter's code: the panda's jacob0
+/// (modified DH, the second shape) cost 13 ns more than the iiwa's.
+macro_rules! by_shape {
+    ($shape:expr, |$S:ident| $body:expr) => {{
+        match $shape {
+            Shape::Standard => {
+                const $S: u8 = SHAPE_STANDARD;
+                $body
+            }
+            Shape::Modified => {
+                const $S: u8 = SHAPE_MODIFIED;
+                $body
+            }
+            Shape::Mixed => {
+                const $S: u8 = SHAPE_MIXED;
+                $body
+            }
+        }
+    }};
+}
 
 /// Compiles one joint into a [`Step`] with its axis sign and offset.
 fn compile_joint(j: &Joint) -> ((Step, DhRow), f64, f64) {
@@ -433,27 +502,29 @@ impl Chain {
 
     /// `base_from_tool` for `q` of length n, and what the walk found about
     /// `q` (the pose is meaningless if a value is not finite).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn fk(&self, q: &[f64]) -> (Pose, Scanned) {
         #[cfg(target_arch = "x86_64")]
         if has_avx2_fma() {
             // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return unsafe { fk_avx2(self, q) };
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| unsafe { fk_avx2::<S, N>(self, q) }));
         }
-        fk_core::<P4>(self, q)
+        by_shape!(self.shape, |S| fk_core::<P4, S, 0>(self, q))
     }
 
     /// `base_from_tool` as the rows of its 4 × 4 homogeneous matrix, written
     /// into `out` (nothing is written when a value of `q` is not finite),
     /// and what the walk found about `q`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn fk_rows(&self, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
         #[cfg(target_arch = "x86_64")]
         if has_avx2_fma() {
             // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return unsafe { fk_rows_avx2(self, q, out) };
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| unsafe {
+                fk_rows_avx2::<S, N>(self, q, out)
+            }));
         }
-        fk_rows_core::<P4>(self, q, out)
+        by_shape!(self.shape, |S| fk_rows_core::<P4, S, 0>(self, q, out))
     }
 
     /// Link frames `out[1..=n]` and the tool frame `out[n + 1]`; `out` has n + 2 entries.
@@ -461,9 +532,11 @@ impl Chain {
         #[cfg(target_arch = "x86_64")]
         if has_avx2_fma() {
             // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return unsafe { link_frames_avx2(self, q, out) };
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| unsafe {
+                link_frames_avx2::<S, N>(self, q, out)
+            }));
         }
-        link_frames_core::<P4>(self, q, out)
+        by_shape!(self.shape, |S| link_frames_core::<P4, S, 0>(self, q, out))
     }
 
     /// Geometric Jacobian into the 6 × n storage `data` (`layout`, at least
@@ -471,7 +544,7 @@ impl Chain {
     /// and `base_from_tool` into `pose` when one is given; returns what the
     /// walk found about `q`. Nothing is written when a value of `q` is not
     /// finite.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn jacobian(
         &self,
         q: &[f64],
@@ -483,20 +556,23 @@ impl Chain {
         #[cfg(target_arch = "x86_64")]
         if has_avx2_fma() {
             // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return unsafe {
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, CAP| unsafe {
                 match (layout, tool_frame) {
-                    (Layout::ColumnMajor, false) => jacobian_avx2::<COLUMN_MAJOR, false>(self, q, data, pose),
-                    (Layout::ColumnMajor, true) => jacobian_avx2::<COLUMN_MAJOR, true>(self, q, data, pose),
-                    (Layout::RowMajor, false) => jacobian_avx2::<ROW_MAJOR, false>(self, q, data, pose),
-                    (Layout::RowMajor, true) => jacobian_avx2::<ROW_MAJOR, true>(self, q, data, pose),
+                    (Layout::ColumnMajor, false) => {
+                        jacobian_avx2::<COLUMN_MAJOR, false, S, N, CAP>(self, q, data, pose)
+                    }
+                    (Layout::ColumnMajor, true) => jacobian_avx2::<COLUMN_MAJOR, true, S, N, CAP>(self, q, data, pose),
+                    (Layout::RowMajor, false) => jacobian_avx2::<ROW_MAJOR, false, S, N, CAP>(self, q, data, pose),
+                    (Layout::RowMajor, true) => jacobian_avx2::<ROW_MAJOR, true, S, N, CAP>(self, q, data, pose),
                 }
-            };
+            }));
         }
         self.jacobian_portable(q, tool_frame, layout, data, pose)
     }
 
     /// [`Chain::jacobian`] on the portable code path, whatever the CPU (also
-    /// for tests that compare paths).
+    /// for tests that compare paths). It walks the padded chain whatever its
+    /// length: compiled for every CPU, its code is kept small.
     #[inline]
     fn jacobian_portable(
         &self,
@@ -506,51 +582,48 @@ impl Chain {
         data: &mut [MaybeUninit<f64>],
         pose: Option<&mut Pose>,
     ) -> Scanned {
-        match (layout, tool_frame) {
-            (Layout::ColumnMajor, false) => jacobian_core::<P4, COLUMN_MAJOR, false>(self, q, data, pose),
-            (Layout::ColumnMajor, true) => jacobian_core::<P4, COLUMN_MAJOR, true>(self, q, data, pose),
-            (Layout::RowMajor, false) => jacobian_core::<P4, ROW_MAJOR, false>(self, q, data, pose),
-            (Layout::RowMajor, true) => jacobian_core::<P4, ROW_MAJOR, true>(self, q, data, pose),
-        }
+        by_shape!(self.shape, |S| match (layout, tool_frame) {
+            (Layout::ColumnMajor, false) =>
+                jacobian_core::<P4, COLUMN_MAJOR, false, S, 0, MAX_PADDED>(self, q, data, pose),
+            (Layout::ColumnMajor, true) =>
+                jacobian_core::<P4, COLUMN_MAJOR, true, S, 0, MAX_PADDED>(self, q, data, pose),
+            (Layout::RowMajor, false) => jacobian_core::<P4, ROW_MAJOR, false, S, 0, MAX_PADDED>(self, q, data, pose),
+            (Layout::RowMajor, true) => jacobian_core::<P4, ROW_MAJOR, true, S, 0, MAX_PADDED>(self, q, data, pose),
+        })
     }
 
     /// The portable code path, whatever the CPU (for tests that compare paths).
     #[cfg(test)]
     fn fk_portable(&self, q: &[f64]) -> Pose {
-        fk_core::<P4>(self, q).0
+        by_shape!(self.shape, |S| fk_core::<P4, S, 0>(self, q).0)
     }
 
     /// Walks the chain: `axis(i, f)` sees the frame whose z axis (times
     /// `steps[i].sign`) is joint i's axis, `link(i, f)` the frame of link i.
-    /// Both are also called for the padding joints (i ≥ n). `q` must have n
-    /// values. Returns `base_from_tool` and what was found about `q`.
+    /// With `N` = 0 the whole padded chain is walked and both are also called
+    /// for the padding joints (i ≥ n); otherwise `N` must be n (one of
+    /// [`EXACT`]) and only the n joints are walked. `q` must have n values.
+    /// Returns `base_from_tool` and what was found about `q`.
+    ///
+    /// The chain is of shape `SHAPE` (the kernels are compiled per shape,
+    /// see [`by_shape`]): for the uniform shapes the kind of every joint is
+    /// known here and the loop body has no branch.
     #[inline(always)]
-    fn walk<V: Lanes>(
-        &self,
-        q: &[f64],
-        axis: impl FnMut(usize, &Xf<V>),
-        link: impl FnMut(usize, &Xf<V>),
-    ) -> (Xf<V>, Scanned) {
-        match self.shape {
-            Shape::Standard => self.walk_as::<V, SHAPE_STANDARD>(q, axis, link),
-            Shape::Modified => self.walk_as::<V, SHAPE_MODIFIED>(q, axis, link),
-            Shape::Mixed => self.walk_as::<V, SHAPE_MIXED>(q, axis, link),
-        }
-    }
-
-    /// [`Chain::walk`] for a chain of shape `SHAPE`: for the uniform shapes
-    /// the kind of every joint is known here and the loop body has no branch.
-    #[inline(always)]
-    fn walk_as<V: Lanes, const SHAPE: u8>(
+    fn walk<V: Lanes, const SHAPE: u8, const N: usize>(
         &self,
         q: &[f64],
         mut axis: impl FnMut(usize, &Xf<V>),
         mut link: impl FnMut(usize, &Xf<V>),
     ) -> (Xf<V>, Scanned) {
+        debug_assert_eq!(SHAPE, self.shape as u8);
         let [x, y, z, p] = self.start;
         let mut scanned = Scanned { finite: true, outside: 0 };
         let mut t = Xf { x: V::from_array(x), y: V::from_array(y), z: V::from_array(z), p: V::from_array(p) };
-        for (b, block) in self.blocks.iter().enumerate() {
+        const { assert!(N <= BLOCK) };
+        debug_assert!(N == 0 || N == self.n);
+        // An exact-length walk: the first block's first N joints, the only real ones.
+        let (blocks, per_block) = if N == 0 { (&self.blocks[..], BLOCK) } else { (&self.blocks[..1], N) };
+        for (b, block) in blocks.iter().enumerate() {
             let start = b * BLOCK;
             // Indexed, not zipped: the bounds of four zipped sequences cost
             // some forty instructions per call.
@@ -563,7 +636,7 @@ impl Chain {
             let Angles { th, s, c, sf, cf, finite, outside } = block.angles::<V>(qs);
             scanned.finite &= finite;
             scanned.outside |= u64::from(outside) << (b * BLOCK);
-            for k in 0..BLOCK {
+            for k in 0..per_block {
                 let (i, step, row) = (b * BLOCK + k, &steps[k], &rows[k]);
                 let kind = match SHAPE {
                     SHAPE_STANDARD => StepKind::Standard,
@@ -707,8 +780,8 @@ fn out_of_kernel_range(th: &[f64; 8], s: &mut [f64; 8], c: &mut [f64; 8]) {
 }
 
 #[inline(always)]
-fn fk_core<V: Lanes>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
-    let (t, scanned) = ch.walk::<V>(q, |_, _| {}, |_, _| {});
+fn fk_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
+    let (t, scanned) = ch.walk::<V, S, N>(q, |_, _| {}, |_, _| {});
     (t.pose(), scanned)
 }
 
@@ -716,8 +789,12 @@ fn fk_core<V: Lanes>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
 /// transpose of the columns (x, y, z, p) is the three upper rows (lane 3 of
 /// every column is zero), and the last row is (0, 0, 0, 1).
 #[inline(always)]
-fn fk_rows_core<V: Lanes>(ch: &Chain, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
-    let (t, scanned) = ch.walk::<V>(q, |_, _| {}, |_, _| {});
+fn fk_rows_core<V: Lanes, const S: u8, const N: usize>(
+    ch: &Chain,
+    q: &[f64],
+    out: &mut [MaybeUninit<f64>; 16],
+) -> Scanned {
+    let (t, scanned) = ch.walk::<V, S, N>(q, |_, _| {}, |_, _| {});
     if scanned.finite {
         let [r0, r1, r2, _] = V::transpose([t.x, t.y, t.z, t.p]);
         let (head, tail) = out.split_at_mut(8);
@@ -730,9 +807,9 @@ fn fk_rows_core<V: Lanes>(ch: &Chain, q: &[f64], out: &mut [MaybeUninit<f64>; 16
 }
 
 #[inline(always)]
-fn link_frames_core<V: Lanes>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
+fn link_frames_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
     let n = ch.n;
-    let (t, _) = ch.walk::<V>(
+    let (t, _) = ch.walk::<V, S, N>(
         q,
         |_, _| {},
         |i, f| {
@@ -756,19 +833,25 @@ pub(crate) enum Layout {
 const COLUMN_MAJOR: bool = false;
 const ROW_MAJOR: bool = true;
 
+/// The Jacobian for the walk `N` (see [`Chain::walk`]), with room for `CAP`
+/// joints' axes: [`MAX_PADDED`] for the padded walk, [`BLOCK`] for an exact one.
 #[inline(always)]
-fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
+fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool, const S: u8, const N: usize, const CAP: usize>(
     ch: &Chain,
     q: &[f64],
     data: &mut [MaybeUninit<f64>],
     pose: Option<&mut Pose>,
 ) -> Scanned {
-    let n = ch.n;
+    // With an exact walk, n is a constant: the second pass's block bounds,
+    // row offsets and store widths are then all known at compile time.
+    let n = if N > 0 { N } else { ch.n };
+    const { assert!(CAP % BLOCK == 0 && (N == 0 && CAP == MAX_PADDED || N > 0 && CAP == BLOCK)) };
     // First pass: each joint's axis origin and direction (unsigned), for the
-    // padding joints too, so the walk has no branch (a padding joint's axis
-    // is read only to fill the unused lanes of a short last block).
-    let mut axes = [MaybeUninit::<[[f64; 4]; 2]>::uninit(); MAX_PADDED];
-    let (t, scanned) = ch.walk::<V>(
+    // padding joints too in a padded walk, so the walk has no branch (a
+    // padding joint's axis is read only to fill the unused lanes of a short
+    // last block).
+    let mut axes = [MaybeUninit::<[[f64; 4]; 2]>::uninit(); CAP];
+    let (t, scanned) = ch.walk::<V, S, N>(
         q,
         |i, f| {
             axes[i].write([f.p.to_array(), f.z.to_array()]);
@@ -780,6 +863,14 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
     }
     if let Some(pose) = pose {
         *pose = t.pose();
+    }
+    let whole = ROWS && n >= 4;
+    if N > 0 && !whole {
+        // An exact walk wrote axes 0..N only; the short last block's unused
+        // lanes read up to 4·⌈N/4⌉ (N < CAP = BLOCK). Any values do there.
+        for a in &mut axes[N..N.div_ceil(4) * 4] {
+            a.write([t.p.to_array(), t.z.to_array()]);
+        }
     }
     // Second pass, four joints at a time with one joint per lane: the six
     // rows of their columns are then six lane vectors. Per value, the same
@@ -797,12 +888,12 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool>(
     // masked 256-bit store costs ~7 cycles of throughput. Column-major, each
     // column is two stores of its own, and an overlapping block would only
     // add stores (Criterion: ~7 ns slower).
-    let whole = ROWS && n >= 4;
     for b in 0..n.div_ceil(4) {
         let c0 = if whole { (4 * b).min(n - 4) } else { 4 * b };
         let cols = if whole { 4 } else { (n - c0).min(4) };
-        // SAFETY: the walk wrote `axes[i]` for every i below the padded
-        // length, a multiple of 8, and c0 + 3 < 4·⌈n/4⌉ ≤ that length.
+        // SAFETY: the padded walk wrote `axes[i]` for every i below the
+        // padded length, a multiple of 8; an exact walk, with the loop above,
+        // every i below 4·⌈n/4⌉ (n < 8); and c0 + 3 < 4·⌈n/4⌉.
         let ax: [[[f64; 4]; 2]; 4] = std::array::from_fn(|k| unsafe { axes[c0 + k].assume_init() });
         let lane = |k: usize, j: usize| ax[k][j];
         let four = |j: usize| [lane(0, j), lane(1, j), lane(2, j), lane(3, j)];
@@ -874,31 +965,35 @@ fn has_avx2_fma() -> bool {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn fk_avx2(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
-    fk_core::<A4>(ch, q)
+unsafe fn fk_avx2<const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
+    fk_core::<A4, S, N>(ch, q)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn fk_rows_avx2(ch: &Chain, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
-    fk_rows_core::<A4>(ch, q, out)
+unsafe fn fk_rows_avx2<const S: u8, const N: usize>(
+    ch: &Chain,
+    q: &[f64],
+    out: &mut [MaybeUninit<f64>; 16],
+) -> Scanned {
+    fk_rows_core::<A4, S, N>(ch, q, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn link_frames_avx2(ch: &Chain, q: &[f64], out: &mut [Pose]) {
-    link_frames_core::<A4>(ch, q, out)
+unsafe fn link_frames_avx2<const S: u8, const N: usize>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
+    link_frames_core::<A4, S, N>(ch, q, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn jacobian_avx2<const ROWS: bool, const TOOL: bool>(
+unsafe fn jacobian_avx2<const ROWS: bool, const TOOL: bool, const S: u8, const N: usize, const CAP: usize>(
     ch: &Chain,
     q: &[f64],
     data: &mut [MaybeUninit<f64>],
     pose: Option<&mut Pose>,
 ) -> Scanned {
-    jacobian_core::<A4, ROWS, TOOL>(ch, q, data, pose)
+    jacobian_core::<A4, ROWS, TOOL, S, N, CAP>(ch, q, data, pose)
 }
 
 /// `a·b + c`, plain on the portable path, fused where the CPU has FMA.
@@ -1100,6 +1195,40 @@ mod tests {
         for _ in 0..200 {
             let q: Vec<f64> = kinds.iter().map(|_| rng.random_range(-PI..PI)).collect();
             check(&all, &q, "all kinds");
+        }
+        // Every length around the exact-length walks (`EXACT`), in each shape:
+        // the dispatched path walks 5, 6 and 7 joints exactly, the portable
+        // one the padded block.
+        let exact_revolute = |convention: DhConvention| -> Vec<Joint> {
+            let exact = |alpha: f64| [0.0, FRAC_PI_2, -FRAC_PI_2, PI].contains(&alpha);
+            kinds
+                .iter()
+                .filter(|j| {
+                    let LinkGeometry::Dh { convention: c, alpha, .. } = j.geometry else { return false };
+                    j.kind == JointType::Revolute && c == convention && exact(alpha)
+                })
+                .cloned()
+                .collect()
+        };
+        let pools = [
+            (exact_revolute(DhConvention::Standard), Some(super::Shape::Standard)),
+            (exact_revolute(DhConvention::Modified), Some(super::Shape::Modified)),
+            (kinds.clone(), None),
+        ];
+        for len in 1..=9 {
+            for (pool, shape) in &pools {
+                for round in 0..20 {
+                    let joints: Vec<Joint> = (0..len).map(|_| pool[rng.random_range(0..pool.len())].clone()).collect();
+                    let chain = Chain::new(&joints, &base, &Pose::rot_z(0.2));
+                    if let Some(shape) = shape {
+                        assert_eq!(chain.shape, *shape, "{len} joints");
+                    }
+                    for _ in 0..10 {
+                        let q: Vec<f64> = (0..len).map(|_| rng.random_range(-PI..PI)).collect();
+                        check(&chain, &q, &format!("{len} joints, {shape:?}, round {round}"));
+                    }
+                }
+            }
         }
     }
 }
