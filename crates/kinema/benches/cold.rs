@@ -115,6 +115,9 @@ mod cold {
     /// the calls' trimmed mean less the empty calls' trimmed mean.
     fn one_at_a_time(iters: u64, cold: bool, per_ns: f64, mut call: impl FnMut(usize)) -> Duration {
         let iters = iters as usize;
+        if iters == 0 {
+            return Duration::ZERO;
+        }
         let (mut empty, mut full) = (Vec::with_capacity(iters), Vec::with_capacity(iters));
         for i in 0..iters {
             if cold {
