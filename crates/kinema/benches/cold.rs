@@ -141,11 +141,8 @@ mod cold {
             let chain = k_chain(&robot);
             cross_check(&robot, &chain);
             let n = robot.dof();
-            let qs = configs(&robot, 0x5EED_0002, N_CONFIGS);
-            let q_at = |i: usize| {
-                let i = i & (N_CONFIGS - 1);
-                black_box(&qs[i * n..(i + 1) * n])
-            };
+            let cycle = Cycle::new(&robot, 0x5EED_0002);
+            let q_at = |i: usize| black_box(cycle.at(i));
             let mut pose = [0.0; 16];
             let mut rows = vec![0.0; 6 * n];
 
@@ -191,11 +188,7 @@ mod cold {
 
 #[cfg(target_arch = "x86_64")]
 fn main() {
-    let mut c = criterion::Criterion::default()
-        .sample_size(50)
-        .warm_up_time(std::time::Duration::from_secs(1))
-        .measurement_time(std::time::Duration::from_secs(2))
-        .configure_from_args();
+    let mut c = common::per_call_criterion().configure_from_args();
     cold::benches(&mut c);
     c.final_summary();
 }

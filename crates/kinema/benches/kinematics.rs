@@ -40,7 +40,6 @@
 //! test mode), including the cross-checks.
 
 use std::hint::black_box;
-use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use kinema::nalgebra::Matrix6xX;
@@ -71,15 +70,8 @@ fn kinematics(c: &mut Criterion) {
     for (robot, chain) in robots.iter().zip(&chains) {
         let name = robot.name();
         let n = robot.dof();
-        let qs = configs(robot, 0x5EED_0001, N_CONFIGS);
-        for q in qs.chunks_exact(n) {
-            robot.check_q(q).expect("random configurations are valid");
-        }
-        // The i-th configuration, i taken modulo N_CONFIGS.
-        let q_at = |i: usize| {
-            let i = i & (N_CONFIGS - 1);
-            &qs[i * n..(i + 1) * n]
-        };
+        let cycle = Cycle::new(robot, 0x5EED_0001);
+        let q_at = |i: usize| cycle.at(i);
 
         {
             let mut g = c.benchmark_group("fk");
@@ -148,13 +140,9 @@ fn kinematics(c: &mut Criterion) {
     }
 }
 
-fn config() -> Criterion {
-    Criterion::default().sample_size(50).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2))
-}
-
 criterion_group! {
     name = benches;
-    config = config();
+    config = per_call_criterion();
     targets = kinematics
 }
 criterion_main!(benches);

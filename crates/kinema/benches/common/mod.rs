@@ -17,6 +17,40 @@ pub const TOL: f64 = 1e-9;
 
 pub type Iso = kna::Isometry3<f64>;
 
+/// `N_CONFIGS` seeded random configurations (within the limits, each checked
+/// valid), taken in turn so that branch predictors cannot learn one input.
+pub struct Cycle {
+    qs: Vec<f64>,
+    n: usize,
+}
+
+impl Cycle {
+    pub fn new(robot: &Robot, seed: u64) -> Self {
+        let n = robot.dof();
+        let qs = configs(robot, seed, N_CONFIGS);
+        for q in qs.chunks_exact(n) {
+            robot.check_q(q).expect("random configurations are valid");
+        }
+        Cycle { qs, n }
+    }
+
+    /// The i-th configuration, i taken modulo `N_CONFIGS`.
+    #[inline(always)]
+    pub fn at(&self, i: usize) -> &[f64] {
+        let i = i & (N_CONFIGS - 1);
+        &self.qs[i * self.n..(i + 1) * self.n]
+    }
+}
+
+/// Criterion's settings for the per-call benchmarks (`kinematics`, `cold`):
+/// calls of tens of nanoseconds need no long measurement.
+pub fn per_call_criterion() -> criterion::Criterion {
+    criterion::Criterion::default()
+        .sample_size(50)
+        .warm_up_time(std::time::Duration::from_secs(1))
+        .measurement_time(std::time::Duration::from_secs(2))
+}
+
 /// `N_CONFIGS` random configurations, one after another (`N_CONFIGS × dof`).
 pub fn configs(robot: &Robot, seed: u64, count: usize) -> Vec<f64> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
