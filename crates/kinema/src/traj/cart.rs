@@ -24,6 +24,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::law::{MotionLimits, Profile, TimeLaw};
+use super::MAX_SAMPLES;
 use crate::error::{Error, Result};
 use crate::math::{axis_angle_to_rot, rot_to_axis_angle, rot_x, rot_y, rot_z, rpy_to_rot, Pose, RpyConvention};
 
@@ -569,20 +570,22 @@ impl CartesianMotion {
         let mut out = vec![0.0];
         let n = 20_000usize;
         let mut last = self.at(0.0).pose;
-        let mut prev_t = 0.0;
+        let far = |q: &Pose, last: &Pose| {
+            (q.pos - last.pos).norm() > max_step
+                || rot_to_axis_angle(&(q.rot * last.rot.transpose())).norm() > max_angle
+        };
+        // A time whose pose is within reach of `last`: where the bisections start.
+        let mut within = 0.0;
         for k in 1..=n {
             let t = self.duration * k as f64 / n as f64;
-            let p = self.at(t).pose;
-            let far = |q: &Pose| {
-                (q.pos - last.pos).norm() > max_step
-                    || rot_to_axis_angle(&(q.rot * last.rot.transpose())).norm() > max_angle
-            };
-            if far(&p) {
-                // The last time still within reach, by bisection between prev_t and t.
-                let (mut lo, mut hi) = (prev_t, t);
+            // One coarse step may span several max_steps (a long path, a small step):
+            // as many samples as it needs, each the last time within reach of the one
+            // before, found by bisection between `within` and t.
+            while far(&self.at(t).pose, &last) {
+                let (mut lo, mut hi) = (within, t);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
-                    if far(&self.at(mid).pose) {
+                    if far(&self.at(mid).pose, &last) {
                         hi = mid;
                     } else {
                         lo = mid;
@@ -591,10 +594,19 @@ impl CartesianMotion {
                 if lo <= *out.last().expect("non-empty") {
                     return Err(bad("max_step", format!("{max_step} m is below the sampling resolution of this path")));
                 }
+                if out.len() >= MAX_SAMPLES {
+                    return Err(bad(
+                        "max_step",
+                        format!(
+                            "{max_step} m / {max_angle} rad would split this path into more than {MAX_SAMPLES} samples"
+                        ),
+                    ));
+                }
                 out.push(lo);
                 last = self.at(lo).pose;
+                within = lo;
             }
-            prev_t = t;
+            within = t;
         }
         if self.duration > *out.last().expect("non-empty") {
             out.push(self.duration);

@@ -232,7 +232,13 @@ impl Ptp {
     }
 }
 
-/// 0, dt, 2·dt, … and the end time `duration` itself.
+/// The most samples one trajectory may have: 10⁷, 2.8 hours at 1 kHz. A 7-joint
+/// trajectory of that length holds 1.8 GB (t, q, q̇, q̈), its planned poses another
+/// 1.3 GB; more is refused with an error rather than left to exhaust the memory.
+pub const MAX_SAMPLES: usize = 10_000_000;
+
+/// 0, dt, 2·dt, … and the end time `duration` itself: `dt` \[s\] must be positive
+/// and give at most [`MAX_SAMPLES`] samples over `duration` \[s\].
 pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(Error::InvalidArgument {
@@ -240,11 +246,17 @@ pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
             message: format!("{dt} s must be a positive time step"),
         });
     }
+    if !(duration.is_finite() && duration >= 0.0) {
+        return Err(Error::InvalidArgument {
+            what: "duration".into(),
+            message: format!("{duration} s must be a finite, non-negative time"),
+        });
+    }
     let steps = (duration / dt).floor();
-    if steps > 1e8 {
+    if steps + 2.0 > MAX_SAMPLES as f64 {
         return Err(Error::InvalidArgument {
             what: "dt".into(),
-            message: format!("{dt} s over {duration} s would give {steps:.0} samples (more than 10⁸)"),
+            message: format!("{dt} s over {duration} s would give {steps:.0} samples (more than {MAX_SAMPLES})"),
         });
     }
     let mut out: Vec<f64> = (0..=steps as usize).map(|k| k as f64 * dt).collect();
@@ -615,6 +627,49 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sample_times_step_by_dt_end_at_the_duration_and_refuse_what_cannot_be_held() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(61);
+        for _ in 0..2000 {
+            let duration = rng.random_range(0.0..20.0);
+            let dt = 10f64.powf(rng.random_range(-3.0..0.5));
+            let t = sample_times(duration, dt).unwrap();
+            assert_eq!(t[0], 0.0);
+            assert_eq!(*t.last().unwrap(), duration);
+            assert!(t.len() <= MAX_SAMPLES);
+            // Every step is dt but the last, which is (0, dt] (a few ulp over dt at most).
+            for w in t[..t.len() - 1].windows(2) {
+                assert!((w[1] - w[0] - dt).abs() <= 1e-12 * duration.max(1.0), "{duration} {dt} {w:?}");
+            }
+            if t.len() > 1 {
+                let last = t[t.len() - 1] - t[t.len() - 2];
+                assert!(last > 0.0 && last <= dt * (1.0 + 1e-9) + 1e-12 * duration.max(1.0), "{duration} {dt} {last}");
+            }
+        }
+        // Right at the limit, and one sample over it.
+        let dt = 1e-3;
+        let most = (MAX_SAMPLES as f64 - 1.5) * dt;
+        assert_eq!(sample_times(most, dt).unwrap().len(), MAX_SAMPLES);
+        let e = sample_times(most + dt, dt).unwrap_err().to_string();
+        assert!(e.contains("more than 10000000"), "{e}");
+        for (duration, dt, what) in [
+            (1.0, 0.0, "dt"),
+            (1.0, -0.1, "dt"),
+            (1.0, f64::NAN, "dt"),
+            (1.0, f64::INFINITY, "dt"),
+            (f64::NAN, 0.1, "duration"),
+            (f64::INFINITY, 0.1, "duration"),
+            (-1.0, 0.1, "duration"),
+            (1e300, 1e-300, "dt"),
+        ] {
+            match sample_times(duration, dt) {
+                Err(Error::InvalidArgument { what: w, .. }) => assert_eq!(w, what, "{duration} {dt}"),
+                other => panic!("{duration} s / {dt} s: {other:?}"),
+            }
+        }
+    }
 
     #[test]
     fn violation_names_are_the_lower_case_kinds() {
