@@ -1105,7 +1105,7 @@ impl<'a> Compiler<'a> {
     fn hold(&mut self, s: &Stmt, t: f64, kind: &str) {
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
         if t > 0.0 {
-            let Ok(times) = traj::sample_times(t, self.opts.dt) else { return };
+            let Some(times) = self.sample_times(s, t) else { return };
             let mut j = JointTrajectory::with_capacity(self.robot.dof(), times.len());
             let z = vec![0.0; self.robot.dof()];
             for &tt in &times {
@@ -1220,7 +1220,7 @@ impl<'a> Compiler<'a> {
             Some(t) => {
                 let Some(law) = self.law_for(s, profile, t) else { return };
                 let laws = vec![law; from.len()];
-                self.sample_laws(&from, &q_to, &laws)
+                self.sample_laws(s, &from, &q_to, &laws)
             }
             None => {
                 let o = match self.ptp_options(profile, &from, &q_to) {
@@ -1302,10 +1302,24 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// The sample times of statement `s`, lasting `duration` \[s\]; an error at `s`
+    /// when they are too many to hold (a `WAIT` of years, say), never a silent skip.
+    fn sample_times(&mut self, s: &Stmt, duration: f64) -> Option<Vec<f64>> {
+        match traj::sample_times(duration, self.opts.dt) {
+            Ok(times) => Some(times),
+            Err(e) => {
+                self.err(
+                    Diagnostic::error(s.span.clone(), e.to_string()).with_hint("shorten it or raise dt".to_string()),
+                );
+                None
+            }
+        }
+    }
+
     /// Joint i goes from `from[i]` to `to[i]` with `laws[i]` (all of one duration).
-    fn sample_laws(&mut self, from: &[f64], to: &[f64], laws: &[TimeLaw]) -> Option<JointTrajectory> {
+    fn sample_laws(&mut self, s: &Stmt, from: &[f64], to: &[f64], laws: &[TimeLaw]) -> Option<JointTrajectory> {
         let duration = laws[0].duration();
-        let times = traj::sample_times(duration, self.opts.dt).ok()?;
+        let times = self.sample_times(s, duration)?;
         let n = from.len();
         let mut j = JointTrajectory::with_capacity(n, times.len());
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
@@ -1391,7 +1405,7 @@ impl<'a> Compiler<'a> {
         let xy_moves = (0..3).any(|i| q_to[i] != self.q[i]);
         let laws: Vec<TimeLaw> = (0..5).map(|i| if i < 3 || (i == 4 && xy_moves) { cubic } else { linear }).collect();
         let from = self.q.clone();
-        let Some(j) = self.sample_laws(&from, &q_to, &laws) else { return };
+        let Some(j) = self.sample_laws(s, &from, &q_to, &laws) else { return };
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
         let profile = match (xy_moves, kw) {
             (true, "HOME") => "cubic + linear (z)",

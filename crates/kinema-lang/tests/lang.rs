@@ -348,6 +348,26 @@ fn runaway_programs_are_cut_with_an_error() {
     assert!(e.iter().any(|d| d.message.contains("more than 500 samples")), "{e:#?}");
 }
 
+/// One statement that alone lasts too long to sample is an error at that statement.
+/// (Until 2026-11-25 a `WAIT` of 10⁷ s was dropped without a word, and so was a timed
+/// motion: the plan ended before it, zero seconds long.)
+#[test]
+fn a_statement_too_long_to_sample_is_an_error_not_skipped() {
+    let iiwa = robot("lbr-iiwa-14-r820");
+    let scara = robot("scara5");
+    for (src, r, line) in [
+        ("WAIT 10000000s\n", &iiwa, 1),
+        ("PTP HOME\nWAIT 1e9 s\n", &iiwa, 2),
+        ("PTP JOINT(10deg, 0deg, 0deg, -60deg, 0deg, 30deg, 0deg) IN 3e6s\n", &iiwa, 1),
+        ("// seed 003\nHOME 1;\nPAUSE 1e8;\n", &scara, 3),
+        ("HOME 1;\nMOVEZ -50, 2e6;\n", &scara, 2),
+    ] {
+        let (at, message) = one_error(src, r);
+        assert_eq!(at, line, "{src}: {message}");
+        assert!(message.contains("samples (more than 10000000)"), "{src}: {message}");
+    }
+}
+
 // ---------------------------------------------------------------- golden listings
 
 /// Each `tests/golden/*.prg` compiles to exactly its `.listing` (robot named
