@@ -86,13 +86,27 @@ fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArr
     if obj.is_instance_of::<PyString>() {
         return Err(invalid(format!("`{what}` must be an array of numbers, not a string")));
     }
+    let unreadable = |e: String| invalid(format!("`{what}` cannot be read as an array of float64 numbers: {e}"));
     let np = obj.py().import("numpy")?;
+    // First as numpy reads it, so that what float64 would silently change is refused:
+    // complex numbers (numpy drops the imaginary part with only a warning), text that
+    // numpy would parse as numbers, dates and times.
+    let natural = np.call_method1("asarray", (obj,)).map_err(|e| unreadable(e.to_string()))?;
+    let dtype = natural.getattr("dtype")?;
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    match kind.as_str() {
+        "c" => {
+            return Err(invalid(format!(
+                "`{what}` holds complex numbers ({dtype}); joint values and poses are real (float64)"
+            )))
+        }
+        "U" | "S" | "V" | "M" | "m" => return Err(unreadable(format!("it holds {dtype}, not numbers"))),
+        _ => {}
+    }
     let kwargs = PyDict::new(obj.py());
     kwargs.set_item("dtype", "float64")?;
     kwargs.set_item("order", "C")?;
-    let converted = np
-        .call_method("asarray", (obj,), Some(&kwargs))
-        .map_err(|e| invalid(format!("`{what}` cannot be read as an array of float64 numbers: {e}")))?;
+    let converted = np.call_method("asarray", (natural,), Some(&kwargs)).map_err(|e| unreadable(e.to_string()))?;
     Ok(converted.downcast_into::<PyArrayDyn<f64>>()?.readonly())
 }
 

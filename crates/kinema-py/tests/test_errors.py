@@ -59,6 +59,28 @@ def test_bad_shapes(robots):
         r.fkine("nope")
 
 
+@pytest.mark.filterwarnings("error")
+def test_values_numpy_would_change_silently_are_refused(robots):
+    """numpy's own float64 conversion drops an imaginary part with only a warning and parses
+    text as numbers; kinema refuses both instead of computing with something else."""
+    r = robots["puma560"]
+    q = np.full(6, 0.1)
+    for bad in (q + 1j, q.astype(complex), [np.complex128(0.1)] * 6):
+        with pytest.raises(kinema.InvalidInput, match=r"^`q` holds complex numbers \(complex128\); joint values and poses are real"):
+            r.fkine(bad)
+    with pytest.raises(kinema.InvalidInput, match=r"^`Q` holds complex numbers"):
+        r.fkine_batch(np.zeros((3, 6), dtype=complex))
+    with pytest.raises(kinema.InvalidInput, match=r"^`T` holds complex numbers"):
+        r.ik(np.eye(4, dtype=complex))
+    with pytest.raises(kinema.InvalidInput, match=r"^`q` cannot be read as an array of float64 numbers: it holds <U3, not numbers"):
+        r.fkine(["0.1"] * 6)
+    with pytest.raises(kinema.InvalidInput, match=r"it holds datetime64"):
+        r.jacob0(np.zeros(6, dtype="datetime64[s]"))
+    # What numpy converts exactly is still taken: integers, booleans, float32, object arrays of numbers.
+    for fine in (np.zeros(6, dtype=np.int32), np.zeros(6, dtype=bool), q.astype(np.float32), q.astype(object)):
+        assert r.fkine(fine).shape == (4, 4)
+
+
 def test_batch_error_names_row(robots):
     r = robots["puma560"]
     Q = np.zeros((100, 6))
