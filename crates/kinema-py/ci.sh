@@ -3,6 +3,8 @@
 #
 #   crates/kinema-py/ci.sh            (from anywhere; the CI calls it from the repo root)
 #
+# Then installs it a second time the way the README says, `pip install ./crates/kinema-py`,
+# and runs the README example and the model tests against that install.
 # Needs Rust (cargo), a C compiler and Python ≥ 3.9 with pip and venv (python3,
 # or $PYTHON). Downloads pinned maturin/numpy/pytest from PyPI and the crates in
 # Cargo.lock. Cargo output goes to crates/kinema-py/target (gitignored; reused
@@ -43,6 +45,14 @@ step "maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
 step "pytest"
 # Run from the temp dir so that the installed package, not the source tree, is imported.
 (cd "$tmp" && "$py" -m pytest -q -p no:cacheprovider "$here/tests")
+
+step "pip install ./crates/kinema-py (the README's install command) into a second venv"
+# pip builds the package itself (PEP 517, maturin in an isolated build environment, the same
+# target directory); the constraints pin what it fetches to the versions above.
+printf 'maturin==%s\nnumpy==%s\npytest==%s\n' "$MATURIN_VERSION" "$NUMPY_VERSION" "$PYTEST_VERSION" >"$tmp/constraints.txt"
+"$python" -m venv "$tmp/venv-pip"
+PIP_CONSTRAINT="$tmp/constraints.txt" "$tmp/venv-pip/bin/python" -m pip install --quiet --disable-pip-version-check "pytest==$PYTEST_VERSION" "$here"
+(cd "$tmp" && "$tmp/venv-pip/bin/python" -m pytest -q -p no:cacheprovider "$here/tests/test_readme.py" "$here/tests/test_model_fk.py")
 
 step "done"
 echo "kinema-py: all steps passed in $(( $(date +%s) - start )) s"
