@@ -1095,6 +1095,11 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
             "JACC 90 deg/s^2\nPTP JOINT(10deg, 0deg, 0deg, -60deg, 0deg, 30deg, 0deg)\n",
         )
         .unwrap();
+        // Copies of the repository's fixtures: a mutated output path may name one of them, and
+        // the originals must never be written (a run of this test once overwrote malformed.toml).
+        for name in ["malformed.toml", "iiwa14.urdf"] {
+            std::fs::copy(data(name), dir.join(name)).unwrap();
+        }
         let _ = std::fs::remove_file(dir.join("missing.csv"));
         // An output path that is a folder: the result is written, then cannot be moved there.
         for name in ["a-folder", "a-folder.csv", "a-folder.svg", "a-folder.png"] {
@@ -1137,7 +1142,6 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
         t.split(' ')
             .map(|w| match w {
                 "{t16}" => t16.to_string(),
-                "{iiwa14.urdf}" => data("iiwa14.urdf"),
                 w if w.starts_with("{out:") => o(&w[5..w.len() - 1]),
                 w if w.starts_with('{') => d(&w[1..w.len() - 1]),
                 w => w.to_string(),
@@ -1198,7 +1202,7 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
             .map(|s| s.to_string()),
     )
     .chain([
-        data("malformed.toml"),
+        d("malformed.toml"),
         o("sub/dir/x.csv"),
         o("x.pdf"),
         o("a-folder.csv"),
@@ -1212,6 +1216,22 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
         let (code, _, stderr) = kinema_within(args, &out_dir, std::time::Duration::from_secs(60)).expect("in time");
         assert_eq!(code, Some(0), "kinema {args:?}: {stderr}");
     }
+    // The repository's fixtures as they were, to check that no run wrote to them.
+    let repo_data = || -> Vec<(std::path::PathBuf, Vec<u8>)> {
+        let folder = std::path::Path::new(&data("iiwa14.urdf")).parent().unwrap().to_path_buf();
+        let mut files: Vec<_> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|f| f.unwrap().path())
+            .filter(|p| p.is_file())
+            .map(|p| {
+                let bytes = std::fs::read(&p).unwrap();
+                (p, bytes)
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let data_before = repo_data();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x6b69);
     let (mut passed, mut failed, mut killed) = (0, 0, 0);
     for case in 0..1000 {
@@ -1268,6 +1288,7 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
             assert!(left.is_empty(), "{shown}: failed ({stderr}) but left {left:?}");
         }
     }
+    assert!(repo_data() == data_before, "a run wrote into the repository's tests/data");
     // The draws reach both outcomes; a run that had to be killed is not misuse handled.
     assert!(passed > 40 && failed > 500 && killed == 0, "passed {passed}, failed {failed}, killed {killed}");
 }
