@@ -1051,7 +1051,8 @@ impl<'a> Compiler<'a> {
                 }
             }
         }
-        let joints = match traj::to_joints(&self.robot_tool, &motion, &self.q, self.opts.dt, JointMethod::Ik) {
+        let Some(times) = self.sample_times(first.clone(), motion.duration()) else { return };
+        let joints = match traj::to_joints_at(&self.robot_tool, &motion, &self.q, &times, JointMethod::Ik) {
             Ok(j) => j,
             Err(e) => {
                 // Which segment: the time in the error, else the first.
@@ -1080,17 +1081,26 @@ impl<'a> Compiler<'a> {
         self.append(&joints, t0);
     }
 
+    /// Whether `samples` more samples fit under the program's cap; if not, the error at
+    /// `span` and the program stops there.
+    fn room_for(&mut self, span: crate::lexer::Span, samples: usize) -> bool {
+        if self.traj.len().saturating_add(samples) <= self.opts.max_samples {
+            return true;
+        }
+        self.err(Diagnostic::error(
+            span,
+            format!(
+                "the program produces more than {} samples; it is cut here (raise dt or shorten the program)",
+                self.opts.max_samples
+            ),
+        ));
+        self.stopped = true;
+        false
+    }
+
     fn append(&mut self, j: &JointTrajectory, t0: f64) {
-        if self.traj.len() + j.len() > self.opts.max_samples {
-            let span = self.motion_spans.last().cloned().unwrap_or(0..0);
-            self.err(Diagnostic::error(
-                span,
-                format!(
-                    "the program produces more than {} samples; it is cut here (raise dt or shorten the program)",
-                    self.opts.max_samples
-                ),
-            ));
-            self.stopped = true;
+        let span = self.motion_spans.last().cloned().unwrap_or(0..0);
+        if !self.room_for(span, j.len()) {
             return;
         }
         for k in 1..j.len() {
@@ -1105,7 +1115,7 @@ impl<'a> Compiler<'a> {
     fn hold(&mut self, s: &Stmt, t: f64, kind: &str) {
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
         if t > 0.0 {
-            let Some(times) = self.sample_times(s, t) else { return };
+            let Some(times) = self.sample_times(s.span.clone(), t) else { return };
             let mut j = JointTrajectory::with_capacity(self.robot.dof(), times.len());
             let z = vec![0.0; self.robot.dof()];
             for &tt in &times {
@@ -1302,15 +1312,14 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    /// The sample times of statement `s`, lasting `duration` \[s\]; an error at `s`
-    /// when they are too many to hold (a `WAIT` of years, say), never a silent skip.
-    fn sample_times(&mut self, s: &Stmt, duration: f64) -> Option<Vec<f64>> {
+    /// The sample times of the statement at `span`, lasting `duration` \[s\]; an error there
+    /// when they are too many to hold (a `WAIT` of years, say), never a silent skip, and
+    /// checked against the program's cap before any sample of the motion is computed.
+    fn sample_times(&mut self, span: crate::lexer::Span, duration: f64) -> Option<Vec<f64>> {
         match traj::sample_times(duration, self.opts.dt) {
-            Ok(times) => Some(times),
+            Ok(times) => self.room_for(span, times.len()).then_some(times),
             Err(e) => {
-                self.err(
-                    Diagnostic::error(s.span.clone(), e.to_string()).with_hint("shorten it or raise dt".to_string()),
-                );
+                self.err(Diagnostic::error(span, e.to_string()).with_hint("shorten it or raise dt".to_string()));
                 None
             }
         }
@@ -1319,7 +1328,7 @@ impl<'a> Compiler<'a> {
     /// Joint i goes from `from[i]` to `to[i]` with `laws[i]` (all of one duration).
     fn sample_laws(&mut self, s: &Stmt, from: &[f64], to: &[f64], laws: &[TimeLaw]) -> Option<JointTrajectory> {
         let duration = laws[0].duration();
-        let times = self.sample_times(s, duration)?;
+        let times = self.sample_times(s.span.clone(), duration)?;
         let n = from.len();
         let mut j = JointTrajectory::with_capacity(n, times.len());
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);

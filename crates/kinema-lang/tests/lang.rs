@@ -368,6 +368,39 @@ fn a_statement_too_long_to_sample_is_an_error_not_skipped() {
     }
 }
 
+/// Under the per-statement limit but over the program's cap (5·10⁶ samples at dt = 0.01 s):
+/// the error is at the statement that crosses it.
+#[test]
+fn a_program_over_the_sample_cap_stops_at_the_statement_that_crosses_it() {
+    let iiwa = robot("lbr-iiwa-14-r820");
+    let cap = "more than 5000000 samples";
+    for (src, line) in [
+        ("WAIT 60000s\n", 1),
+        ("WAIT 30000s\nWAIT 19999.9s\nWAIT 1s\n", 3),
+        ("JACC 90 deg/s^2\nPTP JOINT(10deg, 0deg, 0deg, -60deg, 0deg, 30deg, 0deg)\nLIN REL CART(100mm, 0mm, 0mm) IN 60000s\n", 3),
+    ] {
+        let (at, message) = one_error(src, &iiwa);
+        assert_eq!(at, line, "{src}: {message}");
+        assert!(message.contains(cap), "{src}: {message}");
+    }
+}
+
+/// The cap is checked before a motion's samples are computed: a line that would leave the
+/// workspace after the cap is refused for the cap, not followed until IK fails (which, for a
+/// motion of millions of samples, took minutes and gigabytes before the cap was seen).
+#[test]
+fn the_sample_cap_is_checked_before_a_motion_is_computed() {
+    let iiwa = robot("lbr-iiwa-14-r820");
+    let src = "JACC 90 deg/s^2\nPTP JOINT(10deg, 0deg, 0deg, -60deg, 0deg, 30deg, 0deg)\nLIN REL CART(3000mm, 0mm, 0mm) IN 20s\n";
+    let unreachable = errors(src, &iiwa);
+    assert!(unreachable[0].message.contains("cannot be followed"), "{unreachable:#?}");
+    let opts = Options { max_samples: 900, ..Options::default() };
+    let d: Vec<_> = compile(src, &iiwa, &opts).unwrap_err().into_iter().filter(|d| d.is_error()).collect();
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert!(d[0].message.contains("more than 900 samples"), "{d:#?}");
+    assert_eq!(kinema_lang::diag::line_col(src, d[0].span.start).0, 3);
+}
+
 // ---------------------------------------------------------------- golden listings
 
 /// Each `tests/golden/*.prg` compiles to exactly its `.listing` (robot named

@@ -92,7 +92,7 @@ pub enum Error {
         pitch: f64,
     },
     /// An inverse-kinematics target that cannot be reached, and why.
-    #[error("unreachable target ({solver} solver): {reason}")]
+    #[error("unreachable target ({}): {reason}", solver_phrase(solver))]
     Unreachable {
         /// Which solver decided.
         solver: String,
@@ -129,3 +129,12 @@ pub enum Error {
 
 /// Result alias of the core library.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// "iiwa" → "iiwa solver"; "iiwa, at t = 1.2 s of the path" (a sample of a Cartesian path,
+/// named so by the trajectory module) → "iiwa solver, at t = 1.2 s of the path".
+fn solver_phrase(solver: &str) -> String {
+    match solver.split_once(", ") {
+        Some((name, rest)) => format!("{name} solver, {rest}"),
+        None => format!("{solver} solver"),
+    }
+}

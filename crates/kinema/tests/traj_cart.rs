@@ -329,4 +329,7 @@ fn bad_cartesian_input_gives_clear_errors() {
     .unwrap();
     let e = to_joints(&robot, &m, &q0, 0.05, JointMethod::Ik).unwrap_err().to_string();
     assert!(e.contains("at t = "), "{e}");
+    // The solver named as a solver, the time as the time (once read "(iiwa, at t = … of the path solver)").
+    assert!(e.starts_with("unreachable target (iiwa solver, at t = "), "{e}");
+    assert!(e.contains(" s of the path): "), "{e}");
 }
