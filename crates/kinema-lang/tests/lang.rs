@@ -364,7 +364,7 @@ fn a_statement_too_long_to_sample_is_an_error_not_skipped() {
     ] {
         let (at, message) = one_error(src, r);
         assert_eq!(at, line, "{src}: {message}");
-        assert!(message.contains("samples (more than 10000000)"), "{src}: {message}");
+        assert!(message.contains("samples (at most 10000000)"), "{src}: {message}");
     }
 }
 

@@ -267,6 +267,38 @@ fn resampling_keeps_consecutive_poses_within_the_step() {
     assert!(CartesianMotion::new(vec![], Profile::SCurve, &limits(), Blend::None).is_err());
 }
 
+/// A step far too small for the path is refused at once, with the count it would take,
+/// from the path's length and turn (it bisected up to the cap first, for minutes).
+#[test]
+fn resampling_refuses_a_step_too_small_for_the_path_before_sampling_it() {
+    let a = Pose::from_xyz_rpy([0.5, 0.0, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
+    let b = Pose::from_xyz_rpy([0.5, 0.5, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
+    let turned = Pose::from_xyz_rpy([0.5, 0.5, 0.5], [std::f64::consts::FRAC_PI_2, 0.0, 0.0], RpyConvention::Zyx);
+    let motion = |p: &Pose, q: &Pose| {
+        CartesianMotion::new(
+            vec![Segment::lin(p, q, Orientation::Slerp).unwrap()],
+            Profile::Trapezoid,
+            &limits(),
+            Blend::None,
+        )
+        .unwrap()
+    };
+    let line = motion(&a, &b);
+    let e = line.resample_times(1e-9, 1.0).unwrap_err().to_string();
+    assert!(e.contains("into about 5.000e8 samples (at most 10000000)"), "{e}");
+    let turn = motion(&b, &turned);
+    let e = turn.resample_times(1.0, 1e-9).unwrap_err().to_string();
+    assert!(e.contains("into about 1.571e9 samples"), "{e}");
+    // Within the cap the same paths split as the limits say: 500 steps, and a sliver more
+    // when each bisection stops a hair short of its step.
+    assert!((501..=502).contains(&line.resample_times(0.001, 1.0).unwrap().len()));
+    assert!((101..=102).contains(&turn.resample_times(1.0, std::f64::consts::FRAC_PI_2 / 100.0).unwrap().len()));
+    for step in [0.0, -1.0, f64::NAN] {
+        assert!(line.resample_times(step, 0.1).is_err(), "{step}");
+        assert!(line.resample_times(0.1, step).is_err(), "{step}");
+    }
+}
+
 #[test]
 fn bad_cartesian_input_gives_clear_errors() {
     let a = Pose::from_xyz_rpy([0.5, 0.0, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);

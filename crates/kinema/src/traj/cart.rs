@@ -567,21 +567,43 @@ impl CartesianMotion {
         if !(max_step > 0.0 && max_angle > 0.0) {
             return Err(bad("max_step", format!("{max_step} m / {max_angle} rad must be positive")));
         }
-        let mut out = vec![0.0];
         let n = 20_000usize;
-        let mut last = self.at(0.0).pose;
+        let coarse: Vec<Pose> = (0..=n).map(|k| self.at(self.duration * k as f64 / n as f64).pose).collect();
         let far = |q: &Pose, last: &Pose| {
             (q.pos - last.pos).norm() > max_step
                 || rot_to_axis_angle(&(q.rot * last.rot.transpose())).norm() > max_angle
         };
+        // How many samples the limits ask for, from the coarse poses (each step of the result
+        // spans max_step or max_angle, but for the last): a path that needs far more than can
+        // be held is refused now, not after minutes of bisection.
+        let needed: f64 = coarse
+            .windows(2)
+            .map(|w| {
+                let angle = rot_to_axis_angle(&(w[1].rot * w[0].rot.transpose())).norm();
+                ((w[1].pos - w[0].pos).norm() / max_step).max(angle / max_angle)
+            })
+            .sum();
+        let too_many = |about: String| {
+            bad(
+                "max_step",
+                format!(
+                    "{max_step} m / {max_angle} rad would split this path into {about} samples (at most {MAX_SAMPLES})"
+                ),
+            )
+        };
+        if needed > 1.01 * MAX_SAMPLES as f64 {
+            return Err(too_many(format!("about {needed:.3e}")));
+        }
+        let mut out = vec![0.0];
+        let mut last = coarse[0];
         // A time whose pose is within reach of `last`: where the bisections start.
         let mut within = 0.0;
-        for k in 1..=n {
+        for (k, pose) in coarse.iter().enumerate().skip(1) {
             let t = self.duration * k as f64 / n as f64;
             // One coarse step may span several max_steps (a long path, a small step):
             // as many samples as it needs, each the last time within reach of the one
             // before, found by bisection between `within` and t.
-            while far(&self.at(t).pose, &last) {
+            while far(pose, &last) {
                 let (mut lo, mut hi) = (within, t);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
@@ -594,13 +616,9 @@ impl CartesianMotion {
                 if lo <= *out.last().expect("non-empty") {
                     return Err(bad("max_step", format!("{max_step} m is below the sampling resolution of this path")));
                 }
-                if out.len() >= MAX_SAMPLES {
-                    return Err(bad(
-                        "max_step",
-                        format!(
-                            "{max_step} m / {max_angle} rad would split this path into more than {MAX_SAMPLES} samples"
-                        ),
-                    ));
+                // Room for this sample and the end's.
+                if out.len() + 2 > MAX_SAMPLES {
+                    return Err(too_many(format!("more than {MAX_SAMPLES}")));
                 }
                 out.push(lo);
                 last = self.at(lo).pose;

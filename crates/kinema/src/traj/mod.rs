@@ -253,18 +253,22 @@ pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
         });
     }
     let steps = (duration / dt).floor();
-    if steps + 2.0 > MAX_SAMPLES as f64 {
+    // 0, dt, …, steps·dt, and the end unless steps·dt already is it (to rounding).
+    let end_apart = duration - steps * dt > 1e-12 * duration.max(1.0);
+    let samples = steps + 1.0 + f64::from(u8::from(end_apart));
+    if samples > MAX_SAMPLES as f64 {
         return Err(Error::InvalidArgument {
             what: "dt".into(),
-            message: format!("{dt} s over {duration} s would give {steps:.0} samples (more than {MAX_SAMPLES})"),
+            message: format!("{dt} s over {duration} s would give {samples:.0} samples (at most {MAX_SAMPLES})"),
         });
     }
     let mut out: Vec<f64> = (0..=steps as usize).map(|k| k as f64 * dt).collect();
-    if duration - out.last().copied().unwrap_or(0.0) > 1e-12 * duration.max(1.0) {
+    if end_apart {
         out.push(duration);
     } else if let Some(last) = out.last_mut() {
         *last = duration;
     }
+    debug_assert_eq!(out.len() as f64, samples);
     Ok(out)
 }
 
@@ -653,7 +657,13 @@ mod tests {
         let most = (MAX_SAMPLES as f64 - 1.5) * dt;
         assert_eq!(sample_times(most, dt).unwrap().len(), MAX_SAMPLES);
         let e = sample_times(most + dt, dt).unwrap_err().to_string();
-        assert!(e.contains("more than 10000000"), "{e}");
+        assert!(e.contains("would give 10000001 samples (at most 10000000)"), "{e}");
+        // A duration that is a whole number of steps has no extra end sample: exactly
+        // MAX_SAMPLES of them fit (it was refused, its count misreported, until 2026-11-25).
+        let whole = (MAX_SAMPLES - 1) as f64 * 0.5;
+        assert_eq!(sample_times(whole, 0.5).unwrap().len(), MAX_SAMPLES);
+        let e = sample_times(whole + 0.5, 0.5).unwrap_err().to_string();
+        assert!(e.contains("would give 10000001 samples (at most 10000000)"), "{e}");
         for (duration, dt, what) in [
             (1.0, 0.0, "dt"),
             (1.0, -0.1, "dt"),
