@@ -51,7 +51,7 @@ step "pip install ./crates/kinema-py (the README's install command) into a secon
 # target directory); the constraints pin what it fetches to the versions above.
 printf 'maturin==%s\nnumpy==%s\npytest==%s\n' "$MATURIN_VERSION" "$NUMPY_VERSION" "$PYTEST_VERSION" >"$tmp/constraints.txt"
 "$python" -m venv "$tmp/venv-pip"
-PIP_CONSTRAINT="$tmp/constraints.txt" "$tmp/venv-pip/bin/python" -m pip install --quiet --disable-pip-version-check "pytest==$PYTEST_VERSION" "$here"
+PIP_CONSTRAINT="$tmp/constraints.txt" PIP_BUILD_CONSTRAINT="$tmp/constraints.txt" "$tmp/venv-pip/bin/python" -m pip install --quiet --disable-pip-version-check "pytest==$PYTEST_VERSION" "$here"
 (cd "$tmp" && "$tmp/venv-pip/bin/python" -m pytest -q -p no:cacheprovider "$here/tests/test_readme.py" "$here/tests/test_model_fk.py")
 
 step "done"

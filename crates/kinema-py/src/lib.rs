@@ -28,7 +28,7 @@ use kinema_lang::{PlannedMotion, Severity};
 use numpy::ndarray::{Array, Dimension, IntoDimension};
 use numpy::{IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString};
+use pyo3::types::{PyBytes, PyComplex, PyDict, PyFloat, PyList, PyString};
 
 pyo3::import_exception!(kinema._errors, KinemaError);
 pyo3::import_exception!(kinema._errors, InvalidInput);
@@ -101,6 +101,22 @@ fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArr
             )))
         }
         "U" | "S" | "V" | "M" | "m" => return Err(unreadable(format!("it holds {dtype}, not numbers"))),
+        // Python objects (a list mixing numbers with text or complex numbers, say): each must
+        // be a real number, since float64 would parse the text and drop imaginary parts too.
+        "O" => {
+            let complex = np.getattr("complexfloating")?;
+            for (k, x) in natural.call_method0("ravel")?.try_iter()?.enumerate() {
+                let x = x?;
+                let text = x.is_instance_of::<PyString>() || x.is_instance_of::<PyBytes>();
+                if text || x.is_instance_of::<PyComplex>() || x.is_instance(&complex)? {
+                    let name = x.get_type().fully_qualified_name()?;
+                    return Err(invalid(format!(
+                        "`{what}` holds {} ({name}) at flat index {k}; joint values and poses are real numbers",
+                        if text { "text" } else { "a complex number" }
+                    )));
+                }
+            }
+        }
         _ => {}
     }
     let kwargs = PyDict::new(obj.py());
@@ -108,6 +124,31 @@ fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArr
     kwargs.set_item("order", "C")?;
     let converted = np.call_method("asarray", (natural,), Some(&kwargs)).map_err(|e| unreadable(e.to_string()))?;
     Ok(converted.downcast_into::<PyArrayDyn<f64>>()?.readonly())
+}
+
+/// A real-number argument: what Python's `float()` takes, but for complex numbers, which
+/// raise TypeError as Python's own `complex` does (numpy's complex scalars would convert,
+/// dropping the imaginary part with only a warning).
+fn real(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
+    if let Ok(f) = obj.downcast_exact::<PyFloat>() {
+        return Ok(f.value());
+    }
+    let complex =
+        obj.is_instance_of::<PyComplex>() || obj.is_instance(&obj.py().import("numpy")?.getattr("complexfloating")?)?;
+    if complex {
+        let name = obj.get_type().fully_qualified_name()?;
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!("must be real number, not {name}")));
+    }
+    obj.extract()
+}
+
+/// [`real`], or None.
+fn opt_real(obj: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
+    if obj.is_none() {
+        Ok(None)
+    } else {
+        real(obj).map(Some)
+    }
 }
 
 /// Checks that `a` has `ndim` dimensions and, where `expected` gives one, that size.
@@ -478,7 +519,7 @@ impl PyTimeLaw {
     ///
     /// Raises:
     ///     InvalidInput: ``dt`` is not a positive time step.
-    fn times(&self, py: Python<'_>, dt: f64) -> PyResult<Py<PyArrayDyn<f64>>> {
+    fn times(&self, py: Python<'_>, #[pyo3(from_py_with = real)] dt: f64) -> PyResult<Py<PyArrayDyn<f64>>> {
         let t = sample_times(self.law.duration(), dt).map_err(to_py)?;
         Ok(to_numpy(py, t.len(), t)?.unbind())
     }
@@ -512,11 +553,11 @@ impl PyTimeLaw {
 #[pyo3(signature = (profile="trapezoid", distance=1.0, vmax=None, amax=None, jmax=None, duration=None))]
 fn time_law(
     profile: &str,
-    distance: f64,
-    vmax: Option<f64>,
-    amax: Option<f64>,
-    jmax: Option<f64>,
-    duration: Option<f64>,
+    #[pyo3(from_py_with = real)] distance: f64,
+    #[pyo3(from_py_with = opt_real)] vmax: Option<f64>,
+    #[pyo3(from_py_with = opt_real)] amax: Option<f64>,
+    #[pyo3(from_py_with = opt_real)] jmax: Option<f64>,
+    #[pyo3(from_py_with = opt_real)] duration: Option<f64>,
 ) -> PyResult<PyTimeLaw> {
     let profile = profile.parse::<Profile>().map_err(to_py)?;
     let law = if let Some(duration) = duration {
@@ -644,7 +685,7 @@ fn parse_blend(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Blend> {
         invalid(format!("invalid `blend`: `{b}`; use \"decel\", \"none\", seconds (0.3) or metres (\"0.05m\")"))
     };
     let Ok(text) = obj.downcast::<PyString>() else {
-        let seconds: f64 = obj.extract().map_err(|_| bad(&obj.to_string()))?;
+        let seconds = real(obj).map_err(|_| bad(&obj.to_string()))?;
         return Ok(Blend::Time(seconds));
     };
     let text = text.to_str()?;
@@ -1164,14 +1205,14 @@ impl PyRobot {
         all: bool,
         q0: Option<&Bound<'_, PyAny>>,
         solver: &str,
-        q3: Option<f64>,
-        psi: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] q3: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] psi: Option<f64>,
         seed: u64,
         position: Option<&Bound<'_, PyAny>>,
-        pitch: Option<f64>,
-        roll: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] pitch: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] roll: Option<f64>,
         approach: Option<&Bound<'_, PyAny>>,
-        alpha: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] alpha: Option<f64>,
         rpy: &str,
     ) -> PyResult<PyObject> {
         let solver = match solver {
@@ -1234,13 +1275,13 @@ impl PyRobot {
         py: Python<'_>,
         q0: &Bound<'_, PyAny>,
         qf: &Bound<'_, PyAny>,
-        dt: f64,
+        #[pyo3(from_py_with = real)] dt: f64,
         profile: &str,
         vmax: Option<&Bound<'_, PyAny>>,
         amax: Option<&Bound<'_, PyAny>>,
         jmax: Option<&Bound<'_, PyAny>>,
-        speed: f64,
-        duration: Option<f64>,
+        #[pyo3(from_py_with = real)] speed: f64,
+        #[pyo3(from_py_with = opt_real)] duration: Option<f64>,
     ) -> PyResult<PyJointTrajectory> {
         let from = self.joint_vector(q0, "q0")?;
         let to = self.joint_vector(qf, "qf")?;
@@ -1316,22 +1357,22 @@ impl PyRobot {
         py: Python<'_>,
         q0: &Bound<'_, PyAny>,
         T: &Bound<'_, PyAny>,
-        dt: f64,
-        vmax: f64,
-        amax: f64,
+        #[pyo3(from_py_with = real)] dt: f64,
+        #[pyo3(from_py_with = real)] vmax: f64,
+        #[pyo3(from_py_with = real)] amax: f64,
         via: Option<&Bound<'_, PyAny>>,
         profile: &str,
-        jmax: Option<f64>,
-        rot_vmax: Option<f64>,
-        rot_amax: Option<f64>,
-        rot_jmax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] jmax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] rot_vmax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] rot_amax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] rot_jmax: Option<f64>,
         blend: Option<&Bound<'_, PyAny>>,
         orientation: &str,
         rpy: &str,
         method: &str,
-        max_step: Option<f64>,
-        max_angle: f64,
-        min_manip: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] max_step: Option<f64>,
+        #[pyo3(from_py_with = real)] max_angle: f64,
+        #[pyo3(from_py_with = opt_real)] min_manip: Option<f64>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
         let conv = parse_rpy(rpy)?;
@@ -1391,19 +1432,19 @@ impl PyRobot {
         q0: &Bound<'_, PyAny>,
         via: &Bound<'_, PyAny>,
         T: &Bound<'_, PyAny>,
-        dt: f64,
-        vmax: f64,
-        amax: f64,
+        #[pyo3(from_py_with = real)] dt: f64,
+        #[pyo3(from_py_with = real)] vmax: f64,
+        #[pyo3(from_py_with = real)] amax: f64,
         profile: &str,
-        jmax: Option<f64>,
-        rot_vmax: Option<f64>,
-        rot_amax: Option<f64>,
-        rot_jmax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] jmax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] rot_vmax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] rot_amax: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] rot_jmax: Option<f64>,
         rpy: &str,
         method: &str,
-        max_step: Option<f64>,
-        max_angle: f64,
-        min_manip: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] max_step: Option<f64>,
+        #[pyo3(from_py_with = real)] max_angle: f64,
+        #[pyo3(from_py_with = opt_real)] min_manip: Option<f64>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
         let conv = parse_rpy(rpy)?;
@@ -1448,8 +1489,8 @@ impl PyRobot {
         &self,
         py: Python<'_>,
         joints: &Bound<'_, PyAny>,
-        duration: f64,
-        dt: f64,
+        #[pyo3(from_py_with = real)] duration: f64,
+        #[pyo3(from_py_with = real)] dt: f64,
         q0: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = match q0.filter(|q| !q.is_none()) {
@@ -1527,7 +1568,7 @@ impl PyRobot {
         qdd: Option<&Bound<'_, PyAny>>,
         vmax: Option<&Bound<'_, PyAny>>,
         amax: Option<&Bound<'_, PyAny>>,
-        min_manip: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] min_manip: Option<f64>,
     ) -> PyResult<PyCheckReport> {
         let [q, qd, qdd] = [q, qd, qdd].map(|a| a.filter(|a| !a.is_none()));
         let given = |arrays: [&Py<PyArrayDyn<f64>>; 4]| {
@@ -1692,7 +1733,7 @@ fn run_program(
     py: Python<'_>,
     text: String,
     robot: &Bound<'_, PyAny>,
-    dt: f64,
+    #[pyo3(from_py_with = real)] dt: f64,
     start: Option<&Bound<'_, PyAny>>,
     filename: &str,
 ) -> PyResult<PyPlan> {

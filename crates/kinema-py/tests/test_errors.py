@@ -76,9 +76,36 @@ def test_values_numpy_would_change_silently_are_refused(robots):
         r.fkine(["0.1"] * 6)
     with pytest.raises(kinema.InvalidInput, match=r"it holds datetime64"):
         r.jacob0(np.zeros(6, dtype="datetime64[s]"))
-    # What numpy converts exactly is still taken: integers, booleans, float32, object arrays of numbers.
-    for fine in (np.zeros(6, dtype=np.int32), np.zeros(6, dtype=bool), q.astype(np.float32), q.astype(object)):
+    # Arrays of Python objects: numpy would parse the text and drop the imaginary parts too.
+    for bad, what in (
+        ([0.1, 0.1, "0.1", 0.1, 0.1, 0.1], r"text \(str\) at flat index 2"),
+        ([0.1, 0.1, 0.1, 0.1, b"0.1", 0.1], r"text \(bytes\) at flat index 4"),
+        ([0.1, 0.1, 0.1, 0.1, 0.1, 1 + 2j], r"a complex number \(complex\) at flat index 5"),
+        (np.array([np.complex64(1)] + [0.1] * 5, dtype=object), r"a complex number \(numpy.complex64\) at flat index 0"),
+    ):
+        with pytest.raises(kinema.InvalidInput, match=r"^`q` holds " + what + "; joint values and poses are real numbers"):
+            r.fkine(np.array(bad, dtype=object))
+    # Scalar arguments: a numpy complex scalar raises TypeError as Python's complex does.
+    iiwa = robots["lbr-iiwa-14-r820"]
+    T = iiwa.fkine(np.full(7, 0.3))
+    for bad in (0.3 + 0j, np.complex128(0.3), np.complex64(0.3)):
+        with pytest.raises(TypeError, match=r"^argument 'q3': must be real number, not "):
+            iiwa.ik(T, q3=bad)
+        with pytest.raises(TypeError, match=r"^argument 'dt': must be real number"):
+            r.ptp(r.home, r.home, dt=bad)
+    with pytest.raises(TypeError, match=r"^argument 'duration': must be real number"):
+        kinema.time_law("trapezoid", duration=np.complex128(1))
+    # What numpy converts exactly is still taken: integers, booleans, float32, object arrays of
+    # numbers (Python's, numpy's, Fractions and Decimals); numpy's real scalars as arguments.
+    from decimal import Decimal
+    from fractions import Fraction
+
+    mixed = np.array([0.1, 1, np.float32(0.5), Fraction(1, 3), Decimal("0.25"), True], dtype=object)
+    for fine in (np.zeros(6, dtype=np.int32), np.zeros(6, dtype=bool), q.astype(np.float32), q.astype(object), mixed):
         assert r.fkine(fine).shape == (4, 4)
+    assert np.array_equal(r.fkine(mixed), r.fkine(mixed.astype(float)))
+    for fine in (0.3, np.float64(0.3), np.float32(0.3), np.int64(0), 1, Fraction(3, 10)):
+        assert iiwa.ik(T, q3=fine).success
 
 
 def test_batch_error_names_row(robots):
