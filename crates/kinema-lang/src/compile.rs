@@ -711,8 +711,20 @@ impl<'a> Compiler<'a> {
                 if let Some(PosValue::Cart(p)) = self.resolve_frame(t) {
                     match self.robot.with_tool(p) {
                         Ok(r) => {
+                            // The SCARA's instructions need its solver with the new tool; a
+                            // tool it cannot take (a tilted one) is an error here, not
+                            // MOVEZ/MOVEXY/MOVETITA doing nothing later.
                             if self.scara.is_some() {
-                                self.scara = ScaraIk::new(&r).ok();
+                                match ScaraIk::new(&r) {
+                                    Ok(ik) => self.scara = Some(ik),
+                                    Err(e) => {
+                                        self.err(
+                                            Diagnostic::error(t.span(), format!("TOOL: {e}"))
+                                                .with_hint("a SCARA tool may be offset and turned about z, not tilted"),
+                                        );
+                                        return;
+                                    }
+                                }
                             }
                             self.robot_tool = r;
                         }

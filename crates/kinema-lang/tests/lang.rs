@@ -243,6 +243,27 @@ fn tool_and_base_frames() {
     assert!((p - kinema::nalgebra::Vector3::new(0.55, -0.05, 0.3)).norm() < 1e-9, "{p}");
 }
 
+/// The SCARA takes a tool offset and turned about z, and its relative moves then move that
+/// tool point; a tilted tool is an error at TOOL (it turned MOVEZ/MOVEXY/MOVETITA into
+/// silent no-ops until 2026-11-25).
+#[test]
+fn scara_tool_offset_is_followed_and_a_tilted_one_is_an_error() {
+    let r = robot("scara5");
+    let src = "TOOL CART(50mm, 0mm, 0mm, 0deg, 0deg, 30deg)\nHOME 1\nMOVEXY 20, -10, 1\nMOVEZ -30, 1\n";
+    let plan = ok(src, &r);
+    let start = plan.robot.fk(r.home()).unwrap().pose;
+    let end = plan.robot.fk(plan.final_q()).unwrap().pose;
+    let moved = end.pos - start.pos;
+    assert!((moved - kinema::nalgebra::Vector3::new(0.02, -0.01, -0.03)).norm() < 1e-9, "{moved}");
+    assert!((plan.duration() - 3.0).abs() < 1e-9, "{}", plan.duration());
+    for tilted in ["CART(0mm, 0mm, 50mm, 0deg, 20deg, 0deg)", "CART(0mm, 0mm, 50mm, 90deg, 0deg, 0deg)"] {
+        let src = format!("HOME 1\nTOOL {tilted}\nMOVEZ -30, 1\n");
+        let (line, message) = one_error(&src, &r);
+        assert_eq!(line, 2, "{message}");
+        assert!(message.starts_with("TOOL: ") && message.contains("cannot tilt"), "{message}");
+    }
+}
+
 // ---------------------------------------------------------------- diagnostics
 
 #[test]
