@@ -32,7 +32,7 @@ CALLS_PER_ROBOT = 2000
 NASTY_SCALARS = [
     0.0, -0.0, -1.0, 1e-300, -1e-300, 5e-324, 1e300, -1e300,
     math.inf, -math.inf, math.nan, 10**30, -(10**30), True, None, "x", "", [], {},
-    complex(1.0, 1.0), np.float32(1.5), np.int64(-3), np.array(2.0), np.array([1.0, 2.0]),
+    complex(1.0, 1.0), np.complex128(1.0), np.float32(1.5), np.int64(-3), np.array(2.0), np.array([1.0, 2.0]),
 ]
 
 
@@ -74,6 +74,13 @@ class Draw:
 
     def scalar(self, good):
         return good if not self.bad() else self.pick(NASTY_SCALARS)
+
+    def path_options(self, kw):
+        """lin/circ's resampling and manipulability options, now and then (a tiny max_step
+        must be refused at once, not bisected for minutes)."""
+        for name, good in (("max_step", 0.01), ("max_angle", 0.05), ("min_manip", 1e-4)):
+            if self.rng.random() < 0.2:
+                kw[name] = self.scalar(good)
 
     def Q(self):
         N = int(self.rng.integers(1, 40))
@@ -244,11 +251,13 @@ def calls(d):
             kw["via"] = [d.point()] if not d.bad() else d.pick([[], [[math.nan] * 3], "via", [[0.0] * 2]])
         if d.rng.random() < 0.3:
             kw["blend"] = d.pick(["decel", "none", 0.01]) if not d.bad() else d.pick([-1.0, math.nan, "x", math.inf])
+        d.path_options(kw)
         return "lin", lambda: r.lin(q0, T, dt, **kw), trajectory(n)
     if kind == 8:
         q0, T, dt = d.motion_start()
         via = d.arc_point(q0, T)
         kw = dict(vmax=d.limit(0.3), amax=d.limit(1.0))
+        d.path_options(kw)
         return "circ", lambda: r.circ(q0, via, T, dt, **kw), trajectory(n)
     if kind in (9, 10):
         T, kw = d.pose(), {}
