@@ -168,6 +168,10 @@ struct Compiler<'a> {
     robot_tool: Robot,
     opts: &'a Options,
     scara: Option<ScaraIk>,
+    /// The robot is seed 003's SCARA (its instructions and HOME law apply), whatever the tool.
+    scara_robot: bool,
+    /// Why the SCARA's solver is unset: a TOOL it cannot take (where, and why).
+    scara_tool_error: Option<String>,
     // State.
     q: Vec<f64>,
     traj: JointTrajectory,
@@ -227,6 +231,8 @@ impl<'a> Compiler<'a> {
             robot_tool: robot.clone(),
             opts,
             scara: ScaraIk::new(robot).ok(),
+            scara_robot: ScaraIk::new(robot).is_ok(),
+            scara_tool_error: None,
             q,
             traj,
             speed: 1.0,
@@ -441,7 +447,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn static_scara(&mut self, s: &Stmt) {
-        if self.scara.is_none() {
+        if !self.scara_robot {
             self.err(
                 Diagnostic::error(
                     s.keyword.clone(),
@@ -711,18 +717,27 @@ impl<'a> Compiler<'a> {
                 if let Some(PosValue::Cart(p)) = self.resolve_frame(t) {
                     match self.robot.with_tool(p) {
                         Ok(r) => {
-                            // The SCARA's instructions need its solver with the new tool; a
-                            // tool it cannot take (a tilted one) is an error here, not
-                            // MOVEZ/MOVEXY/MOVETITA doing nothing later.
-                            if self.scara.is_some() {
+                            // The SCARA's relative moves need its solver with the new tool. A
+                            // tool it cannot take (a tilted one) is fine for PTP/LIN and HOME;
+                            // MOVEXY/MOVEZ/MOVETITA after it are errors (they did nothing).
+                            if self.scara_robot {
                                 match ScaraIk::new(&r) {
-                                    Ok(ik) => self.scara = Some(ik),
+                                    Ok(ik) => {
+                                        self.scara = Some(ik);
+                                        self.scara_tool_error = None;
+                                    }
                                     Err(e) => {
-                                        self.err(
-                                            Diagnostic::error(t.span(), format!("TOOL: {e}"))
-                                                .with_hint("a SCARA tool may be offset and turned about z, not tilted"),
-                                        );
-                                        return;
+                                        let why = match e {
+                                            kinema::Error::InvalidArgument { message, .. } => message,
+                                            e => e.to_string(),
+                                        };
+                                        let line = self.line(&t.span());
+                                        self.warn(Diagnostic::warning(
+                                            t.span(),
+                                            format!("the SCARA's closed-form IK cannot take this tool: {why}; MOVEXY, MOVEZ and MOVETITA cannot follow it"),
+                                        ));
+                                        self.scara = None;
+                                        self.scara_tool_error = Some(format!("the TOOL at line {line}: {why}"));
                                     }
                                 }
                             }
@@ -755,7 +770,7 @@ impl<'a> Compiler<'a> {
                     None => None,
                 };
                 let home = self.robot.home().to_vec();
-                if self.scara.is_some() {
+                if self.scara_robot {
                     // Seed 003 §III-D: cubic for the joints of the XY plane, linear for z and θ.
                     let Some(t) = duration.or_else(|| self.missing_duration(s, "HOME")) else { return };
                     self.scara_move(s, home, t, "HOME", "home".into());
@@ -1096,7 +1111,9 @@ impl<'a> Compiler<'a> {
     /// Whether `samples` more samples fit under the program's cap; if not, the error at
     /// `span` and the program stops there.
     fn room_for(&mut self, span: crate::lexer::Span, samples: usize) -> bool {
-        if self.traj.len().saturating_add(samples) <= self.opts.max_samples {
+        // The trajectory holds the start already, and a statement's first sample is the
+        // present one: `samples` adds samples − 1.
+        if self.traj.len().saturating_add(samples.saturating_sub(1)) <= self.opts.max_samples {
             return true;
         }
         self.err(Diagnostic::error(
@@ -1252,7 +1269,15 @@ impl<'a> Compiler<'a> {
                         return;
                     }
                 };
-                match Ptp::new(self.robot, &from, &q_to, &o).and_then(|p| p.sample_unchecked(self.opts.dt)) {
+                let planned = Ptp::new(self.robot, &from, &q_to, &o).and_then(|p| {
+                    let count = traj::sample_count(p.duration(), self.opts.dt)?;
+                    Ok((p, count))
+                });
+                let planned = match planned {
+                    Ok((_, count)) if !self.room_for(s.span.clone(), count) => return,
+                    other => other.map(|(p, _)| p),
+                };
+                match planned.and_then(|p| p.sample_unchecked(self.opts.dt)) {
                     Ok(j) => Some(j),
                     Err(e) => {
                         self.err(Diagnostic::error(s.span.clone(), format!("{kw}: {e}")).with_hint(if kw == "HOME" {
@@ -1359,7 +1384,19 @@ impl<'a> Compiler<'a> {
 
     /// Seed 003's relative moves: `delta` = [dx, dy, dz, dα] of the tool.
     fn scara_relative(&mut self, s: &Stmt, delta: [f64; 4], t: f64, kw: &str) {
-        let Some(ik) = self.scara.clone() else { return };
+        let Some(ik) = self.scara.clone() else {
+            // Only after a TOOL the solver cannot take: other robots are refused before running.
+            if let Some(why) = self.scara_tool_error.clone() {
+                self.err(
+                    Diagnostic::error(
+                        s.span.clone(),
+                        format!("{kw} needs the SCARA's closed-form IK, which cannot take {why}"),
+                    )
+                    .with_hint("a SCARA tool may be offset and turned about z, not tilted; or move with PTP"),
+                );
+            }
+            return;
+        };
         let pose = self.current_pose();
         let alpha = pose.rot[(1, 0)].atan2(pose.rot[(0, 0)]);
         let target = [pose.pos.x + delta[0], pose.pos.y + delta[1], pose.pos.z + delta[2], alpha + delta[3]];

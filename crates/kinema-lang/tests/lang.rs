@@ -244,10 +244,11 @@ fn tool_and_base_frames() {
 }
 
 /// The SCARA takes a tool offset and turned about z, and its relative moves then move that
-/// tool point; a tilted tool is an error at TOOL (it turned MOVEZ/MOVEXY/MOVETITA into
-/// silent no-ops until 2026-11-25).
+/// tool point. A tilted tool is fine for PTP and HOME (a warning), but the relative moves,
+/// which need the closed-form IK, are errors after it (until 2026-11-25 they silently did
+/// nothing, and HOME lost seed 003's law).
 #[test]
-fn scara_tool_offset_is_followed_and_a_tilted_one_is_an_error() {
+fn scara_tool_offset_is_followed_and_a_tilted_one_stops_the_relative_moves() {
     let r = robot("scara5");
     let src = "TOOL CART(50mm, 0mm, 0mm, 0deg, 0deg, 30deg)\nHOME 1\nMOVEXY 20, -10, 1\nMOVEZ -30, 1\n";
     let plan = ok(src, &r);
@@ -256,15 +257,27 @@ fn scara_tool_offset_is_followed_and_a_tilted_one_is_an_error() {
     let moved = end.pos - start.pos;
     assert!((moved - kinema::nalgebra::Vector3::new(0.02, -0.01, -0.03)).norm() < 1e-9, "{moved}");
     assert!((plan.duration() - 3.0).abs() < 1e-9, "{}", plan.duration());
-    for tilted in ["CART(0mm, 0mm, 50mm, 0deg, 20deg, 0deg)", "CART(0mm, 0mm, 50mm, 90deg, 0deg, 0deg)"] {
-        let src = format!("HOME 1\nTOOL {tilted}\nMOVEZ -30, 1\n");
-        let (line, message) = one_error(&src, &r);
-        assert_eq!(line, 2, "{message}");
-        assert!(message.starts_with("TOOL: ") && message.contains("cannot tilt"), "{message}");
+    let tilted = "TOOL CART(0mm, 0mm, 50mm, 0deg, 20deg, 0deg)";
+    // PTP and HOME (seed 003's law, its stated time) after the tilted tool: a warning at TOOL.
+    let src = format!("{tilted}\nPTP JOINT(100mm, 10deg, 10deg, 50mm, 0deg) IN 1s\nHOME 2\n");
+    let plan = ok(&src, &r);
+    assert!((plan.duration() - 3.0).abs() < 1e-9, "{}", plan.duration());
+    assert_eq!(plan.final_q(), r.home());
+    let w: Vec<_> = compile(&src, &r, &Options::default()).unwrap().warnings.into_iter().collect();
+    assert!(
+        w.iter()
+            .any(|d| d.message.contains("cannot tilt it") && kinema_lang::diag::line_col(&src, d.span.start).0 == 1),
+        "{w:#?}"
+    );
+    for (moves, line) in [("MOVEZ -30, 1", 3), ("MOVEXY 10, 0, 1", 3), ("MOVETITA 10, 1", 3)] {
+        let src = format!("HOME 1\n{tilted}\n{moves}\n");
+        let (at, message) = one_error(&src, &r);
+        assert_eq!(at, line, "{message}");
+        assert!(message.contains("cannot take the TOOL at line 2: ") && message.contains("cannot tilt"), "{message}");
     }
+    // A later tool the solver takes brings the relative moves back.
+    ok(&format!("HOME 1\n{tilted}\nTOOL CART(0mm, 0mm, 50mm, 0deg, 0deg, 0deg)\nMOVEZ -30, 1\n"), &r);
 }
-
-// ---------------------------------------------------------------- diagnostics
 
 #[test]
 fn syntax_errors_are_all_reported_with_their_lines() {
@@ -367,6 +380,12 @@ fn runaway_programs_are_cut_with_an_error() {
     let opts = Options { max_samples: 500, ..Options::default() };
     let e = compile("PAUSE 100\n", &r, &opts).unwrap_err();
     assert!(e.iter().any(|d| d.message.contains("more than 500 samples")), "{e:#?}");
+    // Exactly the cap fits: the start sample and 999 more (it was refused as "more than 1000").
+    let opts = Options { max_samples: 1000, ..Options::default() };
+    assert_eq!(compile("WAIT 9.99s\n", &r, &opts).unwrap().trajectory.len(), 1000);
+    assert_eq!(compile("WAIT 5s\nWAIT 4.99s\n", &r, &opts).unwrap().trajectory.len(), 1000);
+    assert!(compile("WAIT 10s\n", &r, &opts).is_err());
+    assert!(compile("WAIT 5s\nWAIT 5s\n", &r, &opts).is_err());
 }
 
 /// One statement that alone lasts too long to sample is an error at that statement.
@@ -398,6 +417,8 @@ fn a_program_over_the_sample_cap_stops_at_the_statement_that_crosses_it() {
     for (src, line) in [
         ("WAIT 60000s\n", 1),
         ("WAIT 30000s\nWAIT 19999.9s\nWAIT 1s\n", 3),
+        // A PTP timed by joint limits, checked before it is sampled too.
+        ("JVEL 0.001 deg/s\nJACC 90 deg/s^2\nWAIT 1s\nPTP JOINT(10deg, 0deg, 0deg, -60deg, 0deg, 30deg, 0deg)\n", 4),
         ("JACC 90 deg/s^2\nPTP JOINT(10deg, 0deg, 0deg, -60deg, 0deg, 30deg, 0deg)\nLIN REL CART(100mm, 0mm, 0mm) IN 60000s\n", 3),
     ] {
         let (at, message) = one_error(src, &iiwa);

@@ -576,23 +576,28 @@ impl CartesianMotion {
         // How many samples the limits ask for, from the coarse poses (each step of the result
         // spans max_step or max_angle, but for the last): a path that needs far more than can
         // be held is refused now, not after minutes of bisection.
-        let needed: f64 = coarse
-            .windows(2)
-            .map(|w| {
-                let angle = rot_to_axis_angle(&(w[1].rot * w[0].rot.transpose())).norm();
-                ((w[1].pos - w[0].pos).norm() / max_step).max(angle / max_angle)
-            })
-            .sum();
+        let (mut needed, mut by_angle) = (1.0, 0.0);
+        for w in coarse.windows(2) {
+            let angle = rot_to_axis_angle(&(w[1].rot * w[0].rot.transpose())).norm() / max_angle;
+            let step = (w[1].pos - w[0].pos).norm() / max_step;
+            needed += step.max(angle);
+            if angle > step {
+                by_angle += angle;
+            }
+        }
+        // Named after the limit that asks for most of the samples.
+        let what = if by_angle > 0.5 * needed { "max_angle" } else { "max_step" };
         let too_many = |about: String| {
             bad(
-                "max_step",
+                what,
                 format!(
                     "{max_step} m / {max_angle} rad would split this path into {about} samples (at most {MAX_SAMPLES})"
                 ),
             )
         };
         if needed > 1.01 * MAX_SAMPLES as f64 {
-            return Err(too_many(format!("about {needed:.3e}")));
+            let about = if needed.is_finite() { format!("about {needed:.3e}") } else { "more than 10^308".into() };
+            return Err(too_many(about));
         }
         let mut out = vec![0.0];
         let mut last = coarse[0];

@@ -240,6 +240,21 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// 0, dt, 2·dt, … and the end time `duration` itself: `dt` \[s\] must be positive
 /// and give at most [`MAX_SAMPLES`] samples over `duration` \[s\].
 pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
+    let samples = sample_count(duration, dt)?;
+    let steps = (duration / dt).floor() as usize;
+    let mut out: Vec<f64> = (0..=steps).map(|k| k as f64 * dt).collect();
+    if samples > steps + 1 {
+        out.push(duration);
+    } else if let Some(last) = out.last_mut() {
+        *last = duration;
+    }
+    debug_assert_eq!(out.len(), samples);
+    Ok(out)
+}
+
+/// How many samples [`sample_times`] gives for `duration` and `dt`, without making them
+/// (to check a budget first); the same errors.
+pub fn sample_count(duration: f64, dt: f64) -> Result<usize> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(Error::InvalidArgument {
             what: "dt".into(),
@@ -257,19 +272,13 @@ pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
     let end_apart = duration - steps * dt > 1e-12 * duration.max(1.0);
     let samples = steps + 1.0 + f64::from(u8::from(end_apart));
     if samples > MAX_SAMPLES as f64 {
+        let count = if samples.is_finite() { format!("{samples:.0}") } else { "more than 10^308".to_string() };
         return Err(Error::InvalidArgument {
             what: "dt".into(),
-            message: format!("{dt} s over {duration} s would give {samples:.0} samples (at most {MAX_SAMPLES})"),
+            message: format!("{dt} s over {duration} s would give {count} samples (at most {MAX_SAMPLES})"),
         });
     }
-    let mut out: Vec<f64> = (0..=steps as usize).map(|k| k as f64 * dt).collect();
-    if end_apart {
-        out.push(duration);
-    } else if let Some(last) = out.last_mut() {
-        *last = duration;
-    }
-    debug_assert_eq!(out.len() as f64, samples);
-    Ok(out)
+    Ok(samples as usize)
 }
 
 /// A sampled joint trajectory: times and, per sample, q, q̇ and q̈.
@@ -640,6 +649,7 @@ mod tests {
             let duration = rng.random_range(0.0..20.0);
             let dt = 10f64.powf(rng.random_range(-3.0..0.5));
             let t = sample_times(duration, dt).unwrap();
+            assert_eq!(sample_count(duration, dt).unwrap(), t.len());
             assert_eq!(t[0], 0.0);
             assert_eq!(*t.last().unwrap(), duration);
             assert!(t.len() <= MAX_SAMPLES);
@@ -664,6 +674,8 @@ mod tests {
         assert_eq!(sample_times(whole, 0.5).unwrap().len(), MAX_SAMPLES);
         let e = sample_times(whole + 0.5, 0.5).unwrap_err().to_string();
         assert!(e.contains("would give 10000001 samples (at most 10000000)"), "{e}");
+        let e = sample_count(1e300, 1e-300).unwrap_err().to_string();
+        assert!(e.contains("would give more than 10^308 samples"), "{e}");
         for (duration, dt, what) in [
             (1.0, 0.0, "dt"),
             (1.0, -0.1, "dt"),
