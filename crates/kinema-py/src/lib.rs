@@ -26,9 +26,11 @@ use kinema::traj::{
 use kinema::{Error, Frame, Pose, Robot, RpyConvention};
 use kinema_lang::{PlannedMotion, Severity};
 use numpy::ndarray::{Array, Dimension, IntoDimension};
-use numpy::{IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    IntoPyArray, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyComplex, PyDict, PyFloat, PyList, PyString};
+use pyo3::types::{PyByteArray, PyBytes, PyComplex, PyDict, PyFloat, PyInt, PyList, PyMemoryView, PyString};
 
 pyo3::import_exception!(kinema._errors, KinemaError);
 pyo3::import_exception!(kinema._errors, InvalidInput);
@@ -104,15 +106,10 @@ fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArr
         // Python objects (a list mixing numbers with text or complex numbers, say): each must
         // be a real number, since float64 would parse the text and drop imaginary parts too.
         "O" => {
-            let complex = np.getattr("complexfloating")?;
             for (k, x) in natural.call_method0("ravel")?.try_iter()?.enumerate() {
-                let x = x?;
-                let text = x.is_instance_of::<PyString>() || x.is_instance_of::<PyBytes>();
-                if text || x.is_instance_of::<PyComplex>() || x.is_instance(&complex)? {
-                    let name = x.get_type().fully_qualified_name()?;
+                if let Some(held) = not_a_real_number(&np, &x?)? {
                     return Err(invalid(format!(
-                        "`{what}` holds {} ({name}) at flat index {k}; joint values and poses are real numbers",
-                        if text { "text" } else { "a complex number" }
+                        "`{what}` holds {held} at flat index {k}; joint values and poses are real numbers"
                     )));
                 }
             }
@@ -149,6 +146,37 @@ fn opt_real(obj: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
     } else {
         real(obj).map(Some)
     }
+}
+
+/// What an element of an object array is, when float64 would change it silently rather
+/// than take it as the number it is: text (numpy parses it), complex numbers (the
+/// imaginary part is dropped), dates and times (turned into counts), arrays of those.
+fn not_a_real_number(np: &Bound<'_, PyModule>, x: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
+    if x.is_exact_instance_of::<PyFloat>() || x.is_exact_instance_of::<PyInt>() {
+        return Ok(None);
+    }
+    let name = || x.get_type().fully_qualified_name().map(|n| n.to_string());
+    let text = x.is_instance_of::<PyString>()
+        || x.is_instance_of::<PyBytes>()
+        || x.is_instance_of::<PyByteArray>()
+        || x.is_instance_of::<PyMemoryView>();
+    if text {
+        return Ok(Some(format!("text ({})", name()?)));
+    }
+    if x.is_instance_of::<PyComplex>() || x.is_instance(&np.getattr("complexfloating")?)? {
+        return Ok(Some(format!("a complex number ({})", name()?)));
+    }
+    if x.is_instance(&np.getattr("datetime64")?)? || x.is_instance(&np.getattr("timedelta64")?)? {
+        return Ok(Some(format!("a date or time ({})", name()?)));
+    }
+    if let Ok(a) = x.downcast::<PyUntypedArray>() {
+        let dtype = a.dtype();
+        let kind: String = dtype.getattr("kind")?.extract()?;
+        if "cUSVMmO".contains(kind.as_str()) {
+            return Ok(Some(format!("an array of {dtype}")));
+        }
+    }
+    Ok(None)
 }
 
 /// Checks that `a` has `ndim` dimensions and, where `expected` gives one, that size.

@@ -82,9 +82,17 @@ def test_values_numpy_would_change_silently_are_refused(robots):
         ([0.1, 0.1, 0.1, 0.1, b"0.1", 0.1], r"text \(bytes\) at flat index 4"),
         ([0.1, 0.1, 0.1, 0.1, 0.1, 1 + 2j], r"a complex number \(complex\) at flat index 5"),
         (np.array([np.complex64(1)] + [0.1] * 5, dtype=object), r"a complex number \(numpy.complex64\) at flat index 0"),
+        ([0.1] * 5 + [np.datetime64("2020-01-01")], r"a date or time \(numpy.datetime64\) at flat index 5"),
+        ([np.timedelta64(5, "s")] + [0.1] * 5, r"a date or time \(numpy.timedelta64\) at flat index 0"),
+        ([0.1, bytearray(b"0.1")] + [0.1] * 4, r"text \(bytearray\) at flat index 1"),
+        ([0.1, memoryview(b"0.1")] + [0.1] * 4, r"text \(memoryview\) at flat index 1"),
+        ([0.1] * 3 + [np.array("0.1")] + [0.1] * 2, r"an array of <U3 at flat index 3"),
+        ([0.1] * 3 + [np.array(1j)] + [0.1] * 2, r"an array of complex128 at flat index 3"),
     ):
+        obj = np.empty(6, dtype=object)
+        obj[:] = bad
         with pytest.raises(kinema.InvalidInput, match=r"^`q` holds " + what + "; joint values and poses are real numbers"):
-            r.fkine(np.array(bad, dtype=object))
+            r.fkine(obj)
     # Scalar arguments: a numpy complex scalar raises TypeError as Python's complex does.
     iiwa = robots["lbr-iiwa-14-r820"]
     T = iiwa.fkine(np.full(7, 0.3))
