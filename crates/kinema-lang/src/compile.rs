@@ -60,6 +60,17 @@ pub struct PlannedMotion {
     pub target: String,
 }
 
+/// Seed 003's SCARA solver, as the present TOOL leaves it.
+enum Scara {
+    /// Not the SCARA: its instructions are refused before the program runs.
+    No,
+    /// The SCARA, with its closed-form IK for the present tool.
+    Solver(Box<ScaraIk>),
+    /// The SCARA with a tool its IK cannot take (a tilted one): which TOOL, and why. HOME
+    /// and PTP/LIN still work; MOVEXY/MOVEZ/MOVETITA are errors.
+    ToolRefused(String),
+}
+
 /// A compiled program.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
@@ -167,11 +178,7 @@ struct Compiler<'a> {
     robot: &'a Robot,
     robot_tool: Robot,
     opts: &'a Options,
-    scara: Option<ScaraIk>,
-    /// The robot is seed 003's SCARA (its instructions and HOME law apply), whatever the tool.
-    scara_robot: bool,
-    /// Why the SCARA's solver is unset: a TOOL it cannot take (where, and why).
-    scara_tool_error: Option<String>,
+    scara: Scara,
     // State.
     q: Vec<f64>,
     traj: JointTrajectory,
@@ -230,9 +237,7 @@ impl<'a> Compiler<'a> {
             robot,
             robot_tool: robot.clone(),
             opts,
-            scara: ScaraIk::new(robot).ok(),
-            scara_robot: ScaraIk::new(robot).is_ok(),
-            scara_tool_error: None,
+            scara: ScaraIk::new(robot).map_or(Scara::No, |ik| Scara::Solver(Box::new(ik))),
             q,
             traj,
             speed: 1.0,
@@ -447,7 +452,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn static_scara(&mut self, s: &Stmt) {
-        if !self.scara_robot {
+        if matches!(self.scara, Scara::No) {
             self.err(
                 Diagnostic::error(
                     s.keyword.clone(),
@@ -720,12 +725,9 @@ impl<'a> Compiler<'a> {
                             // The SCARA's relative moves need its solver with the new tool. A
                             // tool it cannot take (a tilted one) is fine for PTP/LIN and HOME;
                             // MOVEXY/MOVEZ/MOVETITA after it are errors (they did nothing).
-                            if self.scara_robot {
+                            if !matches!(self.scara, Scara::No) {
                                 match ScaraIk::new(&r) {
-                                    Ok(ik) => {
-                                        self.scara = Some(ik);
-                                        self.scara_tool_error = None;
-                                    }
+                                    Ok(ik) => self.scara = Scara::Solver(Box::new(ik)),
                                     Err(e) => {
                                         let why = match e {
                                             kinema::Error::InvalidArgument { message, .. } => message,
@@ -736,8 +738,7 @@ impl<'a> Compiler<'a> {
                                             t.span(),
                                             format!("the SCARA's closed-form IK cannot take this tool: {why}; MOVEXY, MOVEZ and MOVETITA cannot follow it"),
                                         ));
-                                        self.scara = None;
-                                        self.scara_tool_error = Some(format!("the TOOL at line {line}: {why}"));
+                                        self.scara = Scara::ToolRefused(format!("the TOOL at line {line}: {why}"));
                                     }
                                 }
                             }
@@ -770,7 +771,7 @@ impl<'a> Compiler<'a> {
                     None => None,
                 };
                 let home = self.robot.home().to_vec();
-                if self.scara_robot {
+                if !matches!(self.scara, Scara::No) {
                     // Seed 003 §III-D: cubic for the joints of the XY plane, linear for z and θ.
                     let Some(t) = duration.or_else(|| self.missing_duration(s, "HOME")) else { return };
                     self.scara_move(s, home, t, "HOME", "home".into());
@@ -1269,14 +1270,13 @@ impl<'a> Compiler<'a> {
                         return;
                     }
                 };
-                let planned = Ptp::new(self.robot, &from, &q_to, &o).and_then(|p| {
-                    let count = traj::sample_count(p.duration(), self.opts.dt)?;
-                    Ok((p, count))
-                });
-                let planned = match planned {
-                    Ok((_, count)) if !self.room_for(s.span.clone(), count) => return,
-                    other => other.map(|(p, _)| p),
-                };
+                let planned = Ptp::new(self.robot, &from, &q_to, &o);
+                // Against the program's cap before sampling (a count that cannot be is
+                // sample_unchecked's error, reported below).
+                let count = planned.as_ref().ok().and_then(|p| traj::sample_count(p.duration(), self.opts.dt).ok());
+                if count.is_some_and(|count| !self.room_for(s.span.clone(), count)) {
+                    return;
+                }
                 match planned.and_then(|p| p.sample_unchecked(self.opts.dt)) {
                     Ok(j) => Some(j),
                     Err(e) => {
@@ -1384,9 +1384,12 @@ impl<'a> Compiler<'a> {
 
     /// Seed 003's relative moves: `delta` = [dx, dy, dz, dα] of the tool.
     fn scara_relative(&mut self, s: &Stmt, delta: [f64; 4], t: f64, kw: &str) {
-        let Some(ik) = self.scara.clone() else {
-            // Only after a TOOL the solver cannot take: other robots are refused before running.
-            if let Some(why) = self.scara_tool_error.clone() {
+        let ik = match &self.scara {
+            Scara::Solver(ik) => ik.clone(),
+            // Other robots are refused before running.
+            Scara::No => return,
+            Scara::ToolRefused(why) => {
+                let why = why.clone();
                 self.err(
                     Diagnostic::error(
                         s.span.clone(),
@@ -1394,8 +1397,8 @@ impl<'a> Compiler<'a> {
                     )
                     .with_hint("a SCARA tool may be offset and turned about z, not tilted; or move with PTP"),
                 );
+                return;
             }
-            return;
         };
         let pose = self.current_pose();
         let alpha = pose.rot[(1, 0)].atan2(pose.rot[(0, 0)]);
