@@ -130,13 +130,17 @@ fn real(obj: &Bound<'_, PyAny>) -> PyResult<f64> {
     if let Ok(f) = obj.downcast_exact::<PyFloat>() {
         return Ok(f.value());
     }
-    let complex =
-        obj.is_instance_of::<PyComplex>() || obj.is_instance(&obj.py().import("numpy")?.getattr("complexfloating")?)?;
-    if complex {
+    if is_complex(obj)? {
         let name = obj.get_type().fully_qualified_name()?;
         return Err(pyo3::exceptions::PyTypeError::new_err(format!("must be real number, not {name}")));
     }
     obj.extract()
+}
+
+/// A complex number: Python's, or one of numpy's complex scalars (not all of which are
+/// Python `complex` subclasses).
+fn is_complex(x: &Bound<'_, PyAny>) -> PyResult<bool> {
+    Ok(x.is_instance_of::<PyComplex>() || x.is_instance(&x.py().import("numpy")?.getattr("complexfloating")?)?)
 }
 
 /// [`real`], or None.
@@ -163,7 +167,7 @@ fn not_a_real_number(np: &Bound<'_, PyModule>, x: &Bound<'_, PyAny>) -> PyResult
     if text {
         return Ok(Some(format!("text ({})", name()?)));
     }
-    if x.is_instance_of::<PyComplex>() || x.is_instance(&np.getattr("complexfloating")?)? {
+    if is_complex(x)? {
         return Ok(Some(format!("a complex number ({})", name()?)));
     }
     if x.is_instance(&np.getattr("datetime64")?)? || x.is_instance(&np.getattr("timedelta64")?)? {
