@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use kinema::ik::{IkRequest, IkTarget, NumericOptions, Solution, SolverChoice};
+use kinema::ik::{Closest, IkAnswer, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
 use kinema::nalgebra::Matrix4;
 use kinema::{Error, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
@@ -56,6 +56,16 @@ pub struct IkArgs {
     /// iiwa: solve at this arm angle ψ (one solution per global configuration).
     #[arg(long, allow_hyphen_values = true)]
     psi: Option<f64>,
+    /// Task mask for --T/--pose: which of x,y,z,ωx,ωy,ωz (world frame) must be met, six 0/1 values
+    /// (e.g. 1,1,1,0,1,1 frees the rotation about the world z axis). Default: all six.
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "position")]
+    mask: Option<String>,
+    /// Position tolerance a solution must meet (m).
+    #[arg(long, default_value_t = 1e-6)]
+    tol_position: f64,
+    /// Orientation tolerance a solution must meet (rad).
+    #[arg(long, default_value_t = 1e-6)]
+    tol_orientation: f64,
     /// Print every solution found (default: one, nearest to --q0 when given).
     #[arg(long)]
     all: bool,
@@ -118,24 +128,54 @@ fn solution_json(robot: &Robot, s: &Solution, deg: bool, orientation_free: bool)
         v["orientation_error"] = Value::Null;
     }
     if deg {
-        let q: Vec<f64> =
-            s.q.iter()
-                .zip(robot.joints())
-                .map(|(v, j)| if j.kind == kinema::JointType::Revolute { v.to_degrees() } else { *v })
-                .collect();
-        v["q"] = json!(q);
+        v["q"] = json!(shown_q(robot, &s.q, true));
     }
     v
 }
 
 /// Prints an unreachable target (JSON on stdout with --json) and exits with code 2.
-fn unreachable(a: &IkArgs, solver: &str, reason: &str) -> Result<()> {
+fn unreachable(a: &IkArgs, robot: &Robot, solver: &str, reason: &str, closest: Option<&Closest>) -> Result<()> {
     if a.json {
-        print_json(&json!({"error": "unreachable", "solver": solver, "reason": reason}))?;
+        let closest = closest.map(|c| {
+            json!({"q": shown_q(robot, &c.q, a.deg), "position_error": c.position_error,
+                   "orientation_error": c.orientation_error})
+        });
+        print_json(&json!({"error": "unreachable", "solver": solver, "reason": reason, "closest": closest}))?;
     } else {
         eprintln!("error: unreachable target ({solver} solver): {reason}");
+        if let Some(c) = closest {
+            let q: Vec<String> = shown_q(robot, &c.q, a.deg).iter().map(|v| format!("{v:.6}")).collect();
+            eprintln!(
+                "closest configuration found: [{}] (misses by {:.3e} m, {:.3e} rad)",
+                q.join(", "),
+                c.position_error,
+                c.orientation_error
+            );
+        }
     }
     Err(Exit(2).into())
+}
+
+/// Joint values as printed: revolute joints in degrees with --deg.
+fn shown_q(robot: &Robot, q: &[f64], deg: bool) -> Vec<f64> {
+    q.iter()
+        .zip(robot.joints())
+        .map(|(v, j)| if deg && j.kind == kinema::JointType::Revolute { v.to_degrees() } else { *v })
+        .collect()
+}
+
+/// The six 0/1 flags of --mask.
+fn mask(text: &str) -> Result<[bool; 6]> {
+    let v = numbers(text, "--mask", 6)?;
+    let mut m = [false; 6];
+    for (flag, x) in m.iter_mut().zip(&v) {
+        *flag = match *x {
+            1.0 => true,
+            0.0 => false,
+            _ => bail!("--mask takes six 0/1 flags for x,y,z,ωx,ωy,ωz; got {x}"),
+        };
+    }
+    Ok(m)
 }
 
 fn triple(text: &str, what: &str) -> Result<[f64; 3]> {
@@ -143,11 +183,14 @@ fn triple(text: &str, what: &str) -> Result<[f64; 3]> {
     Ok([v[0], v[1], v[2]])
 }
 
-type Solved = kinema::Result<Vec<Solution>>;
+type Solved = kinema::Result<IkAnswer>;
+
+/// Why a candidate of the solver is not listed.
+const DISCARD_REASON: &str = "forward kinematics misses the target by more than the tolerance";
 
 /// Runs the solver the arguments ask for (the core's `ik::solve_target`);
-/// returns its name, its result and whether the target leaves the orientation free.
-fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(&'static str, Solved, bool)> {
+/// returns its answer and whether the target leaves the orientation free.
+fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(Solved, bool)> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     // The core refuses these too; checked here first so that the message names the flags.
     let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
@@ -156,6 +199,9 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
     }
     if (a.q3.is_some() || a.psi.is_some()) && !matches!(target, IkTarget::Pose(_)) {
         bail!("--q3 and --psi need a full target pose: give --T or --pose");
+    }
+    if a.mask.is_some() && (a.q3.is_some() || a.psi.is_some()) {
+        bail!("--mask frees components of the pose, --q3 and --psi solve the full pose in closed form; give one");
     }
     // clap makes --pitch/--roll, --approach and --alpha require --position.
     let target = match target {
@@ -182,12 +228,14 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
         all: a.all,
         q3: a.q3.map(ang),
         psi: a.psi.map(ang),
+        mask: a.mask.as_deref().map(mask).transpose()?,
+        tolerance: Tolerance { position: a.tol_position, orientation: a.tol_orientation },
         numeric: NumericOptions { seed: a.seed, ..Default::default() },
     };
     let free = target.orientation_free();
     match kinema::ik::solve_target(robot, &target, &request) {
-        Ok((name, solutions)) => Ok((name, Ok(solutions), free)),
-        Err(e @ Error::Unreachable { .. }) => Ok(("", Err(e), free)),
+        Ok(answer) => Ok((Ok(answer), free)),
+        Err(e @ Error::Unreachable { .. }) => Ok((Err(e), free)),
         Err(e) => Err(e.into()),
     }
 }
@@ -196,26 +244,45 @@ pub fn ik(a: IkArgs) -> Result<()> {
     let robot = a.robot.load()?;
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
-    let (name, result, orientation_free) = solve(&a, &robot, target, q0.as_deref())?;
-    let solutions = match result {
+    let (result, orientation_free) = solve(&a, &robot, target, q0.as_deref())?;
+    let answer = match result {
         Ok(s) => s,
-        Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),
+        Err(Error::Unreachable { solver, reason, closest }) => {
+            return unreachable(&a, &robot, &solver, &reason.to_string(), closest.as_deref())
+        }
         Err(e) => return Err(e.into()),
     };
+    let IkAnswer { solver: name, solutions, discarded, tolerance } = answer;
     let chosen: Vec<Solution> = if a.all {
         solutions
     } else {
         match kinema::ik::pick_one(&robot, name, solutions, q0.as_deref()) {
             Ok(s) => vec![s],
-            Err(Error::Unreachable { solver, reason }) => return unreachable(&a, &solver, &reason.to_string()),
+            Err(Error::Unreachable { solver, reason, closest }) => {
+                return unreachable(&a, &robot, &solver, &reason.to_string(), closest.as_deref())
+            }
             Err(e) => return Err(e.into()),
         }
     };
     if a.json {
         let list: Vec<Value> = chosen.iter().map(|s| solution_json(&robot, s, a.deg, orientation_free)).collect();
-        return print_json(&json!({"robot": robot.name(), "solver": name, "solutions": list}));
+        let dropped: Vec<Value> = discarded
+            .iter()
+            .map(|d| {
+                json!({"branch": d.branch, "position_error": d.residual.position,
+                       "orientation_error": d.residual.orientation})
+            })
+            .collect();
+        return print_json(&json!({
+            "robot": robot.name(), "solver": name, "solutions": list,
+            "tolerance": {"position": tolerance.position, "orientation": tolerance.orientation},
+            "discarded": {"count": dropped.len(), "reason": DISCARD_REASON, "candidates": dropped},
+        }));
     }
     println!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len());
+    if !discarded.is_empty() {
+        println!("  ({} candidate(s) discarded: {DISCARD_REASON}, {tolerance})", discarded.len());
+    }
     for s in chosen {
         let unit = if a.deg { "deg/m" } else { "rad/m" };
         let q: Vec<String> =

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use kinema::{Frame, Robot};
+use rand::SeedableRng;
 use serde_json::Value;
 
 /// Output of one run of `kinema`.
@@ -355,6 +356,64 @@ fn ik_position_only_and_unreachable_exit_code() {
     assert!(e.contains("rigid transform"), "{e}");
     let e = fails(&["ik", "--robot", "ur5"]);
     assert!(e.contains("give a target"), "{e}");
+}
+
+/// Runs `kinema` and returns its exit code and stdout.
+fn exit_and_stdout(args: &[&str]) -> (Option<i32>, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema")).args(args).output().unwrap();
+    (out.status.code(), String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// The IK contract on the command line: every listed solution meets the
+/// target (FK re-measured here), candidates that miss it are counted under
+/// `discarded`; a pose a 5-joint arm cannot take exits 2 with the closest
+/// configuration, whichever solver, unless --mask frees what it cannot control.
+#[test]
+fn ik_lists_only_solutions_that_meet_the_target() {
+    let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2301);
+    let mut discarded = 0;
+    for _ in 0..40 {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let t: Vec<String> = target.to_rows().iter().flatten().map(|v| format!("{v:.17}")).collect();
+        let t = t.join(",");
+        let q0: Vec<String> = q.iter().map(|v| format!("{v:.17}")).collect();
+        let q0 = q0.join(",");
+        for extra in [&["--all"][..], &["--q0", &q0][..]] {
+            let mut args = vec!["ik", "--robot", "scorbot-er-v-plus", "--T", &t, "--json"];
+            args.extend_from_slice(extra);
+            let v = json(&args);
+            for s in v["solutions"].as_array().unwrap() {
+                let got: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+                let e = kinema::math::pose_error(&target, &robot.fk(&got).unwrap().pose);
+                assert!(e.position_norm() < 1e-6 && e.rotation_angle() < 1e-6, "{args:?}: {s}");
+            }
+            discarded += v["discarded"]["count"].as_u64().unwrap();
+        }
+    }
+    assert!(discarded > 0, "no candidate was ever discarded: the test does not exercise the contract");
+    let pose = "0.35,0,0.3,0,1.2,0.5";
+    for solver in ["auto", "analytic", "numeric"] {
+        let args = ["ik", "--robot", "scorbot-er-v-plus", "--pose", pose, "--solver", solver, "--json"];
+        let (code, stdout) = exit_and_stdout(&args);
+        assert_eq!(code, Some(2), "{args:?}: {stdout}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["error"], "unreachable");
+        let miss =
+            v["closest"]["position_error"].as_f64().unwrap() + v["closest"]["orientation_error"].as_f64().unwrap();
+        assert!(miss > 1e-3, "{v}");
+    }
+    // Freeing the rotation about the world z axis makes it reachable.
+    let v = json(&["ik", "--robot", "scorbot-er-v-plus", "--pose", pose, "--mask", "1,1,1,1,1,0", "--json"]);
+    let got: Vec<f64> = v["solutions"][0]["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let reached = robot.fk(&got).unwrap().pose;
+    assert!((reached.pos - kinema::nalgebra::Vector3::new(0.35, 0.0, 0.3)).norm() < 1e-6);
+    let e = fails(&["ik", "--robot", "ur5", "--pose", pose, "--mask", "1,1,1,0,0,2"]);
+    assert!(e.contains("0/1"), "{e}");
+    // A command line that does not parse is a usage error (64), not "unreachable" (2).
+    assert_eq!(exit_and_stdout(&["ik", "--robot", "ur5", "--no-such-flag"]).0, Some(64));
+    assert_eq!(exit_and_stdout(&["ik", "--robot", "ur5", "--pose", "1,2,3"]).0, Some(1));
 }
 
 #[test]
@@ -1266,7 +1325,7 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
             continue;
         };
         let shown = format!("case {case}: kinema {args:?}");
-        assert!(matches!(code, Some(0..=2)), "{shown}: exit {code:?}\n{stderr}");
+        assert!(matches!(code, Some(0..=2 | 64)), "{shown}: exit {code:?}\n{stderr}");
         assert!(!stderr.contains("panicked"), "{shown}: {stderr}");
         let left: Vec<String> = std::fs::read_dir(&out_dir)
             .unwrap()

@@ -7,8 +7,8 @@
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
+use kinema::ik;
 use kinema::ik::scara::ScaraIk;
-use kinema::ik::{self, NumericIk, Solutions};
 use kinema::math::{rpy_to_rot, Pose};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{
@@ -1208,31 +1208,16 @@ impl<'a> Compiler<'a> {
         self.ptp_to(s, q_to, duration, text);
     }
 
-    /// The configuration reaching `pose` nearest to the current one, within limits.
+    /// The configuration reaching `pose` nearest to the current one, within
+    /// limits: the request every door makes (`ik::solve_target`, then
+    /// `ik::pick_one`), so a program gets exactly what `kinema ik --q0` gives.
     fn ik(&mut self, s: &Stmt, pose: &Pose) -> Option<Vec<f64>> {
         let robot = &self.robot_tool;
-        let result = match ik::analytic_solver(robot) {
-            Some(solver) => solver.solve_within_limits(pose).and_then(|sols| {
-                let ok: Vec<_> =
-                    sols.into_iter().filter(|s| s.position_error < 1e-6 && s.orientation_error < 1e-6).collect();
-                match ok.nearest(robot, &self.q) {
-                    Some(b) => Ok(b.q.clone()),
-                    None => Err(kinema::Error::Unreachable {
-                        solver: solver.name().into(),
-                        reason: ik::Unreachable::Orientation {
-                            angle: f64::NAN,
-                            detail: format!(
-                                "no solution within limits reaches the orientation (this arm has {} joints)",
-                                robot.dof()
-                            ),
-                        },
-                    }),
-                }
-            }),
-            None => NumericIk::new(robot).solve_from(pose, &self.q).map(|s| s.q),
-        };
+        let request = ik::IkRequest { q0: Some(&self.q), ..Default::default() };
+        let result = ik::solve_target(robot, &ik::IkTarget::Pose(*pose), &request)
+            .and_then(|answer| ik::pick_one(robot, answer.solver, answer.solutions, Some(&self.q)));
         match result {
-            Ok(q) => Some(q),
+            Ok(sol) => Some(sol.q),
             Err(e) => {
                 self.err(Diagnostic::error(s.span.clone(), format!("target unreachable: {e}")).with_hint(
                     "check the position against the robot's reach and the orientation against what the arm can take",

@@ -16,7 +16,7 @@ mod npio;
 use std::sync::Arc;
 
 use kinema::analysis::{self, Axes};
-use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice};
+use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
 use kinema::nalgebra::{Matrix4, Vector3};
 use kinema::traj::{
     check, expression_trajectory, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion,
@@ -50,7 +50,10 @@ fn to_py(e: Error) -> PyErr {
         other => other,
     };
     match kind {
-        Error::Unreachable { solver, reason } => Unreachable::new_err((message, solver.clone(), reason.to_string())),
+        Error::Unreachable { solver, reason, closest } => {
+            let closest = closest.as_ref().map(|c| ClosestArg(c.q.clone(), c.position_error, c.orientation_error));
+            Unreachable::new_err((message, solver.clone(), reason.to_string(), closest))
+        }
         Error::UnknownRobot { .. } => UnknownRobot::new_err(message),
         Error::JointCount { .. }
         | Error::NonFinite { .. }
@@ -64,6 +67,54 @@ fn to_py(e: Error) -> PyErr {
         Error::Trajectory { .. } => TrajectoryError::new_err(message),
         _ => KinemaError::new_err(message),
     }
+}
+
+/// The closest configuration of an unreachable target, given to Python as a dict.
+struct ClosestArg(Vec<f64>, f64, f64);
+
+impl<'py> IntoPyObject<'py> for ClosestArg {
+    type Target = pyo3::types::PyDict;
+    type Output = Bound<'py, pyo3::types::PyDict>;
+    type Error = PyErr;
+
+    fn into_pyobject(self, py: Python<'py>) -> PyResult<Self::Output> {
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("q", self.0)?;
+        d.set_item("position_error", self.1)?;
+        d.set_item("orientation_error", self.2)?;
+        Ok(d)
+    }
+}
+
+/// A seed: a non-negative integer below 2**64 (InvalidInput otherwise, not
+/// Python's OverflowError).
+fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+    if !obj.is_instance_of::<PyInt>() {
+        let name = obj.get_type().fully_qualified_name()?;
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!("`seed` must be an int, not {name}")));
+    }
+    obj.extract::<u64>().map_err(|_| invalid(format!("invalid `seed`: {obj}; expected an integer from 0 to 2**64 - 1")))
+}
+
+/// A task mask: six booleans (or 0/1) for x, y, z, ωx, ωy, ωz.
+fn mask_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<[bool; 6]>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let bad = || invalid(format!("invalid `mask`: {obj}; expected six booleans (or 0/1) for x, y, z, ωx, ωy, ωz"));
+    let items: Vec<Bound<'_, PyAny>> = obj.try_iter().map_err(|_| bad())?.collect::<PyResult<_>>()?;
+    if items.len() != 6 {
+        return Err(bad());
+    }
+    let mut m = [false; 6];
+    for (flag, x) in m.iter_mut().zip(&items) {
+        *flag = match x.extract::<f64>() {
+            Ok(v) if v == 1.0 => true,
+            Ok(v) if v == 0.0 => false,
+            _ => return Err(bad()),
+        };
+    }
+    Ok(Some(m))
 }
 
 fn invalid(message: String) -> PyErr {
@@ -1211,6 +1262,18 @@ impl PyRobot {
     /// fixed q3 (up to 8 solutions), ``psi`` at that arm angle (one solution
     /// per global configuration).
     ///
+    /// ``mask``: with a full pose ``T``, six booleans (or 0/1) saying which of
+    /// x, y, z, ωx, ωy, ωz (world frame) a solution must meet, e.g.
+    /// ``[1, 1, 1, 0, 1, 1]`` frees the rotation about the world z axis (the
+    /// numeric solver is used). ``tol_position`` [m] / ``tol_orientation``
+    /// [rad]: how close FK of a solution must come to the target.
+    ///
+    /// Every solution returned meets the target: forward kinematics of it is
+    /// within the tolerances on every component the target fixes; candidates
+    /// of the solver that miss it are dropped (``kinema ik --json`` lists them
+    /// under ``discarded``). A 5-joint arm given a full pose it cannot take
+    /// raises Unreachable, unless ``mask`` frees what it cannot control.
+    ///
     /// Returns one :class:`IkSolution` within the joint limits (nearest to
     /// ``q0`` when given), or with ``all=True`` a list of every solution found,
     /// including those outside the limits (``within_limits`` False).
@@ -1218,7 +1281,8 @@ impl PyRobot {
     /// Raises:
     ///     Unreachable: no solution (outside the reach, an approach the arm
     ///         cannot take, every solution violates a limit, no convergence);
-    ///         ``.solver`` and ``.reason`` say which and why.
+    ///         ``.solver`` and ``.reason`` say which and why, ``.closest`` the
+    ///         configuration that came closest when one was found.
     ///     InvalidInput: no target, or ``T`` and ``position`` both; ``pitch``
     ///         without ``roll`` (or the reverse), typed keywords without
     ///         ``position`` or more than one typed target; ``T`` not a 4×4 rigid
@@ -1229,7 +1293,8 @@ impl PyRobot {
     ///         not iiwa-type; a typed target on a robot of another family.
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (T=None, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0, *, position=None,
-        pitch=None, roll=None, approach=None, alpha=None, rpy="zyx"))]
+        pitch=None, roll=None, approach=None, alpha=None, rpy="zyx", mask=None, tol_position=1e-6,
+        tol_orientation=1e-6))]
     fn ik(
         &self,
         py: Python<'_>,
@@ -1239,13 +1304,16 @@ impl PyRobot {
         solver: &str,
         #[pyo3(from_py_with = opt_real)] q3: Option<f64>,
         #[pyo3(from_py_with = opt_real)] psi: Option<f64>,
-        seed: u64,
+        #[pyo3(from_py_with = seed_arg)] seed: u64,
         position: Option<&Bound<'_, PyAny>>,
         #[pyo3(from_py_with = opt_real)] pitch: Option<f64>,
         #[pyo3(from_py_with = opt_real)] roll: Option<f64>,
         approach: Option<&Bound<'_, PyAny>>,
         #[pyo3(from_py_with = opt_real)] alpha: Option<f64>,
         rpy: &str,
+        #[pyo3(from_py_with = mask_arg)] mask: Option<[bool; 6]>,
+        #[pyo3(from_py_with = real)] tol_position: f64,
+        #[pyo3(from_py_with = real)] tol_orientation: f64,
     ) -> PyResult<PyObject> {
         let solver = match solver {
             "auto" => SolverChoice::Auto,
@@ -1266,13 +1334,16 @@ impl PyRobot {
                     all,
                     q3,
                     psi,
+                    mask,
+                    tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
                     numeric: NumericOptions { seed, ..Default::default() },
                 };
-                let (name, found) = solve_target(&robot, &target, &request)?;
+                let answer = solve_target(&robot, &target, &request)?;
+                let name = answer.solver;
                 if all {
-                    return Ok((name, found));
+                    return Ok((name, answer.solutions));
                 }
-                Ok((name, vec![pick_one(&robot, name, found, q0.as_deref())?]))
+                Ok((name, vec![pick_one(&robot, name, answer.solutions, q0.as_deref())?]))
             })
             .map_err(to_py)?;
         let free = target.orientation_free();

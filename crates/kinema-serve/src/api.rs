@@ -2,7 +2,7 @@
 //! functions of (method, path, body).
 
 use kinema::analysis::{self, Axes};
-use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, Solutions, SolverChoice};
+use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, SolverChoice};
 use kinema::nalgebra::Matrix4;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
@@ -238,7 +238,7 @@ impl App {
     }
 
     fn ik(&self, body: &[u8]) -> Result<Value> {
-        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3", "q0", "solver" ("auto" | "analytic" | "numeric"), "seed""#;
+        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3", "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet)"#;
         let req: IkReq = parse(body, "/api/ik", SHAPE)?;
         let r = self.robot(&req.robot)?;
         let target = req.target().pose(SHAPE)?;
@@ -260,14 +260,19 @@ impl App {
             all: true,
             q3: req.q3,
             psi: None,
+            mask: req.mask,
+            tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
         };
-        let (name, solutions) = solve_target(r, &IkTarget::Pose(target), &request)?;
+        let answer = solve_target(r, &IkTarget::Pose(target), &request)?;
+        let (name, solutions) = (answer.solver, answer.solutions);
         let q3 = req.q3.or_else(|| req.q0.as_ref().map(|q| q[2])).filter(|_| name == "iiwa");
-        let nearest = req.q0.as_ref().and_then(|q0| {
-            let best = solutions.nearest(r, q0)?;
-            solutions.iter().position(|s| std::ptr::eq(s, best))
-        });
+        // The one the CLI and Python would return (`ik::pick_one`: within limits,
+        // nearest q0 when given), marked among them all.
+        let picked = kinema::ik::pick_one(r, name, solutions.clone(), req.q0.as_deref())
+            .ok()
+            .and_then(|best| solutions.iter().position(|s| *s == best));
+        let nearest = picked.filter(|_| req.q0.is_some());
         Ok(json!({
             "robot": r.name(),
             "solver": name,
@@ -275,6 +280,7 @@ impl App {
             "target": json::pose(&target),
             "solutions": solutions.iter().map(json::solution).collect::<Vec<_>>(),
             "nearest": nearest,
+            "picked": picked,
         }))
     }
 
@@ -480,6 +486,7 @@ struct IkReq {
     q0: Option<Vec<f64>>,
     solver: Option<String>,
     seed: Option<u64>,
+    mask: Option<[bool; 6]>,
 }
 
 #[derive(Deserialize)]

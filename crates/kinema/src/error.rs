@@ -92,12 +92,14 @@ pub enum Error {
         pitch: f64,
     },
     /// An inverse-kinematics target that cannot be reached, and why.
-    #[error("unreachable target ({}): {reason}", solver_phrase(solver))]
+    #[error("unreachable target ({}): {reason}{}", solver_phrase(solver), closest_phrase(closest))]
     Unreachable {
         /// Which solver decided.
         solver: String,
         /// Why.
         reason: crate::ik::Unreachable,
+        /// The configuration that came closest, when the solver found one.
+        closest: Option<Box<crate::ik::Closest>>,
     },
     /// One configuration of a batch is invalid.
     #[error("configuration {index} of the batch (counting from 0): {source}")]
@@ -132,6 +134,22 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// "iiwa" → "iiwa solver"; "iiwa, at t = 1.2 s of the path" (a sample of a Cartesian path,
 /// named so by the trajectory module) → "iiwa solver, at t = 1.2 s of the path".
+/// The closest configuration of an unreachable target, as a clause of its message.
+fn closest_phrase(closest: &Option<Box<crate::ik::Closest>>) -> String {
+    match closest {
+        Some(c) => {
+            let q: Vec<String> = c.q.iter().map(|v| format!("{v:.6}")).collect();
+            format!(
+                "; closest configuration found: [{}] (misses by {:.3e} m, {:.3e} rad)",
+                q.join(", "),
+                c.position_error,
+                c.orientation_error
+            )
+        }
+        None => String::new(),
+    }
+}
+
 fn solver_phrase(solver: &str) -> String {
     match solver.split_once(", ") {
         Some((name, rest)) => format!("{name} solver, {rest}"),

@@ -15,7 +15,6 @@ fn round_trip_every_robot() {
     for name in kinema::builtin_names() {
         let robot = Robot::builtin(name).unwrap();
         let solver = NumericIk::new(&robot);
-        let full = robot.dof() >= 6;
         let cases = 400;
         let mut failures = 0;
         for _ in 0..cases {
@@ -28,16 +27,19 @@ fn round_trip_every_robot() {
             let s = &sols[0];
             // Residual measured independently of the solver.
             let e = pose_error(&target, &robot.fk(&s.q).unwrap().pose);
+            // The full pose, also for arms with fewer than six joints.
             assert!(e.position_norm() < 1e-6, "{name}: {}", e.position_norm());
-            if full {
-                assert!(e.rotation_angle() < 1e-6, "{name}: {}", e.rotation_angle());
-            }
+            assert!(e.rotation_angle() < 1e-6, "{name}: {}", e.rotation_angle());
             assert!(s.within_limits(), "{name}: {:?}", s.q);
             let info = s.numeric.expect("numeric info");
             assert_eq!(info.stop, Stop::Converged);
             assert!((s.position_error - e.position_norm()).abs() < 1e-12);
         }
-        assert!(failures <= 1, "{name}: {failures} of {cases} reachable targets not solved");
+        // A 5-joint arm meets a full pose only at isolated configurations, which
+        // seeded restarts miss when several joints sit near their limits (ROMMEL:
+        // 3 of 400); its closed form solves those (tests/ik_rommel.rs).
+        let allowed = if robot.dof() >= 6 { 1 } else { 4 };
+        assert!(failures <= allowed, "{name}: {failures} of {cases} reachable targets not solved");
     }
 }
 
@@ -117,7 +119,8 @@ fn bad_targets_and_options_are_rejected() {
 #[test]
 fn position_mask_ignores_orientation() {
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
-    let solver = NumericIk::new(&robot); // 5 joints: position only by default
+    let position_only = NumericOptions { mask: Some([true, true, true, false, false, false]), ..Default::default() };
+    let solver = NumericIk::with_options(&robot, position_only).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(4);
     for _ in 0..300 {
         let q = robot.random_q(&mut rng);
@@ -126,6 +129,28 @@ fn position_mask_ignores_orientation() {
         target.rot = kinema::math::rot_x(0.7) * target.rot;
         let s = &solver.solve(&target).unwrap()[0];
         assert!(s.position_error < 1e-6);
+    }
+}
+
+/// Without a mask, a 5-joint arm must meet the whole pose: a rotation it
+/// cannot take is refused, with the closest configuration it found.
+#[test]
+fn five_joints_meet_the_full_pose_or_refuse() {
+    let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
+    let solver = NumericIk::with_options(&robot, NumericOptions { max_restarts: 5, ..Default::default() }).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    for _ in 0..40 {
+        let q = robot.random_q(&mut rng);
+        let mut target = robot.fk(&q).unwrap().pose;
+        target.rot = kinema::math::rot_x(0.7) * target.rot;
+        match solver.solve(&target) {
+            Err(Error::Unreachable { reason: Unreachable::NoConvergence { .. }, closest: Some(c), .. }) => {
+                let e = pose_error(&target, &robot.fk(&c.q).unwrap().pose);
+                assert!((e.position_norm() - c.position_error).abs() < 1e-12);
+                assert!(c.position_error > 1e-6 || c.orientation_error > 1e-6);
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }
 

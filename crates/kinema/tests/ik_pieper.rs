@@ -487,7 +487,7 @@ fn shoulder_singularity() {
     let ik = PieperIk::new(&robot).unwrap();
     let target = Pose::translation(0.0, 0.0, 1.2);
     match ik.solve(&target) {
-        Err(Error::Unreachable { solver, reason: Unreachable::OutsideReach { by, boundary } }) => {
+        Err(Error::Unreachable { solver, reason: Unreachable::OutsideReach { by, boundary }, .. }) => {
             assert_eq!(solver, "pieper");
             assert!((by - 0.15).abs() < 1e-12 && boundary.contains("cylinder of radius 0.1500 m"), "{by} {boundary}");
         }
@@ -558,7 +558,7 @@ fn unreachable_and_invalid_targets() {
     let ik = PieperIk::new(&robot).unwrap();
     let err = ik.solve(&Pose::translation(5.0, 0.0, 0.5)).unwrap_err();
     match &err {
-        Error::Unreachable { solver, reason: Unreachable::OutsideReach { by, .. } } => {
+        Error::Unreachable { solver, reason: Unreachable::OutsideReach { by, .. }, .. } => {
             assert_eq!(solver, "pieper");
             assert!(*by > 3.5 && *by < 5.0, "{by}");
         }

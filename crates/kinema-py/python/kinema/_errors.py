@@ -40,12 +40,23 @@ class Unreachable(KinemaError):
             ``"numeric"``, ...).
         reason: why, in words (outside the reach, every solution violates a
             joint limit, no convergence, ...).
+        closest: the configuration that came closest, when the solver found
+            one: a dict with ``q`` (list of joint values), ``position_error``
+            [m] and ``orientation_error`` [rad] on the constrained components;
+            else None.
     """
 
-    def __init__(self, message: str, solver: Optional[str] = None, reason: Optional[str] = None) -> None:
+    def __init__(
+        self,
+        message: str,
+        solver: Optional[str] = None,
+        reason: Optional[str] = None,
+        closest: Optional[dict] = None,
+    ) -> None:
         super().__init__(message)
         self.solver = solver
         self.reason = reason
+        self.closest = closest
 
 
 class TrajectoryError(KinemaError):

@@ -347,6 +347,9 @@ class Robot:
         approach: Optional[ArrayLike] = None,
         alpha: Optional[float] = None,
         rpy: RpyName = "zyx",
+        mask: Optional[Sequence[Union[bool, int]]] = None,
+        tol_position: float = 1e-6,
+        tol_orientation: float = 1e-6,
     ) -> IkSolution:
         """One solution within limits (nearest to q0 when given) of a pose T or of position=[x, y, z]
         (alone, or with pitch and roll: Scorbot; approach: ROMMEL; alpha: SCARA). Raises Unreachable, InvalidInput."""
@@ -367,6 +370,9 @@ class Robot:
         approach: Optional[ArrayLike] = None,
         alpha: Optional[float] = None,
         rpy: RpyName = "zyx",
+        mask: Optional[Sequence[Union[bool, int]]] = None,
+        tol_position: float = 1e-6,
+        tol_orientation: float = 1e-6,
     ) -> List[IkSolution]:
         """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""
     @overload
@@ -386,5 +392,8 @@ class Robot:
         approach: Optional[ArrayLike] = None,
         alpha: Optional[float] = None,
         rpy: RpyName = "zyx",
+        mask: Optional[Sequence[Union[bool, int]]] = None,
+        tol_position: float = 1e-6,
+        tol_orientation: float = 1e-6,
     ) -> List[IkSolution]:
         """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""

@@ -428,7 +428,7 @@ impl IiwaIk {
     }
 
     fn unreachable(&self, by: f64, boundary: String) -> Error {
-        Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::OutsideReach { by, boundary } }
+        Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::OutsideReach { by, boundary }, closest: None }
     }
 
     /// Strips base and tool: the flange rotation and wrist point (relative to the shoulder) in frame 0.
@@ -982,7 +982,11 @@ impl IiwaIk {
                     return Err(e);
                 }
             }
-            return Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected } });
+            return Err(Error::Unreachable {
+                solver: "iiwa".into(),
+                reason: Unreachable::JointLimits { rejected },
+                closest: None,
+            });
         }
         let small = |q: &[f64; 7]| q.iter().zip(q_prev).zip(max_steps).all(|((a, b), m)| (a - b).abs() <= *m);
         if cands.iter().any(|(_, q)| small(q)) {

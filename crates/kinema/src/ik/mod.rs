@@ -20,6 +20,7 @@ use crate::math::FastMath;
 use crate::math::{pose_error, Pose};
 use crate::model::{JointSet, Robot};
 
+pub mod contract;
 pub mod iiwa;
 pub mod numeric;
 pub mod pieper;
@@ -28,6 +29,7 @@ pub mod rommel;
 pub mod scara;
 pub mod scorbot;
 
+pub use contract::{Discarded, IkAnswer, Residual, Tolerance};
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
 pub use request::{pick_one, solve_request, solve_target, IkRequest, IkTarget, SolverChoice};
@@ -109,6 +111,25 @@ impl Solution {
     /// Whether every joint value is within its limits.
     pub fn within_limits(&self) -> bool {
         self.out_of_limits.is_empty()
+    }
+}
+
+/// The configuration that came closest to an unreachable target, with its
+/// residual on the constrained components.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Closest {
+    /// Joint values \[rad or m\].
+    pub q: Vec<f64>,
+    /// Position error \[m\].
+    pub position_error: f64,
+    /// Orientation error \[rad\].
+    pub orientation_error: f64,
+}
+
+impl Closest {
+    /// The configuration and residuals of `s`.
+    pub fn of(s: &Solution) -> Closest {
+        Closest { q: s.q.clone(), position_error: s.position_error, orientation_error: s.orientation_error }
     }
 }
 
@@ -344,6 +365,21 @@ pub enum Unreachable {
         /// One entry per rejected solution: its branch and the violated joints.
         rejected: Vec<String>,
     },
+    /// Candidates were found, but forward kinematics of every one misses the
+    /// target by more than the tolerance on a constrained component (e.g. a
+    /// full pose given to an arm with fewer than six joints).
+    Missed {
+        /// How many candidates were measured and discarded.
+        candidates: usize,
+        /// Position error of the closest candidate \[m\].
+        position_error: f64,
+        /// Orientation error of the closest candidate \[rad\].
+        orientation_error: f64,
+        /// The tolerance they were measured against.
+        tolerance: contract::Tolerance,
+        /// Joints of the robot.
+        dof: usize,
+    },
     /// The numeric solver found no solution within its restarts.
     NoConvergence {
         /// Best position error reached \[m\].
@@ -364,6 +400,21 @@ impl fmt::Display for Unreachable {
             }
             Unreachable::JointLimits { rejected } => {
                 write!(f, "every solution violates a joint limit: {}", rejected.join("; "))
+            }
+            Unreachable::Missed { candidates, position_error, orientation_error, tolerance, dof } => {
+                write!(
+                    f,
+                    "no candidate meets the target within {tolerance}: the closest misses it by \
+                     {position_error:.3e} m and {orientation_error:.3e} rad ({candidates} candidate(s) discarded)"
+                )?;
+                if *dof < 6 && *orientation_error > tolerance.orientation {
+                    write!(
+                        f,
+                        "; an arm with {dof} joints cannot take every orientation at a position: give a pose on its \
+                         reachable set, or a task mask that frees the components it cannot control"
+                    )?;
+                }
+                Ok(())
             }
             Unreachable::NoConvergence { position_error, orientation_error, restarts } => write!(
                 f,
@@ -415,6 +466,7 @@ pub trait IkSolver: Send + Sync {
                     })
                     .collect(),
             },
+            closest: None,
         })
     }
 }

@@ -22,7 +22,7 @@ use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::{check_target, IkSolver, NumericInfo, Solution, Stop, Unreachable};
+use super::{check_target, Closest, IkSolver, NumericInfo, Solution, Stop, Unreachable};
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::{rot_to_axis_angle, Pose};
@@ -61,7 +61,8 @@ pub struct NumericOptions {
     /// Damping rule.
     pub damping: Damping,
     /// Which task components \[vx vy vz ωx ωy ωz\] (base frame) must match.
-    /// `None`: all six for robots with ≥ 6 joints, position only otherwise.
+    /// `None`: all six, whatever the number of joints (an arm with fewer than
+    /// six meets a full pose only where the pose lies on its reachable set).
     pub mask: Option<[bool; 6]>,
     /// Project every iterate onto the joint limits (default true).
     pub enforce_limits: bool,
@@ -139,11 +140,7 @@ impl NumericIk {
     }
 
     fn mask(&self) -> [bool; 6] {
-        self.opts.mask.unwrap_or(if self.robot.dof() >= 6 {
-            [true; 6]
-        } else {
-            [true, true, true, false, false, false]
-        })
+        self.opts.mask.unwrap_or([true; 6])
     }
 
     /// Solves starting from `q0` (then from seeded random restarts).
@@ -156,6 +153,7 @@ impl NumericIk {
         let mut ws = Work { j: Matrix6xX::zeros(n), q: q0.to_vec(), trial: vec![0.0; n] };
         let mut rng = ChaCha8Rng::seed_from_u64(self.opts.seed);
         let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let mut best_q = ws.q.clone();
         for restart in 0..=self.opts.max_restarts {
             if restart > 0 {
                 r.random_q_into(&mut rng, &mut ws.q);
@@ -166,6 +164,7 @@ impl NumericIk {
             let energy = ep * ep + eo * eo;
             if energy < best.0 {
                 best = (energy, ep, eo);
+                best_q.copy_from_slice(&ws.q);
             }
             if stop == Stop::Converged {
                 let mut s = Solution::evaluate(r, ws.q.clone(), target, "numeric")?;
@@ -180,6 +179,7 @@ impl NumericIk {
                 orientation_error: best.2,
                 restarts: self.opts.max_restarts,
             },
+            closest: Some(Box::new(Closest { q: best_q, position_error: best.1, orientation_error: best.2 })),
         })
     }
 

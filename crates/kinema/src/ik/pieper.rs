@@ -803,7 +803,7 @@ impl IkSolver for PieperIk {
     fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         check_target(target)?;
         out.clear();
-        let unreachable = |reason| Error::Unreachable { solver: "pieper".into(), reason };
+        let unreachable = |reason| Error::Unreachable { solver: "pieper".into(), reason, closest: None };
         let t06 = self.dh0_from_flange(target);
         let p = t06.transform_point(&self.wc_in_flange);
         if !p.iter().all(|v| v.is_finite()) || p.norm() > 1e100 {

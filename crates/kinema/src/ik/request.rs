@@ -6,10 +6,11 @@
 
 use nalgebra::Vector3;
 
+use super::contract::{self, IkAnswer, Tolerance};
 use super::rommel::RommelIk;
 use super::scara::ScaraIk;
 use super::scorbot::ScorbotIk;
-use super::{analytic_solver, IiwaIk, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
+use super::{analytic_solver, Closest, IiwaIk, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
 use crate::model::Robot;
@@ -105,9 +106,27 @@ pub struct IkRequest<'a> {
     pub q3: Option<f64>,
     /// iiwa: the arm angle ψ \[rad\] (one solution per global configuration).
     pub psi: Option<f64>,
-    /// Options of the numeric solver (seed, tolerances, task mask, …). With a
-    /// task mask the numeric solver is used (analytic solvers need full poses).
+    /// Which components \[x y z ωx ωy ωz\] (world frame) of a full pose a
+    /// solution must meet; `None`: all six. With a mask the numeric solver is
+    /// used (the closed forms solve full poses).
+    pub mask: Option<[bool; 6]>,
+    /// How close FK of a returned solution must come to the target.
+    pub tolerance: Tolerance,
+    /// Options of the numeric solver (seed, iterations, restarts, damping, …);
+    /// its mask and tolerances are set from `mask` and `tolerance`.
     pub numeric: NumericOptions,
+}
+
+impl IkRequest<'_> {
+    /// The numeric solver's options for this request.
+    fn numeric_options(&self) -> NumericOptions {
+        NumericOptions {
+            mask: self.mask,
+            tol_position: self.tolerance.position,
+            tol_orientation: self.tolerance.orientation,
+            ..self.numeric.clone()
+        }
+    }
 }
 
 /// Runs `request` on `target` and returns the solver's name and every
@@ -128,7 +147,7 @@ pub struct IkRequest<'a> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
-    let masked = request.numeric.mask.is_some();
+    let masked = request.mask.is_some();
     if (request.q3.is_some() || request.psi.is_some()) && masked {
         return Err(Error::InvalidArgument {
             what: "target".into(),
@@ -180,7 +199,7 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
         }),
         (_, Some(s)) => Ok((s.name(), s.solve(target)?)),
         (_, None) => {
-            let solver = NumericIk::with_options(robot, request.numeric.clone())?;
+            let solver = NumericIk::with_options(robot, request.numeric_options())?;
             let solutions = match request.q0 {
                 Some(q0) => vec![solver.solve_from(target, q0)?],
                 None => solver.solve(target)?,
@@ -190,43 +209,68 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
     }
 }
 
-/// Solves `target` as `request` asks and returns the solver's name and every
-/// solution it gave — the dispatch of `kinema ik` for every kind of target.
+/// Solves `target` as `request` asks — the one dispatch of `kinema ik`, the
+/// viewer, the language and Python for every kind of target — and returns
+/// the solutions that meet the target ([`IkAnswer`]).
 ///
-/// * A full pose ([`IkTarget::Pose`]): [`solve_request`].
+/// * A full pose ([`IkTarget::Pose`]): [`solve_request`]; with
+///   `request.mask`, only the selected components are constrained.
 /// * A position ([`IkTarget::Position`]): [`solve_request`] with the position-only task mask
 ///   (numeric solver; [`SolverChoice::Analytic`] is refused as for any masked
-///   target). A mask in `request.numeric` is replaced.
+///   target).
 /// * The typed targets: the family's solver ([`ScorbotIk`], [`RommelIk`],
 ///   [`ScaraIk`]) whatever the robot; a robot of another family gives that
 ///   solver's own error ("the Scorbot solver needs 5 revolute joints …").
 ///   `request.all` and `request.numeric` do not apply; the SCARA keeps the
 ///   elbow side and q5 of `request.q0`.
 ///
+/// **The contract.** Every candidate the solver proposes is measured by FK
+/// ([`contract::residual`]); only those within `request.tolerance` on every
+/// constrained component are returned, the others are listed in
+/// [`IkAnswer::discarded`]. When none meets the target the result is
+/// [`Error::Unreachable`] with the reason and, where one was found, the
+/// closest configuration: an analytic refusal of a pose or position gets a
+/// bounded numeric second look, whose solution is returned instead when the
+/// solver choice is [`SolverChoice::Auto`]. So an arm with fewer than six
+/// joints meets a full pose exactly or not at all, unless a mask frees what
+/// it cannot control.
+///
 /// Errors ([`Error::InvalidArgument`]) before any solving: both q3 and ψ;
 /// `q0` not a configuration of `robot`; a typed target, q3 or ψ with
 /// [`SolverChoice::Numeric`] (they select an analytic solver); q3 or ψ with a
-/// target that is not a full pose; a non-finite position. Then the solver's
-/// own errors: [`Error::Unreachable`] with the solver's name and the reason,
-/// or [`Error::InvalidArgument`] for non-finite or degenerate values.
+/// target that is not a full pose; a mask with a target that is not a full
+/// pose, or selecting nothing; a tolerance that is not positive; a
+/// non-finite position.
 ///
 /// # Examples
 /// ```
 /// use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, SolverChoice};
+/// use kinema::Pose;
 /// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
 /// let q = [0.3, 1.2, -1.0, -0.6, 0.4];
-/// let p = robot.fk(&q)?.pose.pos;
+/// let reached = robot.fk(&q)?.pose;
+/// let p = reached.pos;
 /// // Seed 000 eq. 13: pitch β = −(θ2 + θ3 + θ4), roll γ = θ5.
 /// let target = IkTarget::PositionPitchRoll { position: [p.x, p.y, p.z], pitch: -(1.2 - 1.0 - 0.6), roll: 0.4 };
-/// let (name, all) = solve_target(&robot, &target, &IkRequest::default())?;
-/// assert_eq!(name, "scorbot");
-/// let one = pick_one(&robot, name, all, Some(&q))?;
+/// let answer = solve_target(&robot, &target, &IkRequest::default())?;
+/// assert_eq!(answer.solver, "scorbot");
+/// let one = pick_one(&robot, answer.solver, answer.solutions, Some(&q))?;
 /// assert!(one.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9));
 ///
+/// // A full pose the arm reaches: only the candidates that meet it.
+/// let answer = solve_target(&robot, &IkTarget::Pose(reached), &IkRequest { all: true, ..Default::default() })?;
+/// assert!(answer.solutions.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
+/// // Turned about the vertical: five joints cannot follow, so it is unreachable…
+/// let turned = Pose::new(kinema::math::rot_z(0.5) * reached.rot, reached.pos);
+/// assert!(solve_target(&robot, &IkTarget::Pose(turned), &IkRequest::default()).is_err());
+/// // …unless a task mask frees the rotation about the world z axis.
+/// let free_yaw = IkRequest { mask: Some([true, true, true, true, true, false]), ..Default::default() };
+/// assert!(solve_target(&robot, &IkTarget::Pose(turned), &free_yaw).is_ok());
+///
 /// // Position only: the numeric solver with a position mask.
-/// let (name, found) = solve_target(&robot, &IkTarget::Position([p.x, p.y, p.z]), &IkRequest::default())?;
-/// assert_eq!(name, "numeric");
-/// assert!(found[0].position_error < 1e-6);
+/// let answer = solve_target(&robot, &IkTarget::Position([p.x, p.y, p.z]), &IkRequest::default())?;
+/// assert_eq!(answer.solver, "numeric");
+/// assert!(answer.solutions[0].position_error < 1e-6);
 ///
 /// // A typed target selects an analytic solver.
 /// let numeric = IkRequest { solver: SolverChoice::Numeric, ..Default::default() };
@@ -236,7 +280,24 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
 /// assert!(solve_target(&robot, &alpha, &IkRequest::default()).unwrap_err().to_string().contains("SCARA"));
 /// # Ok::<(), kinema::Error>(())
 /// ```
-pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
+pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<IkAnswer> {
+    check_request(robot, target, request)?;
+    let mask = match target {
+        IkTarget::Position(_) => Some(POSITION_MASK),
+        _ => request.mask,
+    };
+    let proposed = match propose(robot, target, request) {
+        Err(Error::Unreachable { solver, reason, closest: None }) if solver != "numeric" => {
+            return closest_by_numeric(robot, target, mask, request, solver, reason);
+        }
+        other => other?,
+    };
+    let (name, candidates) = proposed;
+    contract::sort_out(robot, target, mask, request.tolerance, name, candidates)
+}
+
+/// The combinations [`solve_target`] refuses before solving.
+fn check_request(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<()> {
     let invalid =
         |what: &str, message: &str| Err(Error::InvalidArgument { what: what.into(), message: message.into() });
     let iiwa = request.q3.is_some() || request.psi.is_some();
@@ -255,6 +316,24 @@ pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Re
     if iiwa && !matches!(target, IkTarget::Pose(_)) {
         return invalid("target", "q3 and psi need a full target pose, not a position-only or typed target");
     }
+    if request.mask.is_some() && !matches!(target, IkTarget::Pose(_)) {
+        return invalid(
+            "mask",
+            "a task mask selects components of a full pose; a position or typed target already says what it fixes",
+        );
+    }
+    if request.mask.is_some_and(|m| !m.iter().any(|&b| b)) {
+        return invalid("mask", "the task mask selects no component; expected at least one of x, y, z, ωx, ωy, ωz");
+    }
+    if !(request.tolerance.position > 0.0 && request.tolerance.orientation > 0.0) {
+        return invalid("tolerance", "the position and orientation tolerances must be positive numbers");
+    }
+    Ok(())
+}
+
+/// The candidates of the solver `request` selects for `target`, before the
+/// contract's check.
+fn propose(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
     match *target {
         IkTarget::Pose(ref pose) => solve_request(robot, pose, request),
         IkTarget::Position(p) => {
@@ -264,11 +343,9 @@ pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Re
                     message: format!("{p:?}: all values must be finite"),
                 });
             }
-            // The orientation is free: home's rotation is a placeholder, masked out.
-            let pose = Pose::new(robot.fk(robot.home())?.pose.rot, Vector3::from(p));
             let mut masked = request.clone();
-            masked.numeric.mask = Some(POSITION_MASK);
-            solve_request(robot, &pose, &masked)
+            masked.mask = Some(POSITION_MASK);
+            solve_request(robot, &position_pose(robot, p)?, &masked)
         }
         IkTarget::PositionPitchRoll { position, pitch, roll } => {
             let s = ScorbotIk::new(robot)?;
@@ -285,6 +362,50 @@ pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Re
     }
 }
 
+/// A position target as a pose: home's rotation is a placeholder that the
+/// position mask leaves out.
+fn position_pose(robot: &Robot, p: [f64; 3]) -> Result<Pose> {
+    Ok(Pose::new(robot.fk(robot.home())?.pose.rot, Vector3::from(p)))
+}
+
+/// Restarts of the numeric search behind an analytic solver's refusal.
+const SECOND_OPINION_RESTARTS: usize = 8;
+
+/// An analytic solver refused a pose or position target: the numeric solver
+/// gets a bounded second look (from q0 or home, then seeded restarts). If it
+/// meets the target and the request let the solver be chosen, its solution is
+/// the answer; otherwise the refusal stands, with the closest configuration
+/// the search found. Typed targets keep the refusal as it is.
+fn closest_by_numeric(
+    robot: &Robot,
+    target: &IkTarget,
+    mask: Option<[bool; 6]>,
+    request: &IkRequest,
+    solver: String,
+    reason: Unreachable,
+) -> Result<IkAnswer> {
+    let refusal = |closest| Err(Error::Unreachable { solver: solver.clone(), reason: reason.clone(), closest });
+    let pose = match target {
+        IkTarget::Pose(pose) => *pose,
+        IkTarget::Position(p) => position_pose(robot, *p)?,
+        _ => return refusal(None),
+    };
+    let opts = NumericOptions {
+        max_restarts: SECOND_OPINION_RESTARTS.min(request.numeric.max_restarts),
+        mask,
+        ..request.numeric_options()
+    };
+    let numeric = NumericIk::with_options(robot, opts)?;
+    match numeric.solve_from(&pose, request.q0.unwrap_or(robot.home())) {
+        Ok(s) if request.solver == SolverChoice::Auto => {
+            contract::sort_out(robot, target, mask, request.tolerance, "numeric", vec![s])
+        }
+        Ok(s) => refusal(Some(Box::new(Closest::of(&s)))),
+        Err(Error::Unreachable { closest, .. }) => refusal(closest),
+        Err(e) => Err(e),
+    }
+}
+
 /// The one solution to report from `solutions` of solver `solver`: within
 /// the joint limits, the nearest to `q0` when given, else the first.
 /// [`Error::Unreachable`] with [`Unreachable::JointLimits`] (naming each
@@ -298,7 +419,11 @@ pub fn pick_one(robot: &Robot, solver: &str, solutions: Vec<Solution>, q0: Optio
                 format!("{} ({})", s.branch, j.join(", "))
             })
             .collect();
-        return Err(Error::Unreachable { solver: solver.to_string(), reason: Unreachable::JointLimits { rejected } });
+        return Err(Error::Unreachable {
+            solver: solver.to_string(),
+            reason: Unreachable::JointLimits { rejected },
+            closest: None,
+        });
     }
     let within = solutions.within_limits();
     let pick = match q0 {
@@ -365,8 +490,8 @@ mod tests {
             let pose = robot.fk(&q).unwrap().pose;
             let request = IkRequest { q0: Some(&q), ..Default::default() };
             assert_eq!(
-                solve_target(&robot, &IkTarget::Pose(pose), &request).unwrap(),
-                solve_request(&robot, &pose, &request).unwrap()
+                solve_target(&robot, &IkTarget::Pose(pose), &request).unwrap().solutions,
+                solve_request(&robot, &pose, &request).unwrap().1
             );
         }
     }
@@ -383,9 +508,12 @@ mod tests {
             let p = xyz(&robot.fk(&q).unwrap().pose);
             let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
             let target = IkTarget::PositionPitchRoll { position: p, pitch, roll };
-            let (name, sols) = solve_target(&robot, &target, &all()).unwrap();
+            let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
             assert_eq!(name, "scorbot");
-            assert_eq!(sols, ScorbotIk::new(&robot).unwrap().solve_xyz_pitch_roll(p, pitch, roll).unwrap());
+            // The solver's candidates, each kept (the residuals are the contract's own measure).
+            let proposed = ScorbotIk::new(&robot).unwrap().solve_xyz_pitch_roll(p, pitch, roll).unwrap();
+            let qs = |v: &[Solution]| v.iter().map(|s| (s.q.clone(), s.branch.clone())).collect::<Vec<_>>();
+            assert_eq!(qs(&sols), qs(&proposed));
             for s in &sols {
                 let fk = robot.fk(&s.q).unwrap().pose;
                 assert!((fk.pos - Vector3::from(p)).norm() < 1e-9, "{s:?}");
@@ -407,7 +535,7 @@ mod tests {
             let fk = robot.fk(&q).unwrap().pose;
             let a = fk.rot.column(2) * 2.5; // any length
             let target = IkTarget::PositionApproach { position: xyz(&fk), approach: [a.x, a.y, a.z] };
-            let (name, sols) = solve_target(&robot, &target, &all()).unwrap();
+            let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
             assert_eq!(name, "rommel");
             assert!(!sols.is_empty());
             for s in &sols {
@@ -432,7 +560,7 @@ mod tests {
             let request = IkRequest { q0: Some(&q), ..Default::default() };
             let zone = ik.solve_zone([p[0], p[1], p[2], alpha], Some(&q));
             match solve_target(&robot, &target, &request) {
-                Ok((name, sols)) => {
+                Ok(IkAnswer { solver: name, solutions: sols, .. }) => {
                     assert_eq!(name, "scara");
                     assert_eq!(sols, vec![zone.unwrap()]);
                     let s = &sols[0];
@@ -456,7 +584,8 @@ mod tests {
             for _ in 0..15 {
                 let q = robot.random_q(&mut rng);
                 let p = xyz(&robot.fk(&q).unwrap().pose);
-                let (solver, sols) = solve_target(&robot, &IkTarget::Position(p), &IkRequest::default()).unwrap();
+                let IkAnswer { solver, solutions: sols, .. } =
+                    solve_target(&robot, &IkTarget::Position(p), &IkRequest::default()).unwrap();
                 assert_eq!(solver, "numeric");
                 for s in &sols {
                     assert!((robot.fk(&s.q).unwrap().pose.pos - Vector3::from(p)).norm() < 1e-6, "{name}");

@@ -94,6 +94,19 @@ struct Raw {
 }
 
 impl RommelIk {
+    /// The angle \[rad\] between the tool z axis of `reached` and `approach`
+    /// (world frame, any length; π for a zero or non-finite approach).
+    pub fn approach_error(reached: &Pose, approach: [f64; 3]) -> f64 {
+        let a = Vector3::from(approach);
+        let z = reached.rot.column(2).into_owned();
+        let n = a.norm();
+        if !(n > 1e-12 && n.is_finite()) {
+            return std::f64::consts::PI;
+        }
+        // atan2 of |z × a| and z·a stays accurate near 0 and π, where acos does not.
+        z.cross(&a).norm().atan2(z.dot(&a))
+    }
+
     /// A solver for `robot`, reading d1, a1, a2, d4 from its modified-DH table and
     /// checking with forward kinematics that the geometry of the module
     /// documentation holds.
@@ -313,7 +326,7 @@ impl RommelIk {
                     miss_pos.into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).unwrap_or((0.0, "reachable region".into()));
                 Unreachable::OutsideReach { by, boundary }
             };
-            return Err(Error::Unreachable { solver: NAME.into(), reason });
+            return Err(Error::Unreachable { solver: NAME.into(), reason, closest: None });
         }
         Ok(out)
     }

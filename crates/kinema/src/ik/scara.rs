@@ -290,7 +290,7 @@ impl ScaraIk {
     }
 
     fn unreachable(by: f64, boundary: String) -> Error {
-        Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary } }
+        Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary }, closest: None }
     }
 
     /// Joint values for a flange point, rail position and elbow; None outside the annulus.
@@ -320,6 +320,11 @@ impl ScaraIk {
             q5 += 2.0 * PI;
         }
         Some([q1, q2, q3, q4, q5])
+    }
+
+    /// The pose a typed target (x, y, z \[m\], α \[rad\]) asks for: Rz(α) at P.
+    pub fn alpha_pose(position: [f64; 3], alpha: f64) -> Pose {
+        Pose::new(rot_z(alpha), Vector3::from(position))
     }
 
     /// The pose Rz(α) at P of a typed target.
@@ -500,6 +505,7 @@ impl ScaraIk {
                     angle: tilt,
                     detail: "a SCARA keeps its tool z axis vertical; it controls only the rotation about it".into(),
                 },
+                closest: None,
             });
         }
         let alpha = r[(1, 0)].fast_atan2(r[(0, 0)]);

@@ -70,7 +70,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
-use crate::math::{Pose, RpyConvention};
+use crate::math::{rot_x, rot_y, Pose, RpyConvention};
 use crate::model::{DhConvention, LinkGeometry, Robot};
 
 /// Name of the solver in errors.
@@ -314,6 +314,19 @@ impl ScorbotIk {
         e.min(PI - e)
     }
 
+    /// How far \[rad\] the orientation of `reached` (a tool pose in the world
+    /// frame) is from every orientation with pitch β = `pitch` and roll γ =
+    /// `roll` (seed 000 eq. 13), whatever its yaw: with M = R·R_h of the
+    /// flange in frame 0, M = Rz(α)·Ry(β)·Rx(γ) for some α exactly when
+    /// N = M·Rx(γ)ᵀ·Ry(β)ᵀ turns about z alone, so the error is the angle
+    /// between N·z and z.
+    pub fn pitch_roll_error(&self, reached: &Pose, pitch: f64, roll: f64) -> f64 {
+        let (_, m) = self.local_target(reached);
+        let n = m * rot_x(roll).transpose() * rot_y(pitch).transpose();
+        let z = n.column(2);
+        z.xy().norm().atan2(z.z)
+    }
+
     /// Target in the robot's base frame 0: tool-point position and R·R_h of the flange.
     fn local_target(&self, target: &Pose) -> (Vector3<f64>, Matrix3<f64>) {
         let local = self.base_inv.mul(target);
@@ -337,7 +350,7 @@ impl ScorbotIk {
                 )
             })
             .unwrap_or((0.0, "reachable annulus (no branch evaluated)".into()));
-        Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary } }
+        Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary }, closest: None }
     }
 
     /// Front and back branches, both elbows, for a tool point `p` in frame 0,

@@ -101,8 +101,8 @@ pub fn to_joints_at(
 
 fn at_time(t: f64, e: Error) -> Error {
     match e {
-        Error::Unreachable { solver, reason } => {
-            Error::Unreachable { solver: format!("{solver}, at t = {t:.4} s of the path"), reason }
+        Error::Unreachable { solver, reason, closest } => {
+            Error::Unreachable { solver: format!("{solver}, at t = {t:.4} s of the path"), reason, closest }
         }
         e => Error::InvalidArgument { what: format!("path sample at t = {t:.4} s"), message: e.to_string() },
     }
@@ -130,6 +130,7 @@ fn unreachable_orientation(t: f64, solver: &str) -> Error {
                 detail: "no solution reaches this pose of the path exactly (the arm cannot take its orientation)"
                     .into(),
             },
+            closest: None,
         },
     )
 }

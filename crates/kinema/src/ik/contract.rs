@@ -1,0 +1,205 @@
+//! The one rule every door applies before it reports an IK solution: forward
+//! kinematics of the solution must meet the request on every component the
+//! request constrains, within a stated [`Tolerance`]. Solvers propose
+//! candidates; [`sort_out`] measures each by FK, keeps those that meet the
+//! target and counts the rest, so no solver (analytic, numeric, a family's
+//! typed target) can report a wrong pose as a solution.
+
+use std::borrow::Cow;
+use std::fmt;
+
+use nalgebra::Vector3;
+
+use super::request::IkTarget;
+use super::rommel::RommelIk;
+use super::scara::ScaraIk;
+use super::scorbot::ScorbotIk;
+use super::{Closest, Solution, Unreachable};
+use crate::error::{Error, Result};
+use crate::math::{rot_to_axis_angle, Pose};
+use crate::model::Robot;
+
+/// How close forward kinematics of a returned solution must come to the
+/// target, on the components the request constrains.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance {
+    /// Position \[m\].
+    pub position: f64,
+    /// Orientation \[rad\].
+    pub orientation: f64,
+}
+
+impl Default for Tolerance {
+    /// 1e-6 m and 1e-6 rad: the numeric solver's convergence test, and far
+    /// above the rounding level of the closed forms.
+    fn default() -> Self {
+        Tolerance { position: 1e-6, orientation: 1e-6 }
+    }
+}
+
+impl fmt::Display for Tolerance {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:.1e} m, {:.1e} rad", self.position, self.orientation)
+    }
+}
+
+/// The residual of one configuration against a target, on the constrained
+/// components only.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Residual {
+    /// Position error \[m\].
+    pub position: f64,
+    /// Orientation error \[rad\]; 0 when the target leaves the orientation free.
+    pub orientation: f64,
+}
+
+impl Residual {
+    /// Whether both errors are within `tol`.
+    pub fn meets(&self, tol: &Tolerance) -> bool {
+        self.position <= tol.position && self.orientation <= tol.orientation
+    }
+
+    /// One number to rank misses by: the errors relative to their tolerances.
+    fn badness(&self, tol: &Tolerance) -> f64 {
+        (self.position / tol.position).max(self.orientation / tol.orientation)
+    }
+}
+
+/// The residual of `reached` (FK of a configuration) against `target`, with
+/// `mask` selecting the components \[x y z ωx ωy ωz\] (base frame) of a full
+/// pose. The orientation error of a masked pose is the norm of the selected
+/// components of the axis-angle vector of R_target·R_reachedᵀ, as the numeric
+/// solver measures it; unmasked it is the full rotation angle.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{contract::residual, IkTarget};
+/// use kinema::math::rot_z;
+/// use kinema::Pose;
+/// let robot = kinema::Robot::builtin("ur5")?;
+/// let reached = robot.fk(robot.home())?.pose;
+/// let turned = Pose::new(rot_z(0.1) * reached.rot, reached.pos);
+/// let full = residual(&robot, &IkTarget::Pose(turned), None, &reached)?;
+/// assert!((full.orientation - 0.1).abs() < 1e-12);
+/// // Freeing the rotation about the world z axis: met.
+/// let free_z = residual(&robot, &IkTarget::Pose(turned), Some([true, true, true, true, true, false]), &reached)?;
+/// assert!(free_z.orientation < 1e-12);
+/// # Ok::<(), kinema::Error>(())
+/// ```
+pub fn residual(robot: &Robot, target: &IkTarget, mask: Option<[bool; 6]>, reached: &Pose) -> Result<Residual> {
+    let position_of = |p: &[f64; 3]| (Vector3::from(*p) - reached.pos).norm();
+    Ok(match target {
+        IkTarget::Pose(pose) => pose_residual(pose, reached, mask.unwrap_or([true; 6])),
+        IkTarget::Position(p) => Residual { position: position_of(p), orientation: 0.0 },
+        IkTarget::PositionPitchRoll { position, pitch, roll } => Residual {
+            position: position_of(position),
+            orientation: ScorbotIk::new(robot)?.pitch_roll_error(reached, *pitch, *roll),
+        },
+        IkTarget::PositionApproach { position, approach } => {
+            Residual { position: position_of(position), orientation: RommelIk::approach_error(reached, *approach) }
+        }
+        IkTarget::PositionAlpha { position, alpha } => {
+            pose_residual(&ScaraIk::alpha_pose(*position, *alpha), reached, [true; 6])
+        }
+    })
+}
+
+/// The masked residual of a full pose.
+fn pose_residual(target: &Pose, reached: &Pose, mask: [bool; 6]) -> Residual {
+    let dp = target.pos - reached.pos;
+    let dw = rot_to_axis_angle(&(target.rot * reached.rot.transpose()));
+    let pick = |v: Vector3<f64>, m: &[bool]| {
+        Vector3::new(if m[0] { v.x } else { 0.0 }, if m[1] { v.y } else { 0.0 }, if m[2] { v.z } else { 0.0 }).norm()
+    };
+    Residual { position: pick(dp, &mask[..3]), orientation: pick(dw, &mask[3..]) }
+}
+
+/// A candidate a solver proposed that does not meet the target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Discarded {
+    /// The solver's branch label.
+    pub branch: Cow<'static, str>,
+    /// Its residual on the constrained components.
+    pub residual: Residual,
+}
+
+/// What a request got: the solutions that meet the target (each within the
+/// tolerance, its residual fields measured on the constrained components)
+/// and the candidates that were discarded because they do not.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkAnswer {
+    /// The solver that proposed the candidates.
+    pub solver: &'static str,
+    /// Solutions meeting the target (never empty in an `Ok` answer).
+    pub solutions: Vec<Solution>,
+    /// Candidates whose FK misses the target by more than the tolerance.
+    pub discarded: Vec<Discarded>,
+    /// The tolerance applied.
+    pub tolerance: Tolerance,
+}
+
+/// Measures every candidate of `solver` by FK against `target`, keeps those
+/// that meet it within `tol` (their `position_error`/`orientation_error`
+/// become the constrained residual) and lists the others. When none meets
+/// the target: [`Error::Unreachable`] with [`Unreachable::Missed`] and the
+/// closest candidate.
+pub fn sort_out(
+    robot: &Robot,
+    target: &IkTarget,
+    mask: Option<[bool; 6]>,
+    tol: Tolerance,
+    solver: &'static str,
+    candidates: Vec<Solution>,
+) -> Result<IkAnswer> {
+    let mut solutions = Vec::with_capacity(candidates.len());
+    let mut discarded = Vec::new();
+    let mut closest: Option<(f64, Closest)> = None;
+    for mut s in candidates {
+        let r = residual(robot, target, mask, &robot.fk(&s.q)?.pose)?;
+        (s.position_error, s.orientation_error) = (r.position, r.orientation);
+        if r.meets(&tol) {
+            solutions.push(s);
+            continue;
+        }
+        let badness = r.badness(&tol);
+        if closest.as_ref().map_or(true, |(b, _)| badness < *b) {
+            closest = Some((badness, Closest::of(&s)));
+        }
+        discarded.push(Discarded { branch: s.branch, residual: r });
+    }
+    if solutions.is_empty() {
+        let closest = closest.map(|(_, c)| c);
+        let (position_error, orientation_error) =
+            closest.as_ref().map_or((f64::INFINITY, f64::INFINITY), |c| (c.position_error, c.orientation_error));
+        return Err(Error::Unreachable {
+            solver: solver.into(),
+            reason: Unreachable::Missed {
+                candidates: discarded.len(),
+                position_error,
+                orientation_error,
+                tolerance: tol,
+                dof: robot.dof(),
+            },
+            closest: closest.map(Box::new),
+        });
+    }
+    Ok(IkAnswer { solver, solutions, discarded, tolerance: tol })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{rot_x, rot_z};
+
+    #[test]
+    fn masked_components_are_not_measured() {
+        let reached = Pose::new(rot_x(0.3), Vector3::new(0.1, 0.2, 0.3));
+        let target = Pose::new(rot_z(0.2) * rot_x(0.3), Vector3::new(0.1, 0.2, 0.5));
+        let full = pose_residual(&target, &reached, [true; 6]);
+        assert!((full.position - 0.2).abs() < 1e-15 && (full.orientation - 0.2).abs() < 1e-12);
+        let free = pose_residual(&target, &reached, [true, true, false, true, true, false]);
+        assert!(free.position < 1e-15 && free.orientation < 1e-12, "{free:?}");
+        let tol = Tolerance::default();
+        assert!(free.meets(&tol) && !full.meets(&tol));
+    }
+}
