@@ -32,6 +32,11 @@
 //!   arm with q3 = 0; with the three configuration bits it determines one
 //!   solution.
 //!
+//! Without a previous configuration, [`IiwaIk::solve_searching`] takes the
+//! closed form at a preferred q3 when it has a solution within limits and
+//! otherwise searches ψ over the whole self-motion; [`IiwaIk::select`] falls
+//! back to the same search when its q3 window has none.
+//!
 //! # Configuration bits
 //!
 //! A configuration is labelled by three bits ([`SHOULDER`], [`ELBOW`],
