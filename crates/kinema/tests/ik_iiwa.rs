@@ -500,3 +500,95 @@ fn solve_q3_kernel_matches_solve_q3() {
         assert!(c.qs().iter().any(|c| common::same_angles(c, &q, 1e-9)), "{q:?} not among {c:?}");
     }
 }
+
+/// A returned solution reaches `target` (FK-checked) and is within limits.
+fn assert_reaches_within_limits(robot: &Robot, s: &kinema::ik::Solution, target: &Pose) {
+    let fk = robot.fk(&s.q).unwrap();
+    let e = kinema::math::pose_error(target, &fk.pose);
+    assert!(e.position_norm() < 1e-9 && e.rotation_angle() < 1e-9, "{s:?}");
+    assert!(s.position_error < 1e-9 && s.orientation_error < 1e-9, "{s:?}");
+    assert!(s.within_limits() && fk.within_limits(), "{s:?}");
+    assert_finite(&s.q);
+}
+
+/// A configuration near `q` (each joint moved by up to 0.2 rad, kept within limits).
+fn nearby(robot: &Robot, q: &[f64], rng: &mut ChaCha8Rng) -> Vec<f64> {
+    q.iter()
+        .zip(robot.joints())
+        .map(|(v, j)| (v + rng.random_range(-0.2..0.2)).clamp(j.limits.min, j.limits.max))
+        .collect()
+}
+
+#[test]
+fn searching_solves_every_reachable_target() {
+    let (robot, ik) = setup();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x1aa5);
+    let mut searched = 0;
+    for _ in 0..3000 {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let sols = ik.solve_searching(&target, 0.0).unwrap_or_else(|e| panic!("{q:?} refused: {e}"));
+        assert!(!sols.is_empty());
+        for s in &sols {
+            assert_reaches_within_limits(&robot, s, &target);
+        }
+        // The closed form at q3 = 0 keeps its `/front`/`/back` labels; the ψ search has none.
+        if !sols[0].branch.ends_with("/front") && !sols[0].branch.ends_with("/back") {
+            searched += 1;
+            assert!(ik.solve_within_limits(&target).is_err());
+        } else {
+            assert!(sols.iter().all(|s| s.q[2] == 0.0));
+        }
+    }
+    eprintln!("solve_searching: {searched} of 3000 targets needed the ψ search, none refused");
+    assert!(searched > 30, "{searched}");
+}
+
+#[test]
+fn searching_refuses_only_what_no_q3_reaches() {
+    let (robot, ik) = setup();
+    // Outside the annulus: the reach error of the closed form.
+    let far = Pose::translation(2.0, 0.0, 0.36);
+    assert!(matches!(
+        ik.solve_searching(&far, 0.0),
+        Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })
+    ));
+    assert!(matches!(ik.solve_searching(&far, f64::NAN), Err(Error::InvalidArgument { .. })));
+    // The flange pointing into the base column: no ψ keeps q2 and q6 within ±120°.
+    let q = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let straight = robot.fk(&q).unwrap().pose;
+    let down = Pose::new(Pose::rot_x(PI).rot, straight.pos - Vector3::new(0.0, 0.0, 0.6));
+    match ik.solve_searching(&down, 0.0) {
+        Err(Error::Unreachable { reason: Unreachable::JointLimits { rejected }, .. }) => {
+            assert_eq!(rejected.len(), 8, "{rejected:?}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(0x1aa7);
+    for _ in 0..200 {
+        let p = Vector3::new(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2), rng.random_range(-0.6..1.6));
+        let t = Pose::new(Pose::rot_x(rng.random_range(-PI..PI)).rot * Pose::rot_y(rng.random_range(-PI..PI)).rot, p);
+        if let Ok(sols) = ik.solve_searching(&t, 0.0) {
+            sols.iter().for_each(|s| assert_reaches_within_limits(&robot, s, &t));
+        }
+    }
+}
+
+#[test]
+fn selection_falls_back_to_the_search() {
+    let (robot, ik) = setup();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x1aa6);
+    let mut fell_back = 0;
+    for _ in 0..3000 {
+        let q = robot.random_q(&mut rng);
+        let q0 = nearby(&robot, &q, &mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let s = ik.select(&q0, &target, None).unwrap_or_else(|e| panic!("{q:?} from {q0:?} refused: {e}"));
+        assert_reaches_within_limits(&robot, &s, &target);
+        if (s.q[2] - q0[2]).abs() > 0.05 + 1e-12 {
+            fell_back += 1;
+        }
+    }
+    eprintln!("select: {fell_back} of 3000 targets needed the ψ search, none refused");
+    assert!(fell_back > 20, "{fell_back}");
+}

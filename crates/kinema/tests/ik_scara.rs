@@ -59,26 +59,58 @@ fn pose_round_trip_2000() {
     let ik = ScaraIk::new(&robot).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(17);
     let [x0, x1, y0, y1] = ik.zone();
-    let mut n = 0;
-    while n < 2000 {
+    let mut inside = 0;
+    for _ in 0..2000 {
         let q = robot.random_q(&mut rng);
         let target = robot.fk(&q).unwrap().pose;
-        let inside = (x0..=x1).contains(&target.pos.x) && (y0..=y1).contains(&target.pos.y);
-        match ik.solve(&target) {
-            Ok(sols) => {
-                assert!(inside);
-                assert_eq!(sols.len(), 2);
-                for s in &sols {
-                    assert!(s.position_error < 1e-10 && s.orientation_error < 1e-10 && s.within_limits(), "{s:?}");
-                }
-                n += 1;
-            }
-            Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, .. }, .. }) => {
-                assert!(!inside && by > 0.0)
-            }
-            Err(e) => panic!("{e}"),
+        let sols = ik.solve(&target).unwrap_or_else(|e| panic!("{q:?} refused: {e}"));
+        assert!(!sols.is_empty() && sols.len() <= 2);
+        for s in &sols {
+            assert!(s.position_error < 1e-10 && s.orientation_error < 1e-10 && s.within_limits(), "{s:?}");
+        }
+        // Inside the zone: both elbows at the zone rule's rail, as in seed 003.
+        let (x, y) = (target.pos.x, target.pos.y);
+        if (x0..=x1).contains(&x) && (y0..=y1).contains(&y) {
+            inside += 1;
+            let rail = y - (ik.comfortable_radius() - x.abs()).max(0.0);
+            assert_eq!(sols.len(), 2);
+            assert!(sols.iter().all(|s| (s.q[0] - rail).abs() < 1e-12), "{sols:?}");
         }
     }
+    assert!(inside > 300, "{inside}");
+}
+
+/// Random within-limit configurations q, targets FK(q): `solve` and `solve_zone`
+/// refuse none, and each solution reaches the target within limits.
+#[test]
+fn every_reachable_target_is_solved() {
+    let robot = robot();
+    let ik = ScaraIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5ca7);
+    let (mut moved, mut one_elbow) = (0, 0);
+    for _ in 0..4000 {
+        let q = robot.random_q(&mut rng);
+        let pose = robot.fk(&q).unwrap().pose;
+        let sols = ik.solve(&pose).unwrap_or_else(|e| panic!("{q:?} refused: {e}"));
+        for s in &sols {
+            let fk = robot.fk(&s.q).unwrap();
+            let e = kinema::math::pose_error(&pose, &fk.pose);
+            assert!(e.position_norm() < 1e-9 && e.rotation_angle() < 1e-9, "{q:?}: {s:?}");
+            assert!(s.within_limits() && fk.within_limits(), "{s:?}");
+        }
+        one_elbow += usize::from(sols.len() == 1);
+        let t = typed(&robot, &q);
+        let prev = if rng.random_bool(0.5) { Some(q.clone()) } else { None };
+        let s = ik.solve_zone(t, prev.as_deref()).unwrap_or_else(|e| panic!("{t:?} refused: {e}"));
+        assert_reaches(&robot, &s, t);
+        assert!(s.within_limits(), "{s:?}");
+        let (f, rail) = (robot.fk(&s.q).unwrap().pose.pos, s.q[0]);
+        if (rail - (f.y - (ik.comfortable_radius() - f.x.abs()).max(0.0))).abs() > 1e-12 {
+            moved += 1;
+        }
+    }
+    eprintln!("4000 reachable targets: none refused; rail moved off the zone rule {moved} times, one elbow only {one_elbow} times");
+    assert!(moved > 1000, "{moved}");
 }
 
 #[test]
@@ -152,23 +184,33 @@ fn zone_paths_are_continuous() {
 }
 
 #[test]
-fn outside_the_zone_is_unreachable() {
+fn outside_the_zone_is_unreachable_only_beyond_every_rail_position() {
     let robot = robot();
     let ik = ScaraIk::new(&robot).unwrap();
     let [x0, x1, y0, y1] = ik.zone();
+    // L1 + L2 = 0.6 m from the shoulder anywhere on the rail [0, 1] m.
     for (t, by) in [
-        ([x1 + 0.1, 0.5 * (y0 + y1), 0.2, 0.0], 0.1),
-        ([0.3, y1 + 0.25, 0.2, 0.0], 0.25),
-        ([x0 - 0.05, y0 - 0.05, 0.2, 0.0], 0.05f64.hypot(0.05)),
+        ([0.7, 0.5 * (y0 + y1), 0.2, 0.0], 0.1),
+        ([0.0, 1.7, 0.2, 0.0], 0.1),
+        ([0.3, -0.7, 0.2, 0.0], 0.3f64.hypot(0.7) - 0.6),
     ] {
         match ik.solve_zone(t, None) {
             Err(Error::Unreachable { reason: Unreachable::OutsideReach { by: b, boundary }, .. }) => {
                 assert!((b - by).abs() < 1e-9, "{b} vs {by}");
-                assert!(boundary.contains("zone"));
+                assert!(boundary.contains("anywhere on the rail"), "{boundary}");
             }
             other => panic!("{other:?}"),
         }
     }
+    // Outside the zone rectangle but reachable from another rail position: the
+    // one nearest to the zone rule's, with every joint within limits.
+    for t in [[x1 + 0.02, 0.5 * (y0 + y1), 0.2, 0.0], [0.3, y1 + 0.25, 0.2, 0.0], [x0 - 0.05, y0 - 0.05, 0.2, 0.0]] {
+        let s = ik.solve_zone(t, None).unwrap();
+        assert_reaches(&robot, &s, t);
+        assert!(s.within_limits(), "{s:?}");
+    }
+    let s = ik.solve_zone([0.3, y1 + 0.25, 0.2, 0.0], None).unwrap();
+    assert!((s.q[0] - 1.0).abs() < 1e-12, "the rail's end is nearest to the zone rule's 1.25 m: {s:?}");
     // Pz outside the stroke of joint 4 (z ∈ [0.1, 0.3] m).
     match ik.solve_zone([0.4, 0.6, 0.45, 0.0], None) {
         Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, .. }, .. }) => {

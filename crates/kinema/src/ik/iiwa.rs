@@ -32,6 +32,11 @@
 //!   arm with q3 = 0; with the three configuration bits it determines one
 //!   solution.
 //!
+//! Without a previous configuration, [`IiwaIk::solve_searching`] takes the
+//! closed form at a preferred q3 when it has a solution within limits and
+//! otherwise searches ψ over the whole self-motion; [`IiwaIk::select`] falls
+//! back to the same search when its q3 window has none.
+//!
 //! # Configuration bits
 //!
 //! A configuration is labelled by three bits ([`SHOULDER`], [`ELBOW`],
@@ -100,6 +105,13 @@ pub const SELECT_MAX_STEP: f64 = 0.05;
 pub const PSI_SAMPLES: usize = 2048;
 /// Width \[rad\] to which [`IiwaIk::feasible_psi_intervals`] refines interval ends.
 pub const PSI_TOLERANCE: f64 = 1e-9;
+/// Arm-angle samples per configuration in the search of [`IiwaIk::solve_searching`].
+pub const SEARCH_SAMPLES: usize = 96;
+/// Local maxima of the limit margin refined per configuration by [`IiwaIk::solve_searching`].
+pub const SEARCH_PEAKS: usize = 3;
+/// Golden-section steps per refined maximum: the bracket of two sample spacings
+/// shrinks to about 1e-9 rad.
+pub const SEARCH_STEPS: usize = 40;
 /// Error \[rad\] below which [`IiwaIk::validate`] counts a case as recovered.
 pub const RECOVERED_TOLERANCE: f64 = 1e-9;
 /// [`ValidationCase::limit`] up to which a case counts as well conditioned in
@@ -207,6 +219,39 @@ struct IiwaBranch {
     singular: bool,
     /// Offset of the `/front` (8) or `/back` (16) labels in `LABELS`.
     side: usize,
+}
+
+/// What the ψ search found for one configuration.
+struct PsiFound {
+    config: u8,
+    /// The largest limit margin seen \[rad\] and its joint values.
+    best: (f64, [f64; 7]),
+    /// Every sample and refined peak within limits.
+    feasible: Vec<[f64; 7]>,
+}
+
+/// The argument in \[a, b\] at which golden-section search puts the maximum of `f`
+/// after `steps` steps (a local maximum when `f` is not unimodal there).
+fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: usize) -> f64 {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..steps {
+        if fc >= fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    if fc >= fd {
+        c
+    } else {
+        d
+    }
 }
 
 /// Elbow angle of a wrist distance: cos q4 and |sin q4|.
@@ -860,6 +905,125 @@ impl IiwaIk {
         Ok(out)
     }
 
+    /// The solutions within the joint limits for `target` (`base_from_tool`),
+    /// searching the self-motion when q3 = `prefer_q3` \[rad\] has none.
+    ///
+    /// First the closed form at `prefer_q3` ([`IiwaIk::solve_q3`]): if any of
+    /// its solutions is within limits, those are returned (labels as there).
+    /// Otherwise the arm angle ψ of each of the 8 configurations is searched
+    /// ([`IiwaIk::solve_psi`]): [`SEARCH_SAMPLES`] equally spaced samples of the
+    /// smallest distance to a joint limit (negative outside), then golden-section
+    /// refinement around its [`SEARCH_PEAKS`] highest local maxima. For each
+    /// configuration that reaches a non-negative margin, the solution of largest
+    /// margin is returned (label `shoulder±/elbow±/wrist±`), so a found solution
+    /// keeps as far from the limits as the search saw. Deterministic and bounded:
+    /// at most 8 × ([`SEARCH_SAMPLES`] + [`SEARCH_PEAKS`] × ([`SEARCH_STEPS`] + 2)) solves.
+    ///
+    /// Errors: those of [`IiwaIk::solve_q3`] for a non-finite target or q3 and a
+    /// wrist point outside the shoulder–wrist annulus; [`Unreachable::JointLimits`]
+    /// (the best margin of each configuration and the joints it violates) when
+    /// the search finds no solution within limits. A feasible stretch of ψ
+    /// narrower than the refinement brackets can be missed.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::iiwa::IiwaIk;
+    /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+    /// let ik = IiwaIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let sols = ik.solve_searching(&robot.fk(&q)?.pose, 0.0)?;
+    /// assert!(!sols.is_empty());
+    /// assert!(sols.iter().all(|s| s.within_limits() && s.position_error < 1e-10 && s.orientation_error < 1e-10));
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_searching(&self, target: &Pose, prefer_q3: f64) -> Result<Vec<Solution>> {
+        match self.solve_q3(target, prefer_q3) {
+            Ok(sols) if sols.iter().any(Solution::within_limits) => {
+                return Ok(sols.into_iter().filter(Solution::within_limits).collect())
+            }
+            Err(e @ Error::InvalidArgument { .. }) => return Err(e),
+            _ => {}
+        }
+        let t = self.arm_target(target)?;
+        self.elbow(t.w.norm())?;
+        let found = self.search_psi(&t)?;
+        found
+            .iter()
+            .map(|f| Solution::evaluate(&self.robot, f.best.1.to_vec(), target, config_label(f.config)))
+            .collect()
+    }
+
+    /// The solution within limits nearest to `q_prev` ([`joint_distance`])
+    /// among those the ψ search of [`IiwaIk::solve_searching`] sees: every
+    /// feasible sample and refined peak of the 8 configurations.
+    fn nearest_searched(&self, q_prev: &[f64], target: &Pose) -> Result<Solution> {
+        let t = self.arm_target(target)?;
+        self.elbow(t.w.norm())?;
+        let found = self.search_psi(&t)?;
+        let dist = |q: &[f64; 7]| joint_distance(&self.robot, q, q_prev);
+        let best = found
+            .iter()
+            .flat_map(|f| f.feasible.iter())
+            .min_by(|a, b| dist(a).total_cmp(&dist(b)))
+            .copied()
+            .unwrap_or(found[0].best.1);
+        Solution::evaluate(&self.robot, best.to_vec(), target, config_label(bits(&best)))
+    }
+
+    /// The smallest distance of `q` to a joint limit \[rad\], negative outside
+    /// (−∞ for a non-finite value, which `f64::min` would skip).
+    fn limit_margin(&self, q: &[f64; 7]) -> f64 {
+        let margin = |(j, v): (&crate::model::Joint, &f64)| {
+            if v.is_finite() {
+                (v - j.limits.min).min(j.limits.max - v)
+            } else {
+                f64::NEG_INFINITY
+            }
+        };
+        self.robot.joints().iter().zip(q).map(margin).fold(f64::INFINITY, f64::min)
+    }
+
+    /// The ψ search of every configuration: those with a solution within
+    /// limits, or [`Unreachable::JointLimits`] with each one's best attempt.
+    fn search_psi(&self, t: &ArmTarget) -> Result<Vec<PsiFound>> {
+        let all: Vec<PsiFound> = (0u8..8).map(|c| self.search_config(t, c)).collect();
+        if all.iter().any(|f| f.best.0 >= 0.0) {
+            return Ok(all.into_iter().filter(|f| f.best.0 >= 0.0).collect());
+        }
+        let rejected = all
+            .iter()
+            .map(|f| {
+                let joints: Vec<String> =
+                    self.robot.limit_flags(&f.best.1).indices().map(|i| format!("q{}", i + 1)).collect();
+                format!("{} over ψ: best {:.4} rad outside ({})", config_label(f.config), -f.best.0, joints.join(", "))
+            })
+            .collect();
+        Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected } })
+    }
+
+    /// Coarse scan of the limit margin over ψ for one configuration, then
+    /// golden-section refinement of its highest local maxima.
+    fn search_config(&self, t: &ArmTarget, config: u8) -> PsiFound {
+        let n = SEARCH_SAMPLES;
+        let h = TAU / n as f64;
+        let psi_at = |k: usize| -PI + h * k as f64;
+        let eval = |psi: f64| match self.solve_psi_raw(t, psi, config) {
+            Ok(q) => (self.limit_margin(&q), q),
+            Err(_) => (f64::NEG_INFINITY, [0.0; 7]),
+        };
+        let samples: Vec<(f64, [f64; 7])> = (0..n).map(|k| eval(psi_at(k))).collect();
+        let m = |k: usize| samples[k % n].0;
+        let mut peaks: Vec<usize> = (0..n).filter(|&k| m(k) >= m(k + n - 1) && m(k) >= m(k + 1)).collect();
+        peaks.sort_by(|&a, &b| m(b).total_cmp(&m(a)));
+        peaks.truncate(SEARCH_PEAKS);
+        let refined =
+            peaks.iter().map(|&k| eval(golden_max(|psi| eval(psi).0, psi_at(k) - h, psi_at(k) + h, SEARCH_STEPS)));
+        let feasible_at = |x: &(f64, [f64; 7])| (x.0 >= 0.0).then_some(x.1);
+        let all: Vec<(f64, [f64; 7])> = samples.iter().copied().chain(refined).collect();
+        let best = all.iter().copied().max_by(|a, b| a.0.total_cmp(&b.0)).unwrap_or((f64::NEG_INFINITY, [0.0; 7]));
+        PsiFound { config, best, feasible: all.iter().filter_map(feasible_at).collect() }
+    }
+
     /// The next configuration along a path (seed 004 §V-E, q_k = f(q_{k−1}, T_k)).
     ///
     /// q3 is searched on a grid of step [`SELECT_STEP`] over
@@ -874,9 +1038,14 @@ impl IiwaIk {
     /// eq. 12, [`manipulability_along`]) wins; without a direction, the
     /// nearest to `q_prev`.
     ///
-    /// At the shoulder singularity q1 is kept at q_prev\[0\]. Errors as
-    /// [`IiwaIk::solve_q3`], or [`Unreachable::JointLimits`] if every
-    /// solution in the window violates a limit.
+    /// At the shoulder singularity q1 is kept at q_prev\[0\].
+    ///
+    /// When no q3 of the window gives a solution within limits, the whole
+    /// self-motion is searched as in [`IiwaIk::solve_searching`] and the solution
+    /// within limits nearest to `q_prev` ([`joint_distance`]) among those the
+    /// search sees is returned (a jump in q3, the window having none). Errors as
+    /// [`IiwaIk::solve_q3`], or [`Unreachable::JointLimits`] if that search
+    /// finds no solution within limits either.
     pub fn select(&self, q_prev: &[f64], target: &Pose, direction: Option<&Vector3<f64>>) -> Result<Solution> {
         self.select_within(q_prev, target, direction, SELECT_WINDOW, 21, &[SELECT_MAX_STEP; 7])
     }
@@ -897,7 +1066,12 @@ impl IiwaIk {
     ) -> Result<Solution> {
         // select_impl checks q_prev (a short or non-finite one gives a NaN centre first).
         let center = q_prev.get(2).copied().unwrap_or(f64::NAN);
-        self.select_impl(q_prev, center, target, direction, window, points, max_steps, false)
+        match self.select_impl(q_prev, center, target, direction, window, points, max_steps, false) {
+            // The window can miss a feasible q3 that lies further away; only the
+            // whole self-motion decides that the target is out of limits.
+            Err(Error::Unreachable { .. }) => self.nearest_searched(q_prev, target),
+            other => other,
+        }
     }
 
     /// [`IiwaIk::select_within`] for the next sample of a path through

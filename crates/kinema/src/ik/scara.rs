@@ -45,15 +45,29 @@
 //! * the elbow side is that of `previous` (sign of its q3), `elbow-right` without one;
 //!   q5 is the equivalent of α − q2 − q3 nearest to `previous` (within its limits).
 //!
-//! The zone in which this rule is used is the rectangle returned by
+//! The zone in which this rule is guaranteed to work is the rectangle returned by
 //! [`ScaraIk::zone`]: X ∈ \[x_min, x_max\], Py ∈ \[q1min + r_c, q1max\] (q1min, q1max the
 //! rail limits; x_min ≤ 0 the lowest X at which both elbows keep q2 within its
 //! limits, x_max lowered likewise if q2's limits cut in — not for Scara5), and Pz
 //! within the stroke of joint 4. Inside it the rule never clamps,
 //! every joint is within its limits, and the solution is a smooth function of
-//! the target (no jumps). Points outside it are reported as
-//! [`Unreachable::OutsideReach`] with the distance to the rectangle — skipped, as in
-//! seed 003 Fig. 9, not faked.
+//! the target (no jumps).
+//!
+//! # Outside the zone: the nearest rail that works
+//!
+//! Seed 003 skips the points outside the zone (Fig. 9), although most of them are
+//! reachable from another rail position. Here the zone rule's rail is used
+//! wherever every joint is within limits there (inside the zone always); where it
+//! is not, the rail positions from which the point lies in the elbow's annulus
+//! \[r_in, L1 + L2\] (r_in: the elbow folded to its limit) are computed in closed
+//! form — |Py − q1| ∈ \[√(r_in² − X²), √((L1 + L2)² − X²)\], at most two
+//! intervals, cut to the rail limits — and searched ([`RAIL_SAMPLES`] samples per
+//! interval, bisection at each change) for the one nearest to the zone rule's
+//! rail at which q2 and q5 are within limits too. Such a solution can lie on the
+//! edge of the reachable set (elbow stretched or at its limit) and jumps where the
+//! zone rule's rail stops working; only a point that no rail position reaches is
+//! [`Unreachable::OutsideReach`] (with the distance), and one that the arm reaches
+//! only outside the limits of q2 or q5 [`Unreachable::JointLimits`].
 
 use std::f64::consts::PI;
 
@@ -70,6 +84,10 @@ const NAME: &str = "scara";
 
 /// Positions this close outside the reachable annulus \[m\] are treated as on it.
 const REACH_TOL: f64 = 1e-12;
+
+/// Samples of each interval of rail positions searched when the zone rule's rail
+/// leaves a joint outside its limits (changes between samples are bisected).
+pub const RAIL_SAMPLES: usize = 64;
 
 /// Closed-form solver for the SCARA on a rail (seed 003).
 ///
@@ -394,14 +412,17 @@ impl ScaraIk {
         Ok(out)
     }
 
-    /// One solution for `target` = \[Px, Py, Pz \[m\], α \[rad\]\] with the rail chosen by
-    /// the zone rule of the module documentation, keeping the elbow side of
-    /// `previous` (a 5-value configuration, e.g. the last point of a path) and the
-    /// q5 nearest to it.
+    /// One solution within limits for `target` = \[Px, Py, Pz \[m\], α \[rad\]\] with
+    /// the rail chosen by the zone rule of the module documentation — or, where
+    /// that rail leaves a joint outside its limits, the nearest rail position that
+    /// does not — keeping the elbow side of `previous` (a 5-value configuration,
+    /// e.g. the last point of a path) and the q5 nearest to it. If that elbow side
+    /// has no rail position within limits, the other side is used.
     ///
-    /// Errors: non-finite input, a `previous` of the wrong length; the point outside
-    /// the zone rectangle or Pz outside the stroke of joint 4
-    /// ([`Unreachable::OutsideReach`], with the distance).
+    /// Errors: non-finite input, a `previous` of the wrong length; a point that no
+    /// rail position reaches, or Pz outside the stroke of joint 4
+    /// ([`Unreachable::OutsideReach`], with the distance); a point reached only
+    /// outside the limits of q2 or q5 ([`Unreachable::JointLimits`]).
     ///
     /// # Examples
     /// ```
@@ -410,7 +431,9 @@ impl ScaraIk {
     /// let a = ik.solve_zone([0.1, 0.6, 0.2, 0.0], None)?;
     /// let b = ik.solve_zone([0.1, 0.601, 0.2, 0.0], Some(&a.q))?;
     /// assert!(b.q.iter().zip(&a.q).all(|(x, y)| (x - y).abs() < 0.01));
-    /// assert!(ik.solve_zone([0.1, 2.0, 0.2, 0.0], None).is_err()); // beyond the rail
+    /// assert!(ik.solve_zone([0.1, 2.0, 0.2, 0.0], None).is_err()); // beyond rail + reach
+    /// let c = ik.solve_zone([0.1, 1.3, 0.2, 0.0], None)?; // outside the zone, reachable
+    /// assert!(c.within_limits() && c.position_error < 1e-10 && c.q[0] <= 1.0);
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn solve_zone(&self, target: [f64; 4], previous: Option<&[f64]>) -> Result<Solution> {
@@ -427,42 +450,170 @@ impl ScaraIk {
             Some(p) if p[2] < 0.0 => Elbow::Left,
             _ => Elbow::Right,
         };
-        let q = self.zone_q(&target, elbow, previous.map(|p| p[4]))?;
+        let other = match elbow {
+            Elbow::Right => Elbow::Left,
+            Elbow::Left => Elbow::Right,
+        };
+        let q5_near = previous.map(|p| p[4]);
+        let (q, elbow) = match self.zone_q(&target, elbow, q5_near) {
+            Ok(q) => (q, elbow),
+            Err(e) => (self.zone_q(&target, other, q5_near).map_err(|_| e)?, other),
+        };
         Solution::evaluate(&self.robot, q.to_vec(), &Self::typed_pose(&target), elbow.label())
     }
 
-    /// The zone rule's joint values for a checked typed target and an elbow side.
+    /// The joint values for a checked typed target and an elbow side: the rail
+    /// of the zone rule if every joint is within limits there, else the rail
+    /// position nearest to it that puts every joint within limits.
     fn zone_q(&self, target: &[f64; 4], elbow: Elbow, q5_near: Option<f64>) -> Result<[f64; 5]> {
         let (f, _) = self.flange(target);
-        let [x_min, x_max, y_min, y_max] = self.zone;
-        let dx = (x_min - f.x).max(f.x - x_max).max(0.0);
-        let dy = (y_min - f.y).max(f.y - y_max).max(0.0);
-        if dx > 0.0 || dy > 0.0 {
-            return Err(Self::unreachable(
-                dx.fast_hypot(dy),
-                format!(
-                    "zone rectangle x ∈ [{x_min:.4}, {x_max:.4}] m, y ∈ [{y_min:.4}, {y_max:.4}] m of the flange point (seed 003 Fig. 3–4)"
-                ),
-            ));
+        self.check_stroke(f.z)?;
+        let preferred = f.y - Self::offset(self.r_c, f.x);
+        let within =
+            |q1: f64| self.joint_values(target, q1, elbow, q5_near).filter(|q| self.robot.limit_flags(q).is_empty());
+        if let Some(q) = within(preferred) {
+            return Ok(q);
         }
-        let q4 = self.h1 - self.h2 - f.z;
+        let intervals = self.rail_intervals(f.x, f.y, elbow);
+        if intervals.is_empty() {
+            return Err(self.out_of_reach(f.x, f.y, elbow));
+        }
+        let best = intervals
+            .iter()
+            .filter_map(|&(lo, hi)| Self::nearest_where(lo, hi, preferred, |q1| within(q1).is_some()))
+            .min_by(|a, b| (a - preferred).abs().total_cmp(&(b - preferred).abs()));
+        best.and_then(within).ok_or_else(|| Error::Unreachable {
+            solver: NAME.into(),
+            reason: Unreachable::JointLimits {
+                rejected: vec![format!(
+                    "{}: a joint limit (q2 or q5) at every rail position from which the arm reaches the point",
+                    elbow.label()
+                )],
+            },
+        })
+    }
+
+    /// Pz within the stroke of joint 4, else how far outside.
+    fn check_stroke(&self, z: f64) -> Result<()> {
+        let q4 = self.h1 - self.h2 - z;
         let l4 = self.robot.joints()[3].limits;
-        if !l4.contains(q4) {
-            let by = (l4.min - q4).max(q4 - l4.max);
-            return Err(Self::unreachable(
-                by,
-                format!(
-                    "vertical stroke z ∈ [{:.4}, {:.4}] m of joint 4",
-                    self.h1 - self.h2 - l4.max,
-                    self.h1 - self.h2 - l4.min
-                ),
-            ));
+        if l4.contains(q4) {
+            return Ok(());
         }
-        let y_star = Self::offset(self.r_c, f.x);
-        let q1 = f.y - y_star;
-        // Unreachable by construction of the zone; reported rather than faked.
-        self.joint_values(target, q1, elbow, q5_near)
-            .ok_or_else(|| Self::unreachable(0.0, "reachable annulus at the rail position of the zone rule".into()))
+        let by = (l4.min - q4).max(q4 - l4.max);
+        Err(Self::unreachable(
+            by,
+            format!(
+                "vertical stroke z ∈ [{:.4}, {:.4}] m of joint 4",
+                self.h1 - self.h2 - l4.max,
+                self.h1 - self.h2 - l4.min
+            ),
+        ))
+    }
+
+    /// Smallest and largest shoulder–point distance \[m\] of an elbow side: the
+    /// inner radius is that of the elbow folded to its limit (nudged inwards by
+    /// 1e-9 relative, so that rounding keeps q3 within it).
+    fn radii(&self, elbow: Elbow) -> (f64, f64) {
+        let lim = self.robot.joints()[2].limits;
+        let fold = match elbow {
+            Elbow::Right => lim.max,
+            Elbow::Left => -lim.min,
+        }
+        .clamp(0.0, PI);
+        let (l1, l2) = (self.l1, self.l2);
+        let inner = (l1 * l1 + l2 * l2 + 2.0 * l1 * l2 * fold.cos()).max(0.0).sqrt().max((l1 - l2).abs());
+        (inner * (1.0 + 1e-9), l1 + l2)
+    }
+
+    /// The rail positions (within the rail limits) from which the flange point
+    /// (x, y) lies in the annulus of `elbow`: |y − q1| ∈ \[a, b\] with
+    /// a² = r_in² − x², b² = r_out² − x², so at most two intervals.
+    fn rail_intervals(&self, x: f64, y: f64, elbow: Elbow) -> Vec<(f64, f64)> {
+        let (inner, outer) = self.radii(elbow);
+        let lim = self.robot.joints()[0].limits;
+        let b2 = (outer - x.abs()) * (outer + x.abs());
+        if b2 < 0.0 {
+            return Vec::new();
+        }
+        let (a, b) = (((inner - x.abs()) * (inner + x.abs())).max(0.0).sqrt(), b2.sqrt());
+        [(y - b, y - a), (y + a, y + b)]
+            .into_iter()
+            .map(|(lo, hi)| (lo.max(lim.min), hi.min(lim.max)))
+            .filter(|(lo, hi)| lo <= hi)
+            .collect()
+    }
+
+    /// The point of \[lo, hi\] nearest to `preferred` where `ok` holds, from
+    /// [`RAIL_SAMPLES`] samples with each change of `ok` between neighbours
+    /// refined by bisection; None if no sample is ok.
+    fn nearest_where(lo: f64, hi: f64, preferred: f64, ok: impl Fn(f64) -> bool) -> Option<f64> {
+        let n = RAIL_SAMPLES;
+        let at = |k: usize| if k == n { hi } else { lo + (hi - lo) * k as f64 / n as f64 };
+        let mut found: Vec<f64> = Vec::new();
+        let clamped = preferred.clamp(lo, hi);
+        if ok(clamped) {
+            found.push(clamped);
+        }
+        let mut prev = ok(lo);
+        if prev {
+            found.push(lo);
+        }
+        for k in 1..=n {
+            let now = ok(at(k));
+            if now {
+                found.push(at(k));
+            }
+            if now != prev {
+                found.push(Self::bisect(at(k - 1), at(k), prev, &ok));
+            }
+            prev = now;
+        }
+        found.into_iter().min_by(|a, b| (a - preferred).abs().total_cmp(&(b - preferred).abs()))
+    }
+
+    /// The edge between `a` (where `ok` is `ok_a`) and `b` (where it is not), on its ok side.
+    fn bisect(mut a: f64, mut b: f64, ok_a: bool, ok: impl Fn(f64) -> bool) -> f64 {
+        for _ in 0..60 {
+            let m = 0.5 * (a + b);
+            if m == a || m == b {
+                break;
+            }
+            if ok(m) == ok_a {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        if ok_a {
+            a
+        } else {
+            b
+        }
+    }
+
+    /// Why no rail position puts the flange point (x, y) in the annulus of `elbow`.
+    fn out_of_reach(&self, x: f64, y: f64, elbow: Elbow) -> Error {
+        let (inner, outer) = self.radii(elbow);
+        let lim = self.robot.joints()[0].limits;
+        let nearest = x.fast_hypot((lim.min - y).max(y - lim.max).max(0.0));
+        if nearest > outer {
+            return Self::unreachable(
+                nearest - outer,
+                format!(
+                    "outer circle of radius {outer:.6} m around the shoulder anywhere on the rail [{}, {}] m",
+                    lim.min, lim.max
+                ),
+            );
+        }
+        let farthest = x.fast_hypot((y - lim.min).abs().max((y - lim.max).abs()));
+        Self::unreachable(
+            (inner - farthest).max(0.0),
+            format!(
+                "inner circle of radius {inner:.6} m around the shoulder (elbow folded to its limit) anywhere on the rail [{}, {}] m",
+                lim.min, lim.max
+            ),
+        )
     }
 }
 
@@ -471,30 +622,37 @@ impl IkSolver for ScaraIk {
         NAME
     }
 
-    /// Both elbow solutions with the rail chosen by the zone rule
-    /// ([`ScaraIk::solve_zone`]); α is the rotation of the target about the vertical.
-    /// A target whose z axis is not vertical is [`Unreachable::Orientation`] with the
-    /// tilt angle.
+    /// Up to two solutions, `elbow-right` then `elbow-left`, each with the rail
+    /// where [`ScaraIk::solve_zone`] puts it: the zone rule's rail if every joint
+    /// is within limits there, else the rail position nearest to it from which
+    /// that elbow keeps every joint within limits. The rail is redundant for a
+    /// pose (the solutions form one-parameter families along it); this picks a
+    /// finite, deterministic set, every solution within limits. An elbow side
+    /// with no such rail position is left out; with neither, the error of the
+    /// right elbow. α is the rotation of the target about the vertical. A target
+    /// whose z axis is not vertical is [`Unreachable::Orientation`] with the tilt
+    /// angle.
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        let (_, right, left) = self.zone_pair(target)?;
-        [(right, Elbow::Right), (left, Elbow::Left)]
+        self.zone_pair(target)?
             .into_iter()
             .map(|(q, elbow)| Solution::evaluate(&self.robot, q.to_vec(), target, elbow.label()))
             .collect()
     }
 
     fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
-        let (_, right, left) = self.zone_pair(target)?;
+        let pair = self.zone_pair(target)?;
         out.clear();
-        out.push(&right, Elbow::Right.label());
-        out.push(&left, Elbow::Left.label());
+        for (q, elbow) in pair {
+            out.push(&q, elbow.label());
+        }
         Ok(())
     }
 }
 
 impl ScaraIk {
-    /// The typed target of a pose and the zone rule's two elbow solutions.
-    fn zone_pair(&self, target: &Pose) -> Result<([f64; 4], [f64; 5], [f64; 5])> {
+    /// The solutions of [`IkSolver::solve`] for a pose: each elbow side at its
+    /// rail ([`ScaraIk::zone_q`]), those that have one.
+    fn zone_pair(&self, target: &Pose) -> Result<Vec<([f64; 5], Elbow)>> {
         check_target(target)?;
         let r = &target.rot;
         let tilt = r[(0, 2)].fast_hypot(r[(1, 2)]).fast_atan2(r[(2, 2)]);
@@ -511,8 +669,14 @@ impl ScaraIk {
         let alpha = r[(1, 0)].fast_atan2(r[(0, 0)]);
         let t = [target.pos.x, target.pos.y, target.pos.z, alpha];
         Self::check_typed(&t, &[])?;
-        let right = self.zone_q(&t, Elbow::Right, None)?;
-        let left = self.zone_q(&t, Elbow::Left, Some(right[4]))?;
-        Ok((t, right, left))
+        let right = self.zone_q(&t, Elbow::Right, None);
+        let left = self.zone_q(&t, Elbow::Left, right.as_ref().ok().map(|q| q[4]));
+        match (right, left) {
+            (Err(e), Err(_)) => Err(e),
+            (right, left) => Ok([(right, Elbow::Right), (left, Elbow::Left)]
+                .into_iter()
+                .filter_map(|(q, elbow)| q.ok().map(|q| (q, elbow)))
+                .collect()),
+        }
     }
 }
