@@ -998,7 +998,7 @@ impl IiwaIk {
                 format!("{} over ψ: best {:.4} rad outside ({})", config_label(f.config), -f.best.0, joints.join(", "))
             })
             .collect();
-        Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected } })
+        Err(Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::JointLimits { rejected }, closest: None })
     }
 
     /// Coarse scan of the limit margin over ψ for one configuration, then

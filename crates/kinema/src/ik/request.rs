@@ -176,14 +176,15 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
     let numeric_only = masked || request.solver == SolverChoice::Numeric;
     // iiwa with a previous configuration: every closed-form solution at q3 =
     // q0[2] when all are wanted; else seed 004 §V-E's q_k = f(q_{k−1}, T_k)
-    // (q3 searched near the previous one), falling back to that closed form.
-    if let (Some(q0), false) = (request.q0, numeric_only) {
-        if let Ok(s) = IiwaIk::new(robot) {
-            robot.check_q(q0)?;
-            if request.all {
-                return Ok(("iiwa", s.solve_q3(target, q0[2])?));
-            }
-            return Ok(("iiwa", s.select(q0, target, None).map(|x| vec![x]).or_else(|_| s.solve_q3(target, q0[2]))?));
+    // (q3 searched near the previous one, then along the whole self-motion).
+    // Without one and one wanted: q3 = 0, else the self-motion is searched
+    // for a configuration within limits before the target is refused.
+    if let (Ok(s), false) = (IiwaIk::new(robot), numeric_only) {
+        match (request.q0, request.all) {
+            (Some(q0), true) => return Ok(("iiwa", s.solve_q3(target, q0[2])?)),
+            (Some(q0), false) => return Ok(("iiwa", vec![s.select(q0, target, None)?])),
+            (None, false) => return Ok(("iiwa", s.solve_searching(target, s.q3())?)),
+            (None, true) => {}
         }
     }
     let analytic = if numeric_only { None } else { analytic_solver(robot) };

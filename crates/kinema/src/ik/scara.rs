@@ -490,6 +490,7 @@ impl ScaraIk {
                     elbow.label()
                 )],
             },
+            closest: None,
         })
     }
 
