@@ -141,7 +141,10 @@ fn singular_configurations_give_finite_answers() {
                         assert!(!sols.is_empty());
                     }
                 }
-                Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, .. }, .. }) => {
+                Err(Error::Unreachable {
+                    reason: Unreachable::OutsideReach { by, .. } | Unreachable::InsideExcluded { by, .. },
+                    ..
+                }) => {
                     assert!(q3 != q[2] && by.is_finite() && by > 0.0)
                 }
                 Err(e) => panic!("{q:?} q3={q3}: {e}"),
@@ -187,8 +190,8 @@ fn unreachable_and_invalid_targets() {
     let w = target.pos - target.rot.column(2) * 0.126;
     target.pos -= Vector3::new(w.x, w.y, 0.0);
     match ik.solve_q3(&target, 1.0) {
-        Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, boundary }, .. }) => {
-            assert!(by > 0.0 && boundary.contains("cylinder"), "{by} {boundary}")
+        Err(Error::Unreachable { reason: Unreachable::InsideExcluded { by, region }, .. }) => {
+            assert!(by > 0.0 && region.contains("cylinder"), "{by} {region}")
         }
         other => panic!("{other:?}"),
     }

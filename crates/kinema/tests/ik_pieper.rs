@@ -482,16 +482,20 @@ fn wrist_singularity_gives_finite_answers() {
 
 #[test]
 fn shoulder_singularity() {
-    // PUMA: the wrist centre cannot come closer than d3 = 0.15 m to axis 1.
+    // PUMA: the wrist centre cannot come closer than d3 = 0.15005 m to axis 1.
     let robot = puma();
     let ik = PieperIk::new(&robot).unwrap();
     let target = Pose::translation(0.0, 0.0, 1.2);
     match ik.solve(&target) {
-        Err(Error::Unreachable { solver, reason: Unreachable::OutsideReach { by, boundary }, .. }) => {
+        Err(e @ Error::Unreachable { reason: Unreachable::InsideExcluded { .. }, .. }) => {
+            let Error::Unreachable { solver, reason: Unreachable::InsideExcluded { by, region }, .. } = &e else {
+                unreachable!()
+            };
             assert_eq!(solver, "pieper");
-            assert!((by - 0.15).abs() < 1e-12 && boundary.contains("cylinder of radius 0.1500 m"), "{by} {boundary}");
+            assert!((by - 0.15005).abs() < 1e-12 && region.contains("cylinder of radius 0.150"), "{by} {region}");
+            assert!(e.to_string().contains("m inside the cylinder"), "{e}");
         }
-        other => panic!("expected OutsideReach, got {other:?}"),
+        other => panic!("expected InsideExcluded, got {other:?}"),
     }
     // PUMA: wrist centre exactly on that cylinder (both shoulder branches merge): finite, accurate.
     let q = [0.3, 0.2, -1.0, 0.4, 0.5, 0.6];
@@ -499,7 +503,7 @@ fn shoulder_singularity() {
     let ik_frames = robot.link_frames(&q).unwrap();
     let wc = ik_frames[4].pos;
     let rho = wc.x.hypot(wc.y);
-    let scale = 0.15 / rho;
+    let scale = 0.15005 / rho;
     let target =
         Pose::new(fk.rot, fk.pos + kinema::nalgebra::Vector3::new(wc.x * (scale - 1.0), wc.y * (scale - 1.0), 0.0));
     let sols = ik.solve(&target).unwrap();
@@ -613,7 +617,10 @@ fn random_poses_never_panic_or_nan() {
                     assert!(!sols.is_empty() && sols.len() <= 8);
                     assert_accurate(&sols, &format!("{}: random pose", robot.name()));
                 }
-                Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, .. }, .. }) => {
+                Err(Error::Unreachable {
+                    reason: Unreachable::OutsideReach { by, .. } | Unreachable::InsideExcluded { by, .. },
+                    ..
+                }) => {
                     unreachable += 1;
                     assert!(by.is_finite() && by >= 0.0);
                 }

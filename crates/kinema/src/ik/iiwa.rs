@@ -636,13 +636,12 @@ impl IiwaIk {
             }
         }
         if out.is_empty() {
-            return Err(self.unreachable(
-                worst,
-                format!(
-                    "cylinder of radius {:.4} m around the axis of joint 1, which the wrist point cannot enter with q3 = {q3:.6} rad",
-                    self.d5 * (s3 * el.s4).abs()
-                ),
-            ));
+            let region = format!(
+                "cylinder of radius {:.4} m around the axis of joint 1, which the wrist point cannot enter with q3 = {q3:.6} rad",
+                self.d5 * (s3 * el.s4).abs()
+            );
+            let reason = Unreachable::InsideExcluded { by: worst, region };
+            return Err(Error::Unreachable { solver: "iiwa".into(), reason, closest: None });
         }
         Ok(out)
     }

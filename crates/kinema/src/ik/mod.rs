@@ -353,6 +353,14 @@ pub enum Unreachable {
         /// Which boundary (e.g. "outer sphere of radius 0.59 m around the shoulder").
         boundary: String,
     },
+    /// The position lies inside a region the arm cannot enter (e.g. the
+    /// cylinder around axis 1 that a lateral offset keeps the wrist out of).
+    InsideExcluded {
+        /// How far inside \[m\].
+        by: f64,
+        /// Which region (e.g. "cylinder of radius 0.15 m around axis 1 …").
+        region: String,
+    },
     /// The orientation asked for is not one this arm can take at that position.
     Orientation {
         /// The smallest orientation error achievable \[rad\].
@@ -395,6 +403,7 @@ impl fmt::Display for Unreachable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Unreachable::OutsideReach { by, boundary } => write!(f, "the position is {by:.6} m outside the {boundary}"),
+            Unreachable::InsideExcluded { by, region } => write!(f, "the position is {by:.6} m inside the {region}"),
             Unreachable::Orientation { angle, detail } => {
                 write!(f, "the orientation is not achievable: off by at least {angle:.6} rad ({detail})")
             }

@@ -392,9 +392,9 @@ impl PieperIk {
         let mut lateral2 = rho * rho - ell * ell;
         if lateral2 < 0.0 {
             if rho < ell.abs() * (1.0 - BOUNDARY_TOL) - AXIS_TOL {
-                return Err(Unreachable::OutsideReach {
+                return Err(Unreachable::InsideExcluded {
                     by: ell.abs() - rho,
-                    boundary: format!(
+                    region: format!(
                         "cylinder of radius {:.4} m around axis 1 (the lateral offset of the arm), which the wrist centre cannot enter",
                         ell.abs()
                     ),
