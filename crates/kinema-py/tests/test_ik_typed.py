@@ -111,7 +111,8 @@ def test_scara_alpha_zone_rule(family):
         # all=True gives the same single solution.
         (again,) = r.ik(position=p, alpha=alpha, q0=q, all=True)
         assert np.array_equal(again.q, s.q)
-    assert reached >= 100 and outside >= 10, (reached, outside)
+    # Reachable targets are never refused: off the zone rule's rail the nearest working rail is taken.
+    assert reached == 500 and outside == 0, (reached, outside)
 
 
 @pytest.mark.parametrize("name", ["puma560", "ur5", "panda", "lbr-iiwa-14-r820", "scorbot-er-v-plus"])
