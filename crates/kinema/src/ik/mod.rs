@@ -20,6 +20,7 @@ use crate::math::FastMath;
 use crate::math::{pose_error, Pose};
 use crate::model::{JointSet, Robot};
 
+pub mod geo;
 pub mod iiwa;
 pub mod numeric;
 pub mod pieper;
@@ -447,6 +448,9 @@ pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
         return Some(Box::new(s));
     }
     if let Ok(s) = rommel::RommelIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = geo::GeoIk::new(robot) {
         return Some(Box::new(s));
     }
     None
