@@ -9,20 +9,25 @@
 //! 2. With M = R₁ᵀ·R_G = R₂₃₄·R₅·R₆ and R₂₃₄ᵀh₂ = h₂:
 //!    h₂ᵀ·rot(h₅, q₅)·h₆ = h₂ᵀ·M·h₆, subproblem 4 in q₅ (*wrist* 1, 2).
 //! 3. rot(h₆, q₆)·Mᵀh₂ = rot(h₅, −q₅)·h₂: subproblem 1 in q₆. When
-//!    Mᵀh₂ ∥ h₆ (axis 6 parallel to axes 2–4, within 1e-12) q₆ and the sum
-//!    q₂ + q₃ + q₄ are coupled; convention: q₆ = 0.
+//!    Mᵀh₂ ∥ h₆ (axis 6 parallel to axes 2–4, within 1e-12; the UR's wrist
+//!    singularity) q₆ is free and the arm redundant. Convention: q₆ = 0 when
+//!    the planar arm then reaches; else the q₆ (subproblem 3 about axis 6)
+//!    that puts axis 4 at the middle of the distances from axis 2 the planar
+//!    arm reaches, or as near to it as the wrist allows.
 //! 4. K = E₁⁻¹·G·E₆⁻¹·E₅⁻¹ = E₂E₃E₄ is now known: a planar 3R problem. Its
 //!    rotation gives the signed sum of q₂, q₃, q₄ (subproblem 1), the point
 //!    P = K(p₄) = E₂E₃(p₄) gives q₃ by subproblem 3 (|E₃(p₄) − p₂| = |P − p₂|,
 //!    *elbow* 1, 2) and q₂ by subproblem 1; q₄ is the rest of the sum.
 //!
-//! **Shoulder singularity** (G(x) on axis 1's cylinder degenerate case: the
-//! height along h₂ does not depend on q₁): q₁ = 0, one shoulder branch.
+//! **Shoulder singularity** (G(x) placed so that its height along h₂ does
+//! not depend on q₁, e.g. on axis 1 when h₁ ⊥ h₂): q₁ is free; q₁ = 0, one
+//! shoulder branch. Coinciding branches of a target on a reach boundary or
+//! at a double root of step 2 are both returned.
 
 use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel, screw};
-use super::subproblems::{rot, rotate, sp1, sp3, sp4};
+use super::subproblems::{rot, rotate, sp1, sp3, sp4, Angles};
 use super::{candidates_with, label, reject, solve_with, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
@@ -58,6 +63,8 @@ pub struct ThreeParallelIk {
     sign4: f64,
     /// A unit vector ⊥ h₂, for the sum of q₂…q₄.
     u2: V3,
+    /// The middle of the range of |E₃(p₄) − p₂| \[m\].
+    mid_reach: f64,
 }
 
 impl ThreeParallelIk {
@@ -84,7 +91,27 @@ impl ThreeParallelIk {
         let h2 = h(1);
         let seed = if h2.x.abs() < 0.9 { V3::x() } else { V3::y() };
         let u2 = (seed - h2 * h2.dot(&seed)).normalize();
-        Ok(ThreeParallelIk { x, sign3: h2.dot(&h(2)).signum(), sign4: h2.dot(&h(3)).signum(), u2, common })
+        // |E3(p4) − p2| over q3: √(S ± 2r), S and r from the subproblem-3 terms.
+        let (a, b) = (p(3) - p(2), p(1) - p(2));
+        let ap = a - h(2) * h(2).dot(&a);
+        let r = b.dot(&ap).hypot(b.dot(&h(2).cross(&ap)));
+        let sum = a.norm_squared() + b.norm_squared() - 2.0 * h(2).dot(&a) * h(2).dot(&b);
+        let mid_reach = 0.5 * ((sum - 2.0 * r).max(0.0).sqrt() + (sum + 2.0 * r).sqrt());
+        Ok(ThreeParallelIk {
+            x,
+            sign3: h2.dot(&h(2)).signum(),
+            sign4: h2.dot(&h(3)).signum(),
+            u2,
+            mid_reach,
+            common,
+        })
+    }
+
+    /// q3 of the planar arm for K = E₂E₃E₄: |E₃(p₄) − p₂| = |K(p₄) − p₂|.
+    fn planar(&self, k: &Pose) -> Angles {
+        let c = &self.common;
+        let (h, p) = (|i| c.h(i), |i| c.p(i));
+        sp3(&h(2), &(p(3) - p(2)), &(p(1) - p(2)), (k.transform_point(&p(3)) - p(1)).norm())
     }
 
     /// The robot this solver was built for.
@@ -122,15 +149,30 @@ impl ThreeParallelIk {
             let e1_inv_g = screw(&h(0), &p(0), t1) * g;
             for (wi, &q5) in s5.as_slice().iter().enumerate() {
                 let mt_h2 = m.transpose() * h(1);
-                let q6 = if h(5).cross(&mt_h2).norm() <= SING_TOL {
-                    0.0
+                let e5_inv = screw(&h(4), &p(4), -q5);
+                let mut q6 = 0.0;
+                let mut s3 = None;
+                if h(5).cross(&mt_h2).norm() <= SING_TOL {
+                    // Axis 6 ∥ axes 2–4: q6 is free. q6 = 0 if the planar arm then reaches;
+                    // else the q6 that puts axis 4 mid-way across the arm's annulus (or
+                    // as near to it as the wrist allows).
+                    let s = self.planar(&(e1_inv_g * e5_inv));
+                    if s.exact {
+                        s3 = Some(s);
+                    } else {
+                        // P(q6) = H(E6(−q6)(y)) with H = E1⁻¹·G and y = E5⁻¹(p4).
+                        let hinv_p2 = e1_inv_g.inverse().transform_point(&p(1));
+                        let y = e5_inv.transform_point(&p(3));
+                        let sa = sp3(&h(5), &(y - p(5)), &(hinv_p2 - p(5)), self.mid_reach);
+                        q6 = -sa.first();
+                    }
                 } else {
-                    sp1(&h(5), &mt_h2, &rotate(&h(4), -q5, &h(1))).first()
-                };
-                let k = e1_inv_g * screw(&h(5), &p(5), -q6) * screw(&h(4), &p(4), -q5);
+                    q6 = sp1(&h(5), &mt_h2, &rotate(&h(4), -q5, &h(1))).first();
+                }
+                let k = e1_inv_g * screw(&h(5), &p(5), -q6) * e5_inv;
                 let sum = sp1(&h(1), &self.u2, &(k.rot * self.u2)).first();
                 let pt = k.transform_point(&p(3));
-                let s3 = sp3(&h(2), &(p(3) - p(2)), &(p(1) - p(2)), (pt - p(1)).norm());
+                let s3 = s3.unwrap_or_else(|| self.planar(&k));
                 if !s3.exact {
                     miss = miss.min(s3.miss);
                     continue;

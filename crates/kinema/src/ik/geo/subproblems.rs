@@ -88,6 +88,12 @@ fn trig(a: f64, b: f64, c: f64, scale: f64) -> Angles {
         }
         return Angles::one(theta, false, excess);
     }
+    // A gap within rounding of the double root is the double root: the
+    // equation is flat there, so √(rounding) would become an error in θ.
+    if r - c.abs() <= 4.0 * f64::EPSILON * scale.max(r) {
+        let theta = wrap_angle(if c >= 0.0 { phi } else { phi + PI });
+        return Angles { theta: [theta, theta], len: 2, exact: true, miss: 0.0 };
+    }
     // The half-width of the solution pair as atan2(√(r² − c²), c): accurate
     // also near the double root, where acos(c/r) loses half the digits.
     let delta = ((r - c.abs()) * (r + c.abs())).sqrt().fast_atan2(c);
