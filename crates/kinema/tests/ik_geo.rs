@@ -154,8 +154,16 @@ fn random_chain(rng: &mut ChaCha8Rng) -> Robot {
         .collect();
     let home = NamedPose { name: "home".into(), q: vec![0.0; n] };
     // A table mixing conventions is a `general` robot; the joints say which convention each row follows.
-    Robot::new("random", Convention::General, Default::default(), joints, random_pose(rng), random_pose(rng), vec![home])
-        .unwrap()
+    Robot::new(
+        "random",
+        Convention::General,
+        Default::default(),
+        joints,
+        random_pose(rng),
+        random_pose(rng),
+        vec![home],
+    )
+    .unwrap()
 }
 
 fn assert_poe_matches_fk(robot: &Robot, rng: &mut ChaCha8Rng, n: usize) {

@@ -86,7 +86,10 @@ impl ThreeParallelIk {
             return reject(robot, "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into());
         }
         let Some(x) = intersection(&p(4), &h(4), &p(5), &h(5), GEOM_TOL) else {
-            return reject(robot, "axes 5 and 6 do not meet (or are parallel); the three-parallel closed form needs them to".into());
+            return reject(
+                robot,
+                "axes 5 and 6 do not meet (or are parallel); the three-parallel closed form needs them to".into(),
+            );
         };
         let h2 = h(1);
         let seed = if h2.x.abs() < 0.9 { V3::x() } else { V3::y() };
@@ -97,14 +100,7 @@ impl ThreeParallelIk {
         let r = b.dot(&ap).hypot(b.dot(&h(2).cross(&ap)));
         let sum = a.norm_squared() + b.norm_squared() - 2.0 * h(2).dot(&a) * h(2).dot(&b);
         let mid_reach = 0.5 * ((sum - 2.0 * r).max(0.0).sqrt() + (sum + 2.0 * r).sqrt());
-        Ok(ThreeParallelIk {
-            x,
-            sign3: h2.dot(&h(2)).signum(),
-            sign4: h2.dot(&h(3)).signum(),
-            u2,
-            mid_reach,
-            common,
-        })
+        Ok(ThreeParallelIk { x, sign3: h2.dot(&h(2)).signum(), sign4: h2.dot(&h(3)).signum(), u2, mid_reach, common })
     }
 
     /// q3 of the planar arm for K = E₂E₃E₄: |E₃(p₄) − p₂| = |K(p₄) − p₂|.

@@ -94,7 +94,10 @@ impl SphericalWristIk {
         }
         let shoulder = if parallel(&h(1), &h(2), GEOM_TOL) {
             if parallel(&h(0), &h(1), GEOM_TOL) {
-                return reject(robot, "axes 1, 2 and 3 are all parallel: the wrist centre cannot reach a 3-D region".into());
+                return reject(
+                    robot,
+                    "axes 1, 2 and 3 are all parallel: the wrist centre cannot reach a 3-D region".into(),
+                );
             }
             if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL {
                 return reject(robot, "axes 2 and 3 coincide".into());
@@ -102,11 +105,17 @@ impl SphericalWristIk {
             ShoulderKind::Parallel23
         } else if let Some(c) = intersection(&p(0), &h(0), &p(1), &h(1), GEOM_TOL) {
             if distance_to_line(&c, &p(2), &h(2)) <= GEOM_TOL {
-                return reject(robot, "axis 3 passes through the point where axes 1 and 2 meet: joint 3 cannot change the reach".into());
+                return reject(
+                    robot,
+                    "axis 3 passes through the point where axes 1 and 2 meet: joint 3 cannot change the reach".into(),
+                );
             }
             ShoulderKind::Intersecting12 { c }
         } else {
-            return reject(robot, "axes 2 and 3 are not parallel and axes 1 and 2 do not meet: no closed form for the arm".into());
+            return reject(
+                robot,
+                "axes 2 and 3 are not parallel and axes 1 and 2 do not meet: no closed form for the arm".into(),
+            );
         };
         if distance_to_line(&w, &p(2), &h(2)) <= GEOM_TOL {
             return reject(robot, "the wrist centre lies on axis 3: joint 3 cannot change the reach".into());
@@ -149,7 +158,8 @@ impl SphericalWristIk {
                 if !s1.exact {
                     return Err(Unreachable::OutsideReach {
                         by: s1.miss,
-                        boundary: "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)".into(),
+                        boundary: "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)"
+                            .into(),
                     });
                 }
                 for (si, &t1) in s1.as_slice().iter().enumerate() {
@@ -210,8 +220,8 @@ impl SphericalWristIk {
                     continue;
                 }
                 nw = a4.as_slice().len();
-                for k in 0..nw {
-                    wrists[k] = [-a4.as_slice()[k], a5.as_slice()[k]];
+                for (wk, (t4, t5)) in wrists.iter_mut().zip(a4.as_slice().iter().zip(a5.as_slice())) {
+                    *wk = [-t4, *t5];
                 }
             }
             for (wi, &[q4, q5]) in wrists[..nw].iter().enumerate() {

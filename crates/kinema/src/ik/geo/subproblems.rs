@@ -303,9 +303,11 @@ mod tests {
             for (x, y) in a1.as_slice().iter().zip(a2.as_slice()) {
                 assert!((rotate(&k1, *x, &p1) - rotate(&k2, *y, &p2)).norm() < 1e-12);
             }
-            let found = a1.as_slice().iter().zip(a2.as_slice()).any(|(x, y)| {
-                wrap_angle(x - t1).abs() < 1e-8 && wrap_angle(y - t2).abs() < 1e-8
-            });
+            let found = a1
+                .as_slice()
+                .iter()
+                .zip(a2.as_slice())
+                .any(|(x, y)| wrap_angle(x - t1).abs() < 1e-8 && wrap_angle(y - t2).abs() < 1e-8);
             assert!(found, "{t1} {t2}: {a1:?} {a2:?}");
         }
         // The circles miss each other: one least-squares pair, flagged.
