@@ -447,3 +447,127 @@ fn families_refuse_other_structures() {
     let e = GeoIk::new(&Robot::builtin("panda").unwrap()).unwrap_err().to_string();
     assert!(e.contains("6 revolute joints"), "{e}");
 }
+
+/// A 6R standard-DH robot from rows (d \[m\], a \[m\], α \[deg\], offset \[deg\]).
+fn dh_robot(name: &str, rows: &[(f64, f64, f64, f64); 6], tool: Pose) -> Robot {
+    let joints: Vec<Joint> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, &(d, a, alpha, offset))| Joint {
+            name: format!("a{}", i + 1),
+            kind: JointType::Revolute,
+            geometry: LinkGeometry::Dh {
+                convention: DhConvention::Standard,
+                d,
+                a,
+                alpha: alpha.to_radians(),
+                theta: 0.0,
+            },
+            offset: offset.to_radians(),
+            limits: Limits::position(-PI, PI),
+        })
+        .collect();
+    let home = NamedPose { name: "home".into(), q: vec![0.0; 6] };
+    Robot::new(name, Convention::Standard, Default::default(), joints, Pose::IDENTITY, tool, vec![home]).unwrap()
+}
+
+#[test]
+fn industrial_spherical_wrist_arms_round_trip_and_match_pieper() {
+    // ABB IRB 140 (ABB product specification dimensions, standard DH) and KUKA KR 210
+    // (the DH table of Udacity's KR210 pick-and-place project): shoulder offsets a1,
+    // an elbow offset a3 and offsets on q2.
+    let irb140 = dh_robot(
+        "irb140",
+        &[
+            (0.352, 0.070, -90.0, 0.0),
+            (0.0, 0.360, 0.0, -90.0),
+            (0.0, 0.0, 90.0, 0.0),
+            (0.380, 0.0, -90.0, 0.0),
+            (0.0, 0.0, 90.0, 0.0),
+            (0.065, 0.0, 0.0, 0.0),
+        ],
+        Pose::IDENTITY,
+    );
+    let kr210 = dh_robot(
+        "kr210",
+        &[
+            (0.75, 0.35, -90.0, 0.0),
+            (0.0, 1.25, 0.0, -90.0),
+            (0.0, -0.054, -90.0, 0.0),
+            (1.50, 0.0, 90.0, 0.0),
+            (0.0, 0.0, -90.0, 0.0),
+            (0.303, 0.0, 0.0, 0.0),
+        ],
+        Pose::translation(0.0, 0.0, 0.11),
+    );
+    for (k, robot) in [irb140, kr210].into_iter().enumerate() {
+        // With a shoulder offset a1 the backward shoulder branch is often out of reach: the
+        // count is checked against pieper below instead.
+        assert_round_trips(&robot, "geo-spherical-wrist", 2000, 140 + k as u64, false);
+        let (geo, pieper) = (GeoIk::new(&robot).unwrap(), PieperIk::new(&robot).unwrap());
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        for _ in 0..500 {
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let (a, b) = (geo.solve(&target).unwrap(), pieper.solve(&target).unwrap());
+            assert_eq!(a.len(), b.len());
+            assert!(a.iter().all(|s| b.iter().any(|t| same_angles(&s.q, &t.q, 1e-8))), "{}", robot.name());
+        }
+    }
+}
+
+#[test]
+fn candidates_into_equals_solve() {
+    use kinema::ik::CandidateSet;
+    let mut set = CandidateSet::new();
+    for robot in [Robot::builtin("ur5").unwrap(), data("puma560.urdf")] {
+        let ik = GeoIk::new(&robot).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(31);
+        for _ in 0..200 {
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let sols = ik.solve(&target).unwrap();
+            ik.candidates_into(&target, &mut set).unwrap();
+            assert_eq!(set.len(), sols.len());
+            for (i, s) in sols.iter().enumerate() {
+                assert_eq!(set.q(i), &s.q[..]);
+                assert_eq!(set.branch(i), s.branch);
+            }
+        }
+        // Every branch label appears at most once.
+        let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+        let mut labels: Vec<String> = ik.solve(&target).unwrap().iter().map(|s| s.branch.to_string()).collect();
+        let n = labels.len();
+        labels.sort();
+        labels.dedup();
+        assert_eq!(labels.len(), n);
+    }
+}
+
+#[test]
+fn joint_values_move_into_the_limits_by_a_turn() {
+    // The UR5's limits are ±2π: a solution is the wrapped angle, so within (−π, π].
+    // With limits [0, 2π) on every joint, the same solutions come back shifted by 2π.
+    let ur5 = Robot::builtin("ur5").unwrap();
+    let mut joints = ur5.joints().to_vec();
+    for j in &mut joints {
+        j.limits = Limits::position(0.0, 2.0 * PI - 1e-9);
+    }
+    let shifted = Robot::new(
+        "ur5-shifted",
+        Convention::Standard,
+        Default::default(),
+        joints,
+        *ur5.base(),
+        *ur5.tool(),
+        vec![NamedPose { name: "home".into(), q: vec![1.0; 6] }],
+    )
+    .unwrap();
+    let (a, b) = (GeoIk::new(&ur5).unwrap(), GeoIk::new(&shifted).unwrap());
+    let target = ur5.fk(&[0.3, -1.1, 1.4, -0.6, 0.9, 2.0]).unwrap().pose;
+    let (sa, sb) = (a.solve(&target).unwrap(), b.solve(&target).unwrap());
+    assert_eq!(sa.len(), sb.len());
+    for (x, y) in sa.iter().zip(&sb) {
+        assert!(x.within_limits() && y.within_limits(), "{y:?}");
+        assert!(y.q.iter().all(|v| (0.0..2.0 * PI).contains(v)));
+        assert!(same_angles(&x.q, &y.q, 1e-12));
+    }
+}
