@@ -6,7 +6,7 @@
 
 use std::f64::consts::PI;
 
-use kinema::ik::geo::{GeoIk, Kinematics, ShoulderKind, SphericalWristIk, ThreeParallelIk};
+use kinema::ik::geo::{GeoIk, Kinematics, ShoulderKind, SphericalWristIk, ThreeParallelIk, ThreeParallelSearchIk};
 use kinema::ik::pieper::PieperIk;
 use kinema::ik::{analytic_solver, IkSolver, NumericIk, NumericOptions, Solution};
 use kinema::nalgebra::{Rotation3, Unit, Vector3};
@@ -108,6 +108,12 @@ fn random_spherical(rng: &mut ChaCha8Rng, parallel23: bool) -> Robot {
 
 /// A random arm with axes 2 ∥ 3 ∥ 4 and axes 5, 6 meeting.
 fn random_three_parallel(rng: &mut ChaCha8Rng) -> Robot {
+    random_three_parallel_with(rng, false)
+}
+
+/// As `random_three_parallel`; with `skew56` axis 6 passes axis 5 at a
+/// distance of 0.05–0.2 m.
+fn random_three_parallel_with(rng: &mut ChaCha8Rng, skew56: bool) -> Robot {
     let mut h = [V3::zeros(); 6];
     let mut p = [V3::zeros(); 6];
     h[1] = random_unit(rng);
@@ -124,6 +130,9 @@ fn random_three_parallel(rng: &mut ChaCha8Rng) -> Robot {
     let x = p[3] + random_point(rng, 0.3);
     p[4] = x + h[4] * rng.random_range(-0.2..0.2);
     p[5] = x + h[5] * rng.random_range(-0.2..0.2);
+    if skew56 {
+        p[5] += h[4].cross(&h[5]).normalize() * rng.random_range(0.05..0.2);
+    }
     robot_from_axes("random-three-parallel", &h, &p, rng)
 }
 
@@ -570,4 +579,44 @@ fn joint_values_move_into_the_limits_by_a_turn() {
         assert!(y.q.iter().all(|v| (0.0..2.0 * PI).contains(v)));
         assert!(same_angles(&x.q, &y.q, 1e-12));
     }
+}
+
+#[test]
+fn search_solves_three_parallel_arms_with_an_offset_wrist() {
+    // The UR5 with a 2 cm offset a5 between axes 5 and 6: not the closed form's family.
+    let ur5 = Robot::builtin("ur5").unwrap();
+    let mut joints = ur5.joints().to_vec();
+    if let LinkGeometry::Dh { a, .. } = &mut joints[4].geometry {
+        *a = 0.02;
+    }
+    let offset = Robot::new(
+        "ur5-offset-wrist",
+        Convention::Standard,
+        Default::default(),
+        joints,
+        *ur5.base(),
+        *ur5.tool(),
+        ur5.poses().to_vec(),
+    )
+    .unwrap();
+    assert!(ThreeParallelIk::new(&offset).is_err());
+    assert!(ThreeParallelSearchIk::new(&ur5).is_err());
+    assert_eq!(analytic_solver(&offset).map(|s| s.name()), Some("geo-three-parallel-search"));
+    let ik = GeoIk::new(&offset).unwrap();
+    let t = round_trips(&offset, &ik, 2000, 12);
+    eprintln!("{}: {t:?}", offset.name());
+    assert!(t.missed * 200 <= t.cases, "{t:?}");
+    complete_against_numeric(&offset, 10, 60);
+
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5ea);
+    for k in 0..20 {
+        let robot = random_three_parallel_with(&mut rng, true);
+        let ik = GeoIk::new(&robot).unwrap_or_else(|e| panic!("arm {k}: {e}"));
+        assert_eq!(ik.name(), "geo-three-parallel-search");
+        let t = round_trips(&robot, &ik, 300, k);
+        assert!(t.missed <= 1, "arm {k}: {t:?}");
+    }
+    let e = ik.solve(&Pose::translation(10.0, 0.0, 0.0)).unwrap_err();
+    assert!(matches!(e, Error::Unreachable { .. }), "{e}");
+    common::random_poses_never_panic_or_return_nan(&ik);
 }

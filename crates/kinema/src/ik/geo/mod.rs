@@ -12,6 +12,9 @@
 //!   intersect. Up to 8 solutions.
 //! * [`ThreeParallelIk`] (`geo-three-parallel`): axes 2 ∥ 3 ∥ 4 and axes 5
 //!   and 6 intersect (the UR family). Up to 8 solutions.
+//! * [`ThreeParallelSearchIk`] (`geo-three-parallel-search`): axes 2 ∥ 3 ∥ 4
+//!   with axes 5 and 6 skew: a 1-D search over q₆, every other joint in
+//!   closed form for each q₆.
 //!
 //! [`GeoIk::new`] picks the first family that fits. Joint values are wrapped
 //! to (−π, π] and moved by ±2π when that brings them within the joint limits;
@@ -21,6 +24,7 @@
 
 mod kin;
 mod parallel;
+mod search;
 mod spherical;
 pub mod subproblems;
 
@@ -30,6 +34,7 @@ use nalgebra::Vector3;
 
 pub use kin::Kinematics;
 pub use parallel::ThreeParallelIk;
+pub use search::ThreeParallelSearchIk;
 pub use spherical::{ShoulderKind, SphericalWristIk};
 
 use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
@@ -110,12 +115,13 @@ impl Common {
     }
 
     /// Adds the joint values for angles `t` (unless one is not finite).
-    fn push(&self, out: &mut Candidates<6, 8>, t: [f64; 6], branch: &'static str) {
+    fn push<const M: usize>(&self, out: &mut Candidates<6, M>, t: [f64; 6], branch: &'static str) {
         let mut q = [0.0; 6];
         for (i, v) in q.iter_mut().enumerate() {
             *v = self.joint_value(i, t[i]);
         }
-        if q.iter().all(|v| v.is_finite()) && out.len() < 8 {
+        if q.iter().all(|v| v.is_finite()) {
+            // A negative tolerance keeps coinciding branches (a target on a boundary), as `pieper` does.
             out.push_unique(q, branch, -1.0, false);
         }
     }
@@ -137,26 +143,26 @@ fn too_far(point: &Vector3<f64>) -> Option<Unreachable> {
 }
 
 /// Runs a kernel and turns its candidates into solutions.
-fn solve_with(
+fn solve_with<const M: usize>(
     common: &Common,
     name: &'static str,
     target: &Pose,
-    kernel: impl Fn(&Pose, &mut Candidates<6, 8>) -> std::result::Result<(), Unreachable>,
+    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
 ) -> Result<Vec<Solution>> {
     check_target(target)?;
-    let mut c = Candidates::<6, 8>::default();
+    let mut c = Candidates::<6, M>::default();
     kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason })?;
     c.evaluate(&common.robot, target)
 }
 
-fn candidates_with(
+fn candidates_with<const M: usize>(
     name: &'static str,
     target: &Pose,
     out: &mut CandidateSet,
-    kernel: impl Fn(&Pose, &mut Candidates<6, 8>) -> std::result::Result<(), Unreachable>,
+    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
 ) -> Result<()> {
     check_target(target)?;
-    let mut c = Candidates::<6, 8>::default();
+    let mut c = Candidates::<6, M>::default();
     kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason })?;
     c.write_into(out);
     Ok(())
@@ -183,6 +189,8 @@ pub enum GeoIk {
     SphericalWrist(SphericalWristIk),
     /// Three parallel axes ([`ThreeParallelIk`]).
     ThreeParallel(ThreeParallelIk),
+    /// Three parallel axes, axes 5 and 6 skew: a 1-D search ([`ThreeParallelSearchIk`]).
+    ThreeParallelSearch(ThreeParallelSearchIk),
 }
 
 impl GeoIk {
@@ -197,9 +205,13 @@ impl GeoIk {
             Ok(s) => return Ok(GeoIk::ThreeParallel(s)),
             Err(e) => e,
         };
+        let e3 = match ThreeParallelSearchIk::new(robot) {
+            Ok(s) => return Ok(GeoIk::ThreeParallelSearch(s)),
+            Err(e) => e,
+        };
         Err(Error::InvalidArgument {
             what: "robot".into(),
-            message: format!("no geometric IK family fits: {e1}; {e2}"),
+            message: format!("no geometric IK family fits: {e1}; {e2}; {e3}"),
         })
     }
 
@@ -207,6 +219,7 @@ impl GeoIk {
         match self {
             GeoIk::SphericalWrist(s) => s,
             GeoIk::ThreeParallel(s) => s,
+            GeoIk::ThreeParallelSearch(s) => s,
         }
     }
 }
