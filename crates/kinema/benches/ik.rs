@@ -96,6 +96,20 @@ fn ik(c: &mut Criterion) {
             })
         });
     }
+    // The geometric solvers (ik::geo), all solutions per call: the UR5 (its only
+    // analytic solver) and the PUMA 560 beside `pieper` above.
+    for name in ["ur5", "puma560"] {
+        let robot = Robot::builtin(name).expect("built-in");
+        let solver = kinema::ik::geo::GeoIk::new(&robot).expect("geometric solver");
+        let targets = fk_targets(&robot);
+        let mut i = 0;
+        g.bench_function(format!("{name}/{}", solver.name()), |b| {
+            b.iter(|| {
+                i = (i + 1) % targets.len();
+                black_box(solver.solve(black_box(&targets[i])).ok())
+            })
+        });
+    }
     // The iiwa's closed form for a given q3 (seed 004 eq. 3–11), 8 solutions.
     let robot = Robot::builtin("lbr-iiwa-14-r820").expect("built-in");
     let iiwa = kinema::ik::iiwa::IiwaIk::new(&robot).expect("iiwa");

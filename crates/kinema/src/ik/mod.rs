@@ -21,6 +21,7 @@ use crate::math::{pose_error, Pose};
 use crate::model::{JointSet, Robot};
 
 pub mod contract;
+pub mod geo;
 pub mod iiwa;
 pub mod numeric;
 pub mod pieper;
@@ -484,12 +485,17 @@ pub trait IkSolver: Send + Sync {
 /// the robot's structure (not its name), in this order: the iiwa-type SRS arm
 /// ([`iiwa::IiwaIk`], q3 = 0 by default), 6R arms with a spherical wrist
 /// ([`pieper::PieperIk`]), the Scorbot ([`scorbot::ScorbotIk`]), the SCARA on a
-/// rail ([`scara::ScaraIk`]) and ROMMEL ([`rommel::RommelIk`]).
+/// rail ([`scara::ScaraIk`]), ROMMEL ([`rommel::RommelIk`]), and last the
+/// geometric solvers, which read the joint axes of any description
+/// ([`geo::GeoIk`]: spherical wrists from URDF or `general` joints, the UR
+/// family's three parallel axes).
 ///
 /// # Examples
 /// ```
 /// let puma = kinema::Robot::builtin("puma560")?;
 /// assert_eq!(kinema::ik::analytic_solver(&puma).map(|s| s.name()), Some("pieper"));
+/// let ur5 = kinema::Robot::builtin("ur5")?;
+/// assert_eq!(kinema::ik::analytic_solver(&ur5).map(|s| s.name()), Some("geo-three-parallel"));
 /// let panda = kinema::Robot::builtin("panda")?;
 /// assert!(kinema::ik::analytic_solver(&panda).is_none());
 /// # Ok::<(), kinema::Error>(())
@@ -508,6 +514,9 @@ pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
         return Some(Box::new(s));
     }
     if let Ok(s) = rommel::RommelIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = geo::GeoIk::new(robot) {
         return Some(Box::new(s));
     }
     None

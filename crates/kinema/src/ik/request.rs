@@ -193,7 +193,8 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
             what: "solver".into(),
             message: format!(
                 "robot `{}` has no analytic solver for this target (analytic solvers: iiwa-type 7R, 6R with a \
-                 spherical wrist, Scorbot, SCARA on a rail, ROMMEL; position-only targets are numeric); use the \
+                 spherical wrist or with three parallel axes, Scorbot, SCARA on a rail, ROMMEL; position-only \
+                 targets are numeric); use the \
                  numeric solver",
                 robot.name()
             ),

@@ -1,0 +1,239 @@
+//! Analytic inverse kinematics from the geometry of the joint axes, for any
+//! description (DH table, TOML `general` joints, URDF), after IK-Geo (Elias
+//! and Wen): the axes are read at q = 0 ([`Kinematics`]), the family is
+//! recognised from them (parallel and intersecting axes, tested to
+//! [`GEOM_TOL`], never from names or DH fields), and the joints follow from
+//! the Paden–Kahan [`subproblems`].
+//!
+//! Families (six revolute joints each):
+//!
+//! * [`SphericalWristIk`] (`geo-spherical-wrist`): axes 4, 5, 6 meet in one
+//!   point, and axes 2 ∥ 3 (PUMA, ABB IRB 140, KUKA KR) or axes 1 and 2
+//!   intersect. Up to 8 solutions.
+//! * [`ThreeParallelIk`] (`geo-three-parallel`): axes 2 ∥ 3 ∥ 4 and axes 5
+//!   and 6 intersect (the UR family). Up to 8 solutions.
+//! * [`ThreeParallelSearchIk`] (`geo-three-parallel-search`): axes 2 ∥ 3 ∥ 4
+//!   with axes 5 and 6 skew: a 1-D search over q₆, every other joint in
+//!   closed form for each q₆.
+//!
+//! [`GeoIk::new`] picks the first family that fits. Joint values are wrapped
+//! to (−π, π] and moved by ±2π when that brings them within the joint limits;
+//! solutions outside the limits are returned and flagged. Branch labels are
+//! `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`: the root index of each step's
+//! subproblem (documented per family).
+
+mod kin;
+mod parallel;
+mod search;
+mod spherical;
+pub mod subproblems;
+
+use std::f64::consts::TAU;
+
+use nalgebra::Vector3;
+
+pub use kin::Kinematics;
+pub use parallel::ThreeParallelIk;
+pub use search::ThreeParallelSearchIk;
+pub use spherical::{ShoulderKind, SphericalWristIk};
+
+use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::error::{Error, Result};
+use crate::math::Pose;
+use crate::model::Robot;
+
+/// Tolerance for the structure tests: unit axis directions whose cross
+/// product is below it are parallel, lines closer than it \[m\] intersect.
+pub const GEOM_TOL: f64 = 1e-9;
+
+/// Every branch label, indexed by shoulder·4 + elbow·2 + wrist.
+const LABELS: [&str; 8] = [
+    "shoulder-1/elbow-1/wrist-1",
+    "shoulder-1/elbow-1/wrist-2",
+    "shoulder-1/elbow-2/wrist-1",
+    "shoulder-1/elbow-2/wrist-2",
+    "shoulder-2/elbow-1/wrist-1",
+    "shoulder-2/elbow-1/wrist-2",
+    "shoulder-2/elbow-2/wrist-1",
+    "shoulder-2/elbow-2/wrist-2",
+];
+
+fn label(shoulder: usize, elbow: usize, wrist: usize) -> &'static str {
+    LABELS[(shoulder & 1) * 4 + (elbow & 1) * 2 + (wrist & 1)]
+}
+
+/// What every family keeps: the robot, its axes, and the inverse of the
+/// tool pose at q = 0.
+#[derive(Debug, Clone)]
+struct Common {
+    robot: Robot,
+    kin: Kinematics,
+    tool0_inv: Pose,
+}
+
+impl Common {
+    /// Checks for six revolute joints and reads the axes.
+    fn new(robot: &Robot, solver: &str) -> Result<Self> {
+        if robot.dof() != 6 {
+            return reject(
+                robot,
+                format!("the {solver} solver needs exactly 6 revolute joints; this robot has {}", robot.dof()),
+            );
+        }
+        let kin = Kinematics::new(robot)?;
+        let tool0_inv = kin.tool.inverse();
+        Ok(Common { robot: robot.clone(), kin, tool0_inv })
+    }
+
+    fn h(&self, i: usize) -> Vector3<f64> {
+        self.kin.h[i]
+    }
+
+    fn p(&self, i: usize) -> Vector3<f64> {
+        self.kin.p[i]
+    }
+
+    /// G = T·T₀⁻¹ = E₁(q₁)·…·E₆(q₆): the motion the joints must produce.
+    fn motion(&self, target: &Pose) -> Pose {
+        *target * self.tool0_inv
+    }
+
+    /// Joint value for angle θ of joint `i`: wrapped to (−π, π], moved by
+    /// ±2π when that brings it within the limits.
+    fn joint_value(&self, i: usize, theta: f64) -> f64 {
+        let q = wrap_angle(theta);
+        let lim = &self.robot.joints()[i].limits;
+        if lim.contains(q) {
+            return q;
+        }
+        for k in [1.0, -1.0, 2.0, -2.0] {
+            if lim.contains(q + k * TAU) {
+                return q + k * TAU;
+            }
+        }
+        q
+    }
+
+    /// Adds the joint values for angles `t` (unless one is not finite).
+    fn push<const M: usize>(&self, out: &mut Candidates<6, M>, t: [f64; 6], branch: &'static str) {
+        let mut q = [0.0; 6];
+        for (i, v) in q.iter_mut().enumerate() {
+            *v = self.joint_value(i, t[i]);
+        }
+        if q.iter().all(|v| v.is_finite()) {
+            // A negative tolerance keeps coinciding branches (a target on a boundary), as `pieper` does.
+            out.push_unique(q, branch, -1.0, false);
+        }
+    }
+}
+
+fn reject<T>(robot: &Robot, message: String) -> Result<T> {
+    Err(Error::InvalidArgument { what: "robot".into(), message: format!("{}: {message}", robot.name()) })
+}
+
+/// A target whose motion is absurdly large (or not finite after the tool is
+/// stripped) cannot be reached; saying so early keeps overflow out of the
+/// subproblems.
+fn too_far(point: &Vector3<f64>) -> Option<Unreachable> {
+    let by = point.norm();
+    (!(by <= 1e100)).then(|| Unreachable::OutsideReach {
+        by: if by.is_finite() { by } else { f64::INFINITY },
+        boundary: "reach of the arm (the target is absurdly far away)".into(),
+    })
+}
+
+/// Runs a kernel and turns its candidates into solutions.
+fn solve_with<const M: usize>(
+    common: &Common,
+    name: &'static str,
+    target: &Pose,
+    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
+) -> Result<Vec<Solution>> {
+    check_target(target)?;
+    let mut c = Candidates::<6, M>::default();
+    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
+    c.evaluate(&common.robot, target)
+}
+
+fn candidates_with<const M: usize>(
+    name: &'static str,
+    target: &Pose,
+    out: &mut CandidateSet,
+    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
+) -> Result<()> {
+    check_target(target)?;
+    let mut c = Candidates::<6, M>::default();
+    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
+    c.write_into(out);
+    Ok(())
+}
+
+/// The geometric solver that fits a robot: one of the families.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, geo::GeoIk};
+/// let robot = kinema::Robot::builtin("ur5")?;
+/// let ik = GeoIk::new(&robot)?;
+/// assert_eq!(ik.name(), "geo-three-parallel");
+/// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
+/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// assert_eq!(sols.len(), 8);
+/// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
+/// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub enum GeoIk {
+    /// A spherical wrist ([`SphericalWristIk`]).
+    SphericalWrist(SphericalWristIk),
+    /// Three parallel axes ([`ThreeParallelIk`]).
+    ThreeParallel(ThreeParallelIk),
+    /// Three parallel axes, axes 5 and 6 skew: a 1-D search ([`ThreeParallelSearchIk`]).
+    ThreeParallelSearch(ThreeParallelSearchIk),
+}
+
+impl GeoIk {
+    /// The first family that fits `robot` (spherical wrist, then three
+    /// parallel axes); the error lists why each one refused.
+    pub fn new(robot: &Robot) -> Result<Self> {
+        let e1 = match SphericalWristIk::new(robot) {
+            Ok(s) => return Ok(GeoIk::SphericalWrist(s)),
+            Err(e) => e,
+        };
+        let e2 = match ThreeParallelIk::new(robot) {
+            Ok(s) => return Ok(GeoIk::ThreeParallel(s)),
+            Err(e) => e,
+        };
+        let e3 = match ThreeParallelSearchIk::new(robot) {
+            Ok(s) => return Ok(GeoIk::ThreeParallelSearch(s)),
+            Err(e) => e,
+        };
+        Err(Error::InvalidArgument {
+            what: "robot".into(),
+            message: format!("no geometric IK family fits: {e1}; {e2}; {e3}"),
+        })
+    }
+
+    fn solver(&self) -> &dyn IkSolver {
+        match self {
+            GeoIk::SphericalWrist(s) => s,
+            GeoIk::ThreeParallel(s) => s,
+            GeoIk::ThreeParallelSearch(s) => s,
+        }
+    }
+}
+
+impl IkSolver for GeoIk {
+    fn name(&self) -> &'static str {
+        self.solver().name()
+    }
+
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        self.solver().solve(target)
+    }
+
+    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        self.solver().candidates_into(target, out)
+    }
+}

@@ -1,0 +1,257 @@
+//! 6R arms whose last three axes meet in one point, the wrist centre w.
+//!
+//! E₄E₅E₆ fix w, so the target's wrist centre W = G(w) (G = T·T₀⁻¹) depends
+//! on q₁…q₃ only: W = E₁E₂E₃(w).
+//!
+//! * **Axes 2 ∥ 3** ([`ShoulderKind::Parallel23`]): turning about lines
+//!   parallel to h₂ keeps the component along h₂, so
+//!   h₂ᵀ·E₁⁻¹(W) = h₂ᵀ·w — subproblem 4 in q₁ (*shoulder* 1, 2). Then
+//!   V = E₁⁻¹(W) = E₂E₃(w) and E₂ fixes p₂: |E₃(w) − p₂| = |V − p₂|,
+//!   subproblem 3 in q₃ (*elbow* 1, 2); q₂ by subproblem 1.
+//! * **Axes 1 and 2 meet at c** ([`ShoulderKind::Intersecting12`]): E₁, E₂
+//!   fix c, so |E₃(w) − c| = |W − c| gives q₃ by subproblem 3 (*elbow*
+//!   1, 2), and rot(h₁, q₁)·rot(h₂, q₂)·(E₃(w) − c) = W − c gives (q₁, q₂) by
+//!   subproblem 2 (*shoulder* 1, 2).
+//!
+//! **Wrist.** With M = (R₁R₂R₃)ᵀ·R_G = R₄R₅R₆ and R₆h₆ = h₆:
+//! rot(h₅, q₅)·h₆ = rot(h₄, −q₄)·M·h₆, subproblem 2 (*wrist* 1, 2), then q₆
+//! by subproblem 1 on a vector ⊥ h₆.
+//!
+//! **Wrist singularity** (M·h₆ ∥ h₄, within 1e-12: axes 4 and 6 aligned):
+//! only a combination of q₄ and q₆ is determined. Convention, as the DH
+//! solver `pieper`: *wrist-1* takes q₄ = 0 and *wrist-2* q₄ = π (wrapped into
+//! the limits when possible), q₅ by subproblem 1, q₆ the rest.
+//! **Shoulder singularity** (W on axis 1 for axes 2 ∥ 3): q₁ is free; one
+//! solution with q₁ = 0 per elbow and wrist branch. Coinciding branches of a
+//! target on a reach boundary are both returned.
+
+use nalgebra::Vector3;
+
+use super::kin::{distance_to_line, intersection, parallel};
+use super::subproblems::{rot, rotate, sp1, sp2, sp3, sp4};
+use super::{candidates_with, label, reject, solve_with, too_far, Common, GEOM_TOL};
+use crate::error::Result;
+use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::math::Pose;
+use crate::model::Robot;
+
+type V3 = Vector3<f64>;
+
+/// Below this |h₄ × M·h₆| the wrist is treated as singular.
+const WRIST_SING_TOL: f64 = 1e-12;
+
+/// How the first three axes are arranged.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ShoulderKind {
+    /// Axes 2 and 3 parallel, axis 1 not parallel to them.
+    Parallel23,
+    /// Axes 1 and 2 meet at the point `c` (world frame, q = 0) \[m\].
+    Intersecting12 {
+        /// The intersection point.
+        c: V3,
+    },
+}
+
+/// The geometric solver for 6R arms with a spherical wrist (see the
+/// [module documentation](self)). Name `geo-spherical-wrist`.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, geo::SphericalWristIk};
+/// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/puma560.urdf"), None)?;
+/// let ik = SphericalWristIk::new(&robot)?;
+/// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
+/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// assert_eq!(sols.len(), 8);
+/// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct SphericalWristIk {
+    common: Common,
+    shoulder: ShoulderKind,
+    /// The wrist centre at q = 0 \[m\].
+    w: V3,
+    /// A unit vector ⊥ h₆, for q₆.
+    u6: V3,
+}
+
+impl SphericalWristIk {
+    /// Checks the structure (tolerance [`GEOM_TOL`]) and prepares the
+    /// solver: six revolute joints; axes 4 and 5 meet, axis 6 passes through
+    /// that point and is not parallel to axis 5; axes 2 ∥ 3 (with axis 1 not
+    /// parallel to them and axis 3 not through the wrist centre, nor
+    /// coincident with axis 2) or axes 1 and 2 meet (with axis 3 through
+    /// neither that point nor the wrist centre). Errors say which fails.
+    pub fn new(robot: &Robot) -> Result<Self> {
+        let common = Common::new(robot, "geo-spherical-wrist")?;
+        let (h, p) = (|i| common.h(i), |i| common.p(i));
+        let Some(w) = intersection(&p(3), &h(3), &p(4), &h(4), GEOM_TOL) else {
+            return reject(robot, "axes 4 and 5 do not meet (or are parallel): no spherical wrist".into());
+        };
+        if parallel(&h(4), &h(5), GEOM_TOL) || distance_to_line(&w, &p(5), &h(5)) > GEOM_TOL {
+            return reject(robot, "axis 6 does not pass through the point where axes 4 and 5 meet (or is parallel to axis 5): no spherical wrist".into());
+        }
+        let shoulder = if parallel(&h(1), &h(2), GEOM_TOL) {
+            if parallel(&h(0), &h(1), GEOM_TOL) {
+                return reject(
+                    robot,
+                    "axes 1, 2 and 3 are all parallel: the wrist centre cannot reach a 3-D region".into(),
+                );
+            }
+            if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL {
+                return reject(robot, "axes 2 and 3 coincide".into());
+            }
+            ShoulderKind::Parallel23
+        } else if let Some(c) = intersection(&p(0), &h(0), &p(1), &h(1), GEOM_TOL) {
+            if distance_to_line(&c, &p(2), &h(2)) <= GEOM_TOL {
+                return reject(
+                    robot,
+                    "axis 3 passes through the point where axes 1 and 2 meet: joint 3 cannot change the reach".into(),
+                );
+            }
+            ShoulderKind::Intersecting12 { c }
+        } else {
+            return reject(
+                robot,
+                "axes 2 and 3 are not parallel and axes 1 and 2 do not meet: no closed form for the arm".into(),
+            );
+        };
+        if distance_to_line(&w, &p(2), &h(2)) <= GEOM_TOL {
+            return reject(robot, "the wrist centre lies on axis 3: joint 3 cannot change the reach".into());
+        }
+        let h6 = h(5);
+        let seed = if h6.x.abs() < 0.9 { V3::x() } else { V3::y() };
+        let u6 = (seed - h6 * h6.dot(&seed)).normalize();
+        Ok(SphericalWristIk { common, shoulder, w, u6 })
+    }
+
+    /// The arrangement of the first three axes that was detected.
+    pub fn shoulder_kind(&self) -> ShoulderKind {
+        self.shoulder
+    }
+
+    /// The robot this solver was built for.
+    pub fn robot(&self) -> &Robot {
+        &self.common.robot
+    }
+
+    /// The allocation-free kernel: every candidate (joint values and branch
+    /// label) for `target`, without FK checks, or why there is none.
+    pub fn solve_candidates(&self, target: &Pose, out: &mut Candidates<6, 8>) -> std::result::Result<(), Unreachable> {
+        let c = &self.common;
+        let (h, p) = (|i| c.h(i), |i| c.p(i));
+        let g = c.motion(target);
+        let wt = g.transform_point(&self.w);
+        if let Some(u) = too_far(&wt) {
+            return Err(u);
+        }
+        // (q1, q2, q3, shoulder, elbow) for each arm branch.
+        let mut arms = [([0.0; 3], 0, 0); 4];
+        let mut n = 0;
+        let mut miss = f64::INFINITY;
+        let boundary;
+        match self.shoulder {
+            ShoulderKind::Parallel23 => {
+                boundary = "region the wrist centre reaches at the required distance from axis 2";
+                let s1 = sp4(&h(1), &h(0), &(wt - p(0)), h(1).dot(&(self.w - p(0))));
+                if !s1.exact {
+                    return Err(Unreachable::OutsideReach {
+                        by: s1.miss,
+                        boundary: "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)"
+                            .into(),
+                    });
+                }
+                for (si, &t1) in s1.as_slice().iter().enumerate() {
+                    // V = E1⁻¹(W): rot(h1, −q1) = rot(h1, t1).
+                    let v = p(0) + rotate(&h(0), t1, &(wt - p(0)));
+                    let s3 = sp3(&h(2), &(self.w - p(2)), &(p(1) - p(2)), (v - p(1)).norm());
+                    if !s3.exact {
+                        miss = miss.min(s3.miss);
+                        continue;
+                    }
+                    for (ei, &q3) in s3.as_slice().iter().enumerate() {
+                        let x = p(2) + rotate(&h(2), q3, &(self.w - p(2)));
+                        let q2 = sp1(&h(1), &(x - p(1)), &(v - p(1))).first();
+                        arms[n] = ([-t1, q2, q3], si, ei);
+                        n += 1;
+                    }
+                }
+            }
+            ShoulderKind::Intersecting12 { c: cp } => {
+                boundary = "spherical shell around the shoulder point that the wrist centre reaches";
+                let s3 = sp3(&h(2), &(self.w - p(2)), &(cp - p(2)), (wt - cp).norm());
+                if !s3.exact {
+                    return Err(Unreachable::OutsideReach { by: s3.miss, boundary: boundary.into() });
+                }
+                for (ei, &q3) in s3.as_slice().iter().enumerate() {
+                    let x = p(2) + rotate(&h(2), q3, &(self.w - p(2)));
+                    let (a1, a2) = sp2(&h(0), &(wt - cp), &h(1), &(x - cp));
+                    if !a1.exact {
+                        miss = miss.min(a1.miss);
+                        continue;
+                    }
+                    for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
+                        arms[n] = ([-t1, q2, q3], si, ei);
+                        n += 1;
+                    }
+                }
+            }
+        }
+        if n == 0 {
+            return Err(Unreachable::OutsideReach { by: miss, boundary: boundary.into() });
+        }
+        let mut worst_wrist = f64::INFINITY;
+        for &(q, si, ei) in &arms[..n] {
+            let r123 = rot(&h(0), q[0]) * rot(&h(1), q[1]) * rot(&h(2), q[2]);
+            let m = r123.transpose() * g.rot;
+            let mh6 = m * h(5);
+            let mut wrists = [[0.0; 2]; 2];
+            let nw;
+            if h(3).cross(&mh6).norm() <= WRIST_SING_TOL {
+                for (k, q4) in [0.0, std::f64::consts::PI].into_iter().enumerate() {
+                    wrists[k] = [q4, sp1(&h(4), &h(5), &rotate(&h(3), -q4, &mh6)).first()];
+                }
+                nw = 2;
+            } else {
+                let (a4, a5) = sp2(&h(3), &mh6, &h(4), &h(5));
+                if !a4.exact {
+                    worst_wrist = worst_wrist.min(a4.miss);
+                    continue;
+                }
+                nw = a4.as_slice().len();
+                for (wk, (t4, t5)) in wrists.iter_mut().zip(a4.as_slice().iter().zip(a5.as_slice())) {
+                    *wk = [-t4, *t5];
+                }
+            }
+            for (wi, &[q4, q5]) in wrists[..nw].iter().enumerate() {
+                let r45 = rot(&h(3), q4) * rot(&h(4), q5);
+                let q6 = sp1(&h(5), &self.u6, &(r45.transpose() * m * self.u6)).first();
+                c.push(out, [q[0], q[1], q[2], q4, q5, q6], label(si, ei, wi));
+            }
+        }
+        if out.is_empty() {
+            return Err(Unreachable::Orientation {
+                // The miss is a chord between unit vectors; as an angle:
+                angle: 2.0 * (0.5 * worst_wrist).min(1.0).asin(),
+                detail: "the wrist cannot turn the approach axis (axis 6) to the direction asked for".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+impl IkSolver for SphericalWristIk {
+    fn name(&self) -> &'static str {
+        "geo-spherical-wrist"
+    }
+
+    /// All (up to 8) solutions, labelled as in the [module documentation](self).
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
+    }
+
+    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+    }
+}
