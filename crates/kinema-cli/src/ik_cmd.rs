@@ -197,6 +197,12 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
     if typed && a.solver == SolverArg::Numeric {
         bail!("--pitch/--roll, --approach, --alpha, --q3 and --psi select an analytic solver; drop --solver numeric");
     }
+    let typed_target = a.pitch.is_some() || a.roll.is_some() || a.approach.is_some() || a.alpha.is_some();
+    if typed_target && !matches!(target, IkTarget::Position(_)) {
+        bail!(
+            "--pitch/--roll, --approach and --alpha complete a --position target; they do not apply to --T or --pose"
+        );
+    }
     if (a.q3.is_some() || a.psi.is_some()) && !matches!(target, IkTarget::Pose(_)) {
         bail!("--q3 and --psi need a full target pose: give --T or --pose");
     }

@@ -411,6 +411,9 @@ fn ik_lists_only_solutions_that_meet_the_target() {
     assert!((reached.pos - kinema::nalgebra::Vector3::new(0.35, 0.0, 0.3)).norm() < 1e-6);
     let e = fails(&["ik", "--robot", "ur5", "--pose", pose, "--mask", "1,1,1,0,0,2"]);
     assert!(e.contains("0/1"), "{e}");
+    // Typed-target flags with a full pose are refused, not ignored.
+    let e = fails(&["ik", "--robot", "scorbot-er-v-plus", "--pose", pose, "--pitch", "10", "--roll", "5"]);
+    assert!(e.contains("--position"), "{e}");
     // A command line that does not parse is a usage error (64), not "unreachable" (2).
     assert_eq!(exit_and_stdout(&["ik", "--robot", "ur5", "--no-such-flag"]).0, Some(64));
     assert_eq!(exit_and_stdout(&["ik", "--robot", "ur5", "--pose", "1,2,3"]).0, Some(1));
