@@ -109,8 +109,8 @@ fn mask_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<[bool; 6]>> {
     let mut m = [false; 6];
     for (flag, x) in m.iter_mut().zip(&items) {
         *flag = match x.extract::<f64>() {
-            Ok(v) if v == 1.0 => true,
-            Ok(v) if v == 0.0 => false,
+            Ok(1.0) => true,
+            Ok(0.0) => false,
             _ => return Err(bad()),
         };
     }
