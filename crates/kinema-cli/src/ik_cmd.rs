@@ -9,6 +9,8 @@ use serde_json::{json, Value};
 
 use crate::{print_json, Exit, RobotArg, RpyArg};
 
+mod batch;
+
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SolverArg {
     /// The robot's analytic solver when it has one, else numeric.
@@ -67,8 +69,15 @@ pub struct IkArgs {
     #[arg(long, default_value_t = 1e-6)]
     tol_orientation: f64,
     /// Print every solution found (default: one, nearest to --q0 when given).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "input")]
     all: bool,
+    /// Batch: a CSV of targets, one per line: 16 numbers (a 4×4 matrix, row-major), 6 (x,y,z,roll,pitch,yaw
+    /// as --pose) or 3 (a position); solved on all cores, one solution per line written to --output.
+    #[arg(long, requires = "output", conflicts_with_all = ["t", "pose", "position", "pitch", "roll", "approach", "alpha", "q3", "psi"])]
+    input: Option<std::path::PathBuf>,
+    /// Batch: where to write the solutions (CSV; written in full or not at all).
+    #[arg(long, requires = "input")]
+    output: Option<std::path::PathBuf>,
     /// Previous / initial configuration (comma-separated or a named pose).
     #[arg(long, allow_hyphen_values = true)]
     q0: Option<String>,
@@ -224,7 +233,19 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
         }
         other => other,
     };
-    let request = IkRequest {
+    let request = request(a, q0)?;
+    let free = target.orientation_free();
+    match kinema::ik::solve_target(robot, &target, &request) {
+        Ok(answer) => Ok((Ok(answer), free)),
+        Err(e @ Error::Unreachable { .. }) => Ok((Err(e), free)),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// The request the flags make (solver, q0, all, q3/ψ, mask, tolerance, seed).
+pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest<'a>> {
+    let ang = |v: f64| if a.deg { v.to_radians() } else { v };
+    Ok(IkRequest {
         solver: match a.solver {
             SolverArg::Auto => SolverChoice::Auto,
             SolverArg::Analytic => SolverChoice::Analytic,
@@ -237,17 +258,14 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
         mask: a.mask.as_deref().map(mask).transpose()?,
         tolerance: Tolerance { position: a.tol_position, orientation: a.tol_orientation },
         numeric: NumericOptions { seed: a.seed, ..Default::default() },
-    };
-    let free = target.orientation_free();
-    match kinema::ik::solve_target(robot, &target, &request) {
-        Ok(answer) => Ok((Ok(answer), free)),
-        Err(e @ Error::Unreachable { .. }) => Ok((Err(e), free)),
-        Err(e) => Err(e.into()),
-    }
+    })
 }
 
 pub fn ik(a: IkArgs) -> Result<()> {
     let robot = a.robot.load()?;
+    if let (Some(input), Some(output)) = (&a.input, &a.output) {
+        return batch::run(&a, &robot, input, output);
+    }
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
     let (result, orientation_free) = solve(&a, &robot, target, q0.as_deref())?;

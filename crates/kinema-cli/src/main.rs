@@ -469,36 +469,9 @@ fn fk(a: FkArgs) -> Result<()> {
 /// Reads configurations from `input`, writes poses to `output` through a
 /// temporary file that is renamed only when everything succeeded.
 fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyConvention) -> Result<()> {
-    let text = std::fs::read_to_string(input).with_context(|| format!("cannot read input `{}`", input.display()))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
     let n = r.dof();
     let mut qs: Vec<f64> = Vec::new();
-    let mut first = true;
-    for rec in reader.records() {
-        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", input.display()))?;
-        let line = rec.position().map_or(0, |p| p.line());
-        if rec.iter().all(|f| f.is_empty()) {
-            continue;
-        }
-        let parsed: Result<Vec<f64>, _> = rec.iter().map(str::parse::<f64>).collect();
-        let vals = match parsed {
-            Ok(v) => v,
-            Err(_) if first => {
-                first = false;
-                continue; // header line
-            }
-            Err(_) => bail!(
-                "`{}` line {line}: `{}` is not a list of {n} numbers",
-                input.display(),
-                rec.iter().collect::<Vec<_>>().join(",")
-            ),
-        };
-        first = false;
+    for (line, vals) in numeric_rows(input)? {
         if vals.len() != n {
             bail!("`{}` line {line}: {} values, but robot `{}` has {n} joints", input.display(), vals.len(), r.name());
         }
@@ -512,14 +485,7 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
     if rows == 0 {
         bail!("`{}` holds no configurations", input.display());
     }
-    let bar = indicatif::ProgressBar::new(rows as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} configurations ({per_sec}, eta {eta})")
-            .expect("valid template"),
-    );
-    if rows < 200_000 {
-        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
+    let bar = progress_bar(rows, "configurations", 200_000);
     let result = write_atomically(output, |out| {
         let mut w = csv::Writer::from_writer(out);
         let rpy_names = match conv {
@@ -548,6 +514,51 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
     result?;
     eprintln!("wrote {rows} poses to {}", output.display());
     Ok(())
+}
+
+/// A progress bar on stderr over `len` items, drawn only from `shown_from`
+/// items on (short runs finish before it would help).
+pub(crate) fn progress_bar(len: usize, items: &str, shown_from: usize) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len as u64);
+    let template = format!("{{bar:40}} {{pos}}/{{len}} {items} ({{per_sec}}, eta {{eta}})");
+    bar.set_style(indicatif::ProgressStyle::with_template(&template).expect("valid template"));
+    if len < shown_from {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    bar
+}
+
+/// The rows of numbers of a CSV file, each with its line number: blank
+/// lines and `#` comments are skipped, and a first line that is not numbers
+/// is taken as a header.
+pub(crate) fn numeric_rows(input: &Path) -> Result<Vec<(u64, Vec<f64>)>> {
+    let text = std::fs::read_to_string(input).with_context(|| format!("cannot read input `{}`", input.display()))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let mut rows = Vec::new();
+    let mut first = true;
+    for rec in reader.records() {
+        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", input.display()))?;
+        let line = rec.position().map_or(0, |p| p.line());
+        if rec.iter().all(|f| f.is_empty()) {
+            continue;
+        }
+        match rec.iter().map(str::parse::<f64>).collect::<Result<Vec<f64>, _>>() {
+            Ok(vals) => rows.push((line, vals)),
+            Err(_) if first => {} // header line
+            Err(_) => bail!(
+                "`{}` line {line}: `{}` is not a list of numbers",
+                input.display(),
+                rec.iter().collect::<Vec<_>>().join(",")
+            ),
+        }
+        first = false;
+    }
+    Ok(rows)
 }
 
 /// Writes `output` through a temporary file in the same directory that is

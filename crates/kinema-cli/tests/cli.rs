@@ -419,6 +419,61 @@ fn ik_lists_only_solutions_that_meet_the_target() {
     assert_eq!(exit_and_stdout(&["ik", "--robot", "ur5", "--pose", "1,2,3"]).0, Some(1));
 }
 
+/// Batch IK: every line of the input gets a line of output, a solution that
+/// meets its target (FK re-measured here) or the stated reason there is none;
+/// exit 2 when some line is not solved, 0 when all are, and no file on a
+/// malformed input.
+#[test]
+fn ik_batch_from_a_csv_file() {
+    let dir = tempdir("ik-batch");
+    let robot = Robot::builtin("ur5").unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2304);
+    let mut lines = vec!["# targets".to_string(), "a,b,c".to_string()];
+    let mut targets = Vec::new();
+    for k in 0..120 {
+        let pose = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+        let line = match k % 3 {
+            0 => pose.to_rows().iter().flatten().map(|v| format!("{v:.17}")).collect::<Vec<_>>().join(","),
+            1 => {
+                let rpy = pose.rpy(kinema::RpyConvention::Zyx);
+                [pose.pos.x, pose.pos.y, pose.pos.z, rpy[0], rpy[1], rpy[2]].map(|v| format!("{v:.17}")).join(",")
+            }
+            _ => [pose.pos.x, pose.pos.y, pose.pos.z].map(|v| format!("{v:.17}")).join(","),
+        };
+        lines.push(line);
+        targets.push((pose, k % 3 == 2));
+    }
+    let input = dir.join("targets.csv");
+    std::fs::write(&input, lines.join("\n")).unwrap();
+    let output = dir.join("q.csv");
+    let (i, o) = (input.to_str().unwrap(), output.to_str().unwrap());
+    let (code, _) = exit_and_stdout(&["ik", "--robot", "ur5", "--input", i, "--output", o]);
+    assert_eq!(code, Some(0));
+    let text = std::fs::read_to_string(&output).unwrap();
+    let rows: Vec<Vec<String>> = text.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect();
+    assert_eq!(rows.len(), targets.len());
+    for (row, (pose, position_only)) in rows.iter().zip(&targets) {
+        assert_eq!(row[1], "solved", "{row:?}");
+        let q: Vec<f64> = row[3..9].iter().map(|v| v.parse().unwrap()).collect();
+        let e = kinema::math::pose_error(pose, &robot.fk(&q).unwrap().pose);
+        assert!(e.position_norm() < 1e-6, "{row:?}");
+        assert!(*position_only || e.rotation_angle() < 1e-6, "{row:?}");
+    }
+    // An unreachable line and a matrix that is not a rigid transform: stated, exit 2.
+    std::fs::write(&input, "0.4,0.1,0.3\n5,0,0\n1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,2\n").unwrap();
+    let (code, _) = exit_and_stdout(&["ik", "--robot", "ur5", "--input", i, "--output", o]);
+    assert_eq!(code, Some(2));
+    let text = std::fs::read_to_string(&output).unwrap();
+    let status: Vec<&str> = text.lines().skip(1).map(|l| l.split(',').nth(1).unwrap()).collect();
+    assert_eq!(status, ["solved", "unreachable", "invalid"], "{text}");
+    // A line of the wrong length is a malformed file: no output at all.
+    std::fs::remove_file(&output).unwrap();
+    std::fs::write(&input, "0.4,0.1,0.3\n1,2,3,4\n").unwrap();
+    let e = fails(&["ik", "--robot", "ur5", "--input", i, "--output", o]);
+    assert!(e.contains("line 2") && e.contains("expected 16"), "{e}");
+    assert!(!output.exists());
+}
+
 #[test]
 fn ik_analytic_solvers_from_the_command_line() {
     // PUMA 560: Pieper solver, all 8 branches, each reaching the target.

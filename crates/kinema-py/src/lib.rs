@@ -117,6 +117,19 @@ fn mask_arg(obj: &Bound<'_, PyAny>) -> PyResult<Option<[bool; 6]>> {
     Ok(Some(m))
 }
 
+/// What `Robot.ik_batch` returns: Q (V, n), success (V,), reasons.
+type IkBatchResult<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<bool>>, Vec<String>);
+
+/// The `solver` argument of the IK functions.
+fn solver_choice(name: &str) -> PyResult<SolverChoice> {
+    match name {
+        "auto" => Ok(SolverChoice::Auto),
+        "analytic" => Ok(SolverChoice::Analytic),
+        "numeric" => Ok(SolverChoice::Numeric),
+        other => Err(invalid(format!("invalid `solver`: `{other}`; use \"auto\", \"analytic\" or \"numeric\""))),
+    }
+}
+
 fn invalid(message: String) -> PyErr {
     InvalidInput::new_err(message)
 }
@@ -1315,14 +1328,7 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] tol_position: f64,
         #[pyo3(from_py_with = real)] tol_orientation: f64,
     ) -> PyResult<PyObject> {
-        let solver = match solver {
-            "auto" => SolverChoice::Auto,
-            "analytic" => SolverChoice::Analytic,
-            "numeric" => SolverChoice::Numeric,
-            other => {
-                return Err(invalid(format!("invalid `solver`: `{other}`; use \"auto\", \"analytic\" or \"numeric\"")))
-            }
-        };
+        let solver = solver_choice(solver)?;
         let target = ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?;
         let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
         let robot = Arc::clone(&self.robot);
@@ -1355,6 +1361,93 @@ impl PyRobot {
             Some(one) => Ok(Bound::new(py, one)?.into_any().unbind()),
             None => Err(KinemaError::new_err("the solver returned no solution")),
         }
+    }
+
+    /// Inverse kinematics of many targets at once, one solution each, solved
+    /// exactly as :meth:`ik` would (the same contract, solver choice and pick:
+    /// within limits, nearest ``q0`` when given), in parallel over all cores
+    /// with the GIL released (core: ``ik::solve_batch``).
+    ///
+    /// ``T``: a (V, 4, 4) array of poses or (V, 6) rows x, y, z, roll, pitch,
+    /// yaw (convention ``rpy``); or ``position``: a (V, 3) array of tool
+    /// points, orientation free. ``q0``, ``solver``, ``mask``, ``seed`` and the
+    /// tolerances as in :meth:`ik`.
+    ///
+    /// Returns ``(Q, success, reasons)``: Q of shape (V, n) (a row of NaN where
+    /// a target was not solved), ``success`` a (V,) bool array, ``reasons`` a
+    /// list of V strings (empty for solved targets, else why: unreachable with
+    /// its reason, or invalid).
+    ///
+    /// Raises:
+    ///     InvalidInput: no target or both; arrays of the wrong shape; a pose
+    ///         that is not a rigid transform (naming its index); bad ``q0``,
+    ///         ``solver``, ``mask``, tolerances or ``seed``.
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    #[pyo3(signature = (T=None, *, position=None, q0=None, solver="auto", mask=None, seed=0, rpy="zyx",
+        tol_position=1e-6, tol_orientation=1e-6))]
+    fn ik_batch<'py>(
+        &self,
+        py: Python<'py>,
+        T: Option<&Bound<'py, PyAny>>,
+        position: Option<&Bound<'py, PyAny>>,
+        q0: Option<&Bound<'py, PyAny>>,
+        solver: &str,
+        #[pyo3(from_py_with = mask_arg)] mask: Option<[bool; 6]>,
+        #[pyo3(from_py_with = seed_arg)] seed: u64,
+        rpy: &str,
+        #[pyo3(from_py_with = real)] tol_position: f64,
+        #[pyo3(from_py_with = real)] tol_orientation: f64,
+    ) -> PyResult<IkBatchResult<'py>> {
+        let solver = solver_choice(solver)?;
+        let targets: Vec<IkTarget> = match (T.filter(|t| !t.is_none()), position.filter(|p| !p.is_none())) {
+            (Some(t), None) => pose_list(t, "T", parse_rpy(rpy)?)?.into_iter().map(IkTarget::Pose).collect(),
+            (None, Some(p)) => {
+                let a = f64_array(p, "position")?;
+                check_shape(&a, "position", &[None, Some(3)], " (x, y, z each)")?;
+                let points = a.as_slice()?.chunks_exact(3);
+                points
+                    .enumerate()
+                    .map(|(i, v)| finite_point(v, &format!("position[{i}]")).map(IkTarget::Position))
+                    .collect::<PyResult<_>>()?
+            }
+            (Some(_), Some(_)) => return Err(invalid("give `T` or `position`, not both".into())),
+            (None, None) => return Err(invalid("give the targets: `T` (V poses) or `position` (V points)".into())),
+        };
+        let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
+        let robot = Arc::clone(&self.robot);
+        let results = py
+            .allow_threads(move || {
+                let request = IkRequest {
+                    solver,
+                    q0: q0.as_deref(),
+                    mask,
+                    tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
+                    numeric: NumericOptions { seed, ..Default::default() },
+                    ..Default::default()
+                };
+                kinema::ik::solve_batch(&robot, &targets, &request, &|| {}, &|| false)
+            })
+            .map_err(to_py)?;
+        let n = self.robot.dof();
+        let mut q = Vec::with_capacity(results.len() * n);
+        let mut ok = Vec::with_capacity(results.len());
+        let mut reasons = Vec::with_capacity(results.len());
+        for r in &results {
+            match r {
+                Ok((_, s)) => {
+                    q.extend_from_slice(&s.q);
+                    ok.push(true);
+                    reasons.push(String::new());
+                }
+                Err(e) => {
+                    q.extend(std::iter::repeat(f64::NAN).take(n));
+                    ok.push(false);
+                    reasons.push(e.to_string());
+                }
+            }
+        }
+        let success = Array::from_vec(ok).into_dyn().into_pyarray(py);
+        Ok((to_numpy(py, (results.len(), n), q)?, success, reasons))
     }
 
     /// Point-to-point motion in joint space from ``q0`` to ``qf`` (seed 004

@@ -58,3 +58,31 @@ def test_bad_masks_tolerances_and_seeds_are_invalid_input():
         r.ik(T, seed=-1)
     with pytest.raises(kinema.InvalidInput):
         r.ik(position=[0.3, 0.1, 0.4], mask=[1] * 6)
+
+
+def test_ik_batch_rows_are_ik_answers():
+    r = kinema.Robot.builtin("ur5")
+    rng = np.random.default_rng(2305)
+    Q0 = random_q(r, rng, 200)
+    T = r.fkine_batch(Q0)
+    T[7, 0, 3] += 10.0  # out of reach
+    Q, ok, reasons = r.ik_batch(T)
+    assert Q.shape == (200, 6) and ok.shape == (200,) and len(reasons) == 200
+    assert not ok[7] and np.isnan(Q[7]).all() and "unreachable" in reasons[7]
+    for k in np.flatnonzero(ok):
+        dp, dw = errors(T[k], r.fkine(Q[k]))
+        assert dp < 1e-6 and dw < 1e-6 and reasons[k] == ""
+        one = r.ik(T[k])
+        assert np.allclose(one.q, Q[k], atol=1e-12)
+    assert ok.sum() == 199
+    P = T[:, :3, 3]
+    Qp, okp, _ = r.ik_batch(position=P)
+    assert okp.sum() == 199
+    for k in np.flatnonzero(okp):
+        assert np.linalg.norm(r.fkine(Qp[k])[:3, 3] - P[k]) < 1e-6
+    with pytest.raises(kinema.InvalidInput):
+        r.ik_batch()
+    with pytest.raises(kinema.InvalidInput):
+        r.ik_batch(T, position=P)
+    with pytest.raises(kinema.InvalidInput):
+        r.ik_batch(position=P[:, :2])

@@ -101,6 +101,9 @@ pub enum Error {
         /// The configuration that came closest, when the solver found one.
         closest: Option<Box<crate::ik::Closest>>,
     },
+    /// The work was interrupted before it finished (Ctrl-C, a deadline).
+    #[error("cancelled before it finished")]
+    Cancelled,
     /// One configuration of a batch is invalid.
     #[error("configuration {index} of the batch (counting from 0): {source}")]
     InBatch {

@@ -238,6 +238,21 @@ class Robot:
         """(N, n) configurations -> (N, 6, n) base-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
     def jacobe_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
         """(N, n) configurations -> (N, 6, n) tool-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
+    def ik_batch(
+        self,
+        T: Optional[ArrayLike] = None,
+        *,
+        position: Optional[ArrayLike] = None,
+        q0: Optional[JointVector] = None,
+        solver: SolverName = "auto",
+        mask: Optional[Sequence[Union[bool, int]]] = None,
+        seed: int = 0,
+        rpy: RpyName = "zyx",
+        tol_position: float = 1e-6,
+        tol_orientation: float = 1e-6,
+    ) -> Tuple[F64Array, npt.NDArray[np.bool_], List[str]]:
+        """V targets (T: (V, 4, 4) or (V, 6); or position: (V, 3)) -> (Q (V, n) with NaN rows where unsolved,
+        success (V,), reasons), each solved as ik() would; GIL released, parallel."""
     def ptp(
         self,
         q0: JointVector,

@@ -20,6 +20,7 @@ use crate::math::FastMath;
 use crate::math::{pose_error, Pose};
 use crate::model::{JointSet, Robot};
 
+mod batch;
 pub mod contract;
 pub mod geo;
 pub mod iiwa;
@@ -30,6 +31,7 @@ pub mod rommel;
 pub mod scara;
 pub mod scorbot;
 
+pub use batch::solve_batch;
 pub use contract::{Discarded, IkAnswer, Residual, Tolerance};
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
@@ -151,7 +153,8 @@ impl Solutions for Vec<Solution> {
 
     fn nearest(&self, robot: &Robot, q_prev: &[f64]) -> Option<&Solution> {
         let dist = |s: &Solution| joint_distance(robot, &s.q, q_prev);
-        self.iter().min_by(|a, b| (!a.within_limits(), dist(a)).partial_cmp(&(!b.within_limits(), dist(b))).unwrap())
+        // total_cmp: a NaN distance (a NaN in q_prev) sorts last instead of panicking.
+        self.iter().min_by(|a, b| (!a.within_limits()).cmp(&!b.within_limits()).then(dist(a).total_cmp(&dist(b))))
     }
 }
 
