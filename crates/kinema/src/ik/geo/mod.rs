@@ -25,13 +25,13 @@
 //! `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`: the root index of each step's
 //! subproblem (documented per family).
 
-mod kin;
-mod parallel;
-mod parallel_search;
-mod search;
-mod spherical;
+pub mod kin;
+pub mod parallel;
+pub mod parallel_search;
+pub mod search;
+pub mod spherical;
 pub mod subproblems;
-mod wrist_search;
+pub mod wrist_search;
 
 use std::f64::consts::TAU;
 

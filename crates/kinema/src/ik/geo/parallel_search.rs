@@ -31,6 +31,26 @@ type V3 = Vector3<f64>;
 
 /// The search-based solver for three parallel axes with skew axes 5 and 6
 /// (see the [module documentation](self)). Name `geo-three-parallel-search`.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, geo::ThreeParallelSearchIk};
+/// // The UR5's DH table with a 2 cm link length a5 between axes 5 and 6.
+/// let rows = [(0.08946, 0.0, 90.0), (0.0, -0.425, 0.0), (0.0, -0.3922, 0.0),
+///             (0.1091, 0.0, 90.0), (0.09465, 0.02, -90.0), (0.0823, 0.0, 0.0)];
+/// let mut toml = String::from("name = \"ur5-offset\"\nsource = \"the UR5 with a5 = 2 cm\"\nconvention = \"standard\"\n[units]\nlength = \"m\"\nangle = \"deg\"\n");
+/// for (i, (d, a, alpha)) in rows.iter().enumerate() {
+///     toml += &format!("[[joint]]\nname = \"j{i}\"\nd = {d}\na = {a}\nalpha = {alpha}\nmin = -360\nmax = 360\n");
+/// }
+/// toml += "[poses]\nhome = [0, -90, 90, -90, -90, 0]\n";
+/// let robot = kinema::Robot::from_toml_str(&toml, "ur5-offset.toml")?;
+/// let ik = ThreeParallelSearchIk::new(&robot)?;
+/// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
+/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
+/// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
+/// # Ok::<(), kinema::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct ThreeParallelSearchIk {
     common: Common,

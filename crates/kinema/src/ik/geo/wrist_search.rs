@@ -30,6 +30,26 @@ type V3 = Vector3<f64>;
 
 /// The search-based solver for offset wrists whose last two axes meet (see
 /// the [module documentation](self)). Name `geo-two-intersecting-search`.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, geo::TwoIntersectingSearchIk};
+/// // The PUMA 560's DH table with axis 4 moved 3 cm off the wrist centre (a4).
+/// let rows = [(0.6718, 0.0, 90.0), (0.0, 0.4318, 0.0), (0.15, 0.0203, -90.0),
+///             (0.4318, 0.03, 90.0), (0.0, 0.0, -90.0), (0.0, 0.0, 0.0)];
+/// let mut toml = String::from("name = \"puma-offset\"\nsource = \"the PUMA 560 with a4 = 3 cm\"\nconvention = \"standard\"\n[units]\nlength = \"m\"\nangle = \"deg\"\n");
+/// for (i, (d, a, alpha)) in rows.iter().enumerate() {
+///     toml += &format!("[[joint]]\nname = \"j{i}\"\nd = {d}\na = {a}\nalpha = {alpha}\nmin = -180\nmax = 180\n");
+/// }
+/// toml += "[poses]\nhome = [0, 45, -180, 0, 45, 0]\n";
+/// let robot = kinema::Robot::from_toml_str(&toml, "puma-offset.toml")?;
+/// let ik = TwoIntersectingSearchIk::new(&robot)?;
+/// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
+/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
+/// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
+/// # Ok::<(), kinema::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct TwoIntersectingSearchIk {
     common: Common,
