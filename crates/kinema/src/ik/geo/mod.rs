@@ -30,6 +30,7 @@ pub mod parallel;
 pub mod parallel_search;
 pub mod search;
 pub mod spherical;
+pub mod srs;
 pub mod subproblems;
 pub mod wrist_search;
 
@@ -41,6 +42,7 @@ pub use kin::Kinematics;
 pub use parallel::ThreeParallelIk;
 pub use parallel_search::ThreeParallelSearchIk;
 pub use spherical::{ShoulderKind, SphericalWristIk};
+pub use srs::SrsIk;
 pub use wrist_search::TwoIntersectingSearchIk;
 
 use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
@@ -80,10 +82,15 @@ struct Common {
 impl Common {
     /// Checks for six revolute joints and reads the axes.
     fn new(robot: &Robot, solver: &str) -> Result<Self> {
-        if robot.dof() != 6 {
+        Self::with_dof(robot, solver, 6)
+    }
+
+    /// Checks for `dof` revolute joints and reads the axes.
+    fn with_dof(robot: &Robot, solver: &str, dof: usize) -> Result<Self> {
+        if robot.dof() != dof {
             return reject(
                 robot,
-                format!("the {solver} solver needs exactly 6 revolute joints; this robot has {}", robot.dof()),
+                format!("the {solver} solver needs exactly {dof} revolute joints; this robot has {}", robot.dof()),
             );
         }
         let kin = Kinematics::new(robot)?;
@@ -121,8 +128,8 @@ impl Common {
     }
 
     /// Adds the joint values for angles `t` (unless one is not finite).
-    fn push<const M: usize>(&self, out: &mut Candidates<6, M>, t: [f64; 6], branch: &'static str) {
-        let mut q = [0.0; 6];
+    fn push<const N: usize, const M: usize>(&self, out: &mut Candidates<N, M>, t: [f64; N], branch: &'static str) {
+        let mut q = [0.0; N];
         for (i, v) in q.iter_mut().enumerate() {
             *v = self.joint_value(i, t[i]);
         }
