@@ -103,7 +103,7 @@ pub struct IkRequest<'a> {
     pub q0: Option<&'a [f64]>,
     /// Whether every solution is wanted (else one will be picked).
     pub all: bool,
-    /// iiwa: the closed form at this q3 \[rad\] (up to 8 solutions).
+    /// iiwa-type (SRS) arms: the closed form at this q3 \[rad\] (up to 8 solutions).
     pub q3: Option<f64>,
     /// iiwa: the arm angle ψ \[rad\] (one solution per global configuration).
     pub psi: Option<f64>,

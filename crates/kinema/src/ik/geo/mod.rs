@@ -19,7 +19,12 @@
 //!   and 6 meet off axis 4 (an offset wrist), with the spherical-wrist
 //!   family's shoulder: a 1-D search over q₄.
 //!
-//! [`GeoIk::new`] picks the first family that fits. Joint values are wrapped
+//! Seven revolute joints: [`SrsIk`] (`geo-srs`), axes 1, 2, 3 meeting and
+//! axes 5, 6, 7 meeting (the iiwa's SRS structure), closed form for a given
+//! q₃ and a search over q₃ within the limits; not a [`GeoIk`] variant, since
+//! its [`IkSolver::solve`] fixes q₃ = 0.
+//!
+//! [`GeoIk::new`] picks the first six-joint family that fits. Joint values are wrapped
 //! to (−π, π] and moved by ±2π when that brings them within the joint limits;
 //! solutions outside the limits are returned and flagged. Branch labels are
 //! `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`: the root index of each step's
