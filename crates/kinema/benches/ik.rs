@@ -129,6 +129,19 @@ fn ik(c: &mut Criterion) {
             black_box(iiwa.solve_q3_candidates(black_box(&cases[i].0), cases[i].1).ok())
         })
     });
+    // The same structure read from a URDF (ik::geo::SrsIk), all solutions at q's q3.
+    let urdf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf");
+    let robot = Robot::from_file(urdf, None).expect("iiwa14.urdf");
+    let srs = kinema::ik::geo::SrsIk::new(&robot).expect("SRS arm");
+    let qs = configs(&robot, 0x3b, N_TARGETS);
+    let cases: Vec<(Pose, f64)> = qs.chunks_exact(7).map(|q| (robot.fk(q).expect("valid").pose, q[2])).collect();
+    let mut i = 0;
+    g.bench_function("iiwa14.urdf/geo-srs/solve_q3", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            black_box(srs.solve_q3(black_box(&cases[i].0), cases[i].1).ok())
+        })
+    });
     // The Scorbot's natural target (x, y, z, pitch, roll), seed 000 eq. 13–23.
     let robot = Robot::builtin("scorbot-er-v-plus").expect("built-in");
     let scorbot = kinema::ik::scorbot::ScorbotIk::new(&robot).expect("scorbot");

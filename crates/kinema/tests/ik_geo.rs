@@ -6,7 +6,9 @@
 
 use std::f64::consts::PI;
 
-use kinema::ik::geo::{GeoIk, Kinematics, ShoulderKind, SphericalWristIk, ThreeParallelIk, ThreeParallelSearchIk};
+use kinema::ik::geo::{
+    GeoIk, Kinematics, ShoulderKind, SphericalWristIk, ThreeParallelIk, ThreeParallelSearchIk, TwoIntersectingSearchIk,
+};
 use kinema::ik::pieper::PieperIk;
 use kinema::ik::{analytic_solver, IkSolver, NumericIk, NumericOptions, Solution};
 use kinema::nalgebra::{Rotation3, Unit, Vector3};
@@ -78,6 +80,12 @@ fn robot_from_axes(name: &str, h: &[V3; 6], p: &[V3; 6], rng: &mut ChaCha8Rng) -
 
 /// A random arm with a spherical wrist; `parallel23` picks the shoulder.
 fn random_spherical(rng: &mut ChaCha8Rng, parallel23: bool) -> Robot {
+    random_spherical_with(rng, parallel23, false)
+}
+
+/// As `random_spherical`; with `offset4` axis 4 passes the point where axes 5
+/// and 6 meet at a distance of 0.05–0.2 m.
+fn random_spherical_with(rng: &mut ChaCha8Rng, parallel23: bool, offset4: bool) -> Robot {
     let mut h = [V3::zeros(); 6];
     let mut p = [V3::zeros(); 6];
     if parallel23 {
@@ -102,6 +110,9 @@ fn random_spherical(rng: &mut ChaCha8Rng, parallel23: bool) -> Robot {
     h[5] = unit_away(rng, &h[4..5], 0.3);
     for i in 3..6 {
         p[i] = w + h[i] * rng.random_range(-0.2..0.2);
+    }
+    if offset4 {
+        p[3] += unit_away(rng, &h[3..4], 0.3).cross(&h[3]).normalize() * rng.random_range(0.05..0.2);
     }
     robot_from_axes("random-spherical", &h, &p, rng)
 }
@@ -222,7 +233,8 @@ struct Tally {
 }
 
 fn check_solutions(robot: &Robot, sols: &[Solution], what: &str) {
-    assert!(!sols.is_empty() && sols.len() <= 8, "{what}: {} solutions", sols.len());
+    // Up to 8 for the closed forms; a general 6R arm (the searches) has up to 16.
+    assert!(!sols.is_empty() && sols.len() <= 16, "{what}: {} solutions", sols.len());
     for s in sols {
         assert!(s.q.iter().all(|v| v.is_finite()), "{what}: {s:?}");
         assert!(s.position_error < TOL && s.orientation_error < TOL, "{what}: {} {s:?}", robot.name());
@@ -230,6 +242,15 @@ fn check_solutions(robot: &Robot, sols: &[Solution], what: &str) {
         for (v, j) in s.q.iter().zip(robot.joints()) {
             // Wrapped to (−π, π] unless a turn brought it within the limits.
             assert!((*v > -PI && *v <= PI) || j.limits.contains(*v), "{what}: {v}");
+        }
+    }
+}
+
+/// No two solutions of a search are the same configuration (one zero found twice).
+fn assert_distinct(sols: &[Solution], what: &str) {
+    for (i, a) in sols.iter().enumerate() {
+        for b in &sols[i + 1..] {
+            assert!(!same_angles(&a.q, &b.q, 1e-7), "{what}: {} and {} coincide: {:?}", a.branch, b.branch, a.q);
         }
     }
 }
@@ -243,6 +264,9 @@ fn round_trips(robot: &Robot, ik: &dyn IkSolver, n: usize, seed: u64) -> Tally {
         let what = format!("{} q = {q:?}", robot.name());
         let sols = ik.solve(&target).unwrap_or_else(|e| panic!("{what}: {e}"));
         check_solutions(robot, &sols, &what);
+        if ik.name().ends_with("-search") {
+            assert_distinct(&sols, &what);
+        }
         t.cases += 1;
         if !sols.iter().any(|s| same_angles(&s.q, &q, 1e-9)) {
             t.missed += 1;
@@ -614,6 +638,45 @@ fn search_solves_three_parallel_arms_with_an_offset_wrist() {
         let ik = GeoIk::new(&robot).unwrap_or_else(|e| panic!("arm {k}: {e}"));
         assert_eq!(ik.name(), "geo-three-parallel-search");
         let t = round_trips(&robot, &ik, 300, k);
+        assert!(t.missed <= 1, "arm {k}: {t:?}");
+    }
+    let e = ik.solve(&Pose::translation(10.0, 0.0, 0.0)).unwrap_err();
+    assert!(matches!(e, Error::Unreachable { .. }), "{e}");
+    common::random_poses_never_panic_or_return_nan(&ik);
+}
+
+#[test]
+fn search_solves_offset_wrists_whose_last_two_axes_meet() {
+    // The PUMA 560 with its wrist's axis 4 moved 3 cm off the wrist centre (a4 = 0.03).
+    let puma = Robot::builtin("puma560").unwrap();
+    let mut joints = puma.joints().to_vec();
+    if let LinkGeometry::Dh { a, .. } = &mut joints[3].geometry {
+        *a = 0.03;
+    }
+    let offset = Robot::new(
+        "puma560-offset-wrist",
+        Convention::Standard,
+        Default::default(),
+        joints,
+        *puma.base(),
+        *puma.tool(),
+        puma.poses().to_vec(),
+    )
+    .unwrap();
+    assert!(SphericalWristIk::new(&offset).is_err() && TwoIntersectingSearchIk::new(&puma).is_err());
+    assert_eq!(analytic_solver(&offset).map(|s| s.name()), Some("geo-two-intersecting-search"));
+    let ik = GeoIk::new(&offset).unwrap();
+    let t = round_trips(&offset, &ik, 2000, 13);
+    eprintln!("{}: {t:?}", offset.name());
+    assert!(t.missed * 200 <= t.cases, "{t:?}");
+    complete_against_numeric(&offset, 10, 60);
+
+    let mut rng = ChaCha8Rng::seed_from_u64(0x21);
+    for k in 0..20 {
+        let robot = random_spherical_with(&mut rng, k % 2 == 0, true);
+        let ik = GeoIk::new(&robot).unwrap_or_else(|e| panic!("arm {k}: {e}"));
+        assert_eq!(ik.name(), "geo-two-intersecting-search");
+        let t = round_trips(&robot, &ik, 200, k);
         assert!(t.missed <= 1, "arm {k}: {t:?}");
     }
     let e = ik.solve(&Pose::translation(10.0, 0.0, 0.0)).unwrap_err();

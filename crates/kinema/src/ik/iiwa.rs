@@ -232,7 +232,7 @@ struct PsiFound {
 
 /// The argument in \[a, b\] at which golden-section search puts the maximum of `f`
 /// after `steps` steps (a local maximum when `f` is not unimodal there).
-fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: usize) -> f64 {
+pub(crate) fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: usize) -> f64 {
     let r = 0.5 * (5f64.sqrt() - 1.0);
     let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
     let (mut fc, mut fd) = (f(c), f(d));

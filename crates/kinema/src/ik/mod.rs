@@ -491,7 +491,8 @@ pub trait IkSolver: Send + Sync {
 /// rail ([`scara::ScaraIk`]), ROMMEL ([`rommel::RommelIk`]), and last the
 /// geometric solvers, which read the joint axes of any description
 /// ([`geo::GeoIk`]: spherical wrists from URDF or `general` joints, the UR
-/// family's three parallel axes).
+/// family's three parallel axes; [`geo::SrsIk`]: 7R arms of the iiwa's
+/// structure in any description, at q3 = 0).
 ///
 /// # Examples
 /// ```
@@ -520,6 +521,9 @@ pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
         return Some(Box::new(s));
     }
     if let Ok(s) = geo::GeoIk::new(robot) {
+        return Some(Box::new(s));
+    }
+    if let Ok(s) = geo::SrsIk::new(robot) {
         return Some(Box::new(s));
     }
     None

@@ -7,6 +7,7 @@
 use nalgebra::Vector3;
 
 use super::contract::{self, IkAnswer, Tolerance};
+use super::geo::SrsIk;
 use super::rommel::RommelIk;
 use super::scara::ScaraIk;
 use super::scorbot::ScorbotIk;
@@ -102,7 +103,7 @@ pub struct IkRequest<'a> {
     pub q0: Option<&'a [f64]>,
     /// Whether every solution is wanted (else one will be picked).
     pub all: bool,
-    /// iiwa: the closed form at this q3 \[rad\] (up to 8 solutions).
+    /// iiwa-type (SRS) arms: the closed form at this q3 \[rad\] (up to 8 solutions).
     pub q3: Option<f64>,
     /// iiwa: the arm angle ψ \[rad\] (one solution per global configuration).
     pub psi: Option<f64>,
@@ -147,6 +148,10 @@ impl IkRequest<'_> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
+    if let Some(q0) = request.q0 {
+        // The SRS paths below read q0's q3.
+        robot.check_q(q0)?;
+    }
     let masked = request.mask.is_some();
     if (request.q3.is_some() || request.psi.is_some()) && masked {
         return Err(Error::InvalidArgument {
@@ -162,7 +167,12 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
         })
     };
     if let Some(q3) = request.q3 {
-        return Ok(("iiwa", iiwa()?.solve_q3(target, q3)?));
+        return match (iiwa(), SrsIk::new(robot)) {
+            (Ok(s), _) => Ok(("iiwa", s.solve_q3(target, q3)?)),
+            // Another description of the same structure (URDF, `general`, modified DH).
+            (Err(_), Ok(s)) => Ok((s.name(), s.solve_q3(target, q3)?)),
+            (Err(e), Err(_)) => Err(e),
+        };
     }
     if let Some(psi) = request.psi {
         let s = iiwa()?;
@@ -184,6 +194,16 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
             (Some(q0), true) => return Ok(("iiwa", s.solve_q3(target, q0[2])?)),
             (Some(q0), false) => return Ok(("iiwa", vec![s.select(q0, target, None)?])),
             (None, false) => return Ok(("iiwa", s.solve_searching(target, s.q3())?)),
+            (None, true) => {}
+        }
+    }
+    // The same for SRS arms the DH solver cannot read, without the ψ search
+    // and §V-E's selection: the closed form at q0's q3, or a search over q3.
+    if let (Ok(s), false) = (SrsIk::new(robot), numeric_only) {
+        match (request.q0, request.all) {
+            (Some(q0), true) => return Ok((s.name(), s.solve_q3(target, q0[2])?)),
+            (Some(q0), false) => return Ok((s.name(), s.solve_searching(target, q0[2])?)),
+            (None, false) => return Ok((s.name(), s.solve_searching(target, 0.0)?)),
             (None, true) => {}
         }
     }

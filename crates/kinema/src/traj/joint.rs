@@ -240,7 +240,7 @@ fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]
 /// converge cleanly or leaves the limits, and always without `tracking`, the
 /// analytic solution nearest the previous sample (within limits, reaching
 /// the pose) is taken, or the numeric solver's answer from the previous
-/// sample for arms without a closed form.
+/// sample for arms without a closed form and for redundant arms.
 fn generic_path(
     robot: &Robot,
     motion: &CartesianMotion,
@@ -249,7 +249,9 @@ fn generic_path(
     tracking: bool,
 ) -> Result<Vec<f64>> {
     let n = robot.dof();
-    let analytic = ik::analytic_solver(robot);
+    // A redundant arm's closed form fixes its self-motion (the SRS solver's
+    // q3 = 0), which would jump along the path; the numeric solver follows it.
+    let analytic = if n <= 6 { ik::analytic_solver(robot) } else { None };
     let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
     let mut set = ik::CandidateSet::new();
     let mut order = Vec::with_capacity(16);

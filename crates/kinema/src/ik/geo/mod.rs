@@ -15,18 +15,29 @@
 //! * [`ThreeParallelSearchIk`] (`geo-three-parallel-search`): axes 2 ∥ 3 ∥ 4
 //!   with axes 5 and 6 skew: a 1-D search over q₆, every other joint in
 //!   closed form for each q₆.
+//! * [`TwoIntersectingSearchIk`] (`geo-two-intersecting-search`): axes 5
+//!   and 6 meet off axis 4 (an offset wrist), with the spherical-wrist
+//!   family's shoulder: a 1-D search over q₄.
 //!
-//! [`GeoIk::new`] picks the first family that fits. Joint values are wrapped
+//! Seven revolute joints: [`SrsIk`] (`geo-srs`), axes 1, 2, 3 meeting and
+//! axes 5, 6, 7 meeting (the iiwa's SRS structure), closed form for a given
+//! q₃ and a search over q₃ within the limits; not a [`GeoIk`] variant, since
+//! its [`IkSolver::solve`] fixes q₃ = 0.
+//!
+//! [`GeoIk::new`] picks the first six-joint family that fits. Joint values are wrapped
 //! to (−π, π] and moved by ±2π when that brings them within the joint limits;
 //! solutions outside the limits are returned and flagged. Branch labels are
 //! `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`: the root index of each step's
 //! subproblem (documented per family).
 
-mod kin;
-mod parallel;
-mod search;
-mod spherical;
+pub mod kin;
+pub mod parallel;
+pub mod parallel_search;
+pub mod search;
+pub mod spherical;
+pub mod srs;
 pub mod subproblems;
+pub mod wrist_search;
 
 use std::f64::consts::TAU;
 
@@ -34,8 +45,10 @@ use nalgebra::Vector3;
 
 pub use kin::Kinematics;
 pub use parallel::ThreeParallelIk;
-pub use search::ThreeParallelSearchIk;
+pub use parallel_search::ThreeParallelSearchIk;
 pub use spherical::{ShoulderKind, SphericalWristIk};
+pub use srs::SrsIk;
+pub use wrist_search::TwoIntersectingSearchIk;
 
 use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
@@ -74,10 +87,15 @@ struct Common {
 impl Common {
     /// Checks for six revolute joints and reads the axes.
     fn new(robot: &Robot, solver: &str) -> Result<Self> {
-        if robot.dof() != 6 {
+        Self::with_dof(robot, solver, 6)
+    }
+
+    /// Checks for `dof` revolute joints and reads the axes.
+    fn with_dof(robot: &Robot, solver: &str, dof: usize) -> Result<Self> {
+        if robot.dof() != dof {
             return reject(
                 robot,
-                format!("the {solver} solver needs exactly 6 revolute joints; this robot has {}", robot.dof()),
+                format!("the {solver} solver needs exactly {dof} revolute joints; this robot has {}", robot.dof()),
             );
         }
         let kin = Kinematics::new(robot)?;
@@ -115,8 +133,8 @@ impl Common {
     }
 
     /// Adds the joint values for angles `t` (unless one is not finite).
-    fn push<const M: usize>(&self, out: &mut Candidates<6, M>, t: [f64; 6], branch: &'static str) {
-        let mut q = [0.0; 6];
+    fn push<const N: usize, const M: usize>(&self, out: &mut Candidates<N, M>, t: [f64; N], branch: &'static str) {
+        let mut q = [0.0; N];
         for (i, v) in q.iter_mut().enumerate() {
             *v = self.joint_value(i, t[i]);
         }
@@ -191,11 +209,14 @@ pub enum GeoIk {
     ThreeParallel(ThreeParallelIk),
     /// Three parallel axes, axes 5 and 6 skew: a 1-D search ([`ThreeParallelSearchIk`]).
     ThreeParallelSearch(ThreeParallelSearchIk),
+    /// Axes 5 and 6 meet off axis 4: a 1-D search ([`TwoIntersectingSearchIk`]).
+    TwoIntersectingSearch(TwoIntersectingSearchIk),
 }
 
 impl GeoIk {
-    /// The first family that fits `robot` (spherical wrist, then three
-    /// parallel axes); the error lists why each one refused.
+    /// The first family that fits `robot`, closed forms first (spherical
+    /// wrist, three parallel axes, then the two searches); the error lists
+    /// why each one refused.
     pub fn new(robot: &Robot) -> Result<Self> {
         let e1 = match SphericalWristIk::new(robot) {
             Ok(s) => return Ok(GeoIk::SphericalWrist(s)),
@@ -209,9 +230,13 @@ impl GeoIk {
             Ok(s) => return Ok(GeoIk::ThreeParallelSearch(s)),
             Err(e) => e,
         };
+        let e4 = match TwoIntersectingSearchIk::new(robot) {
+            Ok(s) => return Ok(GeoIk::TwoIntersectingSearch(s)),
+            Err(e) => e,
+        };
         Err(Error::InvalidArgument {
             what: "robot".into(),
-            message: format!("no geometric IK family fits: {e1}; {e2}; {e3}"),
+            message: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),
         })
     }
 
@@ -220,6 +245,7 @@ impl GeoIk {
             GeoIk::SphericalWrist(s) => s,
             GeoIk::ThreeParallel(s) => s,
             GeoIk::ThreeParallelSearch(s) => s,
+            GeoIk::TwoIntersectingSearch(s) => s,
         }
     }
 }

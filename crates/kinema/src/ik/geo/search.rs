@@ -1,41 +1,26 @@
-//! 6R arms with three parallel axes h₂ ∥ h₃ ∥ h₄ whose axes 5 and 6 do not
-//! meet (a UR-like arm with an offset wrist): a 1-D search over q₆, as
-//! IK-Geo does for its search-based families.
+//! Zeros of one-dimensional residuals over a full turn of one joint, for the
+//! search-based families (IK-Geo's 1-D search): each family fixes one joint,
+//! solves the rest in closed form per branch, and leaves one scalar residual
+//! per branch that vanishes at the solutions.
 //!
-//! For a fixed q₆, G₆ = G·E₆(q₆)⁻¹ = E₁…E₅, and with y = p₅ on axis 5 (fixed
-//! by E₅) the steps of the closed form apply: h₂ᵀ·E₁⁻¹(G₆(y)) = h₂ᵀ·y gives
-//! q₁ by subproblem 4 (*shoulder* 1, 2). With M = R₁ᵀ·R_{G₆} = R₂₃₄·R₅, the
-//! component h₂ᵀ·M·h₅ must equal h₂ᵀ·h₅ (R₂₃₄ keeps h₂, R₅ keeps h₅): its
-//! mismatch e(q₆) is the residual searched for zeros, per shoulder branch,
-//! on a grid of [`GRID`] points with bisection to rounding level. At a zero,
-//! q₅ = −sp1(h₅, h₂, Mᵀh₂) and the planar 3R arm (axes 2–4) follows as in
-//! [`ThreeParallelIk`](super::ThreeParallelIk) (*elbow* 1, 2).
-//!
-//! Two zeros closer than a grid step (2π/[`GRID`]; a near-singular target)
-//! show as a small |e| between larger ones: the extremum of e there is found
-//! by golden-section search and the zeros on both sides of it by bisection.
-//! A zero where e only touches 0 (a singular target) is returned if it
-//! reproduces the target; more zeros within one step are missed. Every
-//! solution is checked by the product-of-exponentials FK (1e-9, relative).
-//! Labels: `shoulder-{1,2}/elbow-{1,2}/root-{1…4}` (zeros in q₆ order).
+//! The residual of each branch is sampled on [`GRID`] + 1 points over
+//! [−π, π]; sign changes are refined by bisection to rounding level. A branch
+//! may exist on part of the turn only (where the closed-form step has a
+//! root): where it ends (found by bisection on whether it exists) it turns
+//! steeply into the branch it merges with, so the last two cells are scanned
+//! again on 25 points denser towards the end. Two zeros within about one
+//! sampling step (a near-singular target) show as a small |e| between
+//! larger ones: the extremum there is found by golden-section search and the
+//! zeros on both sides by bisection; an extremum that only touches zero
+//! (within 1e-14) is reported as a zero too, for the caller to check.
+//! Missed: a branch that exists only between two grid points, and more than
+//! two zeros within one step.
 
-use nalgebra::Vector3;
-
-use super::kin::{distance_to_line, intersection, parallel, screw};
-use super::subproblems::{rot, sp1, sp3, sp4};
-use super::{candidates_with, reject, solve_with, too_far, Common, GEOM_TOL};
-use crate::error::Result;
-use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
-use crate::math::Pose;
-use crate::model::Robot;
-
-type V3 = Vector3<f64>;
-
-/// Grid points over one turn of q₆.
+/// Grid points over one turn.
 pub const GRID: usize = 720;
 
 /// Labels by shoulder·8 + elbow·4 + root (roots past the fourth share the last).
-const LABELS: [&str; 16] = [
+pub(super) const LABELS: [&str; 16] = [
     "shoulder-1/elbow-1/root-1",
     "shoulder-1/elbow-1/root-2",
     "shoulder-1/elbow-1/root-3",
@@ -54,284 +39,244 @@ const LABELS: [&str; 16] = [
     "shoulder-2/elbow-2/root-4",
 ];
 
-/// The search-based solver for three parallel axes with skew axes 5 and 6
-/// (see the [module documentation](self)). Name `geo-three-parallel-search`.
-#[derive(Debug, Clone)]
-pub struct ThreeParallelSearchIk {
-    common: Common,
-    sign3: f64,
-    sign4: f64,
-    /// A unit vector ⊥ h₂, for the sum of q₂…q₄.
-    u2: V3,
+/// What the search saw, for an explanation when it finds nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Seen {
+    /// Whether some branch existed somewhere on the turn.
+    pub any_defined: bool,
+    /// Smallest |e| on the grid.
+    pub best: f64,
+    /// Smallest miss reported where a branch did not exist.
+    pub min_miss: f64,
 }
 
-impl ThreeParallelSearchIk {
-    /// Checks the structure (tolerance [`GEOM_TOL`]): six revolute joints;
-    /// axes 2, 3, 4 parallel and distinct; axes 1 and 5 not parallel to them;
-    /// axis 6 not parallel to axis 5; axes 5 and 6 not meeting (then the
-    /// closed form [`ThreeParallelIk`](super::ThreeParallelIk) applies).
-    pub fn new(robot: &Robot) -> Result<Self> {
-        let common = Common::new(robot, "geo-three-parallel-search")?;
-        let (h, p) = (|i| common.h(i), |i| common.p(i));
-        if !(parallel(&h(1), &h(2), GEOM_TOL) && parallel(&h(1), &h(3), GEOM_TOL)) {
-            return reject(robot, "axes 2, 3 and 4 are not parallel".into());
-        }
-        if parallel(&h(0), &h(1), GEOM_TOL) || parallel(&h(4), &h(1), GEOM_TOL) || parallel(&h(4), &h(5), GEOM_TOL) {
-            return reject(robot, "axis 1 or 5 is parallel to axes 2–4, or axis 6 to axis 5: a degenerate arm".into());
-        }
-        if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL || distance_to_line(&p(3), &p(2), &h(2)) <= GEOM_TOL {
-            return reject(robot, "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into());
-        }
-        if intersection(&p(4), &h(4), &p(5), &h(5), GEOM_TOL).is_some() {
-            return reject(robot, "axes 5 and 6 meet: the closed form applies, not the search".into());
-        }
-        let h2 = h(1);
-        let seed = if h2.x.abs() < 0.9 { V3::x() } else { V3::y() };
-        let u2 = (seed - h2 * h2.dot(&seed)).normalize();
-        Ok(ThreeParallelSearchIk { sign3: h2.dot(&h(2)).signum(), sign4: h2.dot(&h(3)).signum(), u2, common })
-    }
+type Residual<'a> = &'a dyn Fn(f64, usize) -> Result<f64, f64>;
 
-    /// The robot this solver was built for.
-    pub fn robot(&self) -> &Robot {
-        &self.common.robot
-    }
+fn at(i: usize) -> f64 {
+    -std::f64::consts::PI + i as f64 * (std::f64::consts::TAU / GRID as f64)
+}
 
-    /// For q₆ and shoulder branch `b`: (e(q₆), t₁ = −q₁, G₆), or the miss of
-    /// subproblem 4 where it has no exact root for that branch.
-    fn residual(&self, g: &Pose, q6: f64, b: usize) -> std::result::Result<(f64, f64, Pose), f64> {
-        let c = &self.common;
-        let (h, p) = (|i| c.h(i), |i| c.p(i));
-        let g6 = *g * screw(&h(5), &p(5), -q6);
-        let yt = g6.transform_point(&p(4));
-        let s1 = sp4(&h(1), &h(0), &(yt - p(0)), h(1).dot(&(p(4) - p(0))));
-        if !s1.exact {
-            return Err(s1.miss);
+/// Calls `zero(x, branch)` for every zero found of `residual(x, branch)`
+/// (`Ok(e)`, or `Err(miss)` where the branch does not exist), branches
+/// `0..branches`; each zero once.
+pub(super) fn find_zeros(branches: usize, residual: Residual, zero: &mut dyn FnMut(f64, usize)) -> Seen {
+    let mut seen = Seen { any_defined: false, best: f64::INFINITY, min_miss: f64::INFINITY };
+    let mut samples = [f64::NAN; GRID + 1];
+    for b in 0..branches {
+        let e = |x: f64| residual(x, b);
+        let mut found = Found { x: [0.0; 32], len: 0 };
+        let mut emit = |x: f64| {
+            if found.insert(x) {
+                zero(x, b);
+            }
+        };
+        for (i, v) in samples.iter_mut().enumerate() {
+            *v = match e(at(i)) {
+                Ok(v) => v,
+                Err(miss) => {
+                    seen.min_miss = seen.min_miss.min(miss);
+                    f64::NAN
+                }
+            };
         }
-        // A free q1 (the shoulder singularity) has one root: no second branch.
-        let t1 = *s1.as_slice().get(b).ok_or(0.0)?;
-        let m = rot(&h(0), t1) * g6.rot;
-        Ok((h(1).dot(&(m * h(4))) - h(1).dot(&h(4)), t1, g6))
-    }
-
-    /// The allocation-free kernel: every candidate (joint values and branch
-    /// label) for `target`, without FK checks, or why there is none.
-    pub fn solve_candidates(&self, target: &Pose, out: &mut Candidates<6, 16>) -> std::result::Result<(), Unreachable> {
-        let c = &self.common;
-        let g = c.motion(target);
-        if let Some(u) = too_far(&g.pos) {
-            return Err(u);
-        }
-        let step = std::f64::consts::TAU / GRID as f64;
-        let at = |i: usize| -std::f64::consts::PI + i as f64 * step;
-        let mut any_defined = false;
-        let mut best = f64::INFINITY;
-        let mut cylinder_miss = f64::INFINITY;
-        // e on the grid for one branch (NaN where the branch is not defined).
-        let mut samples = [f64::NAN; GRID + 1];
-        for b in 0..2 {
-            let mut roots = 0;
-            for (i, v) in samples.iter_mut().enumerate() {
-                match self.residual(&g, at(i), b) {
-                    Ok((e, ..)) => *v = e,
-                    Err(miss) => {
-                        *v = f64::NAN;
-                        cylinder_miss = cylinder_miss.min(miss);
+        for i in 0..GRID {
+            let (s0, s1) = (samples[i], samples[i + 1]);
+            match (s0.is_nan(), s1.is_nan()) {
+                (false, false) => {
+                    seen.any_defined = true;
+                    seen.best = seen.best.min(s0.abs());
+                    if s0 == 0.0 || (s0 > 0.0) != (s1 > 0.0) && s1 != 0.0 {
+                        emit(bisect(&e, at(i), at(i + 1), s0));
                     }
                 }
-            }
-            let defined = |v: f64| if v.is_nan() { Err(0.0) } else { Ok(v) };
-            let mut prev = defined(samples[0]);
-            for i in 0..GRID {
-                let next = defined(samples[i + 1]);
-                let (e0, e1, lo, hi) = match (prev, next) {
-                    (Ok(e0), Ok(e1)) => (e0, e1, at(i), at(i + 1)),
-                    // The branch ends inside this cell, where its two roots of subproblem 4
-                    // merge: search its own part up to the end (the other branch's part is
-                    // searched with that branch), or a zero near the merge would be lost.
-                    (Ok(e0), Err(_)) => {
-                        let end = self.branch_end(&g, b, at(i), at(i + 1));
-                        match self.residual(&g, end, b) {
-                            Ok((e1, ..)) => (e0, e1, at(i), end),
-                            Err(_) => (e0, e0, at(i), end),
-                        }
-                    }
-                    (Err(_), Ok(e1)) => {
-                        let start = self.branch_end(&g, b, at(i + 1), at(i));
-                        match self.residual(&g, start, b) {
-                            Ok((e0, ..)) => (e0, e1, start, at(i + 1)),
-                            Err(_) => (e1, e1, start, at(i + 1)),
-                        }
-                    }
-                    (Err(_), Err(_)) => {
-                        prev = next;
-                        continue;
-                    }
-                };
-                any_defined = true;
-                best = best.min(e0.abs());
-                prev = next;
-                if e0 == 0.0 || (e0 > 0.0) != (e1 > 0.0) && e1 != 0.0 {
-                    let q6 = self.bisect(&g, b, lo, hi, e0);
-                    if self.finish(&g, b, q6, roots, out) {
-                        roots += 1;
-                    }
+                // The branch ends inside this cell. Near its end it turns steeply into the
+                // branch it merges with, so two zeros may share the cell: scan it (and the
+                // cell before) finely, denser towards the end.
+                (false, true) => {
+                    seen.any_defined = true;
+                    let end = branch_end(&e, at(i), at(i + 1));
+                    let lo = if i > 0 && !samples[i - 1].is_nan() { at(i - 1) } else { at(i) };
+                    scan_fine(&e, lo, end, true, &mut emit);
                 }
-            }
-            // Two zeros within about one grid step (a near-singular target) leave no sign
-            // change on the grid, only a small |e| between larger ones: find the extremum
-            // of e there, and if it crosses zero, the zeros on both sides of it.
-            for i in 1..GRID {
-                let (a, m, c) = (samples[i - 1], samples[i], samples[i + 1]);
-                let same_sign = a * m > 0.0 && m * c > 0.0;
-                if !(same_sign && m.abs() < a.abs() && m.abs() <= c.abs()) {
-                    continue;
+                (true, false) => {
+                    seen.any_defined = true;
+                    let start = branch_end(&e, at(i + 1), at(i));
+                    let hi = if i + 2 <= GRID && !samples[i + 2].is_nan() { at(i + 2) } else { at(i + 1) };
+                    scan_fine(&e, start, hi, false, &mut emit);
                 }
-                let sign = m.signum();
-                let x = self.extremum(&g, b, sign, at(i - 1), at(i + 1));
-                let Ok((ex, ..)) = self.residual(&g, x, b) else { continue };
-                if ex * sign > 0.0 && ex.abs() > 1e-14 {
-                    continue;
-                }
-                if ex * sign > 0.0 || ex == 0.0 {
-                    // Touches zero: a double root, accepted if it reproduces the target.
-                    if self.finish(&g, b, x, roots, out) {
-                        roots += 1;
-                    }
-                    continue;
-                }
-                for q6 in [self.bisect(&g, b, at(i - 1), x, a), self.bisect(&g, b, x, at(i + 1), ex)] {
-                    if self.finish(&g, b, q6, roots, out) {
-                        roots += 1;
-                    }
-                }
+                (true, true) => {}
             }
         }
-        if out.is_empty() {
-            if !any_defined {
-                return Err(Unreachable::OutsideReach {
-                    by: cylinder_miss,
-                    boundary: "cylinder around axis 1 that axis 5 cannot enter, for every q6".into(),
-                });
-            }
-            return Err(Unreachable::OutsideReach {
-                by: best,
-                boundary: "region reached by the arm (`by` is the smallest mismatch of the searched residual over q6, not a distance)".into(),
-            });
-        }
-        Ok(())
-    }
-
-    /// The last q₆ from `inside` (branch `b` defined) towards `outside` (not
-    /// defined) where the branch is still defined, by bisection.
-    fn branch_end(&self, g: &Pose, b: usize, mut inside: f64, mut outside: f64) -> f64 {
-        for _ in 0..60 {
-            let mid = 0.5 * (inside + outside);
-            if mid == inside || mid == outside {
-                break;
-            }
-            if self.residual(g, mid, b).is_ok() {
-                inside = mid;
-            } else {
-                outside = mid;
-            }
-        }
-        inside
-    }
-
-    /// Where `sign`·e is smallest in [lo, hi], by golden-section search
-    /// (outside the branch's domain counts as +∞).
-    fn extremum(&self, g: &Pose, b: usize, sign: f64, mut lo: f64, mut hi: f64) -> f64 {
-        let f = |x: f64| self.residual(g, x, b).map_or(f64::INFINITY, |r| sign * r.0);
-        let ratio = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut x1, mut x2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
-        let (mut f1, mut f2) = (f(x1), f(x2));
-        for _ in 0..80 {
-            if f1 <= f2 {
-                hi = x2;
-                (x2, f2) = (x1, f1);
-                x1 = hi - ratio * (hi - lo);
-                f1 = f(x1);
-            } else {
-                lo = x1;
-                (x1, f1) = (x2, f2);
-                x2 = lo + ratio * (hi - lo);
-                f2 = f(x2);
-            }
-        }
-        if f1 <= f2 {
-            x1
-        } else {
-            x2
+        for i in 1..GRID {
+            close_pair(&e, [at(i - 1), at(i), at(i + 1)], [samples[i - 1], samples[i], samples[i + 1]], &mut emit);
         }
     }
+    seen
+}
 
-    /// A zero of e in [lo, hi] (e(lo) = `elo`, opposite sign at hi) by bisection.
-    fn bisect(&self, g: &Pose, b: usize, mut lo: f64, mut hi: f64, mut elo: f64) -> f64 {
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if elo == 0.0 || mid <= lo || mid >= hi {
-                break;
-            }
-            let Ok((em, ..)) = self.residual(g, mid, b) else { break };
-            if (em > 0.0) == (elo > 0.0) && em != 0.0 {
-                lo = mid;
-                elo = em;
-            } else {
-                hi = mid;
-            }
-        }
-        if elo == 0.0 {
-            lo
-        } else {
-            0.5 * (lo + hi)
-        }
-    }
+/// Zeros already reported for one branch.
+struct Found {
+    x: [f64; 32],
+    len: usize,
+}
 
-    /// The closed-form rest at a zero q₆ of branch `b`; pushes the (up to 2)
-    /// solutions that reproduce the target. Returns whether any did.
-    fn finish(&self, g: &Pose, b: usize, q6: f64, root: usize, out: &mut Candidates<6, 16>) -> bool {
-        let c = &self.common;
-        let (h, p) = (|i| c.h(i), |i| c.p(i));
-        let Ok((_, t1, g6)) = self.residual(g, q6, b) else { return false };
-        let m = rot(&h(0), t1) * g6.rot;
-        let q5 = -sp1(&h(4), &h(1), &(m.transpose() * h(1))).first();
-        let k = screw(&h(0), &p(0), t1) * g6 * screw(&h(4), &p(4), -q5);
-        let sum = sp1(&h(1), &self.u2, &(k.rot * self.u2)).first();
-        let pt = k.transform_point(&p(3));
-        let s3 = sp3(&h(2), &(p(3) - p(2)), &(p(1) - p(2)), (pt - p(1)).norm());
-        if !s3.exact {
+impl Found {
+    /// Records `x` unless a zero within 1e-9 was already found; returns whether it is new.
+    fn insert(&mut self, x: f64) -> bool {
+        if self.x[..self.len].iter().any(|y| (x - y).abs() < 1e-9) {
             return false;
         }
-        let mut any = false;
-        let scale = 1.0 + g.pos.norm();
-        for (e, &q3) in s3.as_slice().iter().enumerate() {
-            let y = p(2) + super::subproblems::rotate(&h(2), q3, &(p(3) - p(2)));
-            let q2 = sp1(&h(1), &(y - p(1)), &(pt - p(1))).first();
-            let q4 = self.sign4 * (sum - q2 - self.sign3 * q3);
-            let t = [-t1, q2, q3, wrap_angle(q4), q5, q6];
-            // A sign change of e across a branch switch is not a zero: keep only exact solutions.
-            let f = c.kin.fk(&t) * c.tool0_inv;
-            let err = ((f.pos - g.pos).norm() / scale).max((f.rot - g.rot).norm());
-            if err <= 1e-9 {
-                c.push(out, t, LABELS[b * 8 + e * 4 + root.min(3)]);
-                any = true;
-            }
+        if self.len < self.x.len() {
+            self.x[self.len] = x;
+            self.len += 1;
         }
-        any
+        true
     }
 }
 
-impl IkSolver for ThreeParallelSearchIk {
-    fn name(&self) -> &'static str {
-        "geo-three-parallel-search"
+/// Sign changes and close pairs of e on [lo, hi] sampled at 25 points,
+/// denser towards `hi` (`dense_at_hi`) or `lo`.
+fn scan_fine(e: &dyn Fn(f64) -> Result<f64, f64>, lo: f64, hi: f64, dense_at_hi: bool, emit: &mut dyn FnMut(f64)) {
+    const K: usize = 24;
+    let mut xs = [0.0; K + 1];
+    let mut es = [f64::NAN; K + 1];
+    for k in 0..=K {
+        let t = k as f64 / K as f64;
+        xs[k] = if dense_at_hi { hi - (hi - lo) * (1.0 - t) * (1.0 - t) } else { lo + (hi - lo) * t * t };
+        es[k] = e(xs[k]).unwrap_or(f64::NAN);
     }
-
-    /// Every solution the search finds (see the [module documentation](self)).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
+    for k in 0..K {
+        let (e0, e1) = (es[k], es[k + 1]);
+        if e0.is_nan() || e1.is_nan() {
+            continue;
+        }
+        if e0 == 0.0 || (e0 > 0.0) != (e1 > 0.0) && e1 != 0.0 {
+            emit(bisect(e, xs[k], xs[k + 1], e0));
+        }
     }
+    for k in 1..K {
+        close_pair(e, [xs[k - 1], xs[k], xs[k + 1]], [es[k - 1], es[k], es[k + 1]], emit);
+    }
+}
 
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
-        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+/// Two zeros within a sampling step show as a small |e| between larger ones
+/// of the same sign: find the extremum between them and, if it crosses (or
+/// touches) zero, the zeros on both sides of it.
+fn close_pair(e: &dyn Fn(f64) -> Result<f64, f64>, x: [f64; 3], v: [f64; 3], emit: &mut dyn FnMut(f64)) {
+    let [a, m, c] = v;
+    let same_sign = a * m > 0.0 && m * c > 0.0;
+    if !(same_sign && m.abs() < a.abs() && m.abs() <= c.abs()) {
+        return;
+    }
+    let sign = m.signum();
+    let xe = extremum(e, sign, x[0], x[2]);
+    let Ok(ex) = e(xe) else { return };
+    if ex * sign > 0.0 && ex.abs() > 1e-14 {
+        return;
+    }
+    if ex * sign > 0.0 || ex == 0.0 {
+        emit(xe);
+        return;
+    }
+    emit(bisect(e, x[0], xe, a));
+    emit(bisect(e, xe, x[2], ex));
+}
+
+/// The last x from `inside` (branch exists) towards `outside` (it does not)
+/// where the branch still exists, by bisection.
+fn branch_end(e: &dyn Fn(f64) -> Result<f64, f64>, mut inside: f64, mut outside: f64) -> f64 {
+    for _ in 0..60 {
+        let mid = 0.5 * (inside + outside);
+        if mid == inside || mid == outside {
+            break;
+        }
+        if e(mid).is_ok() {
+            inside = mid;
+        } else {
+            outside = mid;
+        }
+    }
+    inside
+}
+
+/// Where `sign`·e is smallest in [lo, hi], by golden-section search (where
+/// the branch does not exist counts as +∞).
+fn extremum(e: &dyn Fn(f64) -> Result<f64, f64>, sign: f64, mut lo: f64, mut hi: f64) -> f64 {
+    let f = |x: f64| e(x).map_or(f64::INFINITY, |v| sign * v);
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..80 {
+        if f1 <= f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - ratio * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + ratio * (hi - lo);
+            f2 = f(x2);
+        }
+    }
+    if f1 <= f2 {
+        x1
+    } else {
+        x2
+    }
+}
+
+/// A zero of e in [lo, hi] (e(lo) = `elo`, the other sign at hi), by bisection.
+fn bisect(e: &dyn Fn(f64) -> Result<f64, f64>, mut lo: f64, mut hi: f64, mut elo: f64) -> f64 {
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if elo == 0.0 || mid <= lo || mid >= hi {
+            break;
+        }
+        let Ok(em) = e(mid) else { break };
+        if (em > 0.0) == (elo > 0.0) && em != 0.0 {
+            lo = mid;
+            elo = em;
+        } else {
+            hi = mid;
+        }
+    }
+    if elo == 0.0 {
+        lo
+    } else {
+        0.5 * (lo + hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_simple_close_and_touching_zeros_and_zeros_at_branch_ends() {
+        let found = |r: Residual| {
+            let mut z = Vec::new();
+            find_zeros(2, r, &mut |x, b| z.push((b, x)));
+            z
+        };
+        // Simple zeros: sin(3x) − 0.2 has 6 on one turn.
+        let z = found(&|x: f64, b| if b == 0 { Ok((3.0 * x).sin() - 0.2) } else { Err(1.0) });
+        assert_eq!(z.len(), 6, "{z:?}");
+        assert!(z.iter().all(|(_, x)| ((3.0 * x).sin() - 0.2).abs() < 1e-14));
+        // Two zeros 1e-3 apart, well inside one grid cell.
+        let z = found(&|x: f64, b| if b == 1 { Ok((x - 0.3) * (x - 0.301) * (1.0 + 0.1 * x)) } else { Err(1.0) });
+        assert_eq!(z.len(), 2, "{z:?}");
+        assert!(z.iter().any(|(_, x)| (x - 0.3).abs() < 1e-12) && z.iter().any(|(_, x)| (x - 0.301).abs() < 1e-12));
+        // A zero that only touches: reported once, near the touching point.
+        let z = found(&|x: f64, b| if b == 0 { Ok((x - 0.3).powi(2)) } else { Err(1.0) });
+        assert!(z.len() == 1 && (z[0].1 - 0.3).abs() < 1e-6, "{z:?}");
+        // A branch that exists only for x > 0.5 and crosses zero at 0.5 + 1e-6.
+        let z = found(&|x: f64, b| if b == 0 && x > 0.5 { Ok(x - 0.5 - 1e-6) } else { Err(0.1) });
+        assert_eq!(z.len(), 1, "{z:?}");
+        assert!((z[0].1 - 0.5 - 1e-6).abs() < 1e-14);
+        // Nowhere defined: nothing found, the miss reported.
+        let mut z = Vec::new();
+        let seen = find_zeros(2, &|_, _| Err(0.25), &mut |x, b| z.push((b, x)));
+        assert!(z.is_empty() && !seen.any_defined && seen.min_miss == 0.25);
     }
 }

@@ -140,67 +140,14 @@ impl SphericalWristIk {
     /// label) for `target`, without FK checks, or why there is none.
     pub fn solve_candidates(&self, target: &Pose, out: &mut Candidates<6, 8>) -> std::result::Result<(), Unreachable> {
         let c = &self.common;
-        let (h, p) = (|i| c.h(i), |i| c.p(i));
+        let h = |i| c.h(i);
         let g = c.motion(target);
         let wt = g.transform_point(&self.w);
         if let Some(u) = too_far(&wt) {
             return Err(u);
         }
-        // (q1, q2, q3, shoulder, elbow) for each arm branch.
         let mut arms = [([0.0; 3], 0, 0); 4];
-        let mut n = 0;
-        let mut miss = f64::INFINITY;
-        let boundary;
-        match self.shoulder {
-            ShoulderKind::Parallel23 => {
-                boundary = "region the wrist centre reaches at the required distance from axis 2";
-                let s1 = sp4(&h(1), &h(0), &(wt - p(0)), h(1).dot(&(self.w - p(0))));
-                if !s1.exact {
-                    return Err(Unreachable::OutsideReach {
-                        by: s1.miss,
-                        boundary: "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)"
-                            .into(),
-                    });
-                }
-                for (si, &t1) in s1.as_slice().iter().enumerate() {
-                    // V = E1⁻¹(W): rot(h1, −q1) = rot(h1, t1).
-                    let v = p(0) + rotate(&h(0), t1, &(wt - p(0)));
-                    let s3 = sp3(&h(2), &(self.w - p(2)), &(p(1) - p(2)), (v - p(1)).norm());
-                    if !s3.exact {
-                        miss = miss.min(s3.miss);
-                        continue;
-                    }
-                    for (ei, &q3) in s3.as_slice().iter().enumerate() {
-                        let x = p(2) + rotate(&h(2), q3, &(self.w - p(2)));
-                        let q2 = sp1(&h(1), &(x - p(1)), &(v - p(1))).first();
-                        arms[n] = ([-t1, q2, q3], si, ei);
-                        n += 1;
-                    }
-                }
-            }
-            ShoulderKind::Intersecting12 { c: cp } => {
-                boundary = "spherical shell around the shoulder point that the wrist centre reaches";
-                let s3 = sp3(&h(2), &(self.w - p(2)), &(cp - p(2)), (wt - cp).norm());
-                if !s3.exact {
-                    return Err(Unreachable::OutsideReach { by: s3.miss, boundary: boundary.into() });
-                }
-                for (ei, &q3) in s3.as_slice().iter().enumerate() {
-                    let x = p(2) + rotate(&h(2), q3, &(self.w - p(2)));
-                    let (a1, a2) = sp2(&h(0), &(wt - cp), &h(1), &(x - cp));
-                    if !a1.exact {
-                        miss = miss.min(a1.miss);
-                        continue;
-                    }
-                    for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
-                        arms[n] = ([-t1, q2, q3], si, ei);
-                        n += 1;
-                    }
-                }
-            }
-        }
-        if n == 0 {
-            return Err(Unreachable::OutsideReach { by: miss, boundary: boundary.into() });
-        }
+        let n = arm(c, self.shoulder, &self.w, &wt, &mut arms)?;
         let mut worst_wrist = f64::INFINITY;
         for &(q, si, ei) in &arms[..n] {
             let r123 = rot(&h(0), q[0]) * rot(&h(1), q[1]) * rot(&h(2), q[2]);
@@ -239,6 +186,72 @@ impl SphericalWristIk {
         }
         Ok(())
     }
+}
+
+/// The arm branches of the first three joints that carry the point `w`
+/// (at q = 0) to `wt` — E₁E₂E₃(w) = wt — as (\[q₁, q₂, q₃\], shoulder,
+/// elbow) in `arms`; returns how many, or why there is none.
+pub(super) fn arm(
+    c: &Common,
+    shoulder: ShoulderKind,
+    w: &V3,
+    wt: &V3,
+    arms: &mut [([f64; 3], usize, usize); 4],
+) -> std::result::Result<usize, Unreachable> {
+    let (h, p) = (|i| c.h(i), |i| c.p(i));
+    let mut n = 0;
+    let mut miss = f64::INFINITY;
+    let boundary;
+    match shoulder {
+        ShoulderKind::Parallel23 => {
+            boundary = "region the wrist centre reaches at the required distance from axis 2";
+            let s1 = sp4(&h(1), &h(0), &(wt - p(0)), h(1).dot(&(w - p(0))));
+            if !s1.exact {
+                return Err(Unreachable::OutsideReach {
+                    by: s1.miss,
+                    boundary: "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)".into(),
+                });
+            }
+            for (si, &t1) in s1.as_slice().iter().enumerate() {
+                // V = E1⁻¹(W): rot(h1, −q1) = rot(h1, t1).
+                let v = p(0) + rotate(&h(0), t1, &(wt - p(0)));
+                let s3 = sp3(&h(2), &(w - p(2)), &(p(1) - p(2)), (v - p(1)).norm());
+                if !s3.exact {
+                    miss = miss.min(s3.miss);
+                    continue;
+                }
+                for (ei, &q3) in s3.as_slice().iter().enumerate() {
+                    let x = p(2) + rotate(&h(2), q3, &(w - p(2)));
+                    let q2 = sp1(&h(1), &(x - p(1)), &(v - p(1))).first();
+                    arms[n] = ([-t1, q2, q3], si, ei);
+                    n += 1;
+                }
+            }
+        }
+        ShoulderKind::Intersecting12 { c: cp } => {
+            boundary = "spherical shell around the shoulder point that the wrist centre reaches";
+            let s3 = sp3(&h(2), &(w - p(2)), &(cp - p(2)), (wt - cp).norm());
+            if !s3.exact {
+                return Err(Unreachable::OutsideReach { by: s3.miss, boundary: boundary.into() });
+            }
+            for (ei, &q3) in s3.as_slice().iter().enumerate() {
+                let x = p(2) + rotate(&h(2), q3, &(w - p(2)));
+                let (a1, a2) = sp2(&h(0), &(wt - cp), &h(1), &(x - cp));
+                if !a1.exact {
+                    miss = miss.min(a1.miss);
+                    continue;
+                }
+                for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
+                    arms[n] = ([-t1, q2, q3], si, ei);
+                    n += 1;
+                }
+            }
+        }
+    }
+    if n == 0 {
+        return Err(Unreachable::OutsideReach { by: miss, boundary: boundary.into() });
+    }
+    Ok(n)
 }
 
 impl IkSolver for SphericalWristIk {

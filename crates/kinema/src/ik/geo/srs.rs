@@ -1,0 +1,449 @@
+//! 7R arms with a spherical shoulder, an elbow and a spherical wrist (SRS,
+//! the KUKA LBR iiwa's structure), recognised from the axes alone: axes 1, 2,
+//! 3 meet in the shoulder point s, axes 5, 6, 7 in the wrist centre w, and
+//! axis 4 (the elbow) passes through neither.
+//!
+//! With joint 3 fixed the arm is a 6R with both shoulder and wrist
+//! spherical. E₅E₆E₇ fix w and E₁E₂E₃ turn about s, so the target's wrist
+//! centre W = G(w) (G = T·T₀⁻¹) satisfies W − s = R₁R₂R₃·(E₄(w) − s):
+//!
+//! * **Elbow**: |E₄(w) − s| = |W − s|, subproblem 3 in q₄ (*elbow* 1, 2).
+//! * **Shoulder**: with x = R₃·(E₄(w) − s), rot(h₁, q₁)·rot(h₂, q₂)·x =
+//!   W − s, subproblem 2 in (q₁, q₂) (*shoulder* 1, 2).
+//! * **Wrist**: with M = (R₁R₂R₃R₄)ᵀ·R_G = R₅R₆R₇ and R₇h₇ = h₇,
+//!   rot(h₆, q₆)·h₇ = rot(h₅, −q₅)·M·h₇, subproblem 2 (*wrist* 1, 2); q₇ by
+//!   subproblem 1 on a vector ⊥ h₇. When h₅ ∥ h₇ and h₆ ⊥ h₇ at q = 0 (the
+//!   iiwa's wrist), q₆ = ±atan2(|M·h₇ off h₅|, h₇ᵀ·M·h₇) and q₅ by
+//!   subproblem 1 instead: subproblem 2 loses half the digits of q₆ near
+//!   q₆ = 0, this form none.
+//!
+//! Up to 8 solutions for each q₃; the self-motion is q₃ itself, searched
+//! within the limits by [`SrsIk::solve_searching`].
+//!
+//! **Singular cases** (conventions, never NaN): at the wrist singularity
+//! (M·h₇ ∥ h₅ within 1e-12: axes 5 and 7 aligned) only a combination of q₅
+//! and q₇ is determined: *wrist-1* takes q₅ = 0 and *wrist-2* q₅ = π (moved
+//! into the limits when possible), q₆ by subproblem 1 and q₇ the rest. At the
+//! shoulder singularity (W − s on axis 1) q₁ = 0, and where W − s lies on
+//! axis 2's direction q₂ = 0 (subproblem 1's convention for a point on the
+//! axis). Coinciding branches (a stretched or folded elbow, a target on a
+//! boundary) are all returned, so the branch count stays fixed.
+
+use std::f64::consts::{PI, TAU};
+
+use nalgebra::Vector3;
+
+use super::kin::{distance_to_line, intersection, parallel};
+use super::subproblems::{rot, rotate, sp1, sp2, sp3};
+use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
+use crate::error::{Error, Result};
+use crate::ik::iiwa::golden_max;
+use crate::ik::{check_target, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::math::Pose;
+use crate::model::Robot;
+
+type V3 = Vector3<f64>;
+
+/// The solver's name.
+const NAME: &str = "geo-srs";
+
+/// Below this |h₅ × M·h₇| the wrist is treated as singular.
+const WRIST_SING_TOL: f64 = 1e-12;
+
+/// Samples of q₃ over its range in [`SrsIk::solve_searching`].
+pub const SEARCH_SAMPLES: usize = 128;
+/// Local maxima of the limit margin refined per branch by [`SrsIk::solve_searching`].
+pub const SEARCH_PEAKS: usize = 2;
+/// Golden-section steps per refined maximum: a bracket of two sample
+/// spacings shrinks below 1e-9 rad.
+pub const SEARCH_STEPS: usize = 40;
+
+/// The limit margin and joint values of each of the 8 branches at one q₃
+/// (−∞ where the branch has no solution).
+type Margins = [(f64, [f64; 7]); 8];
+
+/// The geometric solver for SRS arms (see the [module documentation](self)).
+/// Name `geo-srs`. [`IkSolver::solve`] is [`SrsIk::solve_q3`] at q₃ = 0.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::{IkSolver, geo::SrsIk};
+/// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
+/// let ik = SrsIk::new(&robot)?;
+/// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+/// let sols = ik.solve_q3(&robot.fk(&q)?.pose, q[2])?;
+/// assert_eq!(sols.len(), 8);
+/// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
+/// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct SrsIk {
+    common: Common,
+    /// The shoulder point (axes 1, 2, 3 meet) \[m\].
+    s: V3,
+    /// The wrist centre at q = 0 (axes 5, 6, 7 meet) \[m\].
+    w: V3,
+    /// A unit vector ⊥ h₇, for q₇.
+    u7: V3,
+    /// h₆ × h₇ when h₅ ∥ h₇ and h₆ ⊥ h₇ at q = 0 (the iiwa's wrist), for
+    /// the form of q₅, q₆ that keeps its accuracy near the singularity.
+    aligned: Option<V3>,
+}
+
+impl SrsIk {
+    /// Checks the structure (tolerance [`GEOM_TOL`]) and prepares the
+    /// solver: seven revolute joints; axes 1 and 2 meet and axis 3 passes
+    /// through that point, not parallel to axis 2; axes 5 and 6 meet and
+    /// axis 7 passes through that point, not parallel to axis 6; axis 4
+    /// passes through neither point. Errors say which fails.
+    pub fn new(robot: &Robot) -> Result<Self> {
+        if robot.dof() != 7 {
+            return reject(
+                robot,
+                format!("the {NAME} solver needs exactly 7 revolute joints; this robot has {}", robot.dof()),
+            );
+        }
+        let common = Common::with_dof(robot, NAME, 7)?;
+        let s = meeting_point(&common, 0, "shoulder")?;
+        let w = meeting_point(&common, 4, "wrist")?;
+        let (h4, p4) = (common.h(3), common.p(3));
+        if distance_to_line(&s, &p4, &h4) <= GEOM_TOL || distance_to_line(&w, &p4, &h4) <= GEOM_TOL {
+            return reject(
+                robot,
+                "axis 4 passes through the shoulder point or the wrist centre: the elbow cannot change their distance"
+                    .into(),
+            );
+        }
+        let h7 = common.h(6);
+        let seed = if h7.x.abs() < 0.9 { V3::x() } else { V3::y() };
+        let u7 = (seed - h7 * h7.dot(&seed)).normalize();
+        let (h5, h6) = (common.h(4), common.h(5));
+        let aligned = (parallel(&h5, &h7, GEOM_TOL) && h6.dot(&h7).abs() <= GEOM_TOL).then(|| h6.cross(&h7));
+        Ok(SrsIk { common, s, w, u7, aligned })
+    }
+
+    /// The robot this solver was built for.
+    pub fn robot(&self) -> &Robot {
+        &self.common.robot
+    }
+
+    /// The shoulder point and the wrist centre at q = 0 (world frame) \[m\].
+    pub fn centres(&self) -> (V3, V3) {
+        (self.s, self.w)
+    }
+
+    /// All (up to 8) solutions for the target pose `target`
+    /// (`base_from_tool`) with joint 3 at `q3` \[rad\], labelled
+    /// `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`; solutions outside the limits
+    /// are included and flagged.
+    ///
+    /// Errors: a non-finite `q3` or target ([`Error::InvalidArgument`]); a
+    /// wrist centre outside the shell the elbow reaches
+    /// ([`Unreachable::OutsideReach`]), in the cones around axis 1 that this
+    /// q3 cannot reach ([`Unreachable::InsideExcluded`]), or an orientation
+    /// the wrist cannot take ([`Unreachable::Orientation`]).
+    pub fn solve_q3(&self, target: &Pose, q3: f64) -> Result<Vec<Solution>> {
+        self.solve_q3_candidates(target, q3)?.evaluate(self.robot(), target)
+    }
+
+    /// The closed form of [`SrsIk::solve_q3`] alone: joint vectors and branch
+    /// labels without the FK check, without allocating. Same errors.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::geo::SrsIk;
+    /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
+    /// let ik = SrsIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.pose, q[2])?;
+    /// assert_eq!(c.len(), 8);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_q3_candidates(&self, target: &Pose, q3: f64) -> Result<Candidates<7, 8>> {
+        if !q3.is_finite() {
+            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+        }
+        check_target(target)?;
+        let mut out = Candidates::default();
+        self.kernel(target, q3, &mut out).map_err(|reason| Error::Unreachable {
+            solver: NAME.into(),
+            reason,
+            closest: None,
+        })?;
+        Ok(out)
+    }
+
+    /// The kernel: every candidate for a checked target and finite q₃.
+    fn kernel(&self, target: &Pose, q3: f64, out: &mut Candidates<7, 8>) -> std::result::Result<(), Unreachable> {
+        let c = &self.common;
+        let (h, p) = (|i| c.h(i), |i| c.p(i));
+        let g = c.motion(target);
+        let wt = g.transform_point(&self.w);
+        if let Some(u) = too_far(&wt) {
+            return Err(u);
+        }
+        let d = wt - self.s;
+        let elbows = sp3(&h(3), &(self.w - p(3)), &(self.s - p(3)), d.norm());
+        if !elbows.exact {
+            let boundary = "spherical shell around the shoulder point that the elbow lets the wrist centre reach";
+            return Err(Unreachable::OutsideReach { by: elbows.miss, boundary: boundary.into() });
+        }
+        let r3 = rot(&h(2), q3);
+        let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
+        for (ei, &q4) in elbows.as_slice().iter().enumerate() {
+            let x = r3 * (p(3) + rotate(&h(3), q4, &(self.w - p(3))) - self.s);
+            let (a1, a2) = sp2(&h(0), &d, &h(1), &x);
+            if !a1.exact {
+                arm_miss = arm_miss.min(a1.miss);
+                continue;
+            }
+            for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
+                let arm = [-t1, q2, q3, q4];
+                let r14 = rot(&h(0), arm[0]) * rot(&h(1), q2) * r3 * rot(&h(3), q4);
+                if let Err(miss) = self.wrist(&(r14.transpose() * g.rot), arm, (si, ei), out) {
+                    wrist_miss = wrist_miss.min(miss);
+                }
+            }
+        }
+        if !out.is_empty() {
+            return Ok(());
+        }
+        Err(if wrist_miss.is_finite() {
+            Unreachable::Orientation {
+                // The miss is a chord between unit vectors; as an angle:
+                angle: 2.0 * (0.5 * wrist_miss).min(1.0).asin(),
+                detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
+            }
+        } else {
+            let region = format!("cones around axis 1 that the wrist centre cannot enter with joint 3 at {q3:.6} rad");
+            Unreachable::InsideExcluded { by: arm_miss, region }
+        })
+    }
+
+    /// The wrist joints for M = R₅R₆R₇ after the arm joints `arm`, pushed as
+    /// candidates; the subproblem's miss when the wrist cannot take M.
+    fn wrist(
+        &self,
+        m: &nalgebra::Matrix3<f64>,
+        arm: [f64; 4],
+        (si, ei): (usize, usize),
+        out: &mut Candidates<7, 8>,
+    ) -> std::result::Result<(), f64> {
+        let h = |i| self.common.h(i);
+        let mh7 = m * h(6);
+        let mut wrists = [[0.0; 2]; 2];
+        let n;
+        let v_perp = mh7 - h(4) * h(4).dot(&mh7);
+        if let (Some(a), false) = (self.aligned, v_perp.norm() <= WRIST_SING_TOL) {
+            // rot(h₆, q₆)·h₇ = cos q₆·h₇ + sin q₆·a, so |sin q₆| is the part of
+            // M·h₇ off axis 5: an atan2 that stays accurate next to q₆ = 0.
+            let t6 = v_perp.norm().atan2(mh7.dot(&h(6)));
+            for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
+                wrists[k] = [sp1(&h(4), &(a * sign), &mh7).first(), sign * t6];
+            }
+            n = 2;
+        } else if v_perp.norm() <= WRIST_SING_TOL {
+            for (k, q5) in [0.0, PI].into_iter().enumerate() {
+                wrists[k] = [q5, sp1(&h(5), &h(6), &rotate(&h(4), -q5, &mh7)).first()];
+            }
+            n = 2;
+        } else {
+            // rot(h₆, q₆)·h₇ = rot(h₅, −q₅)·M·h₇.
+            let (a5, a6) = sp2(&h(4), &mh7, &h(5), &h(6));
+            if !a5.exact {
+                return Err(a5.miss);
+            }
+            n = a5.as_slice().len();
+            for (wk, (t5, t6)) in wrists.iter_mut().zip(a5.as_slice().iter().zip(a6.as_slice())) {
+                *wk = [-t5, *t6];
+            }
+        }
+        for (wi, &[q5, q6]) in wrists[..n].iter().enumerate() {
+            let r56 = rot(&h(4), q5) * rot(&h(5), q6);
+            let q7 = sp1(&h(6), &self.u7, &(r56.transpose() * m * self.u7)).first();
+            let [q1, q2, q3, q4] = arm;
+            self.common.push(out, [q1, q2, q3, q4, q5, q6, q7], label(si, ei, wi));
+        }
+        Ok(())
+    }
+
+    /// The solutions within the joint limits for `target`
+    /// (`base_from_tool`), searching q₃ when `prefer_q3` \[rad\] has none.
+    ///
+    /// First [`SrsIk::solve_q3`] at `prefer_q3`: its solutions within limits,
+    /// if any. Otherwise q₃ is scanned over its range (its limits, or a turn
+    /// when they span more) at [`SEARCH_SAMPLES`] points; for each branch the
+    /// smallest distance to a joint limit (negative outside) is maximised by
+    /// golden-section refinement of its [`SEARCH_PEAKS`] highest sampled local
+    /// maxima, and each branch's solution of largest margin is returned when
+    /// that margin is not negative. Deterministic and bounded: at most
+    /// 1 + [`SEARCH_SAMPLES`] + 8 × [`SEARCH_PEAKS`] × ([`SEARCH_STEPS`] + 3)
+    /// closed-form solves. A feasible stretch of q₃ narrower than the refined
+    /// brackets can be missed.
+    ///
+    /// Errors: those of [`SrsIk::solve_q3`] for a non-finite target or q₃,
+    /// and when no q₃ of the scan gives any solution; otherwise
+    /// [`Unreachable::JointLimits`] with each branch's best attempt.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::geo::SrsIk;
+    /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
+    /// let ik = SrsIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let sols = ik.solve_searching(&robot.fk(&q)?.pose, 0.0)?;
+    /// assert!(!sols.is_empty());
+    /// assert!(sols.iter().all(|s| s.within_limits() && s.position_error < 1e-10));
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_searching(&self, target: &Pose, prefer_q3: f64) -> Result<Vec<Solution>> {
+        let first = match self.solve_q3(target, prefer_q3) {
+            Ok(sols) if sols.iter().any(Solution::within_limits) => {
+                return Ok(sols.into_iter().filter(Solution::within_limits).collect());
+            }
+            Err(e @ Error::InvalidArgument { .. }) => return Err(e),
+            other => other,
+        };
+        let mut best = self.search_q3(target);
+        // The preferred q3 may lie between the samples (or outside the range).
+        for (slot, m) in best.iter_mut().zip(self.margins(target, prefer_q3)) {
+            if m.0 > slot.0 {
+                *slot = m;
+            }
+        }
+        if best.iter().all(|b| b.0 == f64::NEG_INFINITY) {
+            // No q₃ gives a solution: the closed form's own reason.
+            return first.and_then(|_| self.limits_error(&best));
+        }
+        if best.iter().all(|b| b.0 < 0.0) {
+            return self.limits_error(&best);
+        }
+        (0..8)
+            .filter(|&b| best[b].0 >= 0.0)
+            .map(|b| Solution::evaluate(self.robot(), best[b].1.to_vec(), target, LABELS[b]))
+            .collect()
+    }
+
+    /// [`Unreachable::JointLimits`] listing each branch's best attempt.
+    fn limits_error<T>(&self, best: &Margins) -> Result<T> {
+        let rejected = (0..8)
+            .filter(|&b| best[b].0 > f64::NEG_INFINITY)
+            .map(|b| {
+                let joints: Vec<String> =
+                    self.robot().limit_flags(&best[b].1).indices().map(|i| format!("q{}", i + 1)).collect();
+                format!("{} over q3: best {:.4} rad outside ({})", LABELS[b], -best[b].0, joints.join(", "))
+            })
+            .collect();
+        Err(Error::Unreachable { solver: NAME.into(), reason: Unreachable::JointLimits { rejected }, closest: None })
+    }
+
+    /// The range of q₃ searched: its limits, or (−π, π] when they span more
+    /// than a turn (or are not finite).
+    fn q3_range(&self) -> (f64, f64) {
+        let lim = &self.robot().joints()[2].limits;
+        if lim.min.is_finite() && lim.max.is_finite() && lim.max - lim.min <= TAU && lim.min <= lim.max {
+            (lim.min, lim.max)
+        } else {
+            (-PI, PI)
+        }
+    }
+
+    /// Each branch's best (margin, q) over the scan of q₃ and the golden-section
+    /// refinement of its highest local maxima.
+    fn search_q3(&self, target: &Pose) -> Margins {
+        let (lo, hi) = self.q3_range();
+        let n = SEARCH_SAMPLES;
+        let step = (hi - lo) / (n - 1) as f64;
+        let at = |k: usize| lo + step * k as f64;
+        let samples: Vec<Margins> = (0..n).map(|k| self.margins(target, at(k))).collect();
+        let mut best = [(f64::NEG_INFINITY, [0.0; 7]); 8];
+        for (b, slot) in best.iter_mut().enumerate() {
+            let m = |k: usize| samples[k][b].0;
+            let mut peaks: Vec<usize> = (0..n)
+                .filter(|&k| m(k) > f64::NEG_INFINITY)
+                .filter(|&k| (k == 0 || m(k) >= m(k - 1)) && (k + 1 == n || m(k) >= m(k + 1)))
+                .collect();
+            peaks.sort_by(|&x, &y| m(y).total_cmp(&m(x)));
+            peaks.truncate(SEARCH_PEAKS);
+            let refined = peaks.iter().map(|&k| {
+                let (a, z) = ((at(k) - step).max(lo), (at(k) + step).min(hi));
+                self.margins(target, golden_max(|t| self.margins(target, t)[b].0, a, z, SEARCH_STEPS))[b]
+            });
+            let all = samples.iter().map(|s| s[b]).chain(refined);
+            *slot = all.fold(*slot, |x, y| if y.0 > x.0 { y } else { x });
+        }
+        best
+    }
+
+    /// The limit margin of each branch at `q3` (−∞ where there is none).
+    fn margins(&self, target: &Pose, q3: f64) -> Margins {
+        let mut out = [(f64::NEG_INFINITY, [0.0; 7]); 8];
+        let mut c = Candidates::<7, 8>::default();
+        if self.kernel(target, q3, &mut c).is_err() {
+            return out;
+        }
+        for (q, branch) in c.iter() {
+            if let Some(b) = LABELS.iter().position(|l| *l == branch) {
+                out[b] = (self.limit_margin(q), *q);
+            }
+        }
+        out
+    }
+
+    /// The smallest distance of `q` to a joint limit \[rad\], negative
+    /// outside (−∞ for a non-finite value).
+    fn limit_margin(&self, q: &[f64; 7]) -> f64 {
+        let margin = |(j, v): (&crate::model::Joint, &f64)| {
+            if v.is_finite() {
+                (v - j.limits.min).min(j.limits.max - v)
+            } else {
+                f64::NEG_INFINITY
+            }
+        };
+        self.robot().joints().iter().zip(q).map(margin).fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The point where axes `first`, `first + 1` meet, checked to lie on axis
+/// `first + 2` too (a spherical shoulder or wrist, `what`).
+fn meeting_point(c: &Common, first: usize, what: &str) -> Result<V3> {
+    let (a, b, k) = (first, first + 1, first + 2);
+    let robot = &c.robot;
+    let Some(x) = intersection(&c.p(a), &c.h(a), &c.p(b), &c.h(b), GEOM_TOL) else {
+        return reject(
+            robot,
+            format!("axes {} and {} do not meet (or are parallel): no spherical {what}", a + 1, b + 1),
+        );
+    };
+    if parallel(&c.h(b), &c.h(k), GEOM_TOL) || distance_to_line(&x, &c.p(k), &c.h(k)) > GEOM_TOL {
+        return reject(
+            robot,
+            format!(
+                "axis {} does not pass through the point where axes {} and {} meet (or is parallel to axis {}): \
+                 no spherical {what}",
+                k + 1,
+                a + 1,
+                b + 1,
+                b + 1
+            ),
+        );
+    }
+    Ok(x)
+}
+
+impl IkSolver for SrsIk {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    /// [`SrsIk::solve_q3`] at q₃ = 0.
+    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+        self.solve_q3(target, 0.0)
+    }
+
+    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        self.solve_q3_candidates(target, 0.0)?.write_into(out);
+        Ok(())
+    }
+}

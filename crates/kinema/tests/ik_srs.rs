@@ -1,0 +1,322 @@
+//! The geometric solver for SRS arms (`ik::geo::SrsIk`, the iiwa's
+//! structure read from the axes): seeded FK → IK round trips at the
+//! configuration's own q3 on the URDF iiwa, the built-in DH iiwa and the
+//! modified-DH one, agreement with the DH-only `IiwaIk`, random SRS arms,
+//! the within-limits search over q3, singular and unreachable targets.
+
+use std::f64::consts::PI;
+
+use kinema::ik::geo::SrsIk;
+use kinema::ik::iiwa::IiwaIk;
+use kinema::ik::{analytic_solver, solve_request, IkRequest, IkSolver, Solution, Unreachable};
+use kinema::nalgebra::{Rotation3, Unit, Vector3};
+use kinema::{Convention, Error, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+mod common;
+use common::same_angles;
+
+type V3 = Vector3<f64>;
+
+const TOL: f64 = 1e-9;
+const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
+
+fn data(file: &str) -> Robot {
+    Robot::from_file(format!("{DATA}/{file}"), None).unwrap()
+}
+
+fn dh_iiwa() -> Robot {
+    Robot::builtin("lbr-iiwa-14-r820").unwrap()
+}
+
+fn random_unit(rng: &mut ChaCha8Rng) -> V3 {
+    loop {
+        let v = V3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        if v.norm() > 0.2 && v.norm() < 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
+/// A unit vector at least `min` (in |sin|) away from each of `others`.
+fn unit_away(rng: &mut ChaCha8Rng, others: &[V3], min: f64) -> V3 {
+    loop {
+        let v = random_unit(rng);
+        if others.iter().all(|o| v.cross(o).norm() > min) {
+            return v;
+        }
+    }
+}
+
+fn random_pose(rng: &mut ChaCha8Rng) -> Pose {
+    let axis = Unit::new_normalize(random_unit(rng));
+    let p = random_unit(rng) * rng.random_range(0.0..0.5);
+    Pose::new(*Rotation3::from_axis_angle(&axis, rng.random_range(-PI..PI)).matrix(), p)
+}
+
+/// A random 7R SRS arm of `general` joints: axes 1–3 through a shoulder
+/// point, axes 5–7 through a wrist centre, an elbow axis passing both at
+/// random link lengths, a random mounting (base) and tool.
+fn random_srs(rng: &mut ChaCha8Rng) -> Robot {
+    let mut h = [V3::zeros(); 7];
+    let mut p = [V3::zeros(); 7];
+    let s = random_unit(rng) * rng.random_range(0.0..0.3);
+    h[0] = random_unit(rng);
+    h[1] = unit_away(rng, &h[..1], 0.3);
+    h[2] = unit_away(rng, &h[1..2], 0.3);
+    let elbow = s + random_unit(rng) * rng.random_range(0.2..0.6);
+    h[3] = unit_away(rng, &[(elbow - s).normalize()], 0.3);
+    let w = elbow + unit_away(rng, &h[3..4], 0.3) * rng.random_range(0.2..0.6);
+    h[4] = random_unit(rng);
+    h[5] = unit_away(rng, &h[4..5], 0.3);
+    h[6] = unit_away(rng, &h[5..6], 0.3);
+    for i in 0..7 {
+        let centre = match i {
+            0..=2 => s,
+            3 => elbow,
+            _ => w,
+        };
+        p[i] = centre + h[i] * rng.random_range(-0.2..0.2);
+    }
+    robot_from_axes(&h, &p, rng)
+}
+
+/// A 7R robot of `general` joints whose axes at q = 0 are (h, p) in the
+/// world frame before a random base; limits ±π.
+fn robot_from_axes(h: &[V3; 7], p: &[V3; 7], rng: &mut ChaCha8Rng) -> Robot {
+    let joints: Vec<Joint> = (0..7)
+        .map(|i| {
+            let d = p[i] - if i == 0 { V3::zeros() } else { p[i - 1] };
+            Joint {
+                name: format!("j{}", i + 1),
+                kind: JointType::Revolute,
+                geometry: LinkGeometry::General { origin: Pose::translation(d.x, d.y, d.z), axis: h[i] },
+                offset: 0.0,
+                limits: Limits::position(-PI, PI),
+            }
+        })
+        .collect();
+    let home = NamedPose { name: "home".into(), q: vec![0.0; 7] };
+    Robot::new(
+        "random-srs",
+        Convention::General,
+        Default::default(),
+        joints,
+        random_pose(rng),
+        random_pose(rng),
+        vec![home],
+    )
+    .unwrap()
+}
+
+fn reaches(s: &Solution) -> bool {
+    s.position_error < TOL && s.orientation_error < TOL && s.q.iter().all(|v| v.is_finite())
+}
+
+/// `cases` round trips at the configuration's own q3: every solution reaches
+/// the target, and the configuration is among them except near a
+/// singularity (|sin q2|, |sin q4| or |sin q6| below 1e-4), which is counted.
+/// Returns (cases, singular misses).
+fn round_trips(robot: &Robot, cases: usize, seed: u64) -> (usize, usize) {
+    let ik = SrsIk::new(robot).unwrap_or_else(|e| panic!("{e}"));
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut singular_misses = 0;
+    for _ in 0..cases {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let sols = ik.solve_q3(&target, q[2]).unwrap_or_else(|e| panic!("{} {q:?}: {e}", robot.name()));
+        assert!(!sols.is_empty() && sols.len() <= 8);
+        assert!(sols.iter().all(reaches), "{} {q:?}: {sols:?}", robot.name());
+        if !sols.iter().any(|s| same_angles(&s.q, &q, 1e-7)) {
+            let near = [1, 3, 5].iter().any(|&i| q[i].sin().abs() < 1e-4);
+            assert!(near, "{} {q:?} not recovered: {sols:?}", robot.name());
+            singular_misses += 1;
+        }
+    }
+    (cases, singular_misses)
+}
+
+#[test]
+fn the_structure_is_read_from_the_axes_of_any_description() {
+    for robot in [data("iiwa14.urdf"), dh_iiwa(), data("iiwa-modified.toml")] {
+        let ik = SrsIk::new(&robot).unwrap_or_else(|e| panic!("{}: {e}", robot.name()));
+        let (s, w) = ik.centres();
+        // Stretched at q = 0: shoulder–elbow 0.42 m plus elbow–wrist 0.4 m.
+        assert!(((w - s).norm() - 0.82).abs() < 1e-9, "{}: {s} {w}", robot.name());
+    }
+    let pick = |r: &Robot| analytic_solver(r).map(|s| s.name());
+    assert_eq!(pick(&dh_iiwa()), Some("iiwa"));
+    assert_eq!(pick(&data("iiwa14.urdf")), Some("geo-srs"));
+    assert_eq!(pick(&data("iiwa-modified.toml")), Some("geo-srs"));
+    for name in ["panda", "ur5", "puma560"] {
+        let e = SrsIk::new(&Robot::builtin(name).unwrap()).unwrap_err().to_string();
+        assert!(e.contains("7 revolute joints") || e.contains("no spherical"), "{name}: {e}");
+    }
+    let e = SrsIk::new(&Robot::builtin("panda").unwrap()).unwrap_err().to_string();
+    assert!(e.contains("no spherical"), "{e}");
+}
+
+#[test]
+fn urdf_iiwa_round_trips_at_its_q3() {
+    let (cases, singular) = round_trips(&data("iiwa14.urdf"), 2500, 0x5125);
+    eprintln!("iiwa14.urdf: {cases} round trips, {singular} near-singular not recovered");
+    assert!(singular <= 5, "{singular}");
+}
+
+#[test]
+fn dh_iiwas_round_trip_through_the_geometric_solver() {
+    for (robot, seed) in [(dh_iiwa(), 0x5126), (data("iiwa-modified.toml"), 0x5127)] {
+        let (cases, singular) = round_trips(&robot, 2000, seed);
+        eprintln!("{}: {cases} round trips, {singular} near-singular not recovered", robot.name());
+        assert!(singular <= 5, "{singular}");
+    }
+}
+
+/// On the DH iiwa the geometric solver and `IiwaIk` give one solution set
+/// (modulo 2π, to 1e-8) at every q3; `IiwaIk` keeps coinciding solutions
+/// once, so only the distinct ones are compared.
+#[test]
+fn same_solution_set_as_the_dh_iiwa_solver() {
+    let robot = dh_iiwa();
+    let (geo, dh) = (SrsIk::new(&robot).unwrap(), IiwaIk::new(&robot).unwrap());
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5128);
+    let mut differ = 0;
+    for _ in 0..2000 {
+        let q = robot.random_q(&mut rng);
+        let q3 = if rng.random_bool(0.5) { q[2] } else { rng.random_range(-2.9..2.9) };
+        let target = robot.fk(&q).unwrap().pose;
+        match (geo.solve_q3(&target, q3), dh.solve_q3(&target, q3)) {
+            (Ok(a), Ok(b)) => {
+                let covered =
+                    |x: &[Solution], y: &[Solution]| x.iter().all(|s| y.iter().any(|t| same_angles(&s.q, &t.q, 1e-8)));
+                if !(covered(&a, &b) && covered(&b, &a)) {
+                    differ += 1;
+                    assert!([1, 3, 5].iter().any(|&i| q[i].sin().abs() < 1e-4), "{q:?} at {q3}: {a:?} vs {b:?}");
+                }
+            }
+            (Err(Error::Unreachable { .. }), Err(Error::Unreachable { .. })) => {}
+            (a, b) => panic!("{q:?} at {q3}: {a:?} vs {b:?}"),
+        }
+    }
+    assert!(differ <= 5, "{differ}");
+}
+
+#[test]
+fn random_srs_arms_round_trip() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5129);
+    let mut singular = 0;
+    for k in 0..20 {
+        let robot = random_srs(&mut rng);
+        assert_eq!(analytic_solver(&robot).map(|s| s.name()), Some("geo-srs"), "arm {k}");
+        singular += round_trips(&robot, 150, 0x5200 + k).1;
+    }
+    assert!(singular <= 5, "{singular}");
+}
+
+#[test]
+fn kernel_matches_solve() {
+    let robot = data("iiwa14.urdf");
+    let ik = SrsIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x512a);
+    for _ in 0..200 {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let c = ik.solve_q3_candidates(&target, q[2]).unwrap();
+        let sols = ik.solve_q3(&target, q[2]).unwrap();
+        common::kernel_matches_solve(&robot, &c, &sols, target.pos.into());
+        assert_eq!(ik.solve(&target).ok(), ik.solve_q3(&target, 0.0).ok());
+    }
+}
+
+/// FK of a within-limit configuration is never refused by the search, and
+/// every solution it returns is within limits and reaches the target.
+#[test]
+fn searching_never_refuses_a_reachable_target() {
+    for (robot, seed) in [(data("iiwa14.urdf"), 0x512b), (dh_iiwa(), 0x512c)] {
+        let ik = SrsIk::new(&robot).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut searched = 0;
+        for _ in 0..2000 {
+            let q = robot.random_q(&mut rng);
+            let target = robot.fk(&q).unwrap().pose;
+            let sols = ik.solve_searching(&target, 0.0).unwrap_or_else(|e| panic!("{q:?} refused: {e}"));
+            assert!(!sols.is_empty());
+            assert!(sols.iter().all(|s| s.within_limits() && reaches(s)), "{q:?}: {sols:?}");
+            searched += usize::from(sols.iter().any(|s| s.q[2] != 0.0));
+        }
+        eprintln!("{}: {searched} of 2000 targets needed the q3 search, none refused", robot.name());
+        assert!(searched > 20, "{searched}");
+    }
+}
+
+#[test]
+fn singular_configurations_give_finite_solutions() {
+    let robot = data("iiwa14.urdf");
+    let ik = SrsIk::new(&robot).unwrap();
+    let cases: [[f64; 7]; 6] = [
+        [0.3, 0.5, -0.7, -1.2, 0.4, 0.0, 0.1], // wrist: axes 5 and 7 aligned
+        [0.3, 0.5, -0.7, 0.0, 0.4, 0.8, 0.1],  // stretched elbow
+        [0.3, 0.0, -0.7, 0.0, 0.4, 0.8, 0.1],  // wrist centre on axis 1
+        [0.0; 7],                              // all of them
+        [0.3, 0.5, 0.2, -1.2, 0.4, 1e-9, 0.1], // next to the wrist singularity
+        [0.3, 1e-9, 0.2, 0.0, 0.4, 0.8, 0.1],  // next to the shoulder singularity
+    ];
+    for q in cases {
+        let target = robot.fk(&q).unwrap().pose;
+        let sols = ik.solve_q3(&target, q[2]).unwrap_or_else(|e| panic!("{q:?}: {e}"));
+        assert_eq!(sols.len(), 8, "{q:?}");
+        assert!(sols.iter().all(reaches), "{q:?}: {sols:?}");
+        let sols = ik.solve_searching(&target, q[2]).unwrap();
+        assert!(sols.iter().all(|s| s.within_limits() && reaches(s)), "{q:?}: {sols:?}");
+    }
+}
+
+#[test]
+fn unreachable_and_malformed_targets() {
+    let robot = data("iiwa14.urdf");
+    let ik = SrsIk::new(&robot).unwrap();
+    let far = Pose::translation(2.0, 0.0, 0.36);
+    for r in [ik.solve_q3(&far, 0.3), ik.solve_searching(&far, 0.0)] {
+        assert!(matches!(r, Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })), "{r:?}");
+    }
+    assert!(matches!(ik.solve_q3(&robot.fk(&[0.0; 7]).unwrap().pose, f64::NAN), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve_searching(&far, f64::INFINITY), Err(Error::InvalidArgument { .. })));
+    let mut bad = far;
+    bad.pos.x = f64::NAN;
+    assert!(matches!(ik.solve_q3(&bad, 0.0), Err(Error::InvalidArgument { .. })));
+    let huge = Pose::translation(1e300, -1e300, 1e308);
+    assert!(matches!(ik.solve_q3(&huge, 0.0), Err(Error::Unreachable { .. })));
+    // The flange pointing into the base column: no q3 keeps q2 and q6 within limits.
+    let straight = robot.fk(&[0.0; 7]).unwrap().pose;
+    let down = Pose::new(Pose::rot_x(PI).rot, straight.pos - Vector3::new(0.0, 0.0, 0.6));
+    match ik.solve_searching(&down, 0.0) {
+        Err(Error::Unreachable { reason: Unreachable::JointLimits { rejected }, .. }) => assert!(!rejected.is_empty()),
+        other => panic!("{other:?}"),
+    }
+    common::random_poses_never_panic_or_return_nan(&ik);
+}
+
+/// The request layer: q3 on a URDF iiwa is this solver's closed form; with
+/// q0, all solutions at q0's q3; one solution is searched within limits.
+#[test]
+fn requests_on_a_urdf_iiwa_use_the_geometric_closed_form() {
+    let robot = data("iiwa14.urdf");
+    let ik = SrsIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x512d);
+    for _ in 0..100 {
+        let q = robot.random_q(&mut rng);
+        let pose = robot.fk(&q).unwrap().pose;
+        let (name, sols) = solve_request(&robot, &pose, &IkRequest { q3: Some(q[2]), ..Default::default() }).unwrap();
+        assert_eq!((name, &sols), ("geo-srs", &ik.solve_q3(&pose, q[2]).unwrap()));
+        let all = IkRequest { q0: Some(&q), all: true, ..Default::default() };
+        let (_, sols) = solve_request(&robot, &pose, &all).unwrap();
+        assert!(sols.iter().any(|s| same_angles(&s.q, &q, 1e-7)));
+        let one = IkRequest { q0: Some(&q), ..Default::default() };
+        let (_, sols) = solve_request(&robot, &pose, &one).unwrap();
+        let picked = kinema::ik::pick_one(&robot, name, sols, Some(&q)).unwrap();
+        assert!(same_angles(&picked.q, &q, 1e-7), "{:?} vs {q:?}", picked.q);
+        let (_, sols) = solve_request(&robot, &pose, &IkRequest::default()).unwrap();
+        assert!(!sols.is_empty() && sols.iter().all(|s| s.within_limits() && reaches(s)));
+    }
+}
