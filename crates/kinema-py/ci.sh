@@ -4,7 +4,8 @@
 #   crates/kinema-py/ci.sh            (from anywhere; the CI calls it from the repo root)
 #
 # Then installs it a second time the way the README says, `pip install ./crates/kinema-py`,
-# and runs the README example and the model tests against that install.
+# and runs the README example and the model tests against that install. With KINEMA_PEERS=1 it
+# also runs benchmarks/run_ik_peers.sh (the check against Pinocchio and IK-Geo; off by default).
 # Needs Rust (cargo), a C compiler and Python ≥ 3.9 with pip and venv (python3,
 # or $PYTHON). Downloads pinned maturin/numpy/pytest from PyPI and the crates in
 # Cargo.lock. Cargo output goes to crates/kinema-py/target (gitignored; reused
@@ -53,6 +54,14 @@ printf 'maturin==%s\nnumpy==%s\npytest==%s\n' "$MATURIN_VERSION" "$NUMPY_VERSION
 "$python" -m venv "$tmp/venv-pip"
 PIP_CONSTRAINT="$tmp/constraints.txt" PIP_BUILD_CONSTRAINT="$tmp/constraints.txt" "$tmp/venv-pip/bin/python" -m pip install --quiet --disable-pip-version-check "pytest==$PYTEST_VERSION" "$here"
 (cd "$tmp" && "$tmp/venv-pip/bin/python" -m pytest -q -p no:cacheprovider "$here/tests/test_readme.py" "$here/tests/test_model_fk.py")
+
+if [ "${KINEMA_PEERS:-0}" = 1 ]; then
+  # Opt-in (KINEMA_PEERS=1), never by default: kinema checked against Pinocchio, the toolbox and
+  # IK-Geo, installed from PyPI into a venv of its own (benchmarks/run_ik_peers.sh; a few minutes).
+  # Fails on an FK/Jacobian difference over 1e-12 or a wrong IK solution; its timings are a smoke run.
+  step "KINEMA_PEERS=1: benchmarks/run_ik_peers.sh --n 100 --ik-n 100 --speed-n 200 --repeats 3"
+  KINEMA_PY_TARGET_DIR="$CARGO_TARGET_DIR" "$here/../../benchmarks/run_ik_peers.sh" --n 100 --ik-n 100 --speed-n 200 --repeats 3
+fi
 
 step "done"
 echo "kinema-py: all steps passed in $(( $(date +%s) - start )) s"
