@@ -196,6 +196,32 @@ fn ik(c: &mut Criterion) {
     g.finish();
 }
 
+/// `ik::solve_batch` on 4000 reachable targets with one rayon thread and
+/// with two: the throughput ratio on this 2-core machine is the batch's
+/// parallel speed-up (ids `ik-batch/<robot>/threads-<k>`).
+fn batch(c: &mut Criterion) {
+    use kinema::ik::{solve_batch, IkRequest, IkTarget};
+    let mut g = c.benchmark_group("ik-batch");
+    for name in ["ur5", "lbr-iiwa-14-r820"] {
+        let robot = Robot::builtin(name).expect("built-in");
+        let qs = configs(&robot, 0xba7c, 4000);
+        let targets: Vec<IkTarget> =
+            qs.chunks_exact(robot.dof()).map(|q| IkTarget::Pose(robot.fk(q).expect("valid q").pose)).collect();
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
+            g.bench_function(format!("{name}/threads-{threads}"), |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        let r = solve_batch(&robot, black_box(&targets), &IkRequest::default(), &|| {}, &|| false);
+                        black_box(r.map(|v| v.len()))
+                    })
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
 fn config() -> Criterion {
     Criterion::default().sample_size(20).measurement_time(Duration::from_secs(4)).warm_up_time(Duration::from_secs(1))
 }
@@ -203,6 +229,6 @@ fn config() -> Criterion {
 criterion_group! {
     name = benches;
     config = config();
-    targets = ik
+    targets = ik, batch
 }
 criterion_main!(benches);
