@@ -209,7 +209,7 @@ fn unit_after(src: &str, i: usize) -> (Option<String>, usize) {
             && src.is_char_boundary(end)
             && src[j..end].eq_ignore_ascii_case(u)
             && !bytes.get(end).is_some_and(|b| b.is_ascii_alphanumeric() || *b == b'_')
-            && best.map_or(true, |b| b.len() < u.len())
+            && best.is_none_or(|b| b.len() < u.len())
         {
             best = Some(u);
         }

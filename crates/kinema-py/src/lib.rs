@@ -250,7 +250,7 @@ fn not_a_real_number(np: &Bound<'_, PyModule>, x: &Bound<'_, PyAny>) -> PyResult
 /// Checks that `a` has `ndim` dimensions and, where `expected` gives one, that size.
 fn check_shape(a: &PyReadonlyArrayDyn<'_, f64>, what: &str, expected: &[Option<usize>], hint: &str) -> PyResult<()> {
     let shape = a.shape();
-    let fits = shape.len() == expected.len() && shape.iter().zip(expected).all(|(s, e)| e.map_or(true, |e| *s == e));
+    let fits = shape.len() == expected.len() && shape.iter().zip(expected).all(|(s, e)| e.is_none_or(|e| *s == e));
     if fits {
         return Ok(());
     }
@@ -1440,7 +1440,7 @@ impl PyRobot {
                     reasons.push(String::new());
                 }
                 Err(e) => {
-                    q.extend(std::iter::repeat(f64::NAN).take(n));
+                    q.extend(std::iter::repeat_n(f64::NAN, n));
                     ok.push(false);
                     reasons.push(e.to_string());
                 }

@@ -542,7 +542,7 @@ fn check_name(name: &str, indexed: bool) -> Result<()> {
         && base.len() <= 16
         && base.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
         && base.chars().next().is_some_and(|c| c.is_ascii_alphabetic());
-    let ok_index = index.map_or(true, |r| r.strip_suffix(']').is_some_and(|n| n.parse::<u32>().is_ok_and(|n| n >= 1)));
+    let ok_index = index.is_none_or(|r| r.strip_suffix(']').is_some_and(|n| n.parse::<u32>().is_ok_and(|n| n >= 1)));
     if ok_base && ok_index {
         Ok(())
     } else {
@@ -732,7 +732,7 @@ mod tests {
     fn endless_paging_is_cut_off() {
         let page = "X\r\nType <cr> to continue\r\n";
         let mut answers = vec![format!("LISTP\r\n{page}")];
-        answers.extend(std::iter::repeat(page.to_string()).take(MAX_PAGES + 1));
+        answers.extend(std::iter::repeat_n(page.to_string(), MAX_PAGES + 1));
         let refs: Vec<&str> = answers.iter().map(String::as_str).collect();
         let (mut c, _) = client(&refs);
         let e = c.list_positions().unwrap_err();

@@ -165,7 +165,7 @@ pub fn plan(robot: &Robot, constants: &Constants, path: &[PathPoint], options: &
                     _ => 2.0,
                 },
             };
-            if best.as_ref().map_or(true, |b| cost < b.2) {
+            if best.as_ref().is_none_or(|b| cost < b.2) {
                 best = Some((cq, label.to_string(), cost));
             }
         }

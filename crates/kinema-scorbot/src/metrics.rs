@@ -386,7 +386,7 @@ fn plane_crossing(run: &[Vector3<f64>], p: &Vector3<f64>, n: &Vector3<f64>) -> O
             continue;
         };
         let d = (c - p).norm();
-        if best.map_or(true, |(_, bd)| d < bd) {
+        if best.is_none_or(|(_, bd)| d < bd) {
             best = Some((c, d));
         }
     }

@@ -71,13 +71,16 @@ pub fn robot_info(r: &Robot) -> Value {
         })
         .collect();
     let poses: Map<String, Value> = r.poses().iter().map(|p| (p.name.clone(), json!(p.q))).collect();
-    let analytic = kinema::ik::analytic_solver(r).map(|s| s.name());
+    let family = kinema::ik::family::fit(r);
+    let analytic = family.as_ref().map(|f| f.name());
+    // The self-motion parameters a request may fix (the viewer's q3 slider).
+    let redundancy = family.as_ref().and_then(|f| f.redundancy()).map_or(&[][..], |r| r.parameters());
     json!({
         "name": r.name(), "dof": r.dof(), "convention": format!("{:?}", r.convention()).to_lowercase(),
         "manufacturer": r.metadata().manufacturer, "source": r.metadata().source, "notes": r.metadata().notes,
         "joints": joints, "base": pose(r.base()), "tool": pose(r.tool()),
         "poses": poses, "home": r.home(),
-        "ik": { "analytic": analytic, "q3": kinema::ik::IiwaIk::new(r).is_ok() },
+        "ik": { "analytic": analytic, "q3": redundancy.contains(&"q3"), "redundancy": redundancy },
     })
 }
 

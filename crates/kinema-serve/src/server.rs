@@ -559,7 +559,7 @@ fn parse_head(buf: &[u8], deadline: Instant) -> Parsed {
         let value = trim(h.value);
         if h.name.eq_ignore_ascii_case("content-length") {
             match parse_length(value) {
-                Some(v) if length.map_or(true, |l| l == v) => length = Some(v),
+                Some(v) if length.is_none_or(|l| l == v) => length = Some(v),
                 Some(_) => return Parsed::Refuse(refusal(400, "conflicting Content-Length header fields".into())),
                 None => {
                     return Parsed::Refuse(refusal(

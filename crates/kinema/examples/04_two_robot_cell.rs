@@ -34,7 +34,7 @@ fn start_config(robot: &Robot, pose: &Pose) -> kinema::Result<Vec<f64>> {
     for k in -8..=8 {
         let Ok(sols) = ik.solve_q3(pose, 0.4 * k as f64) else { continue };
         for s in sols.into_iter().filter(|s| s.within_limits()) {
-            if best.as_ref().map_or(true, |b| usage(&s.q) < usage(b)) {
+            if best.as_ref().is_none_or(|b| usage(&s.q) < usage(b)) {
                 best = Some(s.q);
             }
         }

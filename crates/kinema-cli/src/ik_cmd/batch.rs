@@ -115,7 +115,7 @@ fn write_results(out: &mut impl Write, robot: &Robot, deg: bool, results: &[Answ
             Err(why) => {
                 let status = if why.starts_with("unreachable") { "unreachable" } else { "invalid" };
                 rec.extend([status.to_string(), String::new()]);
-                rec.extend(std::iter::repeat(String::new()).take(n + 3));
+                rec.extend(std::iter::repeat_n(String::new(), n + 3));
                 rec.push(why.clone());
             }
         }

@@ -1006,7 +1006,7 @@ impl Controller {
                 continue;
             }
             let d: f64 = s.q.iter().zip(&q_near).map(|(a, b)| (a - b) * (a - b)).sum();
-            if best.map_or(true, |(bd, _)| d < bd) {
+            if best.is_none_or(|(bd, _)| d < bd) {
                 best = Some((d, c));
             }
         }

@@ -10,10 +10,8 @@ use std::fmt;
 
 use nalgebra::Vector3;
 
+use super::family;
 use super::request::IkTarget;
-use super::rommel::RommelIk;
-use super::scara::ScaraIk;
-use super::scorbot::ScorbotIk;
 use super::{Closest, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::{rot_to_axis_angle, Pose};
@@ -91,15 +89,13 @@ pub fn residual(robot: &Robot, target: &IkTarget, mask: Option<[bool; 6]>, reach
     Ok(match target {
         IkTarget::Pose(pose) => pose_residual(pose, reached, mask.unwrap_or([true; 6])),
         IkTarget::Position(p) => Residual { position: position_of(p), orientation: 0.0 },
-        IkTarget::PositionPitchRoll { position, pitch, roll } => Residual {
-            position: position_of(position),
-            orientation: ScorbotIk::new(robot)?.pitch_roll_error(reached, *pitch, *roll),
-        },
-        IkTarget::PositionApproach { position, approach } => {
-            Residual { position: position_of(position), orientation: RommelIk::approach_error(reached, *approach) }
-        }
-        IkTarget::PositionAlpha { position, alpha } => {
-            pose_residual(&ScaraIk::alpha_pose(*position, *alpha), reached, [true; 6])
+        typed => {
+            let kind = typed.typed_kind().expect("neither a pose nor a position");
+            let position = typed.position().expect("typed targets have a position");
+            Residual {
+                position: position_of(&position),
+                orientation: family::for_typed(robot, kind)?.typed_orientation_error(typed, reached),
+            }
         }
     })
 }
@@ -162,7 +158,7 @@ pub fn sort_out(
             continue;
         }
         let badness = r.badness(&tol);
-        if closest.as_ref().map_or(true, |(b, _)| badness < *b) {
+        if closest.as_ref().is_none_or(|(b, _)| badness < *b) {
             closest = Some((badness, Closest::of(&s)));
         }
         discarded.push(Discarded { branch: s.branch, residual: r });

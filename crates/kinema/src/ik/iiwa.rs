@@ -1325,6 +1325,49 @@ impl IkSolver for IiwaIk {
     }
 }
 
+impl super::family::Family for IiwaIk {
+    fn redundancy(&self) -> Option<&dyn super::family::Redundancy> {
+        Some(self)
+    }
+}
+
+/// The self-motion of seed 004: joint 3 (§V-B) or the arm angle ψ (§V-D).
+impl super::family::Redundancy for IiwaIk {
+    fn parameters(&self) -> &'static [&'static str] {
+        &["q3", "psi"]
+    }
+
+    /// At ψ: one solution per global configuration that reaches the target
+    /// (the first configuration's reason when none does).
+    fn solve_at(&self, target: &Pose, parameter: &str, value: f64) -> Result<Vec<Solution>> {
+        if parameter != "psi" {
+            return self.solve_q3(target, value);
+        }
+        let all: Vec<Solution> = (0u8..8).filter_map(|c| self.solve_psi(target, value, c).ok()).collect();
+        if all.is_empty() {
+            return Ok(vec![self.solve_psi(target, value, 0)?]);
+        }
+        Ok(all)
+    }
+
+    fn value_of(&self, q: &[f64]) -> f64 {
+        q.get(2).copied().unwrap_or(f64::NAN)
+    }
+
+    /// Seed 004 §V-E's q_k = f(q_{k−1}, T_k), falling back to the whole self-motion.
+    fn solve_near(&self, target: &Pose, q0: &[f64]) -> Result<Vec<Solution>> {
+        Ok(vec![self.select(q0, target, None)?])
+    }
+
+    fn solve_searching(&self, target: &Pose, prefer: f64) -> Result<Vec<Solution>> {
+        IiwaIk::solve_searching(self, target, prefer)
+    }
+
+    fn default_value(&self) -> f64 {
+        self.q3()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

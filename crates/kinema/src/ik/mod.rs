@@ -22,6 +22,7 @@ use crate::model::{JointSet, Robot};
 
 mod batch;
 pub mod contract;
+pub mod family;
 pub mod geo;
 pub mod iiwa;
 pub mod numeric;
@@ -484,8 +485,9 @@ pub trait IkSolver: Send + Sync {
     }
 }
 
-/// The analytic solver that fits `robot`, if one does. Each candidate checks
-/// the robot's structure (not its name), in this order: the iiwa-type SRS arm
+/// The analytic solver that fits `robot`, if one does: the first family of
+/// the registry [`family::FAMILIES`] whose structure test passes. Each
+/// checks the robot's structure (not its name), in this order: the iiwa-type SRS arm
 /// ([`iiwa::IiwaIk`], q3 = 0 by default), 6R arms with a spherical wrist
 /// ([`pieper::PieperIk`]), the Scorbot ([`scorbot::ScorbotIk`]), the SCARA on a
 /// rail ([`scara::ScaraIk`]), ROMMEL ([`rommel::RommelIk`]), and last the
@@ -505,28 +507,7 @@ pub trait IkSolver: Send + Sync {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
-    if let Ok(s) = iiwa::IiwaIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    if let Ok(s) = pieper::PieperIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    if let Ok(s) = scorbot::ScorbotIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    if let Ok(s) = scara::ScaraIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    if let Ok(s) = rommel::RommelIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    if let Ok(s) = geo::GeoIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    if let Ok(s) = geo::SrsIk::new(robot) {
-        return Some(Box::new(s));
-    }
-    None
+    family::fit(robot).map(|f| f as Box<dyn IkSolver>)
 }
 
 /// A point outside the annulus \[|l1 − l2|, l1 + l2\] a planar two-link arm reaches.

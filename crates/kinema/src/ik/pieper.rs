@@ -431,7 +431,7 @@ impl PieperIk {
                     (dmin - dist, format!("inner reach of the arm ({dmin:.4} m from axis 2, in the arm plane)"))
                 };
                 if by > BOUNDARY_TOL * (1.0 + dmax) {
-                    if worst.as_ref().map_or(true, |w| by < w.0) {
+                    if worst.as_ref().is_none_or(|w| by < w.0) {
                         worst = Some((by, boundary));
                     }
                     continue;
@@ -533,7 +533,7 @@ impl PieperIk {
                 if x.is_nan() || x.abs() > 1.0 {
                     let over = val.abs() - h;
                     if over > BOUNDARY_TOL * (1.0 + h + val.abs()) {
-                        if worst.map_or(true, |w| over < w) {
+                        if worst.is_none_or(|w| over < w) {
                             worst = Some(over);
                         }
                         continue;
@@ -840,3 +840,5 @@ impl IkSolver for PieperIk {
         Ok(())
     }
 }
+
+impl super::family::Family for PieperIk {}

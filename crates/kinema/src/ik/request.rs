@@ -7,11 +7,8 @@
 use nalgebra::Vector3;
 
 use super::contract::{self, IkAnswer, Tolerance};
-use super::geo::SrsIk;
-use super::rommel::RommelIk;
-use super::scara::ScaraIk;
-use super::scorbot::ScorbotIk;
-use super::{analytic_solver, Closest, IiwaIk, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
+use super::family;
+use super::{Closest, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
 use crate::model::Robot;
@@ -149,77 +146,65 @@ impl IkRequest<'_> {
 /// ```
 pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
     if let Some(q0) = request.q0 {
-        // The SRS paths below read q0's q3.
+        // The redundant families read q0's parameter.
         robot.check_q(q0)?;
     }
     let masked = request.mask.is_some();
-    if (request.q3.is_some() || request.psi.is_some()) && masked {
+    let fixed = request.q3.map(|v| ("q3", v)).or(request.psi.map(|v| ("psi", v)));
+    if fixed.is_some() && masked {
         return Err(Error::InvalidArgument {
             what: "target".into(),
             message: "q3 and ψ need a full target pose, not a task mask".into(),
         });
     }
-    // q3 and ψ parameterise the iiwa's self-motion; another arm says why it is not one.
-    let iiwa = || {
-        IiwaIk::new(robot).map_err(|e| Error::InvalidArgument {
-            what: "q3".into(),
-            message: format!("q3 and ψ select the closed form of iiwa-type arms, which does not fit: {e}"),
-        })
-    };
-    if let Some(q3) = request.q3 {
-        return match (iiwa(), SrsIk::new(robot)) {
-            (Ok(s), _) => Ok(("iiwa", s.solve_q3(target, q3)?)),
-            // Another description of the same structure (URDF, `general`, modified DH).
-            (Err(_), Ok(s)) => Ok((s.name(), s.solve_q3(target, q3)?)),
-            (Err(e), Err(_)) => Err(e),
-        };
-    }
-    if let Some(psi) = request.psi {
-        let s = iiwa()?;
-        let all: Vec<Solution> = (0u8..8).filter_map(|c| s.solve_psi(target, psi, c).ok()).collect();
-        if all.is_empty() {
-            // The reason the first global configuration gives.
-            return Ok(("iiwa", vec![s.solve_psi(target, psi, 0)?]));
-        }
-        return Ok(("iiwa", all));
-    }
     let numeric_only = masked || request.solver == SolverChoice::Numeric;
-    // iiwa with a previous configuration: every closed-form solution at q3 =
-    // q0[2] when all are wanted; else seed 004 §V-E's q_k = f(q_{k−1}, T_k)
-    // (q3 searched near the previous one, then along the whole self-motion).
-    // Without one and one wanted: q3 = 0, else the self-motion is searched
-    // for a configuration within limits before the target is refused.
-    if let (Ok(s), false) = (IiwaIk::new(robot), numeric_only) {
-        match (request.q0, request.all) {
-            (Some(q0), true) => return Ok(("iiwa", s.solve_q3(target, q0[2])?)),
-            (Some(q0), false) => return Ok(("iiwa", vec![s.select(q0, target, None)?])),
-            (None, false) => return Ok(("iiwa", s.solve_searching(target, s.q3())?)),
-            (None, true) => {}
+    let family = if numeric_only && fixed.is_none() { None } else { family::fit(robot) };
+    if let Some((parameter, value)) = fixed {
+        let f = family.as_deref();
+        let Some(r) = f.and_then(|f| f.redundancy()).filter(|r| r.parameters().contains(&parameter)) else {
+            let has = f.map_or("no closed-form solver".to_string(), |f| {
+                let params = f.redundancy().map_or("none".to_string(), |r| r.parameters().join(", "));
+                format!("the {} solver, whose self-motion parameters are: {params}", f.name())
+            });
+            return Err(Error::InvalidArgument {
+                what: parameter.into(),
+                message: format!(
+                    "q3 and ψ select the closed form of iiwa-type arms, which does not fit robot `{}` (it has {has})",
+                    robot.name()
+                ),
+            });
+        };
+        return Ok((f.map_or("", |f| f.name()), r.solve_at(target, parameter, value)?));
+    }
+    // A redundant family: every closed-form solution at q0's parameter when
+    // all are wanted; else the family's rule near q0 (the iiwa: seed 004
+    // §V-E's q_k = f(q_{k−1}, T_k)); without q0 and one wanted, the default
+    // value unless every solution there violates a limit, then the
+    // self-motion is searched before the target is refused.
+    if let Some(f) = family.as_deref() {
+        if let Some(r) = f.redundancy() {
+            let solutions = match (request.q0, request.all) {
+                (Some(q0), true) => Some(r.solve_at(target, r.parameters()[0], r.value_of(q0))?),
+                (Some(q0), false) => Some(r.solve_near(target, q0)?),
+                (None, false) => Some(r.solve_searching(target, r.default_value())?),
+                (None, true) => None,
+            };
+            if let Some(solutions) = solutions {
+                return Ok((f.name(), solutions));
+            }
         }
     }
-    // The same for SRS arms the DH solver cannot read, without the ψ search
-    // and §V-E's selection: the closed form at q0's q3, or a search over q3.
-    if let (Ok(s), false) = (SrsIk::new(robot), numeric_only) {
-        match (request.q0, request.all) {
-            (Some(q0), true) => return Ok((s.name(), s.solve_q3(target, q0[2])?)),
-            (Some(q0), false) => return Ok((s.name(), s.solve_searching(target, q0[2])?)),
-            (None, false) => return Ok((s.name(), s.solve_searching(target, 0.0)?)),
-            (None, true) => {}
-        }
-    }
-    let analytic = if numeric_only { None } else { analytic_solver(robot) };
-    match (request.solver, analytic) {
+    match (request.solver, family) {
         (SolverChoice::Analytic, None) => Err(Error::InvalidArgument {
             what: "solver".into(),
             message: format!(
                 "robot `{}` has no analytic solver for this target (analytic solvers: iiwa-type 7R, 6R with a \
                  spherical wrist or with three parallel axes, Scorbot, SCARA on a rail, ROMMEL; position-only \
-                 targets are numeric); use the \
-                 numeric solver",
+                 targets are numeric); use the numeric solver",
                 robot.name()
             ),
         }),
-        (_, Some(s)) => Ok((s.name(), s.solve(target)?)),
+        (_, Some(f)) => Ok((f.name(), f.solve(target)?)),
         (_, None) => {
             let solver = NumericIk::with_options(robot, request.numeric_options())?;
             let solutions = match request.q0 {
@@ -369,17 +354,10 @@ fn propose(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<(&'s
             masked.mask = Some(POSITION_MASK);
             solve_request(robot, &position_pose(robot, p)?, &masked)
         }
-        IkTarget::PositionPitchRoll { position, pitch, roll } => {
-            let s = ScorbotIk::new(robot)?;
-            Ok((s.name(), s.solve_xyz_pitch_roll(position, pitch, roll)?))
-        }
-        IkTarget::PositionApproach { position, approach } => {
-            let s = RommelIk::new(robot)?;
-            Ok((s.name(), s.solve_position_approach(position, approach)?))
-        }
-        IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
-            let s = ScaraIk::new(robot)?;
-            Ok((s.name(), vec![s.solve_zone([x, y, z, alpha], request.q0)?]))
+        _ => {
+            let kind = target.typed_kind().expect("neither a pose nor a position");
+            let f = family::for_typed(robot, kind)?;
+            Ok((f.name(), f.solve_typed(target, request.q0)?))
         }
     }
 }
@@ -459,6 +437,7 @@ pub fn pick_one(robot: &Robot, solver: &str, solutions: Vec<Solution>, q0: Optio
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ik::{scara::ScaraIk, scorbot::ScorbotIk, IiwaIk};
     use crate::ik::{scorbot::R_H, wrap_angle};
     use crate::math::{rot_x, rot_y};
     use rand::SeedableRng;

@@ -357,3 +357,24 @@ impl IkSolver for RommelIk {
         raw.into_iter().map(|r| Solution::evaluate(&self.robot, r.q, target, r.label)).collect()
     }
 }
+
+impl super::family::Family for RommelIk {
+    fn solve_typed(&self, target: &super::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+        match *target {
+            super::IkTarget::PositionApproach { position, approach } => {
+                self.solve_position_approach(position, approach)
+            }
+            _ => Err(Error::InvalidArgument {
+                what: "target".into(),
+                message: "ROMMEL's typed target is a position with an approach direction".into(),
+            }),
+        }
+    }
+
+    fn typed_orientation_error(&self, target: &super::IkTarget, reached: &Pose) -> f64 {
+        match *target {
+            super::IkTarget::PositionApproach { approach, .. } => Self::approach_error(reached, approach),
+            _ => f64::INFINITY,
+        }
+    }
+}

@@ -681,3 +681,26 @@ impl ScaraIk {
         }
     }
 }
+
+impl super::family::Family for ScaraIk {
+    fn solve_typed(&self, target: &super::IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+        match *target {
+            super::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
+                Ok(vec![self.solve_zone([x, y, z, alpha], q0)?])
+            }
+            _ => Err(Error::InvalidArgument {
+                what: "target".into(),
+                message: "the SCARA's typed target is a position with the tool angle α".into(),
+            }),
+        }
+    }
+
+    fn typed_orientation_error(&self, target: &super::IkTarget, reached: &Pose) -> f64 {
+        match *target {
+            super::IkTarget::PositionAlpha { position, alpha } => {
+                crate::math::pose_error(&Self::alpha_pose(position, alpha), reached).rotation_angle()
+            }
+            _ => f64::INFINITY,
+        }
+    }
+}

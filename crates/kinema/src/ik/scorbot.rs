@@ -514,3 +514,24 @@ impl ScorbotIk {
         Ok(out)
     }
 }
+
+impl super::family::Family for ScorbotIk {
+    fn solve_typed(&self, target: &super::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+        match *target {
+            super::IkTarget::PositionPitchRoll { position, pitch, roll } => {
+                self.solve_xyz_pitch_roll(position, pitch, roll)
+            }
+            _ => Err(Error::InvalidArgument {
+                what: "target".into(),
+                message: "the Scorbot solver's typed target is a position with pitch and roll".into(),
+            }),
+        }
+    }
+
+    fn typed_orientation_error(&self, target: &super::IkTarget, reached: &Pose) -> f64 {
+        match *target {
+            super::IkTarget::PositionPitchRoll { pitch, roll, .. } => self.pitch_roll_error(reached, pitch, roll),
+            _ => f64::INFINITY,
+        }
+    }
+}

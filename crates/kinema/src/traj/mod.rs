@@ -626,7 +626,7 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
         if let Some(th) = opts.min_manipulability {
             robot.jacobian_into(q, Frame::Base, &mut jac)?;
             let m = yoshikawa(&jac, opts.manipulability_axes)?;
-            if report.min_manipulability.map_or(true, |(_, best)| m < best) {
+            if report.min_manipulability.is_none_or(|(_, best)| m < best) {
                 report.min_manipulability = Some((t, m));
             }
             if m < th {

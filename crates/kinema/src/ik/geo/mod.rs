@@ -263,3 +263,5 @@ impl IkSolver for GeoIk {
         self.solver().candidates_into(target, out)
     }
 }
+
+impl crate::ik::family::Family for GeoIk {}

@@ -447,3 +447,32 @@ impl IkSolver for SrsIk {
         Ok(())
     }
 }
+
+impl crate::ik::family::Family for SrsIk {
+    fn redundancy(&self) -> Option<&dyn crate::ik::family::Redundancy> {
+        Some(self)
+    }
+}
+
+/// Joint 3 parametrises the self-motion (no arm angle for a non-DH description).
+impl crate::ik::family::Redundancy for SrsIk {
+    fn parameters(&self) -> &'static [&'static str] {
+        &["q3"]
+    }
+
+    fn solve_at(&self, target: &Pose, _parameter: &str, value: f64) -> Result<Vec<Solution>> {
+        self.solve_q3(target, value)
+    }
+
+    fn value_of(&self, q: &[f64]) -> f64 {
+        q.get(2).copied().unwrap_or(f64::NAN)
+    }
+
+    fn solve_near(&self, target: &Pose, q0: &[f64]) -> Result<Vec<Solution>> {
+        self.solve_searching(target, self.value_of(q0))
+    }
+
+    fn solve_searching(&self, target: &Pose, prefer: f64) -> Result<Vec<Solution>> {
+        SrsIk::solve_searching(self, target, prefer)
+    }
+}
