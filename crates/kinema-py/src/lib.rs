@@ -16,7 +16,7 @@ mod npio;
 use std::sync::Arc;
 
 use kinema::analysis::{self, Axes};
-use kinema::ik::{pick_one, solve_target, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
+use kinema::ik::{pick_one, solve_target_with, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
 use kinema::nalgebra::{Matrix4, Vector3};
 use kinema::traj::{
     check, expression_trajectory, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion,
@@ -293,6 +293,16 @@ fn parse_axes(axes: &str) -> PyResult<Axes> {
 #[pyclass(frozen, name = "Robot", module = "kinema")]
 struct PyRobot {
     robot: Arc<Robot>,
+    /// The IK solver family fitted to the robot once (`ik::family::fit`), so
+    /// that each `ik` call does not fit it again.
+    family: Option<Arc<dyn kinema::ik::family::Family>>,
+}
+
+impl PyRobot {
+    fn new(robot: Arc<Robot>) -> Self {
+        let family = kinema::ik::family::fit(&robot).map(Arc::from);
+        PyRobot { robot, family }
+    }
 }
 
 /// One inverse-kinematics solution.
@@ -1038,7 +1048,7 @@ impl PyRobot {
     ///     UnknownRobot: the name is not a built-in robot (the message lists them).
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
-        Robot::builtin(name).map(|r| PyRobot { robot: Arc::new(r) }).map_err(to_py)
+        Robot::builtin(name).map(|r| PyRobot::new(Arc::new(r))).map_err(to_py)
     }
 
     /// Names of the built-in robots, sorted.
@@ -1058,7 +1068,7 @@ impl PyRobot {
     #[staticmethod]
     #[pyo3(signature = (path, tip=None))]
     fn from_file(path: std::path::PathBuf, tip: Option<&str>) -> PyResult<Self> {
-        Robot::from_file(&path, tip).map(|r| PyRobot { robot: Arc::new(r) }).map_err(to_py)
+        Robot::from_file(&path, tip).map(|r| PyRobot::new(Arc::new(r))).map_err(to_py)
     }
 
     /// Robot name, e.g. ``"puma560"``.
@@ -1332,6 +1342,7 @@ impl PyRobot {
         let target = ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?;
         let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
         let robot = Arc::clone(&self.robot);
+        let family = self.family.clone();
         let (name, solutions) = py
             .allow_threads(move || -> kinema::Result<(&'static str, Vec<Solution>)> {
                 let request = IkRequest {
@@ -1344,7 +1355,7 @@ impl PyRobot {
                     tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
                     numeric: NumericOptions { seed, ..Default::default() },
                 };
-                let answer = solve_target(&robot, &target, &request)?;
+                let answer = solve_target_with(&robot, family.as_deref(), &target, &request)?;
                 let name = answer.solver;
                 if all {
                     return Ok((name, answer.solutions));
@@ -1943,7 +1954,7 @@ fn run_program(
         }
     };
     let start = match start.filter(|s| !s.is_none()) {
-        Some(s) => Some(PyRobot { robot: Arc::clone(&robot) }.joint_vector(s, "start")?),
+        Some(s) => Some(PyRobot::new(Arc::clone(&robot)).joint_vector(s, "start")?),
         None => None,
     };
     let opts = kinema_lang::Options { dt, start, ..kinema_lang::Options::default() };
@@ -1963,7 +1974,7 @@ fn run_program(
                 warnings: plan.warnings.iter().map(|d| d.one_line(filename, &text)).collect(),
                 plan_listing: plan.listing(),
                 plan_motions: plan.motions,
-                robot: Py::new(py, PyRobot { robot: Arc::new(plan.robot) })?,
+                robot: Py::new(py, PyRobot::new(Arc::new(plan.robot)))?,
             })
         }
         Err(diags) => {

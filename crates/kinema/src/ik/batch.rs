@@ -1,11 +1,11 @@
 //! Many IK targets at once: each solved exactly as one request would be
-//! ([`solve_target`], then [`pick_one`]), spread over all cores with rayon.
+//! ([`super::solve_target`], then [`pick_one`]), spread over all cores with rayon.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use super::request::{pick_one, solve_target, IkRequest, IkTarget};
+use super::request::{pick_one, solve_target_with, IkRequest, IkTarget};
 use super::Solution;
 use crate::error::{Error, Result};
 use crate::model::Robot;
@@ -48,6 +48,7 @@ pub fn solve_batch(
         robot.check_q(q0)?;
     }
     let one = IkRequest { all: false, ..request.clone() };
+    let fitted = super::family::fit(robot);
     let stop = AtomicBool::new(false);
     let results = targets
         .par_iter()
@@ -56,7 +57,7 @@ pub fn solve_batch(
                 stop.store(true, Ordering::Relaxed);
                 return Err(Error::Cancelled);
             }
-            let result = solve_target(robot, target, &one)
+            let result = solve_target_with(robot, fitted.as_deref(), target, &one)
                 .and_then(|answer| Ok((answer.solver, pick_one(robot, answer.solver, answer.solutions, one.q0)?)));
             done();
             result

@@ -10,7 +10,7 @@ use std::fmt;
 
 use nalgebra::Vector3;
 
-use super::family;
+use super::family::{self, Family};
 use super::request::IkTarget;
 use super::{Closest, Solution, Unreachable};
 use crate::error::{Error, Result};
@@ -85,6 +85,18 @@ impl Residual {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn residual(robot: &Robot, target: &IkTarget, mask: Option<[bool; 6]>, reached: &Pose) -> Result<Residual> {
+    residual_with(robot, None, target, mask, reached)
+}
+
+/// [`residual`] with the robot's fitted family, which measures its own typed
+/// targets without being fitted again.
+fn residual_with(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    target: &IkTarget,
+    mask: Option<[bool; 6]>,
+    reached: &Pose,
+) -> Result<Residual> {
     let position_of = |p: &[f64; 3]| (Vector3::from(*p) - reached.pos).norm();
     Ok(match target {
         IkTarget::Pose(pose) => pose_residual(pose, reached, mask.unwrap_or([true; 6])),
@@ -92,10 +104,9 @@ pub fn residual(robot: &Robot, target: &IkTarget, mask: Option<[bool; 6]>, reach
         typed => {
             let kind = typed.typed_kind().expect("neither a pose nor a position");
             let position = typed.position().expect("typed targets have a position");
-            Residual {
-                position: position_of(&position),
-                orientation: family::for_typed(robot, kind)?.typed_orientation_error(typed, reached),
-            }
+            let orientation =
+                family::with_owner(robot, fitted, kind, |f| Ok(f.typed_orientation_error(typed, reached)))?;
+            Residual { position: position_of(&position), orientation }
         }
     })
 }
@@ -134,13 +145,15 @@ pub struct IkAnswer {
     pub tolerance: Tolerance,
 }
 
-/// Measures every candidate of `solver` by FK against `target`, keeps those
+/// Measures every candidate of `solver` by FK against `target` (`fitted`:
+/// the robot's family, if one fits, which measures its typed targets), keeps those
 /// that meet it within `tol` (their `position_error`/`orientation_error`
 /// become the constrained residual) and lists the others. When none meets
 /// the target: [`Error::Unreachable`] with [`Unreachable::Missed`] and the
 /// closest candidate.
 pub fn sort_out(
     robot: &Robot,
+    fitted: Option<&dyn Family>,
     target: &IkTarget,
     mask: Option<[bool; 6]>,
     tol: Tolerance,
@@ -151,7 +164,7 @@ pub fn sort_out(
     let mut discarded = Vec::new();
     let mut closest: Option<(f64, Closest)> = None;
     for mut s in candidates {
-        let r = residual(robot, target, mask, &robot.fk(&s.q)?.pose)?;
+        let r = residual_with(robot, fitted, target, mask, &robot.fk(&s.q)?.pose)?;
         (s.position_error, s.orientation_error) = (r.position, r.orientation);
         if r.meets(&tol) {
             solutions.push(s);

@@ -52,6 +52,13 @@ impl IkTarget {
 
 /// A closed-form solver family fitted to one robot.
 pub trait Family: IkSolver {
+    /// Whether this family solves typed targets of `kind` (its entry in
+    /// [`FAMILIES`] lists the same kinds).
+    fn owns(&self, kind: TypedKind) -> bool {
+        let _ = kind;
+        false
+    }
+
     /// Every solution of a typed target this family owns (see
     /// [`Entry::typed`]); `q0` is the previous configuration, for families
     /// that keep a branch or a side from it.
@@ -135,6 +142,20 @@ pub fn fit(robot: &Robot) -> Option<Box<dyn Family>> {
     FAMILIES.iter().find_map(|e| (e.fit)(robot).ok())
 }
 
+/// Runs `task` with the family that owns typed targets of `kind`: `fitted`
+/// when it does, else the one [`for_typed`] fits (or its error).
+pub(crate) fn with_owner<T>(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    kind: TypedKind,
+    task: impl FnOnce(&dyn Family) -> Result<T>,
+) -> Result<T> {
+    if let Some(f) = fitted.filter(|f| f.owns(kind)) {
+        return task(f);
+    }
+    task(for_typed(robot, kind)?.as_ref())
+}
+
 /// The family that owns typed targets of `kind`, fitted to `robot`; the
 /// owner's own error when the robot is not of its kind ("the Scorbot solver
 /// needs 5 revolute joints …").
@@ -164,6 +185,18 @@ mod tests {
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), FAMILIES.len());
+    }
+
+    #[test]
+    fn a_family_owns_the_kinds_its_entry_lists() {
+        for name in crate::builtin_names() {
+            let robot = Robot::builtin(name).unwrap();
+            let Some(entry) = FAMILIES.iter().find(|e| (e.fit)(&robot).is_ok()) else { continue };
+            let f = (entry.fit)(&robot).unwrap();
+            for kind in [TypedKind::PitchRoll, TypedKind::Approach, TypedKind::Alpha] {
+                assert_eq!(f.owns(kind), entry.typed.contains(&kind), "{name} {kind:?}");
+            }
+        }
     }
 
     #[test]

@@ -36,7 +36,7 @@ pub use batch::solve_batch;
 pub use contract::{Discarded, IkAnswer, Residual, Tolerance};
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
-pub use request::{pick_one, solve_request, solve_target, IkRequest, IkTarget, SolverChoice};
+pub use request::{pick_one, solve_request, solve_target, solve_target_with, IkRequest, IkTarget, SolverChoice};
 
 /// How a numeric solve ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 
 use super::contract::{self, IkAnswer, Tolerance};
-use super::family;
+use super::family::{self, Family};
 use super::{Closest, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
@@ -145,6 +145,17 @@ impl IkRequest<'_> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
+    solve_request_with(robot, family::fit(robot).as_deref(), target, request)
+}
+
+/// [`solve_request`] with the family already fitted to `robot`
+/// ([`family::fit`]), so that many requests fit it once.
+fn solve_request_with(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    target: &Pose,
+    request: &IkRequest,
+) -> Result<(&'static str, Vec<Solution>)> {
     if let Some(q0) = request.q0 {
         // The redundant families read q0's parameter.
         robot.check_q(q0)?;
@@ -158,9 +169,9 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
         });
     }
     let numeric_only = masked || request.solver == SolverChoice::Numeric;
-    let family = if numeric_only && fixed.is_none() { None } else { family::fit(robot) };
+    let family = if numeric_only && fixed.is_none() { None } else { fitted };
     if let Some((parameter, value)) = fixed {
-        let f = family.as_deref();
+        let f = family;
         let Some(r) = f.and_then(|f| f.redundancy()).filter(|r| r.parameters().contains(&parameter)) else {
             let has = f.map_or("no closed-form solver".to_string(), |f| {
                 let params = f.redundancy().map_or("none".to_string(), |r| r.parameters().join(", "));
@@ -181,7 +192,7 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
     // §V-E's q_k = f(q_{k−1}, T_k)); without q0 and one wanted, the default
     // value unless every solution there violates a limit, then the
     // self-motion is searched before the target is refused.
-    if let Some(f) = family.as_deref() {
+    if let Some(f) = family {
         if let Some(r) = f.redundancy() {
             let solutions = match (request.q0, request.all) {
                 (Some(q0), true) => Some(r.solve_at(target, r.parameters()[0], r.value_of(q0))?),
@@ -288,19 +299,32 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<IkAnswer> {
+    solve_target_with(robot, family::fit(robot).as_deref(), target, request)
+}
+
+/// [`solve_target`] with the family already fitted to `robot`
+/// ([`family::fit`], `None` when none fits): the same answer, without
+/// fitting it again for every target (Python's `Robot` and
+/// [`super::solve_batch`] fit it once).
+pub fn solve_target_with(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    target: &IkTarget,
+    request: &IkRequest,
+) -> Result<IkAnswer> {
     check_request(robot, target, request)?;
     let mask = match target {
         IkTarget::Position(_) => Some(POSITION_MASK),
         _ => request.mask,
     };
-    let proposed = match propose(robot, target, request) {
+    let proposed = match propose(robot, fitted, target, request) {
         Err(Error::Unreachable { solver, reason, closest: None }) if solver != "numeric" => {
             return closest_by_numeric(robot, target, mask, request, solver, reason);
         }
         other => other?,
     };
     let (name, candidates) = proposed;
-    contract::sort_out(robot, target, mask, request.tolerance, name, candidates)
+    contract::sort_out(robot, fitted, target, mask, request.tolerance, name, candidates)
 }
 
 /// The combinations [`solve_target`] refuses before solving.
@@ -340,9 +364,14 @@ fn check_request(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Resul
 
 /// The candidates of the solver `request` selects for `target`, before the
 /// contract's check.
-fn propose(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
+fn propose(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    target: &IkTarget,
+    request: &IkRequest,
+) -> Result<(&'static str, Vec<Solution>)> {
     match *target {
-        IkTarget::Pose(ref pose) => solve_request(robot, pose, request),
+        IkTarget::Pose(ref pose) => solve_request_with(robot, fitted, pose, request),
         IkTarget::Position(p) => {
             if p.iter().any(|v| !v.is_finite()) {
                 return Err(Error::InvalidArgument {
@@ -352,12 +381,11 @@ fn propose(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<(&'s
             }
             let mut masked = request.clone();
             masked.mask = Some(POSITION_MASK);
-            solve_request(robot, &position_pose(robot, p)?, &masked)
+            solve_request_with(robot, fitted, &position_pose(robot, p)?, &masked)
         }
         _ => {
             let kind = target.typed_kind().expect("neither a pose nor a position");
-            let f = family::for_typed(robot, kind)?;
-            Ok((f.name(), f.solve_typed(target, request.q0)?))
+            family::with_owner(robot, fitted, kind, |f| Ok((f.name(), f.solve_typed(target, request.q0)?)))
         }
     }
 }
@@ -398,7 +426,7 @@ fn closest_by_numeric(
     let numeric = NumericIk::with_options(robot, opts)?;
     match numeric.solve_from(&pose, request.q0.unwrap_or(robot.home())) {
         Ok(s) if request.solver == SolverChoice::Auto => {
-            contract::sort_out(robot, target, mask, request.tolerance, "numeric", vec![s])
+            contract::sort_out(robot, None, target, mask, request.tolerance, "numeric", vec![s])
         }
         Ok(s) => refusal(Some(Box::new(Closest::of(&s)))),
         Err(Error::Unreachable { closest, .. }) => refusal(closest),

@@ -359,6 +359,10 @@ impl IkSolver for RommelIk {
 }
 
 impl super::family::Family for RommelIk {
+    fn owns(&self, kind: super::family::TypedKind) -> bool {
+        kind == super::family::TypedKind::Approach
+    }
+
     fn solve_typed(&self, target: &super::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
             super::IkTarget::PositionApproach { position, approach } => {

@@ -683,6 +683,10 @@ impl ScaraIk {
 }
 
 impl super::family::Family for ScaraIk {
+    fn owns(&self, kind: super::family::TypedKind) -> bool {
+        kind == super::family::TypedKind::Alpha
+    }
+
     fn solve_typed(&self, target: &super::IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
             super::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {

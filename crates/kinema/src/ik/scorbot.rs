@@ -516,6 +516,10 @@ impl ScorbotIk {
 }
 
 impl super::family::Family for ScorbotIk {
+    fn owns(&self, kind: super::family::TypedKind) -> bool {
+        kind == super::family::TypedKind::PitchRoll
+    }
+
     fn solve_typed(&self, target: &super::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
             super::IkTarget::PositionPitchRoll { position, pitch, roll } => {
