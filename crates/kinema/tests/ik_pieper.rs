@@ -110,11 +110,12 @@ fn puma560_complete_against_numeric() {
 fn puma560_branch_labels() {
     let robot = puma();
     let ik = PieperIk::new(&robot).unwrap();
-    // `qn` is Corke's nominal right-arm, elbow-up configuration with q5 > 0.
+    // `qn` is Corke's nominal right-arm, elbow-up configuration with q5 > 0,
+    // which his `ikine_a` names `ruf` (the wrist flipped).
     let qn = robot.pose("qn").unwrap().to_vec();
     let sols = ik.solve(&robot.fk(&qn).unwrap().pose).unwrap();
     let own = sols.iter().find(|s| same_config(&s.q, &qn, 1e-9)).unwrap();
-    assert_eq!(own.branch, "shoulder-right/elbow-up/wrist-noflip");
+    assert_eq!(own.branch, "shoulder-right/elbow-up/wrist-flip");
     let labels: Vec<&str> = sols.iter().map(|s| s.branch.as_ref()).collect();
     for sh in ["right", "left"] {
         for el in ["up", "down"] {

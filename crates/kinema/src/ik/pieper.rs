@@ -33,8 +33,10 @@
 //!    parallel) are rejected by [`PieperIk::new`].
 //! 3. **Wrist (q4, q5, q6).** With R36 = R03ᵀ·R06·Rx(α6)ᵀ = Rz(θ4)·Rx(α4)·
 //!    Rz(θ5)·Rx(α5)·Rz(θ6) and an orthogonal wrist (α4, α5 = ±90°), the
-//!    third column of R36 gives θ4 (two branches, *noflip* with sin θ5 ≥ 0
-//!    and *flip* with sin θ5 ≤ 0), then θ5, and θ6 from the remaining
+//!    third column of R36 gives θ4 (two branches, *flip* with sα5·sin θ5 ≥ 0
+//!    and *noflip* with sα5·sin θ5 ≤ 0 — the names Corke's toolbox gives the
+//!    PUMA 560's wrist, `f` and `n` of `ikine_a`, checked against
+//!    roboticstoolbox-python 1.5.0), then θ5, and θ6 from the remaining
 //!    rotation Rz(θ6). Every angle comes from `atan2`, never `acos` of a
 //!    rotation entry, so residuals stay at rounding level.
 //!
@@ -683,10 +685,12 @@ impl PieperIk {
         let (mx, my) = (m[0][2], m[1][2]);
         // Third column of M: (m13, m23) = sα5·s5·(c4, s4).
         let singular = mx.fast_hypot(my) <= WRIST_SING_TOL;
-        let mut out = [([0.0; 3], "wrist-noflip"), ([0.0; 3], "wrist-flip")];
+        // Labels as Corke's `ikine_a` names the PUMA 560's wrist (`n`/`f`): the
+        // branch with sα5·sin θ5 ≥ 0 is the flipped one.
+        let mut out = [([0.0; 3], "wrist-flip"), ([0.0; 3], "wrist-noflip")];
         for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
             let t4 = if singular {
-                l4.offset + if k == 0 { 0.0 } else { PI }
+                l4.offset + if k == 0 { PI } else { 0.0 }
             } else {
                 (sign * l5.sa * my).fast_atan2(sign * l5.sa * mx)
             };
