@@ -969,17 +969,9 @@ impl IiwaIk {
         Solution::evaluate(&self.robot, best.to_vec(), target, config_label(bits(&best)))
     }
 
-    /// The smallest distance of `q` to a joint limit \[rad\], negative outside
-    /// (−∞ for a non-finite value, which `f64::min` would skip).
+    /// The smallest distance of `q` to a joint limit ([`super::limit_margin`]).
     fn limit_margin(&self, q: &[f64; 7]) -> f64 {
-        let margin = |(j, v): (&crate::model::Joint, &f64)| {
-            if v.is_finite() {
-                (v - j.limits.min).min(j.limits.max - v)
-            } else {
-                f64::NEG_INFINITY
-            }
-        };
-        self.robot.joints().iter().zip(q).map(margin).fold(f64::INFINITY, f64::min)
+        super::limit_margin(&self.robot, q)
     }
 
     /// The ψ search of every configuration: those with a solution within

@@ -178,6 +178,20 @@ pub fn joint_distance(robot: &Robot, a: &[f64], b: &[f64]) -> f64 {
         .sqrt()
 }
 
+/// The smallest distance of `q` to a joint limit of `robot` \[rad or m\],
+/// negative outside; −∞ for a non-finite value (which `f64::min` would
+/// skip). The redundancy searches maximise it.
+pub(crate) fn limit_margin(robot: &Robot, q: &[f64]) -> f64 {
+    let margin = |(j, v): (&crate::model::Joint, &f64)| {
+        if v.is_finite() {
+            (v - j.limits.min).min(j.limits.max - v)
+        } else {
+            f64::NEG_INFINITY
+        }
+    };
+    robot.joints().iter().zip(q).map(margin).fold(f64::INFINITY, f64::min)
+}
+
 /// `a` wrapped to (−π, π].
 #[inline]
 pub fn wrap_angle(a: f64) -> f64 {

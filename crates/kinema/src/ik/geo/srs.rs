@@ -391,17 +391,9 @@ impl SrsIk {
         out
     }
 
-    /// The smallest distance of `q` to a joint limit \[rad\], negative
-    /// outside (−∞ for a non-finite value).
+    /// The smallest distance of `q` to a joint limit ([`crate::ik::limit_margin`]).
     fn limit_margin(&self, q: &[f64; 7]) -> f64 {
-        let margin = |(j, v): (&crate::model::Joint, &f64)| {
-            if v.is_finite() {
-                (v - j.limits.min).min(j.limits.max - v)
-            } else {
-                f64::NEG_INFINITY
-            }
-        };
-        self.robot().joints().iter().zip(q).map(margin).fold(f64::INFINITY, f64::min)
+        crate::ik::limit_margin(self.robot(), q)
     }
 }
 
