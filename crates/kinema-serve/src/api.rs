@@ -264,20 +264,32 @@ impl App {
             tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
         };
-        let answer = solve_target(r, &IkTarget::Pose(target), &request)?;
-        let (name, solutions) = (answer.solver, answer.solutions);
-        let q3 = req.q3.or_else(|| req.q0.as_ref().map(|q| q[2])).filter(|_| name == "iiwa");
-        // The one the CLI and Python would return (`ik::pick_one`: within limits,
-        // nearest q0 when given), marked among them all.
-        let picked = kinema::ik::pick_one(r, name, solutions.clone(), req.q0.as_deref())
+        let pose = target;
+        let target = IkTarget::Pose(pose);
+        let answer = solve_target(r, &target, &request)?;
+        let (name, mut solutions) = (answer.solver, answer.solutions);
+        let redundant = kinema::ik::family::fit(r).is_some_and(|f| f.redundancy().is_some());
+        let q3 = req.q3.or_else(|| req.q0.as_ref().and_then(|q| q.get(2).copied())).filter(|_| redundant);
+        // The one the CLI and Python return for the same question (one solution
+        // wanted: an iiwa-type arm may search its self-motion), marked among the
+        // listed ones, or added to them when the search moved q3.
+        let one = IkRequest { all: false, ..request.clone() };
+        let picked = solve_target(r, &target, &one)
+            .and_then(|a| kinema::ik::pick_one(r, a.solver, a.solutions, req.q0.as_deref()))
             .ok()
-            .and_then(|best| solutions.iter().position(|s| *s == best));
+            .map(|best| match solutions.iter().position(|s| s.q == best.q) {
+                Some(i) => i,
+                None => {
+                    solutions.push(best);
+                    solutions.len() - 1
+                }
+            });
         let nearest = picked.filter(|_| req.q0.is_some());
         Ok(json!({
             "robot": r.name(),
             "solver": name,
-            "q3": q3.filter(|_| name == "iiwa"),
-            "target": json::pose(&target),
+            "q3": q3,
+            "target": json::pose(&pose),
             "solutions": solutions.iter().map(json::solution).collect::<Vec<_>>(),
             "nearest": nearest,
             "picked": picked,

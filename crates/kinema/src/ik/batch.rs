@@ -16,7 +16,8 @@ use crate::model::Robot;
 /// name and the solution, or the error that target gives ([`Error::Unreachable`] with its reason, or
 /// [`Error::InvalidArgument`] for a target that is not a rigid transform…).
 /// Errors that concern the request as a whole (a `q0` of the wrong length, a
-/// mask with a typed target, …) are returned once, before any solving.
+/// mask with a target that is not a full pose, a tolerance that is not
+/// positive, …) are returned once, before any solving.
 ///
 /// `done` is called once per finished target, from any thread (for a
 /// progress bar); `cancelled` is read between targets: once it returns true,
@@ -44,8 +45,8 @@ pub fn solve_batch(
     done: &(dyn Fn() + Sync),
     cancelled: &(dyn Fn() -> bool + Sync),
 ) -> Result<Vec<Result<(&'static str, Solution)>>> {
-    if let Some(q0) = request.q0 {
-        robot.check_q(q0)?;
+    for target in targets {
+        super::request::check_request(robot, target, request)?;
     }
     let one = IkRequest { all: false, ..request.clone() };
     let fitted = super::family::fit(robot);

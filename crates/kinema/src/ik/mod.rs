@@ -429,6 +429,7 @@ impl fmt::Display for Unreachable {
             Unreachable::JointLimits { rejected } => {
                 write!(f, "every solution violates a joint limit: {}", rejected.join("; "))
             }
+            Unreachable::Missed { candidates: 0, .. } => f.write_str("the solver proposed no candidate"),
             Unreachable::Missed { candidates, position_error, orientation_error, tolerance, dof } => {
                 write!(
                     f,

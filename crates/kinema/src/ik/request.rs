@@ -177,13 +177,15 @@ fn solve_request_with(
                 let params = f.redundancy().map_or("none".to_string(), |r| r.parameters().join(", "));
                 format!("the {} solver, whose self-motion parameters are: {params}", f.name())
             });
-            return Err(Error::InvalidArgument {
-                what: parameter.into(),
-                message: format!(
+            let message = if f.and_then(|f| f.redundancy()).is_some() {
+                format!("{parameter} is not a self-motion parameter of robot `{}` (it has {has})", robot.name())
+            } else {
+                format!(
                     "q3 and ψ select the closed form of iiwa-type arms, which does not fit robot `{}` (it has {has})",
                     robot.name()
-                ),
-            });
+                )
+            };
+            return Err(Error::InvalidArgument { what: parameter.into(), message });
         };
         return Ok((f.map_or("", |f| f.name()), r.solve_at(target, parameter, value)?));
     }
@@ -206,6 +208,14 @@ fn solve_request_with(
         }
     }
     match (request.solver, family) {
+        (SolverChoice::Analytic, None) if masked => Err(Error::InvalidArgument {
+            what: "solver".into(),
+            message: format!(
+                "robot `{}` has no analytic solver for a task mask or a position-only target (the closed forms \
+                 solve full poses); use the numeric solver",
+                robot.name()
+            ),
+        }),
         (SolverChoice::Analytic, None) => Err(Error::InvalidArgument {
             what: "solver".into(),
             message: format!(
@@ -318,7 +328,10 @@ pub fn solve_target_with(
         _ => request.mask,
     };
     let proposed = match propose(robot, fitted, target, request) {
-        Err(Error::Unreachable { solver, reason, closest: None }) if solver != "numeric" => {
+        // A fixed q3 or ψ is a constraint the numeric solver does not keep.
+        Err(Error::Unreachable { solver, reason, closest: None })
+            if solver != "numeric" && request.q3.is_none() && request.psi.is_none() =>
+        {
             return closest_by_numeric(robot, target, mask, request, solver, reason);
         }
         other => other?,
@@ -328,7 +341,7 @@ pub fn solve_target_with(
 }
 
 /// The combinations [`solve_target`] refuses before solving.
-fn check_request(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<()> {
+pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<()> {
     let invalid =
         |what: &str, message: &str| Err(Error::InvalidArgument { what: what.into(), message: message.into() });
     let iiwa = request.q3.is_some() || request.psi.is_some();
@@ -621,6 +634,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A fixed q3 the target cannot be reached with is refused with the
+    /// closed form's reason; the numeric second look, which does not keep q3,
+    /// must not answer instead. The same request in a batch is refused as a
+    /// whole when it cannot apply (a mask with position targets).
+    #[test]
+    fn a_fixed_q3_is_kept_or_the_target_refused() {
+        let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        let ik = IiwaIk::new(&robot).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(86);
+        let mut refused = 0;
+        for _ in 0..400 {
+            let pose = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let q3 = 2.0;
+            let request = IkRequest { q3: Some(q3), ..Default::default() };
+            match (ik.solve_q3(&pose, q3), solve_target(&robot, &IkTarget::Pose(pose), &request)) {
+                (Err(_), Err(Error::Unreachable { solver, .. })) => {
+                    assert_eq!(solver, "iiwa");
+                    refused += 1;
+                }
+                (Err(e), other) => panic!("closed form: {e}; request: {other:?}"),
+                (Ok(_), Ok(answer)) => assert!(answer.solutions.iter().all(|s| (s.q[2] - q3).abs() < 1e-12)),
+                (Ok(_), Err(e)) => assert!(matches!(e, Error::Unreachable { .. }), "{e}"),
+            }
+        }
+        assert!(refused > 0, "no target out of reach at q3 = 2: the test does not exercise the refusal");
+        let targets = [IkTarget::Position([0.4, 0.1, 0.5])];
+        let masked = IkRequest { mask: Some([true, true, true, false, false, false]), ..Default::default() };
+        let e = crate::ik::solve_batch(&robot, &targets, &masked, &|| {}, &|| false).unwrap_err();
+        assert!(e.to_string().contains("task mask"), "{e}");
     }
 
     #[test]
