@@ -56,26 +56,10 @@ fn unit_away(rng: &mut ChaCha8Rng, others: &[V3], min: f64) -> V3 {
     }
 }
 
-/// A 6R robot of `general` joints whose axes at q = 0 are (h, p) in the
-/// world frame, with a random base and tool: every joint frame at q = 0 is
-/// aligned with the world (before the base), so origin i is a translation.
+/// A 6R robot of `general` joints with axes (h, p) at q = 0 and a random base and tool.
 fn robot_from_axes(name: &str, h: &[V3; 6], p: &[V3; 6], rng: &mut ChaCha8Rng) -> Robot {
-    let joints: Vec<Joint> = (0..6)
-        .map(|i| {
-            let prev = if i == 0 { V3::zeros() } else { p[i - 1] };
-            let d = p[i] - prev;
-            Joint {
-                name: format!("j{}", i + 1),
-                kind: JointType::Revolute,
-                geometry: LinkGeometry::General { origin: Pose::translation(d.x, d.y, d.z), axis: h[i] },
-                offset: 0.0,
-                limits: Limits::position(-PI, PI),
-            }
-        })
-        .collect();
-    let home = NamedPose { name: "home".into(), q: vec![0.0; 6] };
-    Robot::new(name, Convention::General, Default::default(), joints, random_pose(rng), random_pose(rng), vec![home])
-        .unwrap()
+    let (base, tool) = (random_pose(rng), random_pose(rng));
+    common::robot_from_axes(name, h, p, base, tool)
 }
 
 /// A random arm with a spherical wrist; `parallel23` picks the shoulder.

@@ -10,7 +10,7 @@ use kinema::ik::geo::SrsIk;
 use kinema::ik::iiwa::IiwaIk;
 use kinema::ik::{analytic_solver, solve_request, IkRequest, IkSolver, Solution, Unreachable};
 use kinema::nalgebra::{Rotation3, Unit, Vector3};
-use kinema::{Convention, Error, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot};
+use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -82,32 +82,10 @@ fn random_srs(rng: &mut ChaCha8Rng) -> Robot {
     robot_from_axes(&h, &p, rng)
 }
 
-/// A 7R robot of `general` joints whose axes at q = 0 are (h, p) in the
-/// world frame before a random base; limits ±π.
+/// A 7R robot of `general` joints with axes (h, p) at q = 0 and a random base and tool.
 fn robot_from_axes(h: &[V3; 7], p: &[V3; 7], rng: &mut ChaCha8Rng) -> Robot {
-    let joints: Vec<Joint> = (0..7)
-        .map(|i| {
-            let d = p[i] - if i == 0 { V3::zeros() } else { p[i - 1] };
-            Joint {
-                name: format!("j{}", i + 1),
-                kind: JointType::Revolute,
-                geometry: LinkGeometry::General { origin: Pose::translation(d.x, d.y, d.z), axis: h[i] },
-                offset: 0.0,
-                limits: Limits::position(-PI, PI),
-            }
-        })
-        .collect();
-    let home = NamedPose { name: "home".into(), q: vec![0.0; 7] };
-    Robot::new(
-        "random-srs",
-        Convention::General,
-        Default::default(),
-        joints,
-        random_pose(rng),
-        random_pose(rng),
-        vec![home],
-    )
-    .unwrap()
+    let (base, tool) = (random_pose(rng), random_pose(rng));
+    common::robot_from_axes("random-srs", h, p, base, tool)
 }
 
 fn reaches(s: &Solution) -> bool {

@@ -2,7 +2,8 @@
 #![allow(dead_code)]
 
 use kinema::ik::IkSolver;
-use kinema::{Error, Pose, RpyConvention};
+use kinema::nalgebra::Vector3;
+use kinema::{Convention, Error, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -57,4 +58,25 @@ pub fn kernel_matches_solve<const N: usize, const M: usize>(
         let d = (p - kinema::nalgebra::Vector3::from(target_position)).norm();
         assert!(d < 1e-9, "{label}: {d}");
     }
+}
+
+/// A robot of `general` revolute joints (limits ±π) whose axes at q = 0 are
+/// the unit directions `h` through the points `p`, in the world frame before
+/// `base`; every joint frame at q = 0 is aligned with that frame, so origin i
+/// is the translation from p_{i−1} to p_i.
+pub fn robot_from_axes(name: &str, h: &[Vector3<f64>], p: &[Vector3<f64>], base: Pose, tool: Pose) -> Robot {
+    let joints: Vec<Joint> = (0..h.len())
+        .map(|i| {
+            let d = p[i] - if i == 0 { Vector3::zeros() } else { p[i - 1] };
+            Joint {
+                name: format!("j{}", i + 1),
+                kind: JointType::Revolute,
+                geometry: LinkGeometry::General { origin: Pose::translation(d.x, d.y, d.z), axis: h[i] },
+                offset: 0.0,
+                limits: Limits::position(-std::f64::consts::PI, std::f64::consts::PI),
+            }
+        })
+        .collect();
+    let home = NamedPose { name: "home".into(), q: vec![0.0; h.len()] };
+    Robot::new(name, Convention::General, Default::default(), joints, base, tool, vec![home]).unwrap()
 }
