@@ -20,6 +20,7 @@ use kinema::{Robot, RpyConvention};
 use crate::ast::{BinOp, Expr, MotionKind, MotionOpts, Program, Stmt, StmtKind, Target};
 use crate::diag::{line_col, Diagnostic};
 use crate::lexer::Span;
+use crate::stop::Stop;
 use crate::units::{unit, Dim, Quantity};
 
 /// How a program is compiled.
@@ -34,11 +35,13 @@ pub struct Options {
     pub max_samples: usize,
     /// Largest number of statements executed (loops counted).
     pub max_steps: usize,
+    /// When to give up early (a deadline, Ctrl-C); never by default.
+    pub stop: Stop,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { dt: 0.01, start: None, max_samples: 5_000_000, max_steps: 1_000_000 }
+        Options { dt: 0.01, start: None, max_samples: 5_000_000, max_steps: 1_000_000, stop: Stop::never() }
     }
 }
 
@@ -604,6 +607,11 @@ impl<'a> Compiler<'a> {
                 return;
             }
             self.steps += 1;
+            if let Some(why) = self.opts.stop.reason() {
+                self.err(Diagnostic::error(s.keyword.clone(), format!("stopped here: {why}")));
+                self.stopped = true;
+                return;
+            }
             if self.steps > self.opts.max_steps {
                 self.err(Diagnostic::error(
                     s.keyword.clone(),

@@ -23,7 +23,7 @@ fn program_from(idx: &[usize]) -> String {
 }
 
 fn small() -> Options {
-    Options { dt: 0.05, start: None, max_samples: 20_000, max_steps: 2_000 }
+    Options { dt: 0.05, start: None, max_samples: 20_000, max_steps: 2_000, ..Options::default() }
 }
 
 proptest! {
