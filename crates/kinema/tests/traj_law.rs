@@ -426,3 +426,57 @@ fn bad_inputs_are_errors_naming_the_argument() {
     let law = TimeLaw::from_duration(Profile::Quintic, 2.0).unwrap();
     assert!(law.stretched_to(f64::NAN).is_err() && law.stretched_to(1.0).is_err());
 }
+
+/// Limits from 1e-300 to 1e300: every law is either refused or usable — a
+/// finite duration of at least `MIN_DURATION`, sampled from s = 0 to s = 1,
+/// within every limit it was built from.
+#[test]
+fn extreme_limits_give_a_usable_law_or_an_error() {
+    let mut rng = ChaCha8Rng::seed_from_u64(24);
+    let (mut refused, mut planned) = (0, 0);
+    for _ in 0..20_000 {
+        let d = log_uniform(&mut rng, 1e-300, 1e300);
+        let lim = MotionLimits::with_jerk(
+            log_uniform(&mut rng, 1e-300, 1e300),
+            log_uniform(&mut rng, 1e-300, 1e300),
+            log_uniform(&mut rng, 1e-300, 1e300),
+        );
+        for profile in Profile::ALL {
+            let Ok(law) = TimeLaw::from_limits(profile, d, &lim) else {
+                refused += 1;
+                continue;
+            };
+            planned += 1;
+            let t = law.duration();
+            assert!(t.is_finite() && t >= kinema::traj::MIN_DURATION, "{profile:?} d {d:e} {lim:?}: T = {t:e}");
+            let p = law.peaks();
+            let ok = |peak: f64, limit: f64| d * peak <= limit * (1.0 + REL);
+            assert!(ok(p.sd, lim.vel), "{profile:?} d {d:e} {lim:?}: peak velocity {:e}", d * p.sd);
+            if profile != Profile::Linear {
+                assert!(ok(p.sdd, lim.acc), "{profile:?} d {d:e} {lim:?}: peak acceleration {:e}", d * p.sdd);
+            }
+            if matches!(profile, Profile::SCurve | Profile::Quintic) {
+                assert!(ok(p.sddd, lim.jerk.unwrap()), "{profile:?} d {d:e} {lim:?}: peak jerk {:e}", d * p.sddd);
+            }
+            let times = kinema::traj::sample_times(t, t / 3.0).unwrap();
+            assert_eq!(law.at(times[0]).s, 0.0);
+            assert_eq!(law.at(*times.last().unwrap()).s, 1.0);
+        }
+    }
+    assert!(refused > 1000 && planned > 1000, "refused {refused}, planned {planned}");
+}
+
+#[test]
+fn limits_that_overflow_or_vanish_the_duration_are_named() {
+    let err = |profile, d, lim: MotionLimits| TimeLaw::from_limits(profile, d, &lim).unwrap_err().to_string();
+    // The cases: jerk 1e-300 (the double-S lasts forever), a distance
+    // whose duration overflows, limits so large the motion lasts 1e-50 s.
+    let e = err(Profile::SCurve, 1.0, MotionLimits::with_jerk(1.0, 1.0, 1e-300));
+    assert!(e.contains("overflows"), "{e}");
+    let e = err(Profile::Trapezoid, 1e308, MotionLimits::new(0.5, 1.0));
+    assert!(e.contains("overflows"), "{e}");
+    let e = err(Profile::Trapezoid, 1.0, MotionLimits::new(1e100, 1e100));
+    assert!(e.contains("shorter than"), "{e}");
+    let e = TimeLaw::from_duration(Profile::Cubic, 1e-12).unwrap_err().to_string();
+    assert!(e.contains("shorter than"), "{e}");
+}

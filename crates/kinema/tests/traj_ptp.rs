@@ -246,3 +246,20 @@ fn check_finds_the_singularity_a_ptp_passes_through() {
     // emitted by default (seed 004 accepted passing one at bounded speed).
     assert!(ptp.sample(&robot, 0.001).is_ok());
 }
+
+/// `--vmax 1e100 --amax 1e100` used to give one sample at the target: the
+/// start was lost and the check passed.
+#[test]
+fn limits_too_large_to_sample_are_refused_not_collapsed_to_the_target() {
+    let robot = Robot::builtin("puma560").unwrap();
+    let (from, to) = (robot.pose("qz").unwrap().to_vec(), robot.pose("qr").unwrap().to_vec());
+    let opts = PtpOptions { vel: Some(vec![1e100]), acc: Some(vec![1e100]), ..PtpOptions::default() };
+    let e = Ptp::new(&robot, &from, &to, &opts).unwrap_err().to_string();
+    assert!(e.contains("shorter than"), "{e}");
+    // Large but plannable limits keep both ends.
+    let opts = PtpOptions { vel: Some(vec![1e6]), acc: Some(vec![1e6]), ..PtpOptions::default() };
+    let traj = Ptp::new(&robot, &from, &to, &opts).unwrap().sample(&robot, 0.01).unwrap();
+    assert!(traj.len() >= 2);
+    assert_eq!(traj.q(0), &from[..]);
+    assert_eq!(traj.q(traj.len() - 1), &to[..]);
+}

@@ -188,6 +188,25 @@ fn check_positive(what: &str, v: f64) -> Result<()> {
     }
 }
 
+/// The shortest motion \[s\] a law may last: trajectory times are written
+/// with nine decimals, so a shorter motion would end at its own start time.
+pub const MIN_DURATION: f64 = 1e-9;
+
+fn check_duration(duration: f64) -> Result<()> {
+    if !duration.is_finite() {
+        return Err(invalid("duration", format!("the limits give a duration of {duration} s, which overflows")));
+    }
+    if duration < MIN_DURATION {
+        return Err(invalid(
+            "duration",
+            format!(
+                "the limits give a duration of {duration:e} s, shorter than the {MIN_DURATION:e} s a motion may last"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl TimeLaw {
     /// The fastest law of `profile` that covers `distance` (≥ 0, in the unit
     /// of the limits) within `limits`. The law is normalised: the motion is
@@ -209,7 +228,9 @@ impl TimeLaw {
     ///
     /// A distance of 0 gives a law of duration 0. Errors: a negative or
     /// non-finite distance; a limit that is not a positive finite number; a
-    /// jerk limit missing for the S-curve.
+    /// jerk limit missing for the S-curve; limits so extreme that the duration
+    /// overflows, is shorter than [`MIN_DURATION`], or rounding makes the law
+    /// break a limit.
     pub fn from_limits(profile: Profile, distance: f64, limits: &MotionLimits) -> Result<TimeLaw> {
         if !(distance.is_finite() && distance >= 0.0) {
             return Err(invalid("distance", format!("{distance} must be a finite number ≥ 0")));
@@ -252,15 +273,44 @@ impl TimeLaw {
             }
             Profile::Linear => Self::polynomial(Profile::Linear, d / v),
         };
-        Ok(law)
+        law.checked_against(distance, limits)
     }
 
-    /// A law of `profile` lasting `duration` \[s\] (> 0). The trapezoid
+    /// `self` if it is a usable law for `distance` within `limits`: at extreme
+    /// limits (1e100, 1e-300) the closed forms above overflow, lose the motion
+    /// to rounding or break the limits they were built from, and such a law is
+    /// refused rather than returned.
+    fn checked_against(self, distance: f64, limits: &MotionLimits) -> Result<TimeLaw> {
+        check_duration(self.duration)?;
+        let peaks = self.peaks();
+        let mut reached = vec![("velocity", "vmax", distance * peaks.sd, limits.vel)];
+        if self.profile != Profile::Linear {
+            reached.push(("acceleration", "amax", distance * peaks.sdd, limits.acc));
+        }
+        if let (Some(j), Profile::SCurve | Profile::Quintic) = (limits.jerk, self.profile) {
+            reached.push(("jerk", "jmax", distance * peaks.sddd, j));
+        }
+        for (quantity, name, peak, limit) in reached {
+            if !(peak <= limit * (1.0 + 1e-9)) {
+                return Err(invalid(
+                    name,
+                    format!(
+                        "these limits are too extreme: rounding gives a peak {quantity} \
+                         of {peak:e} against {name} {limit:e}"
+                    ),
+                ));
+            }
+        }
+        Ok(self)
+    }
+
+    /// A law of `profile` lasting `duration` \[s\] (finite, ≥ [`MIN_DURATION`]). The trapezoid
     /// accelerates for T/3, cruises for T/3 and brakes for T/3; the S-curve
     /// has the same thirds, each acceleration third split into equal parts
     /// of rising, constant and falling acceleration.
     pub fn from_duration(profile: Profile, duration: f64) -> Result<TimeLaw> {
         check_positive("duration", duration)?;
+        check_duration(duration)?;
         Ok(match profile {
             Profile::Trapezoid => {
                 let ta = duration / 3.0;

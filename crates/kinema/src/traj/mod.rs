@@ -35,7 +35,7 @@ pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientat
 pub use cell::{Cell, CellMember, CellReport};
 pub use expr::{expression_trajectory, Expr};
 pub use joint::{to_joints, to_joints_at, JointMethod};
-pub use law::{LawState, MotionLimits, Profile, TimeLaw};
+pub use law::{LawState, MotionLimits, Profile, TimeLaw, MIN_DURATION};
 pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 
 use crate::analysis::{yoshikawa, Axes};
