@@ -8,6 +8,10 @@
 //!   [`Client::reply_timeout`]; the rest of the reply within the same timeout,
 //!   or within [`Client::motion_timeout`] for the commands that answer when a
 //!   motion ends (`HOME`, `MOVED`, `MOVES`, `OPEN`, `CLOSE`);
+//! * a reply is bounded: at most [`MAX_REPLY_BYTES`] and [`MAX_PAGES`] pages,
+//!   and all of it within the timeouts above plus [`PAGING_BUDGET`] — a
+//!   controller that floods or pages forever is an error, not a hang;
+//!   errors quote at most a short excerpt of what was received;
 //! * a reply with a `***` line is [`Error::Controller`], one that does not
 //!   parse is [`Error::Protocol`], both carrying the raw text;
 //! * after any failure the client is *faulted*: motion commands return
@@ -119,7 +123,11 @@ pub const DEFAULT_REPLY_TIMEOUT: Duration = Duration::from_secs(3);
 pub const DEFAULT_MOTION_TIMEOUT: Duration = Duration::from_secs(120);
 
 /// Most pages of one listing the client asks for.
-const MAX_PAGES: usize = 10_000;
+pub const MAX_PAGES: usize = 1_000;
+/// Most bytes one reply (or stale input before a command) may have.
+pub const MAX_REPLY_BYTES: usize = 256 * 1024;
+/// How much longer than a plain reply a paged listing may take in all.
+pub const PAGING_BUDGET: Duration = Duration::from_secs(60);
 
 /// Commands after which the controller answers only when a motion has ended.
 const WAITING: [&str; 5] = ["HOME", "MOVED", "MOVES", "OPEN", "CLOSE"];
@@ -229,7 +237,7 @@ impl Client {
     }
 
     fn exchange(&mut self, line: &str, waiting: bool, skip_to_echo: bool) -> Result<Reply> {
-        self.discard_stale()?;
+        self.discard_stale(line)?;
         let mut out = Vec::with_capacity(line.len() + 1);
         out.extend_from_slice(line.as_bytes());
         out.push(b'\r');
@@ -242,8 +250,19 @@ impl Client {
         let mut lines: Vec<String> = Vec::new();
         let mut echoed = false;
         let mut pages = 0usize;
+        let wait = if waiting { self.motion_timeout } else { self.reply_timeout };
+        let budget = self.reply_timeout + wait + PAGING_BUDGET;
+        let hard_deadline = Instant::now() + budget;
         let mut deadline = Instant::now() + self.reply_timeout;
         loop {
+            if raw.len() + self.pending.len() > MAX_REPLY_BYTES {
+                raw.append(&mut self.pending);
+                return Err(Error::Protocol {
+                    command: line.into(),
+                    message: format!("the reply is longer than {MAX_REPLY_BYTES} bytes"),
+                    raw: String::from_utf8_lossy(&raw).into_owned(),
+                });
+            }
             // Consume complete lines.
             while let Some(nl) = self.pending.iter().position(|&b| b == b'\n') {
                 let chunk: Vec<u8> = self.pending.drain(..=nl).collect();
@@ -264,7 +283,6 @@ impl Client {
                         });
                     }
                     echoed = true;
-                    let wait = if waiting { self.motion_timeout } else { self.reply_timeout };
                     deadline = Instant::now() + wait;
                     continue;
                 }
@@ -284,16 +302,23 @@ impl Client {
                 break;
             }
             let now = Instant::now();
-            if now >= deadline {
+            if now >= deadline.min(hard_deadline) {
                 raw.extend_from_slice(&self.pending);
                 self.pending.clear();
+                let timeout = if now >= hard_deadline {
+                    budget
+                } else if echoed && waiting {
+                    self.motion_timeout
+                } else {
+                    self.reply_timeout
+                };
                 return Err(Error::Timeout {
                     command: line.into(),
-                    timeout: if echoed && waiting { self.motion_timeout } else { self.reply_timeout },
+                    timeout,
                     received: String::from_utf8_lossy(&raw).into_owned(),
                 });
             }
-            let got = self.read_some(deadline - now, line)?;
+            let got = self.read_some(deadline.min(hard_deadline) - now, line)?;
             if !got && echoed && String::from_utf8_lossy(&self.pending).contains("Type <cr>") {
                 // A page prompt printed without a line end, and nothing after it.
                 deadline = self.next_page(&mut pages, line, &raw)?;
@@ -302,7 +327,8 @@ impl Client {
         }
         let raw = String::from_utf8_lossy(&raw).into_owned();
         if let Some(bad) = lines.iter().find(|l| l.contains("***")) {
-            return Err(Error::Controller { command: line.into(), message: bad.trim().to_string(), raw });
+            let message = bad.trim().chars().take(crate::error::EXCERPT_CHARS).collect();
+            return Err(Error::Controller { command: line.into(), message, raw });
         }
         Ok(Reply { command: line.into(), lines, raw })
     }
@@ -349,13 +375,24 @@ impl Client {
 
     /// Drops bytes left over from an earlier command (a late reply after a
     /// timeout) so they cannot be taken for this command's reply.
-    fn discard_stale(&mut self) -> Result<()> {
+    fn discard_stale(&mut self, line: &str) -> Result<()> {
         self.pending.clear();
         let mut buf = [0u8; 512];
+        let (mut dropped, deadline) = (0usize, Instant::now() + self.reply_timeout);
         loop {
+            if dropped > MAX_REPLY_BYTES || Instant::now() >= deadline {
+                return Err(Error::Protocol {
+                    command: line.into(),
+                    message: format!(
+                        "before it was sent, the controller kept sending unasked ({dropped} bytes in {:?}); is it flooding the line?",
+                        self.reply_timeout
+                    ),
+                    raw: String::from_utf8_lossy(&buf).into_owned(),
+                });
+            }
             match self.link.read_now(&mut buf) {
                 Ok(0) => return Err(Error::Disconnected { during: "checking for stale input".into() }),
-                Ok(_) => continue,
+                Ok(n) => dropped += n,
                 Err(e)
                     if matches!(
                         e.kind(),
@@ -510,13 +547,19 @@ impl Client {
     /// Does not clear the fault.
     pub fn abort(&mut self) -> Result<()> {
         let fault = self.fault.clone();
-        let r = self.exchange("A", false, true);
+        let r = self.exchange("A", false, true).and_then(|reply| {
+            // Controller-A answers an abort with `Done.`; anything else is not an abort.
+            match reply.lines.iter().map(|l| l.trim()).filter(|l| !l.is_empty()).collect::<Vec<_>>()[..] {
+                [] | ["Done."] => Ok(()),
+                _ => Err(Error::Protocol { command: "A".into(), message: "expected `Done.`".into(), raw: reply.raw }),
+            }
+        });
         // An abort never clears (nor, by itself, sets) the fault state… unless it fails.
         self.fault = match &r {
             Ok(_) => fault,
             Err(e) => Some(e.to_string()),
         };
-        r.map(|_| ())
+        r
     }
 
     /// `CLRBUF`: clears queued motions.
@@ -769,5 +812,95 @@ mod tests {
         assert!(c.command("MOVE A\rMOVE B").is_err());
         assert!(sent.lock().unwrap().is_empty());
         assert!(c.fault().is_none());
+    }
+
+    /// A controller that never stops talking: after `echo` (if any), the
+    /// same line over and over, as fast as it is read.
+    struct Flood {
+        echo: Vec<u8>,
+        line: &'static [u8],
+        at: usize,
+        started: bool,
+        /// Floods before the command is sent, too.
+        before: bool,
+    }
+
+    impl Read for Flood {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            if !self.started && !self.before {
+                return Err(io::Error::new(io::ErrorKind::TimedOut, "nothing yet"));
+            }
+            if self.started && !self.echo.is_empty() {
+                let n = buf.len().min(self.echo.len());
+                buf[..n].copy_from_slice(&self.echo[..n]);
+                self.echo.drain(..n);
+                return Ok(n);
+            }
+            self.fill(buf)
+        }
+    }
+
+    impl Flood {
+        fn fill(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            for b in buf.iter_mut() {
+                *b = self.line[self.at % self.line.len()];
+                self.at += 1;
+            }
+            Ok(buf.len())
+        }
+    }
+
+    impl Write for Flood {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            self.started = true;
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Link for Flood {
+        fn set_timeout(&mut self, _: Duration) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    fn flooded(echo: &str, line: &'static [u8], before: bool) -> Client {
+        let link = Flood { echo: echo.as_bytes().to_vec(), line, at: 0, started: false, before };
+        let mut c = Client::new(Box::new(link));
+        c.reply_timeout = Duration::from_millis(200);
+        c.motion_timeout = Duration::from_millis(200);
+        c
+    }
+
+    #[test]
+    fn a_flooding_controller_is_cut_off_quickly_with_a_short_message() {
+        // After the echo: lines, a line without end, endless page prompts.
+        for line in [&b"POSITION 1\r\n"[..], b"xxxxxxxxxxxxxxxx", b"Type <cr> to continue\r\n"] {
+            let mut c = flooded("LISTP\r\n", line, false);
+            let started = Instant::now();
+            let e = c.list_positions().unwrap_err();
+            assert!(started.elapsed() < Duration::from_secs(5), "{:?}", started.elapsed());
+            let msg = e.to_string();
+            assert!(msg.len() < 2 * crate::error::EXCERPT_CHARS + 300, "{} bytes: {}", msg.len(), &msg[..300]);
+            assert!(matches!(e, Error::Protocol { .. } | Error::Timeout { .. }), "{msg}");
+        }
+        // Before the command is even sent.
+        let mut c = flooded("", b"noise\r\n", true);
+        let started = Instant::now();
+        let e = c.con().unwrap_err();
+        assert!(started.elapsed() < Duration::from_secs(5));
+        assert!(e.to_string().contains("kept sending unasked"), "{e}");
+    }
+
+    #[test]
+    fn an_abort_must_be_answered_with_done() {
+        let (mut c, _) = client(&["A\r\nDone.\r\n>"]);
+        c.abort().unwrap();
+        let (mut c, _) = client(&["A\r\n#$%&garble\r\n>"]);
+        let e = c.abort().unwrap_err();
+        assert!(matches!(&e, Error::Protocol { .. }), "{e}");
+        assert!(c.fault().is_some());
     }
 }

@@ -58,6 +58,19 @@ use crate::error::{Error, Result};
 /// Number of motors (and joints) of the Scorbot-ER V Plus.
 pub const MOTORS: usize = 5;
 
+/// The largest |count| accepted either way (2³¹ − 1). A Scorbot joint
+/// travels a few 10⁴ counts, so anything beyond is a typing or unit error.
+pub const MAX_COUNTS: f64 = 2_147_483_647.0;
+
+fn check_count_range(what: &str, counts: &[f64; MOTORS]) -> Result<()> {
+    match counts.iter().position(|c| c.abs() > MAX_COUNTS) {
+        Some(i) => {
+            Err(Error::invalid(what, format!("motor {} at {} counts is beyond ±{MAX_COUNTS} counts", i + 1, counts[i])))
+        }
+        None => Ok(()),
+    }
+}
+
 /// Which counts-per-degree column of seed 000 Tabla II.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CountsPerDegree {
@@ -279,20 +292,16 @@ impl Constants {
     /// Motor counts rounded to the nearest integer, as the controller takes them.
     pub fn counts_rounded(&self, q: &[f64]) -> Result<[i64; MOTORS]> {
         let c = self.counts(q)?;
-        let mut out = [0i64; MOTORS];
-        for i in 0..MOTORS {
-            if c[i].abs() > 1e15 {
-                return Err(Error::invalid("joint angles", format!("motor {} would need {} counts", i + 1, c[i])));
-            }
-            out[i] = c[i].round() as i64;
-        }
-        Ok(out)
+        check_count_range("joint angles", &c)?;
+        Ok(c.map(|v| v.round() as i64))
     }
 
     /// Joint angles \[rad\] for motor counts (the inverse of
-    /// [`Constants::counts`]). Errors: not five values, or a value not finite.
+    /// [`Constants::counts`]). Errors: not five values, a value not finite
+    /// or beyond [`MAX_COUNTS`].
     pub fn angles(&self, counts: &[f64]) -> Result<[f64; MOTORS]> {
         let c = check_five("counts", counts)?;
+        check_count_range("counts", &c)?;
         let u: [f64; MOTORS] = std::array::from_fn(|i| (c[i] + self.home_offsets[i]) / self.counts_per_degree[i]);
         Ok(joint_angles(&u).map(f64::to_radians))
     }
@@ -473,6 +482,11 @@ mod tests {
         let c = Constants::named("factory").unwrap();
         assert!(c.counts(&[0.0; 4]).unwrap_err().to_string().contains("4 values given"));
         assert!(c.angles(&[0.0, f64::NAN, 0.0, 0.0, 0.0]).unwrap_err().to_string().contains("value 2 is NaN"));
+        // `scorbot angles --counts 1e308,…` used to be accepted.
+        let e = c.angles(&[1e308, 0.0, 0.0, 0.0, 0.0]).unwrap_err().to_string();
+        assert!(e.contains("motor 1") && e.contains("beyond"), "{e}");
+        assert!(c.angles(&[MAX_COUNTS, -MAX_COUNTS, 0.0, 0.0, 0.0]).is_ok());
+        assert!(c.counts_rounded(&[1e12, 0.0, 0.0, 0.0, 0.0]).unwrap_err().to_string().contains("beyond"));
         assert!(Constants::named("fabrica").unwrap_err().to_string().contains("not a preset"));
         let e =
             Constants::from_toml("counts_per_degree = [1,2,3,4,0]\nhome_offsets=[0,0,0,0,0]", "x.toml").unwrap_err();

@@ -40,7 +40,10 @@ pub enum Error {
         during: String,
     },
     /// No complete reply within the timeout.
-    #[error("no reply from the controller to `{command}` within {timeout:?}; received so far: {received:?}")]
+    #[error(
+        "no complete reply from the controller to `{command}` within {timeout:?}; received so far: {}",
+        excerpt(received)
+    )]
     Timeout {
         /// The command sent.
         command: String,
@@ -60,7 +63,7 @@ pub enum Error {
         raw: String,
     },
     /// A reply that does not have the expected form.
-    #[error("cannot understand the controller's reply to `{command}`: {message}; reply: {raw:?}")]
+    #[error("cannot understand the controller's reply to `{command}`: {message}; reply: {}", excerpt(raw))]
     Protocol {
         /// The command sent.
         command: String,
@@ -89,6 +92,23 @@ pub enum Error {
         message: String,
     },
 }
+
+/// At most [`EXCERPT_CHARS`] characters of what a controller sent, quoted
+/// (its start and end, with how much was left out), so that an error message
+/// stays short however much a faulty controller printed.
+pub fn excerpt(text: &str) -> String {
+    let n = text.chars().count();
+    if n <= EXCERPT_CHARS {
+        return format!("{text:?}");
+    }
+    let half = EXCERPT_CHARS / 2;
+    let head: String = text.chars().take(half).collect();
+    let tail: String = text.chars().skip(n - half).collect();
+    format!("{head:?} … ({} characters left out) … {tail:?}", n - 2 * half)
+}
+
+/// The longest excerpt of received text an error message quotes.
+pub const EXCERPT_CHARS: usize = 400;
 
 /// Result alias of this crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
