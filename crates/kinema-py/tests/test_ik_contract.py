@@ -54,8 +54,11 @@ def test_bad_masks_tolerances_and_seeds_are_invalid_input():
             r.ik(T, mask=mask)
     with pytest.raises(kinema.InvalidInput):
         r.ik(T, tol_position=0.0)
-    with pytest.raises(kinema.InvalidInput, match="seed"):
-        r.ik(T, seed=-1)
+    for seed in (-1, 2**64, 2**70):
+        with pytest.raises(kinema.InvalidInput, match="seed"):
+            r.ik(T, seed=seed)
+        with pytest.raises(kinema.InvalidInput, match="seed"):
+            r.ik_batch(T[None], seed=seed)
     with pytest.raises(kinema.InvalidInput):
         r.ik(position=[0.3, 0.1, 0.4], mask=[1] * 6)
 
