@@ -12,7 +12,10 @@
 //! Each segment's law is the fastest of its family with ṡ ≤ min(v/L, ω/θ),
 //! s̈ ≤ min(a/L, α/θ) (and jerk likewise), L the path length and θ the
 //! rotation angle — the larger of the translational and rotational
-//! requirements, decided per limit. Where two blended segments overlap, their
+//! requirements, decided per limit — and with the limits holding for the
+//! real vectors: on an arc the centripetal acceleration shares the
+//! acceleration budget, and with RPY interpolation |ω| (not each angle's
+//! rate) is what `rot_vel` bounds. Where two blended segments overlap, their
 //! velocities and accelerations add; where the sum would exceed a limit the
 //! blend is shortened (bisection on its length, down to a full stop at the
 //! via point), so every limit holds and a blended motion is never slower
@@ -49,7 +52,7 @@ pub struct CartesianLimits {
     pub acc: f64,
     /// Tool-point jerk \[m/s³\] (S-curve).
     pub jerk: Option<f64>,
-    /// Angular speed \[rad/s\] (for RPY interpolation: the rate of each angle).
+    /// Angular speed |ω| of the tool \[rad/s\], whatever the interpolation.
     pub rot_vel: f64,
     /// Angular acceleration \[rad/s²\].
     pub rot_acc: f64,
@@ -224,6 +227,17 @@ impl Segment {
         (l, th)
     }
 
+    /// The largest angular speed \[rad\] per unit of u̇: the angle for
+    /// SLERP; for RPY angles, the largest |ω| their constant rates give along
+    /// the segment (sampled; a rounding between samples is caught by the
+    /// law's final check).
+    fn peak_angular_rate(&self) -> f64 {
+        match self.rot {
+            Rot::Slerp { angle, .. } => angle,
+            Rot::Rpy { .. } => (0..=64).map(|k| self.increment(k as f64 / 64.0, 1.0, 0.0).1.norm()).fold(0.0, f64::max),
+        }
+    }
+
     /// Start pose.
     pub fn start(&self) -> Pose {
         self.pose(0.0)
@@ -303,6 +317,74 @@ impl Segment {
     }
 }
 
+/// The fastest law of `profile` for `seg` alone whose tool speed, tool
+/// acceleration, angular speed and angular acceleration — the real vectors,
+/// not their components along the path — stay within `limits`.
+///
+/// The tangential limits give ṡ ≤ min(v/L, ω/Θ), s̈ ≤ min(a/L, α/Θ), with
+/// Θ the largest |ω| per unit of s (the angle for SLERP; for RPY angles
+/// their rates mapped to ω). On an arc of radius r the centripetal
+/// acceleration L·φ·ṡ² shares the budget: (L·s̈)² + (L·φ·ṡ²)² ≤ a², and the
+/// peak ṡ is chosen to make the law shortest. What is left (RPY's angular
+/// acceleration, rounding) is measured over the law and removed by a
+/// uniform slow-down.
+fn segment_law(
+    seg: &Segment,
+    profile: Profile,
+    limits: &CartesianLimits,
+    lin_jerk: Option<f64>,
+    rot_jerk: Option<f64>,
+) -> Result<TimeLaw> {
+    let (l, _) = seg.lengths();
+    let th = seg.peak_angular_rate();
+    let mut shared = MotionLimits { vel: f64::INFINITY, acc: f64::INFINITY, jerk: None };
+    for (len, v, a, j) in [(l, limits.vel, limits.acc, lin_jerk), (th, limits.rot_vel, limits.rot_acc, rot_jerk)] {
+        if len > 0.0 {
+            shared.vel = shared.vel.min(v / len);
+            shared.acc = shared.acc.min(a / len);
+            if let Some(j) = j {
+                shared.jerk = Some(shared.jerk.unwrap_or(f64::INFINITY).min(j / len));
+            }
+        }
+    }
+    if !shared.vel.is_finite() {
+        return TimeLaw::from_limits(profile, 0.0, &MotionLimits::with_jerk(1.0, 1.0, 1.0));
+    }
+    let mut law = match seg.path {
+        Path::Arc { phi, .. } if l > 0.0 => arc_law(profile, &shared, limits.acc / l, phi)?,
+        _ => TimeLaw::from_limits(profile, 1.0, &shared)?,
+    };
+    let alone = CartesianMotion { segments: vec![*seg], laws: vec![law], starts: vec![0.0], duration: law.duration() };
+    let k = alone.peak_ratio(limits, 0.0, law.duration());
+    if k > 1.0 {
+        law = law.stretched_to(law.duration() * k * (1.0 + 1e-12))?;
+    }
+    Ok(law)
+}
+
+/// The shortest law on an arc turning `phi` \[rad\] whose normalised
+/// tangential acceleration s̈ and centripetal φ·ṡ² share the acceleration
+/// budget `acc` (a/L): s̈_max = √(acc² − (φ·V²)²) for a peak ṡ of V, V
+/// searched by golden section up to the velocity limit and √(acc/φ).
+fn arc_law(profile: Profile, shared: &MotionLimits, acc: f64, phi: f64) -> Result<TimeLaw> {
+    let with_peak = |v: f64| {
+        let tangential = (acc * acc - (phi * v * v).powi(2)).max(0.0).sqrt().min(shared.acc);
+        TimeLaw::from_limits(profile, 1.0, &MotionLimits { vel: v, acc: tangential, jerk: shared.jerk })
+    };
+    let (mut lo, mut hi) = (0.0, shared.vel.min((acc / phi).sqrt()));
+    const G: f64 = 0.618_033_988_749_894_9;
+    let duration = |v: f64| with_peak(v).map_or(f64::INFINITY, |l| l.duration());
+    for _ in 0..80 {
+        let (m1, m2) = (hi - G * (hi - lo), lo + G * (hi - lo));
+        if duration(m1) <= duration(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    with_peak(0.5 * (lo + hi))
+}
+
 /// How consecutive segments join.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Blend {
@@ -354,42 +436,20 @@ impl CartesianMotion {
                 ));
             }
         }
-        let mut laws = Vec::with_capacity(segments.len());
-        for seg in &segments {
-            let (l, th) = seg.lengths();
-            let mut shared = MotionLimits { vel: f64::INFINITY, acc: f64::INFINITY, jerk: None };
-            let jerk = |j: Option<f64>, what: &str| -> Result<Option<f64>> {
-                match (profile, j) {
-                    (Profile::SCurve, None) => Err(bad(what, "the scurve profile needs a jerk limit".into())),
-                    _ => Ok(j),
-                }
-            };
-            let lin_jerk = jerk(limits.jerk, "jmax")?;
-            let rot_jerk = jerk(limits.rot_jerk.or(limits.jerk), "rot_jmax")?;
-            for (len, v, a, j, what) in
-                [(l, limits.vel, limits.acc, lin_jerk, ""), (th, limits.rot_vel, limits.rot_acc, rot_jerk, "rot_")]
-            {
-                if !(v.is_finite() && v > 0.0 && a.is_finite() && a > 0.0) {
-                    return Err(bad(
-                        &format!("{what}limits"),
-                        format!("velocity {v} and acceleration {a} must be positive"),
-                    ));
-                }
-                if len > 0.0 {
-                    shared.vel = shared.vel.min(v / len);
-                    shared.acc = shared.acc.min(a / len);
-                    if let Some(j) = j {
-                        shared.jerk = Some(shared.jerk.unwrap_or(f64::INFINITY).min(j / len));
-                    }
-                }
+        let lin_jerk = match (profile, limits.jerk) {
+            (Profile::SCurve, None) => return Err(bad("jmax", "the scurve profile needs a jerk limit".into())),
+            (_, j) => j,
+        };
+        let rot_jerk = limits.rot_jerk.or(lin_jerk);
+        for (v, a, what) in [(limits.vel, limits.acc, "limits"), (limits.rot_vel, limits.rot_acc, "rot_limits")] {
+            if !(v.is_finite() && v > 0.0 && a.is_finite() && a > 0.0) {
+                return Err(bad(what, format!("velocity {v} and acceleration {a} must be positive")));
             }
-            let moving = shared.vel.is_finite();
-            laws.push(if moving {
-                TimeLaw::from_limits(profile, 1.0, &shared)?
-            } else {
-                TimeLaw::from_limits(profile, 0.0, &MotionLimits::with_jerk(1.0, 1.0, 1.0))?
-            });
         }
+        let laws = segments
+            .iter()
+            .map(|seg| segment_law(seg, profile, limits, lin_jerk, rot_jerk))
+            .collect::<Result<Vec<_>>>()?;
         let mut starts = vec![0.0];
         let mut overlaps = Vec::with_capacity(segments.len().saturating_sub(1));
         for i in 1..segments.len() {
@@ -459,14 +519,12 @@ impl CartesianMotion {
     /// local maximum above 0.999 refined by golden-section search between its
     /// neighbours (exact to ~1e-12 where the peak lies between two samples).
     fn peak_ratio(&self, limits: &CartesianLimits, t0: f64, t1: f64) -> f64 {
-        let slerp = self.segments.iter().any(|s| matches!(s.rot, Rot::Slerp { .. }));
         let ratio = |t: f64| {
             let st = self.at(t);
-            let mut k = (st.vel.norm() / limits.vel).max((st.acc.norm() / limits.acc).sqrt());
-            if slerp {
-                k = k.max(st.omega.norm() / limits.rot_vel).max((st.alpha.norm() / limits.rot_acc).sqrt());
-            }
-            k
+            (st.vel.norm() / limits.vel)
+                .max((st.acc.norm() / limits.acc).sqrt())
+                .max(st.omega.norm() / limits.rot_vel)
+                .max((st.alpha.norm() / limits.rot_acc).sqrt())
         };
         const N: usize = 500;
         let h = (t1 - t0) / N as f64;
