@@ -20,7 +20,7 @@ pub enum Axes {
     Rotation,
 }
 
-fn rows(j: &Matrix6xX<f64>, axes: Axes) -> Result<DMatrix<f64>> {
+pub(crate) fn rows(j: &Matrix6xX<f64>, axes: Axes) -> Result<DMatrix<f64>> {
     if j.iter().any(|v| !v.is_finite()) {
         return Err(Error::InvalidArgument {
             what: "jacobian".into(),

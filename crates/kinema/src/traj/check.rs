@@ -1,0 +1,389 @@
+//! The check every generated trajectory goes through, and `kinema traj
+//! check` runs on a CSV: limits on q, q̇, q̈ and q⃛, jumps, derivative
+//! columns that q itself contradicts, and singular passages.
+//!
+//! The derivative checks need no model of how the samples were made: over a
+//! step h, the secant (q_k − q_{k−1})/h is the mean of q̇ over the step, so
+//! with |q̈| ≤ A each end's q̇ lies within A·h/2 of it; the second divided
+//! difference of q is a weighted mean of q̈ (a non-negative kernel of unit
+//! mass), so it is within A too; and the secant of q̈ is the mean of q⃛,
+//! within the jerk limit when q̈ is continuous, as a jerk limit requires.
+
+use std::fmt;
+
+use super::{joint_limits, JointTrajectory};
+use crate::analysis::{rows, yoshikawa, Axes};
+use crate::error::{Error, Result};
+use crate::kin::Frame;
+use crate::model::Robot;
+
+/// The inverse condition number σ_min/σ_max of the Jacobian below which
+/// `kinema traj check` reports a singular passage (a warning, not a
+/// violation): there a tool speed of 1 m/s or rad/s needs joint speeds about
+/// 1 000 times larger in some direction than in another.
+pub const SINGULAR_WARNING: f64 = 1e-3;
+
+/// Extra room on the derivative-consistency bound A·h/2, for derivatives
+/// estimated by finite differences rather than given exactly.
+const CONSISTENCY_SLACK: f64 = 0.05;
+
+/// What a trajectory check found wrong.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ViolationKind {
+    /// A value that is not a finite number, or times that do not increase.
+    Malformed,
+    /// A joint value outside its position limits.
+    Position,
+    /// A joint velocity above its limit.
+    Velocity,
+    /// A joint acceleration above its limit.
+    Acceleration,
+    /// A joint moving between two samples farther than its velocity limit
+    /// allows (a branch flip or a gap in the data).
+    Jump,
+    /// Manipulability below the threshold (close to a singularity).
+    NearSingular,
+    /// A joint jerk above its limit.
+    Jerk,
+    /// A velocity or acceleration column that q itself contradicts (a glitch
+    /// in q, or derivatives that belong to another trajectory).
+    Inconsistent,
+    /// A singular passage: the Jacobian's inverse condition number below
+    /// the threshold (reported as a warning).
+    Singular,
+}
+
+impl ViolationKind {
+    /// The lower-case name (`malformed`, `position`, `velocity`,
+    /// `acceleration`, `jump`, `nearsingular`, `jerk`, `inconsistent`,
+    /// `singular`), as `kinema traj check --json` prints it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ViolationKind::Malformed => "malformed",
+            ViolationKind::Position => "position",
+            ViolationKind::Velocity => "velocity",
+            ViolationKind::Acceleration => "acceleration",
+            ViolationKind::Jump => "jump",
+            ViolationKind::NearSingular => "nearsingular",
+            ViolationKind::Jerk => "jerk",
+            ViolationKind::Inconsistent => "inconsistent",
+            ViolationKind::Singular => "singular",
+        }
+    }
+}
+
+/// One problem found by [`check`], with where and when.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Violation {
+    /// What is wrong.
+    pub kind: ViolationKind,
+    /// Index of the sample.
+    pub sample: usize,
+    /// Time of the sample \[s\].
+    pub time: f64,
+    /// The joint (0-based), where one is concerned.
+    pub joint: Option<usize>,
+    /// The offending value.
+    pub value: f64,
+    /// The limit it broke.
+    pub limit: f64,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "t = {:.4} s (sample {}): ", self.time, self.sample)?;
+        let j = self.joint.map(|j| j + 1).unwrap_or(0);
+        match self.kind {
+            ViolationKind::Malformed => write!(f, "malformed sample (value {}, previous time {})", self.value, self.limit),
+            ViolationKind::Position => {
+                write!(f, "joint {j} at {:.6} is outside its position limits (nearest bound {:.6})", self.value, self.limit)
+            }
+            ViolationKind::Velocity => write!(f, "joint {j} velocity {:.6} exceeds its limit {:.6}", self.value, self.limit),
+            ViolationKind::Acceleration => {
+                write!(f, "joint {j} acceleration {:.6} exceeds its limit {:.6}", self.value, self.limit)
+            }
+            ViolationKind::Jump => write!(
+                f,
+                "joint {j} jumps by {:.6} since the previous sample, more than its velocity limit allows ({:.6}); a branch flip?",
+                self.value, self.limit
+            ),
+            ViolationKind::NearSingular => {
+                write!(f, "manipulability {:.3e} is below the threshold {:.3e} (close to a singularity)", self.value, self.limit)
+            }
+            ViolationKind::Jerk => write!(f, "joint {j} jerk {:.6} exceeds its limit {:.6}", self.value, self.limit),
+            ViolationKind::Inconsistent => write!(
+                f,
+                "joint {j}: the derivative column says {:.6}, but q changes at {:.6} on average over the step \
+                 (more apart than the acceleration limit allows); a glitch in q?",
+                self.value, self.limit
+            ),
+            ViolationKind::Singular => write!(
+                f,
+                "singular passage: the Jacobian's inverse condition number {:.3e} is below {:.3e}",
+                self.value, self.limit
+            ),
+        }
+    }
+}
+
+/// Options of [`check`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckOptions {
+    /// Relative slack on every limit (rounding), default 1e-9.
+    pub tolerance: f64,
+    /// Velocity limits to use instead of the robot's (1 or dof values).
+    pub vel: Option<Vec<f64>>,
+    /// Acceleration limits to use instead of the robot's (1 or dof values).
+    pub acc: Option<Vec<f64>>,
+    /// Jerk limits to use instead of the robot's (1 or dof values).
+    pub jerk: Option<Vec<f64>>,
+    /// Report samples whose Yoshikawa manipulability is below this value.
+    pub min_manipulability: Option<f64>,
+    /// The Jacobian rows that manipulability uses: all six by default (zero
+    /// at every singularity of a 6+-joint arm), or the translation rows as in
+    /// seed 004 Fig. 30/33 (for 5-joint arms, whose full measure is always 0).
+    pub manipulability_axes: Axes,
+    /// Report singular passages (the Jacobian's inverse condition number
+    /// below this value) as warnings; off by default, as it costs a
+    /// singular value decomposition per sample. `kinema traj check` uses
+    /// [`SINGULAR_WARNING`].
+    pub singular_warning: Option<f64>,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions {
+            tolerance: 1e-9,
+            vel: None,
+            acc: None,
+            jerk: None,
+            min_manipulability: None,
+            manipulability_axes: Axes::All,
+            singular_warning: None,
+        }
+    }
+}
+
+/// What [`check`] measured and found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckReport {
+    /// Number of samples.
+    pub samples: usize,
+    /// Largest |q̇| per joint.
+    pub peak_vel: Vec<f64>,
+    /// Largest |q̈| per joint.
+    pub peak_acc: Vec<f64>,
+    /// Largest |q⃛| per joint (the secant of q̈ over each step).
+    pub peak_jerk: Vec<f64>,
+    /// (time, value) of the smallest manipulability, when asked for.
+    pub min_manipulability: Option<(f64, f64)>,
+    /// Everything that is wrong, in sample order.
+    pub violations: Vec<Violation>,
+    /// What deserves a look but breaks no limit (singular passages: one per
+    /// passage, at its most singular sample).
+    pub warnings: Vec<Violation>,
+}
+
+impl CheckReport {
+    /// The report if nothing is wrong, else an [`Error::Trajectory`].
+    pub fn into_result(self) -> Result<CheckReport> {
+        if self.violations.is_empty() {
+            return Ok(self);
+        }
+        Err(Error::Trajectory {
+            count: self.violations.len(),
+            first: self.violations[0].to_string(),
+            violations: self.violations,
+        })
+    }
+}
+
+/// Checks a joint trajectory of `robot` (seed 004 checked its curves by eye;
+/// this does it for every sample): position limits; velocity, acceleration
+/// and jerk limits (the robot's, or those of `opts`) on the given q̇, q̈ and
+/// on what q itself implies (see the module documentation); jumps between
+/// consecutive samples larger than the velocity limit allows over their time
+/// step; non-finite values or non-increasing times; with
+/// `opts.min_manipulability`, closeness to singularities (Yoshikawa's
+/// measure on `opts.manipulability_axes`); with `opts.singular_warning`,
+/// singular passages as warnings. A joint without a limit is not checked
+/// for it.
+///
+/// Errors only for a trajectory of the wrong joint count or bad options;
+/// violations are listed in the report.
+pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Result<CheckReport> {
+    let n = robot.dof();
+    if traj.dof() != n {
+        return Err(Error::JointCount { robot: robot.name().to_string(), expected: n, got: traj.dof() });
+    }
+    let js = robot.joints();
+    let vel = joint_limits(robot, opts.vel.as_deref(), "vmax", |i| js[i].limits.vel)?;
+    let acc = joint_limits(robot, opts.acc.as_deref(), "amax", |i| js[i].limits.acc)?;
+    let jerk = joint_limits(robot, opts.jerk.as_deref(), "jmax", |i| js[i].limits.jerk)?;
+    let slack = 1.0 + opts.tolerance;
+    let mut report = CheckReport {
+        samples: traj.len(),
+        peak_vel: vec![0.0; n],
+        peak_acc: vec![0.0; n],
+        peak_jerk: vec![0.0; n],
+        min_manipulability: None,
+        violations: Vec::new(),
+        warnings: Vec::new(),
+    };
+    let mut jac = nalgebra::Matrix6xX::zeros(n);
+    for k in 0..traj.len() {
+        let t = traj.times()[k];
+        let (q, qd, qdd) = (traj.q(k), traj.qd(k), traj.qdd(k));
+        let v = |kind, joint, value, limit| Violation { kind, sample: k, time: t, joint, value, limit };
+        let prev_t = if k > 0 { traj.times()[k - 1] } else { f64::NEG_INFINITY };
+        if !t.is_finite() || t <= prev_t || q.iter().chain(qd).chain(qdd).any(|x| !x.is_finite()) {
+            let bad = q.iter().chain(qd).chain(qdd).copied().find(|x| !x.is_finite()).unwrap_or(t);
+            report.violations.push(v(ViolationKind::Malformed, None, bad, prev_t));
+            continue;
+        }
+        for i in 0..n {
+            let l = js[i].limits;
+            let pos_tol = opts.tolerance * (1.0 + l.max.abs().max(l.min.abs()).min(1e6));
+            if q[i] < l.min - pos_tol || q[i] > l.max + pos_tol {
+                let bound = if q[i] < l.min { l.min } else { l.max };
+                report.violations.push(v(ViolationKind::Position, Some(i), q[i], bound));
+            }
+            report.peak_vel[i] = report.peak_vel[i].max(qd[i].abs());
+            report.peak_acc[i] = report.peak_acc[i].max(qdd[i].abs());
+            if let Some(vl) = vel[i] {
+                if qd[i].abs() > vl * slack {
+                    report.violations.push(v(ViolationKind::Velocity, Some(i), qd[i], vl));
+                }
+                if k > 0 && prev_t.is_finite() {
+                    let step = q[i] - traj.q(k - 1)[i];
+                    let allowed = vl * (t - prev_t) * slack + 1e-12;
+                    if step.abs() > allowed {
+                        report.violations.push(v(ViolationKind::Jump, Some(i), step, allowed));
+                    }
+                }
+            }
+            if let Some(al) = acc[i] {
+                if qdd[i].abs() > al * slack {
+                    report.violations.push(v(ViolationKind::Acceleration, Some(i), qdd[i], al));
+                }
+            }
+        }
+        if let Some(th) = opts.min_manipulability {
+            robot.jacobian_into(q, Frame::Base, &mut jac)?;
+            let m = yoshikawa(&jac, opts.manipulability_axes)?;
+            if report.min_manipulability.is_none_or(|(_, best)| m < best) {
+                report.min_manipulability = Some((t, m));
+            }
+            if m < th {
+                report.violations.push(v(ViolationKind::NearSingular, None, m, th));
+            }
+        }
+    }
+    check_steps(traj, &acc, &jerk, opts.tolerance, &mut report);
+    if let Some(th) = opts.singular_warning {
+        report.warnings = singular_passages(robot, traj, th, opts.manipulability_axes)?;
+    }
+    report.violations.sort_by_key(|v| v.sample);
+    report.violations.dedup_by(|a, b| a.kind == b.kind && a.sample == b.sample && a.joint == b.joint);
+    Ok(report)
+}
+
+/// Whether sample `k` holds only finite values.
+fn finite(traj: &JointTrajectory, k: usize) -> bool {
+    traj.times()[k].is_finite() && traj.q(k).iter().chain(traj.qd(k)).chain(traj.qdd(k)).all(|x| x.is_finite())
+}
+
+/// The checks over steps between samples: q̇ against q's secant, q's second
+/// divided difference against the acceleration limit, q̈'s secant against
+/// the jerk limit. Rounding of the differences is allowed for.
+fn check_steps(traj: &JointTrajectory, acc: &[Option<f64>], jerk: &[Option<f64>], tol: f64, report: &mut CheckReport) {
+    let t = traj.times();
+    let eps = f64::EPSILON;
+    let mut push = |kind, k: usize, i: usize, value: f64, limit: f64| {
+        report.violations.push(Violation { kind, sample: k, time: t[k], joint: Some(i), value, limit });
+    };
+    for k in 1..traj.len() {
+        if !(finite(traj, k - 1) && finite(traj, k) && t[k] > t[k - 1]) {
+            continue;
+        }
+        let h = t[k] - t[k - 1];
+        let third = (k + 1 < traj.len() && finite(traj, k + 1) && t[k + 1] > t[k]).then(|| t[k + 1] - t[k]);
+        for i in 0..traj.dof() {
+            let (q0, q1) = (traj.q(k - 1)[i], traj.q(k)[i]);
+            let scale = 1.0 + q0.abs().max(q1.abs());
+            let secant = (q1 - q0) / h;
+            if let Some(a) = acc[i] {
+                let allowed = 0.5 * a * h * (1.0 + CONSISTENCY_SLACK) + 4.0 * eps * scale / h;
+                for kk in [k - 1, k] {
+                    let qd = traj.qd(kk)[i];
+                    if (qd - secant).abs() > allowed + tol * qd.abs() {
+                        push(ViolationKind::Inconsistent, kk, i, qd, secant);
+                    }
+                }
+                if let Some(h2) = third {
+                    let q2 = traj.q(k + 1)[i];
+                    let second = 2.0 * ((q2 - q1) / h2 - secant) / (h + h2);
+                    let rounding = 8.0 * eps * (scale + q2.abs()) / (h * h2);
+                    if second.abs() > a * (1.0 + tol) + rounding {
+                        push(ViolationKind::Acceleration, k, i, second, a);
+                    }
+                }
+            }
+            let (a0, a1) = (traj.qdd(k - 1)[i], traj.qdd(k)[i]);
+            let jerk_here = (a1 - a0) / h;
+            report.peak_jerk[i] = report.peak_jerk[i].max(jerk_here.abs());
+            if let Some(j) = jerk[i] {
+                if jerk_here.abs() > j * (1.0 + tol) + 4.0 * eps * (1.0 + a0.abs().max(a1.abs())) / h {
+                    push(ViolationKind::Jerk, k, i, jerk_here, j);
+                }
+            }
+        }
+    }
+}
+
+/// One warning per passage where the Jacobian's inverse condition number is
+/// below `threshold`, at the passage's most singular sample.
+fn singular_passages(robot: &Robot, traj: &JointTrajectory, threshold: f64, axes: Axes) -> Result<Vec<Violation>> {
+    if !(threshold > 0.0 && threshold < 1.0) {
+        return Err(Error::InvalidArgument {
+            what: "singular_warning".into(),
+            message: format!("{threshold} must lie in (0, 1): it is a ratio of singular values"),
+        });
+    }
+    let mut jac = nalgebra::Matrix6xX::zeros(robot.dof());
+    let mut out: Vec<Violation> = Vec::new();
+    let mut inside = false;
+    for k in 0..traj.len() {
+        if !finite(traj, k) {
+            inside = false;
+            continue;
+        }
+        robot.jacobian_into(traj.q(k), Frame::Base, &mut jac)?;
+        // min(rows, joints) singular values: all of them are zero-able.
+        let sv = rows(&jac, axes)?.singular_values();
+        let (lo, hi) = sv.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| (lo.min(s), hi.max(s)));
+        let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
+        if ratio < threshold {
+            let w = Violation {
+                kind: ViolationKind::Singular,
+                sample: k,
+                time: traj.times()[k],
+                joint: None,
+                value: ratio,
+                limit: threshold,
+            };
+            match out.last_mut() {
+                Some(last) if inside => {
+                    if ratio < last.value {
+                        *last = w;
+                    }
+                }
+                _ => out.push(w),
+            }
+            inside = true;
+        } else {
+            inside = false;
+        }
+    }
+    Ok(out)
+}
