@@ -629,6 +629,25 @@ mod tests {
     }
 
     #[test]
+    fn a_program_is_stopped_by_its_budget_or_its_flag() {
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let a = app();
+        let body = br#"{"program": "FOR i = 1 TO 1000000\n  PTP home\nEND\n", "dt": 0.5}"#;
+        let (status, v) = a.api_until("POST", "/api/run", body, &Stop::after(Duration::from_millis(20)));
+        assert_eq!(status, 422, "{v}");
+        assert!(v["error"].as_str().unwrap().contains("time budget of 0.02 s"), "{v}");
+        assert_eq!(v["budget_s"], 0.02);
+        assert!(v["diagnostics"].as_str().unwrap().contains("stopped here"), "{v}");
+        let flag = Arc::new(AtomicBool::new(true));
+        let (status, v) = a.api_until("POST", "/api/run", body, &Stop::never().with_flag(flag));
+        assert_eq!(status, 503, "{v}");
+        // A short program is not affected by the default budget.
+        let (status, v) = a.api("POST", "/api/run", br#"{"program": "WAIT 1\n"}"#);
+        assert_eq!(status, 200, "{v}");
+    }
+
+    #[test]
     fn every_error_is_json_with_its_status() {
         let a = app();
         for (method, path, body, status) in [

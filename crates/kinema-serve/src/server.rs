@@ -70,8 +70,8 @@ const LINGER_TIME: Duration = Duration::from_secs(1);
 const LINGER_BYTES: usize = MAX_BODY;
 
 /// The server's limits; [`Limits::default`] gives the values in the module
-/// documentation. Durations are clamped to [1 ms, 1 h] and counts to at
-/// least 1 when the server starts.
+/// documentation. [`Server::with_limits`] clamps durations to [1 ms, 1 h]
+/// and counts to at least 1.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Limits {
     /// Time for a request head to arrive, from the opening of the connection
