@@ -29,6 +29,9 @@ pub(crate) fn run(a: ServeArgs) -> Result<()> {
     out.flush()?;
     drop(out);
     eprintln!("serving `{}` and the built-in robots; Ctrl-C to stop", server.app().default_robot().name());
-    server.run();
+    // Ctrl-C or SIGTERM: stop accepting, stop running programs, let requests
+    // in progress finish (a short grace time), then exit normally.
+    server.run_until_signal();
+    eprintln!("kinema serve: stopped");
     Ok(())
 }

@@ -1409,3 +1409,68 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
     // The draws reach both outcomes; a run that had to be killed is not misuse handled.
     assert!(passed > 40 && failed > 500 && killed == 0, "passed {passed}, failed {failed}, killed {killed}");
 }
+
+// ---------------------------------------------------------------- serve
+
+/// `kinema serve` stops cleanly on SIGTERM and on Ctrl-C (SIGINT), even with
+/// a program running and a connection left open: it answers the program with
+/// 503 and exits with success.
+#[cfg(unix)]
+#[test]
+fn serve_stops_gracefully_on_sigterm_and_ctrl_c() {
+    use std::io::{BufRead, Read, Write};
+    use std::time::{Duration, Instant};
+    for signal in ["-TERM", "-INT"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_kinema"))
+            .args(["serve", "--robot", "puma560", "--port", "0"])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("kinema serve starts");
+        let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+        let mut line = String::new();
+        stdout.read_line(&mut line).unwrap();
+        let url = line.trim().strip_prefix("kinema serve: ").unwrap_or_else(|| panic!("first line `{line}`"));
+        let addr = url.trim_start_matches("http://").trim_end_matches('/').to_string();
+        let request = |body: &str| {
+            let mut s = std::net::TcpStream::connect(&addr).unwrap();
+            s.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+            let req = format!(
+                "POST /api/run HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nContent-Length: {}\r\n\r\n{body}",
+                body.len()
+            );
+            s.write_all(req.as_bytes()).unwrap();
+            s
+        };
+        let answer = |mut s: std::net::TcpStream| {
+            let mut out = String::new();
+            let _ = s.read_to_string(&mut out);
+            out
+        };
+        assert!(answer(request(r#"{"program": "WAIT 1\n"}"#)).starts_with("HTTP/1.1 200"));
+        // A program that runs for seconds, and an idle connection.
+        let running = request(r#"{"program": "FOR i = 1 TO 100000000\n  PTP home\nEND\n"}"#);
+        let _idle = std::net::TcpStream::connect(&addr).unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        let t0 = Instant::now();
+        let killed = Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
+        assert!(killed.success());
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            if t0.elapsed() > Duration::from_secs(10) {
+                let _ = child.kill();
+                panic!("kinema serve did not stop within 10 s of {signal}");
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        let mut stderr = String::new();
+        child.stderr.take().unwrap().read_to_string(&mut stderr).unwrap();
+        assert!(status.success(), "{signal}: {status:?}: {stderr}");
+        assert!(t0.elapsed() < Duration::from_secs(4), "{signal}: stopped after {:?}", t0.elapsed());
+        assert!(stderr.contains("stopped"), "{stderr}");
+        let answered = answer(running);
+        assert!(answered.starts_with("HTTP/1.1 503") && answered.contains("shutting down"), "{answered}");
+    }
+}

@@ -9,6 +9,9 @@ use kinema::traj::{
     PtpOptions, Segment,
 };
 use kinema::{Frame, Pose, Robot, RpyConvention};
+use std::time::Duration;
+
+use kinema_lang::{Stop, StopReason};
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -21,6 +24,11 @@ pub const MAX_BODY: usize = 1 << 20;
 
 /// Largest number of samples `/api/traj` and `/api/run` produce.
 pub const MAX_SAMPLES: usize = 200_000;
+
+/// Time a `/api/run` program may run (10 s), counted from when it starts
+/// compiling; a program still running then is stopped between two
+/// statements and answered with 422 ([`Error::RunBudget`]).
+pub const RUN_BUDGET: Duration = Duration::from_secs(10);
 
 const INDEX_HTML: &str = include_str!("../assets/index.html");
 const APP_JS: &str = include_str!("../assets/app.js");
@@ -65,8 +73,13 @@ impl Reply {
 
 fn error_json(e: &Error) -> (u16, Value) {
     let mut body = json!({ "error": e.to_string() });
-    if let Error::Program { rendered, .. } = e {
-        body["diagnostics"] = json!(rendered);
+    match e {
+        Error::Program { rendered, .. } => body["diagnostics"] = json!(rendered),
+        Error::RunBudget { rendered, budget, .. } => {
+            body["diagnostics"] = json!(rendered);
+            body["budget_s"] = json!(budget.as_secs_f64());
+        }
+        _ => {}
     }
     (e.status(), body)
 }
@@ -114,7 +127,16 @@ impl App {
     /// Answers one request: the page and its assets under `/`, the JSON API
     /// under `/api/`. Never panics on any input (the server also wraps it in
     /// `catch_unwind`). `path` may carry a query string, which is ignored.
+    /// A `/api/run` program gets [`RUN_BUDGET`].
     pub fn handle(&self, method: &str, path: &str, body: &[u8]) -> Reply {
+        self.handle_until(method, path, body, &Stop::after(RUN_BUDGET))
+    }
+
+    /// [`App::handle`] with the stop condition of a `/api/run` program given:
+    /// its deadline (an [`Error::RunBudget`] answer, 422) and a flag another
+    /// thread may raise (an [`Error::ShuttingDown`] answer, 503). Other
+    /// endpoints ignore `stop`.
+    pub fn handle_until(&self, method: &str, path: &str, body: &[u8], stop: &Stop) -> Reply {
         let path = path.split(['?', '#']).next().unwrap_or("");
         let asset = match path {
             "/" | "/index.html" => Some(("text/html; charset=utf-8", INDEX_HTML)),
@@ -137,7 +159,7 @@ impl App {
                 body: text.as_bytes().to_vec(),
             };
         }
-        let (status, value) = self.api(method, path, body);
+        let (status, value) = self.api_until(method, path, body, stop);
         let mut reply = Reply::json(status, &value);
         if status == 405 {
             let allowed = if path.starts_with("/api/robots") { "GET, HEAD" } else { "POST" };
@@ -149,14 +171,20 @@ impl App {
     /// The JSON API alone: `(status, json)`; errors are `{"error": "…"}`
     /// with a 4xx status.
     pub fn api(&self, method: &str, path: &str, body: &[u8]) -> (u16, Value) {
+        self.api_until(method, path, body, &Stop::after(RUN_BUDGET))
+    }
+
+    /// [`App::api`] with the stop condition of a `/api/run` program given
+    /// (see [`App::handle_until`]).
+    pub fn api_until(&self, method: &str, path: &str, body: &[u8], stop: &Stop) -> (u16, Value) {
         let path = path.split(['?', '#']).next().unwrap_or("");
-        match self.route(method, path, body) {
+        match self.route(method, path, body, stop) {
             Ok(v) => (200, v),
             Err(e) => error_json(&e),
         }
     }
 
-    fn route(&self, method: &str, path: &str, body: &[u8]) -> Result<Value> {
+    fn route(&self, method: &str, path: &str, body: &[u8], stop: &Stop) -> Result<Value> {
         let path = path.strip_suffix('/').filter(|p| !p.is_empty()).unwrap_or(path);
         let get = |allowed_ok: bool| -> Result<()> {
             if allowed_ok {
@@ -179,18 +207,18 @@ impl App {
             get(is_get)?;
             return Ok(json::robot_info(self.robot_named(name, true)?));
         }
-        let post: fn(&App, &[u8]) -> Result<Value> = match path {
-            "/api/fk" => App::fk,
-            "/api/ik" => App::ik,
-            "/api/traj" => App::traj,
+        let post: fn(&App, &[u8], &Stop) -> Result<Value> = match path {
+            "/api/fk" => |a, b, _| a.fk(b),
+            "/api/ik" => |a, b, _| a.ik(b),
+            "/api/traj" => |a, b, _| a.traj(b),
             "/api/run" => App::run,
-            "/api/manip" => App::manip,
+            "/api/manip" => |a, b, _| a.manip(b),
             _ => return Err(Error::NotFound { path: path.into() }),
         };
         if method != "POST" {
             return Err(Error::MethodNotAllowed { method: method.into(), path: path.into(), allowed: "POST" });
         }
-        post(self, body)
+        post(self, body, stop)
     }
 
     fn robot_named(&self, name: &str, in_path: bool) -> Result<&Robot> {
@@ -362,7 +390,7 @@ impl App {
         Ok(v)
     }
 
-    fn run(&self, body: &[u8]) -> Result<Value> {
+    fn run(&self, body: &[u8], stop: &Stop) -> Result<Value> {
         const SHAPE: &str = r#"{"robot": "NAME", "program": "TEXT", "dt": seconds, "start": [q]}"#;
         let req: RunReq = parse(body, "/api/run", SHAPE)?;
         let r = self.robot(&req.robot)?;
@@ -371,14 +399,24 @@ impl App {
         if let Some(q) = &req.start {
             r.check_q(q)?;
         }
-        let opts =
-            kinema_lang::Options { dt, start: req.start.clone(), max_samples: MAX_SAMPLES, ..Default::default() };
+        let opts = kinema_lang::Options {
+            dt,
+            start: req.start.clone(),
+            max_samples: MAX_SAMPLES,
+            stop: stop.clone(),
+            ..Default::default()
+        };
         const FILE: &str = "program";
         let plan = kinema_lang::compile(&req.program, r, &opts).map_err(|diags| {
             let first = diags.iter().find(|d| d.is_error()).or(diags.first());
-            Error::Program {
-                first: first.map_or_else(|| "no diagnostic".into(), |d| d.one_line(FILE, &req.program)),
-                rendered: kinema_lang::render_all(&diags, FILE, &req.program),
+            let first = first.map_or_else(|| "no diagnostic".into(), |d| d.one_line(FILE, &req.program));
+            let rendered = kinema_lang::render_all(&diags, FILE, &req.program);
+            // A program that failed after its stop condition came true was
+            // stopped by it (the compiler reports that as an error diagnostic).
+            match stop.reason() {
+                Some(StopReason::Deadline(budget)) => Error::RunBudget { budget, first, rendered },
+                Some(StopReason::Cancelled) => Error::ShuttingDown,
+                None => Error::Program { first, rendered },
             }
         })?;
         let mut v = json::trajectory(&plan.trajectory);
@@ -588,6 +626,25 @@ mod tests {
         let (status, v) = a.api("GET", "/api/robots/", b"");
         assert_eq!(status, 200);
         assert!(v.as_array().unwrap().iter().any(|r| r["name"] == "puma560" && r["default"] == true));
+    }
+
+    #[test]
+    fn a_program_is_stopped_by_its_budget_or_its_flag() {
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let a = app();
+        let body = br#"{"program": "FOR i = 1 TO 1000000\n  PTP home\nEND\n", "dt": 0.5}"#;
+        let (status, v) = a.api_until("POST", "/api/run", body, &Stop::after(Duration::from_millis(20)));
+        assert_eq!(status, 422, "{v}");
+        assert!(v["error"].as_str().unwrap().contains("time budget of 0.02 s"), "{v}");
+        assert_eq!(v["budget_s"], 0.02);
+        assert!(v["diagnostics"].as_str().unwrap().contains("stopped here"), "{v}");
+        let flag = Arc::new(AtomicBool::new(true));
+        let (status, v) = a.api_until("POST", "/api/run", body, &Stop::never().with_flag(flag));
+        assert_eq!(status, 503, "{v}");
+        // A short program is not affected by the default budget.
+        let (status, v) = a.api("POST", "/api/run", br#"{"program": "WAIT 1\n"}"#);
+        assert_eq!(status, 200, "{v}");
     }
 
     #[test]

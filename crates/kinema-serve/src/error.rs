@@ -71,6 +71,34 @@ pub enum Error {
         /// Every diagnostic rendered with the source line underlined.
         rendered: String,
     },
+    /// A `/api/run` program stopped by its time budget ([`crate::RUN_BUDGET`]
+    /// by default): it ran longer than that without finishing.
+    #[error("the program did not finish within its time budget of {} s and was stopped: {first}", budget.as_secs_f64())]
+    RunBudget {
+        /// The budget.
+        budget: std::time::Duration,
+        /// Where it stopped, on one line (`program:line:col: error: stopped here: …`).
+        first: String,
+        /// The diagnostics rendered with the source line underlined.
+        rendered: String,
+    },
+    /// A request body that did not arrive in time (408; the connection is closed).
+    #[error("the request body did not arrive within {} s", timeout.as_secs_f64())]
+    BodyTimeout {
+        /// The time allowed for the body, from the end of the request head.
+        timeout: std::time::Duration,
+    },
+    /// No answer within the request timeout: the request waited too long for
+    /// one of the slots of the CPU-heavy endpoints, or took too long (503,
+    /// with `Retry-After`).
+    #[error("no answer within {} s: the server is busy with other CPU-heavy requests (ik, traj, run) or this one takes too long; try again", timeout.as_secs_f64())]
+    Busy {
+        /// The request timeout.
+        timeout: std::time::Duration,
+    },
+    /// The server is shutting down; a program that was running was stopped (503).
+    #[error("the server is shutting down; the request was not finished")]
+    ShuttingDown,
     /// A handler panicked (a bug; the server keeps running).
     #[error("internal error while handling the request: {message}")]
     Internal {
@@ -90,7 +118,9 @@ impl Error {
             Error::UnknownRobot { in_path: false, .. } => 422,
             Error::MethodNotAllowed { .. } => 405,
             Error::TooLarge { .. } => 413,
-            Error::Unprocessable { .. } | Error::Program { .. } => 422,
+            Error::BodyTimeout { .. } => 408,
+            Error::Unprocessable { .. } | Error::Program { .. } | Error::RunBudget { .. } => 422,
+            Error::Busy { .. } | Error::ShuttingDown => 503,
             Error::Bind { .. } | Error::Internal { .. } => 500,
         }
     }

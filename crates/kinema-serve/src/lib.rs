@@ -1,16 +1,19 @@
 //! # kinema-serve — the interactive 3D viewer of kinema
 //!
-//! A small local HTTP/1.1 server (its own, on [`std::net::TcpListener`], with
-//! the request head parsed by `httparse`) with a JSON API backed by the
-//! `kinema` and `kinema-lang` libraries, and a web page embedded in the
-//! binary that draws the robot on a 2D canvas with its own 3D projection
-//! (no JavaScript library, nothing downloaded at run time).
+//! A local HTTP/1.1 server (axum's router on hyper, on a tokio runtime of its
+//! own) with a JSON API backed by the `kinema` and `kinema-lang` libraries,
+//! and a web page embedded in the binary that draws the robot on a 2D canvas
+//! with its own 3D projection (no JavaScript library, nothing downloaded at
+//! run time).
 //!
 //! * [`Server`] — binds a TCP address ([`Server::bind`]), tells its
-//!   [`Server::url`], and serves requests on a few worker threads, either in
-//!   the calling thread ([`Server::run`]) or in the background
-//!   ([`Server::spawn`] → [`Running`], stopped by [`Running::stop`] or when
-//!   dropped).
+//!   [`Server::url`], and serves requests, either in the calling thread
+//!   ([`Server::run`], [`Server::run_until`], [`Server::run_until_signal`]
+//!   for Ctrl-C and SIGTERM) or in the background ([`Server::spawn`] →
+//!   [`Running`], stopped by [`Running::stop`] or when dropped). Stopping is
+//!   graceful: running programs are stopped and requests in progress finish.
+//! * [`Limits`] — the server's timeouts and concurrency limits
+//!   ([`Server::with_limits`]).
 //! * [`App`] — the robots the server knows and the request handler as a pure
 //!   function: [`App::handle`] takes a method, a path and a body and returns a
 //!   [`Reply`]; [`App::api`] is the JSON part, `(status, json)`. No socket is
@@ -19,7 +22,8 @@
 //!   maps to ([`Error::status`]).
 //!
 //! The API (every answer is JSON; every error is `{"error": "…"}` with a 4xx
-//! status, 500 only if a handler panicked):
+//! status, 503 when the server is busy or stopping, 500 only if a handler
+//! panicked):
 //!
 //! | method and path | body | answer |
 //! |---|---|---|
@@ -30,6 +34,28 @@
 //! | `POST /api/traj` | `{robot?, kind: "ptp", from, to}` or `{kind: "lin", from, T \| position+rpy}` | `t`, `q`, `qd`, `qdd` |
 //! | `POST /api/run` | `{robot?, program, dt?, start?}` | `t`, `q`, `qd`, `qdd`, `motions`, `warnings` |
 //! | `POST /api/manip` | `{robot?, q}` | manipulability, translational and rotational ellipsoids |
+//!
+//! ## Limits, and how each failure is answered
+//!
+//! | what | limit ([`Limits::default`]) | answer |
+//! |---|---|---|
+//! | request head | 16 KiB, 100 header fields | 431 (from hyper, empty body) |
+//! | a head that is not HTTP/1.x, a bad `Content-Length` | — | 400 (from hyper, empty body) |
+//! | time for a head, from connecting or the previous answer (so also the keep-alive idle time) | 10 s | connection closed |
+//! | request body | [`MAX_BODY`] = 1 MiB | 413 JSON, `Connection: close`; from the `Content-Length` alone, unread |
+//! | time for the body after the head | 10 s | 408 JSON, `Connection: close` |
+//! | CPU-heavy requests (`/api/ik`, `/api/traj`, `/api/run`) computed at once, on blocking threads | number of CPUs (≥ 2); the others wait | — |
+//! | time from head to answer, waiting for a slot included | 30 s | 503 JSON, `Retry-After: 1` |
+//! | a `/api/run` program's running time | [`RUN_BUDGET`] = 10 s | 422 JSON naming the budget, with `budget_s` and `diagnostics` |
+//! | samples of `/api/traj` and `/api/run` | [`MAX_SAMPLES`] = 200 000 | 422 JSON |
+//! | connections at once | 1024 | further ones wait in the listen backlog |
+//! | shutting down | 2 s for requests in progress | a running program is stopped → 503 JSON |
+//!
+//! A stalled or slow client holds only its own connection: the page,
+//! `/api/robots`, `/api/fk` and `/api/manip` are answered at once on the
+//! runtime's threads whatever the other connections do. A program whose
+//! client disconnects is stopped (its stop flag is raised), so it does not
+//! keep a slot.
 //!
 //! ## Example
 //!
@@ -61,6 +87,6 @@ mod error;
 pub mod json;
 mod server;
 
-pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES};
+pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
 pub use error::{Error, Result};
-pub use server::{Running, Server};
+pub use server::{Limits, Running, Server};

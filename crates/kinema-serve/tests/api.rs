@@ -432,7 +432,7 @@ fn closed_within(s: &mut TcpStream, limit: Duration) -> bool {
 fn huge_announced_bodies_are_refused_at_once_and_the_server_goes_on() {
     let server = start();
     let addr = server.local_addr();
-    for length in ["100000000000", "99999999999999999999999999999"] {
+    for length in ["100000000000", "1000000000000000000"] {
         for expect in ["", "\r\nExpect: 100-continue"] {
             let t0 = std::time::Instant::now();
             let head = format!("POST /api/run HTTP/1.1\r\nHost: {addr}\r\nContent-Length: {length}{expect}");
@@ -444,6 +444,12 @@ fn huge_announced_bodies_are_refused_at_once_and_the_server_goes_on() {
             assert!(t0.elapsed() < Duration::from_secs(3), "answered at once");
         }
     }
+    // A length beyond u64 is not a length: hyper refuses the head (400, no body).
+    let t0 = std::time::Instant::now();
+    let head = format!("POST /api/run HTTP/1.1\r\nHost: {addr}\r\nContent-Length: 99999999999999999999999999999");
+    let a = raw(addr, &head, b"{\"program\": ");
+    assert_eq!(a.status, 400, "{}", a.headers);
+    assert!(t0.elapsed() < Duration::from_secs(3), "answered at once");
     // Still answering.
     let a = post(addr, "/api/fk", &json!({"q": [0, 0, 0, 0, 0, 0, 0]}));
     assert_eq!(a.status, 200);
@@ -453,9 +459,9 @@ fn huge_announced_bodies_are_refused_at_once_and_the_server_goes_on() {
 fn oversized_heads_garbage_and_chunked_bodies_are_refused() {
     let server = start();
     let addr = server.local_addr();
+    // Refused by hyper before the request reaches the handler: status only.
     let a = raw(addr, &format!("GET /api/robots HTTP/1.1\r\nHost: {addr}\r\nX-Filler: {}", "a".repeat(20_000)), b"");
     assert_eq!(a.status, 431, "{}", a.headers);
-    assert!(a.json["error"].as_str().unwrap().contains("16384"), "{}", a.json);
     let many: String = (0..100).map(|i| format!("\r\nX-{i}: y")).collect();
     let a = raw(addr, &format!("GET /api/robots HTTP/1.1\r\nHost: {addr}{many}"), b"");
     assert_eq!(a.status, 431, "{}", a.headers);
@@ -466,21 +472,30 @@ fn oversized_heads_garbage_and_chunked_bodies_are_refused() {
     ] {
         let a = exchange(addr, garbage);
         assert_eq!(a.status, 400, "{}: {}", String::from_utf8_lossy(garbage), a.headers);
-        assert!(a.json["error"].as_str().unwrap().contains("not valid HTTP"), "{}", a.json);
     }
-    let a = raw(
-        addr,
-        &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nTransfer-Encoding: chunked"),
-        b"2\r\n{}\r\n0\r\n\r\n",
-    );
-    assert_eq!(a.status, 411, "{}", a.headers);
-    assert!(a.json["error"].as_str().unwrap().contains("Content-Length"), "{}", a.json);
+    // Chunked bodies are read, within the same size limit.
+    let fk = json!({"q": [0, 0, 0, 0, 0, 0, 0]}).to_string();
+    let chunked = format!("{:x}\r\n{}\r\n{:x}\r\n{}\r\n0\r\n\r\n", 5, &fk[..5], fk.len() - 5, &fk[5..]);
+    let a =
+        raw(addr, &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nTransfer-Encoding: chunked"), chunked.as_bytes());
+    assert_eq!(a.status, 200, "{}", a.headers);
+    assert!(a.json["T"].is_array(), "{}", a.json);
+    let big = vec![b' '; 256 * 1024];
+    let mut chunked = Vec::new();
+    for _ in 0..5 {
+        chunked.extend_from_slice(format!("{:x}\r\n", big.len()).as_bytes());
+        chunked.extend_from_slice(&big);
+        chunked.extend_from_slice(b"\r\n");
+    }
+    chunked.extend_from_slice(b"0\r\n\r\n");
+    let a = raw(addr, &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nTransfer-Encoding: chunked"), &chunked);
+    assert_eq!(a.status, 413, "{}", a.headers);
+    assert!(a.json["error"].as_str().unwrap().contains("1048576"), "{}", a.json);
     let a =
         raw(addr, &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-Length: 2\r\nContent-Length: 3"), b"{}");
     assert_eq!(a.status, 400, "{}", a.headers);
     let a = raw(addr, &format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-Length: two"), b"{}");
     assert_eq!(a.status, 400, "{}", a.headers);
-    assert!(a.headers.to_ascii_lowercase().contains("content-type: application/json"));
     // Still answering.
     assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
 }
@@ -490,8 +505,8 @@ fn stalled_and_silent_clients_do_not_block_other_requests() {
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     let server = Server::bind("127.0.0.1:0", Some(robot)).unwrap().with_read_timeout(Duration::from_secs(1)).spawn();
     let addr = server.local_addr();
-    // Five clients (one more than the workers) send half a head and stall.
-    let mut stalled: Vec<TcpStream> = (0..5)
+    // Eight clients send half a head and stall.
+    let mut stalled: Vec<TcpStream> = (0..8)
         .map(|_| {
             let mut s = TcpStream::connect(addr).unwrap();
             s.write_all(format!("POST /api/fk HTTP/1.1\r\nHost: {addr}\r\nContent-").as_bytes()).unwrap();
@@ -501,7 +516,7 @@ fn stalled_and_silent_clients_do_not_block_other_requests() {
     std::thread::sleep(Duration::from_millis(100));
     let t0 = std::time::Instant::now();
     assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
-    assert!(t0.elapsed() < Duration::from_secs(4), "answered after the read timeout: {:?}", t0.elapsed());
+    assert!(t0.elapsed() < Duration::from_millis(500), "answered after {:?}", t0.elapsed());
     for s in &mut stalled {
         assert!(closed_within(s, Duration::from_secs(4)), "a stalled client is dropped");
     }
@@ -519,15 +534,15 @@ fn stalled_and_silent_clients_do_not_block_other_requests() {
     assert!(closed, "a trickling client is dropped");
     drop(server);
 
-    // Silent connections (as browsers open ahead of use) give way to a
-    // request that waits, well within the default 10 s read timeout.
+    // Silent connections (as browsers open ahead of use) do not delay a
+    // request either.
     let server = start();
     let addr = server.local_addr();
     let silent: Vec<TcpStream> = (0..6).map(|_| TcpStream::connect(addr).unwrap()).collect();
     std::thread::sleep(Duration::from_millis(100));
     let t0 = std::time::Instant::now();
     assert_eq!(call(addr, "GET", "/api/robots", b"").status, 200);
-    assert!(t0.elapsed() < Duration::from_secs(4), "answered after {:?}", t0.elapsed());
+    assert!(t0.elapsed() < Duration::from_millis(500), "answered after {:?}", t0.elapsed());
     drop(silent);
 }
 
@@ -610,7 +625,9 @@ fn keep_alive_serves_requests_one_after_the_other() {
     s.write_all(b"GET /style.css HTTP/1.0\r\n\r\n").unwrap();
     let (status, headers, _) = read_answer(&mut s, &mut pending, false);
     assert_eq!(status, 200);
-    assert!(headers.contains("text/css") && headers.contains("Connection: close"), "{headers}");
+    // HTTP/1.0 closes by default: hyper says so with the version, not a header.
+    assert!(headers.starts_with("HTTP/1.0 200") || headers.contains("Connection: close"), "{headers}");
+    assert!(headers.contains("text/css") && !headers.contains("keep-alive"), "{headers}");
     assert!(closed_within(&mut s, Duration::from_secs(3)));
 }
 
