@@ -55,6 +55,12 @@ impl Diagnostic {
         self.one_line_at(file, line_col(src, self.span.start))
     }
 
+    /// [`Diagnostic::one_line`] with the line index of `src` built once by the caller
+    /// (for many diagnostics of one source).
+    pub fn one_line_in(&self, file: &str, src: &str, lines: &LineIndex) -> String {
+        self.one_line_at(file, lines.line_col(src, self.span.start))
+    }
+
     fn one_line_at(&self, file: &str, (line, col): (usize, usize)) -> String {
         let kind = if self.is_error() { "error" } else { "warning" };
         format!("{file}:{line}:{col}: {kind}: {}", self.message)
@@ -172,7 +178,7 @@ pub fn render_all(diags: &[Diagnostic], file: &str, src: &str) -> String {
             if k == FULL_REPORTS {
                 out.push_str(&format!("{file}: {} more diagnostic(s), one line each:\n", sorted.len() - FULL_REPORTS));
             }
-            out.push_str(&d.one_line_at(file, lines.line_col(src, d.span.start)));
+            out.push_str(&d.one_line_in(file, src, &lines));
         }
         out.push('\n');
     }
