@@ -25,8 +25,8 @@ pub struct ProgramArgs {
     /// Joint values at the start (rad and m, comma-separated, or a named pose); default `home`.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) start: Option<String>,
-    /// Stop the program after this many seconds of computing (an error at the statement
-    /// reached); no limit by default. Ctrl-C stops it at any time.
+    /// Stop the program after this many seconds, wall clock (an error at the statement or
+    /// loop pass reached); no limit by default. Ctrl-C stops it at any time.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
 }
