@@ -1,11 +1,14 @@
 //! `kinema check | run | compile PROGRAM`: the robot programming language.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use kinema::RpyConvention;
-use kinema_lang::{render_all, Options, Plan};
+use kinema_lang::{render_all, Options, Plan, Stop};
 use serde_json::json;
 
 use crate::{print_json, traj_cmd, write_atomically, Exit, RobotArg};
@@ -22,6 +25,41 @@ pub struct ProgramArgs {
     /// Joint values at the start (rad and m, comma-separated, or a named pose); default `home`.
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) start: Option<String>,
+    /// Stop the program after this many seconds, wall clock (an error at the statement or
+    /// loop pass reached); no limit by default. Ctrl-C stops it at any time.
+    #[arg(long, value_name = "SECONDS")]
+    pub(crate) time_limit: Option<f64>,
+}
+
+/// Exit code after Ctrl-C (128 + SIGINT, as shells report it).
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// The flag Ctrl-C raises. The first Ctrl-C asks the running program to stop (it
+/// reports where, and nothing is written); a second one ends the process at once.
+fn interrupted() -> &'static Arc<AtomicBool> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let raised = Arc::clone(&flag);
+        let handler = move || {
+            if raised.swap(true, Ordering::SeqCst) {
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
+            }
+        };
+        // Without a handler (another one is set, or signals are unavailable) Ctrl-C
+        // keeps its default effect: the process ends, and still writes nothing.
+        let _ = ctrlc::set_handler(handler);
+        flag
+    })
+}
+
+/// Whether Ctrl-C was pressed (the error to return then).
+fn check_interrupted() -> Result<()> {
+    if interrupted().load(Ordering::SeqCst) {
+        eprintln!("cancelled (Ctrl-C); nothing was written");
+        return Err(Exit(EXIT_INTERRUPTED).into());
+    }
+    Ok(())
 }
 
 #[derive(Args)]
@@ -59,17 +97,25 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
         Some(text) => Some(robot.parse_q(text, false)?),
         None => None,
     };
-    let opts = Options { dt: a.dt, start, ..Options::default() };
+    let mut stop = match a.time_limit {
+        Some(s) if s.is_finite() && s >= 0.0 => Stop::after(Duration::from_secs_f64(s)),
+        Some(s) => anyhow::bail!("--time-limit must be a number of seconds ≥ 0, not {s}"),
+        None => Stop::never(),
+    };
+    stop = stop.with_flag(Arc::clone(interrupted()));
+    let opts = Options { dt: a.dt, start, stop, ..Options::default() };
     let name = a.program.display().to_string();
     match kinema_lang::compile(&src, &robot, &opts) {
         Ok(plan) => {
             if !plan.warnings.is_empty() {
                 eprint!("{}", render_all(&plan.warnings, &name, &src));
             }
+            check_interrupted()?;
             Ok((plan, name))
         }
         Err(diags) => {
             eprint!("{}", render_all(&diags, &name, &src));
+            check_interrupted()?;
             Err(Exit(1).into())
         }
     }
@@ -102,6 +148,8 @@ pub fn run(a: RunArgs) -> Result<()> {
     let robot = &plan.robot;
     let conv = RpyConvention::Zyx;
     let rows = traj_cmd::table(robot, &plan.trajectory, conv)?;
+    // Ctrl-C while the table was computed: still nothing written.
+    check_interrupted()?;
     write_atomically(&a.out, |w| {
         let mut w = csv::Writer::from_writer(w);
         w.write_record(traj_cmd::header(robot.dof(), conv))?;

@@ -888,6 +888,62 @@ fn language_errors_exit_non_zero_and_write_nothing() {
     assert!(fails(&["check", "/nonexistent/prog", "--robot", "scara5"]).contains("cannot read"));
 }
 
+/// A program that computes for seconds within every limit of the language (~500 000 IK
+/// solutions, no samples to speak of).
+const LONG_PROGRAM: &str = "JACC 90 deg/s^2\nPTP CART(500mm, 0mm, 400mm, 0deg, 180deg, 0deg) IN 3s\nLOOP 499000\n  PTP CART(500mm, 0mm, 400mm, 0deg, 180deg, 0deg)\nEND\n";
+
+#[test]
+fn language_time_limit_stops_a_long_program_and_writes_nothing() {
+    let dir = tempdir("lang-time-limit");
+    let prog = dir.join("long.prg");
+    std::fs::write(&prog, LONG_PROGRAM).unwrap();
+    let out = dir.join("signals.csv");
+    let start = std::time::Instant::now();
+    let r = kinema(&[
+        "run",
+        prog.to_str().unwrap(),
+        "--robot",
+        "lbr-iiwa-14-r820",
+        "--time-limit",
+        "0.3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!r.ok);
+    assert!(start.elapsed() < std::time::Duration::from_secs(5), "{:?}", start.elapsed());
+    assert!(r.stderr.contains("error: stopped here: the time budget of 0.300 s ran out"), "{}", r.stderr);
+    assert!(r.stderr.contains("1 error(s)"), "{}", r.stderr);
+    assert!(!out.exists(), "no file when stopped");
+    assert!(fails(&["check", prog.to_str().unwrap(), "--robot", "scara5", "--time-limit=-1"]).contains("--time-limit"));
+}
+
+/// Ctrl-C (SIGINT) stops `kinema run` at the statement reached: "cancelled", exit code
+/// 130, no output file.
+#[cfg(unix)]
+#[test]
+fn language_ctrl_c_cancels_a_run_and_writes_nothing() {
+    let dir = tempdir("lang-ctrl-c");
+    let prog = dir.join("long.prg");
+    std::fs::write(&prog, LONG_PROGRAM).unwrap();
+    let out = dir.join("signals.csv");
+    let child = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["run", prog.to_str().unwrap(), "--robot", "lbr-iiwa-14-r820", "--out", out.to_str().unwrap()])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let start = std::time::Instant::now();
+    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    assert!(start.elapsed() < std::time::Duration::from_secs(3), "{:?}", start.elapsed());
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("stopped here: the run was cancelled"), "{stderr}");
+    assert!(stderr.contains("cancelled (Ctrl-C); nothing was written"), "{stderr}");
+    assert!(!out.exists(), "no file when cancelled");
+}
+
 #[test]
 fn plot_writes_every_kind_of_picture_or_nothing() {
     let dir = tempdir("plot");

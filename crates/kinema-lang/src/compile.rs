@@ -4,7 +4,7 @@
 //! for every motion, samples every `dt` — and the trajectory check, whose
 //! violations are reported at the line of the motion that caused them.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
 
 use kinema::ik;
@@ -18,9 +18,9 @@ use kinema::traj::{
 use kinema::{Robot, RpyConvention};
 
 use crate::ast::{BinOp, Expr, MotionKind, MotionOpts, Program, Stmt, StmtKind, Target};
-use crate::diag::{line_col, Diagnostic};
+use crate::diag::{Diagnostic, LineIndex};
 use crate::lexer::Span;
-use crate::stop::Stop;
+use crate::stop::{Stop, StopReason};
 use crate::units::{unit, Dim, Quantity};
 
 /// How a program is compiled.
@@ -33,7 +33,9 @@ pub struct Options {
     /// Largest number of samples a program may produce (a guard against
     /// loops that would run for days).
     pub max_samples: usize,
-    /// Largest number of statements executed (loops counted).
+    /// Largest number of steps executed: every statement run counts one, and
+    /// so does every pass of a `LOOP`/`FOR`, empty or not. A loop that cannot
+    /// finish under what is left is refused before its first pass.
     pub max_steps: usize,
     /// When to give up early (a deadline, Ctrl-C); never by default.
     pub stop: Stop,
@@ -152,6 +154,27 @@ struct Scope {
     positions: HashMap<String, bool>,
     /// FOR counters in scope.
     counters: Vec<String>,
+    /// What each POS replaced (name, previous value), to undo a block's POS at its END
+    /// without copying the scope for every block.
+    undo: Vec<(String, Option<bool>)>,
+}
+
+impl Scope {
+    fn declare(&mut self, key: &str, joint: bool) {
+        let before = self.positions.insert(key.to_string(), joint);
+        self.undo.push((key.to_string(), before));
+    }
+
+    /// Forgets the POS declared since `mark` (a length of `undo`).
+    fn undo_to(&mut self, mark: usize) {
+        while self.undo.len() > mark {
+            let (key, before) = self.undo.pop().expect("longer than mark");
+            match before {
+                Some(j) => self.positions.insert(key, j),
+                None => self.positions.remove(&key),
+            };
+        }
+    }
 }
 
 /// A named position's value.
@@ -178,6 +201,7 @@ struct Chain {
 
 struct Compiler<'a> {
     src: &'a str,
+    lines: LineIndex,
     robot: &'a Robot,
     robot_tool: Robot,
     opts: &'a Options,
@@ -205,7 +229,21 @@ struct Compiler<'a> {
     motion_spans: Vec<Span>,
     warnings: Vec<Diagnostic>,
     errors: Vec<Diagnostic>,
+    /// (span, message) of every warning and error so far: each is reported once.
+    reported: HashSet<(Span, String, bool)>,
+    /// Cartesian motions whose conversion to joints failed, with the inputs that
+    /// decide it (tool generation, start joints) and the error: a failing LIN in a loop
+    /// is computed once, not once per pass. Exact: the conversion is deterministic.
+    failed_conversions: Vec<(CartesianMotion, usize, Vec<f64>, String)>,
+    /// Changes with every TOOL (the robot the conversion uses).
+    tool_generation: usize,
 }
+
+/// Known positions named in the hint of an unknown one.
+const KNOWN_LISTED: usize = 20;
+
+/// Failed conversions remembered (the most recent ones).
+const FAILED_CONVERSIONS_KEPT: usize = 16;
 
 /// Defaults for Cartesian motions (an industrial controller's are similar):
 /// 0.25 m/s, 1 m/s², 5 m/s³; 90°/s, 180°/s², 900°/s³.
@@ -237,6 +275,7 @@ impl<'a> Compiler<'a> {
         traj.push(0.0, &q, &zeros, &zeros).ok()?;
         Some(Compiler {
             src,
+            lines: LineIndex::new(src),
             robot,
             robot_tool: robot.clone(),
             opts,
@@ -259,22 +298,30 @@ impl<'a> Compiler<'a> {
             motion_spans: Vec::new(),
             warnings: Vec::new(),
             errors: Vec::new(),
+            reported: HashSet::new(),
+            failed_conversions: Vec::new(),
+            tool_generation: 0,
         })
     }
 
     fn line(&self, span: &Span) -> usize {
-        line_col(self.src, span.start).0
+        self.lines.line(span.start.min(self.src.len()))
+    }
+
+    /// Whether `d` is new (not yet reported at its place); remembers it.
+    fn is_new(&mut self, d: &Diagnostic) -> bool {
+        self.reported.insert((d.span.clone(), d.message.clone(), d.is_error()))
     }
 
     fn warn(&mut self, d: Diagnostic) {
-        if !self.warnings.iter().any(|w| w.span == d.span && w.message == d.message) {
+        if self.is_new(&d) {
             self.warnings.push(d);
         }
     }
 
     fn err(&mut self, d: Diagnostic) {
         // The same problem inside a loop is reported once.
-        if !self.errors.iter().any(|e| e.span == d.span && e.message == d.message) {
+        if self.is_new(&d) {
             self.errors.push(d);
         }
         if self.errors.len() >= 50 {
@@ -304,7 +351,7 @@ impl<'a> Compiler<'a> {
                             format!("`{}` is a FOR counter here", name.text),
                         ));
                     }
-                    scope.positions.insert(name.key.clone(), joint);
+                    scope.declare(&name.key, joint);
                 }
             }
             StmtKind::Motion { kind, relative, target, opts } => {
@@ -402,21 +449,33 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::Loop { count, body } => {
                 if let Some(v) = self.static_expect(count, Dim::None, None, scope) {
-                    self.check_count(v, count.span());
+                    if self.check_count(v, count.span()) && !v.is_nan() {
+                        self.check_passes(s, v, 0);
+                    }
                 }
-                self.static_block(body, &mut scope.clone());
+                let mark = scope.undo.len();
+                self.static_block(body, scope);
+                scope.undo_to(mark);
             }
             StmtKind::For { var, from, to, body } => {
-                for e in [from, to] {
+                let mut bounds = [None, None];
+                for (k, e) in [from, to].into_iter().enumerate() {
                     if let Some(v) = self.static_expect(e, Dim::None, None, scope) {
-                        if !v.is_nan() && v.fract() != 0.0 {
-                            self.err(Diagnostic::error(e.span(), format!("FOR bounds are whole numbers, not {v}")));
+                        if self.check_bound(v, e.span()) && !v.is_nan() {
+                            bounds[k] = Some(v);
                         }
                     }
                 }
-                let mut inner = scope.clone();
-                inner.counters.push(var.key.clone());
-                self.static_block(body, &mut inner);
+                if let [Some(a), Some(b)] = bounds {
+                    if self.check_passes(s, for_passes(a, b), 0) {
+                        self.check_exact(s, a, b);
+                    }
+                }
+                let mark = scope.undo.len();
+                scope.counters.push(var.key.clone());
+                self.static_block(body, scope);
+                scope.counters.pop();
+                scope.undo_to(mark);
             }
             StmtKind::MoveZ { dz, time } | StmtKind::MoveTita { dtheta: dz, time } => {
                 self.static_scara(s);
@@ -437,13 +496,61 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    fn check_count(&mut self, v: f64, span: Span) {
+    /// Whether a LOOP count is fine (or unknown); the error if not.
+    fn check_count(&mut self, v: f64, span: Span) -> bool {
         if known_bad(v, |v| v >= 1.0 && v.fract() == 0.0) {
             self.err(
                 Diagnostic::error(span, format!("a loop count must be a positive whole number, not {v}"))
                     .with_hint("LOOP 3 repeats its body three times"),
             );
+            return false;
         }
+        true
+    }
+
+    /// Whether a FOR bound is fine (or unknown): a whole number.
+    fn check_bound(&mut self, v: f64, span: Span) -> bool {
+        if known_bad(v, |v| v.fract() == 0.0) {
+            self.err(Diagnostic::error(span, format!("FOR bounds are whole numbers, not {v}")));
+            return false;
+        }
+        true
+    }
+
+    /// Whether FOR bounds (known, whole, and few passes apart) are small enough that
+    /// counting up by one from the first is exact.
+    fn check_exact(&mut self, s: &Stmt, a: f64, b: f64) -> bool {
+        if a.abs() <= MAX_EXACT && b.abs() <= MAX_EXACT {
+            return true;
+        }
+        self.err(Diagnostic::error(
+            s.keyword.clone(),
+            format!("FOR bounds must lie within ±{MAX_EXACT} (where whole numbers are exact), not {a} and {b}"),
+        ));
+        false
+    }
+
+    /// Refuses loop `s` when its `passes` alone exceed the steps left after `used`
+    /// (each pass costs one step): it could never finish.
+    fn check_passes(&mut self, s: &Stmt, passes: f64, used: usize) -> bool {
+        let left = self.opts.max_steps.saturating_sub(used);
+        if passes <= left as f64 {
+            return true;
+        }
+        let kw = keyword_of(&s.kind);
+        let left_text = if used == 0 { String::new() } else { format!(" ({left} left at this point)") };
+        self.err(
+            Diagnostic::error(
+                s.keyword.clone(),
+                format!(
+                    "this {kw} makes {passes} passes, more than the step limit of {} allows{left_text}; it is not run",
+                    self.opts.max_steps
+                ),
+            )
+            .with_hint("every statement run and every pass of a loop, empty or not, counts one step"),
+        );
+        self.stopped = true;
+        false
     }
 
     fn static_time(&mut self, e: &Expr, scope: &Scope) {
@@ -515,8 +622,19 @@ impl<'a> Compiler<'a> {
                 if self.robot.pose(&name.key).is_ok() {
                     return Some(true);
                 }
-                let known: Vec<String> =
-                    scope.positions.keys().cloned().chain(self.robot.poses().iter().map(|p| p.name.clone())).collect();
+                // At most a few names (a program of thousands of positions and typos
+                // would otherwise list them all at each typo).
+                let total = scope.positions.len() + self.robot.poses().len();
+                let mut known: Vec<String> = scope
+                    .positions
+                    .keys()
+                    .cloned()
+                    .chain(self.robot.poses().iter().map(|p| p.name.clone()))
+                    .take(KNOWN_LISTED)
+                    .collect();
+                if total > KNOWN_LISTED {
+                    known.push(format!("and {} more", total - KNOWN_LISTED));
+                }
                 let hint = if known.is_empty() {
                     "declare it first: POS name = CART(...) or JOINT(...)".to_string()
                 } else {
@@ -603,28 +721,44 @@ impl<'a> Compiler<'a> {
 
     fn block(&mut self, stmts: &[Stmt]) {
         for s in stmts {
-            if self.stopped {
-                return;
-            }
-            self.steps += 1;
-            if let Some(why) = self.opts.stop.reason() {
-                self.err(Diagnostic::error(s.keyword.clone(), format!("stopped here: {why}")));
-                self.stopped = true;
-                return;
-            }
-            if self.steps > self.opts.max_steps {
-                self.err(Diagnostic::error(
-                    s.keyword.clone(),
-                    format!(
-                        "the program executes more than {} statements (loops counted); it is cut here",
-                        self.opts.max_steps
-                    ),
-                ));
-                self.stopped = true;
+            if !self.step(s) {
                 return;
             }
             self.stmt(s);
         }
+    }
+
+    /// Counts one step at `s` (a statement, or a pass of the loop `s`) and looks at the
+    /// stop; false, with the one error that says why, when the run must end here.
+    fn step(&mut self, s: &Stmt) -> bool {
+        if self.stopped {
+            return false;
+        }
+        self.steps += 1;
+        if let Some(why) = self.opts.stop.reason() {
+            self.stop_here(s, why);
+            return false;
+        }
+        if self.steps > self.opts.max_steps {
+            self.err(
+                Diagnostic::error(
+                    s.keyword.clone(),
+                    format!(
+                        "the program executes more than {} statements (the step limit; loop passes counted); it is cut here",
+                        self.opts.max_steps
+                    ),
+                )
+                .with_hint("every statement run and every pass of a loop, empty or not, counts one step"),
+            );
+            self.stopped = true;
+            return false;
+        }
+        true
+    }
+
+    fn stop_here(&mut self, s: &Stmt, why: StopReason) {
+        self.err(Diagnostic::error(s.keyword.clone(), format!("stopped here: {why}")));
+        self.stopped = true;
     }
 
     fn value(&mut self, e: &Expr, dim: Dim, default_scale: Option<f64>) -> Option<f64> {
@@ -751,6 +885,7 @@ impl<'a> Compiler<'a> {
                                 }
                             }
                             self.robot_tool = r;
+                            self.tool_generation += 1;
                         }
                         Err(e) => self.err(Diagnostic::error(t.span(), format!("TOOL: {e}"))),
                     }
@@ -789,12 +924,13 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::Loop { count, body } => {
                 let Some(n) = self.value(count, Dim::None, None) else { return };
-                self.check_count(n, count.span());
-                if !(n >= 1.0 && n.fract() == 0.0) {
+                let counted = self.check_count(n, count.span()) && !n.is_nan();
+                if !(counted && self.check_passes(s, n, self.steps)) {
                     return;
                 }
+                // Each pass is a step, so an empty body ends at the step limit too.
                 for _ in 0..(n as u64) {
-                    if self.stopped {
+                    if !self.step(s) {
                         return;
                     }
                     self.block(body);
@@ -804,16 +940,14 @@ impl<'a> Compiler<'a> {
                 let (Some(a), Some(b)) = (self.value(from, Dim::None, None), self.value(to, Dim::None, None)) else {
                     return;
                 };
-                if a.fract() != 0.0 || b.fract() != 0.0 {
-                    self.err(Diagnostic::error(
-                        from.span().start..to.span().end,
-                        format!("FOR bounds are whole numbers, not {a} and {b}"),
-                    ));
+                let whole = self.check_bound(a, from.span()) && self.check_bound(b, to.span());
+                if !(whole && self.check_passes(s, for_passes(a, b), self.steps) && self.check_exact(s, a, b)) {
                     return;
                 }
                 let saved = self.counters.get(&var.key).copied();
+                // Both bounds are whole and within ±2⁵³, so i takes every value exactly.
                 let mut i = a;
-                while i <= b && !self.stopped {
+                while i <= b && self.step(s) {
                     self.counters.insert(var.key.clone(), i);
                     self.block(body);
                     i += 1.0;
@@ -1088,7 +1222,23 @@ impl<'a> Compiler<'a> {
             }
         }
         let Some(times) = self.sample_times(first.clone(), motion.duration()) else { return };
-        let joints = match traj::to_joints_at(&self.robot_tool, &motion, &self.q, &times, JointMethod::Ik) {
+        let failed_before = self
+            .failed_conversions
+            .iter()
+            .find(|(m, tool, q, _)| *tool == self.tool_generation && q.as_slice() == self.q.as_slice() && *m == motion)
+            .map(|(.., e)| e.clone());
+        let converted = match failed_before {
+            Some(e) => Err(e),
+            None => traj::to_joints_at(&self.robot_tool, &motion, &self.q, &times, JointMethod::Ik).map_err(|e| {
+                let e = e.to_string();
+                if self.failed_conversions.len() == FAILED_CONVERSIONS_KEPT {
+                    self.failed_conversions.remove(0);
+                }
+                self.failed_conversions.push((motion.clone(), self.tool_generation, self.q.clone(), e.clone()));
+                e
+            }),
+        };
+        let joints = match converted {
             Ok(j) => j,
             Err(e) => {
                 // Which segment: the time in the error, else the first.
@@ -1479,20 +1629,17 @@ impl<'a> Compiler<'a> {
                 return;
             }
         };
-        let mut seen = Vec::new();
+        let mut seen = HashSet::new();
+        let last = self.plan_motions.len().saturating_sub(1);
         for v in report.violations {
-            let k = self
-                .plan_motions
-                .iter()
-                .position(|m| v.time > m.start - 1e-12 && v.time <= m.end + 1e-12)
-                .unwrap_or(self.plan_motions.len().saturating_sub(1));
+            // The first motion with start < t ≤ end (starts and ends never decrease).
+            let k = self.plan_motions.partition_point(|m| m.end + 1e-12 < v.time);
+            let k = if self.plan_motions.get(k).is_some_and(|m| v.time > m.start - 1e-12) { k } else { last };
             // A jump is the velocity excess seen between two samples: one report per joint and motion.
             let kind = if v.kind == traj::ViolationKind::Jump { traj::ViolationKind::Velocity } else { v.kind };
-            let key = (k, v.joint, kind as u8);
-            if seen.contains(&key) {
+            if !seen.insert((k, v.joint, kind as u8)) {
                 continue;
             }
-            seen.push(key);
             let span = self.motion_spans.get(k).cloned().unwrap_or(0..0);
             let joint = v.joint.map(|j| format!(" ({})", self.robot.joints()[j].name)).unwrap_or_default();
             self.err(
@@ -1516,6 +1663,18 @@ fn outside_limits(robot: &Robot, q: &[f64]) -> Option<String> {
         j.limits.min,
         j.limits.max
     ))
+}
+
+/// Largest FOR bound: beyond 2⁵³ adding 1 to an `f64` may leave it unchanged.
+const MAX_EXACT: f64 = 9_007_199_254_740_992.0;
+
+/// How many passes `FOR i = a TO b` makes (0 when b < a).
+fn for_passes(a: f64, b: f64) -> f64 {
+    if b < a {
+        0.0
+    } else {
+        b - a + 1.0
+    }
 }
 
 /// A value known at check time (FOR counters are NaN there) that fails `ok`.

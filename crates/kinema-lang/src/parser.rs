@@ -12,14 +12,19 @@ pub const KEYWORDS: &[&str] = &[
     "HOME", "LOOP", "FOR", "MOVEZ", "MOVETITA", "MOVEXY",
 ];
 
-/// Blocks nested deeper than this are an error (keeps recursion bounded).
-const MAX_DEPTH: usize = 64;
+/// `LOOP`/`FOR` blocks nested deeper than this are an error, and so are
+/// expressions nested deeper (keeps recursion, here and in the compiler, bounded).
+pub const MAX_DEPTH: usize = 64;
+
+/// Operators (`+ - * /` and signs) one statement's expressions may hold: a chain of
+/// sums is a tree as deep as it is long, and the compiler walks it recursively.
+pub const MAX_OPERATORS: usize = 1000;
 
 /// Parses a program. The tree holds every statement that parsed; the
 /// diagnostics every lexical and syntax error.
 pub fn parse(src: &str) -> (Program, Vec<Diagnostic>) {
     let (tokens, mut diags) = lex(src);
-    let mut p = Parser { toks: tokens, pos: 0, diags: Vec::new(), src_len: src.len(), parens: 0 };
+    let mut p = Parser { toks: tokens, pos: 0, diags: Vec::new(), src_len: src.len(), parens: 0, operators: 0 };
     let stmts = p.block(None, 0);
     diags.append(&mut p.diags);
     (Program { stmts }, diags)
@@ -32,6 +37,8 @@ struct Parser {
     src_len: usize,
     /// Open parentheses around the expression being parsed.
     parens: usize,
+    /// Operators in the statement being parsed.
+    operators: usize,
 }
 
 type PResult<T> = Result<T, Diagnostic>;
@@ -169,6 +176,7 @@ impl Parser {
         };
         let keyword = kw_tok.span.clone();
         let upper = word.to_ascii_uppercase();
+        self.operators = 0;
         self.bump();
         let kind = match upper.as_str() {
             "POS" => {
@@ -257,9 +265,41 @@ impl Parser {
             return Err(self.unexpected(&format!("the end of the {kw} line")));
         }
         if depth + 1 > MAX_DEPTH {
-            return Err(Diagnostic::error(keyword, format!("blocks nested more than {MAX_DEPTH} deep")));
+            // One error for the whole block: skip it, with every block inside, to its END
+            // (reporting each deeper opener and each END left over would be thousands of
+            // errors for one mistake).
+            self.skip_block();
+            return Err(Diagnostic::error(keyword, format!("blocks nested more than {MAX_DEPTH} deep"))
+                .with_hint("move the inner loops' work into fewer levels; the whole block was skipped"));
         }
         Ok(self.block(Some((kw, keyword)), depth + 1))
+    }
+
+    /// Skips statements up to the END that closes the block just opened (counting the
+    /// LOOP/FOR and END that start statements), leaving that END's line end for `sync`.
+    fn skip_block(&mut self) {
+        let mut open = 1usize;
+        let mut line_start = true;
+        while let Some(t) = self.peek_tok() {
+            if *t == Tok::End {
+                line_start = true;
+                self.bump();
+                continue;
+            }
+            if line_start {
+                if is_kw(t, "LOOP") || is_kw(t, "FOR") {
+                    open += 1;
+                } else if is_kw(t, "END") {
+                    open -= 1;
+                    if open == 0 {
+                        self.bump();
+                        return;
+                    }
+                }
+            }
+            line_start = false;
+            self.bump();
+        }
     }
 
     fn motion_opts(&mut self) -> PResult<MotionOpts> {
@@ -310,6 +350,16 @@ impl Parser {
         }
     }
 
+    /// Counts one operator at `at`; an error past [`MAX_OPERATORS`].
+    fn operator(&mut self, at: Span) -> PResult<()> {
+        self.operators += 1;
+        if self.operators > MAX_OPERATORS {
+            return Err(Diagnostic::error(at, format!("more than {MAX_OPERATORS} operators in one statement"))
+                .with_hint("split the computation, or write the value out"));
+        }
+        Ok(())
+    }
+
     fn expr(&mut self) -> PResult<Expr> {
         let mut lhs = self.term()?;
         loop {
@@ -318,7 +368,8 @@ impl Parser {
                 Some(Tok::Minus) => BinOp::Sub,
                 _ => return Ok(lhs),
             };
-            self.bump();
+            let at = self.bump().expect("peeked").span;
+            self.operator(at)?;
             let rhs = self.term()?;
             let span = lhs.span().start..rhs.span().end;
             lhs = Expr::Bin { op, lhs: Box::new(lhs), rhs: Box::new(rhs), span };
@@ -333,7 +384,8 @@ impl Parser {
                 Some(Tok::Slash) => BinOp::Div,
                 _ => return Ok(lhs),
             };
-            self.bump();
+            let at = self.bump().expect("peeked").span;
+            self.operator(at)?;
             let rhs = self.unary(0)?;
             let span = lhs.span().start..rhs.span().end;
             lhs = Expr::Bin { op, lhs: Box::new(lhs), rhs: Box::new(rhs), span };
@@ -346,7 +398,9 @@ impl Parser {
         }
         match self.peek_tok() {
             Some(Tok::Minus) => {
-                let start = self.bump().expect("peeked").span.start;
+                let at = self.bump().expect("peeked").span;
+                self.operator(at.clone())?;
+                let start = at.start;
                 let e = self.unary(depth + 1)?;
                 let span = start..e.span().end;
                 Ok(Expr::Neg(Box::new(e), span))

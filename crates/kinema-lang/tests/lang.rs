@@ -376,7 +376,7 @@ fn runaway_programs_are_cut_with_an_error() {
     let r = robot("scara5");
     let opts = Options { max_steps: 1000, ..Options::default() };
     let e = compile("LOOP 1000000\nLOOP 1000000\nPAUSE 0.01\nEND\nEND\n", &r, &opts).unwrap_err();
-    assert!(e.iter().any(|d| d.message.contains("more than 1000 statements")), "{e:#?}");
+    assert!(e.iter().any(|d| d.message.contains("more than the step limit of 1000 allows")), "{e:#?}");
     let opts = Options { max_samples: 500, ..Options::default() };
     let e = compile("PAUSE 100\n", &r, &opts).unwrap_err();
     assert!(e.iter().any(|d| d.message.contains("more than 500 samples")), "{e:#?}");

@@ -13,7 +13,10 @@
 mod fast;
 mod npio;
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
 use std::sync::Arc;
+use std::time::Duration;
 
 use kinema::analysis::{self, Axes};
 use kinema::ik::{pick_one, solve_target_with, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
@@ -1922,20 +1925,27 @@ impl PyPlan {
 /// ``robot``: a :class:`Robot`, or what ``kinema run --robot`` takes (a
 /// built-in name or a .toml/.urdf path). ``start``: joint values at the
 /// start (array or pose name; default ``home``). ``filename``: the name the
-/// diagnostics give the program.
+/// diagnostics give the program. ``time_limit``: seconds of computing after
+/// which the program is stopped (``None``, the default: no limit); the step
+/// and sample limits of ``docs/language.md`` hold either way.
+///
+/// The program runs on a worker thread with the GIL released; Ctrl-C
+/// (KeyboardInterrupt) stops it within about 50 ms and is raised again here.
 ///
 /// Returns a :class:`Plan`.
 ///
 /// Raises:
 ///     ProgramError: the program does not compile or run (syntax, names,
-///         units, unreachable targets, limit violations). The message is the
+///         units, unreachable targets, limit violations, ``time_limit``
+///         reached: "stopped here: the time budget of … s ran out"). The message is the
 ///         report ``kinema run`` prints (``file:line:col: error: …``, the
 ///         source line underlined, hints); ``.diagnostics`` lists the errors
 ///         as ``(line, col, message)``.
 ///     InvalidInput, UnknownRobot, DescriptionError, RobotFileError: a bad
-///         ``robot`` or ``start``.
+///         ``robot``, ``start`` or ``time_limit``.
+///     KeyboardInterrupt: Ctrl-C while the program ran.
 #[pyfunction]
-#[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>"))]
+#[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>", time_limit=None))]
 fn run_program(
     py: Python<'_>,
     text: String,
@@ -1943,6 +1953,7 @@ fn run_program(
     #[pyo3(from_py_with = real)] dt: f64,
     start: Option<&Bound<'_, PyAny>>,
     filename: &str,
+    time_limit: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPlan> {
     let robot = match robot.downcast::<PyRobot>() {
         Ok(r) => Arc::clone(&r.get().robot),
@@ -1957,11 +1968,27 @@ fn run_program(
         Some(s) => Some(PyRobot::new(Arc::clone(&robot)).joint_vector(s, "start")?),
         None => None,
     };
-    let opts = kinema_lang::Options { dt, start, ..kinema_lang::Options::default() };
-    let compiled = {
-        let text = text.clone();
-        py.allow_threads(move || kinema_lang::compile(&text, &robot, &opts))
+    let stop = match time_limit.filter(|t| !t.is_none()) {
+        Some(t) => {
+            let seconds = real(t)?;
+            if !(seconds.is_finite() && seconds >= 0.0) {
+                return Err(invalid(format!("`time_limit` must be a number of seconds ≥ 0, not {seconds}")));
+            }
+            kinema_lang::Stop::after(Duration::from_secs_f64(seconds))
+        }
+        None => kinema_lang::Stop::never(),
     };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let opts = kinema_lang::Options {
+        dt,
+        start,
+        stop: stop.with_flag(Arc::clone(&cancel)),
+        ..kinema_lang::Options::default()
+    };
+    let compiled = run_interruptibly(py, &cancel, {
+        let text = text.clone();
+        move || kinema_lang::compile(&text, &robot, &opts)
+    })?;
     match compiled {
         Ok(plan) => {
             let [t, q, qd, qdd] = traj_arrays(py, &plan.trajectory)?;
@@ -1971,7 +1998,10 @@ fn run_program(
                 qd,
                 qdd,
                 duration: plan.duration(),
-                warnings: plan.warnings.iter().map(|d| d.one_line(filename, &text)).collect(),
+                warnings: {
+                    let lines = kinema_lang::diag::LineIndex::new(&text);
+                    plan.warnings.iter().map(|d| d.one_line_in(filename, &text, &lines)).collect()
+                },
                 plan_listing: plan.listing(),
                 plan_motions: plan.motions,
                 robot: Py::new(py, PyRobot::new(Arc::new(plan.robot)))?,
@@ -1981,14 +2011,66 @@ fn run_program(
             let message = kinema_lang::render_all(&diags, filename, &text);
             let mut errors: Vec<_> = diags.iter().filter(|d| d.severity == Severity::Error).collect();
             errors.sort_by_key(|d| d.span.start);
+            let lines = kinema_lang::diag::LineIndex::new(&text);
             let list: Vec<(usize, usize, String)> = errors
                 .iter()
                 .map(|d| {
-                    let (line, col) = kinema_lang::diag::line_col(&text, d.span.start);
+                    let (line, col) = lines.line_col(&text, d.span.start);
                     (line, col, d.message.clone())
                 })
                 .collect();
             Err(ProgramError::new_err((message.trim_end().to_string(), list)))
+        }
+    }
+}
+
+/// How often a long computation on a worker thread looks for Ctrl-C.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs `work` on a worker thread with the GIL released, looking for Python signals every
+/// [`SIGNAL_POLL`]. On one (KeyboardInterrupt from Ctrl-C, or whatever a handler raises),
+/// raises `cancel`, which `work` must watch, waits for it to finish, and returns the error.
+fn run_interruptibly<T: Send + 'static>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    // The main thread's usual stack: the compiler's recursion is bounded, not small.
+    let worker = std::thread::Builder::new()
+        .name("kinema-run_program".into())
+        .stack_size(8 << 20)
+        .spawn(move || {
+            let _ = tx.send(work());
+        })
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("cannot start a worker thread: {e}")))?;
+    let mut rx = rx;
+    loop {
+        // The receiver goes into the GIL-free closure and comes back (it is Send, not Sync).
+        let (back, received) = py.allow_threads(move || {
+            let r = rx.recv_timeout(SIGNAL_POLL);
+            (rx, r)
+        });
+        rx = back;
+        match received {
+            Ok(out) => {
+                let _ = py.allow_threads(|| worker.join());
+                return Ok(out);
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    cancel.store(true, Ordering::Relaxed);
+                    let _ = py.allow_threads(|| worker.join());
+                    return Err(e);
+                }
+            }
+            // The worker panicked (a bug): say so rather than hang.
+            Err(RecvTimeoutError::Disconnected) => {
+                let _ = py.allow_threads(|| worker.join());
+                return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                    "the program's worker thread stopped without a result",
+                ));
+            }
         }
     }
 }

@@ -1,7 +1,10 @@
 """run_program: the example programs give what `kinema run` writes; program properties; diagnostics."""
 
+import _thread
 import csv
 import subprocess
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -139,3 +142,66 @@ def test_program_errors():
         kinema.run_program("WAIT 1s\n", "lbr-iiwa-14-r820", start=[0.0, 0.0])
     with pytest.raises(kinema.InvalidInput, match="no-such-pose"):
         kinema.run_program("WAIT 1s\n", "lbr-iiwa-14-r820", start="no-such-pose")
+
+
+# A program that runs for seconds within every limit of the language: ~500 000 inverse
+# kinematics (one per PTP, each to the pose the arm is already at) and no samples.
+LONG = (
+    "JACC 90 deg/s^2\n"
+    "PTP CART(500mm, 0mm, 400mm, 0deg, 180deg, 0deg) IN 1s\n"
+    "LOOP 499000\n"
+    "  PTP CART(500mm, 0mm, 400mm, 0deg, 180deg, 0deg)\n"
+    "END\n"
+)
+
+
+def test_time_limit_stops_a_long_program():
+    start = time.monotonic()
+    with pytest.raises(kinema.ProgramError, match=r"stopped here: the time budget of 0\.300 s ran out") as e:
+        kinema.run_program(LONG, "lbr-iiwa-14-r820", time_limit=0.3)
+    assert time.monotonic() - start < 2.0
+    # At the LOOP (between passes) or at the PTP in it.
+    assert len(e.value.diagnostics) == 1 and e.value.diagnostics[0][0] in (3, 4)
+    # No limit, or a generous one, changes nothing for a short program.
+    assert kinema.run_program("WAIT 1s\n", "scara5", time_limit=60).duration == pytest.approx(1.0)
+    assert kinema.run_program("WAIT 1s\n", "scara5", time_limit=None).duration == pytest.approx(1.0)
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(kinema.InvalidInput, match="time_limit"):
+            kinema.run_program("WAIT 1s\n", "scara5", time_limit=bad)
+
+
+def test_ctrl_c_stops_a_long_program():
+    # What Ctrl-C does: SIGINT to the main thread, here from a timer thread after 0.3 s.
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            kinema.run_program(LONG, "lbr-iiwa-14-r820")
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 2.0
+    # The interpreter and the library go on working afterwards.
+    assert kinema.run_program("WAIT 1s\n", "scara5").duration == pytest.approx(1.0)
+
+
+def test_other_threads_run_while_a_program_does():
+    # The GIL is released: a Python thread counts while the program runs.
+    counted = []
+    done = threading.Event()
+
+    def count():
+        n = 0
+        while not done.is_set():
+            n += 1
+        counted.append(n)
+
+    t = threading.Thread(target=count)
+    t.start()
+    try:
+        with pytest.raises(kinema.ProgramError, match="time budget"):
+            kinema.run_program(LONG, "lbr-iiwa-14-r820", time_limit=0.3)
+    finally:
+        done.set()
+        t.join()
+    assert counted[0] > 1000

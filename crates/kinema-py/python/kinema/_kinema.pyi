@@ -182,8 +182,13 @@ def run_program(
     dt: float = 0.01,
     start: Optional[JointVector] = None,
     filename: str = "<program>",
+    time_limit: Optional[float] = None,
 ) -> Plan:
-    """Compiles and runs a robot program as `kinema run` does. Raises ProgramError."""
+    """Compiles and runs a robot program as `kinema run` does, on a worker thread without the GIL.
+
+    time_limit: seconds after which the program is stopped (ProgramError "stopped here: the time
+    budget of … s ran out"); None for no limit. Ctrl-C stops it and raises KeyboardInterrupt.
+    Raises ProgramError."""
 
 class Robot:
     """A serial robot arm (immutable). SI units; Jacobian rows [vx vy vz wx wy wz]."""
