@@ -173,9 +173,16 @@ pub struct CheckArgs {
     /// Acceleration limits to check (one value or one per joint).
     #[arg(long, allow_hyphen_values = true)]
     amax: Option<String>,
+    /// Jerk limits to check (one value or one per joint; default: the robot's, if it has them).
+    #[arg(long, allow_hyphen_values = true)]
+    jmax: Option<String>,
     /// Report samples whose manipulability is below this value.
     #[arg(long)]
     min_manip: Option<f64>,
+    /// Warn of singular passages: the Jacobian's inverse condition number below this value
+    /// (0 turns the warning off).
+    #[arg(long, default_value_t = kinema::traj::SINGULAR_WARNING)]
+    singular: f64,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -594,34 +601,50 @@ fn check_file(a: CheckArgs) -> Result<()> {
     let opts = CheckOptions {
         vel: limits_arg(&robot, a.vmax.as_deref(), false, "vmax")?,
         acc: limits_arg(&robot, a.amax.as_deref(), false, "amax")?,
+        jerk: limits_arg(&robot, a.jmax.as_deref(), false, "jmax")?,
         min_manipulability: a.min_manip,
+        singular_warning: (a.singular != 0.0).then_some(a.singular),
         ..CheckOptions::default()
     };
     let report = check(&robot, &traj, &opts)?;
+    let listed = |v: &kinema::traj::Violation| {
+        json!({
+            "kind": v.kind.name(),
+            "t": v.time,
+            "sample": v.sample,
+            "joint": v.joint.map(|j| j + 1),
+            "value": v.value,
+            "limit": v.limit,
+            "message": v.to_string(),
+        })
+    };
     if a.json {
         print_json(&json!({
             "samples": report.samples,
             "ok": report.violations.is_empty(),
             "peak_velocity": report.peak_vel,
             "peak_acceleration": report.peak_acc,
+            "peak_jerk": report.peak_jerk,
             "min_manipulability": report.min_manipulability.map(|(t, m)| json!({"t": t, "value": m})),
-            "violations": report.violations.iter().map(|v| json!({
-                "kind": v.kind.name(),
-                "t": v.time,
-                "sample": v.sample,
-                "joint": v.joint.map(|j| j + 1),
-                "value": v.value,
-                "limit": v.limit,
-                "message": v.to_string(),
-            })).collect::<Vec<_>>(),
+            "violations": report.violations.iter().map(listed).collect::<Vec<_>>(),
+            "warnings": report.warnings.iter().map(listed).collect::<Vec<_>>(),
         }))?;
     } else {
-        println!("{}: {} samples, {} violation(s)", a.file.display(), report.samples, report.violations.len());
+        println!(
+            "{}: {} samples, {} violation(s), {} warning(s)",
+            a.file.display(),
+            report.samples,
+            report.violations.len(),
+            report.warnings.len()
+        );
         for v in report.violations.iter().take(20) {
             println!("  {v}");
         }
         if report.violations.len() > 20 {
             println!("  … and {} more", report.violations.len() - 20);
+        }
+        for w in report.warnings.iter().take(20) {
+            println!("  warning: {w}");
         }
     }
     if report.violations.is_empty() {

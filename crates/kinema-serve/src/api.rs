@@ -426,7 +426,9 @@ impl App {
             .iter()
             .map(|m| json!({"line": m.line, "kind": m.kind, "start": m.start, "end": m.end, "profile": m.profile, "target": m.target}))
             .collect();
-        v["warnings"] = plan.warnings.iter().map(|d| json!(d.one_line(FILE, &req.program))).collect();
+        // One line index for all warnings: one_line alone rescans the source per warning.
+        let lines = kinema_lang::diag::LineIndex::new(&req.program);
+        v["warnings"] = plan.warnings.iter().map(|d| json!(d.one_line_in(FILE, &req.program, &lines))).collect();
         v["warnings_rendered"] = json!(kinema_lang::render_all(&plan.warnings, FILE, &req.program));
         Ok(v)
     }
