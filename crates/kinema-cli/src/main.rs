@@ -253,7 +253,7 @@ pub(crate) fn count(min: usize, max: usize) -> impl Fn(&str) -> Result<usize, St
             return Err(format!("{t} is above the limit of {max}"));
         }
         if v < min as f64 {
-            return Err(format!("{t} is below the minimum of {min}"));
+            return Err(format!("{t} is too small: at least {min}"));
         }
         Ok(v as usize)
     }
