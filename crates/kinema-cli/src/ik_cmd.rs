@@ -336,8 +336,8 @@ pub fn ik(a: IkArgs) -> Result<()> {
 pub struct ValidateArgs {
     #[command(flatten)]
     robot: RobotArg,
-    /// Number of random configurations.
-    #[arg(long, default_value_t = 1000)]
+    /// Number of random configurations, 1 to 10 000 000.
+    #[arg(long, default_value_t = 1000, value_parser = crate::count(1, crate::MAX_CONFIGURATIONS))]
     n: usize,
     /// Seed of the random configurations.
     #[arg(long, default_value_t = 1)]
@@ -351,9 +351,6 @@ pub struct ValidateArgs {
 /// experiment); for other robots, the robot's analytic solver on the full pose.
 pub fn validate(a: ValidateArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    if a.n == 0 {
-        bail!("--n must be at least 1");
-    }
     let v = if let Ok(s) = kinema::ik::iiwa::IiwaIk::new(&robot) {
         let r = s.validate(a.n, a.seed);
         json!({
@@ -407,8 +404,8 @@ pub struct SelfMotionArgs {
     /// Revolute values in degrees.
     #[arg(long)]
     deg: bool,
-    /// Number of samples around the self-motion.
-    #[arg(long, default_value_t = 36)]
+    /// Number of samples around the self-motion, 1 to 1 000 000.
+    #[arg(long, default_value_t = 36, value_parser = crate::count(1, 1_000_000))]
     steps: usize,
     /// Print JSON.
     #[arg(long)]

@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use kinema::RpyConvention;
 use kinema_lang::{render_all, Options, Plan, Stop};
@@ -89,10 +89,7 @@ pub struct CompileArgs {
 /// Reads, compiles, prints the diagnostics; the plan, or exit code 1.
 pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
     let robot = a.robot.load()?;
-    let bytes = std::fs::read(&a.program).with_context(|| format!("cannot read {}", a.program.display()))?;
-    let src = String::from_utf8(bytes).map_err(|e| {
-        anyhow::anyhow!("{} is not UTF-8 text (byte {})", a.program.display(), e.utf8_error().valid_up_to())
-    })?;
+    let src = crate::input::read_text_limited(&a.program, crate::input::MAX_TEXT_BYTES, "program")?;
     let start = match &a.start {
         Some(text) => Some(robot.parse_q(text, false)?),
         None => None,

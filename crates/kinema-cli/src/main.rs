@@ -12,8 +12,13 @@ use kinema::nalgebra::Matrix6xX;
 use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
+pub(crate) use output::write_atomically;
+
 mod ik_cmd;
+mod input;
+mod interrupt;
 mod lang_cmd;
+mod output;
 mod plot_cmd;
 mod scorbot_cmd;
 mod serve_cmd;
@@ -153,10 +158,10 @@ struct FkArgs {
     /// Print JSON.
     #[arg(long)]
     json: bool,
-    /// Batch mode: a CSV file with one configuration per line (an optional header line is skipped).
+    /// Batch mode: a CSV file with one configuration per line (an optional header line of names is skipped).
     #[arg(long, requires = "output")]
     input: Option<PathBuf>,
-    /// Batch mode: where to write the poses (CSV); written completely or not at all.
+    /// Batch mode: where to write the poses (CSV; `-` for standard output); written completely or not at all.
     #[arg(long, requires = "input")]
     output: Option<PathBuf>,
 }
@@ -202,8 +207,8 @@ struct ManipArgs {
 struct BenchArgs {
     #[command(flatten)]
     robot: RobotArg,
-    /// Number of random configurations (at least 1 000 000 is meaningful).
-    #[arg(long, default_value_t = 1_000_000)]
+    /// Number of random configurations, 1000 to 10 000 000 (1 000 000 or more is meaningful).
+    #[arg(long, default_value_t = 1_000_000, value_parser = count(1000, MAX_CONFIGURATIONS))]
     n: usize,
     /// Seed of the random configurations.
     #[arg(long, default_value_t = 1)]
@@ -212,8 +217,8 @@ struct BenchArgs {
     /// within-limit configurations; tolerance 1e-6 m / 1e-6 rad; limits enforced).
     #[arg(long)]
     ik: bool,
-    /// Number of inverse-kinematics targets for --ik.
-    #[arg(long, default_value_t = 10_000)]
+    /// Number of inverse-kinematics targets for --ik, 1 to 1 000 000.
+    #[arg(long, default_value_t = 10_000, value_parser = count(1, 1_000_000))]
     ik_n: usize,
     /// Print JSON.
     #[arg(long)]
@@ -223,6 +228,36 @@ struct BenchArgs {
 /// Exit code of a command line that does not parse (sysexits' EX_USAGE), so
 /// scripts can tell it from 2, an unreachable IK target.
 const EXIT_USAGE: u8 = 64;
+
+/// The most random configurations a command samples (bench --n, plot
+/// workspace --samples, ik-validate --n, plot ik-error --cases): 10 000 000,
+/// about a gigabyte of memory at most and tens of seconds.
+pub(crate) const MAX_CONFIGURATIONS: usize = 10_000_000;
+
+/// A parser for a count flag: a whole number from `min` to `max` (`1e6`
+/// is accepted), refused with the limit named, e.g. "100000000000 is above
+/// the limit of 10000000". Huge counts would otherwise ask for terabytes or
+/// run for days.
+pub(crate) fn count(min: usize, max: usize) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync + 'static {
+    move |text| {
+        let t = text.trim();
+        let v: f64 = match t.parse::<u128>() {
+            Ok(v) => v as f64,
+            Err(_) => t
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && v.fract() == 0.0 && *v >= 0.0)
+                .ok_or_else(|| format!("`{t}` is not a whole number"))?,
+        };
+        if v > max as f64 {
+            return Err(format!("{t} is above the limit of {max}"));
+        }
+        if v < min as f64 {
+            return Err(format!("{t} is too small: at least {min}"));
+        }
+        Ok(v as usize)
+    }
+}
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -234,6 +269,9 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    if !talks_to_peers(&cli.cmd) {
+        quiet_on_closed_pipe();
+    }
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => match e.downcast_ref::<Exit>() {
@@ -243,6 +281,27 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         },
+    }
+}
+
+/// The commands that write to sockets, pseudo-terminals or serial lines,
+/// where a peer that goes away must not end the process.
+fn talks_to_peers(cmd: &Cmd) -> bool {
+    matches!(
+        cmd,
+        Cmd::Serve(_) | Cmd::Scorbot { cmd: scorbot_cmd::ScorbotCmd::Sim(_) | scorbot_cmd::ScorbotCmd::Connect(_) }
+    )
+}
+
+/// A closed standard output (`kinema info … | head -1`) ends the process
+/// quietly, by SIGPIPE, as it does other Unix tools (the shell reports status
+/// 141), instead of a panic of `println!` on the broken pipe.
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: restoring the default disposition of SIGPIPE, before any other
+    // thread exists, touches no memory of this program.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 
@@ -528,11 +587,12 @@ pub(crate) fn progress_bar(len: usize, items: &str, shown_from: usize) -> indica
     bar
 }
 
-/// The rows of numbers of a CSV file, each with its line number: blank
-/// lines and `#` comments are skipped, and a first line that is not numbers
-/// is taken as a header.
-pub(crate) fn numeric_rows(input: &Path) -> Result<Vec<(u64, Vec<f64>)>> {
-    let text = std::fs::read_to_string(input).with_context(|| format!("cannot read input `{}`", input.display()))?;
+/// The rows of numbers of a CSV file (at most [`input::MAX_CSV_BYTES`]),
+/// each with its line number: blank lines and `#` comments are skipped, and
+/// a first line of names only is a header (one that mixes numbers and names
+/// is an error, see [`input::first_row`]).
+pub(crate) fn numeric_rows(path: &Path) -> Result<Vec<(u64, Vec<f64>)>> {
+    let text = input::read_text_limited(path, input::MAX_CSV_BYTES, "CSV input")?;
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -541,48 +601,26 @@ pub(crate) fn numeric_rows(input: &Path) -> Result<Vec<(u64, Vec<f64>)>> {
         .from_reader(text.as_bytes());
     let mut rows = Vec::new();
     let mut first = true;
+    let mut lines = input::LineCounter::new(text.as_bytes());
     for rec in reader.records() {
-        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", input.display()))?;
-        let line = rec.position().map_or(0, |p| p.line());
+        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
+        let line = lines.line_at(rec.position().map_or(0, |p| p.byte()));
         if rec.iter().all(|f| f.is_empty()) {
+            continue;
+        }
+        if std::mem::take(&mut first) && input::first_row(rec.iter(), path, line)? == input::FirstRow::Header {
             continue;
         }
         match rec.iter().map(str::parse::<f64>).collect::<Result<Vec<f64>, _>>() {
             Ok(vals) => rows.push((line, vals)),
-            Err(_) if first => {} // header line
             Err(_) => bail!(
                 "`{}` line {line}: `{}` is not a list of numbers",
-                input.display(),
+                path.display(),
                 rec.iter().collect::<Vec<_>>().join(",")
             ),
         }
-        first = false;
     }
     Ok(rows)
-}
-
-/// Writes `output` through a temporary file in the same directory that is
-/// renamed over it only when `write` succeeded; on any error the temporary
-/// file is removed and `output` is left as it was.
-pub(crate) fn write_atomically(
-    output: &Path,
-    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<()>,
-) -> Result<()> {
-    let dir = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let tmp = dir.join(format!(".{}.kinema-tmp", output.file_name().map_or("out".into(), |f| f.to_string_lossy())));
-    let result = (|| -> Result<()> {
-        let file = std::fs::File::create(&tmp).with_context(|| format!("cannot create `{}`", tmp.display()))?;
-        let mut out = std::io::BufWriter::new(file);
-        write(&mut out)?;
-        let file = out.into_inner().map_err(|e| anyhow::anyhow!("{}", e.error()))?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, output).with_context(|| format!("cannot move the result to `{}`", output.display()))?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
 
 fn matrix_rows(j: &Matrix6xX<f64>) -> Vec<Vec<f64>> {
@@ -708,9 +746,6 @@ fn manip(a: ManipArgs) -> Result<()> {
 fn bench(a: BenchArgs) -> Result<()> {
     use rand::SeedableRng;
     let r = a.robot.load()?;
-    if a.n < 1000 {
-        bail!("--n {} is too small; use at least 1000 (1 000 000 for meaningful figures)", a.n);
-    }
     let n = r.dof();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(a.seed);
     let mut qs = vec![0.0; a.n * n];
@@ -788,9 +823,6 @@ fn bench(a: BenchArgs) -> Result<()> {
 fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<Value> {
     use kinema::ik::{IkSolver, NumericIk};
     use rand::SeedableRng;
-    if count == 0 {
-        bail!("--ik-n must be at least 1");
-    }
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed.wrapping_add(1));
     let targets: Vec<Pose> =
         (0..count).map(|_| r.fk(&r.random_q(&mut rng)).map(|f| f.pose)).collect::<Result<_, _>>()?;

@@ -32,8 +32,8 @@ pub enum PlotCmd {
     Workspace {
         #[command(flatten)]
         robot: RobotArg,
-        /// Number of random configurations.
-        #[arg(long, default_value_t = 200_000)]
+        /// Number of random configurations, 1 to 10 000 000.
+        #[arg(long, default_value_t = 200_000, value_parser = crate::count(1, crate::MAX_CONFIGURATIONS))]
         samples: usize,
         /// Seed of the random configurations.
         #[arg(long, default_value_t = 1)]
@@ -41,8 +41,8 @@ pub enum PlotCmd {
         /// Side panel: r–z section (default when joint 1 is revolute) or the x–z projection.
         #[arg(long, value_enum)]
         section: Option<SectionArg>,
-        /// Cells per side of the grid that outlines the boundary.
-        #[arg(long, default_value_t = 120)]
+        /// Cells per side of the grid that outlines the boundary, 10 to 1000.
+        #[arg(long, default_value_t = 120, value_parser = crate::count(10, 1000))]
         grid: usize,
         #[command(flatten)]
         out: OutArg,
@@ -81,8 +81,8 @@ pub enum PlotCmd {
         robot: RobotArg,
         #[command(flatten)]
         q: QArg,
-        /// Samples of the arm angle over a full turn.
-        #[arg(long, default_value_t = 360)]
+        /// Samples of the arm angle over a full turn, 1 to 100 000.
+        #[arg(long, default_value_t = 360, value_parser = crate::count(1, 100_000))]
         steps: usize,
         #[command(flatten)]
         out: OutArg,
@@ -91,8 +91,8 @@ pub enum PlotCmd {
     IkError {
         #[command(flatten)]
         robot: RobotArg,
-        /// Number of random configurations.
-        #[arg(long, default_value_t = 1000)]
+        /// Number of random configurations, 1 to 10 000 000.
+        #[arg(long, default_value_t = 1000, value_parser = crate::count(1, crate::MAX_CONFIGURATIONS))]
         cases: usize,
         /// Seed of the random configurations.
         #[arg(long, default_value_t = 1)]
@@ -138,19 +138,16 @@ pub struct OutArg {
     /// The picture to write: .svg or .png.
     #[arg(long)]
     out: PathBuf,
-    /// Width x height in pixels (default depends on the plot).
-    #[arg(long)]
-    size: Option<String>,
+    /// Width x height in pixels, each 100 to 10000 (default depends on the plot).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
 }
 
 impl OutArg {
     fn write(&self, plot: &impl Plot, default: (u32, u32)) -> Result<()> {
         let format = Format::from_path(&self.out)
             .with_context(|| format!("`{}`: the output must end in .svg or .png", self.out.display()))?;
-        let size = match &self.size {
-            Some(s) => parse_size(s)?,
-            None => default,
-        };
+        let size = self.size.unwrap_or(default);
         let bytes = render(plot, format, size)?;
         write_atomically(&self.out, |w| Ok(w.write_all(&bytes)?))?;
         eprintln!("wrote {} ({}×{})", self.out.display(), size.0, size.1);
@@ -158,11 +155,18 @@ impl OutArg {
     }
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32)> {
-    let parse = |(w, h): (&str, &str)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?));
-    s.split_once(['x', 'X', '×'])
+/// WIDTHxHEIGHT, each side 100 to 10000 pixels (as `kinema_plot::render`
+/// takes), checked before any sampling or solving starts.
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let parse = |(w, h): (&str, &str)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?));
+    let (w, h) = s
+        .split_once(['x', 'X', '×'])
         .and_then(parse)
-        .with_context(|| format!("--size `{s}`: expected WIDTHxHEIGHT in pixels, e.g. 1200x800"))
+        .ok_or_else(|| format!("`{s}`: expected WIDTHxHEIGHT in pixels, e.g. 1200x800"))?;
+    if !(100..=10_000).contains(&w) || !(100..=10_000).contains(&h) {
+        return Err(format!("{w}×{h}: each side must be 100 to 10000 pixels"));
+    }
+    Ok((w, h))
 }
 
 fn read_points(path: &Path) -> Result<Vec<Vector3<f64>>> {
@@ -270,9 +274,6 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
 /// The iiwa's own validation (same q3 per case) when the robot has that
 /// shape, else the analytic solver's round trip, else the numeric solver's.
 fn ik_error(r: &Robot, cases: usize, seed: u64) -> Result<IkErrorPlot> {
-    if cases == 0 || cases > 10_000_000 {
-        bail!("--cases {cases}: expected 1 to 10 000 000");
-    }
     if kinema::ik::IiwaIk::new(r).is_ok() {
         return Ok(IkErrorPlot::iiwa(r, cases, seed)?);
     }

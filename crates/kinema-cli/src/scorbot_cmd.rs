@@ -17,6 +17,7 @@ use kinema_scorbot::sim::{self, Fault, SimConfig};
 use kinema_scorbot::{calib, metrics};
 use serde_json::json;
 
+use crate::input::{read_text_limited, MAX_CSV_BYTES, MAX_TEXT_BYTES};
 use crate::print_json;
 
 /// The model the subcommands work with.
@@ -48,8 +49,32 @@ pub struct ConstantsArg {
 
 impl ConstantsArg {
     fn load(&self) -> Result<Constants> {
-        Ok(Constants::load(&self.constants)?)
+        load_constants(&self.constants)
     }
+}
+
+/// A preset name, or a constants `.toml` file of at most
+/// [`MAX_TEXT_BYTES`] (as `Constants::load`, with the size limit).
+fn load_constants(spec: &str) -> Result<Constants> {
+    if spec.ends_with(".toml") {
+        let text = read_text_limited(std::path::Path::new(spec), MAX_TEXT_BYTES, "constants file")?;
+        Ok(Constants::from_toml(&text, spec)?)
+    } else {
+        Ok(Constants::named(spec)?)
+    }
+}
+
+/// The points of a CSV with columns x, y, z, read with the size limit.
+fn read_points(path: &std::path::Path) -> Result<Vec<kinema::nalgebra::Vector3<f64>>> {
+    let text = read_text_limited(path, MAX_CSV_BYTES, "CSV input")?;
+    Ok(metrics::parse_points_csv(&text, &path.display().to_string())?)
+}
+
+/// A path CSV for `follow`: the library reads it from its path, so the size
+/// limit is checked here first, and only a regular file has a size to check.
+fn read_path(path: &std::path::Path, deg: bool) -> Result<Vec<follow::PathPoint>> {
+    crate::input::check_regular_file(path, MAX_CSV_BYTES, "path CSV")?;
+    Ok(follow::read_path_csv(path, deg)?)
 }
 
 #[derive(Args)]
@@ -349,8 +374,8 @@ fn sim_run(a: SimArgs) -> Result<()> {
         .map(|f| f.parse::<Fault>().with_context(|| format!("--fault {f}")))
         .collect::<Result<Vec<_>>>()?;
     let config = SimConfig {
-        constants: Constants::load(&a.constants).context("--constants")?,
-        true_constants: Constants::load(&a.true_constants).context("--true-constants")?,
+        constants: load_constants(&a.constants).context("--constants")?,
+        true_constants: load_constants(&a.true_constants).context("--true-constants")?,
         time_scale: a.time_scale,
         faults,
         record: a.record,
@@ -395,7 +420,7 @@ fn connect(a: ConnectArgs) -> Result<()> {
     let c = a.constants.load()?;
     // A dry run needs no controller.
     if let Action::Follow { path, deg, max_step, dry_run: true, .. } = &a.action {
-        let points = follow::read_path_csv(path, *deg)?;
+        let points = read_path(path, *deg)?;
         let plan = follow::plan(&robot, &c, &points, &PlanOptions { max_step: *max_step, q0: None })?;
         return print_json(&json!({
             "points": plan.points.len(),
@@ -432,7 +457,7 @@ fn connect(a: ConnectArgs) -> Result<()> {
             eprintln!("moved to counts {counts:?}");
         }
         Action::Follow { path, deg, max_step, mode, time, dry_run: _ } => {
-            let points = follow::read_path_csv(&path, deg)?;
+            let points = read_path(&path, deg)?;
             let plan = follow::plan(&robot, &c, &points, &PlanOptions { max_step, q0: None })?;
             let bar = indicatif::ProgressBar::new(plan.points.len() as u64);
             bar.set_style(
@@ -491,8 +516,8 @@ fn connect(a: ConnectArgs) -> Result<()> {
 }
 
 fn track(a: TrackArgs) -> Result<()> {
-    let desired = metrics::read_points_csv(&a.desired)?;
-    let runs = a.measured.iter().map(|m| metrics::read_points_csv(m)).collect::<Result<Vec<_>, _>>()?;
+    let desired = read_points(&a.desired)?;
+    let runs = a.measured.iter().map(|m| read_points(m)).collect::<Result<Vec<_>>>()?;
     let r = metrics::track(&desired, &runs, &metrics::TrackOptions::default())?;
     if a.json {
         return print_json(&serde_json::to_value(&r)?);
@@ -521,9 +546,10 @@ fn track(a: TrackArgs) -> Result<()> {
 
 fn calibrate(a: CalibrateArgs) -> Result<()> {
     let robot = robot()?;
-    let samples = calib::read_samples_csv(&a.data)?;
+    let text = read_text_limited(&a.data, MAX_CSV_BYTES, "CSV input")?;
+    let samples = calib::parse_samples_csv(&text, &a.data.display().to_string())?;
     let options = calib::CalibrationOptions {
-        initial: Constants::load(&a.initial).context("--initial")?,
+        initial: load_constants(&a.initial).context("--initial")?,
         estimate_links: a.links,
         ..calib::CalibrationOptions::default()
     };

@@ -417,6 +417,8 @@ fn emit(
     as_json: bool,
     mut summary: serde_json::Value,
 ) -> Result<()> {
+    // `--out -` is standard output, as without --out.
+    let out = out.filter(|p| !crate::output::is_stdout(p));
     let rows = table(robot, traj, conv)?;
     summary["samples"] = json!(rows.len());
     let duration = traj.times().last().copied().unwrap_or(0.0);
@@ -654,18 +656,40 @@ fn check_file(a: CheckArgs) -> Result<()> {
     }
 }
 
-/// Opens a CSV file with a header line (cells trimmed, `#` lines skipped):
-/// the reader positioned at the first record and the header's names.
-pub(crate) fn open_csv(path: &std::path::Path) -> Result<(csv::Reader<std::fs::File>, Vec<String>)> {
-    let file = std::fs::File::open(path).with_context(|| format!("cannot read `{}`", path.display()))?;
-    let mut rd = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(file);
-    let head: Vec<String> = rd
-        .headers()
-        .with_context(|| format!("`{}`: no CSV header", path.display()))?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    Ok((rd, head))
+/// A CSV file read into memory, positioned after its header.
+pub(crate) type CsvReader = csv::Reader<std::io::Cursor<Vec<u8>>>;
+
+/// A CSV file with a header line (at most [`crate::input::MAX_CSV_BYTES`],
+/// cells trimmed, `#` lines skipped): the reader positioned at the first
+/// record and the header's names. A first line with numbers in it is not
+/// taken as the header: it is an error naming the line.
+pub(crate) fn open_csv(path: &std::path::Path) -> Result<(CsvReader, Vec<String>)> {
+    use crate::input::{first_row, read_limited, FirstRow, MAX_CSV_BYTES};
+    let bytes = read_limited(path, MAX_CSV_BYTES, "CSV input")?;
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(std::io::Cursor::new(bytes));
+    let mut head = csv::StringRecord::new();
+    loop {
+        if !rd.read_record(&mut head).with_context(|| format!("`{}`: not readable as CSV", path.display()))? {
+            bail!("`{}`: no CSV header", path.display());
+        }
+        if !head.iter().all(str::is_empty) {
+            break;
+        }
+    }
+    let byte = head.position().map_or(0, |p| p.byte());
+    let line = crate::input::LineCounter::new(rd.get_ref().get_ref()).line_at(byte);
+    if first_row(head.iter(), path, line)? == FirstRow::Numbers {
+        bail!(
+            "`{}` line {line}: `{}` is numbers; the first line must be a header naming the columns",
+            path.display(),
+            head.iter().collect::<Vec<_>>().join(",")
+        );
+    }
+    Ok((rd, head.iter().map(str::to_string).collect()))
 }
 
 /// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd* optional).

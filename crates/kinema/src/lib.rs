@@ -61,4 +61,4 @@ pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{
     Convention, DhConvention, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
 };
-pub use registry::{builtin_names, builtin_source};
+pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};

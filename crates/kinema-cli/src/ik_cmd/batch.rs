@@ -27,8 +27,16 @@ pub(super) fn run(a: &IkArgs, robot: &Robot, input: &Path, output: &Path) -> Res
     let request = request(a, q0.as_deref())?;
     let targets: Vec<IkTarget> = rows.iter().filter_map(|(_, t)| t.clone().ok()).collect();
     let bar = crate::progress_bar(targets.len(), "targets", 2_000);
-    let solved = kinema::ik::solve_batch(robot, &targets, &request, &|| bar.inc(1), &|| false)?;
+    // Ctrl-C stops the solvers between targets (the rest come back
+    // cancelled); nothing is written then.
+    let cancellable = crate::interrupt::cancellable();
+    let solved = kinema::ik::solve_batch(robot, &targets, &request, &|| bar.inc(1), &crate::interrupt::interrupted)?;
     bar.finish_and_clear();
+    drop(cancellable);
+    if solved.iter().any(|r| matches!(r, Err(Error::Cancelled))) {
+        eprintln!("interrupted; nothing written");
+        return Err(Exit(crate::interrupt::EXIT_INTERRUPTED).into());
+    }
     let mut solved = solved.into_iter();
     let results: Vec<Answer> = rows
         .into_iter()
