@@ -71,7 +71,6 @@ pub(crate) fn interrupted() -> bool {
 
 /// The flag a signal raises, for libraries that poll one (e.g. a program
 /// run's `Stop`). Installs the handler.
-#[allow(dead_code)] // For program runs' cancellation (issue 24 leaves lang_cmd to its own change).
 pub(crate) fn flag() -> Arc<AtomicBool> {
     install();
     shared_flag().clone()

@@ -1,8 +1,6 @@
 //! `kinema check | run | compile PROGRAM`: the robot programming language.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
 use anyhow::Result;
@@ -31,33 +29,11 @@ pub struct ProgramArgs {
     pub(crate) time_limit: Option<f64>,
 }
 
-/// Exit code after Ctrl-C (128 + SIGINT, as shells report it).
-const EXIT_INTERRUPTED: u8 = 130;
-
-/// The flag Ctrl-C raises. The first Ctrl-C asks the running program to stop (it
-/// reports where, and nothing is written); a second one ends the process at once.
-fn interrupted() -> &'static Arc<AtomicBool> {
-    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
-    FLAG.get_or_init(|| {
-        let flag = Arc::new(AtomicBool::new(false));
-        let raised = Arc::clone(&flag);
-        let handler = move || {
-            if raised.swap(true, Ordering::SeqCst) {
-                std::process::exit(i32::from(EXIT_INTERRUPTED));
-            }
-        };
-        // Without a handler (another one is set, or signals are unavailable) Ctrl-C
-        // keeps its default effect: the process ends, and still writes nothing.
-        let _ = ctrlc::set_handler(handler);
-        flag
-    })
-}
-
-/// Whether Ctrl-C was pressed (the error to return then).
+/// Whether Ctrl-C was pressed (the error to return then: nothing is written).
 fn check_interrupted() -> Result<()> {
-    if interrupted().load(Ordering::SeqCst) {
+    if crate::interrupt::interrupted() {
         eprintln!("cancelled (Ctrl-C); nothing was written");
-        return Err(Exit(EXIT_INTERRUPTED).into());
+        return Err(Exit(crate::interrupt::EXIT_INTERRUPTED).into());
     }
     Ok(())
 }
@@ -99,7 +75,10 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
         Some(s) => anyhow::bail!("--time-limit must be a number of seconds ≥ 0, not {s}"),
         None => Stop::never(),
     };
-    stop = stop.with_flag(Arc::clone(interrupted()));
+    // The first Ctrl-C asks the program to stop (it reports where); a second one
+    // ends the process at once.
+    let _cancellable = crate::interrupt::cancellable();
+    stop = stop.with_flag(crate::interrupt::flag());
     let opts = Options { dt: a.dt, start, stop, ..Options::default() };
     let name = a.program.display().to_string();
     match kinema_lang::compile(&src, &robot, &opts) {
