@@ -57,3 +57,26 @@ def test_ptp_errors(robots):
     # Velocity limits above the robot's: planned, then rejected by the check.
     with pytest.raises(kinema.TrajectoryError, match=r"^the trajectory is not emitted: \d+ violation"):
         r.ptp(r.home, qf, 0.01, vmax=100.0, amax=100.0)
+
+
+def test_extreme_limits_are_refused_on_every_door(robots):
+    """``vmax=amax=1e100`` used to give one sample at the target (the start lost);
+    a jerk of 1e-300 an infinite duration. Both are errors naming the cause."""
+    r = robots["puma560"]
+    with pytest.raises(kinema.InvalidInput, match="shorter than"):
+        r.ptp("qz", "qr", 0.01, vmax=1e100, amax=1e100)
+    with pytest.raises(kinema.InvalidInput, match="overflows"):
+        kinema.time_law("scurve", 1.0, vmax=1.0, amax=1.0, jmax=1e-300)
+    with pytest.raises(kinema.InvalidInput, match="overflows"):
+        kinema.time_law("trapezoid", 1e308, vmax=0.5, amax=1.0)
+    tr = r.ptp("qz", "qr", 0.01, vmax=1e6, amax=1e6)
+    assert len(tr.t) >= 2 and np.allclose(tr.q[0], r.pose("qz"))
+
+
+def test_panda_trapezoid_is_refused_for_its_jerk_limits(robots):
+    r = kinema.Robot.builtin("panda")
+    qf = [0.5, -0.3, 0.2, -2.0, 0.1, 1.8, 0.6]
+    with pytest.raises(kinema.InvalidInput, match="jerk limit"):
+        r.ptp(r.home, qf, 0.01)
+    tr = r.ptp(r.home, qf, 0.01, profile="scurve")
+    assert np.allclose(tr.q[-1], qf)

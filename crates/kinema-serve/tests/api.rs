@@ -651,3 +651,28 @@ fn stop_is_prompt_with_connections_open() {
     // The listener is closed: the port can be bound again.
     assert!(Server::bind(addr, None).is_ok());
 }
+
+/// Limits so large a PTP would last 1e-50 s used to give one sample at the
+/// target; the Panda's trapezoid PTP broke its jerk limits. Both are 422s
+/// naming the cause, as on the CLI and in Python.
+#[test]
+fn extreme_limits_and_acceleration_steps_are_refused() {
+    let server = start();
+    let addr = server.local_addr();
+    let from = [0.0, 0.3, 0.0, -1.0, 0.0, 0.5, 0.0];
+    let to = [0.5, 0.6, -0.2, -1.4, 0.3, 0.9, 0.4];
+    let a = post(addr, "/api/traj", &json!({"kind": "ptp", "from": from, "to": to, "jvel": 1e100, "jacc": 1e100}));
+    assert_eq!(a.status, 422, "{}", a.json);
+    assert!(a.json["error"].as_str().unwrap().contains("shorter than"), "{}", a.json);
+    let panda = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.785];
+    let goal = [0.5, -0.3, 0.2, -2.0, 0.1, 1.8, 0.6];
+    let a = post(addr, "/api/traj", &json!({"robot": "panda", "kind": "ptp", "from": panda, "to": goal}));
+    assert_eq!(a.status, 422, "{}", a.json);
+    assert!(a.json["error"].as_str().unwrap().contains("jerk limit"), "{}", a.json);
+    let a = post(
+        addr,
+        "/api/traj",
+        &json!({"robot": "panda", "kind": "ptp", "from": panda, "to": goal, "profile": "scurve"}),
+    );
+    assert_eq!(a.status, 200, "{}", a.json);
+}

@@ -309,14 +309,29 @@ fn a_glitch_in_q_is_found_although_the_derivative_columns_look_fine() {
 }
 
 /// The Panda's model has jerk limits; a trapezoid PTP (acceleration steps)
-/// passed the check. Sampled at 1 ms its jerk is now measured and refused,
-/// and the S-curve planned for those limits passes.
+/// passed the check. The planner now refuses it, and a trapezoid trajectory
+/// from elsewhere (a CSV) sampled at 1 ms is refused by the check; the
+/// S-curve planned for those limits passes.
 #[test]
 fn jerk_limits_of_the_model_are_checked() {
     let robot = Robot::builtin("panda").unwrap();
     let to = [0.5, -0.3, 0.2, -2.0, 0.1, 1.8, 0.6];
     let from = robot.home().to_vec();
-    let trapezoid = Ptp::new(&robot, &from, &to, &PtpOptions::default()).unwrap().sample_unchecked(0.001).unwrap();
+    let e = Ptp::new(&robot, &from, &to, &PtpOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("jerk limit") && e.contains("scurve"), "{e}");
+    // The same motion on a trapezoid law, built by hand: joint 1 accelerates at
+    // 10 rad/s², a step of 10 000 rad/s³ over 1 ms against its 7 500.
+    let law = TimeLaw::from_limits(Profile::Trapezoid, 1.0, &MotionLimits::new(2.0, 20.0)).unwrap();
+    let mut trapezoid = JointTrajectory::new(7);
+    for t in kinema::traj::sample_times(law.duration(), 0.001).unwrap() {
+        let s = law.at(t);
+        let at = |k: usize| -> Vec<f64> {
+            (0..7)
+                .map(|i| [from[i] + s.s * (to[i] - from[i]), s.sd * (to[i] - from[i]), s.sdd * (to[i] - from[i])][k])
+                .collect()
+        };
+        trapezoid.push(t, &at(0), &at(1), &at(2)).unwrap();
+    }
     let r = check(&robot, &trapezoid, &CheckOptions::default()).unwrap();
     assert!(r.violations.iter().any(|v| v.kind == ViolationKind::Jerk), "{:?}", r.violations.first());
     let scurve = PtpOptions { profile: Profile::SCurve, ..PtpOptions::default() };

@@ -41,15 +41,17 @@ pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 use crate::error::{Error, Result};
 use crate::model::Robot;
 
-/// A joint with a jerk limit cannot follow a step in acceleration (the
-/// Panda's controller rejects one), so the laws that start and stop with
-/// one — the trapezoid and the cubic — are refused when a moving joint has a
-/// jerk limit. (The linear law is exempt: it ignores acceleration too.)
-fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64], jerk: &[Option<f64>]) -> Result<()> {
+/// A joint whose model has a jerk limit cannot follow a step in
+/// acceleration (the Panda's controller rejects one), so the laws that start
+/// and stop with one — the trapezoid and the cubic — are refused when such a
+/// joint moves. (A `jmax` option is for the laws that use it, as documented;
+/// the linear law is exempt: it ignores acceleration too.)
+fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64]) -> Result<()> {
     if !matches!(profile, Profile::Trapezoid | Profile::Cubic) {
         return Ok(());
     }
-    let Some(i) = (0..delta.len()).find(|&i| delta[i] != 0.0 && jerk[i].is_some()) else { return Ok(()) };
+    let jerk = |i: usize| robot.joints()[i].limits.jerk;
+    let Some(i) = (0..delta.len()).find(|&i| delta[i] != 0.0 && jerk(i).is_some()) else { return Ok(()) };
     Err(Error::InvalidArgument {
         what: "profile".into(),
         message: format!(
@@ -57,7 +59,7 @@ fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64], jer
              use the scurve or quintic profile",
             i + 1,
             robot.joints()[i].name,
-            jerk[i].unwrap_or(f64::NAN),
+            jerk(i).unwrap_or(f64::NAN),
             profile.name()
         ),
     })
@@ -165,7 +167,7 @@ impl Ptp {
         let acc = joint_limits(robot, opts.acc.as_deref(), "amax", |i| js[i].limits.acc)?;
         let jerk = joint_limits(robot, opts.jerk.as_deref(), "jmax", |i| js[i].limits.jerk)?;
         let delta: Vec<f64> = to.iter().zip(from).map(|(b, a)| b - a).collect();
-        refuse_acceleration_steps(robot, opts.profile, &delta, &jerk)?;
+        refuse_acceleration_steps(robot, opts.profile, &delta)?;
         let need_acc = opts.profile != Profile::Linear;
         let need_jerk = opts.profile == Profile::SCurve;
         let k = opts.speed;
