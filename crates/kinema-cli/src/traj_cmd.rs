@@ -599,8 +599,10 @@ fn expr(a: ExprArgs) -> Result<()> {
 
 fn check_file(a: CheckArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    let traj = read_trajectory(&robot, &a.file)?;
+    let (traj, (value_resolution, time_resolution)) = read_trajectory_with_resolution(&robot, &a.file)?;
     let opts = CheckOptions {
+        value_resolution,
+        time_resolution,
         vel: limits_arg(&robot, a.vmax.as_deref(), false, "vmax")?,
         acc: limits_arg(&robot, a.amax.as_deref(), false, "amax")?,
         jerk: limits_arg(&robot, a.jmax.as_deref(), false, "jmax")?,
@@ -694,6 +696,31 @@ pub(crate) fn open_csv(path: &std::path::Path) -> Result<(CsvReader, Vec<String>
 
 /// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd* optional).
 pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTrajectory> {
+    read_trajectory_with_resolution(robot, path).map(|(traj, _)| traj)
+}
+
+/// Half the last digit of numbers written with a fixed count of decimals:
+/// the most decimals seen (a writer of shortest round-trip numbers shows ~17,
+/// so its values count as exact); 0 when every number has an exponent.
+#[derive(Default)]
+struct Decimals(Option<usize>);
+
+impl Decimals {
+    fn see(&mut self, text: &str) {
+        if text.contains(['e', 'E']) {
+            return;
+        }
+        let d = text.split_once('.').map_or(0, |(_, frac)| frac.len());
+        self.0 = Some(self.0.map_or(d, |m| m.max(d)));
+    }
+
+    fn resolution(&self) -> f64 {
+        self.0.map_or(0.0, |d| 0.5 * 10f64.powi(-(d.min(300) as i32)))
+    }
+}
+
+/// [`read_trajectory`], with how finely the file gives (values, times).
+fn read_trajectory_with_resolution(robot: &Robot, path: &std::path::Path) -> Result<(JointTrajectory, (f64, f64))> {
     let (mut rd, head) = open_csv(path)?;
     let n = robot.dof();
     let col = |name: &str| head.iter().position(|h| h == name);
@@ -715,22 +742,24 @@ pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<J
     let mut qs: Vec<f64> = Vec::new();
     let mut qds: Vec<f64> = Vec::new();
     let mut qdds: Vec<f64> = Vec::new();
+    let (mut value_digits, mut time_digits) = (Decimals::default(), Decimals::default());
     for rec in rd.records() {
         let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
         let line = rec.position().map_or(0, |p| p.line());
-        let get = |c: usize| -> Result<f64> {
+        let get = |c: usize, digits: &mut Decimals| -> Result<f64> {
             let s = rec.get(c).unwrap_or("");
+            digits.see(s);
             s.parse::<f64>().with_context(|| {
                 format!("`{}` line {line}, column `{}`: `{s}` is not a number", path.display(), head[c])
             })
         };
-        t.push(get(t_col)?);
+        t.push(get(t_col, &mut time_digits)?);
         for &c in &q_cols {
-            qs.push(get(c)?);
+            qs.push(get(c, &mut value_digits)?);
         }
         for (cols, out) in [(&qd_cols, &mut qds), (&qdd_cols, &mut qdds)] {
             for &c in cols.iter().flatten() {
-                out.push(get(c)?);
+                out.push(get(c, &mut value_digits)?);
             }
         }
     }
@@ -738,7 +767,8 @@ pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<J
         bail!("`{}` holds no samples", path.display());
     }
     // Velocities and accelerations the file does not give are estimated from the positions.
-    Ok(JointTrajectory::from_samples(n, t, qs, qd_cols.map(|_| qds), qdd_cols.map(|_| qdds))?)
+    let traj = JointTrajectory::from_samples(n, t, qs, qd_cols.map(|_| qds), qdd_cols.map(|_| qdds))?;
+    Ok((traj, (value_digits.resolution(), time_digits.resolution())))
 }
 
 /// The CSV header of a sampled trajectory.

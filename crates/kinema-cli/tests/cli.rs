@@ -1505,7 +1505,10 @@ fn serve_stops_gracefully_on_sigterm_and_ctrl_c() {
         };
         assert!(answer(request(r#"{"program": "WAIT 1\n"}"#)).starts_with("HTTP/1.1 200"));
         // A program that runs for seconds, and an idle connection.
-        let running = request(r#"{"program": "FOR i = 1 TO 100000000\n  PTP home\nEND\n"}"#);
+        // Within every cap of the language, about ten seconds of IK solves.
+        let running = request(
+            r#"{"program": "JACC 90 deg/s^2\nPOS p = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)\nPTP p\nFOR i = 1 TO 450000\n  PTP p\nEND\n", "dt": 0.5}"#,
+        );
         let _idle = std::net::TcpStream::connect(&addr).unwrap();
         std::thread::sleep(Duration::from_millis(300));
         let t0 = Instant::now();

@@ -248,3 +248,23 @@ def test_expr_and_check_equal_the_cli(rommel, iiwa, tmp_path):
         assert np.allclose(out["peak_acceleration"], rep.peak_acceleration, rtol=0, atol=1e-9)
         assert [v["message"] for v in out["violations"]] == [v["message"] for v in rep.violations]
         assert [v["kind"] for v in out["violations"]] == [v["kind"] for v in rep.violations]
+
+
+def test_check_reads_q_itself_and_warns_of_singular_passages(iiwa):
+    """The CLI's cases: a 7.4 mrad glitch in q with the derivative columns untouched is
+    found; a passage through the stretched elbow is one warning; jerk is measured."""
+    q_obj = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876]
+    tr = iiwa.ptp("home", q_obj, 0.01, profile="scurve", amax=2.0, jmax=15.0)
+    clean = iiwa.check(tr, amax=2.0, jmax=15.0)
+    assert clean.ok and clean.peak_jerk.shape == (7,) and clean.peak_jerk.max() <= 15.0 * (1 + 1e-9)
+    q = tr.q.copy()
+    k = len(q) // 3
+    q[k, 1] += 0.0074
+    r = iiwa.check(tr.t, q, tr.qd, tr.qdd, amax=2.0)
+    assert not r.ok and "inconsistent" in {v["kind"] for v in r.violations}
+    assert all(abs(v["sample"] - k) <= 1 and v["joint"] == 2 for v in r.violations)
+    through = iiwa.ptp([0.2, 0.5, 0.1, -0.5, 0.3, 0.8, 0], [0.2, 0.5, 0.1, 0.5, 0.3, 0.8, 0], 0.001,
+                       profile="quintic", amax=2.0)
+    r = iiwa.check(through)
+    assert r.ok and [w["kind"] for w in r.warnings] == ["singular"]
+    assert iiwa.check(through, singular=0).warnings == []

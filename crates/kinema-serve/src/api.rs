@@ -635,7 +635,8 @@ mod tests {
         use std::sync::atomic::AtomicBool;
         use std::sync::Arc;
         let a = app();
-        let body = br#"{"program": "FOR i = 1 TO 1000000\n  PTP home\nEND\n", "dt": 0.5}"#;
+        // Within every cap of the language, about ten seconds of IK solves.
+        let body = br#"{"program": "JACC 90 deg/s^2\nPOS p = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)\nPTP p\nFOR i = 1 TO 450000\n  PTP p\nEND\n", "dt": 0.5}"#;
         let (status, v) = a.api_until("POST", "/api/run", body, &Stop::after(Duration::from_millis(20)));
         assert_eq!(status, 422, "{v}");
         assert!(v["error"].as_str().unwrap().contains("time budget of 0.02 s"), "{v}");

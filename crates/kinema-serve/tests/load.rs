@@ -11,9 +11,10 @@ use kinema::Robot;
 use kinema_serve::{Limits, Running, Server};
 use serde_json::{json, Value};
 
-/// A program that runs for seconds with today's compiler (a million PTPs)
-/// and is looked at by the stop condition between every two statements.
-const WEDGE: &str = "FOR i = 1 TO 100000000\n  PTP home\nEND\n";
+/// A program within every cap of the language (450 000 passes, each an IK
+/// solve for a PTP to where the arm already is) that runs for about ten
+/// seconds, looked at by the stop condition between every two statements.
+const WEDGE: &str = "JACC 90 deg/s^2\nPOS p = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)\nPTP p\nFOR i = 1 TO 450000\n  PTP p\nEND\n";
 
 /// The tests here run one at a time: the CPU-heavy ones would distort the
 /// load test's latencies.

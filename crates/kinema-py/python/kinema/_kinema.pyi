@@ -104,11 +104,17 @@ class CheckReport:
     def peak_acceleration(self) -> F64Array:
         """Largest |qdd| per joint, shape (n,)."""
     @property
+    def peak_jerk(self) -> F64Array:
+        """Largest |q⃛| per joint, shape (n,)."""
+    @property
     def min_manipulability(self) -> Optional[Tuple[float, float]]:
         """(t, value) of the smallest manipulability when min_manip was given, else None."""
     @property
     def violations(self) -> List[Dict[str, Any]]:
         """One dict per problem: kind, t, sample (from 0), joint (from 1 or None), value, limit, message."""
+    @property
+    def warnings(self) -> List[Dict[str, Any]]:
+        """Singular passages (kind "singular"), one per passage, as dicts like violations."""
     def raise_if_violations(self) -> None:
         """Raises TrajectoryError when a limit is broken."""
 
@@ -288,7 +294,11 @@ class Robot:
         *,
         vmax: Optional[ArrayLike] = None,
         amax: Optional[ArrayLike] = None,
+        jmax: Optional[ArrayLike] = None,
         min_manip: Optional[float] = None,
+        singular: float = 1e-3,
+        resolution: float = 0.0,
+        time_resolution: float = 0.0,
     ) -> CheckReport:
         """Checks a trajectory against the robot's limits (kinema traj check). Raises InvalidInput."""
     @overload
@@ -301,7 +311,11 @@ class Robot:
         *,
         vmax: Optional[ArrayLike] = None,
         amax: Optional[ArrayLike] = None,
+        jmax: Optional[ArrayLike] = None,
         min_manip: Optional[float] = None,
+        singular: float = 1e-3,
+        resolution: float = 0.0,
+        time_resolution: float = 0.0,
     ) -> CheckReport:
         """Checks samples t (K,), q (K, n) [qd, qdd estimated when absent]. Raises InvalidInput."""
     def lin(

@@ -385,6 +385,10 @@ fn arc_law(profile: Profile, shared: &MotionLimits, acc: f64, phi: f64) -> Resul
     with_peak(0.5 * (lo + hi))
 }
 
+/// Sampled maxima of a motion's limit ratio refined by golden section, the
+/// largest first (each refinement costs 120 evaluations).
+const MAX_REFINED_PEAKS: usize = 8;
+
 /// How consecutive segments join.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Blend {
@@ -530,22 +534,30 @@ impl CartesianMotion {
         let h = (t1 - t0) / N as f64;
         let vals: Vec<f64> = (0..=N).map(|k| ratio(t0 + h * k as f64)).collect();
         let mut best = vals.iter().copied().fold(0.0, f64::max);
-        for k in 0..=N {
+        // Sampled local maxima near the limit, the largest first. Rounding makes
+        // a plateau at the limit ripple, so a maximum must stand out by more
+        // than that, and only the few largest are refined.
+        let noise = 1e-12;
+        let mut peaks: Vec<usize> = (0..=N)
+            .filter(|&k| {
+                let (a, b) = (k.saturating_sub(1), (k + 1).min(N));
+                vals[k] > 1.0 - 1e-3 && (k == 0 || vals[k] > vals[a] + noise) && vals[k] >= vals[b]
+            })
+            .collect();
+        peaks.sort_by(|&x, &y| vals[y].total_cmp(&vals[x]));
+        for &k in peaks.iter().take(MAX_REFINED_PEAKS) {
             let (a, b) = (k.saturating_sub(1), (k + 1).min(N));
-            // Only peaks near the limit matter; on a plateau only its first point.
-            if vals[k] > 1.0 - 1e-3 && (k == 0 || vals[k] > vals[a]) && vals[k] >= vals[b] {
-                let (mut lo, mut hi) = (t0 + h * a as f64, t0 + h * b as f64);
-                const G: f64 = 0.618_033_988_749_894_9;
-                for _ in 0..60 {
-                    let (m1, m2) = (hi - G * (hi - lo), lo + G * (hi - lo));
-                    if ratio(m1) < ratio(m2) {
-                        lo = m1;
-                    } else {
-                        hi = m2;
-                    }
+            let (mut lo, mut hi) = (t0 + h * a as f64, t0 + h * b as f64);
+            const G: f64 = 0.618_033_988_749_894_9;
+            for _ in 0..60 {
+                let (m1, m2) = (hi - G * (hi - lo), lo + G * (hi - lo));
+                if ratio(m1) < ratio(m2) {
+                    lo = m1;
+                } else {
+                    hi = m2;
                 }
-                best = best.max(ratio(0.5 * (lo + hi)));
             }
+            best = best.max(ratio(0.5 * (lo + hi)));
         }
         best
     }

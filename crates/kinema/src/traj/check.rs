@@ -148,6 +148,12 @@ pub struct CheckOptions {
     /// singular value decomposition per sample. `kinema traj check` uses
     /// [`SINGULAR_WARNING`].
     pub singular_warning: Option<f64>,
+    /// How finely the joint values and their derivatives are known (half the
+    /// last printed digit of a CSV: 5e-13 for kinema's 12 decimals; 0 for
+    /// values computed in memory): the derivative checks allow for it.
+    pub value_resolution: f64,
+    /// The same for the times (5e-10 for kinema's 9 decimals).
+    pub time_resolution: f64,
 }
 
 impl Default for CheckOptions {
@@ -160,6 +166,8 @@ impl Default for CheckOptions {
             min_manipulability: None,
             manipulability_axes: Axes::All,
             singular_warning: None,
+            value_resolution: 0.0,
+            time_resolution: 0.0,
         }
     }
 }
@@ -279,7 +287,8 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
             }
         }
     }
-    check_steps(traj, &acc, &jerk, opts.tolerance, &mut report);
+    let resolution = Resolution { value: opts.value_resolution, time: opts.time_resolution };
+    check_steps(traj, &acc, &jerk, opts.tolerance, resolution, &mut report);
     if let Some(th) = opts.singular_warning {
         report.warnings = singular_passages(robot, traj, th, opts.manipulability_axes)?;
     }
@@ -293,12 +302,33 @@ fn finite(traj: &JointTrajectory, k: usize) -> bool {
     traj.times()[k].is_finite() && traj.q(k).iter().chain(traj.qd(k)).chain(traj.qdd(k)).all(|x| x.is_finite())
 }
 
+/// How finely values and times are known, with machine rounding on top.
+#[derive(Clone, Copy)]
+struct Resolution {
+    value: f64,
+    time: f64,
+}
+
+impl Resolution {
+    /// The uncertainty of a difference quotient (b − a)/h of values of size
+    /// about `scale` and result `quotient`.
+    fn quotient(&self, scale: f64, quotient: f64, h: f64) -> f64 {
+        (2.0 * (self.value + 2.0 * f64::EPSILON * scale) + quotient.abs() * 2.0 * self.time) / h
+    }
+}
+
 /// The checks over steps between samples: q̇ against q's secant, q's second
 /// divided difference against the acceleration limit, q̈'s secant against
-/// the jerk limit. Rounding of the differences is allowed for.
-fn check_steps(traj: &JointTrajectory, acc: &[Option<f64>], jerk: &[Option<f64>], tol: f64, report: &mut CheckReport) {
+/// the jerk limit, each allowing for the resolution of the data.
+fn check_steps(
+    traj: &JointTrajectory,
+    acc: &[Option<f64>],
+    jerk: &[Option<f64>],
+    tol: f64,
+    res: Resolution,
+    report: &mut CheckReport,
+) {
     let t = traj.times();
-    let eps = f64::EPSILON;
     let mut push = |kind, k: usize, i: usize, value: f64, limit: f64| {
         report.violations.push(Violation { kind, sample: k, time: t[k], joint: Some(i), value, limit });
     };
@@ -307,23 +337,25 @@ fn check_steps(traj: &JointTrajectory, acc: &[Option<f64>], jerk: &[Option<f64>]
             continue;
         }
         let h = t[k] - t[k - 1];
-        let third = (k + 1 < traj.len() && finite(traj, k + 1) && t[k + 1] > t[k]).then(|| t[k + 1] - t[k]);
+        let next = (k + 1 < traj.len() && finite(traj, k + 1) && t[k + 1] > t[k]).then(|| t[k + 1] - t[k]);
         for i in 0..traj.dof() {
             let (q0, q1) = (traj.q(k - 1)[i], traj.q(k)[i]);
-            let scale = 1.0 + q0.abs().max(q1.abs());
             let secant = (q1 - q0) / h;
+            let secant_err = res.quotient(q0.abs().max(q1.abs()), secant, h);
             if let Some(a) = acc[i] {
-                let allowed = 0.5 * a * h * (1.0 + CONSISTENCY_SLACK) + 4.0 * eps * scale / h;
+                let allowed = 0.5 * a * h * (1.0 + CONSISTENCY_SLACK) + secant_err + res.value;
                 for kk in [k - 1, k] {
                     let qd = traj.qd(kk)[i];
                     if (qd - secant).abs() > allowed + tol * qd.abs() {
                         push(ViolationKind::Inconsistent, kk, i, qd, secant);
                     }
                 }
-                if let Some(h2) = third {
+                if let Some(h2) = next {
                     let q2 = traj.q(k + 1)[i];
-                    let second = 2.0 * ((q2 - q1) / h2 - secant) / (h + h2);
-                    let rounding = 8.0 * eps * (scale + q2.abs()) / (h * h2);
+                    let secant2 = (q2 - q1) / h2;
+                    let second = 2.0 * (secant2 - secant) / (h + h2);
+                    let err2 = res.quotient(q1.abs().max(q2.abs()), secant2, h2);
+                    let rounding = 2.0 * (secant_err + err2 + second.abs() * res.time) / (h + h2);
                     if second.abs() > a * (1.0 + tol) + rounding {
                         push(ViolationKind::Acceleration, k, i, second, a);
                     }
@@ -333,7 +365,7 @@ fn check_steps(traj: &JointTrajectory, acc: &[Option<f64>], jerk: &[Option<f64>]
             let jerk_here = (a1 - a0) / h;
             report.peak_jerk[i] = report.peak_jerk[i].max(jerk_here.abs());
             if let Some(j) = jerk[i] {
-                if jerk_here.abs() > j * (1.0 + tol) + 4.0 * eps * (1.0 + a0.abs().max(a1.abs())) / h {
+                if jerk_here.abs() > j * (1.0 + tol) + res.quotient(a0.abs().max(a1.abs()), jerk_here, h) {
                     push(ViolationKind::Jerk, k, i, jerk_here, j);
                 }
             }
