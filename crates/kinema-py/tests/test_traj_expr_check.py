@@ -87,10 +87,16 @@ def test_expr_errors(rommel):
         rommel.expr({1: "10*t"}, 1.0)
 
 
+RANK = {"position": 1, "velocity": 2, "jump": 3, "acceleration": 4, "inconsistent": 5}
+
+
 def reference_check(robot, t, q, qd, qdd, vmax, amax, tol=1e-9):
-    """An independent numpy version of the documented check (position, velocity, jump,
-    acceleration per joint, in sample order): a list of (kind, sample, joint from 1)."""
+    """An independent numpy version of the documented check: per sample position, velocity,
+    jump, acceleration; per step q̇ within A·h/2 of q's secant (5 % slack, rounding) and q's
+    second divided difference within A. A list of (kind, sample, joint from 1) in sample,
+    joint, kind order, one per (kind, sample, joint)."""
     lo, hi = robot.qlim
+    eps = np.finfo(float).eps
     out = []
     for k in range(len(t)):
         for i in range(robot.n):
@@ -103,7 +109,24 @@ def reference_check(robot, t, q, qd, qdd, vmax, amax, tol=1e-9):
                 out.append(("jump", k, i + 1))
             if abs(qdd[k, i]) > amax[i] * (1 + tol):
                 out.append(("acceleration", k, i + 1))
-    return out
+    for k in range(1, len(t)):
+        h = t[k] - t[k - 1]
+        for i in range(robot.n):
+            s1 = (q[k, i] - q[k - 1, i]) / h
+            e1 = 2 * (2 * eps * max(abs(q[k - 1, i]), abs(q[k, i]))) / h
+            allowed = 0.5 * amax[i] * h * 1.05 + e1
+            for kk in (k - 1, k):
+                if abs(qd[kk, i] - s1) > allowed + tol * abs(qd[kk, i]):
+                    out.append(("inconsistent", kk, i + 1))
+            if k + 1 < len(t):
+                h2 = t[k + 1] - t[k]
+                s2 = (q[k + 1, i] - q[k, i]) / h2
+                e2 = 2 * (2 * eps * max(abs(q[k, i]), abs(q[k + 1, i]))) / h2
+                second = 2 * (s2 - s1) / (h + h2)
+                if abs(second) > amax[i] * (1 + tol) + 2 * (e1 + e2) / (h + h2):
+                    out.append(("acceleration", k, i + 1))
+    out.sort(key=lambda v: (v[1], v[2], RANK[v[0]]))
+    return list(dict.fromkeys(out))
 
 
 def lagrange_derivatives(t, q):
@@ -157,7 +180,7 @@ def test_check_random_trajectories_against_numpy(iiwa):
             kinds.add(v["kind"])
             assert v["t"] == t[v["sample"]] and v["message"].startswith(f"t = {v['t']:.4f} s (sample {v['sample']}): ")
             assert f"joint {v['joint']}" in v["message"]
-    assert kinds == {"position", "velocity", "jump", "acceleration"}, kinds
+    assert kinds == {"position", "velocity", "jump", "acceleration", "inconsistent"}, kinds
 
 
 def test_check_trajectories_and_plans(iiwa):

@@ -325,9 +325,10 @@ impl Segment {
 /// Θ the largest |ω| per unit of s (the angle for SLERP; for RPY angles
 /// their rates mapped to ω). On an arc of radius r the centripetal
 /// acceleration L·φ·ṡ² shares the budget: (L·s̈)² + (L·φ·ṡ²)² ≤ a², and the
-/// peak ṡ is chosen to make the law shortest. What is left (RPY's angular
-/// acceleration, rounding) is measured over the law and removed by a
-/// uniform slow-down.
+/// peak ṡ is chosen to make the law shortest (the bound holds at every
+/// instant, as |s̈| ≤ s̈_max and ṡ ≤ V throughout). With RPY angles, whose
+/// angular acceleration has terms the tangential limits do not see, the
+/// peaks are measured over the law and removed by a uniform slow-down.
 fn segment_law(
     seg: &Segment,
     profile: Profile,
@@ -354,10 +355,15 @@ fn segment_law(
         Path::Arc { phi, .. } if l > 0.0 => arc_law(profile, &shared, limits.acc / l, phi)?,
         _ => TimeLaw::from_limits(profile, 1.0, &shared)?,
     };
-    let alone = CartesianMotion { segments: vec![*seg], laws: vec![law], starts: vec![0.0], duration: law.duration() };
-    let k = alone.peak_ratio(limits, 0.0, law.duration());
-    if k > 1.0 {
-        law = law.stretched_to(law.duration() * k * (1.0 + 1e-12))?;
+    // A line or an arc with SLERP meets the limits by construction; RPY's
+    // angular acceleration has terms the tangential limits do not see.
+    if matches!(seg.rot, Rot::Rpy { .. }) {
+        let alone =
+            CartesianMotion { segments: vec![*seg], laws: vec![law], starts: vec![0.0], duration: law.duration() };
+        let k = alone.peak_ratio(limits, 0.0, law.duration());
+        if k > 1.0 {
+            law = law.stretched_to(law.duration() * k * (1.0 + 1e-12))?;
+        }
     }
     Ok(law)
 }
@@ -374,7 +380,7 @@ fn arc_law(profile: Profile, shared: &MotionLimits, acc: f64, phi: f64) -> Resul
     let (mut lo, mut hi) = (0.0, shared.vel.min((acc / phi).sqrt()));
     const G: f64 = 0.618_033_988_749_894_9;
     let duration = |v: f64| with_peak(v).map_or(f64::INFINITY, |l| l.duration());
-    for _ in 0..80 {
+    for _ in 0..50 {
         let (m1, m2) = (hi - G * (hi - lo), lo + G * (hi - lo));
         if duration(m1) <= duration(m2) {
             hi = m2;

@@ -28,7 +28,7 @@ pub const SINGULAR_WARNING: f64 = 1e-3;
 const CONSISTENCY_SLACK: f64 = 0.05;
 
 /// What a trajectory check found wrong.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ViolationKind {
     /// A value that is not a finite number, or times that do not increase.
     Malformed,
@@ -54,6 +54,21 @@ pub enum ViolationKind {
 }
 
 impl ViolationKind {
+    /// The order of kinds at one sample and joint in a report.
+    fn rank(self) -> u8 {
+        match self {
+            ViolationKind::Malformed => 0,
+            ViolationKind::Position => 1,
+            ViolationKind::Velocity => 2,
+            ViolationKind::Jump => 3,
+            ViolationKind::Acceleration => 4,
+            ViolationKind::Inconsistent => 5,
+            ViolationKind::Jerk => 6,
+            ViolationKind::NearSingular => 7,
+            ViolationKind::Singular => 8,
+        }
+    }
+
     /// The lower-case name (`malformed`, `position`, `velocity`,
     /// `acceleration`, `jump`, `nearsingular`, `jerk`, `inconsistent`,
     /// `singular`), as `kinema traj check --json` prints it.
@@ -185,7 +200,9 @@ pub struct CheckReport {
     pub peak_jerk: Vec<f64>,
     /// (time, value) of the smallest manipulability, when asked for.
     pub min_manipulability: Option<(f64, f64)>,
-    /// Everything that is wrong, in sample order.
+    /// Everything that is wrong, in sample order (then joint, then kind:
+    /// malformed, position, velocity, jump, acceleration, inconsistent, jerk,
+    /// near-singular), one per sample, joint and kind.
     pub violations: Vec<Violation>,
     /// What deserves a look but breaks no limit (singular passages: one per
     /// passage, at its most singular sample).
@@ -292,8 +309,11 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
     if let Some(th) = opts.singular_warning {
         report.warnings = singular_passages(robot, traj, th, opts.manipulability_axes)?;
     }
-    report.violations.sort_by_key(|v| v.sample);
-    report.violations.dedup_by(|a, b| a.kind == b.kind && a.sample == b.sample && a.joint == b.joint);
+    // In sample order, then joint, then kind; one violation per (sample, joint,
+    // kind): the given derivative's before what q implies.
+    report.violations.sort_by_key(|v| (v.sample, v.joint, v.kind.rank()));
+    let mut seen = std::collections::HashSet::new();
+    report.violations.retain(|v| seen.insert((v.sample, v.joint, v.kind)));
     Ok(report)
 }
 
