@@ -7,21 +7,9 @@ use kinema::{Frame, Robot};
 use rand::SeedableRng;
 use serde_json::Value;
 
-/// Output of one run of `kinema`.
-struct Run {
-    ok: bool,
-    stdout: String,
-    stderr: String,
-}
+mod common;
 
-fn kinema(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_kinema")).args(args).output().expect("kinema runs");
-    Run {
-        ok: out.status.success(),
-        stdout: String::from_utf8(out.stdout).expect("utf-8 stdout"),
-        stderr: String::from_utf8(out.stderr).expect("utf-8 stderr"),
-    }
-}
+use common::kinema;
 
 /// Runs `kinema` expecting success and JSON on stdout.
 fn json(args: &[&str]) -> Value {

@@ -1,26 +1,11 @@
 //! `kinema traj`: limits too extreme to plan with, and `traj check` on what
 //! q itself says — the same cases as the core, Python and /api/traj tests.
 
-use std::process::Command;
-
 use serde_json::Value;
 
-struct Run {
-    ok: bool,
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
+mod common;
 
-fn kinema(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_kinema")).args(args).output().expect("kinema runs");
-    Run {
-        ok: out.status.success(),
-        code: out.status.code(),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
+use common::kinema;
 
 fn tempdir(tag: &str) -> tempfile::TempDir {
     tempfile::Builder::new().prefix(&format!("kinema-traj-{tag}-")).tempdir().unwrap()
