@@ -391,7 +391,13 @@ pub fn poly_real_roots(c: &[f64], out: &mut [f64; 4]) -> usize {
             let mut bound = 0.0f64;
             for i in 1..=deg {
                 let a = (c[deg - i] / c[deg]).abs() * if i == deg { 0.5 } else { 1.0 };
-                bound = bound.max(a.powf(1.0 / i as f64));
+                bound = bound.max(match i {
+                    1 => a,
+                    2 => a.sqrt(),
+                    // max(a^½, a^¼) ≥ a^⅓, without a cube root.
+                    3 => a.sqrt().max(a.sqrt().sqrt()),
+                    _ => a.sqrt().sqrt(),
+                });
             }
             let bound = 2.0 * bound * (1.0 + 1e-12) + f64::MIN_POSITIVE;
             let mut edges = [0.0; 6];
@@ -419,7 +425,7 @@ pub fn poly_real_roots(c: &[f64], out: &mut [f64; 4]) -> usize {
                     continue;
                 }
                 if (flo > 0.0) != (fhi > 0.0) && fhi.abs() > flat && n < 4 {
-                    out[n] = newton_bisect(&p, &dc[..deg], lo, hi, flo);
+                    out[n] = newton_bisect(&p, &dc[..deg], lo, hi, flo, fhi);
                     n += 1;
                 }
             }
@@ -428,12 +434,13 @@ pub fn poly_real_roots(c: &[f64], out: &mut [f64; 4]) -> usize {
     }
 }
 
-/// A root of `p` in [lo, hi] (p(lo) = `flo`, the other sign at hi): Newton
-/// steps with derivative coefficients `dc`, bisection when a step leaves the
-/// bracket.
-fn newton_bisect(p: &dyn Fn(f64) -> f64, dc: &[f64], mut lo: f64, mut hi: f64, flo: f64) -> f64 {
+/// A root of `p` in [lo, hi] (p(lo) = `flo`, p(hi) = `fhi` of the other
+/// sign): Newton steps with derivative coefficients `dc` from the
+/// false-position point, bisection when a step leaves the bracket.
+fn newton_bisect(p: &dyn Fn(f64) -> f64, dc: &[f64], mut lo: f64, mut hi: f64, flo: f64, fhi: f64) -> f64 {
     let dp = |x: f64| dc.iter().rev().fold(0.0, |acc, v| acc * x + v);
-    let mut x = 0.5 * (lo + hi);
+    let secant = lo - flo * (hi - lo) / (fhi - flo);
+    let mut x = if secant > lo && secant < hi { secant } else { 0.5 * (lo + hi) };
     for _ in 0..100 {
         let fx = p(x);
         if fx == 0.0 {
@@ -447,7 +454,8 @@ fn newton_bisect(p: &dyn Fn(f64) -> f64, dc: &[f64], mut lo: f64, mut hi: f64, f
         let d = dp(x);
         let step = if d != 0.0 { x - fx / d } else { f64::NAN };
         let next = if step > lo && step < hi { step } else { 0.5 * (lo + hi) };
-        if (next - x).abs() <= 4.0 * f64::EPSILON * (1.0 + x.abs()) || hi - lo <= 4.0 * f64::EPSILON * (1.0 + x.abs()) {
+        // After a Newton step this small the next one is below rounding.
+        if (next - x).abs() <= 1e-13 * (1.0 + x.abs()) || hi - lo <= 4.0 * f64::EPSILON * (1.0 + x.abs()) {
             return next;
         }
         x = next;
