@@ -135,6 +135,7 @@ pub const FAMILIES: &[Entry] = &[
     Entry { name: "rommel", typed: &[TypedKind::Approach], fit: |r| boxed(rommel::RommelIk::new(r)) },
     Entry { name: "geo", typed: &[], fit: |r| boxed(geo::GeoIk::new(r)) },
     Entry { name: "geo-srs", typed: &[], fit: |r| boxed(geo::SrsIk::new(r)) },
+    Entry { name: "geo-general", typed: &[], fit: |r| boxed(geo::GeneralIk::new(r)) },
 ];
 
 /// The first family in [`FAMILIES`] that fits `robot`.

@@ -509,7 +509,7 @@ pub trait IkSolver: Send + Sync {
 /// geometric solvers, which read the joint axes of any description
 /// ([`geo::GeoIk`]: spherical wrists from URDF or `general` joints, the UR
 /// family's three parallel axes; [`geo::SrsIk`]: 7R arms of the iiwa's
-/// structure in any description, at q3 = 0).
+/// structure in any description, at q3 = 0; [`geo::GeneralIk`]: any other 6R arm, by a 2-D search).
 ///
 /// # Examples
 /// ```

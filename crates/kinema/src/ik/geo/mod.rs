@@ -19,6 +19,11 @@
 //!   and 6 meet off axis 4 (an offset wrist), with the spherical-wrist
 //!   family's shoulder: a 1-D search over q₄.
 //!
+//! Any other 6R arm: [`GeneralIk`] (`geo-general`), a 2-D search over
+//! (q₁, q₂) with subproblem 5 for q₃…q₅ and Newton's method polishing the
+//! seeds; up to 16 solutions. Not a [`GeoIk`] variant: it registers after
+//! the closed forms and the 1-D searches, so it only takes arms none fits.
+//!
 //! Seven revolute joints: [`SrsIk`] (`geo-srs`), axes 1, 2, 3 meeting and
 //! axes 5, 6, 7 meeting (the iiwa's SRS structure), closed form for a given
 //! q₃ and a search over q₃ within the limits; not a [`GeoIk`] variant, since
@@ -30,6 +35,7 @@
 //! `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`: the root index of each step's
 //! subproblem (documented per family).
 
+pub mod general;
 pub mod kin;
 pub mod parallel;
 pub mod parallel_search;
@@ -43,6 +49,7 @@ use std::f64::consts::TAU;
 
 use nalgebra::Vector3;
 
+pub use general::GeneralIk;
 pub use kin::Kinematics;
 pub use parallel::ThreeParallelIk;
 pub use parallel_search::ThreeParallelSearchIk;

@@ -228,6 +228,241 @@ pub fn sp4(h: &V3, k: &V3, p: &V3, d: f64) -> Angles {
     trig(a, b, c, p.norm() + d.abs())
 }
 
+/// Up to four solutions (θ1, θ2, θ3) of [`sp5`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Triples {
+    theta: [[f64; 3]; 4],
+    len: usize,
+}
+
+impl Triples {
+    /// The solutions \[rad\], each angle in (−π, π].
+    pub fn as_slice(&self) -> &[[f64; 3]] {
+        &self.theta[..self.len]
+    }
+}
+
+/// Subproblem 5: (θ1, θ2, θ3) with
+/// `p0 + rot(k1, θ1)·p1 = rot(k2, θ2)·(p2 + rot(k3, θ3)·p3)` — the position
+/// of a point carried by three revolute joints with skew axes. Up to four
+/// solutions; none when there is no exact one (no least-squares answer).
+///
+/// Derivation: rot(k2, θ2) keeps both the component along k2 and the norm,
+/// so with v = p0 + rot(k1, θ1)·p1 and w = p2 + rot(k3, θ3)·p3,
+/// k2·v = k2·w and |v|² = |w|². Each side is affine in
+/// x1 = (cos θ1, sin θ1) and x3 = (cos θ3, sin θ3): two linear equations
+/// A·x1 + B·x3 = d. The better-conditioned of A, B is inverted, leaving a
+/// conic in the other unit vector (|x3|² = 1 with x3 = B⁻¹(d − A·x1)); its
+/// intersections with the unit circle are the roots of a quartic in the
+/// tangent of the half angle ([`circle_conic`]). Then θ2 by subproblem 1
+/// (w onto v). Degenerate data (A and B both singular: p1 on k1 and p3 on
+/// k3, say) gives no solution.
+///
+/// # Examples
+/// ```
+/// use kinema::ik::geo::subproblems::{rotate, sp5};
+/// use kinema::nalgebra::Vector3;
+/// let (k1, k2, k3) = (Vector3::z(), Vector3::x(), Vector3::new(0.0, 0.6, 0.8));
+/// let (p1, p2, p3) = (Vector3::new(0.5, 0.1, 0.2), Vector3::new(0.1, 0.4, 0.0), Vector3::new(0.3, 0.0, 0.2));
+/// let (t1, t2, t3) = (0.4, -1.2, 2.1);
+/// let p0 = rotate(&k2, t2, &(p2 + rotate(&k3, t3, &p3))) - rotate(&k1, t1, &p1);
+/// let s = sp5(&p0, &k1, &p1, &k2, &p2, &k3, &p3);
+/// assert!(s.as_slice().iter().any(|t| (t[0] - t1).abs() < 1e-9 && (t[1] - t2).abs() < 1e-9 && (t[2] - t3).abs() < 1e-9));
+/// ```
+pub fn sp5(p0: &V3, k1: &V3, p1: &V3, k2: &V3, p2: &V3, k3: &V3, p3: &V3) -> Triples {
+    let mut out = Triples { theta: [[0.0; 3]; 4], len: 0 };
+    // R(k, θ)·p = k(k·p) + cos θ·p⊥ + sin θ·(k × p).
+    let (p1a, p1c, p1s) = (k1 * k1.dot(p1), p1 - k1 * k1.dot(p1), k1.cross(p1));
+    let (p3a, p3c, p3s) = (k3 * k3.dot(p3), p3 - k3 * k3.dot(p3), k3.cross(p3));
+    let a = nalgebra::Matrix2::new(k2.dot(&p1c), k2.dot(&p1s), 2.0 * p0.dot(&p1c), 2.0 * p0.dot(&p1s));
+    let b = nalgebra::Matrix2::new(-k2.dot(&p3c), -k2.dot(&p3s), -2.0 * p2.dot(&p3c), -2.0 * p2.dot(&p3s));
+    let d = nalgebra::Vector2::new(
+        k2.dot(&(p2 + p3a)) - k2.dot(&(p0 + p1a)),
+        p2.norm_squared() + p3.norm_squared() + 2.0 * p2.dot(&p3a)
+            - p0.norm_squared()
+            - p1.norm_squared()
+            - 2.0 * p0.dot(&p1a),
+    );
+    let (da, db) = (a.determinant(), b.determinant());
+    let scale = (a.norm() + b.norm()).powi(2);
+    if !(da.abs().max(db.abs()) > 1e-12 * scale) {
+        return out;
+    }
+    // Invert the better-conditioned side: `x_other = inv·(d − m·x_free)`.
+    let (inv, m, free_is_1) =
+        if db.abs() >= da.abs() { (b.try_inverse(), a, true) } else { (a.try_inverse(), b, false) };
+    let Some(inv) = inv else { return out };
+    let (u, w) = (inv * d, inv * m);
+    // |u − W·x|² = 1: xᵀ(WᵀW)x − 2(Wᵀu)·x + |u|² − 1 = 0.
+    let s = w.transpose() * w;
+    let g = w.transpose() * u * -2.0;
+    let mut angles = [0.0; 4];
+    let n = circle_conic(&s, &g, u.norm_squared() - 1.0, &mut angles);
+    for &t in &angles[..n] {
+        let (sn, cs) = t.fast_sin_cos();
+        let x = nalgebra::Vector2::new(cs, sn);
+        let y = u - w * x;
+        let other = y.y.fast_atan2(y.x);
+        let (t1, t3) = if free_is_1 { (t, other) } else { (other, t) };
+        let v = p0 + rotate(k1, t1, p1);
+        let wv = p2 + rotate(k3, t3, p3);
+        let t2 = sp1(k2, &wv, &v).first();
+        out.theta[out.len] = [wrap_angle(t1), t2, wrap_angle(t3)];
+        out.len += 1;
+    }
+    out
+}
+
+/// The angles θ \[rad\] with x = (cos θ, sin θ) on the conic
+/// xᵀ·S·x + g·x + h = 0 (`S` symmetric): up to four, written to `out`;
+/// returns how many. With t = tan((θ − φ)/2) the equation times (1 + t²)² is
+/// a quartic in t whose leading coefficient is the conic's value at θ = φ + π;
+/// φ is the quarter turn that makes it largest, so no root hides at t = ∞.
+pub fn circle_conic(s: &nalgebra::Matrix2<f64>, g: &nalgebra::Vector2<f64>, h: f64, out: &mut [f64; 4]) -> usize {
+    let f =
+        |c: f64, sn: f64| s[(0, 0)] * c * c + 2.0 * s[(0, 1)] * c * sn + s[(1, 1)] * sn * sn + g.x * c + g.y * sn + h;
+    // f at θ = φ + π for φ = 0, π/2, π, −π/2.
+    let at = [f(-1.0, 0.0), f(0.0, -1.0), f(1.0, 0.0), f(0.0, 1.0)];
+    let k = (0..4).max_by(|&i, &j| at[i].abs().total_cmp(&at[j].abs())).unwrap_or(0);
+    let phi = k as f64 * std::f64::consts::FRAC_PI_2;
+    // Rotate the conic by φ: x = R(φ)·x'.
+    let (sp, cp) = phi.sin_cos();
+    let r = nalgebra::Matrix2::new(cp, -sp, sp, cp);
+    let s2 = r.transpose() * s * r;
+    let g2 = r.transpose() * g;
+    let (s11, s12, s22) = (s2[(0, 0)], s2[(0, 1)], s2[(1, 1)]);
+    let c = [
+        s11 + g2.x + h,
+        4.0 * s12 + 2.0 * g2.y,
+        -2.0 * s11 + 4.0 * s22 + 2.0 * h,
+        -4.0 * s12 + 2.0 * g2.y,
+        s11 - g2.x + h,
+    ];
+    let mut t = [0.0; 4];
+    let n = poly_real_roots(&c, &mut t);
+    for i in 0..n {
+        out[i] = wrap_angle(phi + 2.0 * t[i].atan());
+    }
+    n
+}
+
+/// The real roots of the polynomial Σ cᵢ·tⁱ (degree ≤ 4, `c[4]` ≠ 0 unless
+/// lower), in increasing order, written to `out`; returns how many. Roots
+/// of the derivative (recursively) split the real line into monotone pieces
+/// bounded by Fujiwara's bound; each piece with a sign change holds one root,
+/// found by Newton's method safeguarded by bisection. A double root shows as
+/// a critical point where the polynomial vanishes to rounding.
+pub fn poly_real_roots(c: &[f64], out: &mut [f64; 4]) -> usize {
+    let mut deg = c.len().min(5) - 1;
+    let big = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !(big.is_finite() && big > 0.0) {
+        return 0;
+    }
+    while deg > 0 && c[deg].abs() <= 1e-13 * big {
+        deg -= 1;
+    }
+    match deg {
+        0 => 0,
+        1 => {
+            out[0] = -c[0] / c[1];
+            1
+        }
+        2 => {
+            let (a, b, cc) = (c[2], c[1], c[0]);
+            let disc = b * b - 4.0 * a * cc;
+            if disc < 0.0 {
+                return 0;
+            }
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            let (x1, x2) = if q == 0.0 { (0.0, 0.0) } else { (q / a, cc / q) };
+            out[0] = x1.min(x2);
+            out[1] = x1.max(x2);
+            2
+        }
+        _ => {
+            let p = |x: f64| c[..=deg].iter().rev().fold(0.0, |acc, v| acc * x + v);
+            let mut dc = [0.0; 4];
+            for i in 1..=deg {
+                dc[i - 1] = c[i] * i as f64;
+            }
+            let mut crit = [0.0; 4];
+            let nc = poly_real_roots(&dc[..deg], &mut crit);
+            // Fujiwara's bound on |root|: tighter than Cauchy's, so fewer bisections.
+            let mut bound = 0.0f64;
+            for i in 1..=deg {
+                let a = (c[deg - i] / c[deg]).abs() * if i == deg { 0.5 } else { 1.0 };
+                bound = bound.max(match i {
+                    1 => a,
+                    2 => a.sqrt(),
+                    // max(a^½, a^¼) ≥ a^⅓, without a cube root.
+                    3 => a.sqrt().max(a.sqrt().sqrt()),
+                    _ => a.sqrt().sqrt(),
+                });
+            }
+            let bound = 2.0 * bound * (1.0 + 1e-12) + f64::MIN_POSITIVE;
+            let mut edges = [0.0; 6];
+            edges[0] = -bound;
+            let mut ne = 1;
+            for &x in &crit[..nc] {
+                if x > -bound && x < bound {
+                    edges[ne] = x;
+                    ne += 1;
+                }
+            }
+            edges[ne] = bound;
+            ne += 1;
+            let mut n = 0;
+            let flat = 1e-14 * big;
+            for w in 0..ne - 1 {
+                let (lo, hi) = (edges[w], edges[w + 1]);
+                let (flo, fhi) = (p(lo), p(hi));
+                if w > 0 && flo.abs() <= flat {
+                    // A root at a critical point (a double root, or one exactly there).
+                    if n == 0 || (out[n - 1] - lo).abs() > 1e-12 * (1.0 + lo.abs()) {
+                        out[n] = lo;
+                        n += 1;
+                    }
+                    continue;
+                }
+                if (flo > 0.0) != (fhi > 0.0) && fhi.abs() > flat && n < 4 {
+                    out[n] = newton_bisect(&p, &dc[..deg], lo, hi, flo, fhi);
+                    n += 1;
+                }
+            }
+            n
+        }
+    }
+}
+
+/// A root of `p` in [lo, hi] (p(lo) = `flo`, p(hi) = `fhi` of the other
+/// sign): Newton steps with derivative coefficients `dc` from the
+/// false-position point, bisection when a step leaves the bracket.
+fn newton_bisect(p: &dyn Fn(f64) -> f64, dc: &[f64], mut lo: f64, mut hi: f64, flo: f64, fhi: f64) -> f64 {
+    let dp = |x: f64| dc.iter().rev().fold(0.0, |acc, v| acc * x + v);
+    let secant = lo - flo * (hi - lo) / (fhi - flo);
+    let mut x = if secant > lo && secant < hi { secant } else { 0.5 * (lo + hi) };
+    for _ in 0..100 {
+        let fx = p(x);
+        if fx == 0.0 {
+            return x;
+        }
+        if (fx > 0.0) == (flo > 0.0) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let d = dp(x);
+        let step = if d != 0.0 { x - fx / d } else { f64::NAN };
+        let next = if step > lo && step < hi { step } else { 0.5 * (lo + hi) };
+        // After a Newton step this small the next one is below rounding.
+        if (next - x).abs() <= 1e-13 * (1.0 + x.abs()) || hi - lo <= 4.0 * f64::EPSILON * (1.0 + x.abs()) {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -369,6 +604,47 @@ mod tests {
         assert!(a.exact && a.first() == 0.0);
         let a = sp4(&V3::x(), &V3::x(), &V3::new(0.3, 1.0, 0.0), 0.4);
         assert!(!a.exact);
+    }
+
+    #[test]
+    fn poly_real_roots_finds_simple_double_and_spread_roots() {
+        let mut r = [0.0; 4];
+        // (t − 1)(t + 2)(t − 3)(t + 0.5) = t⁴ − 1.5t³ − 6t² + 3.5t + 3
+        let n = poly_real_roots(&[3.0, 3.5, -6.0, -1.5, 1.0], &mut r);
+        assert_eq!(n, 4, "{r:?}");
+        for (x, y) in r.iter().zip([-2.0, -0.5, 1.0, 3.0]) {
+            assert!((x - y).abs() < 1e-12, "{r:?}");
+        }
+        // t⁴ + 1: none. (t − 1)²(t² + 1) = t⁴ − 2t³ + 2t² − 2t + 1: the double root.
+        assert_eq!(poly_real_roots(&[1.0, 0.0, 0.0, 0.0, 1.0], &mut r), 0);
+        let n = poly_real_roots(&[1.0, -2.0, 2.0, -2.0, 1.0], &mut r);
+        assert!(n >= 1 && r[..n].iter().all(|x| (x - 1.0).abs() < 1e-6), "{r:?}");
+        // Degree drops: 2t − 1.
+        assert!(poly_real_roots(&[-1.0, 2.0, 0.0, 0.0, 0.0], &mut r) == 1 && (r[0] - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn sp5_round_trips() {
+        let mut rng = ChaCha8Rng::seed_from_u64(6);
+        let mut found = 0;
+        let total = 10_000;
+        for _ in 0..total {
+            let (k1, k2, k3) = (unit(&mut rng), unit(&mut rng), unit(&mut rng));
+            let (p1, p2, p3) = (point(&mut rng), point(&mut rng), point(&mut rng));
+            let (t1, t2, t3) = (angle(&mut rng), angle(&mut rng), angle(&mut rng));
+            let p0 = rotate(&k2, t2, &(p2 + rotate(&k3, t3, &p3))) - rotate(&k1, t1, &p1);
+            let s = sp5(&p0, &k1, &p1, &k2, &p2, &k3, &p3);
+            for t in s.as_slice() {
+                let l = p0 + rotate(&k1, t[0], &p1);
+                let r = rotate(&k2, t[1], &(p2 + rotate(&k3, t[2], &p3)));
+                assert!((l - r).norm() < 1e-6 * (1.0 + l.norm()), "{t:?}: {}", (l - r).norm());
+            }
+            if s.as_slice().iter().any(|t| (0..3).all(|i| wrap_angle(t[i] - [t1, t2, t3][i]).abs() < 1e-6)) {
+                found += 1;
+            }
+        }
+        // Misses are near-tangent data, where the angles are ill-conditioned.
+        assert!(found as f64 >= 0.998 * total as f64, "{found} of {total}");
     }
 
     #[test]
