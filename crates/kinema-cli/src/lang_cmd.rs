@@ -120,6 +120,9 @@ fn summary(plan: &Plan) -> Result<serde_json::Value> {
 }
 
 pub fn run(a: RunArgs) -> Result<()> {
+    if a.json && crate::output::is_stdout(&a.out) {
+        anyhow::bail!("--json with --out -: the JSON summary and the CSV would both go to standard output; write the CSV to a file");
+    }
     let (plan, _) = build(&a.program)?;
     let robot = &plan.robot;
     let conv = RpyConvention::Zyx;

@@ -184,6 +184,20 @@ fn a_dash_output_is_standard_output() {
     assert_eq!(names(&dir), ["q.csv"]);
 }
 
+/// `run --out - --json` mixed the CSV and the JSON summary on standard output.
+#[test]
+fn a_dash_output_with_a_json_summary_is_refused() {
+    let dir = tempdir("dash-json");
+    let program = dir.join("home.prg");
+    std::fs::write(&program, "HOME 1\n").unwrap();
+    let o = run(&["run", s(&program), "-r", "scara5", "--out", "-", "--json"]);
+    assert!(!o.status.success() && o.stdout.is_empty(), "{}", String::from_utf8_lossy(&o.stdout));
+    assert!(stderr(&o).contains("both go to standard output"), "{}", stderr(&o));
+    let o = run(&["run", s(&program), "-r", "scara5", "--out", "-"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8(o.stdout).unwrap().starts_with("t,q1,"));
+}
+
 #[test]
 #[cfg(unix)]
 fn an_interrupted_write_leaves_no_temporary_file() {
