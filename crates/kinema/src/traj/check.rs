@@ -261,7 +261,7 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
         let (q, qd, qdd) = (traj.q(k), traj.qd(k), traj.qdd(k));
         let v = |kind, joint, value, limit| Violation { kind, sample: k, time: t, joint, value, limit };
         let prev_t = if k > 0 { traj.times()[k - 1] } else { f64::NEG_INFINITY };
-        if !t.is_finite() || t <= prev_t || q.iter().chain(qd).chain(qdd).any(|x| !x.is_finite()) {
+        if !finite(traj, k) || t <= prev_t {
             let bad = q.iter().chain(qd).chain(qdd).copied().find(|x| !x.is_finite()).unwrap_or(t);
             report.violations.push(v(ViolationKind::Malformed, None, bad, prev_t));
             continue;
