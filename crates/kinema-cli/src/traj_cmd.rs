@@ -8,7 +8,7 @@ use kinema::analysis::{yoshikawa, Axes};
 use kinema::nalgebra::Matrix6xX;
 use kinema::traj::{
     check, expression_trajectory, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr,
-    JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, TimeLaw,
+    JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, SelfMotion, TimeLaw,
 };
 use kinema::{Frame, Pose, Robot, RpyConvention};
 use serde_json::json;
@@ -81,6 +81,14 @@ pub struct CartArgs {
     /// How Cartesian poses become joint values.
     #[arg(long, value_enum, default_value = "ik")]
     method: MethodArg,
+    /// Self-motion of a redundant arm along the path (the iiwa's joint 3): `hold` the start's q3
+    /// (the default where the arm has a closed form), `track` (least joint motion), `manipulability`
+    /// (seed 004 §V-E), `avoid-limits`, or a value in rad (deg with --deg) the start must have.
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "psi", value_parser = policy_text("q3"))]
+    q3: Option<String>,
+    /// Hold the arm angle ψ [rad] (deg with --deg) at this value, or `hold` the start's.
+    #[arg(long, allow_hyphen_values = true, value_parser = policy_text("psi"))]
+    psi: Option<String>,
     /// Sample period [s].
     #[arg(long, default_value_t = 0.01)]
     dt: f64,
@@ -100,6 +108,12 @@ pub struct CartArgs {
     /// Print a JSON summary (and the samples when --out is not given).
     #[arg(long)]
     json: bool,
+}
+
+/// A clap parser that accepts what [`SelfMotion::parse`] reads for `parameter`
+/// (so a malformed policy is a usage error, exit 64).
+fn policy_text(parameter: &'static str) -> impl Fn(&str) -> std::result::Result<String, String> + Clone {
+    move |text| SelfMotion::parse(parameter, text, 1.0).map(|_| text.to_string()).map_err(|e| e.to_string())
 }
 
 #[derive(Args)]
@@ -493,12 +507,21 @@ fn cart_motion(
     };
     let profile: Profile = c.profile.into();
     let motion = CartesianMotion::new(segments(start)?, profile, &limits, blend)?;
+    let scale = if c.deg { std::f64::consts::PI / 180.0 } else { 1.0 };
+    let self_motion = match (&c.q3, &c.psi) {
+        (Some(text), _) => SelfMotion::parse("q3", text, scale).context("--q3")?,
+        (None, Some(text)) => SelfMotion::parse("psi", text, scale).context("--psi")?,
+        (None, None) => SelfMotion::Auto,
+    };
+    if self_motion != SelfMotion::Auto && matches!(c.method, MethodArg::Rate) {
+        bail!("--q3/--psi choose the self-motion of --method ik; resolved rate (--method rate) follows the damped pseudo-inverse");
+    }
     let method = match c.method {
-        MethodArg::Ik => JointMethod::Ik,
+        MethodArg::Ik => JointMethod::Ik(self_motion),
         MethodArg::Rate => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
     };
     let traj = match c.max_step {
-        Some(step) => to_joints_at(robot, &motion, &q0, &motion.resample_times(step, c.max_angle)?, method)?,
+        Some(step) => to_joints_at(robot, &motion, &q0, &motion.resample_times(step, c.max_angle)?, method.clone())?,
         None => to_joints(robot, &motion, &q0, c.dt, method)?,
     };
     let opts = CheckOptions { min_manipulability: c.min_manip, ..CheckOptions::default() };

@@ -111,3 +111,57 @@ fn traj_check_finds_a_glitch_in_q_and_warns_of_singular_passages() {
     assert_eq!(warnings.len(), 1, "{v}");
     assert_eq!(warnings[0]["kind"], "singular");
 }
+
+/// `--q3`/`--psi` choose the iiwa's self-motion along a LIN: held by
+/// default, fixed, steered; malformed values are usage errors (64), a value
+/// the start does not have and a six-joint arm are errors naming why.
+#[test]
+fn q3_and_psi_choose_the_self_motion_of_a_line() {
+    let dir = tempdir("q3");
+    let out = dir.path().join("lin.csv");
+    let from = "--from=0.3,1.0,0.4,-0.8,0.2,0.9,0.1";
+    let base =
+        ["traj", "lin", "-r", "lbr-iiwa-14-r820", from, "--to", "0.50,0.20,0.90,0.6945,0.8387,1.3509", "--vmax", "0.2"];
+    let q3_drift = |policy: &[&str]| -> Result<f64, String> {
+        let mut args: Vec<&str> = base.to_vec();
+        args.extend(["--amax", "1", "--out", out.to_str().unwrap()]);
+        args.extend(policy);
+        let r = kinema(&args);
+        if !r.ok {
+            return Err(format!("{:?} {}", r.code, r.stderr));
+        }
+        let text = std::fs::read_to_string(&out).unwrap();
+        let q3: Vec<f64> = text.lines().skip(1).map(|l| l.split(',').nth(3).unwrap().parse().unwrap()).collect();
+        Ok(q3.iter().map(|v| (v - 0.4).abs()).fold(0.0, f64::max))
+    };
+    for policy in [&[][..], &["--q3", "hold"], &["--q3", "0.4"]] {
+        let drift = q3_drift(policy).unwrap();
+        assert!(drift < 1e-9, "{policy:?}: q3 drifted by {drift}");
+    }
+    let drift = q3_drift(&["--q3", "manipulability"]).unwrap();
+    assert!(drift > 1e-3, "the rule never moved q3");
+    assert!(q3_drift(&["--q3", "track"]).is_ok());
+    let e = q3_drift(&["--q3", "0.5"]).unwrap_err();
+    assert!(e.starts_with("Some(1)") && e.contains("q3 = 0.400000"), "{e}");
+    for bad in [&["--q3", "sideways"][..], &["--psi", "track"], &["--q3", "hold", "--psi", "hold"]] {
+        let e = q3_drift(bad).unwrap_err();
+        assert!(e.starts_with("Some(64)"), "{bad:?}: {e}");
+    }
+    let r = kinema(&[
+        "traj",
+        "lin",
+        "-r",
+        "puma560",
+        "--from",
+        "qn",
+        "--to",
+        "0.5,0.1,0.3,0,1.57,0",
+        "--vmax",
+        "0.2",
+        "--amax",
+        "1",
+        "--q3",
+        "hold",
+    ]);
+    assert!(!r.ok && r.stderr.contains("no self-motion"), "{}", r.stderr);
+}

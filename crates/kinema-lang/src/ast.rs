@@ -93,6 +93,15 @@ pub enum StmtKind {
     JAcc(Expr),
     /// `PROFILE name`: the time law of later motions.
     Profile(Name),
+    /// `REDUNDANCY policy` (`hold`, `track`, `manipulability`,
+    /// `avoid-limits`, `auto`) or `REDUNDANCY q3 = angle` / `psi = angle`:
+    /// the self-motion of a redundant arm in later LIN and CIRC motions.
+    Redundancy {
+        /// The policy, or the parameter a value is given for.
+        mode: Name,
+        /// The value, after `=`.
+        value: Option<Expr>,
+    },
     /// `TOOL target`: the tool frame (flange → tool point) of later motions.
     Tool(Target),
     /// `BASE target`: the frame later Cartesian targets are written in.

@@ -13,7 +13,7 @@ use kinema::math::{rpy_to_rot, Pose};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{
     self, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, JointTrajectory, Orientation, Profile,
-    Ptp, PtpOptions, Segment, TimeLaw,
+    Ptp, PtpOptions, Segment, SelfMotion, TimeLaw,
 };
 use kinema::{Robot, RpyConvention};
 
@@ -217,6 +217,8 @@ struct Compiler<'a> {
     jacc: [Option<f64>; 2],
     cart: CartesianLimits,
     profile: Profile,
+    /// The self-motion policy of later LIN and CIRC motions (REDUNDANCY).
+    self_motion: SelfMotion,
     base: Pose,
     positions: HashMap<String, PosValue>,
     counters: HashMap<String, f64>,
@@ -234,7 +236,7 @@ struct Compiler<'a> {
     /// Cartesian motions whose conversion to joints failed, with the inputs that
     /// decide it (tool generation, start joints) and the error: a failing LIN in a loop
     /// is computed once, not once per pass. Exact: the conversion is deterministic.
-    failed_conversions: Vec<(CartesianMotion, usize, Vec<f64>, String)>,
+    failed_conversions: Vec<(CartesianMotion, SelfMotion, usize, Vec<f64>, String)>,
     /// Changes with every TOOL (the robot the conversion uses).
     tool_generation: usize,
 }
@@ -288,6 +290,7 @@ impl<'a> Compiler<'a> {
             jacc: [None; 2],
             cart: default_cartesian(),
             profile: Profile::Trapezoid,
+            self_motion: SelfMotion::Auto,
             base: Pose::IDENTITY,
             positions: HashMap::new(),
             counters: HashMap::new(),
@@ -427,6 +430,28 @@ impl<'a> Compiler<'a> {
                     );
                 }
             }
+            StmtKind::Redundancy { mode, value } => match value {
+                None => {
+                    if mode.key.parse::<f64>().is_ok() || SelfMotion::parse("q3", &mode.key, 1.0).is_err() {
+                        self.err(
+                            Diagnostic::error(mode.span.clone(), format!("unknown self-motion policy `{}`", mode.text))
+                                .with_hint("policies: hold, track, manipulability, avoid-limits, auto; or q3 = 30deg, psi = 0.5rad"),
+                        );
+                    }
+                }
+                Some(e) => {
+                    if mode.key != "q3" && mode.key != "psi" {
+                        self.err(
+                            Diagnostic::error(
+                                mode.span.clone(),
+                                format!("`{}` is not a self-motion parameter", mode.text),
+                            )
+                            .with_hint("a value is given for q3 or psi: REDUNDANCY q3 = 30deg"),
+                        );
+                    }
+                    self.static_expect(e, Dim::Angle, None, scope);
+                }
+            },
             StmtKind::Tool(t) | StmtKind::Base(t) => {
                 if !matches!(t, Target::Cart(..)) && !matches!(t, Target::Named(_)) {
                     self.err(Diagnostic::error(t.span(), "a frame is written CART(x, y, z, roll, pitch, yaw)"));
@@ -860,6 +885,17 @@ impl<'a> Compiler<'a> {
                     self.profile = p;
                 }
             }
+            StmtKind::Redundancy { mode, value } => {
+                let policy = match value {
+                    None => SelfMotion::parse("q3", &mode.key, 1.0).ok(),
+                    Some(e) => self
+                        .value(e, Dim::Angle, None)
+                        .map(|v| SelfMotion::Fixed { parameter: mode.key.clone(), value: Some(v) }),
+                };
+                if let Some(policy) = policy {
+                    self.self_motion = policy;
+                }
+            }
             StmtKind::Tool(t) => {
                 if let Some(PosValue::Cart(p)) = self.resolve_frame(t) {
                     match self.robot.with_tool(p) {
@@ -1225,16 +1261,34 @@ impl<'a> Compiler<'a> {
         let failed_before = self
             .failed_conversions
             .iter()
-            .find(|(m, tool, q, _)| *tool == self.tool_generation && q.as_slice() == self.q.as_slice() && *m == motion)
+            .find(|(m, policy, tool, q, _)| {
+                *tool == self.tool_generation
+                    && q.as_slice() == self.q.as_slice()
+                    && *m == motion
+                    && *policy == self.self_motion
+            })
             .map(|(.., e)| e.clone());
         let converted = match failed_before {
             Some(e) => Err(e),
-            None => traj::to_joints_at(&self.robot_tool, &motion, &self.q, &times, JointMethod::Ik).map_err(|e| {
+            None => traj::to_joints_at(
+                &self.robot_tool,
+                &motion,
+                &self.q,
+                &times,
+                JointMethod::Ik(self.self_motion.clone()),
+            )
+            .map_err(|e| {
                 let e = e.to_string();
                 if self.failed_conversions.len() == FAILED_CONVERSIONS_KEPT {
                     self.failed_conversions.remove(0);
                 }
-                self.failed_conversions.push((motion.clone(), self.tool_generation, self.q.clone(), e.clone()));
+                self.failed_conversions.push((
+                    motion.clone(),
+                    self.self_motion.clone(),
+                    self.tool_generation,
+                    self.q.clone(),
+                    e.clone(),
+                ));
                 e
             }),
         };
@@ -1695,6 +1749,7 @@ fn keyword_of(k: &StmtKind) -> &'static str {
         StmtKind::JVel(_) => "JVEL",
         StmtKind::JAcc(_) => "JACC",
         StmtKind::Profile(_) => "PROFILE",
+        StmtKind::Redundancy { .. } => "REDUNDANCY",
         StmtKind::Tool(_) => "TOOL",
         StmtKind::Base(_) => "BASE",
         StmtKind::Wait(_) => "WAIT",

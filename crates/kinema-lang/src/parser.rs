@@ -8,8 +8,27 @@ use crate::lexer::{lex, Span, Tok, Token};
 
 /// Statement keywords, for messages.
 pub const KEYWORDS: &[&str] = &[
-    "POS", "PTP", "LIN", "CIRC", "SPEED", "VEL", "ACC", "JVEL", "JACC", "PROFILE", "TOOL", "BASE", "WAIT", "PAUSE",
-    "HOME", "LOOP", "FOR", "MOVEZ", "MOVETITA", "MOVEXY",
+    "POS",
+    "PTP",
+    "LIN",
+    "CIRC",
+    "SPEED",
+    "VEL",
+    "ACC",
+    "JVEL",
+    "JACC",
+    "PROFILE",
+    "REDUNDANCY",
+    "TOOL",
+    "BASE",
+    "WAIT",
+    "PAUSE",
+    "HOME",
+    "LOOP",
+    "FOR",
+    "MOVEZ",
+    "MOVETITA",
+    "MOVEXY",
 ];
 
 /// `LOOP`/`FOR` blocks nested deeper than this are an error, and so are
@@ -210,6 +229,17 @@ impl Parser {
             "JVEL" => StmtKind::JVel(self.expr()?),
             "JACC" => StmtKind::JAcc(self.expr()?),
             "PROFILE" => StmtKind::Profile(self.name("a profile name (trapezoid, scurve, quintic, cubic)")?),
+            "REDUNDANCY" => {
+                let mode = self
+                    .name("a policy (hold, track, manipulability, avoid-limits, auto) or `q3 =` / `psi =` an angle")?;
+                let value = if self.peek_tok() == Some(&Tok::Eq) {
+                    self.bump();
+                    Some(self.expr()?)
+                } else {
+                    None
+                };
+                StmtKind::Redundancy { mode, value }
+            }
             "TOOL" => StmtKind::Tool(self.target()?),
             "BASE" => StmtKind::Base(self.target()?),
             "WAIT" | "PAUSE" => StmtKind::Wait(self.expr()?),

@@ -520,3 +520,41 @@ fn review_findings_stay_fixed() {
     let e = compile("WAIT 1s", &s, &opts).unwrap_err();
     assert!(e[0].message.contains("start configuration: joint 4 (z)"), "{e:?}");
 }
+
+/// REDUNDANCY chooses the iiwa's self-motion in LIN: held, fixed at a
+/// value, or steered; bad policies and arms without a self-motion are
+/// errors at their line.
+#[test]
+fn redundancy_chooses_the_self_motion_of_later_lines() {
+    let r = robot("lbr-iiwa-14-r820");
+    let head = "VEL 100mm/s\nJACC 90deg/s^2\nPTP JOINT(-20deg, 50deg, 20deg, -60deg, 10deg, 50deg, 0)\n";
+    let line = "LIN REL CART(0mm, 100mm, 50mm)\n";
+    // q3 over the LIN (the last motion).
+    let q3_range = |plan: &Plan| {
+        let t = &plan.trajectory;
+        let from = plan.motions.last().unwrap().start;
+        let q3: Vec<f64> = (0..t.len()).filter(|&k| t.times()[k] >= from).map(|k| t.q(k)[2]).collect();
+        q3.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - q3.iter().cloned().fold(f64::INFINITY, f64::min)
+    };
+    for policy in ["", "REDUNDANCY hold\n", "REDUNDANCY q3 = 20deg\n"] {
+        let plan = ok(&format!("{head}{policy}{line}"), &r);
+        assert!(q3_range(&plan) < 1e-9, "{policy:?}: q3 moved by {}", q3_range(&plan));
+        assert!((plan.final_q()[2] - 20f64.to_radians()).abs() < 1e-9);
+    }
+    let steered = ok(&format!("{head}REDUNDANCY manipulability\n{line}"), &r);
+    assert!(q3_range(&steered) > 1e-3, "the rule never moved q3");
+    let tracked = ok(&format!("{head}REDUNDANCY track\n{line}"), &r);
+    let end = tool(&r, tracked.final_q());
+    let want = tool(&r, ok(&format!("{head}{line}"), &r).final_q());
+    assert!((end.pos - want.pos).norm() < 1e-6);
+    let (at, message) = one_error(&format!("{head}REDUNDANCY sideways\n{line}"), &r);
+    assert_eq!(at, 4);
+    assert!(message.contains("sideways"), "{message}");
+    let (at, message) = one_error(&format!("{head}REDUNDANCY q3 = 10deg\n{line}"), &r);
+    assert_eq!(at, 5);
+    assert!(message.contains("q3 = 0.349") && message.contains("0.17453"), "{message}");
+    let puma = robot("puma560");
+    let (at, message) = one_error("REDUNDANCY hold\nLIN REL CART(0mm, 0mm, 20mm)\n", &puma);
+    assert_eq!(at, 2);
+    assert!(message.contains("no self-motion"), "{message}");
+}

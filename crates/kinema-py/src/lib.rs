@@ -24,7 +24,7 @@ use kinema::nalgebra::{Matrix4, Vector3};
 use kinema::traj::{
     check, expression_trajectory, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion,
     CheckOptions, CheckReport, Expr, JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions,
-    Segment, TimeLaw,
+    Segment, SelfMotion, TimeLaw,
 };
 use kinema::{Error, Frame, Pose, Robot, RpyConvention};
 use kinema_lang::{PlannedMotion, Severity};
@@ -211,6 +211,26 @@ fn is_complex(x: &Bound<'_, PyAny>) -> PyResult<bool> {
 }
 
 /// [`real`], or None.
+/// The self-motion policy of `lin`/`circ`: `q3=` a policy name or an angle,
+/// `psi=` "hold" or an angle (the CLI's `--q3`/`--psi`).
+fn self_motion_arg<'py>(q3: Option<&Bound<'py, PyAny>>, psi: Option<&Bound<'py, PyAny>>) -> PyResult<SelfMotion> {
+    let given = |o: Option<&Bound<'py, PyAny>>| o.filter(|o| !o.is_none()).cloned();
+    let (parameter, value) = match (given(q3), given(psi)) {
+        (Some(_), Some(_)) => return Err(invalid("give `q3` or `psi`, not both".into())),
+        (Some(v), None) => ("q3", v),
+        (None, Some(v)) => ("psi", v),
+        (None, None) => return Ok(SelfMotion::Auto),
+    };
+    if let Ok(text) = value.extract::<String>() {
+        return SelfMotion::parse(parameter, &text, 1.0).map_err(to_py);
+    }
+    let v = real(&value)?;
+    if !v.is_finite() {
+        return Err(invalid(format!("invalid `{parameter}`: {v} is not a finite angle")));
+    }
+    Ok(SelfMotion::Fixed { parameter: parameter.into(), value: Some(v) })
+}
+
 fn opt_real(obj: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
     if obj.is_none() {
         Ok(None)
@@ -845,14 +865,17 @@ impl CartOptions {
         amax: f64,
         jmax: Option<f64>,
         [rot_vmax, rot_amax, rot_jmax]: [Option<f64>; 3],
-        method: &str,
+        (method, self_motion): (&str, SelfMotion),
         dt: f64,
         max_step: Option<f64>,
         max_angle: f64,
         min_manip: Option<f64>,
     ) -> PyResult<Self> {
+        if self_motion != SelfMotion::Auto && method != "ik" {
+            return Err(invalid("`q3`/`psi` choose the self-motion of method=\"ik\"".into()));
+        }
         let method = match method {
-            "ik" => JointMethod::Ik,
+            "ik" => JointMethod::Ik(self_motion),
             // The gains `kinema traj lin --method rate` uses.
             "rate" => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
             other => return Err(invalid(format!("invalid `method`: `{other}`; use \"ik\" or \"rate\""))),
@@ -1030,9 +1053,13 @@ impl PyRobot {
                 let start = robot.fk(&q0)?.pose;
                 let motion = CartesianMotion::new(segments(start)?, o.profile, &o.limits, blend)?;
                 let traj = match o.max_step {
-                    Some(step) => {
-                        to_joints_at(&robot, &motion, &q0, &motion.resample_times(step, o.max_angle)?, o.method)?
-                    }
+                    Some(step) => to_joints_at(
+                        &robot,
+                        &motion,
+                        &q0,
+                        &motion.resample_times(step, o.max_angle)?,
+                        o.method.clone(),
+                    )?,
                     None => to_joints(&robot, &motion, &q0, o.dt, o.method)?,
                 };
                 let opts = CheckOptions { min_manipulability: o.min_manip, ..CheckOptions::default() };
@@ -1570,7 +1597,12 @@ impl PyRobot {
     /// 0.01, gain 0.5). ``max_step`` [m] / ``max_angle`` [rad]: instead of a
     /// fixed period, sample so that consecutive poses are at most this far
     /// apart. ``min_manip``: also reject samples whose translational
-    /// manipulability is below this value.
+    /// manipulability is below this value. ``q3`` / ``psi``: the self-motion
+    /// of a redundant arm (``kinema traj lin --q3/--psi``): ``q3`` is
+    /// ``"hold"`` (the start's q3, the default where the arm has a closed
+    /// form), ``"track"`` (least joint motion), ``"manipulability"`` (seed
+    /// 004 §V-E), ``"avoid-limits"`` or an angle the start must have; ``psi``
+    /// is ``"hold"`` or an angle.
     ///
     /// Raises:
     ///     InvalidInput: bad joint vector, pose, limit, option, ``rpy`` or ``dt``.
@@ -1580,7 +1612,7 @@ impl PyRobot {
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (q0, T, dt, *, vmax, amax, via=None, profile="trapezoid", jmax=None, rot_vmax=None,
         rot_amax=None, rot_jmax=None, blend=None, orientation="slerp", rpy="zyx", method="ik", max_step=None,
-        max_angle=0.05, min_manip=None))]
+        max_angle=0.05, min_manip=None, q3=None, psi=None))]
     fn lin(
         &self,
         py: Python<'_>,
@@ -1602,6 +1634,8 @@ impl PyRobot {
         #[pyo3(from_py_with = opt_real)] max_step: Option<f64>,
         #[pyo3(from_py_with = real)] max_angle: f64,
         #[pyo3(from_py_with = opt_real)] min_manip: Option<f64>,
+        q3: Option<&Bound<'_, PyAny>>,
+        psi: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
         let conv = parse_rpy(rpy)?;
@@ -1622,7 +1656,7 @@ impl PyRobot {
             amax,
             jmax,
             [rot_vmax, rot_amax, rot_jmax],
-            method,
+            (method, self_motion_arg(q3, psi)?),
             dt,
             max_step,
             max_angle,
@@ -1654,7 +1688,8 @@ impl PyRobot {
     ///     TrajectoryError: the joint trajectory breaks a limit.
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (q0, via, T, dt, *, vmax, amax, profile="trapezoid", jmax=None, rot_vmax=None,
-        rot_amax=None, rot_jmax=None, rpy="zyx", method="ik", max_step=None, max_angle=0.05, min_manip=None))]
+        rot_amax=None, rot_jmax=None, rpy="zyx", method="ik", max_step=None, max_angle=0.05, min_manip=None,
+        q3=None, psi=None))]
     fn circ(
         &self,
         py: Python<'_>,
@@ -1674,6 +1709,8 @@ impl PyRobot {
         #[pyo3(from_py_with = opt_real)] max_step: Option<f64>,
         #[pyo3(from_py_with = real)] max_angle: f64,
         #[pyo3(from_py_with = opt_real)] min_manip: Option<f64>,
+        q3: Option<&Bound<'_, PyAny>>,
+        psi: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
         let conv = parse_rpy(rpy)?;
@@ -1685,7 +1722,7 @@ impl PyRobot {
             amax,
             jmax,
             [rot_vmax, rot_amax, rot_jmax],
-            method,
+            (method, self_motion_arg(q3, psi)?),
             dt,
             max_step,
             max_angle,

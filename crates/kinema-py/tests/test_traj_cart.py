@@ -269,3 +269,38 @@ def test_cartesian_errors(iiwa):
         r.circ(q0, [0.7, -0.5, 0.6], GOAL, 0.01, vmax=-1.0, amax=0.5)
     with pytest.raises(TypeError):
         r.lin(q0, GOAL, 0.01)  # the Cartesian limits have no default
+
+
+def test_q3_and_psi_choose_the_self_motion_as_the_cli_does(robots):
+    """q3 held by default and by "hold" or its value; steered by the seed's
+    rule; a value the start lacks, both q3 and psi, a bad name, and a
+    six-joint arm are InvalidInput (the CLI's --q3/--psi)."""
+    r = robots["lbr-iiwa-14-r820"]
+    q0 = [0.3, 1.0, 0.4, -0.8, 0.2, 0.9, 0.1]
+    goal = [0.50, 0.20, 0.90, 0.6945, 0.8387, 1.3509]
+
+    def drift(**kw):
+        tr = r.lin(q0, goal, 0.01, vmax=0.2, amax=1.0, **kw)
+        return float(np.max(np.abs(tr.q[:, 2] - 0.4)))
+
+    for kw in [{}, {"q3": "hold"}, {"q3": 0.4}]:
+        assert drift(**kw) < 1e-9, kw
+    assert drift(q3="manipulability") > 1e-3
+    drift(q3="track")
+    drift(q3="avoid-limits")
+    for kw, says in [
+        ({"q3": 0.5}, "q3 = 0.400000"),
+        ({"q3": "hold", "psi": 0.1}, "not both"),
+        ({"q3": "sideways"}, "sideways"),
+        ({"psi": "track"}, "hold"),
+        ({"q3": float("nan")}, "finite"),
+        ({"q3": "hold", "method": "rate"}, "method"),
+    ]:
+        with pytest.raises(kinema.InvalidInput, match=says):
+            drift(**kw)
+    puma = robots["puma560"]
+    qn = puma.pose("qn")
+    T = puma.fkine(qn)
+    T[2, 3] += 0.02
+    with pytest.raises(kinema.InvalidInput, match="no self-motion"):
+        puma.lin(qn, T, 0.01, vmax=0.2, amax=1.0, q3="hold")

@@ -6,7 +6,7 @@ use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, SolverChoice
 use kinema::nalgebra::Matrix4;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
-    PtpOptions, Segment,
+    PtpOptions, Segment, SelfMotion,
 };
 use kinema::{Frame, Pose, Robot, RpyConvention};
 use std::time::Duration;
@@ -376,7 +376,7 @@ impl App {
                 }
                 let motion = CartesianMotion::new(vec![seg], profile, &limits, Blend::None)?;
                 cap_samples(motion.duration(), dt)?;
-                let traj = to_joints(r, &motion, &req.from, dt, JointMethod::Ik)?;
+                let traj = to_joints(r, &motion, &req.from, dt, JointMethod::Ik(req.self_motion()?))?;
                 check(r, &traj, &CheckOptions::default())?.into_result()?;
                 (traj, motion.duration())
             }
@@ -562,6 +562,32 @@ struct TrajReq {
     jjerk: Option<OneOrMany>,
     vmax: Option<f64>,
     amax: Option<f64>,
+    q3: Option<PolicyValue>,
+    psi: Option<PolicyValue>,
+}
+
+/// A self-motion policy of `/api/traj`: a name (`"hold"`, `"track"`, …) or an angle \[rad\].
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum PolicyValue {
+    Text(String),
+    Angle(f64),
+}
+
+impl TrajReq {
+    /// The self-motion policy its `q3` or `psi` asks for (as `kinema traj lin --q3/--psi`).
+    fn self_motion(&self) -> Result<SelfMotion> {
+        let (parameter, value) = match (&self.q3, &self.psi) {
+            (Some(_), Some(_)) => return Err(bad("/api/traj: give \"q3\" or \"psi\", not both".into())),
+            (Some(v), None) => ("q3", v),
+            (None, Some(v)) => ("psi", v),
+            (None, None) => return Ok(SelfMotion::Auto),
+        };
+        match value {
+            PolicyValue::Text(text) => Ok(SelfMotion::parse(parameter, text, 1.0)?),
+            PolicyValue::Angle(v) => Ok(SelfMotion::Fixed { parameter: parameter.into(), value: Some(*v) }),
+        }
+    }
 }
 
 /// Joint limits: one value for every joint or one per joint.

@@ -245,6 +245,35 @@ fn trajectories_and_programs() {
     let q = rows(&a.json["q"]);
     let end = robot.fk(q.last().unwrap()).unwrap().pose.pos;
     assert!((end - kinema::nalgebra::Vector3::from(goal)).norm() < 1e-6);
+    // The self-motion policy: q3 held by default and with "hold"; steered,
+    // it moves; a value the start does not have, or both q3 and ψ, are 4xx.
+    let from2 = [0.3, 1.0, 0.4, -0.8, 0.2, 0.9, 0.1];
+    let p2 = robot.fk(&from2).unwrap().pose;
+    let goal2 = [p2.pos.x + 0.05, p2.pos.y + 0.1, p2.pos.z - 0.1];
+    let lin = |extra: Value| {
+        let mut body = json!({"kind": "lin", "from": from2, "position": goal2,
+            "rpy": p2.rpy(kinema::RpyConvention::Zyx), "vmax": 0.2, "amax": 1.0});
+        body.as_object_mut().unwrap().extend(extra.as_object().unwrap().clone());
+        post(addr, "/api/traj", &body)
+    };
+    let q3_moves = |a: &Answer| rows(&a.json["q"]).iter().map(|q| (q[2] - 0.4).abs()).fold(0.0, f64::max);
+    for extra in [json!({}), json!({"q3": "hold"}), json!({"q3": 0.4})] {
+        let a = lin(extra.clone());
+        assert_eq!(a.status, 200, "{extra}: {}", a.json);
+        assert!(q3_moves(&a) < 1e-9, "{extra}");
+    }
+    let a = lin(json!({"q3": "manipulability"}));
+    assert_eq!(a.status, 200, "{}", a.json);
+    assert!(q3_moves(&a) > 1e-3);
+    for (extra, says) in [
+        (json!({"q3": 0.5}), "q3 = 0.400000"),
+        (json!({"q3": "hold", "psi": 0.1}), "not both"),
+        (json!({"q3": "sideways"}), "sideways"),
+    ] {
+        let a = lin(extra.clone());
+        assert!((400..500).contains(&a.status), "{extra}: {}", a.status);
+        assert!(a.json["error"].as_str().unwrap().contains(says), "{extra}: {}", a.json);
+    }
 
     // The sample cap.
     let a = post(

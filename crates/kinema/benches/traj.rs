@@ -73,7 +73,7 @@ fn traj(c: &mut Criterion) {
             .and_then(|m| m.stretched_to(10.0))
             .expect("motion");
         let dt = motion.duration() / 10_000.0;
-        let traj = to_joints(&robot, &motion, &q0, dt, JointMethod::Ik).expect("reachable");
+        let traj = to_joints(&robot, &motion, &q0, dt, JointMethod::default()).expect("reachable");
         let report = check(&robot, &traj, &CheckOptions::default()).expect("checked");
         eprintln!(
             "{name}: LIN of {:.2} s, {} samples, {} violation(s)",
@@ -82,7 +82,7 @@ fn traj(c: &mut Criterion) {
             report.violations.len()
         );
         g.bench_function(name, |bch| {
-            bch.iter(|| black_box(to_joints(&robot, &motion, &q0, dt, JointMethod::Ik).map(|t| t.len()).ok()))
+            bch.iter(|| black_box(to_joints(&robot, &motion, &q0, dt, JointMethod::default()).map(|t| t.len()).ok()))
         });
     }
     g.finish();

@@ -62,7 +62,7 @@ fn main() -> kinema::Result<()> {
         &CartesianLimits { jerk: Some(2.0), rot_jerk: Some(4.0), ..limits },
         Blend::None,
     )?;
-    let t1 = to_joints(&r1, &m1, &q1, 0.01, JointMethod::Ik)?;
+    let t1 = to_joints(&r1, &m1, &q1, 0.01, JointMethod::default())?;
 
     // Robot 2: a full circle about the part's axis, 12 cm in front of it, its
     // tool pointing back at the part (along −x).
@@ -72,7 +72,7 @@ fn main() -> kinema::Result<()> {
     let circle = Segment::circ_about(&centre, &start, 2.0 * PI, &facing)?;
     let q2 = start_config(&r2, &circle.start())?;
     let m2 = CartesianMotion::new(vec![circle], Profile::Trapezoid, &limits, Blend::None)?;
-    let t2 = to_joints(&r2, &m2, &q2, 0.01, JointMethod::Ik)?;
+    let t2 = to_joints(&r2, &m2, &q2, 0.01, JointMethod::default())?;
 
     for (name, robot, traj) in [("robot 1", &r1, &t1), ("robot 2", &r2, &t2)] {
         let report = check(robot, traj, &CheckOptions::default())?;

@@ -8,9 +8,10 @@ use kinema::ik::iiwa::IiwaIk;
 use kinema::ik::IkSolver;
 use kinema::math::rot_to_axis_angle;
 use kinema::nalgebra::Vector3;
+use kinema::traj::self_motion::PARAMETER_ACCELERATION;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile,
-    Segment, ViolationKind,
+    Segment, SelfMotion, ViolationKind,
 };
 use kinema::{Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
@@ -163,34 +164,49 @@ fn iiwa() -> Robot {
     Robot::builtin("lbr-iiwa-14-r820").unwrap()
 }
 
-#[test]
-fn seed_lin_example_within_cuadro_i() {
-    // Seed 004 §VIII-C1: Φ in Corke's Rx·Ry·Rz convention (SEED-NOTES).
-    let robot = iiwa();
+/// Seed 004 §VIII-C1's LIN: Φ in Corke's Rx·Ry·Rz convention (SEED-NOTES).
+fn seed_lin(orientation: Orientation) -> (CartesianMotion, Pose) {
     let a = Pose::from_xyz_rpy([0.7373, -0.3271, 0.7325], [-0.6595, 1.4584, 1.2113], RpyConvention::Xyz);
     let b = Pose::from_xyz_rpy([0.6, -0.6, 0.3], [0.0, 1.5708, 0.0], RpyConvention::Xyz);
-    let ik = IiwaIk::new(&robot).unwrap();
-    let q0 = ik.solve_within_limits(&a).unwrap()[0].q.clone();
-    let m = CartesianMotion::new(
-        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
-        Profile::Trapezoid,
-        &limits(),
-        Blend::None,
-    )
-    .unwrap();
-    let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik).unwrap();
-    let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
-    assert!(report.violations.is_empty(), "{}", report.violations[0]);
-    // q3 turns smoothly: its rate changes by at most Q3_ACCELERATION between
-    // decisions (the seed's greedy rule alone reversed q3 at full speed,
-    // 131 rad/s² in these differences).
-    let worst = (0..traj.len()).map(|k| traj.qdd(k)[2].abs()).fold(0.0, f64::max);
-    assert!(worst <= 2.5 * kinema::traj::joint::Q3_ACCELERATION, "q̈3 up to {worst} rad/s²");
-    // Every sample is on the line.
+    let seg = Segment::lin(&a, &b, orientation).unwrap();
+    (CartesianMotion::new(vec![seg], Profile::Trapezoid, &limits(), Blend::None).unwrap(), a)
+}
+
+/// Every sample of `traj` on the path of `m`, within 1e-6 m / 1e-6 rad.
+fn assert_on_path(robot: &Robot, m: &CartesianMotion, traj: &kinema::traj::JointTrajectory) {
     for k in 0..traj.len() {
         let p = robot.fk(traj.q(k)).unwrap().pose;
         let want = m.at(traj.times()[k]).pose;
         assert!((p.pos - want.pos).norm() < 1e-6 && rot_to_axis_angle(&(p.rot * want.rot.transpose())).norm() < 1e-6);
+    }
+}
+
+#[test]
+fn seed_lin_example_within_cuadro_i() {
+    let robot = iiwa();
+    let (m, a) = seed_lin(Orientation::Slerp);
+    let ik = IiwaIk::new(&robot).unwrap();
+    let q0 = ik.solve_within_limits(&a).unwrap()[0].q.clone();
+    // The default holds q3 at its start value; the seed's rule steers it.
+    for policy in [SelfMotion::Auto, SelfMotion::Manipulability, SelfMotion::AvoidLimits, SelfMotion::Track] {
+        let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(policy.clone())).unwrap();
+        let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+        assert!(report.violations.is_empty(), "{policy}: {}", report.violations[0]);
+        assert_on_path(&robot, &m, &traj);
+        let q3: Vec<f64> = (0..traj.len()).map(|k| traj.q(k)[2]).collect();
+        let drift = q3.iter().map(|v| (v - q0[2]).abs()).fold(0.0, f64::max);
+        match policy {
+            SelfMotion::Auto => assert!(drift < 1e-12, "q3 held: drifted by {drift}"),
+            SelfMotion::Manipulability | SelfMotion::AvoidLimits => {
+                assert!(drift > 1e-3, "{policy}: q3 never moved");
+                // q3 turns smoothly: its rate changes by at most
+                // PARAMETER_ACCELERATION between decisions (the seed's greedy
+                // rule alone reversed q3 at full speed, 131 rad/s²).
+                let worst = (0..traj.len()).map(|k| traj.qdd(k)[2].abs()).fold(0.0, f64::max);
+                assert!(worst <= 2.5 * PARAMETER_ACCELERATION, "{policy}: q̈3 up to {worst} rad/s²");
+            }
+            _ => {}
+        }
     }
     // Resolved rate follows the same line (damped, with error feedback).
     let rr = to_joints(&robot, &m, &q0, 0.01, JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 }).unwrap();
@@ -198,6 +214,101 @@ fn seed_lin_example_within_cuadro_i() {
         .map(|k| (robot.fk(rr.q(k)).unwrap().pose.pos - m.at(rr.times()[k]).pose.pos).norm())
         .fold(0.0, f64::max);
     assert!(worst < 1e-3, "{worst}");
+}
+
+/// The rotation angle \[rad\] the tool turns through along `m` (2000 steps).
+fn rotation_path(m: &CartesianMotion) -> f64 {
+    let poses: Vec<Pose> = (0..=2000).map(|k| m.at(m.duration() * k as f64 / 2000.0).pose).collect();
+    poses.windows(2).map(|w| rot_to_axis_angle(&(w[1].rot * w[0].rot.transpose())).norm()).sum()
+}
+
+/// The seed's LIN with eq. 40's roll-pitch-yaw interpolation in its own
+/// convention (Rx·Ry·Rz) passes near pitch = 90°, where interpolating the
+/// angles spins the tool by 6.8 rad for a net turn of 0.56 rad: more than
+/// joints 5 and 7 can absorb, so every self-motion policy ends in a wrist
+/// flip that the check reports. Interpolating the same two poses' ZYX
+/// angles turns the tool by 0.76 rad, and with q3 held (the default) the
+/// path stays within Cuadro I from every branch at q3 = 0.
+#[test]
+fn seed_rpy_lin_spins_past_the_wrist_and_zyx_angles_run_by_default() {
+    let robot = iiwa();
+    let (corke, a) = seed_lin(Orientation::Rpy(RpyConvention::Xyz));
+    let turn = rotation_path(&corke);
+    assert!(turn > 6.5 && turn < 7.0, "{turn}");
+    let ik = IiwaIk::new(&robot).unwrap();
+    let starts: Vec<Vec<f64>> =
+        ik.solve_q3(&a, 0.0).unwrap().into_iter().filter(|s| s.within_limits()).map(|s| s.q).collect();
+    assert_eq!(starts.len(), 6);
+    for policy in [SelfMotion::Auto, SelfMotion::Manipulability, SelfMotion::AvoidLimits] {
+        if let Ok(traj) = to_joints(&robot, &corke, &starts[0], 0.01, JointMethod::Ik(policy.clone())) {
+            let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+            assert!(!report.violations.is_empty(), "{policy}: the wrist flip went unreported");
+        }
+    }
+    let (zyx, _) = seed_lin(Orientation::Rpy(RpyConvention::Zyx));
+    assert!(rotation_path(&zyx) < 0.8);
+    for q0 in &starts {
+        let traj = to_joints(&robot, &zyx, q0, 0.01, JointMethod::default()).unwrap();
+        let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+        assert!(report.violations.is_empty(), "{}", report.violations[0]);
+        assert_on_path(&robot, &zyx, &traj);
+        let peak =
+            report.peak_vel.iter().zip(robot.joints()).map(|(v, j)| v / j.limits.vel.unwrap()).fold(0.0, f64::max);
+        assert!(peak < 0.3, "peak joint speed {peak:.3} of its limit");
+    }
+}
+
+/// A fixed q3 or ψ holds along the whole path; a start configuration with
+/// another value is refused, naming both.
+#[test]
+fn a_fixed_parameter_holds_along_the_path() {
+    let robot = iiwa();
+    let (m, a) = seed_lin(Orientation::Slerp);
+    let ik = IiwaIk::new(&robot).unwrap();
+    let q0 = ik.solve_q3(&a, 0.4).unwrap().into_iter().find(|s| s.within_limits()).unwrap().q;
+    let fixed = SelfMotion::Fixed { parameter: "q3".into(), value: Some(0.4) };
+    let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(fixed)).unwrap();
+    assert!((0..traj.len()).all(|k| (traj.q(k)[2] - 0.4).abs() < 1e-12));
+    assert_on_path(&robot, &m, &traj);
+    let psi0 = ik.psi_of(&q0);
+    let by_psi = SelfMotion::Fixed { parameter: "psi".into(), value: Some(psi0) };
+    let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(by_psi)).unwrap();
+    let worst = (0..traj.len()).map(|k| (ik.psi_of(traj.q(k)) - psi0).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-9, "ψ drifted by {worst}");
+    assert_on_path(&robot, &m, &traj);
+    let e = to_joints(
+        &robot,
+        &m,
+        &q0,
+        0.01,
+        JointMethod::Ik(SelfMotion::Fixed { parameter: "q3".into(), value: Some(0.1) }),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("q3 = 0.4") && e.contains("0.1"), "{e}");
+    let e = to_joints(
+        &robot,
+        &m,
+        &q0,
+        0.01,
+        JointMethod::Ik(SelfMotion::Fixed { parameter: "q5".into(), value: Some(0.1) }),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("q5") && e.contains("q3, psi"), "{e}");
+    // A six-joint arm has no self-motion to choose.
+    let puma = Robot::builtin("puma560").unwrap();
+    let q = [0.3, 0.6, -2.5, 0.2, 0.8, 0.9];
+    let p = puma.fk(&q).unwrap().pose;
+    let line = CartesianMotion::new(
+        vec![Segment::lin(&p, &Pose::new(p.rot, p.pos + Vector3::new(0.05, 0.0, 0.0)), Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap();
+    let e = to_joints(&puma, &line, &q, 0.01, JointMethod::Ik(SelfMotion::Hold)).unwrap_err().to_string();
+    assert!(e.contains("no self-motion"), "{e}");
 }
 
 #[test]
@@ -220,13 +331,19 @@ fn seed_continuous_lin_reports_or_avoids_the_wrist_flip() {
     // From the first within-limit solution with q3 = 0 the path crosses a wrist
     // singularity (the seed saw one at t ≈ 3.25 s): the check names the joint and the time.
     let q_a = ik.solve_within_limits(&p0).unwrap()[0].q.clone();
-    let traj = to_joints(&robot, &m, &q_a, 0.01, JointMethod::Ik).unwrap();
+    let traj = to_joints(&robot, &m, &q_a, 0.01, JointMethod::default()).unwrap();
     let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
     let v = report.violations.iter().find(|v| v.kind == ViolationKind::Velocity).expect("a velocity violation");
     assert!(v.joint.is_some() && v.time > 1.0 && v.time < m.duration());
-    // With the elbow turned (q3 = −2.4) the same path stays within Cuadro I.
+    // With the elbow turned (q3 = −2.4) and q3 steered by seed 004's rule
+    // the same path stays within Cuadro I; held at −2.4, joint limits stop
+    // it, so the default takes the rule.
     let q_b = ik.solve_q3(&p0, -2.4).unwrap().into_iter().find(|s| s.within_limits()).unwrap().q;
-    let traj = to_joints(&robot, &m, &q_b, 0.01, JointMethod::Ik).unwrap();
+    let e = to_joints(&robot, &m, &q_b, 0.01, JointMethod::Ik(SelfMotion::Hold)).unwrap_err().to_string();
+    assert!(e.contains("joint limit") && e.contains("q3 held at -2.4"), "{e}");
+    let rule = to_joints(&robot, &m, &q_b, 0.01, JointMethod::Ik(SelfMotion::Manipulability)).unwrap();
+    assert_eq!(to_joints(&robot, &m, &q_b, 0.01, JointMethod::default()).unwrap(), rule);
+    let traj = rule;
     let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
     assert!(report.violations.is_empty(), "{}", report.violations[0]);
 }
@@ -349,7 +466,7 @@ fn bad_cartesian_input_gives_clear_errors() {
         Blend::None,
     )
     .unwrap();
-    let e = to_joints(&robot, &m, robot.home(), 0.01, JointMethod::Ik).unwrap_err().to_string();
+    let e = to_joints(&robot, &m, robot.home(), 0.01, JointMethod::default()).unwrap_err().to_string();
     assert!(e.contains("start pose"), "{e}");
     // An unreachable path: the error says when.
     let far = Pose::from_xyz_rpy([2.0, 0.0, 0.5], [0.0, 0.0, 0.0], RpyConvention::Zyx);
@@ -363,7 +480,7 @@ fn bad_cartesian_input_gives_clear_errors() {
         Blend::None,
     )
     .unwrap();
-    let e = to_joints(&robot, &m, &q0, 0.05, JointMethod::Ik).unwrap_err().to_string();
+    let e = to_joints(&robot, &m, &q0, 0.05, JointMethod::default()).unwrap_err().to_string();
     assert!(e.contains("at t = "), "{e}");
     // The solver named as a solver, the time as the time (once read "(iiwa, at t = … of the path solver)").
     assert!(e.starts_with("unreachable target (iiwa solver, at t = "), "{e}");

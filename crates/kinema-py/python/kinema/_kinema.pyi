@@ -339,6 +339,8 @@ class Robot:
         max_step: Optional[float] = None,
         max_angle: float = 0.05,
         min_manip: Optional[float] = None,
+        q3: Union[Literal["auto", "hold", "track", "manipulability", "avoid-limits"], float, None] = None,
+        psi: Union[Literal["hold"], float, None] = None,
     ) -> JointTrajectory:
         """Straight-line Cartesian motion from fkine(q0) through via to T (4x4 or x, y, z, roll, pitch, yaw).
 
@@ -362,6 +364,8 @@ class Robot:
         max_step: Optional[float] = None,
         max_angle: float = 0.05,
         min_manip: Optional[float] = None,
+        q3: Union[Literal["auto", "hold", "track", "manipulability", "avoid-limits"], float, None] = None,
+        psi: Union[Literal["hold"], float, None] = None,
     ) -> JointTrajectory:
         """Circular arc from fkine(q0) through the point via to T. Raises InvalidInput, Unreachable, TrajectoryError."""
     @overload

@@ -10,7 +10,7 @@
 //! one line in [`FAMILIES`].
 
 use super::request::IkTarget;
-use super::{geo, iiwa, pieper, rommel, scara, scorbot, IkSolver, Solution};
+use super::{geo, iiwa, pieper, rommel, scara, scorbot, CandidateSet, IkSolver, Solution};
 use crate::error::Result;
 use crate::math::Pose;
 use crate::model::Robot;
@@ -109,6 +109,151 @@ pub trait Redundancy {
     fn default_value(&self) -> f64 {
         0.0
     }
+
+    /// The joint whose value the first parameter is (joint 3, index 2, for
+    /// the iiwa and the other SRS arms).
+    fn joint(&self) -> usize;
+
+    /// The value of `parameter` (one of [`Redundancy::parameters`]) at
+    /// configuration `q`; NaN for a parameter the family does not have.
+    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+        if parameter == self.parameters()[0] {
+            self.value_of(q)
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// The closed-form candidates with `parameter` at `value` that can
+    /// continue a path through `prev`, into `out` (cleared first). The
+    /// default is every solution of [`Redundancy::solve_at`]; a family may
+    /// leave out the branches a path cannot switch to.
+    fn continue_at(
+        &self,
+        target: &Pose,
+        parameter: &str,
+        value: f64,
+        prev: &[f64],
+        out: &mut CandidateSet,
+    ) -> Result<()> {
+        let _ = prev;
+        out.clear();
+        for s in self.solve_at(target, parameter, value)? {
+            out.push(&s.q, s.branch);
+        }
+        Ok(())
+    }
+
+    /// The next configuration of a path: the first parameter searched on a
+    /// grid around `choice.center`, for each value the candidate within
+    /// limits nearest `choice.prev`; candidates within `choice.max_steps`
+    /// preferred, then the best `choice.score` (the nearest without one).
+    /// A family may put its own preference first (the iiwa's elbow up, seed
+    /// 004 §V-E) when `choice.family_preference` is set.
+    fn choose(&self, target: &Pose, choice: &Choice) -> Result<Solution>;
+}
+
+/// An objective over configurations (higher is better).
+pub type Score<'a> = dyn Fn(&[f64]) -> Result<f64> + 'a;
+
+/// What [`Redundancy::choose`] searches and how it ranks.
+pub struct Choice<'a> {
+    /// The previous configuration of the path.
+    pub prev: &'a [f64],
+    /// The centre of the first parameter's grid \[rad\].
+    pub center: f64,
+    /// The grid's half-width \[rad\] (0 keeps the centre).
+    pub window: f64,
+    /// Number of grid points (odd).
+    pub points: usize,
+    /// Per joint, the step from `prev` \[rad or m\] within which a candidate is preferred.
+    pub max_steps: &'a [f64],
+    /// The objective to maximise (higher is better); `None` takes the nearest.
+    pub score: Option<&'a Score<'a>>,
+    /// Whether the family's own preference comes before the score.
+    pub family_preference: bool,
+}
+
+impl Choice<'_> {
+    /// The grid values of the first parameter within `lo..=hi`.
+    pub fn grid(&self, lo: f64, hi: f64) -> impl Iterator<Item = (i64, f64)> + '_ {
+        let steps = if self.window > 0.0 { (self.points / 2) as i64 } else { 0 };
+        let step = if steps > 0 { self.window / steps as f64 } else { 0.0 };
+        (-steps..=steps).map(move |k| (k, self.center + k as f64 * step)).filter(move |(_, v)| *v >= lo && *v <= hi)
+    }
+
+    /// Checks the grid and the step limits against `dof` joints.
+    pub fn check(&self, dof: usize) -> Result<()> {
+        if !(self.window >= 0.0 && self.window.is_finite() && self.center.is_finite())
+            || self.max_steps.len() != dof
+            || self.points % 2 == 0
+            || self.prev.len() != dof
+        {
+            return Err(crate::Error::InvalidArgument {
+                what: "window".into(),
+                message: format!(
+                    "the grid (centre {}, half-width {} ≥ 0, {} points, odd) and the {} step limits and {} previous \
+                     values must fit {dof} joints",
+                    self.center,
+                    self.window,
+                    self.points,
+                    self.max_steps.len(),
+                    self.prev.len()
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// [`Redundancy::choose`] for a family with no preference of its own: the
+/// grid over its first parameter with [`Redundancy::continue_at`].
+pub fn choose_on_grid(robot: &Robot, family: &dyn Redundancy, target: &Pose, choice: &Choice) -> Result<Solution> {
+    choice.check(robot.dof())?;
+    let lim = robot.joints()[family.joint()].limits;
+    let parameter = family.parameters()[0];
+    let mut set = CandidateSet::new();
+    let mut found: Vec<(Vec<f64>, String)> = Vec::new();
+    let mut last_err = None;
+    for (_, value) in choice.grid(lim.min, lim.max) {
+        match family.continue_at(target, parameter, value, choice.prev, &mut set) {
+            Ok(()) => {
+                if let Some(i) = set.nearest_within_limits(robot, choice.prev) {
+                    found.push((set.q(i).to_vec(), set.branch(i).to_owned()));
+                }
+            }
+            Err(e) => last_err = Some(e),
+        }
+    }
+    if found.is_empty() {
+        return Err(last_err.unwrap_or_else(|| crate::Error::Unreachable {
+            solver: "self-motion".into(),
+            reason: super::Unreachable::JointLimits {
+                rejected: vec![format!(
+                    "every {parameter} within {:.4} rad of {:.4} leaves a joint limit",
+                    choice.window, choice.center
+                )],
+            },
+            closest: None,
+        }));
+    }
+    let small = |q: &[f64]| q.iter().zip(choice.prev).zip(choice.max_steps).all(|((a, b), m)| (a - b).abs() <= *m);
+    if found.iter().any(|(q, _)| small(q)) {
+        found.retain(|(q, _)| small(q));
+    }
+    let mut best = (f64::NEG_INFINITY, f64::INFINITY, 0usize);
+    for (i, (q, _)) in found.iter().enumerate() {
+        let score = match choice.score {
+            Some(f) => f(q)?,
+            None => 0.0,
+        };
+        let dist = super::joint_distance(robot, q, choice.prev);
+        if score > best.0 || (score == best.0 && dist < best.1) {
+            best = (score, dist, i);
+        }
+    }
+    let (q, branch) = found.swap_remove(best.2);
+    Solution::evaluate(robot, q, target, branch)
 }
 
 /// One family in the registry.

@@ -74,6 +74,7 @@ use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::family::{Choice, Redundancy};
 use super::{check_target, joint_distance, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
@@ -1057,7 +1058,22 @@ impl IiwaIk {
     ) -> Result<Solution> {
         // select_impl checks q_prev (a short or non-finite one gives a NaN centre first).
         let center = q_prev.get(2).copied().unwrap_or(f64::NAN);
-        match self.select_impl(q_prev, center, target, direction, window, points, max_steps, false) {
+        let along = |q: &[f64]| -> Result<f64> {
+            match direction {
+                Some(v) => manipulability_along(&self.robot.jacobian(q, Frame::Base)?, Axes::Translation, v),
+                None => Ok(0.0),
+            }
+        };
+        let choice = Choice {
+            prev: q_prev,
+            center,
+            window,
+            points,
+            max_steps,
+            score: direction.is_some().then_some(&along as &dyn Fn(&[f64]) -> Result<f64>),
+            family_preference: true,
+        };
+        match self.select_impl(target, &choice, false) {
             // The window can miss a feasible q3 that lies further away; only the
             // whole self-motion decides that the target is out of limits.
             Err(Error::Unreachable { .. }) => self.nearest_searched(q_prev, target),
@@ -1065,52 +1081,18 @@ impl IiwaIk {
         }
     }
 
-    /// [`IiwaIk::select_within`] for the next sample of a path through
-    /// `q_prev` (a few ms earlier), with the q3 grid centred on `center` (the
-    /// path's prediction of q3) instead of q_prev\[2\]: only the
-    /// shoulder/elbow branches that can continue the path are solved
-    /// ([`IiwaIk::solve_q3_near`]); the others would be jumps.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn select_continuing(
-        &self,
-        q_prev: &[f64],
-        center: f64,
-        target: &Pose,
-        direction: Option<&Vector3<f64>>,
-        window: f64,
-        points: usize,
-        max_steps: &[f64],
-    ) -> Result<Solution> {
-        self.select_impl(q_prev, center, target, direction, window, points, max_steps, true)
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn select_impl(
-        &self,
-        q_prev: &[f64],
-        center: f64,
-        target: &Pose,
-        direction: Option<&Vector3<f64>>,
-        window: f64,
-        points: usize,
-        max_steps: &[f64],
-        continuing: bool,
-    ) -> Result<Solution> {
+    /// The grid search of [`IiwaIk::select_within`] and [`Redundancy::choose`]
+    /// over `choice`; with `continuing`, only the shoulder/elbow branches that
+    /// can continue a path through `choice.prev` are solved
+    /// ([`IiwaIk::solve_q3_near`]), the others would be jumps.
+    fn select_impl(&self, target: &Pose, choice: &Choice, continuing: bool) -> Result<Solution> {
+        let q_prev = choice.prev;
         self.robot.check_q(q_prev)?;
-        if !(window >= 0.0 && window.is_finite()) || max_steps.len() != 7 || points % 2 == 0 {
-            return Err(Error::InvalidArgument {
-                what: "window".into(),
-                message: format!(
-                    "q3 window {window} must be ≥ 0, the grid ({points} points) odd, and {} step limits given for 7 joints",
-                    max_steps.len()
-                ),
-            });
-        }
+        choice.check(7)?;
         let t = self.arm_target(target)?;
         let lim = self.robot.joints()[2].limits;
-        let steps = if window > 0.0 { (points / 2) as i64 } else { 0 };
-        let step = if steps > 0 { window / steps as f64 } else { 0.0 };
-        // Grid index of each candidate (k in −steps..=steps) and its joint values.
+        let step = if choice.window > 0.0 { choice.window / (choice.points / 2) as f64 } else { 0.0 };
+        // Grid index of each candidate and its joint values.
         let mut cands: Vec<(i64, [f64; 7])> = Vec::new();
         let mut last_err = None;
         let mut rejected = Vec::new();
@@ -1124,11 +1106,7 @@ impl IiwaIk {
                 .min_by(|a, b| a.0.total_cmp(&b.0))
                 .map(|(_, q)| *q)
         };
-        for k in -steps..=steps {
-            let q3 = center + k as f64 * step;
-            if !lim.contains(q3) {
-                continue;
-            }
+        for (k, q3) in choice.grid(lim.min, lim.max) {
             match solve(q3) {
                 Ok(sols) => match nearest(&sols) {
                     Some(q) => cands.push((k, q)),
@@ -1153,25 +1131,24 @@ impl IiwaIk {
                 closest: None,
             });
         }
-        let small = |q: &[f64; 7]| q.iter().zip(q_prev).zip(max_steps).all(|((a, b), m)| (a - b).abs() <= *m);
+        let small = |q: &[f64; 7]| q.iter().zip(q_prev).zip(choice.max_steps).all(|((a, b), m)| (a - b).abs() <= *m);
         if cands.iter().any(|(_, q)| small(q)) {
             cands.retain(|(_, q)| small(q));
         }
+        // The seed's preference: elbow up first, else the highest elbow.
         let heights: Vec<f64> = cands.iter().map(|(_, q)| self.elbow_height(q)).collect();
+        let preferred = |i: usize| !choice.family_preference || heights[i] > 0.0;
         let score_of = |q: &[f64; 7]| -> Result<f64> {
-            match direction {
-                Some(v) => {
-                    let j = self.robot.jacobian(q, Frame::Base)?;
-                    manipulability_along(&j, Axes::Translation, v)
-                }
+            match choice.score {
+                Some(f) => f(q),
                 None => Ok(0.0),
             }
         };
         let mut scores = vec![f64::NEG_INFINITY; cands.len()];
-        let pick = if heights.iter().any(|&h| h > 0.0) {
+        let pick = if (0..cands.len()).any(preferred) {
             let mut best = (f64::NEG_INFINITY, f64::INFINITY, 0usize);
             for (i, (_, q)) in cands.iter().enumerate() {
-                if heights[i] <= 0.0 {
+                if !preferred(i) {
                     continue;
                 }
                 let dist = joint_distance(&self.robot, q, q_prev);
@@ -1190,15 +1167,16 @@ impl IiwaIk {
         // neighbouring grid points when the maximum lies between them, and q3
         // chatters at the decision rate.
         let mut q = cands[pick].1;
-        if direction.is_some() && step > 0.0 && pick > 0 && pick + 1 < cands.len() {
+        if choice.score.is_some() && step > 0.0 && pick > 0 && pick + 1 < cands.len() {
             let (km, k0, kp) = (cands[pick - 1].0, cands[pick].0, cands[pick + 1].0);
             let (sm, s0, sp) = (scores[pick - 1], scores[pick], scores[pick + 1]);
             let curvature = sm - 2.0 * s0 + sp;
             if km + 1 == k0 && k0 + 1 == kp && sm.is_finite() && sp.is_finite() && curvature < 0.0 {
                 let delta = (0.5 * (sm - sp) / curvature).clamp(-0.5, 0.5);
-                let q3 = center + (k0 as f64 + delta) * step;
+                let q3 = choice.center + (k0 as f64 + delta) * step;
                 if let Some(refined) = solve(q3).ok().as_ref().and_then(nearest) {
-                    if small(&refined) && self.elbow_height(&refined) > 0.0 && score_of(&refined)? >= s0 {
+                    let keeps_preference = !choice.family_preference || self.elbow_height(&refined) > 0.0;
+                    if small(&refined) && keeps_preference && score_of(&refined)? >= s0 {
                         q = refined;
                     }
                 }
@@ -1318,13 +1296,13 @@ impl IkSolver for IiwaIk {
 }
 
 impl super::family::Family for IiwaIk {
-    fn redundancy(&self) -> Option<&dyn super::family::Redundancy> {
+    fn redundancy(&self) -> Option<&dyn Redundancy> {
         Some(self)
     }
 }
 
 /// The self-motion of seed 004: joint 3 (§V-B) or the arm angle ψ (§V-D).
-impl super::family::Redundancy for IiwaIk {
+impl Redundancy for IiwaIk {
     fn parameters(&self) -> &'static [&'static str] {
         &["q3", "psi"]
     }
@@ -1357,6 +1335,43 @@ impl super::family::Redundancy for IiwaIk {
 
     fn default_value(&self) -> f64 {
         self.q3()
+    }
+
+    fn joint(&self) -> usize {
+        2
+    }
+
+    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+        match parameter {
+            "q3" => self.value_of(q),
+            "psi" if q.len() == 7 && q.iter().all(|v| v.is_finite()) => self.psi_of(q),
+            _ => f64::NAN,
+        }
+    }
+
+    /// At q3: only the branches on `prev`'s shoulder and elbow side ([`IiwaIk::solve_q3_near`]).
+    fn continue_at(
+        &self,
+        target: &Pose,
+        parameter: &str,
+        value: f64,
+        prev: &[f64],
+        out: &mut super::CandidateSet,
+    ) -> Result<()> {
+        if parameter == "q3" {
+            self.solve_q3_near(target, value, prev)?.write_into(out);
+            return Ok(());
+        }
+        out.clear();
+        for s in self.solve_at(target, parameter, value)? {
+            out.push(&s.q, s.branch);
+        }
+        Ok(())
+    }
+
+    /// Seed 004 §V-E's rule on the branches that can continue the path.
+    fn choose(&self, target: &Pose, choice: &Choice) -> Result<Solution> {
+        self.select_impl(target, choice, true)
     }
 }
 

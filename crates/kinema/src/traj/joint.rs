@@ -4,31 +4,29 @@
 use nalgebra::{Matrix6, Matrix6xX, Vector6};
 
 use super::cart::CartesianMotion;
+use super::self_motion::{self, Plan, SelfMotion};
 use super::{sample_times, JointTrajectory};
 use crate::error::{Error, Result};
-use crate::ik::iiwa::IiwaIk;
-use crate::ik::{self, NumericIk, NumericOptions};
+use crate::ik::{self, CandidateSet, NumericIk, NumericOptions};
 use crate::kin::Frame;
 use crate::math::{pose_error, Pose};
 use crate::model::Robot;
 
 /// How a Cartesian motion becomes joint values.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum JointMethod {
-    /// Inverse kinematics at every sample: the robot's analytic solver when it
-    /// has one (every solution, the one nearest the previous sample within
-    /// limits and reaching the pose; for the iiwa the q3 selection rule of
-    /// seed 004 §V-E, q_k = f(q_{k−1}, T_k), with the direction of motion,
-    /// applied every [`Q3_DECISION_PERIOD`] with q3 interpolated between), else the numeric
-    /// solver started from the previous sample without restarts. Six-joint
-    /// arms first try Newton tracking from the constant-velocity prediction
-    /// of the sample (converged to 1e-12, within limits, a correction below
-    /// 0.1): the same branch as the nearest closed-form solution (tested
-    /// sample by sample) at a quarter of the cost; the closed form takes over
-    /// wherever it does not converge cleanly (near singularities). Velocities
-    /// and accelerations are second-order finite differences of the samples.
-    #[default]
-    Ik,
+    /// Inverse kinematics at every sample, the self-motion of a redundant
+    /// arm chosen by the [`SelfMotion`] policy: the robot's closed form when
+    /// it has one (every solution, the one nearest the previous sample within
+    /// limits and reaching the pose), else the numeric solver started from
+    /// the previous sample without restarts. Six-joint arms first try Newton
+    /// tracking from the constant-velocity prediction of the sample
+    /// (converged to 1e-12, within limits, a correction below 0.1): the same
+    /// branch as the nearest closed-form solution (tested sample by sample)
+    /// at a quarter of the cost; the closed form takes over wherever it does
+    /// not converge cleanly (near singularities). Velocities and
+    /// accelerations are second-order finite differences of the samples.
+    Ik(SelfMotion),
     /// Resolved rate (what seed 004 used for its joint velocity plots):
     /// q̇ = J⁺(ẋ_d + k·e) with the damped pseudo-inverse J⁺ = Jᵀ(JJᵀ + λ²I)⁻¹,
     /// integrated with the sample period; e is the pose error and k =
@@ -39,6 +37,13 @@ pub enum JointMethod {
         /// Error feedback per step, in (0, 1].
         gain: f64,
     },
+}
+
+impl Default for JointMethod {
+    /// IK at every sample with the robot's default self-motion policy.
+    fn default() -> Self {
+        JointMethod::Ik(SelfMotion::Auto)
+    }
 }
 
 /// Largest position \[m\] and orientation \[rad\] residual accepted from IK.
@@ -94,12 +99,12 @@ pub fn to_joints_at(
     }
     let times = times.to_vec();
     match method {
-        JointMethod::Ik => by_ik(robot, motion, q_start, &times),
+        JointMethod::Ik(policy) => by_ik(robot, motion, q_start, &times, &policy),
         JointMethod::ResolvedRate { damping, gain } => resolved_rate(robot, motion, q_start, &times, damping, gain),
     }
 }
 
-fn at_time(t: f64, e: Error) -> Error {
+pub(super) fn at_time(t: f64, e: Error) -> Error {
     match e {
         Error::Unreachable { solver, reason, closest } => {
             Error::Unreachable { solver: format!("{solver}, at t = {t:.4} s of the path"), reason, closest }
@@ -107,18 +112,6 @@ fn at_time(t: f64, e: Error) -> Error {
         e => Error::InvalidArgument { what: format!("path sample at t = {t:.4} s"), message: e.to_string() },
     }
 }
-
-/// Largest change of q3's rate \[rad/s²\] the iiwa's q3 rule asks for along a
-/// path when the model gives joint 3 no acceleration limit: the rule
-/// searches q3 around the constant-rate prediction within ±a·dt² per
-/// decision, so q3 turns smoothly instead of reversing at full speed (seed
-/// 004's rule alone maximises manipulability greedily and chatters).
-pub const Q3_ACCELERATION: f64 = 5.0;
-
-/// Period \[s\] at which the iiwa's q3 rule decides q3 along a path; between
-/// decisions q3 is interpolated linearly and each sample is one closed-form
-/// solve (the rule costs ~20 solves, a sample one).
-pub const Q3_DECISION_PERIOD: f64 = 0.02;
 
 fn unreachable_orientation(t: f64, solver: &str) -> Error {
     at_time(
@@ -135,8 +128,22 @@ fn unreachable_orientation(t: f64, solver: &str) -> Error {
     )
 }
 
+/// Every candidate of a sample leaves a joint limit: which joints, per candidate.
+fn outside_limits(robot: &Robot, t: f64, solver: &str, set: &CandidateSet) -> Error {
+    let rejected = (0..set.len())
+        .map(|i| {
+            let joints: Vec<String> = robot.limit_flags(set.q(i)).indices().map(|j| format!("q{}", j + 1)).collect();
+            format!("{} ({})", set.branch(i), joints.join(", "))
+        })
+        .collect();
+    at_time(
+        t,
+        Error::Unreachable { solver: solver.into(), reason: ik::Unreachable::JointLimits { rejected }, closest: None },
+    )
+}
+
 /// Whether `q` reaches `target` within [`TRACK_TOL`].
-fn reaches(robot: &Robot, q: &[f64], target: &Pose) -> Result<bool> {
+pub(super) fn reaches(robot: &Robot, q: &[f64], target: &Pose) -> Result<bool> {
     let e = pose_error(target, &robot.fk(q)?.pose);
     Ok(e.position_norm() <= TRACK_TOL && e.rotation_angle() <= TRACK_TOL)
 }
@@ -224,36 +231,90 @@ fn unwind(robot: &Robot, q: &mut [f64], prev: &[f64]) {
     }
 }
 
-fn by_ik(robot: &Robot, motion: &CartesianMotion, q_start: &[f64], times: &[f64]) -> Result<JointTrajectory> {
+fn by_ik(
+    robot: &Robot,
+    motion: &CartesianMotion,
+    q_start: &[f64],
+    times: &[f64],
+    policy: &SelfMotion,
+) -> Result<JointTrajectory> {
+    let family = ik::family::fit(robot);
+    let redundancy = family.as_deref().and_then(|f| f.redundancy());
+    let plan = self_motion::plan(robot, redundancy, policy, q_start)?;
+    let held = follow(robot, &plan, motion, q_start, times);
+    // The default holds the self-motion where that path passes the check,
+    // else takes seed 004's rule when its path does.
+    if let (SelfMotion::Auto, Some(family)) = (policy, redundancy) {
+        if !passes(robot, &held) {
+            let steered = Plan::Steered { family, objective: self_motion::Objective::Manipulability };
+            let rule = follow(robot, &steered, motion, q_start, times);
+            if passes(robot, &rule) {
+                return rule;
+            }
+        }
+    }
+    held
+}
+
+/// Whether a converted path exists and passes [`super::check`] with the default options.
+fn passes(robot: &Robot, traj: &Result<JointTrajectory>) -> bool {
+    traj.as_ref()
+        .is_ok_and(|t| super::check(robot, t, &super::CheckOptions::default()).is_ok_and(|r| r.violations.is_empty()))
+}
+
+/// The joint path of `plan` along `motion`.
+fn follow(
+    robot: &Robot,
+    plan: &Plan,
+    motion: &CartesianMotion,
+    q_start: &[f64],
+    times: &[f64],
+) -> Result<JointTrajectory> {
     let n = robot.dof();
-    let qs = if let Ok(ik) = IiwaIk::new(robot) {
-        iiwa_path(robot, &ik, motion, q_start, times)?
-    } else {
-        generic_path(robot, motion, q_start, times, n == 6)?
+    let qs = match *plan {
+        Plan::None => match ik::analytic_solver(robot) {
+            Some(solver) => {
+                let closed = |target: &Pose, _: &[f64], set: &mut CandidateSet| solver.candidates_into(target, set);
+                generic_path(robot, motion, q_start, times, n == 6, Some((&closed, solver.name())))?
+            }
+            None => generic_path(robot, motion, q_start, times, n == 6, None)?,
+        },
+        Plan::Numeric => generic_path(robot, motion, q_start, times, false, None)?,
+        Plan::Held { family, parameter, value } => {
+            let held = |target: &Pose, prev: &[f64], set: &mut CandidateSet| {
+                family.continue_at(target, parameter, value, prev, set)
+            };
+            let name = format!("{parameter} held at {value:.6}");
+            generic_path(robot, motion, q_start, times, false, Some((&held, &name)))?
+        }
+        Plan::Steered { family, objective } => {
+            self_motion::steered_path(robot, family, objective, motion, q_start, times)?
+        }
     };
     JointTrajectory::from_positions(n, times.to_vec(), qs)
 }
 
-/// Any arm but the iiwa along a path, row-major joint values. With
-/// `tracking` (six joints), each sample is first Newton-tracked from the
-/// constant-velocity prediction 2·q_{k−1} − q_{k−2}; where that does not
-/// converge cleanly or leaves the limits, and always without `tracking`, the
-/// analytic solution nearest the previous sample (within limits, reaching
-/// the pose) is taken, or the numeric solver's answer from the previous
-/// sample for arms without a closed form and for redundant arms.
+/// The closed-form candidates of a sample (target, previous sample, out)
+/// and a name for errors.
+type ClosedForm<'a> = (&'a dyn Fn(&Pose, &[f64], &mut CandidateSet) -> Result<()>, &'a str);
+
+/// A path sample by sample, row-major joint values. With `tracking` (six
+/// joints), each sample is first Newton-tracked from the constant-velocity
+/// prediction 2·q_{k−1} − q_{k−2}; where that does not converge cleanly or
+/// leaves the limits, and always without `tracking`, the `closed` candidate
+/// nearest the previous sample (within limits, reaching the pose) is taken,
+/// or without `closed` the numeric solver's answer from the previous sample.
 fn generic_path(
     robot: &Robot,
     motion: &CartesianMotion,
     q_start: &[f64],
     times: &[f64],
     tracking: bool,
+    closed: Option<ClosedForm>,
 ) -> Result<Vec<f64>> {
     let n = robot.dof();
-    // A redundant arm's closed form fixes its self-motion (the SRS solver's
-    // q3 = 0), which would jump along the path; the numeric solver follows it.
-    let analytic = if n <= 6 { ik::analytic_solver(robot) } else { None };
     let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
-    let mut set = ik::CandidateSet::new();
+    let mut set = CandidateSet::new();
     let mut order = Vec::with_capacity(16);
     let mut cands: Vec<f64> = Vec::with_capacity(16 * n);
     let mut jac = Matrix6xX::zeros(n);
@@ -271,11 +332,11 @@ fn generic_path(
                 continue;
             }
         }
-        if let Some(solver) = &analytic {
+        if let Some((candidates, name)) = closed {
             // Every solution, each taken by whole turns towards the previous
             // sample where its limits allow; the nearest within limits that
             // reaches the pose.
-            solver.candidates_into(&target, &mut set).map_err(|e| at_time(t, e))?;
+            candidates(&target, prev, &mut set).map_err(|e| at_time(t, e))?;
             cands.clear();
             order.clear();
             for i in 0..set.len() {
@@ -294,149 +355,16 @@ fn generic_path(
                     break;
                 }
             }
-            let at = found.ok_or_else(|| unreachable_orientation(t, solver.name()))?;
+            let at = match found {
+                Some(at) => at,
+                None if order.is_empty() && !set.is_empty() => return Err(outside_limits(robot, t, name, &set)),
+                None => return Err(unreachable_orientation(t, name)),
+            };
             q.copy_from_slice(&cands[at..at + n]);
         } else {
             q = numeric.solve_from(&target, prev).map_err(|e| at_time(t, e))?.q;
         }
         qs.extend_from_slice(&q);
-    }
-    Ok(qs)
-}
-
-/// The iiwa along a path: seed 004's q3 rule (q_k = f(q_{k−1}, T_k)) every
-/// [`Q3_DECISION_PERIOD`], with q3's drift limited by its velocity limit and
-/// every joint's step by its own and its rate's change by
-/// [`Q3_ACCELERATION`]; in between, q3 interpolated (cubic Hermite) and the
-/// closed-form solution nearest to the previous sample. (Newton tracking of
-/// the other six joints with q3 held was tried: 9.9 ms instead of 8.6 ms for
-/// the 10 s LIN at 1 kHz — the 7-joint Jacobian and a 6×6 LU cost more than
-/// the closed form on the two branches that can continue the path.)
-fn iiwa_path(robot: &Robot, ik: &IiwaIk, motion: &CartesianMotion, q_start: &[f64], times: &[f64]) -> Result<Vec<f64>> {
-    let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
-    let amax3 = robot.joints()[2].limits.acc.unwrap_or(Q3_ACCELERATION);
-    // q3's rate at the last decision: the next q3 is searched around the
-    // constant-rate prediction, within what Q3_ACCELERATION allows.
-    // The decision and whether it came from the smooth (rate-continuing) search.
-    let decide = |prev: &[f64], rate: f64, t: f64, dt: f64| -> Result<(Vec<f64>, bool)> {
-        let st = motion.at(t);
-        let dir = (st.vel.norm() > 1e-12).then_some(st.vel);
-        // 80 % of each joint's velocity limit: the samples between decisions
-        // do not move exactly linearly and must stay within the limit too.
-        let steps: Vec<f64> = (0..7).map(|i| 0.8 * vmax(i) * dt).collect();
-        let within = |q: &[f64]| q.iter().zip(prev).zip(&steps).all(|((a, b), m)| (a - b).abs() <= *m);
-        // First around q3's constant-rate prediction, its rate changing by at
-        // most amax3·dt: three grid points and the parabola through them.
-        let window = (0.5 * vmax(2) * dt).min(amax3 * dt * dt).min(ik::iiwa::SELECT_WINDOW);
-        let points = if window < ik::iiwa::SELECT_WINDOW { 3 } else { 21 };
-        let smooth = ik.select_continuing(prev, prev[2] + rate * dt, &st.pose, dir.as_ref(), window, points, &steps);
-        if let Ok(sol) = &smooth {
-            if within(&sol.q) {
-                return Ok((sol.q.clone(), true));
-            }
-        }
-        // That would make another joint jump (a singularity ahead): search the
-        // whole window q3's velocity limit allows around the present q3.
-        let window = (0.5 * vmax(2) * dt).min(ik::iiwa::SELECT_WINDOW);
-        let points = if window < ik::iiwa::SELECT_WINDOW { 5 } else { 21 };
-        match ik.select_continuing(prev, prev[2], &st.pose, dir.as_ref(), window, points, &steps) {
-            Ok(sol) => Ok((sol.q, false)),
-            Err(e) => match smooth {
-                Ok(sol) => Ok((sol.q, false)),
-                Err(_) => Err(at_time(t, e)),
-            },
-        }
-    };
-    // Decision samples: every sample at coarse periods, else about every Q3_DECISION_PERIOD.
-    let mut decisions = vec![0usize];
-    for k in 1..times.len() {
-        if times[k] - times[*decisions.last().expect("non-empty")] >= Q3_DECISION_PERIOD - 1e-12 || k + 1 == times.len()
-        {
-            decisions.push(k);
-        }
-    }
-    let mut qs: Vec<f64> = Vec::with_capacity(times.len() * 7);
-    qs.extend_from_slice(q_start);
-    let mut set = ik::CandidateSet::new();
-    let mut rate = 0.0;
-    // Whether `q` can follow `prev` within the joints' velocity limits over `dt`.
-    let fits = |q: &[f64], prev: &[f64], dt: f64| {
-        q.iter().zip(prev).enumerate().all(|(i, (a, b))| (a - b).abs() <= vmax(i) * dt)
-    };
-    // The segment from the anchor sample `a` to the next decision sample.
-    let mut a = 0usize;
-    let mut next = 1usize;
-    while next < decisions.len() {
-        let b = decisions[next];
-        let (q_b, smooth) = decide(&qs[7 * a..7 * a + 7], rate, times[b], times[b] - times[a])?;
-        let (q3a, q3b) = (qs[7 * a + 2], q_b[2]);
-        let mut reanchored = false;
-        for k in a + 1..b {
-            let t = times[k];
-            let u = (t - times[a]) / (times[b] - times[a]);
-            let target = motion.at(t).pose;
-            let prev = &qs[7 * (k - 1)..7 * k];
-            // After a smooth decision, a cubic Hermite from (q3a, rate) to (q3b,
-            // secant): q3's rate is continuous at the decisions (each segment
-            // ends at its secant slope, the next starts with it), so q̈3 stays
-            // near Q3_ACCELERATION instead of being impulses at the decisions.
-            // After an escape from a singularity (a wide-window decision), a
-            // straight line, which cannot overshoot towards it.
-            let linear = q3a + (q3b - q3a) * u;
-            let hermite = if smooth {
-                let h = u * u * (2.0 - u);
-                q3a + (q3b - q3a) * h + (times[b] - times[a]) * rate * u * (1.0 - u) * (1.0 - u)
-            } else {
-                linear
-            };
-            let dt_k = t - times[k - 1];
-            let mut found: Option<[f64; 7]> = None;
-            for q3 in [hermite, linear] {
-                // Only the branches that can continue the path through `prev`.
-                let picked = ik.solve_q3_near(&target, q3, prev).ok().and_then(|c| {
-                    c.write_into(&mut set);
-                    set.nearest_within_limits(robot, prev)
-                });
-                if let Some(i) = picked {
-                    if fits(set.q(i), prev, dt_k) && reaches(robot, set.q(i), &target)? {
-                        found = Some(set.q(i).try_into().expect("7 joints"));
-                        break;
-                    }
-                }
-                if hermite == linear {
-                    break;
-                }
-            }
-            match found {
-                Some(q) => qs.extend_from_slice(&q),
-                // The planned q3 does not work here: decide at this sample and
-                // plan the rest of the segment again from it.
-                None => {
-                    let (q, _) = decide(prev, rate, t, dt_k)?;
-                    rate = (q[2] - prev[2]) / dt_k;
-                    qs.extend_from_slice(&q);
-                    a = k;
-                    reanchored = true;
-                    break;
-                }
-            }
-        }
-        if reanchored {
-            continue;
-        }
-        let prev = &qs[7 * (b - 1)..7 * b];
-        let dt_b = times[b] - times[b - 1];
-        if fits(&q_b, prev, dt_b) {
-            rate = (q_b[2] - q3a) / (times[b] - times[a]);
-            qs.extend_from_slice(&q_b);
-        } else {
-            // The samples before it drifted from the plan: decide from the last one.
-            let (q, _) = decide(prev, rate, times[b], dt_b)?;
-            rate = (q[2] - prev[2]) / dt_b;
-            qs.extend_from_slice(&q);
-        }
-        a = b;
-        next += 1;
     }
     Ok(qs)
 }
@@ -546,6 +474,19 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// [`generic_path`] with the robot's closed form.
+    fn closed_form_path(
+        robot: &Robot,
+        m: &CartesianMotion,
+        q: &[f64],
+        times: &[f64],
+        tracking: bool,
+    ) -> Result<Vec<f64>> {
+        let solver = ik::analytic_solver(robot).unwrap();
+        let closed = |target: &Pose, _: &[f64], set: &mut CandidateSet| solver.candidates_into(target, set);
+        generic_path(robot, m, q, times, tracking, Some((&closed, solver.name())))
+    }
+
     fn lin(a: &Pose, b: &Pose) -> CartesianMotion {
         let limits =
             CartesianLimits { vel: 0.3, acc: 0.8, jerk: Some(4.0), rot_vel: 0.8, rot_acc: 2.0, rot_jerk: Some(8.0) };
@@ -575,14 +516,14 @@ mod tests {
             let m = lin(&a, &b);
             let dt = if compared % 2 == 0 { 0.01 } else { 0.001 };
             let times = sample_times(m.duration(), dt).unwrap();
-            let Ok(closed) = generic_path(&robot, &m, &q_a, &times, false) else { continue };
+            let Ok(closed) = closed_form_path(&robot, &m, &q_a, &times, false) else { continue };
             // The closed-form path is only a reference where it has no jump (a
             // branch change near a singularity has no "same branch" answer).
             let traj = JointTrajectory::from_positions(6, times.clone(), closed.clone()).unwrap();
             if !check(&robot, &traj, &CheckOptions::default()).unwrap().violations.is_empty() {
                 continue;
             }
-            let tracked = generic_path(&robot, &m, &q_a, &times, true).unwrap();
+            let tracked = closed_form_path(&robot, &m, &q_a, &times, true).unwrap();
             let worst = closed.iter().zip(&tracked).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             assert!(worst < 1e-8, "path {compared}: tracked and closed-form paths differ by {worst:.3e} rad");
             compared += 1;
@@ -602,7 +543,7 @@ mod tests {
         let m = lin(&a, &b);
         let times = sample_times(m.duration(), 0.01).unwrap();
         for tracking in [false, true] {
-            let qs = generic_path(&robot, &m, &q_a, &times, tracking).unwrap();
+            let qs = closed_form_path(&robot, &m, &q_a, &times, tracking).unwrap();
             let last = qs[qs.len() - 1];
             assert!(last > std::f64::consts::PI, "tracking {tracking}: q6 ends at {last}");
             let traj = JointTrajectory::from_positions(6, times.clone(), qs).unwrap();

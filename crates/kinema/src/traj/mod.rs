@@ -28,6 +28,7 @@ mod check;
 pub mod expr;
 pub mod joint;
 pub mod law;
+pub mod self_motion;
 pub mod track;
 
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
@@ -36,6 +37,7 @@ pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SING
 pub use expr::{expression_trajectory, Expr};
 pub use joint::{to_joints, to_joints_at, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw, MIN_DURATION};
+pub use self_motion::SelfMotion;
 pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 
 use crate::error::{Error, Result};

@@ -467,4 +467,12 @@ impl crate::ik::family::Redundancy for SrsIk {
     fn solve_searching(&self, target: &Pose, prefer: f64) -> Result<Vec<Solution>> {
         SrsIk::solve_searching(self, target, prefer)
     }
+
+    fn joint(&self) -> usize {
+        2
+    }
+
+    fn choose(&self, target: &Pose, choice: &crate::ik::family::Choice) -> Result<Solution> {
+        crate::ik::family::choose_on_grid(self.robot(), self, target, choice)
+    }
 }
