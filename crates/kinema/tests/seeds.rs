@@ -384,3 +384,29 @@ fn scorbot_fig2_fig3_poses_are_out_of_reach() {
         assert!(ik.solve_xyz_pitch_roll([0.6, 0.1, 0.6], deg(p as f64), 0.0).is_err(), "pitch {p}°");
     }
 }
+
+/// Seed 004 eq. 30–31 derive the coupled singularity from det(J_ω·J_ωᵀ) = 0,
+/// listing seven minors of the 3×7 J_ω (two of them 0). J_ω has 35 maximal
+/// minors, none identically zero: three consecutive axes i−1, i, i+1 give
+/// ±sin q_i. At the seed's own example (Fig. 13, q6 = π/6) det(J_ω·J_ωᵀ) =
+/// 2.25, not 0; the configuration is singular (rank 4, Cuadro III) because
+/// axes 1, 3, 5 coincide and joint 6 depends on joints 2 and 4, not because
+/// J_ω loses rank.
+#[test]
+fn iiwa_coupled_singularity_keeps_j_omega_full_rank() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let q = robot.pose("sing-coupled").unwrap();
+    let j = robot.jacobian(q, Frame::Base).unwrap();
+    assert_eq!(analysis::rank(&j, Axes::All, None).unwrap().0, 4);
+    let w = kinema::nalgebra::Matrix3xX::from_fn(7, |r, c| j[(3 + r, c)]);
+    assert!(((&w * w.transpose()).determinant() - 2.25).abs() < 1e-12);
+    let mut rng = ChaCha8Rng::seed_from_u64(30);
+    for _ in 0..200 {
+        let q = robot.random_q(&mut rng);
+        let j = robot.jacobian(&q, Frame::Base).unwrap();
+        for i in 1..6 {
+            let m = Matrix3::from_fn(|r, c| j[(3 + r, i - 1 + c)]);
+            assert!((m.determinant().abs() - q[i].sin().abs()).abs() < 1e-12, "q = {q:?}, axes {i}..{}", i + 2);
+        }
+    }
+}
