@@ -37,6 +37,9 @@ pub enum ScorbotCmd {
     Track(TrackArgs),
     /// Estimate the encoder constants from commanded counts and measured tool positions.
     Calibrate(CalibrateArgs),
+    /// Seed 000 Fig. 6 on the simulator: a square (or --path) planned with each model's constants,
+    /// followed, recorded with camera noise and scored.
+    Square(SquareArgs),
 }
 
 #[derive(Args)]
@@ -245,6 +248,69 @@ pub struct CalibrateArgs {
     json: bool,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum PlaneArg {
+    /// Horizontal: x and y vary.
+    Xy,
+    /// Vertical through the base axis (seed 000 Fig. 6): x and z vary.
+    Xz,
+    /// Vertical across the arm: y and z vary.
+    Yz,
+}
+
+#[derive(Args)]
+pub struct SquareArgs {
+    /// The plane of the square.
+    #[arg(long, value_enum, default_value = "xz")]
+    plane: PlaneArg,
+    /// Centre of the square "x,y,z" [m].
+    #[arg(long, default_value = "0.35,0,0.30", allow_hyphen_values = true)]
+    center: String,
+    /// Side of the square [m].
+    #[arg(long, default_value_t = 0.10)]
+    side: f64,
+    /// Pitch β of the tool along the square (seed 000 eq. 13) [rad, or degrees with --deg]; default 60°.
+    #[arg(long, allow_hyphen_values = true)]
+    pitch: Option<f64>,
+    /// Roll γ of the tool [rad, or degrees with --deg]; default 0.
+    #[arg(long, allow_hyphen_values = true)]
+    roll: Option<f64>,
+    /// --pitch, --roll and the path's pitch and roll columns are in degrees.
+    #[arg(long)]
+    deg: bool,
+    /// Follow this path instead of a square: CSV with x,y,z [m] and optional pitch, roll columns.
+    #[arg(long, conflicts_with_all = ["center", "side", "pitch", "roll"])]
+    path: Option<PathBuf>,
+    /// The models to compare: comma-separated constants (presets such as `factory`, `calibrated`,
+    /// `CPD/HOME`, or .toml files), each used to plan the path.
+    #[arg(long, default_value = "factory,calibrated")]
+    models: String,
+    /// The constants the simulated arm really moves by.
+    #[arg(long, default_value = "calibrated")]
+    true_constants: String,
+    /// The constants stored in the simulated controller (its limits and speeds).
+    #[arg(long, default_value = "factory")]
+    constants: String,
+    /// Repetitions per model (seed 000 Fig. 6: 2).
+    #[arg(long, default_value_t = 2, value_parser = crate::count(1, 1000))]
+    runs: usize,
+    /// Measurement noise, standard deviation per coordinate [mm] (the seed's camera: about 1 mm).
+    #[arg(long, default_value_t = 1.0)]
+    noise_mm: f64,
+    /// Seed of the measurement noise.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Largest step between the points sent [m] (seed 000: 1 cm).
+    #[arg(long, default_value_t = follow::SEED_MAX_STEP)]
+    max_step: f64,
+    /// Write desired.csv and one CSV per run (LABEL-N.csv, x,y,z in m) into this directory.
+    #[arg(long)]
+    out_dir: Option<PathBuf>,
+    /// Print JSON (metres).
+    #[arg(long)]
+    json: bool,
+}
+
 pub(crate) fn run(cmd: ScorbotCmd) -> Result<()> {
     match cmd {
         ScorbotCmd::Counts(a) => counts(a),
@@ -253,6 +319,7 @@ pub(crate) fn run(cmd: ScorbotCmd) -> Result<()> {
         ScorbotCmd::Connect(a) => connect(a),
         ScorbotCmd::Track(a) => track(a),
         ScorbotCmd::Calibrate(a) => calibrate(a),
+        ScorbotCmd::Square(a) => square(a),
     }
 }
 
@@ -577,6 +644,141 @@ fn calibrate(a: CalibrateArgs) -> Result<()> {
     println!("{:<12} {:>14} {:>12} {:>14}  unit", "parameter", "estimate", "1σ", "initial");
     for p in &c.parameters {
         println!("{:<12} {:>14.4} {:>12.4} {:>14.4}  {}", p.name, p.value, p.sigma, p.initial, p.unit);
+    }
+    Ok(())
+}
+
+/// A label usable in a file name: the constants' preset name or file stem,
+/// with anything but letters, digits, `-` and `_` replaced by `-`.
+fn file_label(spec: &str) -> String {
+    let stem = if spec.ends_with(".toml") {
+        std::path::Path::new(spec).file_stem().map_or(spec.to_string(), |s| s.to_string_lossy().into_owned())
+    } else {
+        spec.to_string()
+    };
+    stem.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' }).collect()
+}
+
+fn square(a: SquareArgs) -> Result<()> {
+    use kinema::nalgebra::Vector3;
+    use kinema_scorbot::experiment::{self, ExperimentOptions, Model, Plane};
+    if !(a.noise_mm.is_finite() && (0.0..=1000.0).contains(&a.noise_mm)) {
+        bail!("--noise-mm {}: it must be a finite number from 0 to 1000", a.noise_mm);
+    }
+    if !(a.max_step.is_finite() && a.max_step > 0.0) {
+        bail!("--max-step {}: it must be a positive length in metres", a.max_step);
+    }
+    let robot = robot()?;
+    let angle = |v: f64| if a.deg { v.to_radians() } else { v };
+    let (path, what) = match &a.path {
+        Some(p) => (read_path(p, a.deg)?, format!("the path of {}", p.display())),
+        None => {
+            let c = parse_list(&a.center, "--center", 3)?;
+            let plane = match a.plane {
+                PlaneArg::Xy => Plane::Xy,
+                PlaneArg::Xz => Plane::Xz,
+                PlaneArg::Yz => Plane::Yz,
+            };
+            let pitch = a.pitch.map_or(60f64.to_radians(), angle);
+            let roll = a.roll.map_or(0.0, angle);
+            let sq = experiment::square(plane, Vector3::new(c[0], c[1], c[2]), a.side, pitch, roll)?;
+            let what = format!(
+                "a {:.0} mm square in the {plane} plane centred at ({:.3}, {:.3}, {:.3}) m, pitch {:.1}°, roll {:.1}°",
+                a.side * 1e3,
+                c[0],
+                c[1],
+                c[2],
+                pitch.to_degrees(),
+                roll.to_degrees()
+            );
+            (sq, what)
+        }
+    };
+    let specs: Vec<&str> = a.models.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+    if specs.is_empty() {
+        bail!("--models: give at least one set of constants, e.g. factory,calibrated");
+    }
+    let models = specs
+        .iter()
+        .map(|s| {
+            Ok(Model { label: file_label(s), constants: load_constants(s).with_context(|| format!("--models {s}"))? })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let options = ExperimentOptions {
+        models,
+        controller: load_constants(&a.constants).context("--constants")?,
+        truth: load_constants(&a.true_constants).context("--true-constants")?,
+        runs: a.runs,
+        noise: a.noise_mm * 1e-3,
+        seed: a.seed,
+        max_step: a.max_step,
+        ..ExperimentOptions::default()
+    };
+    let e = experiment::run(&robot, &path, &options)?;
+    if let Some(dir) = &a.out_dir {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        let write = |name: String, points: &[Vector3<f64>]| -> Result<()> {
+            crate::write_atomically(&dir.join(name), |w| {
+                use std::io::Write;
+                writeln!(w, "x,y,z")?;
+                for p in points {
+                    writeln!(w, "{:.6},{:.6},{:.6}", p.x, p.y, p.z)?;
+                }
+                Ok(())
+            })
+        };
+        write("desired.csv".into(), &e.desired)?;
+        for m in &e.models {
+            for (k, r) in m.runs.iter().enumerate() {
+                write(format!("{}-{}.csv", m.label, k + 1), r)?;
+            }
+        }
+    }
+    if a.json {
+        return print_json(&json!({
+            "path": what,
+            "desired_points": e.desired.len(),
+            "true_constants": options.truth.name,
+            "controller_constants": options.controller.name,
+            "noise": options.noise,
+            "seed": options.seed,
+            "models": e.models.iter().map(|m| json!({
+                "label": m.label,
+                "branch": m.branch,
+                "samples": m.runs.iter().map(Vec::len).collect::<Vec<_>>(),
+                "report": serde_json::to_value(&m.report).unwrap_or_default(),
+            })).collect::<Vec<_>>(),
+        }));
+    }
+    println!(
+        "seed 000 Fig. 6 on the controller simulator: {what}, {} points ≤ {:.0} mm apart",
+        e.desired.len(),
+        a.max_step * 1e3
+    );
+    println!("the arm moves by `{}`; controller constants `{}`", options.truth.name, options.controller.name);
+    println!(
+        "measured = the simulated tool path every 10 ms + Gaussian noise σ = {:.3} mm per axis (seed {})",
+        a.noise_mm, a.seed
+    );
+    let mm = |v: f64| format!("{:.3}", v * 1e3);
+    println!(
+        "{:<14} {:>4}  {:>22}  {:>9}  {:>9}  runs (mean error, mm)",
+        "model", "runs", "mean error ± spread mm", "AT_p mm", "RT_p mm"
+    );
+    for m in &e.models {
+        let r = &m.report;
+        println!(
+            "{:<14} {:>4}  {:>22}  {:>9}  {:>9}  {}",
+            m.label,
+            r.runs,
+            format!("{} ± {}", mm(r.mean_error), mm(r.mean_error_spread)),
+            mm(r.at_p),
+            r.rt_p.map_or("—".into(), mm),
+            r.run_mean_errors.iter().map(|v| mm(*v)).collect::<Vec<_>>().join(", ")
+        );
+    }
+    if let Some(dir) = &a.out_dir {
+        eprintln!("wrote desired.csv and the runs to {}", dir.display());
     }
     Ok(())
 }

@@ -11,6 +11,8 @@
 //! * [`calib`]: estimating the encoder constants (and link lengths) from
 //!   measured tool positions by Levenberg–Marquardt, with uncertainties.
 //! * [`sim`]: a simulator of the controller (ACL over TCP or a pseudo-terminal), with fault injection.
+//! * [`experiment`]: seed 000's accuracy experiment (Fig. 5–6) on the simulator:
+//!   a path planned with several sets of constants, followed, recorded and scored.
 //!
 //! # Example
 //! ```
@@ -28,6 +30,7 @@ pub mod calib;
 mod csvio;
 pub mod encoder;
 mod error;
+pub mod experiment;
 pub mod follow;
 pub mod metrics;
 pub mod sim;

@@ -9,7 +9,7 @@ use kinema::analysis::{self, Axes};
 use kinema::math::{rot_to_rpy, RpyConvention};
 use kinema::nalgebra::{Matrix3, Vector3};
 use kinema::{Frame, Robot};
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Wraps an angle difference into (−π, π].
@@ -287,5 +287,126 @@ fn iiwa_limits_equal_seed004_cuadro_i() {
     for _ in 0..1000 {
         let q = robot.random_q(&mut rng);
         assert!(robot.fk(&q).unwrap().within_limits());
+    }
+}
+
+/// Seed 001 eq. (5)–(7), the printed closed-form position, contradict eq. (8)
+/// and Tabla 1 whatever the link lengths: every term of eq. (6) carries s1, so
+/// p_y = 0 at θ1 = 0, where eq. (8) prints p_y = 0.743 m; and eq. (5), (7)
+/// depend on θ5, while in Tabla 1 (a4 = 0, d5 = 0) joint 5 turns about an axis
+/// through the tool point and joint 4 about one through it too, so the
+/// position cannot depend on θ4 or θ5. kinema follows Tabla 1 (with the values
+/// corrected to give eq. 8).
+#[test]
+fn rommel_position_ignores_q4_q5_unlike_seed001_eq5_to_eq7() {
+    // Eq. (5)–(7) as printed (the stray "m" of the scan dropped), lengths l1, l2, l3.
+    let eq5_7 = |t: [f64; 5], l: [f64; 3]| {
+        let (s1, c1) = t[0].sin_cos();
+        let (s2, c2) = t[1].sin_cos();
+        let (s3, c3) = t[2].sin_cos();
+        let (s5, c5) = t[4].sin_cos();
+        let [l1, l2, l3] = l;
+        let px =
+            l3 * s2 * c1 * c3 * c5 - l3 * s5 * c2 * c3 + l3 * s3 * c1 * c2 * c5 + l3 * s2 * s3 * s5 + l2 * s2 * s1 * s5
+                - l2 * s5 * c2
+                - l1 * c1 * c5;
+        let py = -l3 * s1 * s2 * c3 - l3 * s1 * s3 * c2 - l2 * s1 * s2 + l1 * s1;
+        let pz = -l3 * s2 * s5 * c1 * c3 - l3 * c2 * c3 * c5 - l3 * s3 * s5 * c1 * c2 + l3 * s2 * s3 * c5
+            - l2 * s2 * s5 * c1
+            - l2 * c2 * c5
+            + l1 * s5 * c1;
+        Vector3::new(px, py, pz)
+    };
+    let robot = Robot::builtin("rommel").unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for _ in 0..200 {
+        let l = [rng.random_range(0.01..1.0), rng.random_range(0.01..1.0), rng.random_range(0.01..1.0)];
+        // At home eq. (6) gives p_y = 0 for any lengths; eq. (8) prints 0.743 m.
+        assert_eq!(eq5_7([0.0; 5], l).y, 0.0);
+        // Eq. (5)–(7) move the tool point with θ5; the DH chain does not.
+        let q = robot.random_q(&mut rng);
+        let mut q5 = q.clone();
+        q5[4] += 1.0;
+        let mut q4 = q.clone();
+        q4[3] -= 0.7;
+        let p = robot.fk(&q).unwrap().pose.pos;
+        assert!((robot.fk(&q5).unwrap().pose.pos - p).norm() < 1e-12);
+        assert!((robot.fk(&q4).unwrap().pose.pos - p).norm() < 1e-12);
+        let t = [q[0], q[1], q[2], q[3], q[4]];
+        let t5 = [q[0], q[1], q[2], q[3], q[4] + 1.0];
+        assert!((eq5_7(t, l) - eq5_7(t5, l)).norm() > 1e-6, "eq. (5)-(7) should depend on θ5 here");
+    }
+    assert!((robot.fk(robot.home()).unwrap().pose.pos - Vector3::new(-0.05, 0.743, 0.0)).norm() < 1e-12);
+}
+
+/// Seed 004 §VII-B says det J22 "is directly zero" (no orientation
+/// singularities). J22 holds the angular rows of joints 5–7, [z5 z6 z7] in any
+/// frame, so det J22 = ±sin q6: zero only when axes 5 and 7 line up (q6 = 0).
+/// There the 7-joint arm keeps rank 6 (joints 1–4 supply the lost rotation),
+/// so the seed's conclusion holds although its determinant does not.
+#[test]
+fn iiwa_det_j22_is_minus_sin_q6_not_zero() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(22);
+    for _ in 0..500 {
+        let q = robot.random_q(&mut rng);
+        let j = robot.jacobian(&q, Frame::Base).unwrap();
+        let j22 = Matrix3::from_fn(|r, c| j[(3 + r, 4 + c)]);
+        assert!((j22.determinant() + q[5].sin()).abs() < 1e-12, "q = {q:?}");
+    }
+    let q = [0.3, 0.5, 0.2, -1.0, 0.4, 0.0, 0.1];
+    let j = robot.jacobian(&q, Frame::Base).unwrap();
+    assert_eq!(analysis::rank(&j, Axes::All, None).unwrap().0, 6);
+}
+
+/// Seed 000 Fig. 2 and Fig. 3 print tool poses (x = 400/600, y = 100, z = 600,
+/// "cm", pitch 90°/0°, roll 0) that no configuration reaches, in mm or in cm:
+/// the wrist point lies 11.8 cm (Fig. 2) and 7.1 cm (Fig. 3) beyond the
+/// shoulder's 0.442 m reach. At Fig. 2's position the largest reachable pitch
+/// is 38.0°; with the approach pointing up (pitch −90°) it is reachable, elbow
+/// down as the caption says. Fig. 3's position is out of reach at any pitch.
+#[test]
+fn scorbot_fig2_fig3_poses_are_out_of_reach() {
+    use kinema::ik::scorbot::ScorbotIk;
+    let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
+    let ik = ScorbotIk::new(&robot).unwrap();
+    let deg = |d: f64| d.to_radians();
+    for scale in [1e-3, 1e-2] {
+        assert!(ik.solve_xyz_pitch_roll([400.0 * scale, 100.0 * scale, 600.0 * scale], deg(90.0), 0.0).is_err());
+        assert!(ik.solve_xyz_pitch_roll([600.0 * scale, 100.0 * scale, 600.0 * scale], 0.0, 0.0).is_err());
+    }
+    let fig2 = [0.4, 0.1, 0.6];
+    assert!(ik.solve_xyz_pitch_roll(fig2, deg(38.0), 0.0).is_ok());
+    assert!(ik.solve_xyz_pitch_roll(fig2, deg(38.1), 0.0).is_err());
+    let up = ik.solve_xyz_pitch_roll(fig2, deg(-90.0), 0.0).unwrap();
+    assert!(up.iter().any(|s| s.branch == "front/elbow-down" && s.q[2] > 0.0 && robot.limit_flags(&s.q).is_empty()));
+    for p in -90..=90 {
+        assert!(ik.solve_xyz_pitch_roll([0.6, 0.1, 0.6], deg(p as f64), 0.0).is_err(), "pitch {p}°");
+    }
+}
+
+/// Seed 004 eq. 30–31 derive the coupled singularity from det(J_ω·J_ωᵀ) = 0,
+/// listing seven minors of the 3×7 J_ω (two of them 0). J_ω has 35 maximal
+/// minors, none identically zero: three consecutive axes i−1, i, i+1 give
+/// ±sin q_i. At the seed's own example (Fig. 13, q6 = π/6) det(J_ω·J_ωᵀ) =
+/// 2.25, not 0; the configuration is singular (rank 4, Cuadro III) because
+/// axes 1, 3, 5 coincide and joint 6 depends on joints 2 and 4, not because
+/// J_ω loses rank.
+#[test]
+fn iiwa_coupled_singularity_keeps_j_omega_full_rank() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let q = robot.pose("sing-coupled").unwrap();
+    let j = robot.jacobian(q, Frame::Base).unwrap();
+    assert_eq!(analysis::rank(&j, Axes::All, None).unwrap().0, 4);
+    let w = kinema::nalgebra::Matrix3xX::from_fn(7, |r, c| j[(3 + r, c)]);
+    assert!(((&w * w.transpose()).determinant() - 2.25).abs() < 1e-12);
+    let mut rng = ChaCha8Rng::seed_from_u64(30);
+    for _ in 0..200 {
+        let q = robot.random_q(&mut rng);
+        let j = robot.jacobian(&q, Frame::Base).unwrap();
+        for i in 1..6 {
+            let m = Matrix3::from_fn(|r, c| j[(3 + r, i - 1 + c)]);
+            assert!((m.determinant().abs() - q[i].sin().abs()).abs() < 1e-12, "q = {q:?}, axes {i}..{}", i + 2);
+        }
     }
 }
