@@ -6,9 +6,11 @@
 
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
+use std::rc::Rc;
 
 use kinema::ik;
-use kinema::ik::scara::ScaraIk;
+use kinema::ik::family::{self, Family, TypedKind};
+use kinema::ik::IkTarget;
 use kinema::math::{rpy_to_rot, Pose};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{
@@ -65,12 +67,15 @@ pub struct PlannedMotion {
     pub target: String,
 }
 
-/// Seed 003's SCARA solver, as the present TOOL leaves it.
+/// The solver of seed 003's relative instructions (MOVEXY, MOVEZ, MOVETITA):
+/// the family that owns tool-angle targets (a point and the angle α about
+/// z), fitted to the robot with the present TOOL.
 enum Scara {
-    /// Not the SCARA: its instructions are refused before the program runs.
+    /// No family takes tool-angle targets on this robot: the instructions are
+    /// refused before the program runs.
     No,
-    /// The SCARA, with its closed-form IK for the present tool.
-    Solver(Box<ScaraIk>),
+    /// The fitted family.
+    Solver(Rc<dyn Family>),
     /// The SCARA with a tool its IK cannot take (a tilted one): which TOOL, and why. HOME
     /// and PTP/LIN still work; MOVEXY/MOVEZ/MOVETITA are errors.
     ToolRefused(String),
@@ -281,7 +286,7 @@ impl<'a> Compiler<'a> {
             robot,
             robot_tool: robot.clone(),
             opts,
-            scara: ScaraIk::new(robot).map_or(Scara::No, |ik| Scara::Solver(Box::new(ik))),
+            scara: family::for_typed(robot, TypedKind::Alpha).map_or(Scara::No, |f| Scara::Solver(Rc::from(f))),
             q,
             traj,
             speed: 1.0,
@@ -904,8 +909,8 @@ impl<'a> Compiler<'a> {
                             // tool it cannot take (a tilted one) is fine for PTP/LIN and HOME;
                             // MOVEXY/MOVEZ/MOVETITA after it are errors (they did nothing).
                             if !matches!(self.scara, Scara::No) {
-                                match ScaraIk::new(&r) {
-                                    Ok(ik) => self.scara = Scara::Solver(Box::new(ik)),
+                                match family::for_typed(&r, TypedKind::Alpha) {
+                                    Ok(f) => self.scara = Scara::Solver(Rc::from(f)),
                                     Err(e) => {
                                         let why = match e {
                                             kinema::Error::InvalidArgument { message, .. } => message,
@@ -1582,7 +1587,7 @@ impl<'a> Compiler<'a> {
     /// Seed 003's relative moves: `delta` = [dx, dy, dz, dα] of the tool.
     fn scara_relative(&mut self, s: &Stmt, delta: [f64; 4], t: f64, kw: &str) {
         let ik = match &self.scara {
-            Scara::Solver(ik) => ik.clone(),
+            Scara::Solver(ik) => Rc::clone(ik),
             // Other robots are refused before running.
             Scara::No => return,
             Scara::ToolRefused(why) => {
@@ -1610,7 +1615,14 @@ impl<'a> Compiler<'a> {
             q[4] += delta[3];
             q
         } else {
-            match ik.solve_zone(target, Some(&self.q)) {
+            let typed = IkTarget::PositionAlpha { position: [target[0], target[1], target[2]], alpha: target[3] };
+            let solved = ik.solve_typed(&typed, Some(&self.q)).and_then(|sols| {
+                sols.into_iter().next().ok_or_else(|| kinema::Error::InvalidArgument {
+                    what: "target".into(),
+                    message: format!("the {} solver proposed no solution", ik.name()),
+                })
+            });
+            match solved {
                 Ok(sol) => {
                     let mut q = sol.q;
                     // Keep θ continuous: the nearest equivalent of q5 to the present one.
