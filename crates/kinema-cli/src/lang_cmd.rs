@@ -27,6 +27,10 @@ pub struct ProgramArgs {
     /// loop pass reached); no limit by default. Ctrl-C stops it at any time.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) time_limit: Option<f64>,
+    /// Skip motions to targets out of reach, with a warning each (seed 003 Fig. 9: the
+    /// generated trajectory leaves out a point outside the workspace), instead of failing.
+    #[arg(long)]
+    pub(crate) skip_unreachable: bool,
 }
 
 /// Whether Ctrl-C was pressed (the error to return then: nothing is written).
@@ -79,7 +83,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
     // ends the process at once.
     let _cancellable = crate::interrupt::cancellable();
     stop = stop.with_flag(crate::interrupt::flag());
-    let opts = Options { dt: a.dt, start, stop, ..Options::default() };
+    let opts = Options { dt: a.dt, start, stop, skip_unreachable: a.skip_unreachable, ..Options::default() };
     let name = a.program.display().to_string();
     match kinema_lang::compile(&src, &robot, &opts) {
         Ok(plan) => {

@@ -230,8 +230,14 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
                     (r, t)
                 }
                 (None, Some(program)) => {
-                    let (plan, _) =
-                        lang_cmd::build(&lang_cmd::ProgramArgs { program, robot, dt, start: None, time_limit: None })?;
+                    let (plan, _) = lang_cmd::build(&lang_cmd::ProgramArgs {
+                        program,
+                        robot,
+                        dt,
+                        start: None,
+                        time_limit: None,
+                        skip_unreachable: false,
+                    })?;
                     (plan.robot, plan.trajectory)
                 }
                 (None, None) => bail!("give --csv or --program"),

@@ -6,6 +6,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use kinema::analysis::{yoshikawa, Axes};
 use kinema::nalgebra::Matrix6xX;
+use kinema::traj::waypoints::{skip_unreachable, SkippedPoint};
 use kinema::traj::{
     check, expression_trajectory, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr,
     JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, SelfMotion, TimeLaw,
@@ -133,6 +134,10 @@ pub struct LinArgs {
     /// Orientation interpolation.
     #[arg(long, value_enum, default_value = "slerp")]
     orientation: OrientationArg,
+    /// Leave out --via/--to poses the robot cannot reach (seed 003 Fig. 9), each named on stderr
+    /// and in the JSON summary's `skipped`; without it an unreachable pose is an error.
+    #[arg(long)]
+    skip_unreachable: bool,
 }
 
 #[derive(Args)]
@@ -494,6 +499,7 @@ fn cart_motion(
     c: &CartArgs,
     segments: impl FnOnce(Pose) -> Result<Vec<Segment>>,
     blend: Blend,
+    skipped: &[SkippedPoint],
 ) -> Result<()> {
     let q0 = robot.parse_q(&c.from, c.deg)?;
     let start = robot.fk(&q0)?.pose;
@@ -533,6 +539,11 @@ fn cart_motion(
         "duration": motion.duration(),
         "segment_starts": motion.segment_starts(),
         "blend_times": motion.blend_times(),
+        "skipped": skipped.iter().map(|p| json!({
+            "index": p.index,
+            "position": [p.pose.pos.x, p.pose.pos.y, p.pose.pos.z],
+            "reason": p.reason,
+        })).collect::<Vec<_>>(),
     });
     emit(robot, &traj, c.rpy.into(), c.out.as_deref(), c.json, summary)
 }
@@ -549,6 +560,18 @@ fn lin(a: LinArgs) -> Result<()> {
         poses.push(pose_arg(v, conv, "via")?);
     }
     poses.push(pose_arg(&a.to, conv, "to")?);
+    // Seed 003 Fig. 9: waypoints out of reach are left out when asked.
+    let skipped = if a.skip_unreachable {
+        let (kept, skipped) = skip_unreachable(&robot, &poses)?;
+        for p in &skipped {
+            let which = if p.index + 1 == poses.len() { "--to".to_string() } else { format!("--via #{}", p.index + 1) };
+            eprintln!("skipped {which}: {}", p.reason);
+        }
+        poses = kept;
+        skipped
+    } else {
+        Vec::new()
+    };
     let b = a.blend.trim();
     let blend = match b {
         "decel" => Blend::Deceleration,
@@ -576,6 +599,7 @@ fn lin(a: LinArgs) -> Result<()> {
             Ok(segs)
         },
         blend,
+        &skipped,
     )
 }
 
@@ -592,6 +616,7 @@ fn circ(a: CircArgs) -> Result<()> {
         &a.cart,
         |start| Ok(vec![Segment::circ_through(&start, &kinema::nalgebra::Vector3::new(aux[0], aux[1], aux[2]), &to)?]),
         Blend::None,
+        &[],
     )
 }
 

@@ -165,3 +165,47 @@ fn q3_and_psi_choose_the_self_motion_of_a_line() {
     ]);
     assert!(!r.ok && r.stderr.contains("no self-motion"), "{}", r.stderr);
 }
+
+/// Seed 003 Fig. 9 on both doors: `traj lin --skip-unreachable` leaves out a
+/// waypoint out of reach (named on stderr and in the JSON) and goes through
+/// the others, the same path as without the point; `run --skip-unreachable`
+/// skips the program's unreachable MOVEXY. Without the option both fail.
+#[test]
+fn skip_unreachable_leaves_out_points_outside_the_workspace() {
+    let dir = tempdir("skip");
+    let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
+    let lin = |vias: &[&str], out: &std::path::Path, skip: bool| {
+        let mut args = vec!["traj", "lin", "-r", "scara5", "--from", "home", "--to", "0.35,-0.1,0.2,0,0,0"];
+        for v in vias {
+            args.extend(["--via", v]);
+        }
+        args.extend(["--vmax", "0.2", "--amax", "1", "--json", "--out", out.to_str().unwrap()]);
+        if skip {
+            args.push("--skip-unreachable");
+        }
+        kinema(&args)
+    };
+    let r = lin(&["0.3,0.1,0.2,0,0,0", "3,3,0.2,0,0,0"], &a, false);
+    assert!(!r.ok && r.stderr.contains("unreachable"), "{}", r.stderr);
+    assert!(!a.exists());
+    let r = lin(&["0.3,0.1,0.2,0,0,0", "3,3,0.2,0,0,0"], &a, true);
+    assert!(r.ok, "{}", r.stderr);
+    assert!(r.stderr.contains("skipped --via #2"), "{}", r.stderr);
+    let json: Value = serde_json::from_str(&r.stdout[r.stdout.find('{').unwrap()..]).unwrap();
+    assert_eq!(json["skipped"][0]["index"], 1);
+    assert!(lin(&["0.3,0.1,0.2,0,0,0"], &b, false).ok);
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), std::fs::read_to_string(&b).unwrap());
+    let program = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/programs/seed003_fig9_skip.prg");
+    let out = dir.path().join("run.csv");
+    let run = |skip: bool| {
+        let mut args = vec!["run", "-r", "scara5", program, "--out", out.to_str().unwrap()];
+        if skip {
+            args.push("--skip-unreachable");
+        }
+        kinema(&args)
+    };
+    assert_eq!(run(false).code, Some(1));
+    let r = run(true);
+    assert!(r.ok && r.stderr.contains("skipped"), "{}", r.stderr);
+    assert!(out.exists());
+}

@@ -41,11 +41,21 @@ pub struct Options {
     pub max_steps: usize,
     /// When to give up early (a deadline, Ctrl-C); never by default.
     pub stop: Stop,
+    /// Skip motions to targets the robot cannot reach, with a warning each
+    /// (seed 003 Fig. 9), instead of failing on them.
+    pub skip_unreachable: bool,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { dt: 0.01, start: None, max_samples: 5_000_000, max_steps: 1_000_000, stop: Stop::never() }
+        Options {
+            dt: 0.01,
+            start: None,
+            max_samples: 5_000_000,
+            max_steps: 1_000_000,
+            stop: Stop::never(),
+            skip_unreachable: false,
+        }
     }
 }
 
@@ -825,6 +835,9 @@ impl<'a> Compiler<'a> {
             StmtKind::Motion { kind: MotionKind::Ptp, relative, target, opts } => self.ptp(s, *relative, target, opts),
             StmtKind::Motion { kind: MotionKind::Lin, relative, target, opts } => {
                 let Some(to) = self.cart_target(target, *relative) else { return };
+                if self.skip_if_unreachable(s, &to) {
+                    return;
+                }
                 let from = self.chain_end();
                 match Segment::lin(&from, &to, Orientation::Slerp) {
                     Ok(seg) => self.push_segment(s, seg, opts, describe_pose(&to)),
@@ -835,6 +848,9 @@ impl<'a> Compiler<'a> {
                 let (Some(a), Some(to)) = (self.cart_target(aux, false), self.cart_target(target, false)) else {
                     return;
                 };
+                if self.skip_if_unreachable(s, &to) {
+                    return;
+                }
                 let from = self.chain_end();
                 match Segment::circ_through(&from, &a.pos, &to) {
                     Ok(seg) => self.push_segment(
@@ -1435,12 +1451,39 @@ impl<'a> Compiler<'a> {
             .and_then(|answer| ik::pick_one(robot, answer.solver, answer.solutions, Some(&self.q)));
         match result {
             Ok(sol) => Some(sol.q),
+            Err(e @ kinema::Error::Unreachable { .. }) if self.opts.skip_unreachable => {
+                self.skipped(s, &e);
+                None
+            }
             Err(e) => {
                 self.err(Diagnostic::error(s.span.clone(), format!("target unreachable: {e}")).with_hint(
                     "check the position against the robot's reach and the orientation against what the arm can take",
                 ));
                 None
             }
+        }
+    }
+
+    /// With [`Options::skip_unreachable`]: a warning that statement `s` was
+    /// skipped, its target being out of reach.
+    fn skipped(&mut self, s: &Stmt, why: &kinema::Error) {
+        self.warn(Diagnostic::warning(s.span.clone(), format!("skipped: {why}")).with_hint(
+            "the robot stays where it is and the program goes on (skip-unreachable); without it this is an error",
+        ));
+    }
+
+    /// With [`Options::skip_unreachable`], whether the Cartesian motion of
+    /// `s` ends at a pose out of reach (then skipped with a warning).
+    fn skip_if_unreachable(&mut self, s: &Stmt, to: &Pose) -> bool {
+        if !self.opts.skip_unreachable {
+            return false;
+        }
+        match traj::waypoints::reach(&self.robot_tool, to) {
+            Err(e @ kinema::Error::Unreachable { .. }) => {
+                self.skipped(s, &e);
+                true
+            }
+            _ => false,
         }
     }
 
@@ -1634,10 +1677,14 @@ impl<'a> Compiler<'a> {
                     }
                     q
                 }
+                Err(e @ kinema::Error::Unreachable { .. }) if self.opts.skip_unreachable => {
+                    self.skipped(s, &e);
+                    return;
+                }
                 Err(e) => {
                     self.err(
                         Diagnostic::error(s.span.clone(), format!("{kw} to ({:.4}, {:.4}) m is unreachable: {e}", target[0], target[1]))
-                            .with_hint("seed 003 skips points outside the rectangle-shaped workspace; this program would lose them"),
+                            .with_hint("seed 003 skips points outside the workspace: run with skip-unreachable (`kinema run --skip-unreachable`) to do the same"),
                     );
                     return;
                 }

@@ -558,3 +558,39 @@ fn redundancy_chooses_the_self_motion_of_later_lines() {
     assert_eq!(at, 2);
     assert!(message.contains("no self-motion"), "{message}");
 }
+
+/// Seed 003 Fig. 9: with `skip_unreachable` a point outside the workspace is
+/// left out with a warning at its line and the path goes on to the next
+/// point, as if it had not been written; without it, an error there.
+#[test]
+fn skip_unreachable_leaves_out_a_point_outside_the_workspace() {
+    let r = robot("scara5");
+    let src = include_str!("../../../examples/programs/seed003_fig9_skip.prg");
+    let (at, message) = one_error(src, &r);
+    assert_eq!(at, 4);
+    assert!(message.contains("unreachable"), "{message}");
+    let skip = Options { skip_unreachable: true, ..Options::default() };
+    let plan = compile(src, &r, &skip).unwrap_or_else(|d| panic!("{}", kinema_lang::render_all(&d, "fig9", src)));
+    assert_eq!(plan.warnings.len(), 1);
+    assert_eq!(kinema_lang::diag::line_col(src, plan.warnings[0].span.start).0, 4);
+    assert!(plan.warnings[0].message.contains("skipped"));
+    // The same path without the point, written out.
+    let without: String = src.lines().filter(|l| !l.contains("2000")).map(|l| format!("{l}\n")).collect();
+    let reference = ok(&without, &r);
+    assert_eq!(plan.trajectory, reference.trajectory);
+    // Cartesian PTP and LIN targets out of reach are skipped the same way.
+    let iiwa = robot("lbr-iiwa-14-r820");
+    let src =
+        "JACC 90deg/s^2\nPTP JOINT(0, 40deg, 0, -60deg, 0, 60deg, 0)\nPTP CART(3m, 0m, 0.5m, 0deg, 180deg, 0deg)\n\
+               LIN CART(0m, 3m, 0.5m, 0deg, 180deg, 0deg)\nLIN REL CART(0mm, 0mm, 30mm)\n";
+    assert_eq!(errors(src, &iiwa).len(), 2);
+    let plan = compile(src, &iiwa, &skip).unwrap_or_else(|d| panic!("{}", kinema_lang::render_all(&d, "t", src)));
+    let lines: Vec<usize> = plan
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("skipped"))
+        .map(|w| kinema_lang::diag::line_col(src, w.span.start).0)
+        .collect();
+    assert_eq!(lines, [3, 4]);
+    assert_eq!(plan.motions.len(), 2, "the PTP and the last LIN ran");
+}

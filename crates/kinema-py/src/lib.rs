@@ -2004,6 +2004,8 @@ impl PyPlan {
 /// diagnostics give the program. ``time_limit``: seconds of computing after
 /// which the program is stopped (``None``, the default: no limit); the step
 /// and sample limits of ``docs/language.md`` hold either way.
+/// ``skip_unreachable``: skip motions to targets out of reach with a warning
+/// (seed 003 Fig. 9; ``kinema run --skip-unreachable``) instead of failing.
 ///
 /// The program runs on a worker thread with the GIL released; Ctrl-C
 /// (KeyboardInterrupt) stops it within about 50 ms and is raised again here.
@@ -2021,7 +2023,9 @@ impl PyPlan {
 ///         ``robot``, ``start`` or ``time_limit``.
 ///     KeyboardInterrupt: Ctrl-C while the program ran.
 #[pyfunction]
-#[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>", time_limit=None))]
+#[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>", time_limit=None,
+    skip_unreachable=false))]
+#[allow(clippy::too_many_arguments)]
 fn run_program(
     py: Python<'_>,
     text: String,
@@ -2030,6 +2034,7 @@ fn run_program(
     start: Option<&Bound<'_, PyAny>>,
     filename: &str,
     time_limit: Option<&Bound<'_, PyAny>>,
+    skip_unreachable: bool,
 ) -> PyResult<PyPlan> {
     let robot = match robot.downcast::<PyRobot>() {
         Ok(r) => Arc::clone(&r.get().robot),
@@ -2059,6 +2064,7 @@ fn run_program(
         dt,
         start,
         stop: stop.with_flag(Arc::clone(&cancel)),
+        skip_unreachable,
         ..kinema_lang::Options::default()
     };
     let compiled = run_interruptibly(py, &cancel, {

@@ -205,3 +205,18 @@ def test_other_threads_run_while_a_program_does():
         done.set()
         t.join()
     assert counted[0] > 1000
+
+
+def test_skip_unreachable_leaves_out_a_point_outside_the_workspace():
+    """Seed 003 Fig. 9, as kinema run --skip-unreachable: a warning at the
+    skipped line, and the same trajectory as the program without it."""
+    import pathlib
+
+    src = (pathlib.Path(__file__).resolve().parents[3] / "examples" / "programs" / "seed003_fig9_skip.prg").read_text()
+    with pytest.raises(kinema.ProgramError, match="unreachable"):
+        kinema.run_program(src, "scara5")
+    plan = kinema.run_program(src, "scara5", skip_unreachable=True)
+    assert any("skipped" in str(w) for w in plan.warnings)
+    without = "".join(line + "\n" for line in src.splitlines() if "2000" not in line)
+    reference = kinema.run_program(without, "scara5")
+    np.testing.assert_array_equal(plan.q, reference.q)

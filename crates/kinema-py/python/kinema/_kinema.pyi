@@ -189,6 +189,7 @@ def run_program(
     start: Optional[JointVector] = None,
     filename: str = "<program>",
     time_limit: Optional[float] = None,
+    skip_unreachable: bool = False,
 ) -> Plan:
     """Compiles and runs a robot program as `kinema run` does, on a worker thread without the GIL.
 

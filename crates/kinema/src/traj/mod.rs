@@ -30,6 +30,7 @@ pub mod joint;
 pub mod law;
 pub mod self_motion;
 pub mod track;
+pub mod waypoints;
 
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
 pub use cell::{Cell, CellMember, CellReport};
