@@ -248,8 +248,8 @@ fn load(a: &CellArgs) -> Result<Loaded> {
         let field = if path == "." { "(top level)".to_string() } else { path };
         src.err(inner.span().unwrap_or(0..0), &field, inner.message().trim())
     })?;
-    let dir = a.file.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
+    // Empty for a file in the current folder: paths in it then read as given.
+    let dir = a.file.parent().map_or_else(PathBuf::new, Path::to_path_buf);
 
     let dt = match (a.dt, &parsed.dt) {
         (Some(dt), _) => dt,
@@ -326,44 +326,45 @@ fn load(a: &CellArgs) -> Result<Loaded> {
         let here = || format!("{file}: robot `{name}` (robot[{i}])");
         let robot = load_robot(&m.robot, m.tip.as_deref(), &dir).with_context(here)?;
         let robot = placed(&robot, &world_from_robot).with_context(here)?;
-        let (motion, robot, traj, opts) =
-            match (&m.trajectory, &m.program) {
-                (Some(t), None) => {
-                    if let Some(s) = &m.start {
-                        return Err(src.err(
-                            s.span(),
-                            &field("start"),
-                            "`start` is for a program; a trajectory starts where its first sample is",
-                        ));
+        let (motion, robot, traj, opts) = match (&m.trajectory, &m.program) {
+            (Some(t), None) => {
+                if let Some(s) = &m.start {
+                    return Err(src.err(
+                        s.span(),
+                        &field("start"),
+                        "`start` is for a program; a trajectory starts where its first sample is",
+                    ));
+                }
+                let path = dir.join(t.get_ref());
+                let (traj, (value_resolution, time_resolution)) =
+                    traj_cmd::read_trajectory_with_resolution(&robot, &path).with_context(here)?;
+                let opts = CheckOptions { value_resolution, time_resolution, ..check_options() };
+                (Motion::Trajectory(path), robot, traj, opts)
+            }
+            (None, Some(p)) => {
+                let path = dir.join(p.get_ref());
+                let start = match &m.start {
+                    Some(s) => {
+                        Some(robot.parse_q(s.get_ref(), false).map_err(|e| src.err(s.span(), &field("start"), e))?)
                     }
-                    let path = dir.join(t.get_ref());
-                    let (traj, (value_resolution, time_resolution)) =
-                        traj_cmd::read_trajectory_with_resolution(&robot, &path).with_context(here)?;
-                    let opts = CheckOptions { value_resolution, time_resolution, ..check_options() };
-                    (Motion::Trajectory(path), robot, traj, opts)
-                }
-                (None, Some(p)) => {
-                    let path = dir.join(p.get_ref());
-                    let start = match &m.start {
-                        Some(s) => {
-                            Some(robot.parse_q(s.get_ref(), false).map_err(|e| src.err(s.span(), &field("start"), e))?)
-                        }
-                        None => None,
-                    };
-                    let plan = run_program(&path, &robot, dt, start, stop.clone()).with_context(here)?;
-                    (Motion::Program(path), plan.robot, plan.trajectory, check_options())
-                }
-                (Some(_), Some(p)) => {
-                    return Err(src.err(p.span(), &field("program"), "give `trajectory` or `program`, not both"))
-                }
-                (None, None) => return Err(src.err(
+                    None => None,
+                };
+                let plan = run_program(&path, &robot, dt, start, stop.clone()).with_context(here)?;
+                (Motion::Program(path), plan.robot, plan.trajectory, check_options())
+            }
+            (Some(_), Some(p)) => {
+                return Err(src.err(p.span(), &field("program"), "give `trajectory` or `program`, not both"))
+            }
+            (None, None) => {
+                return Err(src.err(
                     spanned.span(),
                     &field("trajectory"),
                     format!(
                         "robot `{name}` has no motion: give `trajectory = \"file.csv\"` or `program = \"file.prg\"`"
                     ),
-                )),
-            };
+                ))
+            }
+        };
         check_interrupted()?;
         let report = check(&robot, &traj, &opts).with_context(here)?;
         members.push(Member {
