@@ -46,10 +46,15 @@ pub(crate) const EXIT_TOO_CLOSE: u8 = 3;
 /// The sample period of the common clock when neither the file nor `--dt` gives one [s].
 const DEFAULT_DT: f64 = 0.01;
 
+/// The most samples of the common clock times robots: 10 000 000, a couple of
+/// gigabytes of joint values, poses and distances for 7-joint arms.
+const MAX_ROBOT_SAMPLES: usize = 10_000_000;
+
 #[derive(Args)]
 pub struct CellArgs {
     /// The cell description (TOML): robots with their base poses and motions (a joint
-    /// trajectory CSV or a program), the clock's sample period, a minimum tool distance.
+    /// trajectory CSV or a program), the clock's sample period, a minimum tool distance. The clock
+    /// runs to the end of the longest motion; a robot that has finished holds its last configuration.
     file: PathBuf,
     /// Where to write the samples (CSV: t, per robot q1..qn, tool x, y, z in the world frame and
     /// translational manipulability, then the distance of every pair); `-` for standard output.
@@ -186,7 +191,10 @@ struct Src<'a> {
 
 impl Src<'_> {
     fn err(&self, span: Range<usize>, field: &str, message: impl std::fmt::Display) -> anyhow::Error {
-        let at = span.start.min(self.text.len());
+        let mut at = span.start.min(self.text.len());
+        while !self.text.is_char_boundary(at) {
+            at -= 1;
+        }
         let before = &self.text[..at];
         let line = before.matches('\n').count() + 1;
         let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
@@ -567,6 +575,17 @@ pub fn run(a: CellArgs) -> Result<()> {
     for m in &loaded.members {
         cell.add(m.name.clone(), m.robot.clone(), m.traj.clone())
             .with_context(|| format!("{}: robot `{}`", a.file.display(), m.name))?;
+    }
+    let end = loaded.members.iter().filter_map(|m| m.traj.times().last().copied()).fold(0.0, f64::max);
+    let samples = kinema::traj::sample_count(end, loaded.dt)?;
+    if samples.saturating_mul(loaded.members.len()) > MAX_ROBOT_SAMPLES {
+        bail!(
+            "{}: the common clock would take {samples} samples of {} s for {} robot(s), above the limit of {MAX_ROBOT_SAMPLES} \
+             robot samples; give a larger dt",
+            a.file.display(),
+            loaded.dt,
+            loaded.members.len()
+        );
     }
     let report = cell.run(loaded.dt).with_context(|| format!("{}: the common clock", a.file.display()))?;
     check_interrupted()?;

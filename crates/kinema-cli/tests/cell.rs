@@ -184,8 +184,8 @@ fn tools_closer_than_the_minimum_exit_with_code_3() {
 /// Two trajectory CSVs of different lengths and joint counts (`kinema traj ptp`).
 fn two_ptp_files(dir: &Path) {
     for (file, robot, to, speed) in [
-        ("ur5.csv", "ur5", "0.5,-1.2,1.0,-0.5,1.2,0.3", "1.0"),
-        ("scorbot.csv", "scorbot-er-v-plus", "0.4,0.3,-0.4,-0.3,0.5", "0.3"),
+        ("ur5.csv", "ur5", "0.5,-1.2,1.0,-0.5,1.2,0.3", "100"),
+        ("scorbot.csv", "scorbot-er-v-plus", "0.4,0.3,-0.4,-0.3,0.5", "40"),
     ] {
         let out = dir.join(file);
         let r = kinema(&[
@@ -267,6 +267,11 @@ trajectory = "scorbot.csv"
     }
     assert!(summary["robots"][1]["trajectory"].as_str().unwrap().ends_with("scorbot.csv"));
     assert_eq!(summary["dt"], 0.02);
+    // A clock too fine for the memory is refused before any sample is made.
+    // (7 000 000 samples: within a single trajectory's limit, above the cell's for two robots.)
+    let dt = format!("{:e}", sc_end / 7e6);
+    let r = kinema(&["cell", cell.to_str().unwrap(), "--dt", &dt]);
+    assert!(r.code == Some(1) && r.stderr.contains("above the limit of 10000000"), "{}", r.stderr);
 }
 
 #[test]
