@@ -527,7 +527,7 @@ fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Ap
             Motion::Trajectory(p) | Motion::Program(p) => p.display().to_string(),
         };
         let end = report.ends[m];
-        let holds = if end < duration { format!(", then holds its last configuration") } else { String::new() };
+        let holds = if end < duration { ", then holds its last configuration" } else { "" };
         println!(
             "  {} ({}, {from}): ends at {end:.4} s{holds}; {} violation(s), {} warning(s)",
             member.name,

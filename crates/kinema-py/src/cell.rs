@@ -73,7 +73,10 @@ fn traj_from_arrays(
 impl PyCell {
     #[new]
     #[pyo3(signature = (dt=0.01, min_distance=None))]
-    fn new(#[pyo3(from_py_with = real)] dt: f64, #[pyo3(from_py_with = opt_real)] min_distance: Option<f64>) -> PyResult<Self> {
+    fn new(
+        #[pyo3(from_py_with = real)] dt: f64,
+        #[pyo3(from_py_with = opt_real)] min_distance: Option<f64>,
+    ) -> PyResult<Self> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(invalid(format!("`dt` must be a time > 0 [s], not {dt}")));
         }
@@ -208,9 +211,8 @@ impl PyCell {
             (placed, traj_from_arrays(n, t, q, qd.filter(|x| !x.is_none()), qdd.filter(|x| !x.is_none()))?)
         };
         let check_robot = Arc::clone(&robot);
-        let (traj, check) = py
-            .allow_threads(move || check(&check_robot, &traj, &opts).map(|c| (traj, c)))
-            .map_err(to_py)?;
+        let (traj, check) =
+            py.allow_threads(move || check(&check_robot, &traj, &opts).map(|c| (traj, c))).map_err(to_py)?;
         if traj.is_empty() {
             return Err(invalid(format!("robot `{name}`: the trajectory has no sample")));
         }
