@@ -407,3 +407,38 @@ fn bad_cells_name_the_file_the_key_and_what_was_expected() {
     let r = kinema(&["cell", &seed_cell(), "--dt", "0"]);
     assert!(r.code == Some(1) && r.stderr.contains("--dt"), "{}", r.stderr);
 }
+
+#[test]
+#[cfg(unix)]
+fn ctrl_c_and_the_time_limit_stop_the_programs_and_write_nothing() {
+    use std::process::{Command, Stdio};
+    let dir = tempdir("stop");
+    // About 7 s of computing: 40 000 short LINs with IK at every sample.
+    std::fs::write(
+        dir.path().join("long.prg"),
+        "JACC 90 deg/s^2\nVEL 1 m/s\nACC 10 m/s^2\nPTP CART(400mm, 100mm, 400mm, 0deg, 180deg, 0deg)\n\
+         LOOP 20000\n  LIN REL CART(0mm, 10mm, 0mm)\n  LIN REL CART(0mm, -10mm, 0mm)\nEND\n",
+    )
+    .unwrap();
+    let cell = dir.path().join("cell.toml");
+    std::fs::write(&cell, "[[robot]]\nname = \"a\"\nrobot = \"ur5\"\nprogram = \"long.prg\"\n").unwrap();
+    let out = dir.path().join("out.csv");
+    let r = kinema(&["cell", cell.to_str().unwrap(), "--time-limit", "0.3", "--out", out.to_str().unwrap()]);
+    assert_eq!(r.code, Some(1), "{}", r.stderr);
+    assert!(r.stderr.contains("time budget of 0.300 s ran out") && r.stderr.contains("robot `a`"), "{}", r.stderr);
+    assert!(!out.exists());
+    let child = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["cell", cell.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let done = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert_eq!(done.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("nothing was written"), "{stderr}");
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left.len(), 2, "only the cell and its program: {left:?}");
+}
