@@ -14,6 +14,7 @@ use serde_json::{json, Value};
 
 pub(crate) use output::write_atomically;
 
+mod cell_cmd;
 mod ik_cmd;
 mod input;
 mod interrupt;
@@ -78,6 +79,9 @@ enum Cmd {
         #[command(subcommand)]
         cmd: traj_cmd::TrajCmd,
     },
+    /// Several robots on a common clock (seed 004 §VIII-E): per-robot checks and the closest
+    /// distance between their tools (exit code 3 when closer than the minimum).
+    Cell(cell_cmd::CellArgs),
     /// Check a robot program: every diagnostic, nothing written (exit code 1 on errors).
     Check(lang_cmd::ProgramArgs),
     /// Run a robot program: write its joint signals as CSV (nothing is written on any error).
@@ -317,6 +321,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Selfmotion(a) => ik_cmd::selfmotion(a),
         Cmd::Bench(a) => bench(a),
         Cmd::Traj { cmd } => traj_cmd::traj(cmd),
+        Cmd::Cell(a) => cell_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
         Cmd::Compile(a) => lang_cmd::compile(a),

@@ -659,28 +659,8 @@ fn check_file(a: CheckArgs) -> Result<()> {
         ..CheckOptions::default()
     };
     let report = check(&robot, &traj, &opts)?;
-    let listed = |v: &kinema::traj::Violation| {
-        json!({
-            "kind": v.kind.name(),
-            "t": v.time,
-            "sample": v.sample,
-            "joint": v.joint.map(|j| j + 1),
-            "value": v.value,
-            "limit": v.limit,
-            "message": v.to_string(),
-        })
-    };
     if a.json {
-        print_json(&json!({
-            "samples": report.samples,
-            "ok": report.violations.is_empty(),
-            "peak_velocity": report.peak_vel,
-            "peak_acceleration": report.peak_acc,
-            "peak_jerk": report.peak_jerk,
-            "min_manipulability": report.min_manipulability.map(|(t, m)| json!({"t": t, "value": m})),
-            "violations": report.violations.iter().map(listed).collect::<Vec<_>>(),
-            "warnings": report.warnings.iter().map(listed).collect::<Vec<_>>(),
-        }))?;
+        print_json(&check_json(&report))?;
     } else {
         println!(
             "{}: {} samples, {} violation(s), {} warning(s)",
@@ -704,6 +684,31 @@ fn check_file(a: CheckArgs) -> Result<()> {
     } else {
         Err(crate::Exit(1).into())
     }
+}
+
+/// The JSON of a check report (`kinema traj check --json`, and per robot in `kinema cell --json`).
+pub(crate) fn check_json(report: &kinema::traj::CheckReport) -> serde_json::Value {
+    let listed = |v: &kinema::traj::Violation| {
+        json!({
+            "kind": v.kind.name(),
+            "t": v.time,
+            "sample": v.sample,
+            "joint": v.joint.map(|j| j + 1),
+            "value": v.value,
+            "limit": v.limit,
+            "message": v.to_string(),
+        })
+    };
+    json!({
+        "samples": report.samples,
+        "ok": report.violations.is_empty(),
+        "peak_velocity": report.peak_vel,
+        "peak_acceleration": report.peak_acc,
+        "peak_jerk": report.peak_jerk,
+        "min_manipulability": report.min_manipulability.map(|(t, m)| json!({"t": t, "value": m})),
+        "violations": report.violations.iter().map(listed).collect::<Vec<_>>(),
+        "warnings": report.warnings.iter().map(listed).collect::<Vec<_>>(),
+    })
 }
 
 /// A CSV file read into memory, positioned after its header.
@@ -768,7 +773,10 @@ impl Decimals {
 }
 
 /// [`read_trajectory`], with how finely the file gives (values, times).
-fn read_trajectory_with_resolution(robot: &Robot, path: &std::path::Path) -> Result<(JointTrajectory, (f64, f64))> {
+pub(crate) fn read_trajectory_with_resolution(
+    robot: &Robot,
+    path: &std::path::Path,
+) -> Result<(JointTrajectory, (f64, f64))> {
     let (mut rd, head) = open_csv(path)?;
     let n = robot.dof();
     let col = |name: &str| head.iter().position(|h| h == name);

@@ -10,6 +10,7 @@
 //! are 4×4 row-major (C order); Jacobians are 6×n with rows
 //! \[vx vy vz ωx ωy ωz\]; batches stack along the first axis.
 
+mod cell;
 mod fast;
 mod npio;
 
@@ -2166,6 +2167,8 @@ fn _kinema(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyTimeLaw>()?;
     m.add_class::<PyPlan>()?;
     m.add_class::<PyCheckReport>()?;
+    m.add_class::<cell::PyCell>()?;
+    m.add_class::<cell::PyCellReport>()?;
     m.add_function(wrap_pyfunction!(time_law, m)?)?;
     m.add_function(wrap_pyfunction!(run_program, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

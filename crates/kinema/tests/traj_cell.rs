@@ -72,3 +72,38 @@ fn cell_errors() {
     assert!(cell.run(0.0).is_err());
     assert!(cell.run(0.01).unwrap().distances.is_empty());
 }
+
+#[test]
+fn approaches_spans_below_a_distance_and_placement() {
+    let r1 = iiwa();
+    let r2 = kinema::traj::cell::placed(&iiwa(), &Pose::new(rot_z(std::f64::consts::PI), Vector3::new(1.2, 0.0, 0.0)))
+        .unwrap();
+    let t1 = ptp(&r1, &[0.3, 0.8, 0.0, -1.0, 0.2, 0.6, 0.0]);
+    let t2 = ptp(&r2, &[-0.2, 0.4, 0.1, -0.5, 0.0, 0.3, 0.5]);
+    let mut cell = Cell::new();
+    cell.add("a", r1, t1.clone()).unwrap().add("b", r2, t2.clone()).unwrap();
+    let report = cell.run(0.01).unwrap();
+    assert_eq!(report.ends, vec![*t1.times().last().unwrap(), *t2.times().last().unwrap()]);
+    let [a] = report.approaches()[..] else { panic!("one pair") };
+    assert_eq!(a.pair, (0, 1));
+    assert_eq!(Some((a.time, a.distance)), report.closest(1, 0));
+    let d = &report.distances[0].1;
+    // A threshold between the smallest and largest distance: the spans hold
+    // exactly the samples below it, by brute force.
+    let (lo, hi) = d.iter().fold((f64::INFINITY, 0.0f64), |(l, h), v| (l.min(*v), h.max(*v)));
+    let min = 0.5 * (lo + hi);
+    let spans = report.closer_than(0, 1, min);
+    assert!(!spans.is_empty());
+    for (k, &t) in report.times.iter().enumerate() {
+        let inside = spans.iter().any(|(s, e)| *s <= t && t <= *e);
+        assert_eq!(inside, d[k] < min, "t = {t}");
+    }
+    assert!(report.closer_than(0, 1, lo).is_empty());
+    // A robot whose description has a base keeps it under the placement.
+    let scara = Robot::builtin("scara5").unwrap();
+    let at = Pose::new(rot_z(0.3), Vector3::new(0.5, -0.2, 0.1));
+    let moved = kinema::traj::cell::placed(&scara, &at).unwrap();
+    let q = scara.home().to_vec();
+    let want = at.transform_point(&scara.fk(&q).unwrap().pose.pos);
+    assert!((moved.fk(&q).unwrap().pose.pos - want).norm() < 1e-12);
+}

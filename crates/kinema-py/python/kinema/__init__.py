@@ -17,6 +17,8 @@ Example::
     report = robot.check(tr)                  # CheckReport, as `kinema traj check`
     law = kinema.time_law("scurve", 0.5, vmax=1.0, amax=2.0, jmax=20.0)  # TimeLaw
     plan = kinema.run_program(program_text, robot)  # Plan: t, q, qd, qdd like `kinema run`
+    cell = kinema.Cell(dt=0.01).add("a", robot, tr).add("b", robot, tr, base=[1, 0, 0, 0, 0, 3.14])
+    report = cell.run()                       # CellReport like `kinema cell`: distances, closest, checks
 
 Units are SI (metres, radians). Errors derive from :class:`KinemaError`;
 bad input also derives from ``ValueError``.
@@ -33,6 +35,8 @@ from ._errors import (
     Unreachable,
 )
 from ._kinema import (
+    Cell,
+    CellReport,
     CheckReport,
     IkSolution,
     JointTrajectory,
@@ -51,6 +55,8 @@ __all__ = [
     "TimeLaw",
     "Plan",
     "CheckReport",
+    "Cell",
+    "CellReport",
     "time_law",
     "run_program",
     "KinemaError",

@@ -436,3 +436,84 @@ class Robot:
         tol_orientation: float = 1e-6,
     ) -> List[IkSolution]:
         """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""
+
+class CellReport:
+    """What Cell.run computed (kinema cell's CSV and JSON); dicts keyed by robot name or (a, b) pair."""
+
+    @property
+    def names(self) -> List[str]:
+        """The robots, in the order they were added."""
+    @property
+    def t(self) -> F64Array:
+        """The common clock's sample times, shape (K,) [s]."""
+    @property
+    def duration(self) -> float:
+        """The last sample time [s]."""
+    @property
+    def q(self) -> Dict[str, F64Array]:
+        """Per robot, its joint values, shape (K, n); held after its own end."""
+    @property
+    def tool_positions(self) -> Dict[str, F64Array]:
+        """Per robot, its tool point in the cell's world frame, shape (K, 3) [m]."""
+    @property
+    def manipulability(self) -> Dict[str, F64Array]:
+        """Per robot, its translational manipulability (Yoshikawa, linear rows), shape (K,)."""
+    @property
+    def ends(self) -> Dict[str, float]:
+        """Per robot, the time its own trajectory ends [s]."""
+    @property
+    def distances(self) -> Dict[Tuple[str, str], F64Array]:
+        """Per pair (in the order added), the distance between the tool points, shape (K,) [m]."""
+    @property
+    def closest(self) -> Dict[Tuple[str, str], Tuple[float, float]]:
+        """Per pair, (t, distance) of the closest approach."""
+    @property
+    def closer_than_minimum(self) -> Dict[Tuple[str, str], List[Tuple[float, float]]]:
+        """Per pair, the spans (from, to) [s] closer than min_distance (empty without one)."""
+    @property
+    def checks(self) -> Dict[str, CheckReport]:
+        """Per robot, the check of its trajectory (as Robot.check)."""
+    @property
+    def min_distance(self) -> Optional[float]:
+        """The cell's minimum tool distance [m], or None."""
+    @property
+    def ok(self) -> bool:
+        """No check violation and no pair closer than min_distance."""
+    def __len__(self) -> int: ...
+
+class Cell:
+    """Several robots in one world on a common clock (kinema cell; seed 004 §VIII-E)."""
+
+    def __init__(self, dt: float = 0.01, min_distance: Optional[float] = None) -> None:
+        """dt: the clock's sample period [s] (programs too); min_distance [m]. Raises InvalidInput."""
+    @property
+    def dt(self) -> float: ...
+    @property
+    def min_distance(self) -> Optional[float]: ...
+    @property
+    def names(self) -> List[str]: ...
+    def add(
+        self,
+        name: str,
+        robot: Union["Robot", str],
+        trajectory: Optional[Union[JointTrajectory, Plan]] = None,
+        *,
+        base: Optional[PoseLike] = None,
+        rpy: RpyName = "zyx",
+        t: Optional[ArrayLike] = None,
+        q: Optional[ArrayLike] = None,
+        qd: Optional[ArrayLike] = None,
+        qdd: Optional[ArrayLike] = None,
+        resolution: float = 0.0,
+        time_resolution: float = 0.0,
+        program: Optional[str] = None,
+        start: Optional[JointVector] = None,
+        filename: Optional[str] = None,
+        time_limit: Optional[float] = None,
+    ) -> "Cell":
+        """Adds a robot placed at base (its own world frame in the cell's) with one motion: a trajectory,
+        arrays t and q, or a program run on the placed robot (targets in the cell's world frame).
+        The trajectory is checked at once. Raises InvalidInput, ProgramError."""
+    def run(self) -> CellReport:
+        """Every robot on the common clock to the end of the longest; a finished robot holds. Raises InvalidInput."""
+    def __len__(self) -> int: ...

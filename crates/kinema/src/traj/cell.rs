@@ -2,6 +2,10 @@
 //! world frame by their base transforms, each running its own joint
 //! trajectory on a common clock, with their tool poses, the distances
 //! between their tools and their manipulability over time.
+//!
+//! A member whose trajectory ends before the others holds its last
+//! configuration until the end of the common clock. Distances are those of
+//! the tool points at the common clock's samples (not between them).
 
 use nalgebra::Matrix6xX;
 
@@ -43,6 +47,20 @@ pub struct CellReport {
     pub manipulability: Vec<Vec<f64>>,
     /// For every pair (i, j), i < j: the distance between their tool points \[m\] at each time.
     pub distances: Vec<((usize, usize), Vec<f64>)>,
+    /// Per member, the time its own trajectory ends \[s\]: from then on it
+    /// holds its last configuration.
+    pub ends: Vec<f64>,
+}
+
+/// The closest approach of two members' tool points (see [`CellReport::approaches`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Approach {
+    /// The members (i, j), i < j, in the order they were added.
+    pub pair: (usize, usize),
+    /// The first sample time at which the distance is smallest \[s\].
+    pub time: f64,
+    /// That distance \[m\].
+    pub distance: f64,
 }
 
 impl CellReport {
@@ -52,6 +70,59 @@ impl CellReport {
         let (_, d) = self.distances.iter().find(|(k, _)| *k == key)?;
         d.iter().zip(&self.times).map(|(d, t)| (*t, *d)).min_by(|a, b| a.1.total_cmp(&b.1))
     }
+
+    /// The closest approach of every pair, in the order of [`CellReport::distances`].
+    pub fn approaches(&self) -> Vec<Approach> {
+        self.distances
+            .iter()
+            .filter_map(|((i, j), _)| {
+                let (time, distance) = self.closest(*i, *j)?;
+                Some(Approach { pair: (*i, *j), time, distance })
+            })
+            .collect()
+    }
+
+    /// The spans of time during which members `i` and `j` are closer than
+    /// `min` \[m\]: (first, last) sample time of each run of samples below it.
+    pub fn closer_than(&self, i: usize, j: usize, min: f64) -> Vec<(f64, f64)> {
+        let key = (i.min(j), i.max(j));
+        let Some((_, d)) = self.distances.iter().find(|(k, _)| *k == key) else { return Vec::new() };
+        let mut spans: Vec<(f64, f64)> = Vec::new();
+        let mut open = false;
+        for (d, &t) in d.iter().zip(&self.times) {
+            if *d < min {
+                match spans.last_mut() {
+                    Some(span) if open => span.1 = t,
+                    _ => spans.push((t, t)),
+                }
+                open = true;
+            } else {
+                open = false;
+            }
+        }
+        spans
+    }
+}
+
+/// `robot` placed in a cell: its own world frame (the frame of its forward
+/// kinematics, its description's `[base]` included) put at `world_from_robot`
+/// in the cell's world, so its base becomes `world_from_robot · base`.
+///
+/// # Examples
+///
+/// ```
+/// # fn main() -> kinema::Result<()> {
+/// use kinema::{Pose, Robot};
+/// use kinema::traj::cell::placed;
+/// let robot = Robot::builtin("ur5")?;
+/// let at = Pose::from_xyz_rpy([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], kinema::RpyConvention::Zyx);
+/// let moved = placed(&robot, &at)?;
+/// let (a, b) = (robot.fk(robot.home())?.pose.pos, moved.fk(robot.home())?.pose.pos);
+/// assert!((b.x - a.x - 1.0).abs() < 1e-12 && (b.y - a.y).abs() < 1e-12);
+/// # Ok(()) }
+/// ```
+pub fn placed(robot: &Robot, world_from_robot: &Pose) -> Result<Robot> {
+    robot.with_base(*world_from_robot * *robot.base())
 }
 
 impl Cell {
@@ -99,6 +170,7 @@ impl Cell {
             tools: vec![Vec::with_capacity(times.len()); n],
             manipulability: vec![Vec::with_capacity(times.len()); n],
             distances: (0..n).flat_map(|i| (i + 1..n).map(move |j| ((i, j), Vec::new()))).collect(),
+            ends: self.members.iter().map(|m| *m.traj.times().last().expect("non-empty")).collect(),
             times,
         };
         for (m, member) in self.members.iter().enumerate() {

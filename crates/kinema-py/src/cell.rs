@@ -1,0 +1,370 @@
+//! `kinema.Cell`: several robots in one world on a common clock (seed 004
+//! §VIII-E), as `kinema cell` runs them: each robot placed by its base pose
+//! (`kinema::traj::cell::placed`), its trajectory checked by the core's
+//! `traj::check`, and the core's `traj::Cell` for the common clock, the
+//! world tool positions, manipulability and tool distances.
+
+use pyo3::types::PyTuple;
+
+use super::*;
+
+/// One robot added to a cell.
+struct Member {
+    name: String,
+    robot: Arc<Robot>,
+    traj: JointTrajectory,
+    check: CheckReport,
+}
+
+/// Several robots in one world, each with its base pose and its joint
+/// trajectory, run on a common clock (``kinema cell``; seed 004 §VIII-E).
+///
+/// ``dt``: the common clock's sample period [s] (programs are sampled at it
+/// too). ``min_distance``: the tools should stay at least this far apart [m]
+/// (see :attr:`CellReport.closer_than_minimum` and :attr:`CellReport.ok`).
+///
+/// Add robots with :meth:`add`, then :meth:`run`. A robot whose trajectory
+/// ends before the others holds its last configuration until the end of the
+/// clock; between its own samples its joint values are interpolated linearly.
+#[pyclass(name = "Cell", module = "kinema")]
+pub(crate) struct PyCell {
+    members: Vec<Member>,
+    #[pyo3(get)]
+    dt: f64,
+    #[pyo3(get)]
+    min_distance: Option<f64>,
+}
+
+/// Check options of every member: the robot's limits, singular passages as
+/// warnings (as `kinema traj check` and `kinema cell`).
+fn check_options(resolution: f64, time_resolution: f64) -> CheckOptions {
+    CheckOptions {
+        singular_warning: Some(kinema::traj::SINGULAR_WARNING),
+        value_resolution: resolution,
+        time_resolution,
+        ..CheckOptions::default()
+    }
+}
+
+/// A trajectory from numpy arrays `t` (K,), `q` (K, n) and, when given, `qd`, `qdd`.
+fn traj_from_arrays(
+    n: usize,
+    t: &Bound<'_, PyAny>,
+    q: &Bound<'_, PyAny>,
+    qd: Option<&Bound<'_, PyAny>>,
+    qdd: Option<&Bound<'_, PyAny>>,
+) -> PyResult<JointTrajectory> {
+    let t = f64_array(t, "t")?;
+    check_shape(&t, "t", &[None], " (one time per sample)")?;
+    let k = t.len();
+    let hint = format!(" (one row of {n} joint values per time in `t`)");
+    let rows = |a: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<f64>> {
+        let a = f64_array(a, what)?;
+        check_shape(&a, what, &[Some(k), Some(n)], &hint)?;
+        Ok(a.as_slice()?.to_vec())
+    };
+    let q = rows(q, "q")?;
+    let qd = qd.map(|a| rows(a, "qd")).transpose()?;
+    let qdd = qdd.map(|a| rows(a, "qdd")).transpose()?;
+    JointTrajectory::from_samples(n, t.as_slice()?.to_vec(), q, qd, qdd).map_err(to_py)
+}
+
+#[pymethods]
+impl PyCell {
+    #[new]
+    #[pyo3(signature = (dt=0.01, min_distance=None))]
+    fn new(
+        #[pyo3(from_py_with = real)] dt: f64,
+        #[pyo3(from_py_with = opt_real)] min_distance: Option<f64>,
+    ) -> PyResult<Self> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(invalid(format!("`dt` must be a time > 0 [s], not {dt}")));
+        }
+        if let Some(d) = min_distance.filter(|d| !(d.is_finite() && *d >= 0.0)) {
+            return Err(invalid(format!("`min_distance` must be a finite distance ≥ 0 [m], not {d}")));
+        }
+        Ok(PyCell { members: Vec::new(), dt, min_distance })
+    }
+
+    /// Adds a robot and its motion; returns the cell (calls chain).
+    ///
+    /// ``name``: a name unique in the cell (keys of the report's dicts).
+    /// ``robot``: a :class:`Robot`, a built-in name or a description path.
+    /// ``base``: where the robot's own world frame (the frame of its forward
+    /// kinematics) sits in the cell's world: a 4×4 transform or x, y, z [m],
+    /// roll, pitch, yaw [rad] in convention ``rpy`` (``"zyx"``: R =
+    /// Rz(yaw)·Ry(pitch)·Rx(roll), ``"xyz"``); default the identity.
+    ///
+    /// The motion, one of:
+    ///
+    /// * ``trajectory``: a :class:`JointTrajectory` (``ptp``, ``lin``,
+    ///   ``circ``, ``expr``) or a :class:`Plan` (``run_program``);
+    /// * ``t`` (K,) [s] and ``q`` (K, n), with ``qd``, ``qdd`` optional
+    ///   (estimated from ``q`` when absent), e.g. columns of a CSV of
+    ///   ``kinema traj``; ``resolution`` and ``time_resolution`` as for
+    ///   :meth:`Robot.check`;
+    /// * ``program``: a program's text, run as :func:`run_program` runs it
+    ///   (``start``, ``filename``, ``time_limit``) on the robot as placed,
+    ///   so its Cartesian targets are in the cell's world frame; the robot
+    ///   of the cell is then the program's (with its last ``TOOL``).
+    ///
+    /// The trajectory is checked at once (:meth:`Robot.check` with its
+    /// defaults); the report is in :attr:`CellReport.checks`.
+    ///
+    /// Raises:
+    ///     InvalidInput: a name used twice, no motion or two, arrays of the
+    ///         wrong shape, a trajectory for another number of joints.
+    ///     ProgramError: the program does not run.
+    #[pyo3(signature = (name, robot, trajectory=None, *, base=None, rpy="zyx", t=None, q=None, qd=None, qdd=None,
+                        resolution=0.0, time_resolution=0.0, program=None, start=None, filename=None, time_limit=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add<'py>(
+        mut slf: PyRefMut<'py, Self>,
+        py: Python<'py>,
+        name: String,
+        robot: &Bound<'py, PyAny>,
+        trajectory: Option<&Bound<'py, PyAny>>,
+        base: Option<&Bound<'py, PyAny>>,
+        rpy: &str,
+        t: Option<&Bound<'py, PyAny>>,
+        q: Option<&Bound<'py, PyAny>>,
+        qd: Option<&Bound<'py, PyAny>>,
+        qdd: Option<&Bound<'py, PyAny>>,
+        #[pyo3(from_py_with = real)] resolution: f64,
+        #[pyo3(from_py_with = real)] time_resolution: f64,
+        program: Option<String>,
+        start: Option<&Bound<'py, PyAny>>,
+        filename: Option<String>,
+        time_limit: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<PyRefMut<'py, Self>> {
+        if name.is_empty() {
+            return Err(invalid("`name` must not be empty".into()));
+        }
+        if slf.members.iter().any(|m| m.name == name) {
+            return Err(invalid(format!("`{name}` names two robots of the cell")));
+        }
+        for (what, v) in [("resolution", resolution), ("time_resolution", time_resolution)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid(format!("`{what}` must be a finite number ≥ 0, not {v}")));
+            }
+        }
+        let robot = match robot.downcast::<PyRobot>() {
+            Ok(r) => Arc::clone(&r.get().robot),
+            Err(_) => {
+                let spec: String = robot.extract().map_err(|_| {
+                    invalid("`robot` must be a kinema.Robot, a built-in robot name or a file path".into())
+                })?;
+                Arc::new(Robot::load(&spec, None).map_err(to_py)?)
+            }
+        };
+        let conv = parse_rpy(rpy)?;
+        let world_from_robot = match base.filter(|b| !b.is_none()) {
+            Some(b) => pose_arg(b, "base", conv)?,
+            None => Pose::IDENTITY,
+        };
+        let placed = Arc::new(kinema::traj::cell::placed(&robot, &world_from_robot).map_err(to_py)?);
+        let n = placed.dof();
+        let trajectory = trajectory.filter(|x| !x.is_none());
+        let (t, q) = (t.filter(|x| !x.is_none()), q.filter(|x| !x.is_none()));
+        let given = [trajectory.is_some(), t.is_some() || q.is_some(), program.is_some()];
+        if given.iter().filter(|g| **g).count() != 1 {
+            return Err(invalid(format!(
+                "robot `{name}`: give one motion: `trajectory` (a JointTrajectory or Plan), the arrays `t` and `q`, \
+                 or a `program`"
+            )));
+        }
+        if start.is_some_and(|s| !s.is_none()) && program.is_none() {
+            return Err(invalid(format!("robot `{name}`: `start` is for a program")));
+        }
+        let opts = check_options(resolution, time_resolution);
+        let (robot, traj) = if let Some(text) = program {
+            let placed_py = Bound::new(py, PyRobot::new(Arc::clone(&placed)))?;
+            let filename = filename.unwrap_or_else(|| format!("<program of {name}>"));
+            let plan = run_program(py, text, placed_py.as_any(), slf.dt, start, &filename, time_limit)?;
+            let robot = Arc::clone(&plan.robot.get().robot);
+            let traj = traj_from_arrays(
+                n,
+                plan.t.bind(py).as_any(),
+                plan.q.bind(py).as_any(),
+                Some(plan.qd.bind(py).as_any()),
+                Some(plan.qdd.bind(py).as_any()),
+            )?;
+            (robot, traj)
+        } else if let Some(tr) = trajectory {
+            let arrays = if let Ok(tr) = tr.downcast::<PyJointTrajectory>() {
+                let tr = tr.get();
+                [&tr.t, &tr.q, &tr.qd, &tr.qdd].map(|a| a.clone_ref(py))
+            } else if let Ok(plan) = tr.downcast::<PyPlan>() {
+                let plan = plan.get();
+                [&plan.t, &plan.q, &plan.qd, &plan.qdd].map(|a| a.clone_ref(py))
+            } else {
+                return Err(invalid(format!(
+                    "robot `{name}`: `trajectory` must be a JointTrajectory or a Plan; give arrays as `t=` and `q=`"
+                )));
+            };
+            let [t, q, qd, qdd] = arrays.map(|a| a.into_bound(py).into_any());
+            (placed, traj_from_arrays(n, &t, &q, Some(&qd), Some(&qdd))?)
+        } else {
+            let (Some(t), Some(q)) = (t, q) else {
+                return Err(invalid(format!("robot `{name}`: give both `t` (K,) and `q` (K, {n})")));
+            };
+            (placed, traj_from_arrays(n, t, q, qd.filter(|x| !x.is_none()), qdd.filter(|x| !x.is_none()))?)
+        };
+        let check_robot = Arc::clone(&robot);
+        let (traj, check) =
+            py.allow_threads(move || check(&check_robot, &traj, &opts).map(|c| (traj, c))).map_err(to_py)?;
+        if traj.is_empty() {
+            return Err(invalid(format!("robot `{name}`: the trajectory has no sample")));
+        }
+        slf.members.push(Member { name, robot, traj, check });
+        Ok(slf)
+    }
+
+    /// The names of the robots, in the order they were added.
+    #[getter]
+    fn names(&self) -> Vec<String> {
+        self.members.iter().map(|m| m.name.clone()).collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.members.len()
+    }
+
+    /// Runs every robot on the common clock, from 0 to the end of the
+    /// longest trajectory every ``dt`` seconds; returns a :class:`CellReport`.
+    ///
+    /// Raises:
+    ///     InvalidInput: no robot, or too many samples.
+    fn run(&self, py: Python<'_>) -> PyResult<PyCellReport> {
+        let mut cell = kinema::traj::Cell::new();
+        for m in &self.members {
+            cell.add(m.name.clone(), (*m.robot).clone(), m.traj.clone()).map_err(to_py)?;
+        }
+        let dt = self.dt;
+        let report = py.allow_threads(move || cell.run(dt)).map_err(to_py)?;
+        PyCellReport::new(py, self, &report)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Cell({} robot(s), dt={} s)", self.members.len(), self.dt)
+    }
+}
+
+/// What :meth:`Cell.run` computed (``kinema cell``'s CSV and JSON).
+///
+/// Attributes:
+///     names: the robots, in the order they were added.
+///     t: the common clock's sample times, shape (K,) [s].
+///     duration: the last sample time [s].
+///     q: per robot name, its joint values at each time, shape (K, n).
+///     tool_positions: per name, its tool point in the cell's world frame,
+///         shape (K, 3) [m].
+///     manipulability: per name, its translational manipulability
+///         (Yoshikawa on the linear-velocity rows, seed 004 Fig. 30/33), (K,).
+///     ends: per name, the time its own trajectory ends [s]; it holds its
+///         last configuration after it.
+///     distances: per pair ``(a, b)`` (in the order added), the distance
+///         between their tool points, shape (K,) [m].
+///     closest: per pair, ``(t, distance)`` of the closest approach (the
+///         first sample at the smallest distance).
+///     closer_than_minimum: per pair, the spans ``(from, to)`` [s] of the
+///         samples closer than the cell's ``min_distance`` (empty lists when
+///         it has none).
+///     checks: per name, the :class:`CheckReport` of its trajectory.
+///     min_distance: the cell's minimum distance, or ``None``.
+///     ok: no robot's check found a violation and no pair came closer than
+///         ``min_distance``.
+#[pyclass(frozen, name = "CellReport", module = "kinema")]
+pub(crate) struct PyCellReport {
+    #[pyo3(get)]
+    names: Vec<String>,
+    #[pyo3(get)]
+    t: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    duration: f64,
+    #[pyo3(get)]
+    q: Py<PyDict>,
+    #[pyo3(get)]
+    tool_positions: Py<PyDict>,
+    #[pyo3(get)]
+    manipulability: Py<PyDict>,
+    #[pyo3(get)]
+    ends: Py<PyDict>,
+    #[pyo3(get)]
+    distances: Py<PyDict>,
+    #[pyo3(get)]
+    closest: Py<PyDict>,
+    #[pyo3(get)]
+    closer_than_minimum: Py<PyDict>,
+    #[pyo3(get)]
+    checks: Py<PyDict>,
+    #[pyo3(get)]
+    min_distance: Option<f64>,
+    #[pyo3(get)]
+    ok: bool,
+}
+
+impl PyCellReport {
+    fn new(py: Python<'_>, cell: &PyCell, r: &kinema::traj::CellReport) -> PyResult<Self> {
+        let k = r.times.len();
+        let [q, tool_positions, manipulability, ends, distances, closest, closer, checks] =
+            std::array::from_fn(|_| PyDict::new(py));
+        let mut ok = true;
+        for (m, member) in cell.members.iter().enumerate() {
+            let n = member.robot.dof();
+            let name = &member.name;
+            q.set_item(name, to_numpy(py, (k, n), r.q[m].concat())?)?;
+            let p: Vec<f64> = r.tools[m].iter().flat_map(|p| [p.pos.x, p.pos.y, p.pos.z]).collect();
+            tool_positions.set_item(name, to_numpy(py, (k, 3), p)?)?;
+            manipulability.set_item(name, to_numpy(py, k, r.manipulability[m].clone())?)?;
+            ends.set_item(name, r.ends[m])?;
+            checks.set_item(name, Py::new(py, PyCheckReport { report: member.check.clone() })?)?;
+            ok &= member.check.violations.is_empty();
+        }
+        for ((i, j), d) in &r.distances {
+            let key = PyTuple::new(py, [&cell.members[*i].name, &cell.members[*j].name])?;
+            distances.set_item(&key, to_numpy(py, k, d.clone())?)?;
+            if let Some(c) = r.closest(*i, *j) {
+                closest.set_item(&key, c)?;
+            }
+            let spans = match cell.min_distance {
+                Some(min) => r.closer_than(*i, *j, min),
+                None => Vec::new(),
+            };
+            ok &= spans.is_empty();
+            closer.set_item(&key, spans)?;
+        }
+        Ok(PyCellReport {
+            names: cell.members.iter().map(|m| m.name.clone()).collect(),
+            t: to_numpy(py, k, r.times.clone())?.unbind(),
+            duration: r.times.last().copied().unwrap_or(0.0),
+            q: q.unbind(),
+            tool_positions: tool_positions.unbind(),
+            manipulability: manipulability.unbind(),
+            ends: ends.unbind(),
+            distances: distances.unbind(),
+            closest: closest.unbind(),
+            closer_than_minimum: closer.unbind(),
+            checks: checks.unbind(),
+            min_distance: cell.min_distance,
+            ok,
+        })
+    }
+}
+
+#[pymethods]
+impl PyCellReport {
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "CellReport({} robot(s), {} samples, duration={:.6} s, ok={})",
+            self.names.len(),
+            self.t.bind(py).len(),
+            self.duration,
+            if self.ok { "True" } else { "False" }
+        ))
+    }
+}
