@@ -22,6 +22,7 @@
 //! # Ok::<(), kinema::Error>(())
 //! ```
 
+pub mod boundary;
 pub mod cart;
 pub mod cell;
 mod check;
@@ -30,6 +31,7 @@ pub mod joint;
 pub mod law;
 pub mod track;
 
+pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
 pub use cell::{Cell, CellMember, CellReport};
 pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
