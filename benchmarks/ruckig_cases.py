@@ -74,7 +74,7 @@ def solve(joints):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--cases", type=int, default=10000)
+    ap.add_argument("--cases", type=int, default=12000)
     ap.add_argument("--seed", type=int, default=25)
     ap.add_argument("--out", required=True)
     args = ap.parse_args()

@@ -146,6 +146,145 @@ fn random_boundary_states_keep_the_limits_and_reach_the_target() {
     assert_eq!(count, 6000);
 }
 
+#[test]
+fn prescribed_durations_end_exactly_then_and_blocked_ones_are_refused() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2503);
+    let (mut solved, mut blocked) = (0, 0);
+    for case in 0..3000 {
+        let jerk = case % 2 == 0;
+        let lim = random_limits(&mut rng, jerk);
+        let p0 = rng.random_range(-3.0..3.0);
+        let d = if rng.random_bool(0.3) { rng.random_range(-0.05..0.05) } else { rng.random_range(-5.0..5.0) };
+        let from = random_state(&mut rng, &lim, p0);
+        let to = random_state(&mut rng, &lim, p0 + d);
+        let critical = BoundaryLaw::critical_durations(from, to, &lim).unwrap();
+        let fastest = BoundaryLaw::fastest(from, to, &lim).unwrap();
+        assert_eq!(critical[0], fastest.duration(), "case {case}");
+        assert!(critical.len() % 2 == 1, "case {case}: {critical:?}");
+        let t = fastest.duration() * (1.0 + rng.random_range(0.0..2.0)) + rng.random_range(0.0..0.1);
+        // Feasible on [d0, d1] ∪ [d2, d3] ∪ … ∪ [d_last, ∞).
+        let inside = critical.iter().filter(|&&c| c <= t).count() % 2 == 1;
+        match BoundaryLaw::with_duration(from, to, &lim, t) {
+            Ok(law) => {
+                assert!(inside, "case {case}: a law at {t} s inside a blocked interval {critical:?}");
+                assert!((law.duration() - t).abs() <= 1e-12 * t, "case {case}: {} vs {t}", law.duration());
+                check_law(&law, &lim, &format!("case {case} at {t} s"));
+                solved += 1;
+            }
+            Err(e) => {
+                assert!(!inside, "case {case}: {from:?} → {to:?} {lim:?} at {t} s ({critical:?}): {e}");
+                assert!(e.to_string().contains("blocked"), "{e}");
+                blocked += 1;
+            }
+        }
+        // Shorter than the fastest: refused.
+        let e = BoundaryLaw::with_duration(from, to, &lim, fastest.duration() * 0.99).unwrap_err().to_string();
+        assert!(e.contains("shorter than the fastest") || fastest.duration() == 0.0, "{e}");
+    }
+    assert!(solved > 2500 && blocked > 5, "{solved} solved, {blocked} blocked");
+}
+
+#[test]
+fn cruising_onto_a_close_target_blocks_a_duration_interval() {
+    // Cruising at full speed, to arrive 0.9 further on at full speed again:
+    // 0.9 s at full speed, or up to about 1.37 s dipping in velocity on the
+    // way; a longer motion has to back up (second order: from
+    // 2 + 2·√0.1 ≈ 2.63 s); in between no law exists.
+    for lim in [MotionLimits::new(1.0, 1.0), MotionLimits::with_jerk(1.0, 1.0, 5.0)] {
+        let (from, to) = (BoundaryState::new(0.0, 1.0, 0.0), BoundaryState::new(0.9, 1.0, 0.0));
+        let c = BoundaryLaw::critical_durations(from, to, &lim).unwrap();
+        assert_eq!(c.len(), 3, "{c:?}");
+        assert!((c[0] - 0.9).abs() < 1e-12, "{c:?}");
+        if lim.jerk.is_none() {
+            assert!((c[1] - (2.0 - 2.0 * 0.1f64.sqrt())).abs() < 1e-12, "{c:?}");
+            assert!((c[2] - (2.0 + 2.0 * 0.1f64.sqrt())).abs() < 1e-12, "{c:?}");
+        }
+        for t in [0.5 * (c[0] + c[1]), c[2] * 1.01] {
+            let law = BoundaryLaw::with_duration(from, to, &lim, t).unwrap();
+            check_law(&law, &lim, "open");
+        }
+        assert!(BoundaryLaw::with_duration(from, to, &lim, 0.5 * (c[1] + c[2])).is_err());
+        // A second coordinate that needs a duration inside the blocked interval:
+        // the synchronised motion waits for the end of it.
+        let slow = MotionLimits { vel: 0.1, ..lim };
+        let t_other = 0.5 * (c[1] + c[2]);
+        let (t, laws) = sync_duration(
+            &[from, BoundaryState::rest(0.0)],
+            &[to, BoundaryState::rest(0.1 * t_other * 0.8)],
+            &[lim, slow],
+            0.0,
+        )
+        .unwrap();
+        let other =
+            BoundaryLaw::fastest(BoundaryState::rest(0.0), BoundaryState::rest(0.1 * t_other * 0.8), &slow).unwrap();
+        assert!(other.duration() > c[1] && other.duration() < c[2], "{c:?} {}", other.duration());
+        assert_eq!(t, c[2]);
+        for (law, l) in laws.iter().zip([lim, slow]) {
+            assert!((law.duration() - t).abs() <= 1e-12 * t);
+            check_law(law, &l, "sync");
+        }
+    }
+}
+
+#[test]
+fn synchronised_coordinates_all_end_at_the_common_duration() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2504);
+    for case in 0..600 {
+        let jerk = case % 2 == 0;
+        let n = rng.random_range(1..=6);
+        let lims: Vec<MotionLimits> = (0..n).map(|_| random_limits(&mut rng, jerk)).collect();
+        let mut from = Vec::new();
+        let mut to = Vec::new();
+        for l in &lims {
+            let p0 = rng.random_range(-3.0..3.0);
+            from.push(random_state(&mut rng, l, p0));
+            let pf = p0 + rng.random_range(-2.0..2.0);
+            to.push(random_state(&mut rng, l, pf));
+        }
+        let (t, laws) = sync_duration(&from, &to, &lims, 0.0).unwrap_or_else(|e| panic!("case {case}: {e}"));
+        for i in 0..n {
+            let fastest = BoundaryLaw::fastest(from[i], to[i], &lims[i]).unwrap();
+            assert!(t >= fastest.duration(), "case {case}");
+            assert!((laws[i].duration() - t).abs() <= 1e-12 * t, "case {case} joint {i}");
+            check_law(&laws[i], &lims[i], &format!("case {case} joint {i}"));
+        }
+    }
+}
+
+#[test]
+fn states_no_law_can_respect_are_refused_naming_the_limit() {
+    let lim = MotionLimits::with_jerk(1.0, 2.0, 4.0);
+    let refuse = |from: BoundaryState, to: BoundaryState, lim: &MotionLimits| {
+        let e = BoundaryLaw::fastest(from, to, lim).unwrap_err();
+        match &e {
+            kinema::Error::InvalidArgument { what, .. } => (what.clone(), e.to_string()),
+            other => panic!("{other:?}"),
+        }
+    };
+    let (w, m) = refuse(BoundaryState::new(0.0, 1.5, 0.0), BoundaryState::rest(1.0), &lim);
+    assert_eq!(w, "vmax");
+    assert!(m.contains("start velocity 1.5 is beyond vmax 1"), "{m}");
+    let (w, m) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.0, -3.0), &lim);
+    assert_eq!(w, "amax");
+    assert!(m.contains("target acceleration -3 is beyond amax 2"), "{m}");
+    // 0.8 + 1.5²/(2·4) = 1.08 > 1: the velocity limit is broken whatever the jerk.
+    let (w, m) = refuse(BoundaryState::new(0.0, 0.8, 1.5), BoundaryState::rest(1.0), &lim);
+    assert_eq!(w, "vmax");
+    assert!(m.contains("reaches a velocity of 1.08"), "{m}");
+    let (w, _) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.8, -1.5), &lim);
+    assert_eq!(w, "vmax");
+    let (w, m) = refuse(BoundaryState::new(0.0, 0.0, 1.0), BoundaryState::rest(1.0), &MotionLimits::new(1.0, 2.0));
+    assert_eq!(w, "jmax");
+    assert!(m.contains("needs a jerk limit"), "{m}");
+    let (w, _) = refuse(BoundaryState::new(f64::NAN, 0.0, 0.0), BoundaryState::rest(1.0), &lim);
+    assert_eq!(w, "start");
+    let (w, _) = refuse(BoundaryState::rest(0.0), BoundaryState::rest(1.0), &MotionLimits::with_jerk(1.0, -2.0, 4.0));
+    assert_eq!(w, "amax");
+    // A state equal to its target is already there, moving or not.
+    let s = BoundaryState::new(0.3, 0.5, -0.2);
+    assert_eq!(BoundaryLaw::fastest(s, s, &lim).unwrap().duration(), 0.0);
+}
+
 /// Differential test against Ruckig (not run by default: it needs a network
 /// to install Ruckig in a throwaway venv). `benchmarks/run_ruckig.sh` writes
 /// the cases with Ruckig's durations and runs this test on them; with
@@ -161,7 +300,8 @@ fn random_boundary_states_keep_the_limits_and_reach_the_target() {
 #[test]
 #[ignore = "needs benchmarks/run_ruckig.sh (a venv with Ruckig from PyPI)"]
 fn ruckig_durations() {
-    let path = std::env::var("KINEMA_RUCKIG_CSV").expect("KINEMA_RUCKIG_CSV: the file benchmarks/ruckig_cases.py wrote");
+    let path =
+        std::env::var("KINEMA_RUCKIG_CSV").expect("KINEMA_RUCKIG_CSV: the file benchmarks/ruckig_cases.py wrote");
     let text = std::fs::read_to_string(&path).unwrap();
     #[derive(Default)]
     struct Tally {
@@ -171,10 +311,10 @@ fn ruckig_durations() {
         ruckig_only: usize,
         neither: usize,
         faster: usize,
+        already_there: usize,
         equal: usize,
         slower: usize,
         worst_slower: f64,
-        best_faster: f64,
     }
     let mut tallies: std::collections::BTreeMap<String, Tally> = Default::default();
     let mut failures = Vec::new();
@@ -191,7 +331,11 @@ fn ruckig_durations() {
         for j in x.chunks(9) {
             from.push(BoundaryState::new(j[0], j[1], j[2]));
             to.push(BoundaryState::new(j[3], j[4], j[5]));
-            lims.push(if j[8].is_finite() { MotionLimits::with_jerk(j[6], j[7], j[8]) } else { MotionLimits::new(j[6], j[7]) });
+            lims.push(if j[8].is_finite() {
+                MotionLimits::with_jerk(j[6], j[7], j[8])
+            } else {
+                MotionLimits::new(j[6], j[7])
+            });
         }
         let ours = sync_duration(&from, &to, &lims, 0.0);
         if let Ok((t, laws)) = &ours {
@@ -211,11 +355,13 @@ fn ruckig_durations() {
                     failures.push(format!("{line}: kinema {t} > Ruckig {ruckig} ({rel:e})"));
                 } else if rel < -1e-9 {
                     tally.faster += 1;
+                    if *t == 0.0 {
+                        tally.already_there += 1; // start = target: Ruckig loops back
+                    }
                 } else {
                     tally.equal += 1;
                 }
                 tally.worst_slower = tally.worst_slower.max(rel);
-                tally.best_faster = tally.best_faster.min(rel);
             }
             (Ok(_), false) => tally.kinema_only += 1,
             (Err(e), true) => {
@@ -227,9 +373,18 @@ fn ruckig_durations() {
     }
     for (kind, t) in &tallies {
         println!(
-            "{kind:>13}: {} cases, both solve {} (kinema equal ±1e-9 {}, faster {}, slower {}; \
-             largest (kinema − Ruckig)/Ruckig {:.1e}, smallest {:.1e}), only kinema {}, only Ruckig {}, neither {}",
-            t.cases, t.both, t.equal, t.faster, t.slower, t.worst_slower, t.best_faster, t.kinema_only, t.ruckig_only, t.neither
+            "{kind:>13}: {} cases, both solve {} (kinema equal ±1e-9 {}, faster {} of which {} start = target, \
+             slower {}; largest (kinema − Ruckig)/Ruckig {:.1e}), only kinema {}, only Ruckig {}, neither {}",
+            t.cases,
+            t.both,
+            t.equal,
+            t.faster,
+            t.already_there,
+            t.slower,
+            t.worst_slower,
+            t.kinema_only,
+            t.ruckig_only,
+            t.neither
         );
     }
     for f in failures.iter().take(20) {

@@ -71,8 +71,8 @@ struct Seg {
     a: Option<f64>,
 }
 
-/// The most phases any candidate has.
-const MAX_SEGS: usize = 8;
+/// The most phases any candidate has (a blend of two seven-phase laws).
+const MAX_SEGS: usize = 16;
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Segs {
@@ -260,7 +260,8 @@ fn roots(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize, out: &mut Vec<f64>)
         }
         return;
     }
-    let xs: Vec<f64> = (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect();
+    let mut xs: Vec<f64> = (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect();
+    xs[n] = hi; // exactly: roots on the bounds (a phase of length 0) are common
     let ys: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
     let bisect = |mut a: f64, mut fa: f64, mut b: f64| -> f64 {
         for _ in 0..200 {
@@ -423,7 +424,8 @@ fn fastest_third(p: &Prob, l: &Lim, j: f64, out: &mut Vec<Segs>) {
     // Cruise at +v_max between the fastest changes to and from it.
     for ra in [true, false] {
         for rb in [true, false] {
-            let (Some(a), Some(b)) = (rise(p.v0, p.a0, l.v, 0.0, l, j, ra), fall(l.v, 0.0, p.vf, p.af, l, j, rb)) else {
+            let (Some(a), Some(b)) = (rise(p.v0, p.a0, l.v, 0.0, l, j, ra), fall(l.v, 0.0, p.vf, p.af, l, j, rb))
+            else {
                 continue;
             };
             let pa = integrate(p.v0, p.a0, &a).0;
@@ -704,7 +706,10 @@ fn check_states(from: &BoundaryState, to: &BoundaryState, l: &Lim) -> Result<()>
         if s.v.abs() > l.v * (1.0 + tol) {
             return Err(invalid(
                 "vmax",
-                format!("the {what} velocity {} is beyond vmax {}; no motion within the limits starts or ends there", s.v, l.v),
+                format!(
+                    "the {what} velocity {} is beyond vmax {}; no motion within the limits starts or ends there",
+                    s.v, l.v
+                ),
             ));
         }
         match l.j {
@@ -721,14 +726,12 @@ fn check_states(from: &BoundaryState, to: &BoundaryState, l: &Lim) -> Result<()>
             None => {}
             Some(j) => {
                 if s.a.abs() > l.a * (1.0 + tol) {
-                    return Err(invalid(
-                        "amax",
-                        format!("the {what} acceleration {} is beyond amax {}", s.a, l.a),
-                    ));
+                    return Err(invalid("amax", format!("the {what} acceleration {} is beyond amax {}", s.a, l.a)));
                 }
                 // The velocity the acceleration carries to, forwards from the
                 // start or backwards from the target, before jerk can undo it.
-                let reach = if what == "start" { s.v + s.a * s.a.abs() / (2.0 * j) } else { s.v - s.a * s.a.abs() / (2.0 * j) };
+                let reach =
+                    if what == "start" { s.v + s.a * s.a.abs() / (2.0 * j) } else { s.v - s.a * s.a.abs() / (2.0 * j) };
                 if reach.abs() > l.v * (1.0 + 1e-9) {
                     return Err(invalid(
                         "vmax",
@@ -750,14 +753,7 @@ fn check_states(from: &BoundaryState, to: &BoundaryState, l: &Lim) -> Result<()>
 
 impl BoundaryLaw {
     fn build(from: BoundaryState, to: BoundaryState, segs: &Segs, jerk_limited: bool) -> BoundaryLaw {
-        let mut law = BoundaryLaw {
-            from,
-            to,
-            pieces: [Piece::default(); MAX_SEGS],
-            n: 0,
-            duration: 0.0,
-            jerk_limited,
-        };
+        let mut law = BoundaryLaw { from, to, pieces: [Piece::default(); MAX_SEGS], n: 0, duration: 0.0, jerk_limited };
         let mut st = from;
         let mut t = 0.0;
         for s in &segs.s[..segs.n] {
@@ -786,16 +782,32 @@ impl BoundaryLaw {
 
     /// Whether the law reaches its target and keeps within `l` (1e-9 relative).
     fn valid(&self, l: &Lim) -> bool {
+        self.valid_but_position(l) && self.position_reached()
+    }
+
+    fn position_reached(&self) -> bool {
         let e = self.end_state();
-        let scale_p = self.from.p.abs().max(self.to.p.abs()).max(l.v * self.duration).max(f64::MIN_POSITIVE);
-        if !((e.p - self.to.p).abs() <= 1e-9 * scale_p && (e.v - self.to.v).abs() <= 1e-9 * l.v) {
+        // The motion's own scale (a short motion far from 0 is held to its
+        // size, not to its coordinates), plus the rounding of the coordinates.
+        let (t, f, to) = (self.duration, &self.from, &self.to);
+        let scale_p = (to.p - f.p).abs().max((f.v.abs() + to.v.abs()) * t).max((f.a.abs() + to.a.abs()) * t * t);
+        let tol_p = 1e-9 * scale_p + 8.0 * f64::EPSILON * f.p.abs().max(to.p.abs());
+        (e.p - self.to.p).abs() <= tol_p
+    }
+
+    /// Whether the law ends at the target's velocity and acceleration and keeps within `l`.
+    fn valid_but_position(&self, l: &Lim) -> bool {
+        let e = self.end_state();
+        if !((e.v - self.to.v).abs() <= 1e-9 * l.v) {
             return false;
         }
         if self.jerk_limited && !((e.a - self.to.a).abs() <= 1e-9 * l.a) {
             return false;
         }
         let (v, a, j) = self.peaks();
-        v <= l.v * (1.0 + 1e-9) && a <= l.a * (1.0 + 1e-9) && (!self.jerk_limited || j <= l.j.unwrap_or(0.0) * (1.0 + 1e-9))
+        v <= l.v * (1.0 + 1e-9)
+            && a <= l.a * (1.0 + 1e-9)
+            && (!self.jerk_limited || j <= l.j.unwrap_or(0.0) * (1.0 + 1e-9))
     }
 
     fn from_candidates(from: BoundaryState, to: BoundaryState, l: &Lim, cands: &[Segs]) -> Vec<BoundaryLaw> {
@@ -829,12 +841,17 @@ impl BoundaryLaw {
                 *s = xf.back(s);
             }
         }
-        Self::from_candidates(from, to, l, &cands)
+        let mut laws = Self::from_candidates(from, to, l, &cands);
+        if from == to {
+            laws.insert(0, Self::build(from, to, &Segs::default(), l.j.is_some()));
+        }
+        laws
     }
 
     /// The time-optimal law from `from` to `to` within `limits` (a jerk
     /// limit makes it third order; without one it is second order and the
-    /// boundary accelerations must be 0).
+    /// boundary accelerations must be 0). A start equal to the target (also
+    /// a moving one) gives a law of duration 0: it is already there.
     ///
     /// Rest to rest, the duration equals [`TimeLaw::from_limits`]'s trapezoid
     /// or S-curve over the same distance. Errors: a limit that is not a
@@ -847,7 +864,7 @@ impl BoundaryLaw {
     pub fn fastest(from: BoundaryState, to: BoundaryState, limits: &MotionLimits) -> Result<BoundaryLaw> {
         let l = lim_of(limits)?;
         check_states(&from, &to, &l)?;
-        if from.v == 0.0 && from.a == 0.0 && to.v == 0.0 && to.a == 0.0 && from.p == to.p {
+        if from == to {
             return Ok(Self::build(from, to, &Segs::default(), l.j.is_some()));
         }
         let law = Self::candidates(from, to, &l).into_iter().next().ok_or_else(|| no_profile(&from, &to, None))?;
@@ -884,14 +901,17 @@ impl BoundaryLaw {
         }
         let optimal = Self::candidates(from, to, &l);
         let still = from.v == 0.0 && from.a == 0.0 && to.v == 0.0 && to.a == 0.0 && from.p == to.p;
-        if still && duration == 0.0 {
+        if from == to && duration == 0.0 {
             return Ok(Self::build(from, to, &Segs::default(), l.j.is_some()));
         }
         if let Some(fast) = optimal.first() {
             if duration < fast.duration * (1.0 - 1e-12) {
                 return Err(invalid(
                     "duration",
-                    format!("{duration} s is shorter than the fastest motion between these states, {} s", fast.duration),
+                    format!(
+                        "{duration} s is shorter than the fastest motion between these states, {} s",
+                        fast.duration
+                    ),
                 ));
             }
         }
@@ -923,9 +943,91 @@ impl BoundaryLaw {
             }
         }
         let laws = Self::from_candidates(from, to, &l, &cands);
-        laws.into_iter()
-            .find(|c| (c.duration - duration).abs() <= 1e-12 * duration.max(1.0))
-            .ok_or_else(|| no_profile(&from, &to, Some(duration)))
+        if let Some(law) = laws.into_iter().find(|c| (c.duration - duration).abs() <= 1e-12 * duration.max(1.0)) {
+            return Ok(law);
+        }
+        if let Some(j) = l.j {
+            if let Some(law) = Self::blend(from, to, &l, j, duration) {
+                return Ok(law);
+            }
+        }
+        Err(no_profile(&from, &to, Some(duration)))
+    }
+
+    /// No family has a root at `t`: two laws of the families that last `t`
+    /// and end at the target's velocity and acceleration, one short of the
+    /// target position and one past it, blended. The limits are convex
+    /// (|v|, |a|, |j| bounded) and the motion is linear in the jerk, so
+    /// λ·j₁(t) + (1 − λ)·j₂(t) keeps them and ends at λ·p₁ + (1 − λ)·p₂.
+    fn blend(from: BoundaryState, to: BoundaryState, l: &Lim, j: f64, t: f64) -> Option<BoundaryLaw> {
+        let p = Self::problem(&from, &to);
+        let mut below: Option<(f64, Segs)> = None;
+        let mut above: Option<(f64, Segs)> = None;
+        let mut consider = |s: Option<Segs>| {
+            let Some(s) = s else { return };
+            if (s.time() - t).abs() > 1e-12 * t.max(1.0) || s.s[..s.n].iter().any(|g| !(g.dt >= 0.0)) {
+                return;
+            }
+            let law = Self::build(from, to, &s, true);
+            if !law.valid_but_position(l) {
+                return;
+            }
+            let r = law.end_state().p - to.p;
+            if r <= 0.0 && below.is_none_or(|(b, _)| r > b) {
+                below = Some((r, s));
+            }
+            if r >= 0.0 && above.is_none_or(|(b, _)| r < b) {
+                above = Some((r, s));
+            }
+        };
+        let n = 4 * GRID;
+        let grid = |lo: f64, hi: f64| (0..=n).map(move |i| lo + (hi - lo) * i as f64 / n as f64);
+        for vc in grid(-l.v, l.v) {
+            consider(cruise_at(&p, l, t, vc));
+        }
+        for xf in XFS {
+            let q = xf.prob(&p);
+            for root in [true, false] {
+                for x in grid(-l.a, q.af) {
+                    consider(held_peak(&q, l, j, t, x, 0.0, root).map(|s| xf.back(&s)));
+                }
+                for h in grid(0.0, t) {
+                    consider(held_peak(&q, l, j, t, -l.a, h, root).map(|s| xf.back(&s)));
+                }
+            }
+        }
+        let ((r1, s1), (r2, s2)) = (below?, above?);
+        let lambda = if r2 == r1 { 0.0 } else { r2 / (r2 - r1) }; // weight of s1
+                                                                  // Merge the two phase grids.
+        let mut cuts: Vec<f64> = Vec::with_capacity(s1.n + s2.n + 1);
+        for s in [&s1, &s2] {
+            let mut acc = 0.0;
+            for g in &s.s[..s.n] {
+                acc += g.dt;
+                cuts.push(acc);
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-14 * t);
+        let jerk_at = |s: &Segs, tm: f64| {
+            let mut acc = 0.0;
+            for g in &s.s[..s.n] {
+                acc += g.dt;
+                if tm < acc {
+                    return g.j;
+                }
+            }
+            s.s[s.n.saturating_sub(1)].j
+        };
+        let mut out = Segs::default();
+        let mut prev = 0.0;
+        for &c in &cuts {
+            let mid = 0.5 * (prev + c);
+            out.push(c - prev, lambda * jerk_at(&s1, mid) + (1.0 - lambda) * jerk_at(&s2, mid), None);
+            prev = c;
+        }
+        let law = Self::build(from, to, &out, true);
+        (law.valid(l) && (law.duration - t).abs() <= 1e-12 * t.max(1.0)).then_some(law)
     }
 
     /// The start state.
@@ -988,7 +1090,8 @@ impl BoundaryLaw {
     /// extrema inside a phase where the acceleration crosses 0). |j| is
     /// infinite for a second-order law with an acceleration step.
     pub fn peaks(&self) -> (f64, f64, f64) {
-        let (mut v, mut a, mut j) = (self.from.v.abs().max(self.to.v.abs()), self.from.a.abs().max(self.to.a.abs()), 0.0f64);
+        let (mut v, mut a, mut j) =
+            (self.from.v.abs().max(self.to.v.abs()), self.from.a.abs().max(self.to.a.abs()), 0.0f64);
         for pc in &self.pieces[..self.n] {
             let e = pc.at(pc.dt);
             v = v.max(pc.v.abs()).max(e.v.abs());
@@ -1054,7 +1157,10 @@ pub fn sync_duration(
     at_least: f64,
 ) -> Result<(f64, Vec<BoundaryLaw>)> {
     if from.len() != to.len() || from.len() != limits.len() {
-        return Err(invalid("states", format!("{} start states, {} targets, {} limits", from.len(), to.len(), limits.len())));
+        return Err(invalid(
+            "states",
+            format!("{} start states, {} targets, {} limits", from.len(), to.len(), limits.len()),
+        ));
     }
     let mut critical = Vec::new();
     let mut t0 = at_least.max(0.0);
