@@ -392,3 +392,126 @@ fn ruckig_durations() {
     }
     assert!(failures.is_empty(), "{} cases where kinema is slower than Ruckig or fails", failures.len());
 }
+
+mod ptp {
+    use kinema::traj::{BoundaryPtp, JointBoundary, Profile, Ptp, PtpOptions};
+    use kinema::{Error, Robot};
+
+    const TO: [f64; 7] = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876];
+    const VIA: [f64; 7] = [0.5, 0.8, 0.2, 1.2, -0.4, -1.0, 0.1];
+
+    fn opts(profile: Profile) -> PtpOptions {
+        PtpOptions { profile, acc: Some(vec![2.0]), jerk: Some(vec![15.0]), ..PtpOptions::default() }
+    }
+
+    #[test]
+    fn rest_to_rest_is_the_shared_straight_line_law() {
+        let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        for profile in [Profile::SCurve, Profile::Trapezoid, Profile::Quintic] {
+            let zeros = JointBoundary { v0: Some(vec![0.0; 7]), ..JointBoundary::default() };
+            let b = BoundaryPtp::new(&robot, robot.home(), &TO, &opts(profile), &zeros).unwrap();
+            let p = Ptp::new(&robot, robot.home(), &TO, &opts(profile)).unwrap();
+            assert_eq!(b.rest(), Some(&p));
+            assert_eq!(b.sample(&robot, 0.01).unwrap(), p.sample(&robot, 0.01).unwrap());
+        }
+    }
+
+    /// home → VIA → TO, passing VIA at a velocity instead of stopping there: the
+    /// two pieces meet with equal q, q̇, q̈, every sample is within the limits
+    /// (the checked `sample`), and the chain is faster than stopping at VIA.
+    #[test]
+    fn chained_motions_meet_without_stopping_and_save_time() {
+        let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        for profile in [Profile::SCurve, Profile::Trapezoid] {
+            let o = opts(profile);
+            // Keep moving through VIA where both pieces move a joint the same way.
+            let home = robot.home();
+            let w: Vec<f64> = (0..7)
+                .map(|i| {
+                    let (d1, d2) = (VIA[i] - home[i], TO[i] - VIA[i]);
+                    if d1 * d2 > 0.0 {
+                        0.3f64.copysign(d1)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let a = if profile == Profile::SCurve { vec![0.1, 0.0, -0.2, 0.0, 0.3, 0.0, 0.0] } else { vec![0.0; 7] };
+            let first = JointBoundary { v1: Some(w.clone()), a1: Some(a.clone()), ..JointBoundary::default() };
+            let second = JointBoundary { v0: Some(w.clone()), a0: Some(a.clone()), ..JointBoundary::default() };
+            let p1 = BoundaryPtp::new(&robot, robot.home(), &VIA, &o, &first).unwrap();
+            let p2 = BoundaryPtp::new(&robot, &VIA, &TO, &o, &second).unwrap();
+            let t1 = p1.sample(&robot, 0.005).unwrap();
+            let t2 = p2.sample(&robot, 0.005).unwrap();
+            let end = t1.len() - 1;
+            for i in 0..7 {
+                assert!((t1.q(end)[i] - t2.q(0)[i]).abs() < 1e-9, "{profile} q{i}");
+                assert!((t1.qd(end)[i] - t2.qd(0)[i]).abs() < 1e-9, "{profile} qd{i}");
+                assert!((t1.qdd(end)[i] - t2.qdd(0)[i]).abs() < 1e-9, "{profile} qdd{i}");
+                assert!((t1.qd(end)[i] - w[i]).abs() < 1e-9);
+            }
+            let stop = Ptp::new(&robot, robot.home(), &VIA, &o).unwrap().duration()
+                + Ptp::new(&robot, &VIA, &TO, &o).unwrap().duration();
+            let chained = p1.duration() + p2.duration();
+            assert!(chained < stop, "{profile}: {chained} vs {stop}");
+            assert_eq!(p1.laws().len(), 7);
+            for law in p1.laws() {
+                assert!((law.duration() - p1.duration()).abs() <= 1e-12 * p1.duration());
+            }
+        }
+    }
+
+    #[test]
+    fn bad_boundaries_give_errors_that_name_the_field() {
+        let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        let msg = |b: JointBoundary, o: PtpOptions| match BoundaryPtp::new(&robot, robot.home(), &TO, &o, &b) {
+            Err(Error::InvalidArgument { what, message }) => format!("{what}: {message}"),
+            other => panic!("{other:?}"),
+        };
+        let m = msg(JointBoundary { v0: Some(vec![0.1, 0.2]), ..Default::default() }, opts(Profile::SCurve));
+        assert_eq!(m, "v0: 2 values given; expected 7, one per joint");
+        let mut nan = vec![0.0; 7];
+        nan[3] = f64::NAN;
+        let m = msg(JointBoundary { a1: Some(nan), ..Default::default() }, opts(Profile::SCurve));
+        assert_eq!(m, "a1: joint 4: NaN is not a finite number");
+        let v = Some(vec![0.1; 7]);
+        let m = msg(JointBoundary { v1: v.clone(), ..Default::default() }, opts(Profile::Cubic));
+        assert!(m.starts_with("profile: the cubic profile only moves rest to rest"), "{m}");
+        let m = msg(JointBoundary { a0: v.clone(), ..Default::default() }, opts(Profile::Trapezoid));
+        assert!(m.starts_with("a0: joint 1: a boundary acceleration needs the jerk-limited scurve"), "{m}");
+        let m = msg(JointBoundary { v0: Some(vec![5.0; 7]), ..Default::default() }, opts(Profile::SCurve));
+        assert!(m.starts_with("vmax: joint 1 (`") && m.contains("start velocity 5 is beyond vmax"), "{m}");
+    }
+
+    #[test]
+    fn a_boundary_velocity_that_overshoots_a_position_limit_is_a_trajectory_error() {
+        let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+        // Joint 4 arrives at 2.0 (its limit is about 2.09) still moving up.
+        let mut to = TO;
+        to[3] = 2.0;
+        let mut v1 = vec![0.0; 7];
+        v1[3] = 1.2;
+        let b = JointBoundary { v1: Some(v1), ..JointBoundary::default() };
+        let o = opts(Profile::SCurve);
+        let ptp = BoundaryPtp::new(&robot, robot.home(), &to, &o, &b).unwrap();
+        // The motion itself ends at the limit; sampling is fine, but a motion
+        // that must come back from beyond it is caught by the check.
+        let mut from = to;
+        from[3] = 2.05;
+        let v0 = {
+            let mut v = vec![0.0; 7];
+            v[3] = 1.2; // braking from 1.2 rad/s at 2 rad/s² takes 0.36 rad: past the limit
+            v
+        };
+        let back =
+            BoundaryPtp::new(&robot, &from, &TO, &o, &JointBoundary { v0: Some(v0), ..JointBoundary::default() })
+                .unwrap();
+        match back.sample(&robot, 0.01) {
+            Err(Error::Trajectory { .. }) => {}
+            other => panic!("{other:?}"),
+        }
+        if let Err(e) = ptp.sample(&robot, 0.01) {
+            panic!("{e}")
+        }
+    }
+}
