@@ -444,11 +444,11 @@ mod ptp {
             let t1 = p1.sample(&robot, 0.005).unwrap();
             let t2 = p2.sample(&robot, 0.005).unwrap();
             let end = t1.len() - 1;
-            for i in 0..7 {
+            for (i, wi) in w.iter().enumerate() {
                 assert!((t1.q(end)[i] - t2.q(0)[i]).abs() < 1e-9, "{profile} q{i}");
                 assert!((t1.qd(end)[i] - t2.qd(0)[i]).abs() < 1e-9, "{profile} qd{i}");
                 assert!((t1.qdd(end)[i] - t2.qdd(0)[i]).abs() < 1e-9, "{profile} qdd{i}");
-                assert!((t1.qd(end)[i] - w[i]).abs() < 1e-9);
+                assert!((t1.qd(end)[i] - wi).abs() < 1e-9);
             }
             let stop = Ptp::new(&robot, robot.home(), &VIA, &o).unwrap().duration()
                 + Ptp::new(&robot, &VIA, &TO, &o).unwrap().duration();

@@ -341,7 +341,7 @@ pub struct BoundaryPtp {
 
 #[derive(Debug, Clone, PartialEq)]
 enum BoundaryPlan {
-    Rest(Ptp),
+    Rest(Box<Ptp>),
     Joints { duration: f64, laws: Vec<BoundaryLaw> },
 }
 
@@ -357,7 +357,7 @@ impl BoundaryPtp {
     pub fn new(robot: &Robot, from: &[f64], to: &[f64], opts: &PtpOptions, boundary: &JointBoundary) -> Result<Self> {
         let [v0, a0, v1, a1] = boundary.vectors(robot.dof())?;
         if boundary.is_rest() {
-            return Ok(BoundaryPtp { plan: BoundaryPlan::Rest(Ptp::new(robot, from, to, opts)?) });
+            return Ok(BoundaryPtp { plan: BoundaryPlan::Rest(Box::new(Ptp::new(robot, from, to, opts)?)) });
         }
         // The checks of Ptp::new on positions, speed and limits.
         let probe = PtpOptions { duration: None, ..opts.clone() };
