@@ -896,10 +896,22 @@ impl BoundaryLaw {
     ) -> Result<BoundaryLaw> {
         let l = lim_of(limits)?;
         check_states(&from, &to, &l)?;
+        Self::timed(from, to, &l, duration, &Self::candidates(from, to, &l))
+    }
+
+    /// [`BoundaryLaw::with_duration`] with the limits checked and the locally
+    /// optimal laws (`optimal`, fastest first) already known.
+    fn timed(
+        from: BoundaryState,
+        to: BoundaryState,
+        l: &Lim,
+        duration: f64,
+        optimal: &[BoundaryLaw],
+    ) -> Result<BoundaryLaw> {
+        let l = *l;
         if !(duration.is_finite() && duration >= 0.0) {
             return Err(invalid("duration", format!("{duration} s must be a finite duration ≥ 0")));
         }
-        let optimal = Self::candidates(from, to, &l);
         let still = from.v == 0.0 && from.a == 0.0 && to.v == 0.0 && to.a == 0.0 && from.p == to.p;
         if from == to && duration == 0.0 {
             return Ok(Self::build(from, to, &Segs::default(), l.j.is_some()));
@@ -921,6 +933,13 @@ impl BoundaryLaw {
             return Ok(*c);
         }
         let p = Self::problem(&from, &to);
+        let lasting = |cands: &[Segs]| {
+            Self::from_candidates(from, to, &l, cands)
+                .into_iter()
+                .find(|c| (c.duration - duration).abs() <= 1e-12 * duration.max(1.0))
+        };
+        // The cheaper families first: a cruise (every rest-to-rest and most
+        // other cases), then the held accelerations.
         let mut cands = Vec::new();
         if still {
             // At rest at the target: stay there.
@@ -929,22 +948,25 @@ impl BoundaryLaw {
             cands.push(s);
         }
         timed_cruise(&p, &l, duration, &mut cands);
-        match l.j {
-            None => timed_second(&p, &l, duration, &mut cands),
-            Some(j) => {
-                for xf in XFS {
-                    let q = xf.prob(&p);
-                    let start = cands.len();
-                    timed_third(&q, &l, j, duration, &mut cands);
-                    for s in &mut cands[start..] {
-                        *s = xf.back(s);
-                    }
+        if l.j.is_none() {
+            timed_second(&p, &l, duration, &mut cands);
+        }
+        if let Some(law) = lasting(&cands) {
+            return Ok(law);
+        }
+        if let Some(j) = l.j {
+            cands.clear();
+            for xf in XFS {
+                let q = xf.prob(&p);
+                let start = cands.len();
+                timed_third(&q, &l, j, duration, &mut cands);
+                for s in &mut cands[start..] {
+                    *s = xf.back(s);
                 }
             }
-        }
-        let laws = Self::from_candidates(from, to, &l, &cands);
-        if let Some(law) = laws.into_iter().find(|c| (c.duration - duration).abs() <= 1e-12 * duration.max(1.0)) {
-            return Ok(law);
+            if let Some(law) = lasting(&cands) {
+                return Ok(law);
+            }
         }
         if let Some(j) = l.j {
             if let Some(law) = Self::blend(from, to, &l, j, duration) {
@@ -1165,11 +1187,19 @@ pub fn sync_duration(
     let mut critical = Vec::new();
     let mut t0 = at_least.max(0.0);
     let mut fastest = Vec::with_capacity(from.len());
+    let mut optimal = Vec::with_capacity(from.len());
+    let mut lims = Vec::with_capacity(from.len());
     for i in 0..from.len() {
-        let law = BoundaryLaw::fastest(from[i], to[i], &limits[i])?;
+        let l = lim_of(&limits[i])?;
+        check_states(&from[i], &to[i], &l)?;
+        let laws = BoundaryLaw::candidates(from[i], to[i], &l);
+        let law = *laws.first().ok_or_else(|| no_profile(&from[i], &to[i], None))?;
+        check_min(law.duration)?;
         t0 = t0.max(law.duration);
         fastest.push(law);
-        critical.extend(BoundaryLaw::critical_durations(from[i], to[i], &limits[i])?);
+        critical.extend(laws.iter().map(|c| c.duration));
+        optimal.push(laws);
+        lims.push(l);
     }
     let mut tries: Vec<f64> = critical.into_iter().filter(|&t| t > t0).collect();
     tries.push(t0);
@@ -1183,7 +1213,7 @@ pub fn sync_duration(
                 laws.push(fastest[i]);
                 continue;
             }
-            match BoundaryLaw::with_duration(from[i], to[i], &limits[i], t) {
+            match BoundaryLaw::timed(from[i], to[i], &lims[i], t, &optimal[i]) {
                 Ok(l) => laws.push(l),
                 Err(e) => {
                     last_err = Some(e);
