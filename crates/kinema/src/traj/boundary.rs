@@ -23,8 +23,11 @@
 //! [`BoundaryLaw::with_duration`] moves between the same states in a given,
 //! longer time (what synchronised PTP needs). Its families hold the velocity
 //! at some v_c (a cruise with zero acceleration between two fastest
-//! velocity changes) or hold the acceleration at some level below a_max. A
-//! duration can be infeasible although a shorter one is feasible (a start
+//! velocity changes) or hold the acceleration at some level below a_max;
+//! where none of them has a root, two of their laws lasting that long, one
+//! short of the target position and one past it, are blended (the limits
+//! are convex and the motion is linear in the jerk). A duration can be
+//! infeasible although a shorter one is feasible (a start
 //! velocity towards a close target leaves no profile for some durations:
 //! Ruckig's "blocked intervals"); [`BoundaryLaw::critical_durations`] lists
 //! the durations where feasibility may change, and [`sync_duration`] picks
