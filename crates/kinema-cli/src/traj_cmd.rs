@@ -292,6 +292,21 @@ pub struct PtpArgs {
     /// Stretch the motion to this duration [s] (at least the fastest one).
     #[arg(long)]
     duration: Option<f64>,
+    /// Start joint velocities, one per joint [rad/s, m/s; deg/s with --deg]:
+    /// with any of --v0/--a0/--v1/--a1 each joint gets its own time-optimal
+    /// law (scurve or trapezoid), all ending together; the path is then in
+    /// general not a straight line in joint space.
+    #[arg(long, allow_hyphen_values = true, value_parser = joint_values)]
+    v0: Option<JointValues>,
+    /// Start joint accelerations, one per joint (scurve only).
+    #[arg(long, allow_hyphen_values = true, value_parser = joint_values)]
+    a0: Option<JointValues>,
+    /// End joint velocities, one per joint (to chain motions without stopping).
+    #[arg(long, allow_hyphen_values = true, value_parser = joint_values)]
+    v1: Option<JointValues>,
+    /// End joint accelerations, one per joint (scurve only).
+    #[arg(long, allow_hyphen_values = true, value_parser = joint_values)]
+    a1: Option<JointValues>,
     /// Sample period [s].
     #[arg(long, default_value_t = 0.01)]
     dt: f64,
@@ -304,6 +319,20 @@ pub struct PtpArgs {
     /// Print a JSON summary (and the samples when --out is not given).
     #[arg(long)]
     json: bool,
+}
+
+/// Comma-separated finite numbers (boundary velocities or accelerations).
+#[derive(Debug, Clone)]
+pub struct JointValues(Vec<f64>);
+
+fn joint_values(text: &str) -> std::result::Result<JointValues, String> {
+    text.split(',')
+        .map(|s| match s.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!("`{}` is not a finite number; expected comma-separated numbers, one per joint", s.trim())),
+        })
+        .collect::<std::result::Result<Vec<f64>, String>>()
+        .map(JointValues)
 }
 
 pub fn traj(cmd: TrajCmd) -> Result<()> {
@@ -414,6 +443,27 @@ fn ptp(a: PtpArgs) -> Result<()> {
         speed: a.speed / 100.0,
         duration: a.duration,
     };
+    let boundary = kinema::traj::JointBoundary {
+        v0: boundary_arg(&robot, a.v0.as_ref(), a.deg, "v0")?,
+        a0: boundary_arg(&robot, a.a0.as_ref(), a.deg, "a0")?,
+        v1: boundary_arg(&robot, a.v1.as_ref(), a.deg, "v1")?,
+        a1: boundary_arg(&robot, a.a1.as_ref(), a.deg, "a1")?,
+    };
+    if boundary != kinema::traj::JointBoundary::default() {
+        // Boundary states: one law per joint, checked like every trajectory.
+        let plan = kinema::traj::BoundaryPtp::new(&robot, &from, &to, &opts, &boundary)?;
+        let traj = plan.sample(&robot, a.dt)?;
+        let phase_times: Vec<Vec<f64>> = plan.laws().iter().map(|l| l.phase_times()).collect();
+        let summary = json!({
+            "robot": robot.name(),
+            "motion": "ptp",
+            "profile": opts.profile.name(),
+            "duration": plan.duration(),
+            "phase_times": plan.rest().map(|p| p.law().phase_times().to_vec()),
+            "joint_phase_times": phase_times,
+        });
+        return emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary);
+    }
     let plan = Ptp::new(&robot, &from, &to, &opts)?;
     let traj = plan.sample(&robot, a.dt)?;
     let summary = json!({
@@ -424,6 +474,28 @@ fn ptp(a: PtpArgs) -> Result<()> {
         "phase_times": plan.law().phase_times(),
     });
     emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary)
+}
+
+/// One boundary value per joint, revolute ones converted from degrees with
+/// --deg. A wrong count is a usage error (exit 64), named by its flag.
+fn boundary_arg(robot: &Robot, given: Option<&JointValues>, deg: bool, flag: &str) -> Result<Option<Vec<f64>>> {
+    let Some(JointValues(vals)) = given else { return Ok(None) };
+    if vals.len() != robot.dof() {
+        eprintln!(
+            "error: --{flag}: {} values given; expected {}, one per joint of `{}`",
+            vals.len(),
+            robot.dof(),
+            robot.name()
+        );
+        return Err(crate::Exit(crate::EXIT_USAGE).into());
+    }
+    let js = robot.joints();
+    Ok(Some(
+        vals.iter()
+            .zip(js)
+            .map(|(v, j)| if deg && j.kind == kinema::JointType::Revolute { v.to_radians() } else { *v })
+            .collect(),
+    ))
 }
 
 /// Writes a checked trajectory: CSV to `out` (atomically) and/or a JSON

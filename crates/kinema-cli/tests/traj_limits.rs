@@ -208,4 +208,109 @@ fn skip_unreachable_leaves_out_points_outside_the_workspace() {
     let r = run(true);
     assert!(r.ok && r.stderr.contains("skipped"), "{}", r.stderr);
     assert!(out.exists());
+
+/// `traj ptp --v0/--a0/--v1/--a1`: motions chained without stopping (issue 25).
+mod boundary {
+    use super::{kinema, tempdir};
+    use serde_json::Value;
+
+    const TO: &str = "-0.1090,1.2417,0.4463,1.9156,-0.9695,-1.8728,0.4876";
+    const VIA: &str = "0.5,0.8,0.2,1.2,-0.4,-1.0,0.1";
+    const W: &str = "0.3,0.3,0.3,0.3,-0.3,-0.3,0.3";
+
+    fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
+        let text = std::fs::read_to_string(path).unwrap();
+        text.lines().skip(1).map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect()
+    }
+
+    #[test]
+    fn chained_ptps_meet_at_the_via_point_with_its_velocity_and_pass_traj_check() {
+        let dir = tempdir("boundary");
+        let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
+        let common = ["traj", "ptp", "-r", "lbr-iiwa-14-r820", "--profile", "scurve", "--amax", "2", "--jmax", "15"];
+        let r = kinema(
+            &[&common[..], &["--from", "home", "--to", VIA, "--v1", W, "--out", a.to_str().unwrap(), "--json"]]
+                .concat(),
+        );
+        assert!(r.ok, "{}", r.stderr);
+        let first: Value = serde_json::from_str(&r.stdout).unwrap();
+        assert_eq!(first["joint_phase_times"].as_array().unwrap().len(), 7);
+        let r = kinema(
+            &[&common[..], &["--from", VIA, "--to", TO, "--v0", W, "--out", b.to_str().unwrap(), "--json"]].concat(),
+        );
+        assert!(r.ok, "{}", r.stderr);
+        let (ra, rb) = (rows(&a), rows(&b));
+        let (end, start) = (ra.last().unwrap(), &rb[0]);
+        let w: Vec<f64> = W.split(',').map(|x| x.parse().unwrap()).collect();
+        for i in 0..7 {
+            assert!((end[1 + i] - start[1 + i]).abs() < 1e-9, "q{i}");
+            assert!((end[8 + i] - w[i]).abs() < 1e-9 && (start[8 + i] - w[i]).abs() < 1e-9, "qd{i}");
+        }
+        for f in [&a, &b] {
+            let r = kinema(&["traj", "check", "-r", "lbr-iiwa-14-r820", f.to_str().unwrap(), "--jmax", "15"]);
+            assert!(r.ok, "{} {}", r.stdout, r.stderr);
+        }
+    }
+
+    #[test]
+    fn zero_boundaries_give_todays_straight_line_ptp() {
+        let base = ["traj", "ptp", "-r", "lbr-iiwa-14-r820", "--from", "home", "--to", TO, "--profile", "scurve"];
+        let base = [&base[..], &["--amax", "2", "--jmax", "9"]].concat();
+        let plain = kinema(&base);
+        let zeros = kinema(&[&base[..], &["--v0", "0,0,0,0,0,0,0", "--a1", "0,0,0,0,0,0,0"]].concat());
+        assert!(plain.ok && zeros.ok, "{}", zeros.stderr);
+        assert_eq!(plain.stdout, zeros.stdout);
+    }
+
+    #[test]
+    fn bad_boundary_flags_are_usage_errors_naming_the_flag() {
+        let base =
+            ["traj", "ptp", "-r", "lbr-iiwa-14-r820", "--from", "home", "--to", TO, "--amax", "2", "--jmax", "15"];
+        for (flag, value, expect) in [
+            ("--v1", "0.1,0.2", "--v1: 2 values given; expected 7, one per joint of `lbr-iiwa-14-r820`"),
+            ("--v0", "nan,0,0,0,0,0,0", "`nan` is not a finite number"),
+            ("--a0", "0,x,0,0,0,0,0", "`x` is not a finite number"),
+            ("--a1", "inf,0,0,0,0,0,0", "`inf` is not a finite number"),
+        ] {
+            let r = kinema(&[&base[..], &["--profile", "scurve", flag, value]].concat());
+            assert_eq!(r.code, Some(64), "{flag} {value}: {}", r.stderr);
+            assert!(r.stderr.contains(expect) && r.stderr.contains(&flag[2..]), "{flag}: {}", r.stderr);
+            assert!(r.stdout.is_empty());
+        }
+        // Understood but not plannable: ordinary errors naming the problem.
+        let r = kinema(&[&base[..], &["--profile", "cubic", "--v1", W]].concat());
+        assert_eq!(r.code, Some(1));
+        assert!(r.stderr.contains("only moves rest to rest"), "{}", r.stderr);
+        let r = kinema(&[&base[..], &["--profile", "scurve", "--v0", "5,0,0,0,0,0,0"]].concat());
+        assert!(r.stderr.contains("start velocity 5 is beyond vmax"), "{}", r.stderr);
+    }
+
+    #[test]
+    fn a_boundary_velocity_that_overshoots_a_joint_limit_is_reported_and_nothing_written() {
+        let dir = tempdir("overshoot");
+        let out = dir.path().join("x.csv");
+        // Joint 4 starts at 2.05 (limit ≈ 2.094) moving up at 1.2 rad/s.
+        let r = kinema(&[
+            "traj",
+            "ptp",
+            "-r",
+            "lbr-iiwa-14-r820",
+            "--profile",
+            "scurve",
+            "--amax",
+            "2",
+            "--jmax",
+            "15",
+            "--from",
+            "0,0,0,2.05,0,0,0",
+            "--to",
+            TO,
+            "--v0",
+            "0,0,0,1.2,0,0,0",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!r.ok && r.stderr.contains("joint 4") && r.stderr.contains("position"), "{}", r.stderr);
+        assert!(!out.exists());
+    }
 }

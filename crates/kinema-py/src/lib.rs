@@ -1522,11 +1522,21 @@ impl PyRobot {
     /// ``duration``: stretch the motion to this many seconds. The sampled
     /// trajectory is checked against the robot's limits, as ``kinema traj ptp`` does.
     ///
+    /// ``v0``/``a0``/``v1``/``a1``: joint velocities and accelerations at the
+    /// start and the end (one per joint; default 0), to chain motions
+    /// without stopping, as ``kinema traj ptp --v0 …``. With any of them
+    /// non-zero each joint follows its own time-optimal law (``"scurve"``:
+    /// any accelerations; ``"trapezoid"``: accelerations 0) and all end
+    /// together at the smallest common duration (``duration``: at least
+    /// this); the path is then in general not a straight line in joint space,
+    /// and ``phase_times`` is empty.
+    ///
     /// Raises:
-    ///     InvalidInput: bad joint vectors, limits, profile, ``dt`` or ``speed``.
+    ///     InvalidInput: bad joint vectors, limits, profile, ``dt``, ``speed``
+    ///         or boundary values (the message names ``v0``/``a0``/``v1``/``a1``).
     ///     TrajectoryError: the sampled trajectory breaks a limit.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (q0, qf, dt, profile="trapezoid", vmax=None, amax=None, jmax=None, speed=1.0, duration=None))]
+    #[pyo3(signature = (q0, qf, dt, profile="trapezoid", vmax=None, amax=None, jmax=None, speed=1.0, duration=None, *, v0=None, a0=None, v1=None, a1=None))]
     fn ptp(
         &self,
         py: Python<'_>,
@@ -1539,9 +1549,19 @@ impl PyRobot {
         jmax: Option<&Bound<'_, PyAny>>,
         #[pyo3(from_py_with = real)] speed: f64,
         #[pyo3(from_py_with = opt_real)] duration: Option<f64>,
+        v0: Option<&Bound<'_, PyAny>>,
+        a0: Option<&Bound<'_, PyAny>>,
+        v1: Option<&Bound<'_, PyAny>>,
+        a1: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyJointTrajectory> {
         let from = self.joint_vector(q0, "q0")?;
         let to = self.joint_vector(qf, "qf")?;
+        let boundary = kinema::traj::JointBoundary {
+            v0: limit_values(v0, "v0")?,
+            a0: limit_values(a0, "a0")?,
+            v1: limit_values(v1, "v1")?,
+            a1: limit_values(a1, "a1")?,
+        };
         let opts = PtpOptions {
             profile: profile.parse::<Profile>().map_err(to_py)?,
             vel: limit_values(vmax, "vmax")?,
@@ -1551,6 +1571,29 @@ impl PyRobot {
             duration,
         };
         let robot = Arc::clone(&self.robot);
+        if boundary != kinema::traj::JointBoundary::default() {
+            let name = opts.profile.name();
+            let (plan, traj) = py
+                .allow_threads(move || -> kinema::Result<_> {
+                    let plan = kinema::traj::BoundaryPtp::new(&robot, &from, &to, &opts, &boundary)?;
+                    let traj = plan.sample(&robot, dt)?;
+                    Ok((plan, traj))
+                })
+                .map_err(to_py)?;
+            let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
+            return Ok(PyJointTrajectory {
+                t,
+                q,
+                qd,
+                qdd,
+                duration: plan.duration(),
+                profile: name,
+                phase_times: plan.rest().map_or_else(Vec::new, |p| p.law().phase_times().to_vec()),
+                poses: None,
+                segment_starts: vec![0.0],
+                blend_times: Vec::new(),
+            });
+        }
         let (plan, traj) = py
             .allow_threads(move || -> kinema::Result<_> {
                 let plan = Ptp::new(&robot, &from, &to, &opts)?;

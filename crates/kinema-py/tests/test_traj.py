@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import kinema
+from cli import cli_json, needs_cli
 
 
 @pytest.mark.parametrize("profile", ["trapezoid", "scurve", "cubic", "quintic", "linear"])
@@ -80,3 +81,63 @@ def test_panda_trapezoid_is_refused_for_its_jerk_limits(robots):
         r.ptp(r.home, qf, 0.01)
     tr = r.ptp(r.home, qf, 0.01, profile="scurve")
     assert np.allclose(tr.q[-1], qf)
+
+
+VIA = np.array([0.5, 0.8, 0.2, 1.2, -0.4, -1.0, 0.1])
+QF = np.array([-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876])
+W = np.array([0.3, 0.3, 0.3, 0.3, -0.3, -0.3, 0.3])
+
+
+@pytest.mark.parametrize("profile", ["scurve", "trapezoid"])
+def test_ptp_with_boundary_velocities_chains_without_stopping(robots, profile):
+    r = robots["lbr-iiwa-14-r820"]
+    acc = np.array([0.1, 0.0, -0.2, 0.0, 0.3, 0.0, 0.0]) if profile == "scurve" else np.zeros(7)
+    a = r.ptp("home", VIA, 0.005, profile=profile, amax=2.0, jmax=15.0, v1=W, a1=acc)
+    b = r.ptp(VIA, QF, 0.005, profile=profile, amax=2.0, jmax=15.0, v0=W, a0=acc)
+    assert a.profile == profile and a.phase_times == []
+    assert np.allclose(a.q[-1], b.q[0], atol=1e-9) and np.allclose(a.q[-1], VIA, atol=1e-9)
+    assert np.allclose(a.qd[-1], W, atol=1e-9) and np.allclose(b.qd[0], W, atol=1e-9)
+    assert np.allclose(a.qdd[-1], b.qdd[0], atol=1e-9) and np.allclose(b.q[-1], QF, atol=1e-9)
+    assert np.isclose(a.t[-1], a.duration)
+    stop = r.ptp("home", VIA, 0.01, profile=profile, amax=2.0, jmax=15.0).duration
+    stop += r.ptp(VIA, QF, 0.01, profile=profile, amax=2.0, jmax=15.0).duration
+    assert a.duration + b.duration < stop
+    # Within the limits, as the check already made sure.
+    assert np.all(np.abs(a.qdd) <= 2.0 * (1 + 1e-9))
+
+
+def test_ptp_with_zero_boundaries_is_todays_straight_line(robots):
+    r = robots["lbr-iiwa-14-r820"]
+    plain = r.ptp("home", QF, 0.01, profile="scurve", amax=2.0, jmax=15.0)
+    zeros = r.ptp("home", QF, 0.01, profile="scurve", amax=2.0, jmax=15.0, v0=np.zeros(7), a1=[0.0] * 7)
+    assert zeros.duration == plain.duration and zeros.phase_times == plain.phase_times
+    assert np.array_equal(zeros.q, plain.q) and np.array_equal(zeros.qd, plain.qd)
+
+
+def test_ptp_boundary_errors_name_the_argument(robots):
+    r = robots["lbr-iiwa-14-r820"]
+    with pytest.raises(kinema.InvalidInput, match="v1.*2 values given; expected 7"):
+        r.ptp("home", QF, 0.01, profile="scurve", v1=[0.1, 0.2])
+    with pytest.raises(kinema.InvalidInput, match="a0.*joint 2: nan is not a finite number|a0.*joint 2: NaN"):
+        r.ptp("home", QF, 0.01, profile="scurve", a0=[0.0, np.nan, 0, 0, 0, 0, 0])
+    with pytest.raises(kinema.InvalidInput, match="only moves rest to rest"):
+        r.ptp("home", QF, 0.01, profile="quintic", v0=W)
+    with pytest.raises(kinema.InvalidInput, match="needs the jerk-limited scurve"):
+        r.ptp("home", QF, 0.01, profile="trapezoid", a1=W)
+    # Joint 4 starts near its limit moving towards it: the overshoot is caught.
+    q0 = np.array([0, 0, 0, 2.05, 0, 0, 0.0])
+    with pytest.raises(kinema.TrajectoryError, match="joint 4"):
+        r.ptp(q0, QF, 0.01, profile="scurve", amax=2.0, jmax=15.0, v0=[0, 0, 0, 1.2, 0, 0, 0])
+
+
+@needs_cli
+def test_ptp_boundary_matches_the_command_line(robots):
+    r = robots["lbr-iiwa-14-r820"]
+    tr = r.ptp("home", VIA, 0.01, profile="scurve", amax=2.0, jmax=15.0, v1=W)
+    out = cli_json(
+        ["traj", "ptp", "-r", "lbr-iiwa-14-r820", "--from", "home", "--to", ",".join(map(str, VIA)),
+         "--profile", "scurve", "--amax", "2", "--jmax", "15", "--v1", ",".join(map(str, W)), "--json"]
+    )
+    assert out["duration"] == tr.duration
+    rows = np.array(out["rows"])
+    assert np.allclose(rows[:, 0], tr.t, atol=1e-9) and np.allclose(rows[:, 1:8], tr.q, atol=1e-9)

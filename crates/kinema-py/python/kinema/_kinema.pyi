@@ -276,8 +276,14 @@ class Robot:
         jmax: Optional[ArrayLike] = None,
         speed: float = 1.0,
         duration: Optional[float] = None,
+        *,
+        v0: Optional[ArrayLike] = None,
+        a0: Optional[ArrayLike] = None,
+        v1: Optional[ArrayLike] = None,
+        a1: Optional[ArrayLike] = None,
     ) -> JointTrajectory:
-        """Synchronised point-to-point joint motion sampled every dt. Raises InvalidInput, TrajectoryError."""
+        """Synchronised point-to-point joint motion sampled every dt; v0/a0/v1/a1: joint velocities and
+        accelerations at the start and end (one per joint, default 0). Raises InvalidInput, TrajectoryError."""
     def expr(
         self,
         joints: Union[Dict[int, str], Sequence[Tuple[int, str]]],

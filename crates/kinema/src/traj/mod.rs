@@ -22,6 +22,7 @@
 //! # Ok::<(), kinema::Error>(())
 //! ```
 
+pub mod boundary;
 pub mod cart;
 pub mod cell;
 mod check;
@@ -32,6 +33,7 @@ pub mod self_motion;
 pub mod track;
 pub mod waypoints;
 
+pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
 pub use cell::{Cell, CellMember, CellReport};
 pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
@@ -255,6 +257,247 @@ impl Ptp {
     pub fn sample_unchecked(&self, dt: f64) -> Result<JointTrajectory> {
         let times = sample_times(self.duration(), dt)?;
         let n = self.delta.len();
+        let mut traj = JointTrajectory::with_capacity(n, times.len());
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for t in times {
+            self.state_into(t, &mut q, &mut qd, &mut qdd);
+            traj.push(t, &q, &qd, &qdd)?;
+        }
+        Ok(traj)
+    }
+}
+
+/// Joint velocities \[rad/s or m/s\] and accelerations \[rad/s² or m/s²\] at
+/// the start and the end of a point-to-point motion ([`BoundaryPtp`]): one
+/// value per joint; `None` means 0 for every joint.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointBoundary {
+    /// Start velocities.
+    pub v0: Option<Vec<f64>>,
+    /// Start accelerations (need a jerk-limited profile).
+    pub a0: Option<Vec<f64>>,
+    /// End velocities.
+    pub v1: Option<Vec<f64>>,
+    /// End accelerations (need a jerk-limited profile).
+    pub a1: Option<Vec<f64>>,
+}
+
+impl JointBoundary {
+    /// Whether every boundary velocity and acceleration is 0 (rest to rest).
+    pub fn is_rest(&self) -> bool {
+        [&self.v0, &self.a0, &self.v1, &self.a1].iter().all(|v| v.as_ref().is_none_or(|v| v.iter().all(|&x| x == 0.0)))
+    }
+
+    /// The four vectors, `dof` long each (zeros where not given). Errors
+    /// name the field: a length other than `dof`, a value that is not finite.
+    fn vectors(&self, dof: usize) -> Result<[Vec<f64>; 4]> {
+        let one = |what: &str, v: &Option<Vec<f64>>| -> Result<Vec<f64>> {
+            let Some(v) = v else { return Ok(vec![0.0; dof]) };
+            if v.len() != dof {
+                return Err(Error::InvalidArgument {
+                    what: what.into(),
+                    message: format!("{} values given; expected {dof}, one per joint", v.len()),
+                });
+            }
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                return Err(Error::InvalidArgument {
+                    what: what.into(),
+                    message: format!("joint {}: {} is not a finite number", i + 1, v[i]),
+                });
+            }
+            Ok(v.clone())
+        };
+        Ok([one("v0", &self.v0)?, one("a0", &self.a0)?, one("v1", &self.v1)?, one("a1", &self.a1)?])
+    }
+}
+
+/// A synchronised point-to-point motion between joint states with
+/// velocities and accelerations: motions chained without stopping.
+///
+/// Rest to rest (every boundary value 0) it is exactly [`Ptp`]: one shared
+/// law, a straight line in joint space. Otherwise each joint follows its
+/// own [`BoundaryLaw`] and all of them end together at the smallest
+/// duration T that every joint admits ([`sync_duration`]: at least the
+/// slowest joint's fastest duration, moved past any joint's blocked
+/// interval). The path in joint space is then in general not a straight
+/// line. Profiles: the S-curve (jerk-limited, any boundary accelerations)
+/// and the trapezoid (boundary accelerations 0); other profiles are
+/// refused with boundary velocities.
+///
+/// # Examples
+/// ```
+/// use kinema::traj::{BoundaryPtp, JointBoundary, Profile, PtpOptions};
+/// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
+/// let to = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876];
+/// let opts = PtpOptions { profile: Profile::SCurve, acc: Some(vec![2.0]), jerk: Some(vec![10.0]), ..PtpOptions::default() };
+/// // Pass through `to` at 0.2 rad/s on joint 1 instead of stopping there.
+/// let boundary = JointBoundary { v1: Some(vec![0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]), ..JointBoundary::default() };
+/// let ptp = BoundaryPtp::new(&robot, robot.home(), &to, &opts, &boundary)?;
+/// let traj = ptp.sample(&robot, 0.01)?; // checked: limits hold, no jumps
+/// assert!((traj.qd(traj.len() - 1)[0] - 0.2).abs() < 1e-9);
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryPtp {
+    plan: BoundaryPlan,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum BoundaryPlan {
+    Rest(Box<Ptp>),
+    Joints { duration: f64, laws: Vec<BoundaryLaw> },
+}
+
+impl BoundaryPtp {
+    /// Plans the motion from `from` to `to` with the boundary velocities and
+    /// accelerations of `boundary`, within the limits of `opts` (as [`Ptp::new`];
+    /// `opts.duration` is a least duration).
+    ///
+    /// Errors: those of [`Ptp::new`]; a boundary vector that is not one
+    /// finite value per joint; boundary velocities with a profile other than
+    /// the trapezoid or S-curve; boundary accelerations without a jerk-limited
+    /// profile; a boundary state beyond a limit (see [`BoundaryLaw::fastest`]).
+    pub fn new(robot: &Robot, from: &[f64], to: &[f64], opts: &PtpOptions, boundary: &JointBoundary) -> Result<Self> {
+        let [v0, a0, v1, a1] = boundary.vectors(robot.dof())?;
+        if boundary.is_rest() {
+            return Ok(BoundaryPtp { plan: BoundaryPlan::Rest(Box::new(Ptp::new(robot, from, to, opts)?)) });
+        }
+        // The checks of Ptp::new on positions, speed and limits.
+        let probe = PtpOptions { duration: None, ..opts.clone() };
+        Ptp::new(robot, from, to, &PtpOptions { profile: Profile::Linear, ..probe.clone() })?;
+        let jerk_limited = match opts.profile {
+            Profile::SCurve => true,
+            Profile::Trapezoid => false,
+            p => {
+                return Err(Error::InvalidArgument {
+                    what: "profile".into(),
+                    message: format!(
+                        "the {} profile only moves rest to rest; boundary velocities and accelerations \
+                         need the trapezoid or scurve profile",
+                        p.name()
+                    ),
+                })
+            }
+        };
+        if !jerk_limited {
+            if let Some(i) = a0.iter().chain(&a1).position(|&a| a != 0.0) {
+                let (what, j) = if i < a0.len() { ("a0", i) } else { ("a1", i - a0.len()) };
+                return Err(Error::InvalidArgument {
+                    what: what.into(),
+                    message: format!(
+                        "joint {}: a boundary acceleration needs the jerk-limited scurve profile \
+                         (the trapezoid's acceleration steps)",
+                        j + 1
+                    ),
+                });
+            }
+        }
+        // A joint moves if it changes position or has a boundary velocity.
+        let moving: Vec<f64> = (0..robot.dof())
+            .map(|i| if to[i] != from[i] || v0[i] != 0.0 || v1[i] != 0.0 { 1.0 } else { 0.0 })
+            .collect();
+        refuse_acceleration_steps(robot, opts.profile, &moving)?;
+        let js = robot.joints();
+        let vel = joint_limits(robot, opts.vel.as_deref(), "vmax", |i| js[i].limits.vel)?;
+        let acc = joint_limits(robot, opts.acc.as_deref(), "amax", |i| js[i].limits.acc)?;
+        let jerk = joint_limits(robot, opts.jerk.as_deref(), "jmax", |i| js[i].limits.jerk)?;
+        let k = opts.speed;
+        let n = robot.dof();
+        let (mut starts, mut ends, mut limits) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        for i in 0..n {
+            let start = BoundaryState::new(from[i], v0[i], a0[i]);
+            let end = BoundaryState::new(to[i], v1[i], a1[i]);
+            let missing = |what: &str, flag: &str| Error::InvalidArgument {
+                what: flag.into(),
+                message: format!(
+                    "joint {} (`{}`) moves but has no {what} limit in the robot model; give one ({flag})",
+                    i + 1,
+                    js[i].name
+                ),
+            };
+            let lim = if start == end && start.v == 0.0 && start.a == 0.0 {
+                MotionLimits::with_jerk(1.0, 1.0, 1.0) // at rest throughout
+            } else {
+                let v = vel[i].ok_or_else(|| missing("velocity", "vmax"))? * k;
+                let a = acc[i].ok_or_else(|| missing("acceleration", "amax"))? * k * k;
+                if jerk_limited {
+                    MotionLimits::with_jerk(v, a, jerk[i].ok_or_else(|| missing("jerk", "jmax"))? * k * k * k)
+                } else {
+                    MotionLimits::new(v, a)
+                }
+            };
+            // Name the joint in a refused state.
+            BoundaryLaw::fastest(start, end, &lim).map_err(|e| match e {
+                Error::InvalidArgument { what, message } => {
+                    Error::InvalidArgument { what, message: format!("joint {} (`{}`): {message}", i + 1, js[i].name) }
+                }
+                e => e,
+            })?;
+            starts.push(start);
+            ends.push(end);
+            limits.push(lim);
+        }
+        let (duration, laws) = sync_duration(&starts, &ends, &limits, opts.duration.unwrap_or(0.0))?;
+        Ok(BoundaryPtp { plan: BoundaryPlan::Joints { duration, laws } })
+    }
+
+    /// The straight-line motion with one shared law, when every boundary
+    /// value is 0.
+    pub fn rest(&self) -> Option<&Ptp> {
+        match &self.plan {
+            BoundaryPlan::Rest(p) => Some(p),
+            BoundaryPlan::Joints { .. } => None,
+        }
+    }
+
+    /// Each joint's law (empty for a rest-to-rest motion: see [`BoundaryPtp::rest`]).
+    pub fn laws(&self) -> &[BoundaryLaw] {
+        match &self.plan {
+            BoundaryPlan::Rest(_) => &[],
+            BoundaryPlan::Joints { laws, .. } => laws,
+        }
+    }
+
+    /// Duration \[s\].
+    pub fn duration(&self) -> f64 {
+        match &self.plan {
+            BoundaryPlan::Rest(p) => p.duration(),
+            BoundaryPlan::Joints { duration, .. } => *duration,
+        }
+    }
+
+    /// q, q̇, q̈ at time `t` \[s\], written into the three slices (each `dof` long).
+    pub fn state_into(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        match &self.plan {
+            BoundaryPlan::Rest(p) => p.state_into(t, q, qd, qdd),
+            BoundaryPlan::Joints { laws, .. } => {
+                for (i, law) in laws.iter().enumerate() {
+                    let s = law.at(t);
+                    (q[i], qd[i], qdd[i]) = (s.p, s.v, s.a);
+                }
+            }
+        }
+    }
+
+    /// Samples every `dt` \[s\] from 0, plus the end time, and checks the
+    /// result as [`Ptp::sample`] does (limits, jumps; jerk where the robot or
+    /// the options give a limit); a violation is an [`Error::Trajectory`].
+    pub fn sample(&self, robot: &Robot, dt: f64) -> Result<JointTrajectory> {
+        if let BoundaryPlan::Rest(p) = &self.plan {
+            return p.sample(robot, dt);
+        }
+        let traj = self.sample_unchecked(dt)?;
+        check(robot, &traj, &CheckOptions::default())?.into_result()?;
+        Ok(traj)
+    }
+
+    /// As [`BoundaryPtp::sample`] without the check.
+    pub fn sample_unchecked(&self, dt: f64) -> Result<JointTrajectory> {
+        let times = sample_times(self.duration(), dt)?;
+        let n = match &self.plan {
+            BoundaryPlan::Rest(p) => p.delta.len(),
+            BoundaryPlan::Joints { laws, .. } => laws.len(),
+        };
         let mut traj = JointTrajectory::with_capacity(n, times.len());
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for t in times {
