@@ -208,6 +208,7 @@ fn skip_unreachable_leaves_out_points_outside_the_workspace() {
     let r = run(true);
     assert!(r.ok && r.stderr.contains("skipped"), "{}", r.stderr);
     assert!(out.exists());
+}
 
 /// `traj ptp --v0/--a0/--v1/--a1`: motions chained without stopping (issue 25).
 mod boundary {
