@@ -239,11 +239,13 @@ fn fixtures(dir: &Path) {
     };
     // `fk --robot my_arm.urdf --tip tool0`: any URDF arm with a link tool0.
     copy(repo.join("crates/kinema/tests/data/ur5.urdf"), "my_arm.urdf");
-    // The robot programs, at the paths README gives.
-    std::fs::create_dir_all(dir.join("examples/programs")).unwrap();
-    for entry in std::fs::read_dir(repo.join("examples/programs")).unwrap() {
-        let path = entry.unwrap().path();
-        copy(path.clone(), &format!("examples/programs/{}", path.file_name().unwrap().to_string_lossy()));
+    // The robot programs and cells, at the paths README gives.
+    for folder in ["examples/programs", "examples/cells"] {
+        std::fs::create_dir_all(dir.join(folder)).unwrap();
+        for entry in std::fs::read_dir(repo.join(folder)).unwrap() {
+            let path = entry.unwrap().path();
+            copy(path.clone(), &format!("{folder}/{}", path.file_name().unwrap().to_string_lossy()));
+        }
     }
     // `fk --robot broken.toml`: the Scorbot's file without the shoulder's link twist.
     let scorbot = std::fs::read_to_string(repo.join("robots/scorbot-er-v-plus.toml")).unwrap();

@@ -328,8 +328,10 @@ fn seed_continuous_lin_reports_or_avoids_the_wrist_flip() {
     assert!(m.blend_times()[0] > 0.1, "{:?}", m.blend_times());
     assert!(m.segment_starts()[1] < m.laws()[0].duration(), "the second segment starts before the first ends");
     let ik = IiwaIk::new(&robot).unwrap();
-    // From the first within-limit solution with q3 = 0 the path crosses a wrist
-    // singularity (the seed saw one at t ≈ 3.25 s): the check names the joint and the time.
+    // From the first within-limit solution with q3 = 0 the path cannot be
+    // followed without a wrist flip (q3 held, joint 7 meets its limit; the
+    // seed's rule crosses the wrist singularity the seed saw at t ≈ 3.25 s):
+    // the check names the joint and the time.
     let q_a = ik.solve_within_limits(&p0).unwrap()[0].q.clone();
     let traj = to_joints(&robot, &m, &q_a, 0.01, JointMethod::default()).unwrap();
     let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
