@@ -180,7 +180,7 @@ impl PyCell {
         let (robot, traj) = if let Some(text) = program {
             let placed_py = Bound::new(py, PyRobot::new(Arc::clone(&placed)))?;
             let filename = filename.unwrap_or_else(|| format!("<program of {name}>"));
-            let plan = run_program(py, text, placed_py.as_any(), slf.dt, start, &filename, time_limit)?;
+            let plan = run_program(py, text, placed_py.as_any(), slf.dt, start, &filename, time_limit, false)?;
             let robot = Arc::clone(&plan.robot.get().robot);
             let traj = traj_from_arrays(
                 n,
