@@ -425,6 +425,8 @@ impl PyIkSolution {
 ///         for ``ptp``. Forward kinematics of ``q`` reaches them to 1e-6.
 ///     segment_starts: start time of each segment [s] (``[0.0]`` for ``ptp``).
 ///     blend_times: how long each blend between consecutive segments lasts [s].
+///     skipped: for ``lin(…, skip_unreachable=True)``, the indices (among ``via``
+///         then ``T``) of the waypoints left out as out of reach.
 #[pyclass(frozen, name = "JointTrajectory", module = "kinema")]
 struct PyJointTrajectory {
     #[pyo3(get)]
@@ -447,6 +449,8 @@ struct PyJointTrajectory {
     segment_starts: Vec<f64>,
     #[pyo3(get)]
     blend_times: Vec<f64>,
+    #[pyo3(get)]
+    skipped: Vec<usize>,
 }
 
 #[pymethods]
@@ -1085,6 +1089,7 @@ impl PyRobot {
             poses: Some(to_numpy(py, (traj.len(), 4, 4), poses)?.unbind()),
             segment_starts: motion.segment_starts().to_vec(),
             blend_times: motion.blend_times(),
+            skipped: Vec::new(),
         })
     }
 }
@@ -1592,6 +1597,7 @@ impl PyRobot {
                 poses: None,
                 segment_starts: vec![0.0],
                 blend_times: Vec::new(),
+                skipped: Vec::new(),
             });
         }
         let (plan, traj) = py
@@ -1613,6 +1619,7 @@ impl PyRobot {
             poses: None,
             segment_starts: vec![0.0],
             blend_times: Vec::new(),
+            skipped: Vec::new(),
         })
     }
 
@@ -1646,7 +1653,9 @@ impl PyRobot {
     /// ``"hold"`` (the start's q3, the default where the arm has a closed
     /// form), ``"track"`` (least joint motion), ``"manipulability"`` (seed
     /// 004 §V-E), ``"avoid-limits"`` or an angle the start must have; ``psi``
-    /// is ``"hold"`` or an angle.
+    /// is ``"hold"`` or an angle. ``skip_unreachable``: leave out ``via`` and
+    /// ``T`` poses out of reach (seed 003 Fig. 9; their indices in the
+    /// result's ``skipped``) instead of raising Unreachable.
     ///
     /// Raises:
     ///     InvalidInput: bad joint vector, pose, limit, option, ``rpy`` or ``dt``.
@@ -1656,7 +1665,7 @@ impl PyRobot {
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (q0, T, dt, *, vmax, amax, via=None, profile="trapezoid", jmax=None, rot_vmax=None,
         rot_amax=None, rot_jmax=None, blend=None, orientation="slerp", rpy="zyx", method="ik", max_step=None,
-        max_angle=0.05, min_manip=None, q3=None, psi=None))]
+        max_angle=0.05, min_manip=None, q3=None, psi=None, skip_unreachable=false))]
     fn lin(
         &self,
         py: Python<'_>,
@@ -1680,6 +1689,7 @@ impl PyRobot {
         #[pyo3(from_py_with = opt_real)] min_manip: Option<f64>,
         q3: Option<&Bound<'_, PyAny>>,
         psi: Option<&Bound<'_, PyAny>>,
+        skip_unreachable: bool,
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
         let conv = parse_rpy(rpy)?;
@@ -1688,6 +1698,14 @@ impl PyRobot {
             _ => Vec::new(),
         };
         poses.push(pose_arg(T, "T", conv)?);
+        // Seed 003 Fig. 9, as `kinema traj lin --skip-unreachable`.
+        let skipped: Vec<usize> = if skip_unreachable {
+            let (kept, skipped) = kinema::traj::waypoints::skip_unreachable(&self.robot, &poses).map_err(to_py)?;
+            poses = kept;
+            skipped.iter().map(|p| p.index).collect()
+        } else {
+            Vec::new()
+        };
         let orientation = match orientation {
             "slerp" => Orientation::Slerp,
             "rpy" => Orientation::Rpy(conv),
@@ -1706,7 +1724,7 @@ impl PyRobot {
             max_angle,
             min_manip,
         )?;
-        self.cartesian(py, q0, opts, blend, move |start| {
+        let mut traj = self.cartesian(py, q0, opts, blend, move |start| {
             let mut segments = Vec::with_capacity(poses.len());
             let mut from = start;
             for p in &poses {
@@ -1714,7 +1732,9 @@ impl PyRobot {
                 from = *p;
             }
             Ok(segments)
-        })
+        })?;
+        traj.skipped = skipped;
+        Ok(traj)
     }
 
     /// Circular Cartesian motion (CIRC, as KUKA CIRC / ABB MoveC) from the
@@ -1844,6 +1864,7 @@ impl PyRobot {
             poses: None,
             segment_starts: vec![0.0],
             blend_times: Vec::new(),
+            skipped: Vec::new(),
         })
     }
 

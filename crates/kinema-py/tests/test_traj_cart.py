@@ -304,3 +304,19 @@ def test_q3_and_psi_choose_the_self_motion_as_the_cli_does(robots):
     T[2, 3] += 0.02
     with pytest.raises(kinema.InvalidInput, match="no self-motion"):
         puma.lin(qn, T, 0.01, vmax=0.2, amax=1.0, q3="hold")
+
+
+def test_skip_unreachable_leaves_out_waypoints_as_the_cli_does():
+    """Seed 003 Fig. 9 on lin: an unreachable via pose is left out (its index
+    in .skipped) and the path equals the one written without it; without the
+    option it is an error."""
+    r = kinema.Robot.builtin("scara5")
+    home = r.pose("home")
+    near, far, goal = [0.3, 0.1, 0.2, 0, 0, 0], [3, 3, 0.2, 0, 0, 0], [0.35, -0.1, 0.2, 0, 0, 0]
+    with pytest.raises(kinema.Unreachable):
+        r.lin(home, goal, 0.01, vmax=0.2, amax=1.0, via=[near, far])
+    tr = r.lin(home, goal, 0.01, vmax=0.2, amax=1.0, via=[near, far], skip_unreachable=True)
+    assert tr.skipped == [1]
+    ref = r.lin(home, goal, 0.01, vmax=0.2, amax=1.0, via=[near])
+    assert ref.skipped == []
+    np.testing.assert_array_equal(tr.q, ref.q)

@@ -86,6 +86,9 @@ class JointTrajectory:
     @property
     def blend_times(self) -> List[float]:
         """Duration of each blend between consecutive segments [s]."""
+    @property
+    def skipped(self) -> List[int]:
+        """Indices (among via, then T) of waypoints lin(..., skip_unreachable=True) left out."""
     def __len__(self) -> int: ...
 
 class CheckReport:
@@ -348,6 +351,7 @@ class Robot:
         min_manip: Optional[float] = None,
         q3: Union[Literal["auto", "hold", "track", "manipulability", "avoid-limits"], float, None] = None,
         psi: Union[Literal["hold"], float, None] = None,
+        skip_unreachable: bool = False,
     ) -> JointTrajectory:
         """Straight-line Cartesian motion from fkine(q0) through via to T (4x4 or x, y, z, roll, pitch, yaw).
 
