@@ -650,11 +650,16 @@ fn jacobian(a: JacobianArgs) -> Result<()> {
     if a.json {
         return print_json(&json!({ "robot": r.name(), "q": q, "kind": kind, "J": matrix_rows(&j) }));
     }
-    println!("robot {}  Jacobian: {kind}, rows vx vy vz ωx ωy ωz", r.name());
-    let labels = ["vx", "vy", "vz", "ωx", "ωy", "ωz"];
+    // The analytic Jacobian's lower rows are the rates of the roll-pitch-yaw angles, not ω.
+    let labels = match a.analytic {
+        Some(_) => ["vx", "vy", "vz", "roll'", "pitch'", "yaw'"],
+        None => ["vx", "vy", "vz", "ωx", "ωy", "ωz"],
+    };
+    let width = labels.iter().map(|l| l.chars().count()).max().unwrap_or(2);
+    println!("robot {}  Jacobian: {kind}, rows {}", r.name(), labels.join(" "));
     for (row, label) in labels.iter().enumerate() {
         let vals: Vec<String> = j.row(row).iter().map(|v| format!("{v:>10.6}")).collect();
-        println!("  {label:<2} [{}]", vals.join(" "));
+        println!("  {label:<width$} [{}]", vals.join(" "));
     }
     Ok(())
 }

@@ -1557,3 +1557,15 @@ fn serve_stops_gracefully_on_sigterm_and_ctrl_c() {
         assert!(answered.starts_with("HTTP/1.1 503") && answered.contains("shutting down"), "{answered}");
     }
 }
+
+/// The analytic Jacobian's lower rows are roll-pitch-yaw rates and are
+/// labelled so; the geometric one's are ω.
+#[test]
+fn jacobian_rows_are_labelled_by_what_they_are() {
+    let analytic = kinema(&["jacobian", "--robot", "ur5", "--q", "home", "--analytic", "zyx"]);
+    assert!(analytic.ok, "{}", analytic.stderr);
+    assert!(analytic.stdout.contains("rows vx vy vz roll' pitch' yaw'"), "{}", analytic.stdout);
+    assert!(!analytic.stdout.contains('ω'), "{}", analytic.stdout);
+    let geometric = kinema(&["jacobian", "--robot", "ur5", "--q", "home"]);
+    assert!(geometric.stdout.contains("rows vx vy vz ωx ωy ωz") && geometric.stdout.contains("  ωz ["));
+}
