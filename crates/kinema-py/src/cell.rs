@@ -47,7 +47,7 @@ fn check_options(resolution: f64, time_resolution: f64) -> CheckOptions {
 }
 
 /// A trajectory from numpy arrays `t` (K,), `q` (K, n) and, when given, `qd`, `qdd`.
-fn traj_from_arrays(
+pub(crate) fn traj_from_arrays(
     n: usize,
     t: &Bound<'_, PyAny>,
     q: &Bound<'_, PyAny>,

@@ -1940,20 +1940,7 @@ impl PyRobot {
         let Some(q) = q else {
             return Err(invalid("`q` is missing: give the joint positions, shape (K, n), with the times `t`".into()));
         };
-        let n = self.dof();
-        let t = f64_array(t, "t")?;
-        check_shape(&t, "t", &[None], " (one time per sample)")?;
-        let k = t.len();
-        let hint = format!(" (one row of {n} joint values per time in `t`)");
-        let rows = |a: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<f64>> {
-            let a = f64_array(a, what)?;
-            check_shape(&a, what, &[Some(k), Some(n)], &hint)?;
-            Ok(a.as_slice()?.to_vec())
-        };
-        let q = rows(q, "q")?;
-        let qd = qd.map(|a| rows(a, "qd")).transpose()?;
-        let qdd = qdd.map(|a| rows(a, "qdd")).transpose()?;
-        let times = t.as_slice()?.to_vec();
+        let traj = cell::traj_from_arrays(self.dof(), t, q, qd, qdd)?;
         let opts = CheckOptions {
             vel: limit_values(vmax, "vmax")?,
             acc: limit_values(amax, "amax")?,
@@ -1965,12 +1952,7 @@ impl PyRobot {
             ..CheckOptions::default()
         };
         let robot = Arc::clone(&self.robot);
-        let report = py
-            .allow_threads(move || -> kinema::Result<_> {
-                let traj = JointTrajectory::from_samples(n, times, q, qd, qdd)?;
-                check(&robot, &traj, &opts)
-            })
-            .map_err(to_py)?;
+        let report = py.allow_threads(move || check(&robot, &traj, &opts)).map_err(to_py)?;
         Ok(PyCheckReport { report })
     }
 

@@ -137,11 +137,7 @@ pub trait Redundancy {
         out: &mut CandidateSet,
     ) -> Result<()> {
         let _ = prev;
-        out.clear();
-        for s in self.solve_at(target, parameter, value)? {
-            out.push(&s.q, s.branch);
-        }
-        Ok(())
+        solutions_into(self, target, parameter, value, out)
     }
 
     /// The next configuration of a path: the first parameter searched on a
@@ -151,6 +147,21 @@ pub trait Redundancy {
     /// A family may put its own preference first (the iiwa's elbow up, seed
     /// 004 §V-E) when `choice.family_preference` is set.
     fn choose(&self, target: &Pose, choice: &Choice) -> Result<Solution>;
+}
+
+/// Every solution of [`Redundancy::solve_at`] into `out` (cleared first).
+pub fn solutions_into<R: Redundancy + ?Sized>(
+    family: &R,
+    target: &Pose,
+    parameter: &str,
+    value: f64,
+    out: &mut CandidateSet,
+) -> Result<()> {
+    out.clear();
+    for s in family.solve_at(target, parameter, value)? {
+        out.push(&s.q, s.branch);
+    }
+    Ok(())
 }
 
 /// An objective over configurations (higher is better).

@@ -1362,11 +1362,7 @@ impl Redundancy for IiwaIk {
             self.solve_q3_near(target, value, prev)?.write_into(out);
             return Ok(());
         }
-        out.clear();
-        for s in self.solve_at(target, parameter, value)? {
-            out.push(&s.q, s.branch);
-        }
-        Ok(())
+        super::family::solutions_into(self, target, parameter, value, out)
     }
 
     /// Seed 004 §V-E's rule on the branches that can continue the path.
