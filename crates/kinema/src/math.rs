@@ -119,8 +119,7 @@ impl Pose {
         if (r.transpose() * r - Matrix3::identity()).norm() > 1e-6 || r.determinant() < 0.0 {
             return None;
         }
-        let rot = Rotation3::from_matrix(&r).into_inner();
-        Some(Pose { rot, pos: m.fixed_view::<3, 1>(0, 3).into() })
+        Some(Pose { rot: nearest_rotation(r), pos: m.fixed_view::<3, 1>(0, 3).into() })
     }
 
     /// Orientation as a unit quaternion.
@@ -149,6 +148,20 @@ impl std::ops::Mul for Pose {
     fn mul(self, rhs: Pose) -> Pose {
         Pose::mul(&self, &rhs)
     }
+}
+
+/// The rotation nearest to `r` (its polar factor), for a matrix already
+/// within about 1e-6 of a rotation (‖rᵀr − I‖ < 1e-6, which
+/// [`Pose::from_matrix`] checks first). Newton–Schulz iteration
+/// X ← X·(3I − XᵀX)/2 squares the error each step, so three steps reach
+/// rounding level from that distance without the eigen-solver a general
+/// projection needs.
+fn nearest_rotation(r: Matrix3<f64>) -> Matrix3<f64> {
+    let mut x = r;
+    for _ in 0..3 {
+        x = x * (Matrix3::identity() * 3.0 - x.transpose() * x) * 0.5;
+    }
+    x
 }
 
 /// Rotation matrix about x by `a` \[rad\].
@@ -763,6 +776,26 @@ mod tests {
         let mut bad = p.to_matrix();
         bad[(3, 0)] = 1.0;
         assert!(Pose::from_matrix(&bad).is_none());
+    }
+
+    #[test]
+    fn nearest_rotation_is_the_polar_factor_nalgebra_finds() {
+        let mut rng = ChaCha8Rng::seed_from_u64(31);
+        for _ in 0..20_000 {
+            let rpy = [rng.random_range(-3.0..3.0), rng.random_range(-1.5..1.5), rng.random_range(-3.0..3.0)];
+            let exact = rpy_to_rot(rpy, RpyConvention::Zyx);
+            // Noise up to the largest departure Pose::from_matrix accepts.
+            let scale = 10f64.powf(rng.random_range(-16.0..-6.5));
+            let noisy = exact + Matrix3::from_fn(|_, _| rng.random_range(-1.0..1.0)) * scale;
+            if (noisy.transpose() * noisy - Matrix3::identity()).norm() > 1e-6 {
+                continue;
+            }
+            let ours = nearest_rotation(noisy);
+            let reference = Rotation3::from_matrix(&noisy).into_inner();
+            assert!((ours.transpose() * ours - Matrix3::identity()).norm() < 1e-15);
+            assert!((ours.determinant() - 1.0).abs() < 1e-15);
+            assert!((ours - reference).norm() < 1e-13, "{ours} vs {reference}");
+        }
     }
 
     #[test]

@@ -164,8 +164,10 @@ pub fn sort_out(
     let mut discarded = Vec::new();
     let mut closest: Option<(f64, Closest)> = None;
     for mut s in candidates {
-        let r = residual_with(robot, fitted, target, mask, &robot.fk(&s.q)?.pose)?;
+        let fk = robot.fk(&s.q)?;
+        let r = residual_with(robot, fitted, target, mask, &fk.pose)?;
         (s.position_error, s.orientation_error) = (r.position, r.orientation);
+        s.out_of_limits = fk.out_of_limits;
         if r.meets(&tol) {
             solutions.push(s);
             continue;
@@ -210,5 +212,35 @@ mod tests {
         assert!(free.position < 1e-15 && free.orientation < 1e-12, "{free:?}");
         let tol = Tolerance::default();
         assert!(free.meets(&tol) && !full.meets(&tol));
+    }
+
+    /// Unmeasured candidates (what the closed forms propose) leave the
+    /// contract with the residual and limit flags FK gives them.
+    #[test]
+    fn unmeasured_candidates_are_measured_and_flagged() {
+        let robot = Robot::builtin("puma560").unwrap();
+        let inside = robot.home().to_vec();
+        let mut outside = inside.clone();
+        outside[1] = robot.joints()[1].limits.max + 0.5;
+        let missing = {
+            let mut q = inside.clone();
+            q[0] += 0.1;
+            q
+        };
+        let target = IkTarget::Pose(robot.fk(&inside).unwrap().pose);
+        let target_out = IkTarget::Pose(robot.fk(&outside).unwrap().pose);
+        let tol = Tolerance::default();
+        let propose =
+            |q: &Vec<f64>| vec![Solution::unmeasured(q.clone(), "a"), Solution::unmeasured(missing.clone(), "b")];
+
+        let answer = sort_out(&robot, None, &target, None, tol, "test", propose(&inside)).unwrap();
+        assert_eq!(answer.solutions.len(), 1);
+        let s = &answer.solutions[0];
+        assert!(s.within_limits() && s.position_error < 1e-12 && s.orientation_error < 1e-12);
+        assert_eq!(answer.discarded.len(), 1);
+        assert!(answer.discarded[0].residual.orientation > 0.05);
+
+        let answer = sort_out(&robot, None, &target_out, None, tol, "test", propose(&outside)).unwrap();
+        assert_eq!(answer.solutions[0].out_of_limits.indices().collect::<Vec<_>>(), vec![1]);
     }
 }

@@ -112,6 +112,19 @@ impl Solution {
         })
     }
 
+    /// A candidate not yet measured: NaN residuals and no limit flags, until
+    /// [`contract::sort_out`] measures it by FK (see [`IkSolver::propose`]).
+    pub fn unmeasured(q: Vec<f64>, branch: impl Into<Cow<'static, str>>) -> Solution {
+        Solution {
+            q,
+            branch: branch.into(),
+            out_of_limits: JointSet::default(),
+            position_error: f64::NAN,
+            orientation_error: f64::NAN,
+            numeric: None,
+        }
+    }
+
     /// Whether every joint value is within its limits.
     pub fn within_limits(&self) -> bool {
         self.out_of_limits.is_empty()
@@ -268,6 +281,11 @@ impl CandidateSet {
     /// Candidate `i` as a [`Solution`], its residual measured by FK on `robot` against `target`.
     pub fn evaluate(&self, i: usize, robot: &Robot, target: &Pose) -> Result<Solution> {
         Solution::evaluate(robot, self.q(i).to_vec(), target, self.branch[i].clone())
+    }
+
+    /// Every candidate as a [`Solution::unmeasured`], in order.
+    pub fn unmeasured(&self) -> Vec<Solution> {
+        (0..self.len()).map(|i| Solution::unmeasured(self.q(i).to_vec(), self.branch[i].clone())).collect()
     }
 
     /// Index of the candidate within `robot`'s limits nearest to `q_prev`
@@ -475,6 +493,15 @@ pub trait IkSolver: Send + Sync {
             out.push(&s.q, s.branch);
         }
         Ok(())
+    }
+
+    /// What the request layer hands [`contract::sort_out`], which measures
+    /// every candidate by FK and sets its residual and limit flags: by
+    /// default [`IkSolver::solve`]'s solutions; solvers with a closed-form
+    /// kernel return its candidates [`Solution::unmeasured`], so that each is
+    /// measured once, by the contract.
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        self.solve(target)
     }
 
     /// Solutions within the joint limits; if there are none although the pose

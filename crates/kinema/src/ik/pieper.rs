@@ -804,6 +804,12 @@ impl IkSolver for PieperIk {
         (0..set.len()).map(|i| set.evaluate(i, &self.robot, target)).collect()
     }
 
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        let mut set = super::CandidateSet::new();
+        self.candidates_into(target, &mut set)?;
+        Ok(set.unmeasured())
+    }
+
     fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         check_target(target)?;
         out.clear();
@@ -828,7 +834,7 @@ impl IkSolver for PieperIk {
             let m = tmul(&r03, &r06);
             for (w, wl) in self.solve_wrist(&m) {
                 let thetas = [th[0], th[1], th[2], w[0], w[1], w[2]];
-                let q: Vec<f64> = thetas.iter().enumerate().map(|(i, t)| self.joint_value(i, *t)).collect();
+                let q: [f64; 6] = std::array::from_fn(|i| self.joint_value(i, thetas[i]));
                 if !q.iter().all(|v| v.is_finite()) {
                     continue;
                 }

@@ -127,8 +127,9 @@ impl IkRequest<'_> {
     }
 }
 
-/// Runs `request` on `target` and returns the solver's name and every
-/// solution it gave. Errors: q3/ψ for a robot that is not iiwa-type, or
+/// Runs `request` on the full pose `target` and returns the solver's name and
+/// every solution that meets it: [`solve_target`] for a pose, without the
+/// discarded candidates. Errors: q3/ψ for a robot that is not iiwa-type, or
 /// together with a task mask; [`SolverChoice::Analytic`] for a robot without
 /// an analytic solver; the solver's own errors ([`Error::Unreachable`], …).
 ///
@@ -145,7 +146,8 @@ impl IkRequest<'_> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Result<(&'static str, Vec<Solution>)> {
-    solve_request_with(robot, family::fit(robot).as_deref(), target, request)
+    let answer = solve_target(robot, &IkTarget::Pose(*target), request)?;
+    Ok((answer.solver, answer.solutions))
 }
 
 /// [`solve_request`] with the family already fitted to `robot`
@@ -225,7 +227,7 @@ fn solve_request_with(
                 robot.name()
             ),
         }),
-        (_, Some(f)) => Ok((f.name(), f.solve(target)?)),
+        (_, Some(f)) => Ok((f.name(), f.propose(target)?)),
         (_, None) => {
             let solver = NumericIk::with_options(robot, request.numeric_options())?;
             let solutions = match request.q0 {

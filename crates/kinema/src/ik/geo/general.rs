@@ -46,7 +46,7 @@ use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 use super::kin::{distance_to_line, parallel};
 use super::subproblems::{rot, rotate, sp1, sp5};
-use super::{candidates_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::{rot_to_axis_angle, Pose};
@@ -432,6 +432,10 @@ impl IkSolver for GeneralIk {
     /// Every solution the search finds (see the [module documentation](self)).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
+    }
+
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
     }
 
     fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {

@@ -180,6 +180,18 @@ fn solve_with<const M: usize>(
     c.evaluate(&common.robot, target)
 }
 
+/// The kernel's candidates unmeasured, for the contract ([`IkSolver::propose`]).
+fn propose_with<const M: usize>(
+    name: &'static str,
+    target: &Pose,
+    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
+) -> Result<Vec<Solution>> {
+    check_target(target)?;
+    let mut c = Candidates::<6, M>::default();
+    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
+    Ok(c.iter().map(|(q, b)| Solution::unmeasured(q.to_vec(), b)).collect())
+}
+
 fn candidates_with<const M: usize>(
     name: &'static str,
     target: &Pose,
@@ -264,6 +276,10 @@ impl IkSolver for GeoIk {
 
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         self.solver().solve(target)
+    }
+
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        self.solver().propose(target)
     }
 
     fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {

@@ -28,7 +28,7 @@ use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel, screw};
 use super::subproblems::{rot, rotate, sp1, sp3, sp4, Angles};
-use super::{candidates_with, label, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, label, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
@@ -206,6 +206,10 @@ impl IkSolver for ThreeParallelIk {
     /// All (up to 8) solutions, labelled as in the [module documentation](self).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
+    }
+
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
     }
 
     fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {

@@ -21,7 +21,7 @@ use nalgebra::Vector3;
 use super::kin::{distance_to_line, intersection, parallel, screw};
 use super::search::{find_zeros, LABELS};
 use super::subproblems::{rot, sp1, sp3, sp4};
-use super::{candidates_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
@@ -178,6 +178,10 @@ impl IkSolver for ThreeParallelSearchIk {
     /// Every solution the search finds (see the [module documentation](self)).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
+    }
+
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
     }
 
     fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {

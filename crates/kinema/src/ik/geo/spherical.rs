@@ -29,7 +29,7 @@ use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rot, rotate, sp1, sp2, sp3, sp4};
-use super::{candidates_with, label, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, label, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
@@ -262,6 +262,10 @@ impl IkSolver for SphericalWristIk {
     /// All (up to 8) solutions, labelled as in the [module documentation](self).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
         solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
+    }
+
+    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
+        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
     }
 
     fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
