@@ -101,10 +101,21 @@ struct Door {
     with_q0: bool,
     mask: bool,
     position: bool,
+    /// A self-motion parameter held at the source configuration's value
+    /// (`--q3`, `--psi`), with every solution there listed.
+    fixed: Option<&'static str>,
 }
 
-const DOORS: [Door; 7] = [
-    Door { name: "pose auto", solver: SolverChoice::Auto, all: false, with_q0: false, mask: false, position: false },
+const DOORS: [Door; 9] = [
+    Door {
+        name: "pose auto",
+        solver: SolverChoice::Auto,
+        all: false,
+        with_q0: false,
+        mask: false,
+        position: false,
+        fixed: None,
+    },
     Door {
         name: "pose auto --all",
         solver: SolverChoice::Auto,
@@ -112,6 +123,7 @@ const DOORS: [Door; 7] = [
         with_q0: false,
         mask: false,
         position: false,
+        fixed: None,
     },
     Door {
         name: "pose auto --q0",
@@ -120,6 +132,7 @@ const DOORS: [Door; 7] = [
         with_q0: true,
         mask: false,
         position: false,
+        fixed: None,
     },
     Door {
         name: "pose analytic --all",
@@ -128,6 +141,7 @@ const DOORS: [Door; 7] = [
         with_q0: false,
         mask: false,
         position: false,
+        fixed: None,
     },
     Door {
         name: "pose numeric",
@@ -136,9 +150,44 @@ const DOORS: [Door; 7] = [
         with_q0: false,
         mask: false,
         position: false,
+        fixed: None,
     },
-    Door { name: "pose --mask", solver: SolverChoice::Auto, all: false, with_q0: false, mask: true, position: false },
-    Door { name: "position", solver: SolverChoice::Auto, all: false, with_q0: false, mask: false, position: true },
+    Door {
+        name: "pose --mask",
+        solver: SolverChoice::Auto,
+        all: false,
+        with_q0: false,
+        mask: true,
+        position: false,
+        fixed: None,
+    },
+    Door {
+        name: "position",
+        solver: SolverChoice::Auto,
+        all: false,
+        with_q0: false,
+        mask: false,
+        position: true,
+        fixed: None,
+    },
+    Door {
+        name: "pose --q3 --all",
+        solver: SolverChoice::Auto,
+        all: true,
+        with_q0: false,
+        mask: false,
+        position: false,
+        fixed: Some("q3"),
+    },
+    Door {
+        name: "pose --psi --all",
+        solver: SolverChoice::Auto,
+        all: true,
+        with_q0: false,
+        mask: false,
+        position: false,
+        fixed: Some("psi"),
+    },
 ];
 
 #[test]
@@ -154,9 +203,14 @@ fn no_door_returns_a_wrong_solution() {
     for (name, robot) in robots {
         let name = name.as_str();
         let has_analytic = kinema::ik::analytic_solver(&robot).is_some();
+        let family = kinema::ik::family::fit(&robot);
+        let redundancy = family.as_deref().and_then(|f| f.redundancy());
         let mut rng = ChaCha8Rng::seed_from_u64(0x1c0 ^ name.len() as u64);
         for door in &DOORS {
             if door.solver == SolverChoice::Analytic && !has_analytic {
+                continue;
+            }
+            if door.fixed.is_some_and(|p| !redundancy.is_some_and(|r| r.parameters().contains(&p))) {
                 continue;
             }
             for kind in KINDS {
@@ -180,11 +234,16 @@ fn no_door_returns_a_wrong_solution() {
                         IkTarget::Pose(pose)
                     };
                     let q0 = if door.with_q0 { Some(q.as_slice()) } else { None };
+                    let held = |p: &str| {
+                        door.fixed.filter(|&f| f == p).map(|f| redundancy.expect("checked above").parameter_of(&q, f))
+                    };
                     let request = IkRequest {
                         solver: door.solver,
                         all: door.all,
                         q0,
                         mask: door.mask.then_some(mask),
+                        q3: held("q3"),
+                        psi: held("psi"),
                         ..Default::default()
                     };
                     c.asked += 1;
@@ -231,6 +290,21 @@ fn no_door_returns_a_wrong_solution() {
             c.asked, c.solved, c.wrong, c.refused, c.missing
         );
         wrong += c.wrong;
+    }
+    println!("\nSummed over robots and target kinds (refused: of the reachable and near-singular targets):");
+    println!("{:<20} {:>6} {:>6} {:>6} {:>8} {:>8}", "door", "asked", "solved", "wrong", "refused", "missing");
+    let mut by_door: BTreeMap<&str, (Count, usize)> = BTreeMap::new();
+    for ((_, door, kind), c) in &table {
+        let (sum, reachable) = by_door.entry(door).or_default();
+        (sum.asked, sum.solved, sum.wrong) = (sum.asked + c.asked, sum.solved + c.solved, sum.wrong + c.wrong);
+        (sum.refused, sum.missing) = (sum.refused + c.refused, sum.missing + c.missing);
+        if kind == "Reachable" || kind == "NearSingular" {
+            *reachable += c.asked;
+        }
+    }
+    for (door, (c, reachable)) in &by_door {
+        let refused = format!("{}/{reachable}", c.refused);
+        println!("{door:<20} {:>6} {:>6} {:>6} {refused:>8} {:>8}", c.asked, c.solved, c.wrong, c.missing);
     }
     assert_eq!(wrong, 0, "solutions returned that miss the request");
     // Reachable targets asked with the solver left to choose are never refused.
