@@ -1659,12 +1659,11 @@ impl<'a> Compiler<'a> {
             q
         } else {
             let typed = IkTarget::PositionAlpha { position: [target[0], target[1], target[2]], alpha: target[3] };
-            let solved = ik.solve_typed(&typed, Some(&self.q)).and_then(|sols| {
-                sols.into_iter().next().ok_or_else(|| kinema::Error::InvalidArgument {
-                    what: "target".into(),
-                    message: format!("the {} solver proposed no solution", ik.name()),
-                })
-            });
+            // The request every door makes, so the point is held to the contract and picked alike.
+            let request = ik::IkRequest { q0: Some(&self.q), ..Default::default() };
+            let robot = &self.robot_tool;
+            let solved = ik::solve_target_with(robot, Some(&*ik), &typed, &request)
+                .and_then(|answer| ik::pick_one(robot, answer.solver, answer.solutions, Some(&self.q)));
             match solved {
                 Ok(sol) => {
                     let mut q = sol.q;
