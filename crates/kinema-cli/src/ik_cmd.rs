@@ -52,10 +52,10 @@ pub struct IkArgs {
     /// SCARA: tool angle α = q2 + q3 + q5, with --position (the zone rule picks the rail).
     #[arg(long, allow_hyphen_values = true, requires = "position")]
     alpha: Option<f64>,
-    /// iiwa: solve with this fixed q3 (up to 8 closed-form solutions).
+    /// iiwa-type (SRS) arms: solve with this fixed q3 (up to 8 closed-form solutions).
     #[arg(long, allow_hyphen_values = true, conflicts_with = "psi")]
     q3: Option<f64>,
-    /// iiwa: solve at this arm angle ψ (one solution per global configuration).
+    /// iiwa-type (SRS) arms, any description: solve at this arm angle ψ (one solution per configuration).
     #[arg(long, allow_hyphen_values = true)]
     psi: Option<f64>,
     /// Task mask for --T/--pose: which of x,y,z,ωx,ωy,ωz (world frame) must be met, six 0/1 values

@@ -462,6 +462,37 @@ fn ik_batch_from_a_csv_file() {
     assert!(!output.exists());
 }
 
+/// `kinema ik --psi` on a URDF iiwa: the geometric solver's closed form at
+/// that arm angle; every solution has it and reaches the target.
+#[test]
+fn ik_at_an_arm_angle_on_a_urdf_iiwa() {
+    let path = data("iiwa14.urdf");
+    let robot = Robot::from_file(&path, None).unwrap();
+    let ik = kinema::ik::geo::SrsIk::new(&robot).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x5136);
+    let q = robot.random_q(&mut rng);
+    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
+    let t = t.join(",");
+    let psi = kinema::ik::wrap_angle(ik.psi_of(&q) + 0.3);
+    let psi_text = format!("{psi:.17}");
+    for all in [true, false] {
+        let mut args = vec!["ik", "--robot", &path, "--T", &t, "--psi", &psi_text, "--json"];
+        if all {
+            args.push("--all");
+        }
+        let v = json(&args);
+        assert_eq!(v["solver"], "geo-srs");
+        let sols = v["solutions"].as_array().unwrap();
+        assert_eq!(sols.len(), if all { 8 } else { 1 }, "{sols:?}");
+        for s in sols {
+            let got: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+            assert!(kinema::ik::wrap_angle(ik.psi_of(&got) - psi).abs() < 1e-9, "{s}");
+            assert!(s["position_error"].as_f64().unwrap() < 1e-9, "{s}");
+        }
+    }
+}
+
 #[test]
 fn ik_analytic_solvers_from_the_command_line() {
     // PUMA 560: Pieper solver, all 8 branches, each reaching the target.

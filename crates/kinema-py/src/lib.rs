@@ -1336,9 +1336,9 @@ impl PyRobot {
     /// with restarts seeded by ``seed``; not with typed targets, ``q3`` or
     /// ``psi``). ``q0``: previous configuration (array or pose name): the
     /// numeric solver starts there, and the solution nearest to it is
-    /// returned. iiwa-type arms and a full pose only: ``q3`` solves with that
-    /// fixed q3 (up to 8 solutions), ``psi`` at that arm angle (one solution
-    /// per global configuration).
+    /// returned. iiwa-type (SRS) arms, from any description, and a full pose
+    /// only: ``q3`` solves with that fixed q3 (up to 8 solutions), ``psi`` at
+    /// that arm angle (one solution per configuration).
     ///
     /// ``mask``: with a full pose ``T``, six booleans (or 0/1) saying which of
     /// x, y, z, ωx, ωy, ωz (world frame) a solution must meet, e.g.

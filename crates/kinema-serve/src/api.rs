@@ -266,7 +266,7 @@ impl App {
     }
 
     fn ik(&self, body: &[u8]) -> Result<Value> {
-        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3", "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet)"#;
+        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3" or "psi" (arm angle), "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet)"#;
         let req: IkReq = parse(body, "/api/ik", SHAPE)?;
         let r = self.robot(&req.robot)?;
         let target = req.target().pose(SHAPE)?;
@@ -281,13 +281,14 @@ impl App {
             other => return Err(bad(format!("/api/ik: solver `{other}` is not one of auto, analytic, numeric"))),
         };
         // Every solution (the viewer shows them all, `nearest` marks the one
-        // nearest q0); for the iiwa the closed form at the request's q3, else q0's.
+        // nearest q0); for an iiwa-type arm the closed form at the request's q3
+        // or ψ, else at q0's q3.
         let request = IkRequest {
             solver,
             q0: req.q0.as_deref(),
             all: true,
             q3: req.q3,
-            psi: None,
+            psi: req.psi,
             mask: req.mask,
             tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
@@ -297,7 +298,10 @@ impl App {
         let answer = solve_target(r, &target, &request)?;
         let (name, mut solutions) = (answer.solver, answer.solutions);
         let redundant = kinema::ik::family::fit(r).is_some_and(|f| f.redundancy().is_some());
-        let q3 = req.q3.or_else(|| req.q0.as_ref().and_then(|q| q.get(2).copied())).filter(|_| redundant);
+        let q3 = req
+            .q3
+            .or_else(|| req.q0.as_ref().and_then(|q| q.get(2).copied()))
+            .filter(|_| redundant && req.psi.is_none());
         // The one the CLI and Python return for the same question (one solution
         // wanted: an iiwa-type arm may search its self-motion), marked among the
         // listed ones, or added to them when the search moved q3.
@@ -317,6 +321,7 @@ impl App {
             "robot": r.name(),
             "solver": name,
             "q3": q3,
+            "psi": req.psi,
             "target": json::pose(&pose),
             "solutions": solutions.iter().map(json::solution).collect::<Vec<_>>(),
             "nearest": nearest,
@@ -535,6 +540,7 @@ struct IkReq {
     rpy: Option<[f64; 3]>,
     rpy_convention: Option<String>,
     q3: Option<f64>,
+    psi: Option<f64>,
     q0: Option<Vec<f64>>,
     solver: Option<String>,
     seed: Option<u64>,

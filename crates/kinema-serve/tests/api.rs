@@ -176,6 +176,42 @@ fn ik_reaches_the_target_and_recovers_q_with_its_q3() {
     assert_eq!(a.json["solutions"].as_array().unwrap().len(), lib.len());
 }
 
+/// A server for the URDF iiwa (the geometric solver): `/api/ik` solves at
+/// an arm angle, each solution having it; `/api/traj` holds the start's ψ.
+#[test]
+fn arm_angle_on_a_urdf_iiwa() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../kinema/tests/data/iiwa14.urdf");
+    let robot = Robot::from_file(path, None).unwrap();
+    let ik = kinema::ik::geo::SrsIk::new(&robot).unwrap();
+    let server = Server::bind("127.0.0.1:0", Some(robot.clone())).expect("binds a free port").spawn();
+    let addr = server.local_addr();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x5137);
+    let q = robot.random_q(&mut rng);
+    let target = robot.fk(&q).unwrap().pose;
+    let psi = kinema::ik::wrap_angle(ik.psi_of(&q) - 0.4);
+    let a = post(addr, "/api/ik", &json!({"T": target.to_rows(), "psi": psi}));
+    assert_eq!(a.status, 200, "{}", a.json);
+    assert_eq!((&a.json["solver"], &a.json["psi"], &a.json["q3"]), (&json!("geo-srs"), &json!(psi), &Value::Null));
+    let sols = a.json["solutions"].as_array().unwrap();
+    assert_eq!(sols.len(), 8);
+    for s in sols {
+        let sq = floats(&s["q"]);
+        assert!(kinema::ik::wrap_angle(ik.psi_of(&sq) - psi).abs() < 1e-9, "{s}");
+        assert!(s["position_error"].as_f64().unwrap() < 1e-9, "{s}");
+    }
+    let from = [0.3, 1.0, 0.4, -0.8, 0.2, 0.9, 0.1];
+    let p = robot.fk(&from).unwrap().pose;
+    let goal = [p.pos.x + 0.05, p.pos.y + 0.1, p.pos.z - 0.1];
+    let body = json!({"kind": "lin", "from": from, "position": goal, "rpy": p.rpy(kinema::RpyConvention::Zyx),
+        "vmax": 0.2, "amax": 1.0, "psi": "hold"});
+    let a = post(addr, "/api/traj", &body);
+    assert_eq!(a.status, 200, "{}", a.json);
+    let psi0 = ik.psi_of(&from);
+    let drift =
+        rows(&a.json["q"]).iter().map(|q| kinema::ik::wrap_angle(ik.psi_of(q) - psi0).abs()).fold(0.0, f64::max);
+    assert!(drift < 1e-9, "ψ drifted by {drift}");
+}
+
 #[test]
 fn ik_unreachable_and_other_robots() {
     let server = start();

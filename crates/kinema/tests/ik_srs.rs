@@ -247,6 +247,19 @@ fn singular_configurations_give_finite_solutions() {
         assert!(sols.iter().all(reaches), "{q:?}: {sols:?}");
         let sols = ik.solve_searching(&target, q[2]).unwrap();
         assert!(sols.iter().all(|s| s.within_limits() && reaches(s)), "{q:?}: {sols:?}");
+        let psi = ik.psi_of(&q);
+        assert!(psi.is_finite(), "{q:?}");
+        for at in [psi, psi + 1.0, -2.5] {
+            let sols = ik.solve_psi(&target, at).unwrap_or_else(|e| panic!("{q:?} at ψ {at}: {e}"));
+            assert_eq!(sols.len(), 8, "{q:?}");
+            assert!(sols.iter().all(reaches), "{q:?} at ψ {at}: {sols:?}");
+            assert!(sols.iter().all(|s| ik.psi_of(&s.q).is_finite()), "{q:?} at ψ {at}: {sols:?}");
+        }
+        if q[1].sin().abs() > 1e-6 {
+            // Off the shoulder singularity, ψ of every solution is the ψ asked for.
+            let sols = ik.solve_psi(&target, psi + 1.0).unwrap();
+            assert!(sols.iter().all(|s| angle_gap(ik.psi_of(&s.q), psi + 1.0) < TOL), "{q:?}: {sols:?}");
+        }
     }
 }
 
@@ -273,10 +286,44 @@ fn unreachable_and_malformed_targets() {
         other => panic!("{other:?}"),
     }
     common::random_poses_never_panic_or_return_nan(&ik);
+    assert!(matches!(
+        ik.solve_psi(&far, 0.3),
+        Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })
+    ));
+    assert!(matches!(ik.solve_psi(&straight, f64::NAN), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve_psi(&bad, 0.0), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve_psi(&huge, 0.0), Err(Error::Unreachable { .. })));
+    assert!(ik.psi_of(&[0.1, f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]).is_nan() && ik.psi_of(&[0.1; 6]).is_nan());
 }
 
-/// The request layer: q3 on a URDF iiwa is this solver's closed form; with
-/// q0, all solutions at q0's q3; one solution is searched within limits.
+/// Random finite poses at random arm angles, on the URDF iiwa and on
+/// random SRS arms: never a panic or a NaN; every solution reaches the
+/// target; anything else is `Unreachable`.
+#[test]
+fn random_poses_at_random_arm_angles_never_panic_or_return_nan() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5133);
+    let mut robots = vec![data("iiwa14.urdf")];
+    robots.extend((0..5).map(|_| random_srs(&mut rng)));
+    let mut solved = 0;
+    for robot in &robots {
+        let ik = SrsIk::new(robot).unwrap();
+        for _ in 0..1000 {
+            let target = random_pose(&mut rng);
+            match ik.solve_psi(&target, rng.random_range(-4.0..4.0)) {
+                Ok(sols) => {
+                    solved += 1;
+                    assert!(sols.iter().all(|s| s.q.iter().all(|v| v.is_finite()) && s.position_error < TOL));
+                }
+                Err(Error::Unreachable { .. }) => {}
+                Err(e) => panic!("{e}"),
+            }
+        }
+    }
+    assert!(solved > 500, "{solved}");
+}
+
+/// The request layer: q3 or ψ on a URDF iiwa is this solver's closed form;
+/// with q0, all solutions at q0's q3; one solution is searched within limits.
 #[test]
 fn requests_on_a_urdf_iiwa_use_the_geometric_closed_form() {
     let robot = data("iiwa14.urdf");
@@ -287,6 +334,10 @@ fn requests_on_a_urdf_iiwa_use_the_geometric_closed_form() {
         let pose = robot.fk(&q).unwrap().pose;
         let (name, sols) = solve_request(&robot, &pose, &IkRequest { q3: Some(q[2]), ..Default::default() }).unwrap();
         assert_eq!((name, &sols), ("geo-srs", &ik.solve_q3(&pose, q[2]).unwrap()));
+        let psi = ik.psi_of(&q);
+        let (name, sols) = solve_request(&robot, &pose, &IkRequest { psi: Some(psi), ..Default::default() }).unwrap();
+        assert_eq!((name, &sols), ("geo-srs", &ik.solve_psi(&pose, psi).unwrap()));
+        assert!(sols.iter().any(|s| same_angles(&s.q, &q, 1e-7)));
         let all = IkRequest { q0: Some(&q), all: true, ..Default::default() };
         let (_, sols) = solve_request(&robot, &pose, &all).unwrap();
         assert!(sols.iter().any(|s| same_angles(&s.q, &q, 1e-7)));
@@ -297,4 +348,217 @@ fn requests_on_a_urdf_iiwa_use_the_geometric_closed_form() {
         let (_, sols) = solve_request(&robot, &pose, &IkRequest::default()).unwrap();
         assert!(!sols.is_empty() && sols.iter().all(|s| s.within_limits() && reaches(s)));
     }
+}
+
+/// The largest |ψ₁ − ψ₂| modulo 2π.
+fn angle_gap(a: f64, b: f64) -> f64 {
+    kinema::ik::wrap_angle(a - b).abs()
+}
+
+/// The DH iiwa rewritten as `general` joints from its axes at q = 0: the
+/// same motion, read without a DH table; the axes listed in `reversed`
+/// point the other way (those joints turn with the opposite sign).
+fn general_copy_of_dh_iiwa(reversed: &[usize]) -> Robot {
+    let dh = dh_iiwa();
+    let kin = kinema::ik::geo::Kinematics::new(&dh).unwrap();
+    let (mut h, p): (Vec<V3>, Vec<V3>) = (kin.h.clone(), kin.p.clone());
+    for &i in reversed {
+        h[i] = -h[i];
+    }
+    let tool = Pose::translation(-p[6].x, -p[6].y, -p[6].z) * kin.tool;
+    common::robot_from_axes("iiwa-general", &h, &p, Pose::default(), tool)
+}
+
+/// What the ψ round trips measured.
+#[derive(Debug, Default)]
+struct PsiStats {
+    cases: usize,
+    /// Random ψ the shoulder cannot take (none on the iiwa).
+    refused: usize,
+    /// Sources not among the solutions at their own ψ, next to a singularity.
+    singular_misses: usize,
+    max_psi_error: f64,
+    max_recovery_error: f64,
+}
+
+/// `cases` configurations q of `robot`: at a random ψ every solution
+/// reaches the target and has that ψ; at ψ(q), q is among the solutions
+/// (except next to a singularity: |sin q2|, |sin q4| or |sin q6| below 1e-4,
+/// counted).
+fn psi_round_trips(robot: &Robot, cases: usize, seed: u64) -> PsiStats {
+    let ik = SrsIk::new(robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut st = PsiStats { cases, ..Default::default() };
+    for _ in 0..cases {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let psi = rng.random_range(-PI..PI);
+        match ik.solve_psi(&target, psi) {
+            Ok(sols) => {
+                assert!(!sols.is_empty() && sols.len() <= 8);
+                for s in &sols {
+                    assert!(reaches(s), "{} {q:?} at ψ {psi}: {s:?}", robot.name());
+                    st.max_psi_error = st.max_psi_error.max(angle_gap(ik.psi_of(&s.q), psi));
+                }
+            }
+            Err(Error::Unreachable { reason: Unreachable::Orientation { .. }, .. }) => st.refused += 1,
+            Err(e) => panic!("{} {q:?} at ψ {psi}: {e}", robot.name()),
+        }
+        let own = ik.psi_of(&q);
+        let sols = ik.solve_psi(&target, own).unwrap_or_else(|e| panic!("{} {q:?} at its ψ {own}: {e}", robot.name()));
+        assert!(sols.iter().all(reaches), "{} {q:?}: {sols:?}", robot.name());
+        let nearest = sols
+            .iter()
+            .map(|s| s.q.iter().zip(&q).fold(0.0f64, |m, (a, b)| m.max(angle_gap(*a, *b))))
+            .fold(f64::INFINITY, f64::min);
+        if nearest < 1e-7 {
+            st.max_recovery_error = st.max_recovery_error.max(nearest);
+        } else {
+            let near = [1, 3, 5].iter().any(|&i| q[i].sin().abs() < 1e-4);
+            assert!(near, "{} {q:?} not recovered at its ψ {own}: {sols:?}", robot.name());
+            st.singular_misses += 1;
+        }
+    }
+    st
+}
+
+#[test]
+fn urdf_iiwa_round_trips_through_the_arm_angle() {
+    let st = psi_round_trips(&data("iiwa14.urdf"), 3000, 0x5130);
+    eprintln!("iiwa14.urdf ψ round trips: {st:?}");
+    assert_eq!(st.refused, 0, "every ψ is reachable on the iiwa");
+    assert!(st.max_psi_error < TOL && st.max_recovery_error < 1e-8, "{st:?}");
+    assert!(st.singular_misses <= 5, "{st:?}");
+}
+
+#[test]
+fn random_srs_arms_round_trip_through_the_arm_angle() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5131);
+    let mut total = PsiStats::default();
+    for k in 0..20 {
+        let robot = random_srs(&mut rng);
+        let st = psi_round_trips(&robot, 200, 0x5300 + k);
+        total.cases += st.cases;
+        total.refused += st.refused;
+        total.singular_misses += st.singular_misses;
+        total.max_psi_error = total.max_psi_error.max(st.max_psi_error);
+        total.max_recovery_error = total.max_recovery_error.max(st.max_recovery_error);
+    }
+    eprintln!("random SRS arms, ψ round trips: {total:?}");
+    assert!(total.max_psi_error < TOL && total.max_recovery_error < 1e-8, "{total:?}");
+    assert!(total.singular_misses <= 5, "{total:?}");
+    // Most random ψ are reachable even with skewed shoulder axes.
+    assert!(total.refused < total.cases / 2, "{total:?}");
+}
+
+/// On the DH iiwa, its `general` copy and the URDF (same axes, a base and a
+/// tool), ψ read from the geometry is `IiwaIk`'s ψ, and at a given ψ the
+/// solutions are `IiwaIk`'s eight configurations.
+#[test]
+fn the_arm_angle_is_the_dh_iiwa_solvers() {
+    let standard = dh_iiwa();
+    let base = Pose::new(Pose::rot_z(PI / 6.0).rot, Vector3::new(0.1, -0.2, 0.05));
+    let mounted = standard.clone().with_base(base).unwrap().with_tool(Pose::translation(0.0, 0.0, 0.045)).unwrap();
+    let pairs = [
+        (standard.clone(), standard.clone()),
+        (general_copy_of_dh_iiwa(&[]), standard),
+        (data("iiwa14.urdf"), mounted),
+    ];
+    for (k, (robot, reference)) in pairs.into_iter().enumerate() {
+        let (geo, dh) = (SrsIk::new(&robot).unwrap(), IiwaIk::new(&reference).unwrap());
+        let mut rng = ChaCha8Rng::seed_from_u64(0x5132 + k as u64);
+        let (mut max_psi, mut max_q, mut differ) = (0.0f64, 0.0f64, 0);
+        for _ in 0..2000 {
+            let q = robot.random_q(&mut rng);
+            let target = robot.fk(&q).unwrap().pose;
+            assert!(((target.pos - reference.fk(&q).unwrap().pose.pos).norm()) < 1e-12);
+            max_psi = max_psi.max(angle_gap(geo.psi_of(&q), dh.psi_of(&q)));
+            let psi = if rng.random_bool(0.5) { dh.psi_of(&q) } else { rng.random_range(-PI..PI) };
+            let ours = geo.solve_psi(&target, psi).unwrap();
+            let theirs: Vec<Solution> = (0u8..8).map(|c| dh.solve_psi(&target, psi, c).unwrap()).collect();
+            let gap = |s: &Solution, set: &[Solution]| {
+                set.iter()
+                    .map(|t| s.q.iter().zip(&t.q).fold(0.0f64, |m, (a, b)| m.max(angle_gap(*a, *b))))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let worst =
+                ours.iter().map(|s| gap(s, &theirs)).chain(theirs.iter().map(|t| gap(t, &ours))).fold(0.0, f64::max);
+            if worst < 1e-8 {
+                max_q = max_q.max(worst);
+            } else {
+                differ += 1;
+                assert!([1, 3, 5].iter().any(|&i| q[i].sin().abs() < 1e-4), "{q:?} at ψ {psi}: {ours:?} vs {theirs:?}");
+            }
+        }
+        eprintln!(
+            "{}: 2000 cases, max |Δψ| {max_psi:.2e}, max |Δq| {max_q:.2e}, {differ} near-singular differ",
+            robot.name()
+        );
+        assert!(max_psi < TOL, "{}: {max_psi}", robot.name());
+        assert!(differ <= 5, "{differ}");
+    }
+}
+
+/// Describing axis 1 or axis 2 reversed moves ψ's zero by π; reversing both,
+/// or any other axis, changes nothing.
+#[test]
+fn reversing_axis_1_or_2_moves_the_zero_of_the_arm_angle_by_pi() {
+    let dh = IiwaIk::new(&dh_iiwa()).unwrap();
+    let cases: [(&[usize], f64); 5] = [(&[0], PI), (&[1], PI), (&[0, 1], 0.0), (&[2, 3], 0.0), (&[1, 6], PI)];
+    for (reversed, shift) in cases {
+        let robot = general_copy_of_dh_iiwa(reversed);
+        let geo = SrsIk::new(&robot).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(0x5134);
+        let mut max_gap = 0.0f64;
+        for _ in 0..1000 {
+            let q = dh_iiwa().random_q(&mut rng);
+            let mut flipped = q.clone();
+            for &i in reversed {
+                flipped[i] = -q[i];
+            }
+            let (a, b) = (robot.fk(&flipped).unwrap().pose, dh_iiwa().fk(&q).unwrap().pose);
+            assert!((a.pos - b.pos).norm() < 1e-12 && (a.rot - b.rot).norm() < 1e-12);
+            max_gap = max_gap.max(angle_gap(geo.psi_of(&flipped), dh.psi_of(&q) + shift));
+        }
+        assert!(max_gap < TOL, "{reversed:?}: {max_gap}");
+    }
+}
+
+/// Sweeping ψ over a turn in small steps, each branch label follows one
+/// continuous branch: its next solution is nearer its own previous one than
+/// any other label's (joints move fast only next to a singularity, where
+/// the largest step is measured).
+#[test]
+fn branch_labels_follow_their_branch_along_the_arm_angle() {
+    let robot = data("iiwa14.urdf");
+    let ik = SrsIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5139);
+    let steps = 720;
+    let gap = |a: &Solution, b: &Solution| a.q.iter().zip(&b.q).fold(0.0f64, |m, (x, y)| m.max(angle_gap(*x, *y)));
+    let (mut swaps, mut largest) = (0, 0.0f64);
+    for _ in 0..50 {
+        let q = robot.random_q(&mut rng);
+        let target = robot.fk(&q).unwrap().pose;
+        let at = |k: usize| ik.solve_psi(&target, -PI + 2.0 * PI * k as f64 / steps as f64).unwrap();
+        let mut prev = at(0);
+        for k in 1..=steps {
+            let next = at(k);
+            assert_eq!(prev.len(), next.len());
+            for (i, b) in next.iter().enumerate() {
+                assert_eq!(prev[i].branch, b.branch);
+                let own = gap(&prev[i], b);
+                largest = largest.max(own);
+                let other = prev
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, _)| *j != i)
+                    .map(|(_, a)| gap(a, b))
+                    .fold(f64::INFINITY, f64::min);
+                swaps += usize::from(other < own);
+            }
+            prev = next;
+        }
+    }
+    eprintln!("{swaps} label swaps in 50 × {steps} ψ steps × 8 branches; largest step of one label {largest:.3} rad");
+    assert_eq!(swaps, 0);
 }

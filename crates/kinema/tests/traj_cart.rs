@@ -258,6 +258,41 @@ fn seed_rpy_lin_spins_past_the_wrist_and_zyx_angles_run_by_default() {
     }
 }
 
+/// On a URDF iiwa (the geometric solver, no DH table) a held ψ holds along
+/// a seeded LIN, each sample on the path; q3 moves meanwhile.
+#[test]
+fn a_held_arm_angle_holds_on_a_urdf_iiwa() {
+    let robot = Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None).unwrap();
+    let ik = kinema::ik::geo::SrsIk::new(&robot).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5135);
+    let q0: Vec<f64> = [0.3, 0.7, -0.4, -1.3, 0.4, 0.9, 0.1].iter().map(|v| v + rng.random_range(-0.1..0.1)).collect();
+    let a = robot.fk(&q0).unwrap().pose;
+    let shift = Vector3::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1));
+    let b = Pose::new(a.rot, a.pos + shift);
+    let m = CartesianMotion::new(
+        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap();
+    let psi0 = ik.psi_of(&q0);
+    for value in [Some(psi0), None] {
+        let by_psi = SelfMotion::Fixed { parameter: "psi".into(), value };
+        let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(by_psi)).unwrap();
+        let worst = (0..traj.len()).map(|k| (ik.psi_of(traj.q(k)) - psi0).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-9, "ψ drifted by {worst}");
+        assert_on_path(&robot, &m, &traj);
+        let q3_moved = (0..traj.len()).map(|k| (traj.q(k)[2] - q0[2]).abs()).fold(0.0, f64::max);
+        assert!(q3_moved > 1e-4, "q3 moved only {q3_moved}");
+        let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+        assert!(report.violations.is_empty(), "{}", report.violations[0]);
+    }
+    let other = SelfMotion::Fixed { parameter: "psi".into(), value: Some(psi0 + 0.5) };
+    let e = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(other)).unwrap_err().to_string();
+    assert!(e.contains("psi ="), "{e}");
+}
+
 /// A fixed q3 or ψ holds along the whole path; a start configuration with
 /// another value is refused, naming both.
 #[test]

@@ -102,7 +102,7 @@ pub struct IkRequest<'a> {
     pub all: bool,
     /// iiwa-type (SRS) arms: the closed form at this q3 \[rad\] (up to 8 solutions).
     pub q3: Option<f64>,
-    /// iiwa: the arm angle ψ \[rad\] (one solution per global configuration).
+    /// iiwa-type (SRS) arms: the arm angle ψ \[rad\] (one solution per configuration).
     pub psi: Option<f64>,
     /// Which components \[x y z ωx ωy ωz\] (world frame) of a full pose a
     /// solution must meet; `None`: all six. With a mask the numeric solver is

@@ -20,6 +20,29 @@
 //! Up to 8 solutions for each q₃; the self-motion is q₃ itself, searched
 //! within the limits by [`SrsIk::solve_searching`].
 //!
+//! **Arm angle ψ** ([`SrsIk::solve_psi`], [`SrsIk::psi_of`]): the other
+//! parameter of the self-motion, with `IiwaIk`'s meaning (Shimizu et al.
+//! 2008), read from the axes. Every configuration reaching W turns the
+//! upper arm by a shoulder rotation R = R₁R₂R₃ with R·x₀ = W − s, where
+//! x₀ = E₄(w) − s depends on q₄ alone; these rotations form the circle
+//! R = Rot(d̂, ψ)·R° about the shoulder→wrist direction d̂. The reference R°
+//! maps x₀ to W − s and the part of h₂ normal to x₀ onto the normal h₁ × d
+//! of the plane through axis 1 and W. So ψ is the angle by which the elbow
+//! point e — the point of axis 4 nearest s: fixed on the upper arm whatever
+//! q₄, never s itself, and on the iiwa the elbow where axes 3 and 4 meet —
+//! has turned about the shoulder→wrist line from its reference position, as
+//! has everything else on the upper arm. On the iiwa, whose arm with
+//! q₁ = q₂ = q₃ = 0 lies in a plane normal to axis 2, R° is the arm with
+//! q₃ = 0, the same elbow angle and axis 2 along h₁ × d (the shoulder facing
+//! W), and the plane (s, e, W) is turned by ψ from the plane through axis 1
+//! and W: `IiwaIk`'s ψ exactly, also from a URDF or `general` description.
+//! Measuring the whole upper arm rather than e keeps ψ defined with the
+//! elbow stretched (e on the line from s to W). Its sense never depends on
+//! the description; describing exactly one of axes 1 and 2 reversed (the
+//! joint turning the other way) moves its zero by π. Where the shoulder axes
+//! are not mutually perpendicular, joints 1–3 cannot take every ψ (an
+//! [`Unreachable::Orientation`] error).
+//!
 //! **Singular cases** (conventions, never NaN): at the wrist singularity
 //! (M·h₇ ∥ h₅ within 1e-12: axes 5 and 7 aligned) only a combination of q₅
 //! and q₇ is determined: *wrist-1* takes q₅ = 0 and *wrist-2* q₅ = π (moved
@@ -27,18 +50,22 @@
 //! shoulder singularity (W − s on axis 1) q₁ = 0, and where W − s lies on
 //! axis 2's direction q₂ = 0 (subproblem 1's convention for a point on the
 //! axis). Coinciding branches (a stretched or folded elbow, a target on a
-//! boundary) are all returned, so the branch count stays fixed.
+//! boundary) are all returned, so the branch count stays fixed. For ψ: with
+//! W on axis 1 (within 1e-12 m) the plane through axis 1 and W is undefined
+//! and h₂ takes the place of its normal (`IiwaIk`'s q₁ = 0; ψ jumps there,
+//! the arm-angle method's own singularity); when h₂ ∥ x₀ (never on the
+//! iiwa) any normal of x₀ is used.
 
 use std::f64::consts::{PI, TAU};
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::kin::{distance_to_line, intersection, parallel};
-use super::subproblems::{rot, rotate, sp1, sp2, sp3};
+use super::subproblems::{rot, rotate, sp1, sp2, sp3, Angles};
 use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
 use crate::error::{Error, Result};
 use crate::ik::iiwa::golden_max;
-use crate::ik::{check_target, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
 use crate::model::Robot;
 
@@ -49,6 +76,9 @@ const NAME: &str = "geo-srs";
 
 /// Below this |h₅ × M·h₇| the wrist is treated as singular.
 const WRIST_SING_TOL: f64 = 1e-12;
+/// Below this distance \[m\] of the wrist centre from axis 1 the arm angle's
+/// reference plane takes axis 2 at q₁ = 0 as its normal (as `IiwaIk` does).
+const SHOULDER_AXIS_TOL: f64 = 1e-12;
 
 /// Samples of q₃ over its range in [`SrsIk::solve_searching`].
 pub const SEARCH_SAMPLES: usize = 128;
@@ -84,6 +114,8 @@ pub struct SrsIk {
     s: V3,
     /// The wrist centre at q = 0 (axes 5, 6, 7 meet) \[m\].
     w: V3,
+    /// A unit vector ⊥ h₃, for q₃ in the arm-angle form.
+    u3: V3,
     /// A unit vector ⊥ h₇, for q₇.
     u7: V3,
     /// h₆ × h₇ when h₅ ∥ h₇ and h₆ ⊥ h₇ at q = 0 (the iiwa's wrist), for
@@ -115,12 +147,10 @@ impl SrsIk {
                     .into(),
             );
         }
-        let h7 = common.h(6);
-        let seed = if h7.x.abs() < 0.9 { V3::x() } else { V3::y() };
-        let u7 = (seed - h7 * h7.dot(&seed)).normalize();
-        let (h5, h6) = (common.h(4), common.h(5));
+        let (u3, u7) = (perpendicular(&common.h(2)), perpendicular(&common.h(6)));
+        let (h5, h6, h7) = (common.h(4), common.h(5), common.h(6));
         let aligned = (parallel(&h5, &h7, GEOM_TOL) && h6.dot(&h7).abs() <= GEOM_TOL).then(|| h6.cross(&h7));
-        Ok(SrsIk { common, s, w, u7, aligned })
+        Ok(SrsIk { common, s, w, u3, u7, aligned })
     }
 
     /// The robot this solver was built for.
@@ -177,22 +207,18 @@ impl SrsIk {
     /// The kernel: every candidate for a checked target and finite q₃.
     fn kernel(&self, target: &Pose, q3: f64, out: &mut Candidates<7, 8>) -> std::result::Result<(), Unreachable> {
         let c = &self.common;
-        let (h, p) = (|i| c.h(i), |i| c.p(i));
+        let h = |i| c.h(i);
         let g = c.motion(target);
         let wt = g.transform_point(&self.w);
         if let Some(u) = too_far(&wt) {
             return Err(u);
         }
         let d = wt - self.s;
-        let elbows = sp3(&h(3), &(self.w - p(3)), &(self.s - p(3)), d.norm());
-        if !elbows.exact {
-            let boundary = "spherical shell around the shoulder point that the elbow lets the wrist centre reach";
-            return Err(Unreachable::OutsideReach { by: elbows.miss, boundary: boundary.into() });
-        }
+        let elbows = self.elbows(&d)?;
         let r3 = rot(&h(2), q3);
         let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
         for (ei, &q4) in elbows.as_slice().iter().enumerate() {
-            let x = r3 * (p(3) + rotate(&h(3), q4, &(self.w - p(3))) - self.s);
+            let x = r3 * self.upper_wrist(q4);
             let (a1, a2) = sp2(&h(0), &d, &h(1), &x);
             if !a1.exact {
                 arm_miss = arm_miss.min(a1.miss);
@@ -219,6 +245,167 @@ impl SrsIk {
             let region = format!("cones around axis 1 that the wrist centre cannot enter with joint 3 at {q3:.6} rad");
             Unreachable::InsideExcluded { by: arm_miss, region }
         })
+    }
+
+    /// Both elbow angles q₄ that put the wrist centre at distance |`d`|
+    /// from the shoulder point, or how far outside that shell it lies.
+    fn elbows(&self, d: &V3) -> std::result::Result<Angles, Unreachable> {
+        let (h4, p4) = (self.common.h(3), self.common.p(3));
+        let elbows = sp3(&h4, &(self.w - p4), &(self.s - p4), d.norm());
+        if !elbows.exact {
+            let boundary = "spherical shell around the shoulder point that the elbow lets the wrist centre reach";
+            return Err(Unreachable::OutsideReach { by: elbows.miss, boundary: boundary.into() });
+        }
+        Ok(elbows)
+    }
+
+    /// x₀ = E₄(q₄)(w) − s: the wrist centre relative to the shoulder point
+    /// with joints 1–3 at zero and joint 4 at `q4` \[m\].
+    fn upper_wrist(&self, q4: f64) -> V3 {
+        let (h4, p4) = (self.common.h(3), self.common.p(3));
+        p4 + rotate(&h4, q4, &(self.w - p4)) - self.s
+    }
+
+    /// The upper arm's frame with joints 1–3 at zero: x₀ and the part of
+    /// axis 2 normal to it (the normal of the arm's plane on the iiwa).
+    fn arm_frame(&self, x0: &V3) -> Matrix3<f64> {
+        frame(&unit_or(x0, &self.common.h(0)), &self.common.h(1))
+    }
+
+    /// The arm angle's reference frame for the wrist centre at `d` from the
+    /// shoulder point: d̂ and the normal h₁ × d of the plane through axis 1
+    /// and the wrist centre (axis 2 at q₁ = 0 when the wrist centre is on
+    /// axis 1, where that plane is undefined).
+    fn reference_frame(&self, d: &V3) -> Matrix3<f64> {
+        let (h1, h2) = (self.common.h(0), self.common.h(1));
+        let normal = h1.cross(d);
+        let normal = if normal.norm() < SHOULDER_AXIS_TOL { h2 } else { normal };
+        frame(&unit_or(d, &h1), &normal)
+    }
+
+    /// All (up to 8) solutions for the target pose `target`
+    /// (`base_from_tool`) at the arm angle `psi` \[rad\] (see the [module
+    /// documentation](self)), labelled `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`
+    /// as [`SrsIk::solve_q3`]'s; solutions outside the limits are included
+    /// and flagged. Each label keeps its branch as ψ varies, away from the
+    /// singularities.
+    ///
+    /// Errors: a non-finite `psi` or target ([`Error::InvalidArgument`]); a
+    /// wrist centre outside the shell the elbow reaches
+    /// ([`Unreachable::OutsideReach`]); an arm angle joints 1–3 cannot turn
+    /// the upper arm to, or an orientation the wrist cannot take
+    /// ([`Unreachable::Orientation`]). On the iiwa, whose shoulder axes are
+    /// perpendicular, every ψ is reachable.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::geo::SrsIk;
+    /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
+    /// let ik = SrsIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let psi = ik.psi_of(&q);
+    /// let sols = ik.solve_psi(&robot.fk(&q)?.pose, psi)?;
+    /// assert_eq!(sols.len(), 8);
+    /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && (ik.psi_of(&s.q) - psi).abs() < 1e-9));
+    /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn solve_psi(&self, target: &Pose, psi: f64) -> Result<Vec<Solution>> {
+        self.solve_psi_candidates(target, psi)?.evaluate(self.robot(), target)
+    }
+
+    /// The closed form of [`SrsIk::solve_psi`] alone: joint vectors and
+    /// branch labels without the FK check, without allocating. Same errors.
+    pub fn solve_psi_candidates(&self, target: &Pose, psi: f64) -> Result<Candidates<7, 8>> {
+        if !psi.is_finite() {
+            return Err(Error::InvalidArgument { what: "psi".into(), message: format!("{psi} is not a finite angle") });
+        }
+        check_target(target)?;
+        let mut out = Candidates::default();
+        self.psi_kernel(target, psi, &mut out).map_err(|reason| Error::Unreachable {
+            solver: NAME.into(),
+            reason,
+            closest: None,
+        })?;
+        Ok(out)
+    }
+
+    /// The arm-angle kernel: for each elbow, the shoulder rotation
+    /// Rot(d̂, ψ)·R° split into q₁, q₂ (subproblem 2 on axis 3) and q₃
+    /// (subproblem 1), then the wrist as in the fixed-q₃ kernel.
+    fn psi_kernel(&self, target: &Pose, psi: f64, out: &mut Candidates<7, 8>) -> std::result::Result<(), Unreachable> {
+        let h = |i| self.common.h(i);
+        let g = self.common.motion(target);
+        let wt = g.transform_point(&self.w);
+        if let Some(u) = too_far(&wt) {
+            return Err(u);
+        }
+        let d = wt - self.s;
+        let elbows = self.elbows(&d)?;
+        let reference = self.reference_frame(&d);
+        let turned = rot(&reference.column(0).into_owned(), psi) * reference;
+        let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
+        for (ei, &q4) in elbows.as_slice().iter().enumerate() {
+            let shoulder = turned * self.arm_frame(&self.upper_wrist(q4)).transpose();
+            // rot(h₁, q₁)·rot(h₂, q₂)·h₃ = R·h₃, since joint 3 keeps its own axis.
+            let (a1, a2) = sp2(&h(0), &(shoulder * h(2)), &h(1), &h(2));
+            if !a1.exact {
+                arm_miss = arm_miss.min(a1.miss);
+                continue;
+            }
+            for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
+                let r12 = rot(&h(0), -t1) * rot(&h(1), q2);
+                let q3 = sp1(&h(2), &self.u3, &(r12.transpose() * shoulder * self.u3)).first();
+                let r14 = r12 * rot(&h(2), q3) * rot(&h(3), q4);
+                if let Err(miss) = self.wrist(&(r14.transpose() * g.rot), [-t1, q2, q3, q4], (si, ei), out) {
+                    wrist_miss = wrist_miss.min(miss);
+                }
+            }
+        }
+        if !out.is_empty() {
+            return Ok(());
+        }
+        // Both misses are chords between unit vectors; as angles:
+        let angle = |chord: f64| 2.0 * (0.5 * chord).min(1.0).asin();
+        Err(if wrist_miss.is_finite() {
+            Unreachable::Orientation {
+                angle: angle(wrist_miss),
+                detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
+            }
+        } else {
+            Unreachable::Orientation {
+                angle: angle(arm_miss),
+                detail: format!("joints 1–3 cannot turn the upper arm to the arm angle ψ = {psi:.6} rad"),
+            }
+        })
+    }
+
+    /// The arm angle ψ \[rad\] in (−π, π] of a configuration `q`, the
+    /// inverse of [`SrsIk::solve_psi`]; NaN if `q` does not have 7 finite
+    /// values. It depends on q₁…q₄ only.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::ik::geo::SrsIk;
+    /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
+    /// let ik = SrsIk::new(&robot)?;
+    /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    /// let psi = ik.psi_of(&q);
+    /// assert!(psi.abs() <= std::f64::consts::PI);
+    /// assert!(ik.psi_of(&[0.0; 3]).is_nan());
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn psi_of(&self, q: &[f64]) -> f64 {
+        if self.robot().check_q(q).is_err() {
+            return f64::NAN;
+        }
+        let h = |i| self.common.h(i);
+        let shoulder = rot(&h(0), q[0]) * rot(&h(1), q[1]) * rot(&h(2), q[2]);
+        let x0 = self.upper_wrist(q[3]);
+        let reference = self.reference_frame(&(shoulder * x0));
+        let carried = shoulder * self.arm_frame(&x0).column(1);
+        let (d, normal) = (reference.column(0), reference.column(1));
+        wrap_angle(d.dot(&normal.cross(&carried)).atan2(normal.dot(&carried)))
     }
 
     /// The wrist joints for M = R₅R₆R₇ after the arm joints `arm`, pushed as
@@ -424,6 +611,31 @@ fn meeting_point(c: &Common, first: usize, what: &str) -> Result<V3> {
     Ok(x)
 }
 
+/// The unit vector along `v`, or `fallback` when `v` is (numerically) zero.
+fn unit_or(v: &V3, fallback: &V3) -> V3 {
+    let n = v.norm();
+    if n > 1e-300 {
+        v / n
+    } else {
+        *fallback
+    }
+}
+
+/// A unit vector ⊥ the unit vector `k`.
+fn perpendicular(k: &V3) -> V3 {
+    let seed = if k.x.abs() < 0.9 { V3::x() } else { V3::y() };
+    (seed - k * k.dot(&seed)).normalize()
+}
+
+/// The right-handed orthonormal frame \[x̂, ŷ, x̂ × ŷ\] with x̂ the unit
+/// vector `x` and ŷ along the part of `y` normal to it (any unit vector ⊥ x̂
+/// when `y` ∥ x̂).
+fn frame(x: &V3, y: &V3) -> Matrix3<f64> {
+    let y = y - x * x.dot(y);
+    let y = if y.norm() > GEOM_TOL { y.normalize() } else { perpendicular(x) };
+    Matrix3::from_columns(&[*x, y, x.cross(&y)])
+}
+
 impl IkSolver for SrsIk {
     fn name(&self) -> &'static str {
         NAME
@@ -446,18 +658,48 @@ impl crate::ik::family::Family for SrsIk {
     }
 }
 
-/// Joint 3 parametrises the self-motion (no arm angle for a non-DH description).
+/// The self-motion as joint 3 (`q3`, the first parameter, which the
+/// searches and the steered paths vary) or as the arm angle (`psi`).
 impl crate::ik::family::Redundancy for SrsIk {
     fn parameters(&self) -> &'static [&'static str] {
-        &["q3"]
+        &["q3", "psi"]
     }
 
-    fn solve_at(&self, target: &Pose, _parameter: &str, value: f64) -> Result<Vec<Solution>> {
-        self.solve_q3(target, value)
+    /// Up to 8 solutions at `q3` or at `psi`.
+    fn solve_at(&self, target: &Pose, parameter: &str, value: f64) -> Result<Vec<Solution>> {
+        match parameter {
+            "psi" => self.solve_psi(target, value),
+            _ => self.solve_q3(target, value),
+        }
     }
 
     fn value_of(&self, q: &[f64]) -> f64 {
         q.get(2).copied().unwrap_or(f64::NAN)
+    }
+
+    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+        match parameter {
+            "q3" => self.value_of(q),
+            "psi" => self.psi_of(q),
+            _ => f64::NAN,
+        }
+    }
+
+    /// The closed form's candidates without the FK check (a path checks the one it takes).
+    fn continue_at(
+        &self,
+        target: &Pose,
+        parameter: &str,
+        value: f64,
+        _prev: &[f64],
+        out: &mut CandidateSet,
+    ) -> Result<()> {
+        let candidates = match parameter {
+            "psi" => self.solve_psi_candidates(target, value)?,
+            _ => self.solve_q3_candidates(target, value)?,
+        };
+        candidates.write_into(out);
+        Ok(())
     }
 
     fn solve_near(&self, target: &Pose, q0: &[f64]) -> Result<Vec<Solution>> {
