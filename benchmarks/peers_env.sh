@@ -6,6 +6,9 @@
 #   build_kinema                   # maturin build --release --locked, as crates/kinema-py/ci.sh; install
 #
 # Cargo output goes to $KINEMA_PY_TARGET_DIR (default crates/kinema-py/target, as ci.sh).
+# KINEMA_WHEELS=DIR: install the kinema wheel already built in DIR (crates/kinema-py/ci.sh passes
+# its own) instead of building one. KINEMA_PEERS_IF_ONLINE=1: if PyPI (pip's configured index)
+# cannot be reached, print a SKIP line and exit 0 from the sourcing script instead of failing.
 # Needs Rust (cargo), a C compiler, Python >= 3.9 with venv ($PYTHON, default python3); the
 # peers' wheels exist for CPython 3.9-3.13 on x86_64/aarch64 Linux and macOS.
 
@@ -58,12 +61,33 @@ CONSTRAINTS
 echo "== venv in $tmp with $("$python" --version 2>&1)"
 "$python" -m venv "$tmp/venv"
 py="$tmp/venv/bin/python"
-pipi() { "$py" -m pip install --quiet --disable-pip-version-check -c "$tmp/constraints.txt" "$@"; }
-pipi "numpy==$NUMPY_VERSION" "maturin==$MATURIN_VERSION"
+# --no-compile: no .pyc for the thousands of files of scipy, matplotlib and the peers (imports
+# compile what they use); saves a few seconds of a busy CPU
+pipi() { "$py" -m pip install --quiet --disable-pip-version-check --no-compile -c "$tmp/constraints.txt" "$@"; }
+if [ "${KINEMA_PEERS_IF_ONLINE:-0}" = 1 ]; then
+  # The index page of one pinned peer, uncached: answers in about a second when PyPI is there.
+  if ! "$py" -m pip index versions pin --no-cache-dir --timeout 15 --retries 1 --disable-pip-version-check \
+    >/dev/null 2>"$tmp/probe.err"; then
+    echo "SKIP: PyPI cannot be reached, so the peers cannot be installed: kinema is NOT checked against them"
+    grep -v '^WARNING: pip index is currently an experimental' "$tmp/probe.err" | tail -n 3 | sed 's/^/    /'
+    exit 0
+  fi
+fi
+if [ -n "${KINEMA_WHEELS:-}" ]; then
+  pipi "numpy==$NUMPY_VERSION"
+else
+  pipi "numpy==$NUMPY_VERSION" "maturin==$MATURIN_VERSION"
+fi
 
 build_kinema() {
-  echo "== maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
-  "$tmp/venv/bin/maturin" build --release --locked --quiet \
-    --manifest-path "$repo/crates/kinema-py/Cargo.toml" --interpreter "$py" --out "$tmp/wheels"
-  "$py" -m pip install --quiet --disable-pip-version-check --no-index --find-links "$tmp/wheels" kinema
+  local wheels="$tmp/wheels"
+  if [ -n "${KINEMA_WHEELS:-}" ]; then
+    wheels="$KINEMA_WHEELS"
+    echo "== kinema: the wheel already built in $wheels (KINEMA_WHEELS)"
+  else
+    echo "== maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
+    "$tmp/venv/bin/maturin" build --release --locked --quiet \
+      --manifest-path "$repo/crates/kinema-py/Cargo.toml" --interpreter "$py" --out "$wheels"
+  fi
+  "$py" -m pip install --quiet --disable-pip-version-check --no-index --find-links "$wheels" kinema
 }
