@@ -412,12 +412,19 @@ pub struct SelfMotionArgs {
     json: bool,
 }
 
-/// `kinema selfmotion`: the iiwa's self-motion through `--q` (seed 004 §V-D, Fig. 7).
+/// `kinema selfmotion`: the self-motion through `--q` of an arm with an arm
+/// angle (seed 004 §V-D, Fig. 7), from any description of it.
 pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    let s = kinema::ik::iiwa::IiwaIk::new(&robot)?;
+    let family = kinema::ik::family::fit(&robot);
+    let Some(redundancy) = family.as_deref().and_then(|f| f.redundancy()) else {
+        bail!(
+            "robot `{}` has no self-motion with a closed form (an arm of the iiwa's structure has one)",
+            robot.name()
+        );
+    };
     let q = robot.parse_q(&a.q, a.deg)?;
-    let samples = s.self_motion(&q, a.steps)?;
+    let samples = kinema::ik::family::self_motion(&robot, redundancy, &q, a.steps)?;
     if a.json {
         let list: Vec<Value> = samples
             .iter()

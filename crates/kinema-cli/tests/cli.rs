@@ -584,6 +584,19 @@ fn ik_validate_and_selfmotion() {
     }
     let e = fails(&["selfmotion", "--robot", "puma560", "--q", "home"]);
     assert!(e.contains("puma560"), "{e}");
+    // The same self-motion from the URDF: the tool pose held, ψ a full turn.
+    let urdf = Robot::from_file(data("iiwa14.urdf"), None).unwrap();
+    let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
+    let want = urdf.fk(&q).unwrap().pose;
+    let q_arg = q.map(|x| x.to_string()).join(",");
+    let v = json(&["selfmotion", "--robot", &data("iiwa14.urdf"), "--q", &q_arg, "--steps", "12", "--json"]);
+    let samples = v["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 12);
+    for s in samples {
+        let q: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        let p = urdf.fk(&q).unwrap().pose;
+        assert!((p.pos - want.pos).norm() < 1e-9 && (p.rot - want.rot).norm() < 1e-9);
+    }
 }
 
 #[test]

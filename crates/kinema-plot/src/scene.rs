@@ -3,7 +3,6 @@
 //! (Fig. 7).
 
 use kinema::analysis::{ellipsoid, Axes, Ellipsoid};
-use kinema::ik::IiwaIk;
 use kinema::nalgebra::{Matrix3, Vector3};
 use kinema::traj::JointTrajectory;
 use kinema::{Frame, Pose, Robot};
@@ -328,13 +327,19 @@ pub struct SelfMotionView {
 
 impl SelfMotionView {
     /// The self-motion through `q` with `steps` samples of ψ (at least 8).
-    /// Errors: a robot that is not iiwa-shaped, a wrong joint count, too few steps.
+    /// Errors: a robot without an arm angle (any description of an iiwa-type arm has one), a wrong joint count, too few steps.
     pub fn new(robot: &Robot, q: &[f64], steps: usize) -> Result<Self> {
         if steps < 8 {
             return Err(Error::Invalid { what: format!("{steps} steps"), message: "at least 8 are needed".into() });
         }
-        let ik = IiwaIk::new(robot)?;
-        let samples = ik.self_motion(q, steps)?;
+        let family = kinema::ik::family::fit(robot);
+        let Some(redundancy) = family.as_deref().and_then(|f| f.redundancy()) else {
+            return Err(Error::Invalid {
+                what: format!("robot `{}`", robot.name()),
+                message: "has no self-motion with a closed form (an arm of the iiwa's structure has one)".into(),
+            });
+        };
+        let samples = kinema::ik::family::self_motion(robot, redundancy, q, steps)?;
         let mut scene = Scene::new("");
         for k in 1..8 {
             let s = &samples[k * steps / 8];

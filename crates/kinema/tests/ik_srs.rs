@@ -562,3 +562,43 @@ fn branch_labels_follow_their_branch_along_the_arm_angle() {
     eprintln!("{swaps} label swaps in 50 × {steps} ψ steps × 8 branches; largest step of one label {largest:.3} rad");
     assert_eq!(swaps, 0);
 }
+
+/// `family::self_motion` (any family with ψ) gives the DH iiwa's own
+/// self-motion (`IiwaIk::self_motion`, seed 004 Fig. 7), and on the URDF
+/// iiwa keeps the tool pose while the elbow turns about the shoulder–wrist line.
+#[test]
+fn the_generic_self_motion_is_the_iiwas_and_works_from_urdf() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5e1f);
+    let dh = dh_iiwa();
+    let iiwa = IiwaIk::new(&dh).unwrap();
+    let dh_family = kinema::ik::family::fit(&dh).unwrap();
+    let urdf = data("iiwa14.urdf");
+    let urdf_family = kinema::ik::family::fit(&urdf).unwrap();
+    let mut worst = (0.0f64, 0.0f64);
+    for _ in 0..200 {
+        let q = dh.random_q(&mut rng);
+        let ours = kinema::ik::family::self_motion(&dh, dh_family.redundancy().unwrap(), &q, 24).unwrap();
+        let theirs = iiwa.self_motion(&q, 24).unwrap();
+        for (a, b) in ours.iter().zip(&theirs) {
+            worst.0 = worst.0.max((a.psi - b.psi).abs()).max((a.elbow - b.elbow).norm());
+            worst.1 = worst.1.max(a.q.iter().zip(&b.q).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max));
+            assert_eq!(a.within_limits, b.within_limits);
+        }
+        let q = urdf.random_q(&mut rng);
+        let pose = urdf.fk(&q).unwrap().pose;
+        let samples = kinema::ik::family::self_motion(&urdf, urdf_family.redundancy().unwrap(), &q, 24).unwrap();
+        assert!(samples[0].q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-8));
+        // Equal steps of ψ put the elbows equally spaced on one circle: its
+        // centre is their centroid.
+        let centre = samples.iter().map(|m| m.elbow).sum::<Vector3<f64>>() / samples.len() as f64;
+        let radius = (samples[0].elbow - centre).norm();
+        for m in &samples {
+            let reached = urdf.fk(&m.q).unwrap().pose;
+            assert!((reached.pos - pose.pos).norm() < 1e-9 && (reached.rot - pose.rot).norm() < 1e-9);
+            assert!(((m.elbow - centre).norm() - radius).abs() < 1e-9);
+        }
+    }
+    assert!(worst.0 < 1e-9 && worst.1 < 1e-8, "generic vs IiwaIk self-motion: {worst:?}");
+    let family = urdf_family.redundancy().unwrap();
+    assert!(kinema::ik::family::self_motion(&urdf, family, urdf.home(), 0).is_err());
+}

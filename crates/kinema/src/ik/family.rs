@@ -14,6 +14,7 @@ use super::{geo, iiwa, pieper, rommel, scara, scorbot, CandidateSet, IkSolver, S
 use crate::error::Result;
 use crate::math::Pose;
 use crate::model::Robot;
+use nalgebra::Vector3;
 
 /// The kinds of typed target (a tool point plus the components a family's
 /// arm controls), as [`IkTarget`] has them.
@@ -265,6 +266,72 @@ pub fn choose_on_grid(robot: &Robot, family: &dyn Redundancy, target: &Pose, cho
     }
     let (q, branch) = found.swap_remove(best.2);
     Solution::evaluate(robot, q, target, branch)
+}
+
+/// One sample of the self-motion (seed 004 §V-D, Fig. 7).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SelfMotionSample {
+    /// Arm angle ψ \[rad\] of the sample.
+    pub psi: f64,
+    /// q3 of the sample \[rad\] (the paper's self-motion parameter).
+    pub q3: f64,
+    /// Joint values \[rad\]; on the same branch as the input.
+    pub q: Vec<f64>,
+    /// Elbow position (origin of link frame 3 — DH frame 3 for a DH table — on the axis of joint 4) in the
+    /// robot's base (world) coordinates \[m\].
+    pub elbow: Vector3<f64>,
+    /// Whether every joint is within its limits.
+    pub within_limits: bool,
+}
+
+/// The self-motion through `q` (seed 004 §V-D, Fig. 7) of an arm whose
+/// family has an arm angle ψ: `steps` samples of ψ, equally spaced over a
+/// full turn from ψ of `q`, each the closed-form solution on `q`'s branch
+/// (the label of the solution at ψ of `q` that is `q`; labels are constant
+/// along ψ), with the elbow — the origin of link frame 3, on the elbow's
+/// axis — in world coordinates. The same for a DH table, TOML `general`
+/// joints or a URDF. Errors: no arm angle, `steps` = 0, a `q` the closed
+/// form does not reproduce.
+pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usize) -> Result<Vec<SelfMotionSample>> {
+    let invalid = |what: &str, message: String| crate::Error::InvalidArgument { what: what.into(), message };
+    if steps == 0 {
+        return Err(invalid("steps", "at least one sample is needed".into()));
+    }
+    if !family.parameters().contains(&"psi") {
+        return Err(invalid(
+            "robot",
+            format!(
+                "robot `{}` has no arm angle ψ to turn (its self-motion parameters: {})",
+                robot.name(),
+                family.parameters().join(", ")
+            ),
+        ));
+    }
+    if robot.dof() < 4 {
+        return Err(invalid("robot", format!("robot `{}` has no elbow frame", robot.name())));
+    }
+    let target = robot.fk(q)?.pose;
+    let psi0 = family.parameter_of(q, "psi");
+    let start = family.solve_at(&target, "psi", psi0)?;
+    let branch = start
+        .iter()
+        .map(|s| (super::joint_distance(robot, &s.q, q), s))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .filter(|(d, _)| *d < 1e-6)
+        .map(|(_, s)| s.branch.clone())
+        .ok_or_else(|| invalid("q", format!("the closed form at ψ = {psi0:.6} rad does not reproduce q")))?;
+    (0..steps)
+        .map(|k| {
+            let psi = super::wrap_angle(psi0 + std::f64::consts::TAU * k as f64 / steps as f64);
+            let s = family
+                .solve_at(&target, "psi", psi)?
+                .into_iter()
+                .find(|s| s.branch == branch)
+                .ok_or_else(|| invalid("psi", format!("branch {branch} has no solution at ψ = {psi:.6} rad")))?;
+            let elbow = robot.link_frames(&s.q)?[3].pos;
+            Ok(SelfMotionSample { psi, q3: s.q[2], within_limits: s.within_limits(), elbow, q: s.q })
+        })
+        .collect()
 }
 
 /// One family in the registry.

@@ -121,21 +121,7 @@ pub const RECOVERED_TOLERANCE: f64 = 1e-9;
 /// (seed 004 §V-C) is a fair demand.
 pub const WELL_CONDITIONED_LIMIT: f64 = 1e-13;
 
-/// One sample of the self-motion (seed 004 §V-D, Fig. 7).
-#[derive(Debug, Clone, PartialEq)]
-pub struct SelfMotionSample {
-    /// Arm angle ψ \[rad\] of the sample.
-    pub psi: f64,
-    /// q3 of the sample \[rad\] (the paper's self-motion parameter).
-    pub q3: f64,
-    /// Joint values \[rad\]; same configuration bits as the input.
-    pub q: Vec<f64>,
-    /// Elbow position (origin of DH frame 3, on the axis of joint 4) in the
-    /// robot's base (world) coordinates \[m\].
-    pub elbow: Vector3<f64>,
-    /// Whether every joint is within its limits.
-    pub within_limits: bool,
-}
+pub use super::family::SelfMotionSample;
 
 /// One case of [`IiwaIk::validation_cases`].
 #[derive(Debug, Clone, PartialEq)]
