@@ -330,9 +330,9 @@ mod avx2 {
     /// AVX2 lanes with fused multiply-adds.
     ///
     /// Invariant: an `A4` exists only on a CPU with AVX2 and FMA. Outside
-    /// this module the type cannot be named; in it, `A4`s are made only in
-    /// the kernels that the `*_avx2` functions above run, which only
-    /// [`Avx2Fma`]'s methods call (and in the tests of this module, inside
+    /// `lanes` the type cannot be named; `A4`s are made only in the kernels
+    /// that the `*_avx2` functions above run, which only [`Avx2Fma`]'s
+    /// methods call (and in the tests of `lanes`, inside
     /// [`Avx2Fma::run_closure`]). Every `unsafe` block below relies on the
     /// invariant; the intrinsics touch no memory but the arrays passed by
     /// reference. The private helpers after the `impl` are called only from
