@@ -97,6 +97,7 @@ mod cold {
         // SAFETY: as in `ticks`.
         let (t0, c0) = (Instant::now(), unsafe { _rdtsc() });
         while t0.elapsed() < Duration::from_millis(100) {}
+        // SAFETY: as above.
         let (ns, c1) = (t0.elapsed().as_nanos(), unsafe { _rdtsc() });
         (c1.wrapping_sub(c0)) as f64 / ns as f64
     }

@@ -24,7 +24,7 @@ use std::mem::MaybeUninit;
 use nalgebra::{Matrix3, Vector3};
 
 #[cfg(target_arch = "x86_64")]
-use crate::lanes::A4;
+use crate::lanes::Avx2Fma;
 use crate::lanes::{Lanes, MASK_FALSE, MASK_TRUE, P4};
 use crate::math::{Pose, SIN_COS_RANGE};
 use crate::model::{DhConvention, Joint, JointType, LinkGeometry};
@@ -505,9 +505,8 @@ impl Chain {
     #[inline(always)]
     pub(crate) fn fk(&self, q: &[f64]) -> (Pose, Scanned) {
         #[cfg(target_arch = "x86_64")]
-        if has_avx2_fma() {
-            // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| unsafe { fk_avx2::<S, N>(self, q) }));
+        if let Some(avx) = Avx2Fma::detect() {
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| avx.fk::<S, N>(self, q)));
         }
         by_shape!(self.shape, |S| fk_core::<P4, S, 0>(self, q))
     }
@@ -518,11 +517,8 @@ impl Chain {
     #[inline(always)]
     pub(crate) fn fk_rows(&self, q: &[f64], out: &mut [MaybeUninit<f64>; 16]) -> Scanned {
         #[cfg(target_arch = "x86_64")]
-        if has_avx2_fma() {
-            // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| unsafe {
-                fk_rows_avx2::<S, N>(self, q, out)
-            }));
+        if let Some(avx) = Avx2Fma::detect() {
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| avx.fk_rows::<S, N>(self, q, out)));
         }
         by_shape!(self.shape, |S| fk_rows_core::<P4, S, 0>(self, q, out))
     }
@@ -530,11 +526,8 @@ impl Chain {
     /// Link frames `out[1..=n]` and the tool frame `out[n + 1]`; `out` has n + 2 entries.
     pub(crate) fn link_frames(&self, q: &[f64], out: &mut [Pose]) {
         #[cfg(target_arch = "x86_64")]
-        if has_avx2_fma() {
-            // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| unsafe {
-                link_frames_avx2::<S, N>(self, q, out)
-            }));
+        if let Some(avx) = Avx2Fma::detect() {
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, _CAP| avx.link_frames::<S, N>(self, q, out)));
         }
         by_shape!(self.shape, |S| link_frames_core::<P4, S, 0>(self, q, out))
     }
@@ -554,17 +547,12 @@ impl Chain {
         pose: Option<&mut Pose>,
     ) -> Scanned {
         #[cfg(target_arch = "x86_64")]
-        if has_avx2_fma() {
-            // SAFETY: the CPU supports AVX2 and FMA (checked just above).
-            return by_shape!(self.shape, |S| by_length!(self.n, |N, CAP| unsafe {
-                match (layout, tool_frame) {
-                    (Layout::ColumnMajor, false) => {
-                        jacobian_avx2::<COLUMN_MAJOR, false, S, N, CAP>(self, q, data, pose)
-                    }
-                    (Layout::ColumnMajor, true) => jacobian_avx2::<COLUMN_MAJOR, true, S, N, CAP>(self, q, data, pose),
-                    (Layout::RowMajor, false) => jacobian_avx2::<ROW_MAJOR, false, S, N, CAP>(self, q, data, pose),
-                    (Layout::RowMajor, true) => jacobian_avx2::<ROW_MAJOR, true, S, N, CAP>(self, q, data, pose),
-                }
+        if let Some(avx) = Avx2Fma::detect() {
+            return by_shape!(self.shape, |S| by_length!(self.n, |N, CAP| match (layout, tool_frame) {
+                (Layout::ColumnMajor, false) => avx.jacobian::<COLUMN_MAJOR, false, S, N, CAP>(self, q, data, pose),
+                (Layout::ColumnMajor, true) => avx.jacobian::<COLUMN_MAJOR, true, S, N, CAP>(self, q, data, pose),
+                (Layout::RowMajor, false) => avx.jacobian::<ROW_MAJOR, false, S, N, CAP>(self, q, data, pose),
+                (Layout::RowMajor, true) => avx.jacobian::<ROW_MAJOR, true, S, N, CAP>(self, q, data, pose),
             }));
         }
         self.jacobian_portable(q, tool_frame, layout, data, pose)
@@ -747,10 +735,18 @@ fn dot3<V: Lanes>(v: [V; 3], axis: &[f64; 4]) -> V {
     v[0].madd(V::splat(axis[0]), v[1].madd(V::splat(axis[1]), v[2].mul(V::splat(axis[2]))))
 }
 
-/// `data` as write-only memory (sound: only initialised f64 are ever
-/// written through the view, so `data` stays initialised).
-pub(crate) fn as_uninit(data: &mut [f64]) -> &mut [MaybeUninit<f64>] {
-    // SAFETY: `MaybeUninit<f64>` has the layout of `f64`; see above.
+/// `data` as memory to write the kernels' results into, which take
+/// `MaybeUninit` so that they can also write into memory never initialised
+/// (a fresh NumPy array).
+///
+/// # Safety
+/// Only initialised values may be written through the view while it lives
+/// (no `MaybeUninit::uninit()`): `data` is `f64` again afterwards, and
+/// reading an uninitialised `f64` is undefined behaviour. The kernels of
+/// this module write only computed `f64` values.
+pub(crate) unsafe fn as_uninit(data: &mut [f64]) -> &mut [MaybeUninit<f64>] {
+    // SAFETY: `MaybeUninit<f64>` has the layout of `f64`, and the caller
+    // keeps the elements initialised (above).
     unsafe { std::slice::from_raw_parts_mut(data.as_mut_ptr().cast(), data.len()) }
 }
 
@@ -780,7 +776,7 @@ fn out_of_kernel_range(th: &[f64; 8], s: &mut [f64; 8], c: &mut [f64; 8]) {
 }
 
 #[inline(always)]
-fn fk_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
+pub(crate) fn fk_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
     let (t, scanned) = ch.walk::<V, S, N>(q, |_, _| {}, |_, _| {});
     (t.pose(), scanned)
 }
@@ -789,7 +785,7 @@ fn fk_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pos
 /// transpose of the columns (x, y, z, p) is the three upper rows (lane 3 of
 /// every column is zero), and the last row is (0, 0, 0, 1).
 #[inline(always)]
-fn fk_rows_core<V: Lanes, const S: u8, const N: usize>(
+pub(crate) fn fk_rows_core<V: Lanes, const S: u8, const N: usize>(
     ch: &Chain,
     q: &[f64],
     out: &mut [MaybeUninit<f64>; 16],
@@ -807,7 +803,7 @@ fn fk_rows_core<V: Lanes, const S: u8, const N: usize>(
 }
 
 #[inline(always)]
-fn link_frames_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
+pub(crate) fn link_frames_core<V: Lanes, const S: u8, const N: usize>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
     let n = ch.n;
     let (t, _) = ch.walk::<V, S, N>(
         q,
@@ -836,7 +832,14 @@ const ROW_MAJOR: bool = true;
 /// The Jacobian for the walk `N` (see [`Chain::walk`]), with room for `CAP`
 /// joints' axes: [`MAX_PADDED`] for the padded walk, [`BLOCK`] for an exact one.
 #[inline(always)]
-fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool, const S: u8, const N: usize, const CAP: usize>(
+pub(crate) fn jacobian_core<
+    V: Lanes,
+    const ROWS: bool,
+    const TOOL: bool,
+    const S: u8,
+    const N: usize,
+    const CAP: usize,
+>(
     ch: &Chain,
     q: &[f64],
     data: &mut [MaybeUninit<f64>],
@@ -956,44 +959,6 @@ fn jacobian_core<V: Lanes, const ROWS: bool, const TOOL: bool, const S: u8, cons
         }
     }
     scanned
-}
-
-#[cfg(target_arch = "x86_64")]
-fn has_avx2_fma() -> bool {
-    std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn fk_avx2<const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
-    fk_core::<A4, S, N>(ch, q)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn fk_rows_avx2<const S: u8, const N: usize>(
-    ch: &Chain,
-    q: &[f64],
-    out: &mut [MaybeUninit<f64>; 16],
-) -> Scanned {
-    fk_rows_core::<A4, S, N>(ch, q, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn link_frames_avx2<const S: u8, const N: usize>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
-    link_frames_core::<A4, S, N>(ch, q, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn jacobian_avx2<const ROWS: bool, const TOOL: bool, const S: u8, const N: usize, const CAP: usize>(
-    ch: &Chain,
-    q: &[f64],
-    data: &mut [MaybeUninit<f64>],
-    pose: Option<&mut Pose>,
-) -> Scanned {
-    jacobian_core::<A4, ROWS, TOOL, S, N, CAP>(ch, q, data, pose)
 }
 
 /// `a·b + c`, plain on the portable path, fused where the CPU has FMA.
@@ -1149,8 +1114,10 @@ mod tests {
             assert!((p1.pos - p2.pos).norm() < tol && (p1.rot - p2.rot).norm() < tol, "{what}");
             for tool in [false, true] {
                 for layout in [Layout::ColumnMajor, Layout::RowMajor] {
-                    chain.jacobian(q, tool, layout, super::as_uninit(&mut a), None);
-                    chain.jacobian_portable(q, tool, layout, super::as_uninit(&mut b), None);
+                    // SAFETY: both write only computed values.
+                    chain.jacobian(q, tool, layout, unsafe { super::as_uninit(&mut a) }, None);
+                    // SAFETY: as above.
+                    chain.jacobian_portable(q, tool, layout, unsafe { super::as_uninit(&mut b) }, None);
                     let diff = a.iter().zip(&b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
                     assert!(diff < tol, "{what} {layout:?}: {diff}");
                 }

@@ -94,7 +94,8 @@ impl Robot {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn fk_matrix_into(&self, q: &[f64], out: &mut [f64]) -> Result<JointSet> {
-        self.fk_matrix_into_uninit(q, as_uninit(out))
+        // SAFETY: `fk_matrix_into_uninit` writes only computed values into `out`.
+        self.fk_matrix_into_uninit(q, unsafe { as_uninit(out) })
     }
 
     /// As [`Robot::fk_matrix_into`], into memory that need not be
@@ -191,8 +192,9 @@ impl Robot {
         }
         // Column-major 6 × n storage: column i is data[6i..6i+6].
         let mut pose = Pose::IDENTITY;
-        let out_of_limits =
-            self.jacobian_in(q, frame, Layout::ColumnMajor, as_uninit(out.as_mut_slice()), Some(&mut pose))?;
+        // SAFETY: `jacobian_in` writes only computed values into the matrix.
+        let data = unsafe { as_uninit(out.as_mut_slice()) };
+        let out_of_limits = self.jacobian_in(q, frame, Layout::ColumnMajor, data, Some(&mut pose))?;
         Ok(Fk { pose, out_of_limits })
     }
 
@@ -213,7 +215,8 @@ impl Robot {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn jacobian_rows_into(&self, q: &[f64], frame: Frame, out: &mut [f64]) -> Result<JointSet> {
-        self.jacobian_rows_into_uninit(q, frame, as_uninit(out))
+        // SAFETY: `jacobian_rows_into_uninit` writes only computed values into `out`.
+        self.jacobian_rows_into_uninit(q, frame, unsafe { as_uninit(out) })
     }
 
     /// As [`Robot::jacobian_rows_into`], into memory that need not be

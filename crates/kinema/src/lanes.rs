@@ -2,11 +2,17 @@
 //! four joint angles at once.
 //!
 //! [`Lanes`] has two implementations. [`P4`] is a plain array with separate
-//! multiplies and adds; it runs everywhere. On x86-64, [`A4`] is one AVX2
-//! register with fused multiply-adds; it is only used inside functions
-//! compiled with `avx2,fma` enabled, which `chain` calls after checking the
-//! CPU at run time. The loops are written once, generic over `Lanes`, and
-//! instantiated for both.
+//! multiplies and adds; it runs everywhere. On x86-64, `A4` is one AVX2
+//! register with fused multiply-adds. The loops of `chain` are written once,
+//! generic over `Lanes`; `chain` runs them on `P4` itself, and on `A4`
+//! through the methods of [`Avx2Fma`], which run them in functions compiled
+//! with `avx2,fma` enabled.
+//!
+//! `A4` executes AVX2 and FMA instructions from safe methods, so it must
+//! never exist on a CPU without them. It is private to this module, and the
+//! only code that makes one is reached through an [`Avx2Fma`]: a token that
+//! only [`Avx2Fma::detect`] makes, after the CPU was found to have both
+//! features. The `unsafe` blocks of `A4` rely on that.
 //!
 //! The lanes are written out explicitly rather than left to the
 //! autovectoriser: with plain `[f64; 4]` code LLVM split frame columns into a
@@ -204,7 +210,9 @@ impl Lanes for P4 {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub(crate) use avx2::A4;
+pub(crate) use avx2::Avx2Fma;
+#[cfg(all(test, target_arch = "x86_64"))]
+use avx2::A4;
 
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
@@ -212,18 +220,125 @@ mod avx2 {
     use std::mem::MaybeUninit;
 
     use super::Lanes;
-    use crate::chain::Fused;
-    use crate::math::{COS_POLY, PIO2_1, PIO2_2, PIO2_3, RINT_SHIFT, SIN_POLY};
+    use crate::chain::{self, Chain, Fused, Scanned};
+    use crate::math::{Pose, COS_POLY, PIO2_1, PIO2_2, PIO2_3, RINT_SHIFT, SIN_POLY};
+
+    /// Proof that this CPU has AVX2 and FMA: the private field keeps any
+    /// constructor but [`Avx2Fma::detect`] out. Its methods run the chain's
+    /// kernels on [`A4`]. (One entry point per kernel with the kernel's own
+    /// arguments, not one generic entry taking a struct of arguments: such a
+    /// struct is passed through memory, and a `&mut` inside it loses the
+    /// no-alias guarantee of a `&mut` argument, so LLVM reloads the chain's
+    /// arrays after every store into the output.)
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct Avx2Fma(());
+
+    impl Avx2Fma {
+        /// The token if this CPU has AVX2 and FMA (after the first call, the
+        /// check is a test of a cached flag).
+        #[inline(always)]
+        pub(crate) fn detect() -> Option<Avx2Fma> {
+            (is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")).then_some(Avx2Fma(()))
+        }
+
+        /// [`chain::fk_core`] on AVX2 lanes.
+        #[inline(always)]
+        pub(crate) fn fk<const S: u8, const N: usize>(self, ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
+            // SAFETY: `self` proves that the CPU has AVX2 and FMA (`detect`).
+            unsafe { fk_avx2::<S, N>(ch, q) }
+        }
+
+        /// [`chain::fk_rows_core`] on AVX2 lanes.
+        #[inline(always)]
+        pub(crate) fn fk_rows<const S: u8, const N: usize>(
+            self,
+            ch: &Chain,
+            q: &[f64],
+            out: &mut [MaybeUninit<f64>; 16],
+        ) -> Scanned {
+            // SAFETY: as in `fk`.
+            unsafe { fk_rows_avx2::<S, N>(ch, q, out) }
+        }
+
+        /// [`chain::link_frames_core`] on AVX2 lanes.
+        #[inline(always)]
+        pub(crate) fn link_frames<const S: u8, const N: usize>(self, ch: &Chain, q: &[f64], out: &mut [Pose]) {
+            // SAFETY: as in `fk`.
+            unsafe { link_frames_avx2::<S, N>(ch, q, out) }
+        }
+
+        /// [`chain::jacobian_core`] on AVX2 lanes.
+        #[inline(always)]
+        pub(crate) fn jacobian<const ROWS: bool, const TOOL: bool, const S: u8, const N: usize, const CAP: usize>(
+            self,
+            ch: &Chain,
+            q: &[f64],
+            data: &mut [MaybeUninit<f64>],
+            pose: Option<&mut Pose>,
+        ) -> Scanned {
+            // SAFETY: as in `fk`.
+            unsafe { jacobian_avx2::<ROWS, TOOL, S, N, CAP>(ch, q, data, pose) }
+        }
+
+        /// Runs `f` in a function compiled with AVX2 and FMA enabled, for
+        /// the tests of `A4` (which make their `A4`s inside `f`).
+        #[cfg(test)]
+        pub(super) fn run_closure<T>(self, f: impl FnOnce() -> T) -> T {
+            // SAFETY: as in `fk`.
+            unsafe { closure_avx2(f) }
+        }
+    }
+
+    // The functions compiled with AVX2 and FMA enabled. Safety, for each:
+    // the CPU must have AVX2 and FMA.
+
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn fk_avx2<const S: u8, const N: usize>(ch: &Chain, q: &[f64]) -> (Pose, Scanned) {
+        chain::fk_core::<A4, S, N>(ch, q)
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn fk_rows_avx2<const S: u8, const N: usize>(
+        ch: &Chain,
+        q: &[f64],
+        out: &mut [MaybeUninit<f64>; 16],
+    ) -> Scanned {
+        chain::fk_rows_core::<A4, S, N>(ch, q, out)
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn link_frames_avx2<const S: u8, const N: usize>(ch: &Chain, q: &[f64], out: &mut [Pose]) {
+        chain::link_frames_core::<A4, S, N>(ch, q, out)
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn jacobian_avx2<const ROWS: bool, const TOOL: bool, const S: u8, const N: usize, const CAP: usize>(
+        ch: &Chain,
+        q: &[f64],
+        data: &mut [MaybeUninit<f64>],
+        pose: Option<&mut Pose>,
+    ) -> Scanned {
+        chain::jacobian_core::<A4, ROWS, TOOL, S, N, CAP>(ch, q, data, pose)
+    }
+
+    #[cfg(test)]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn closure_avx2<T>(f: impl FnOnce() -> T) -> T {
+        f()
+    }
 
     /// AVX2 lanes with fused multiply-adds.
     ///
-    /// Only ever created inside functions compiled with
-    /// `#[target_feature(enable = "avx2,fma")]`, which are only called after
-    /// `is_x86_feature_detected!` found both features; every `unsafe` block
-    /// below relies on that (the intrinsics themselves touch no memory but
-    /// the arrays passed by reference).
+    /// Invariant: an `A4` exists only on a CPU with AVX2 and FMA. Outside
+    /// `lanes` the type cannot be named; `A4`s are made only in the kernels
+    /// that the `*_avx2` functions above run, which only [`Avx2Fma`]'s
+    /// methods call (and in the tests of `lanes`, inside
+    /// [`Avx2Fma::run_closure`]). Every `unsafe` block below relies on the
+    /// invariant; the intrinsics touch no memory but the arrays passed by
+    /// reference. The private helpers after the `impl` are called only from
+    /// `A4`'s methods.
     #[derive(Debug, Clone, Copy)]
-    pub(crate) struct A4(__m256d);
+    pub(super) struct A4(__m256d);
 
     impl Lanes for A4 {
         type M = Fused;
@@ -467,21 +582,6 @@ mod avx2 {
         // SAFETY: AVX is available (see `A4`); reads the four values of `c`.
         unsafe { _mm256_loadu_pd(c.as_ptr()) }
     }
-
-    #[cfg(test)]
-    pub(crate) fn has_avx2_fma() -> bool {
-        is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
-    }
-
-    /// Runs `f` compiled with AVX2 and FMA enabled.
-    ///
-    /// # Safety
-    /// The CPU must support AVX2 and FMA.
-    #[cfg(test)]
-    #[target_feature(enable = "avx2,fma")]
-    pub(crate) unsafe fn with_avx2<T>(f: impl FnOnce() -> T) -> T {
-        f()
-    }
 }
 
 #[cfg(test)]
@@ -520,20 +620,17 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx2_sin_cos_is_the_fused_scalar_kernel_bit_for_bit() {
-        if !avx2::has_avx2_fma() {
+        let Some(avx) = Avx2Fma::detect() else {
             eprintln!("skipped: this CPU has no AVX2+FMA");
             return;
-        }
+        };
         let mut rng = ChaCha8Rng::seed_from_u64(42);
         for _ in 0..200_000 {
             let x = angles(&mut rng);
-            // SAFETY: checked above that the CPU has AVX2 and FMA.
-            let (s, c, exp) = unsafe {
-                avx2::with_avx2(|| {
-                    let (s, c) = A4::from_array(x).sin_cos();
-                    (s.to_array(), c.to_array(), x.map(sin_cos_kernel::<crate::chain::Fused>))
-                })
-            };
+            let (s, c, exp) = avx.run_closure(|| {
+                let (s, c) = A4::from_array(x).sin_cos();
+                (s.to_array(), c.to_array(), x.map(sin_cos_kernel::<crate::chain::Fused>))
+            });
             for k in 0..4 {
                 assert_eq!(
                     (s[k].to_bits(), c[k].to_bits()),
@@ -570,19 +667,15 @@ mod tests {
             assert_eq!(*l, std::array::from_fn(|k| if k < len { src[k] } else { 0.0 }), "{len}");
         }
         #[cfg(target_arch = "x86_64")]
-        if avx2::has_avx2_fma() {
-            // SAFETY: checked that the CPU has AVX2 and FMA.
-            let t = unsafe { avx2::with_avx2(|| A4::transpose(m.map(A4::from_array)).map(A4::to_array)) };
+        if let Some(avx) = Avx2Fma::detect() {
+            let t = avx.run_closure(|| A4::transpose(m.map(A4::from_array)).map(A4::to_array));
             assert_eq!(t, want);
-            // SAFETY: as above.
-            let stored = prefixes(&|d| unsafe { avx2::with_avx2(|| A4::from_array(m[0]).store_prefix(d)) });
+            let stored = prefixes(&|d| avx.run_closure(|| A4::from_array(m[0]).store_prefix(d)));
             assert_eq!(stored, expect);
-            // SAFETY: as above.
-            let masked = prefixes(&|d| unsafe { avx2::with_avx2(|| A4::from_array(m[0]).store_prefix_masked(d)) });
+            let masked = prefixes(&|d| avx.run_closure(|| A4::from_array(m[0]).store_prefix_masked(d)));
             assert_eq!(masked, expect);
             for len in 0..=5 {
-                // SAFETY: as above.
-                let l = unsafe { avx2::with_avx2(|| A4::load_prefix(&src[..len]).to_array()) };
+                let l = avx.run_closure(|| A4::load_prefix(&src[..len]).to_array());
                 assert_eq!(l, loads[len], "{len}");
             }
         }
@@ -593,9 +686,8 @@ mod tests {
         let x = [1.0, 2.0, 3.0, 4.0];
         assert_eq!(P4::from_array(x).sub(P4::splat(1.0)).to_array(), [0.0, 1.0, 2.0, 3.0]);
         #[cfg(target_arch = "x86_64")]
-        if avx2::has_avx2_fma() {
-            // SAFETY: checked that the CPU has AVX2 and FMA.
-            let a = unsafe { avx2::with_avx2(|| A4::from_array(x).sub(A4::splat(1.0)).to_array()) };
+        if let Some(avx) = Avx2Fma::detect() {
+            let a = avx.run_closure(|| A4::from_array(x).sub(A4::splat(1.0)).to_array());
             assert_eq!(a, [0.0, 1.0, 2.0, 3.0]);
         }
     }
@@ -608,14 +700,11 @@ mod tests {
         assert_eq!(p, (0b0001, 0b1000));
         assert_eq!(P4::from_array(x).abs().to_array()[2], 3.0);
         #[cfg(target_arch = "x86_64")]
-        if avx2::has_avx2_fma() {
-            // SAFETY: checked that the CPU has AVX2 and FMA.
-            let a = unsafe {
-                avx2::with_avx2(|| {
-                    let (x, b) = (A4::from_array(x), A4::from_array(b));
-                    (x.lt_bits(b), x.gt_bits(b), x.abs().to_array())
-                })
-            };
+        if let Some(avx) = Avx2Fma::detect() {
+            let a = avx.run_closure(|| {
+                let (x, b) = (A4::from_array(x), A4::from_array(b));
+                (x.lt_bits(b), x.gt_bits(b), x.abs().to_array())
+            });
             assert_eq!((a.0, a.1), p);
             let abs = a.2;
             assert!(abs[0] == 1.0 && abs[1].is_nan() && abs[2] == 3.0 && abs[3] == f64::INFINITY, "{abs:?}");
@@ -634,9 +723,8 @@ mod tests {
         for (x, want) in cases {
             assert_eq!(P4::from_array(x).all_abs_le(SIN_COS_RANGE), want, "{x:?}");
             #[cfg(target_arch = "x86_64")]
-            if avx2::has_avx2_fma() {
-                // SAFETY: checked that the CPU has AVX2 and FMA.
-                let got = unsafe { avx2::with_avx2(|| A4::from_array(x).all_abs_le(SIN_COS_RANGE)) };
+            if let Some(avx) = Avx2Fma::detect() {
+                let got = avx.run_closure(|| A4::from_array(x).all_abs_le(SIN_COS_RANGE));
                 assert_eq!(got, want, "{x:?}");
             }
         }

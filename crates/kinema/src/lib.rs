@@ -9,6 +9,9 @@
 //! * Forward kinematics ([`Robot::fk`], [`Robot::link_frames`],
 //!   [`Robot::fk_batch`]) and Jacobians ([`Robot::jacobian`],
 //!   [`Robot::analytic_jacobian`]) in [`kin`]; the hot paths do not allocate.
+//! * [`reference`] — the same FK, frames and Jacobians written plainly and
+//!   generic over the scalar (dual numbers work): the definition the fast
+//!   path is tested against, and the place to start reading.
 //! * Spatial math in [`math`]: [`Pose`], roll-pitch-yaw in two named
 //!   conventions ([`RpyConvention`]), quaternions, axis-angle, pose errors.
 //! * Manipulability and singularity analysis in [`analysis`].
@@ -51,6 +54,7 @@ pub mod kin;
 mod lanes;
 pub mod math;
 pub mod model;
+pub mod reference;
 mod registry;
 pub mod traj;
 mod urdf;

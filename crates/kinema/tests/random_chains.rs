@@ -12,12 +12,13 @@
 //! here without any of the chain's tricks; the Jacobian is checked against
 //! central differences of that product.
 
-use std::f64::consts::{FRAC_PI_2, PI};
-
 use kinema::nalgebra::{Matrix3, Matrix4, Matrix6xX, Rotation3, Unit, Vector3};
-use kinema::{Convention, DhConvention, Frame, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot};
-use rand::{Rng, SeedableRng};
+use kinema::{DhConvention, Frame, Joint, JointType, LinkGeometry, Pose, Robot};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+
+mod common;
+use common::arms::{random_q, random_robot};
 
 const ROBOTS: usize = 3000;
 const CONFIGS_PER_ROBOT: usize = 3;
@@ -78,101 +79,6 @@ fn naive_frames(robot: &Robot, q: &[f64]) -> Vec<Matrix4<f64>> {
     }
     out.push(t * of_pose(robot.tool()));
     out
-}
-
-fn random_rotation(rng: &mut ChaCha8Rng) -> Matrix3<f64> {
-    let axis = Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
-    let axis = if axis.norm() < 1e-3 { Vector3::z() } else { axis };
-    *Rotation3::from_axis_angle(&Unit::new_normalize(axis), rng.random_range(-PI..PI)).matrix()
-}
-
-fn random_pose(rng: &mut ChaCha8Rng) -> Pose {
-    if rng.random_bool(0.4) {
-        return Pose::IDENTITY;
-    }
-    let pos = Vector3::new(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5));
-    Pose::new(random_rotation(rng), pos)
-}
-
-/// A twist that hits each of the chain's forms: 0, ±90°, ±180°, or any angle.
-fn random_twist(rng: &mut ChaCha8Rng) -> f64 {
-    match rng.random_range(0..7) {
-        0 => 0.0,
-        1 => FRAC_PI_2,
-        2 => -FRAC_PI_2,
-        3 => PI,
-        4 => -PI,
-        _ => rng.random_range(-PI..PI),
-    }
-}
-
-/// A random joint; with `uniform`, a revolute joint of that DH convention
-/// with an exact twist (0, ±90°, ±180°), so that a chain of them is one of
-/// the compiled chain's uniform straight-line shapes.
-fn random_joint(rng: &mut ChaCha8Rng, i: usize, uniform: Option<DhConvention>) -> Joint {
-    let kind = if uniform.is_none() && rng.random_bool(0.25) { JointType::Prismatic } else { JointType::Revolute };
-    let len = |rng: &mut ChaCha8Rng| if rng.random_bool(0.3) { 0.0 } else { rng.random_range(-0.6..0.6) };
-    let dh = |convention, rng: &mut ChaCha8Rng| LinkGeometry::Dh {
-        convention,
-        d: len(rng),
-        a: len(rng),
-        alpha: if uniform.is_some() {
-            [0.0, FRAC_PI_2, -FRAC_PI_2, PI, -PI][rng.random_range(0..5)]
-        } else {
-            random_twist(rng)
-        },
-        theta: if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-PI..PI) },
-    };
-    let geometry = match uniform {
-        Some(convention) => dh(convention, rng),
-        None => random_geometry(rng, dh),
-    };
-    let offset = if rng.random_bool(0.5) { 0.0 } else { rng.random_range(-1.0..1.0) };
-    Joint { name: format!("j{}", i + 1), kind, geometry, offset, limits: Limits::position(-PI, PI) }
-}
-
-/// A DH row of either convention (from `dh`) or a general joint.
-fn random_geometry(rng: &mut ChaCha8Rng, dh: impl Fn(DhConvention, &mut ChaCha8Rng) -> LinkGeometry) -> LinkGeometry {
-    match rng.random_range(0..5) {
-        0 | 1 => dh(DhConvention::Standard, rng),
-        2 | 3 => dh(DhConvention::Modified, rng),
-        _ => {
-            let axis = match rng.random_range(0..3) {
-                0 => Vector3::z(),
-                1 => -Vector3::z(),
-                _ => random_rotation(rng) * Vector3::z(),
-            };
-            LinkGeometry::General { origin: random_pose(rng), axis }
-        }
-    }
-}
-
-fn random_robot(rng: &mut ChaCha8Rng) -> Robot {
-    // Mostly arm-sized chains, some longer than one eight-joint block.
-    let n = if rng.random_bool(0.8) { rng.random_range(1..=8) } else { rng.random_range(9..=20) };
-    // A third of the arms are uniform: all standard or all modified DH
-    // revolute joints with exact twists (the catalogue's arms are such chains).
-    let uniform = match rng.random_range(0..6) {
-        0 => Some(DhConvention::Standard),
-        1 => Some(DhConvention::Modified),
-        _ => None,
-    };
-    let joints: Vec<Joint> = (0..n).map(|i| random_joint(rng, i, uniform)).collect();
-    let home = NamedPose { name: "home".into(), q: vec![0.0; n] };
-    Robot::new(
-        "random",
-        Convention::Standard,
-        Default::default(),
-        joints,
-        random_pose(rng),
-        random_pose(rng),
-        vec![home],
-    )
-    .expect("random robot is valid")
-}
-
-fn random_q(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
-    (0..n).map(|_| rng.random_range(-PI..PI)).collect()
 }
 
 fn pose_error(p: &Pose, m: &Matrix4<f64>) -> f64 {

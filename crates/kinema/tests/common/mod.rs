@@ -1,5 +1,7 @@
-//! Helpers shared by the analytic-IK test files.
+//! Helpers shared by the test files: analytic-IK checks here, random arms in `arms`.
 #![allow(dead_code)]
+
+pub mod arms;
 
 use kinema::ik::IkSolver;
 use kinema::nalgebra::Vector3;
