@@ -150,11 +150,8 @@ const SHAPE_MIXED: u8 = Shape::Mixed as u8;
 /// a multiplication: y ← select(swap, z, y) ^ sy, z ← select(swap, y, z) ^ sz,
 /// where `swap` is [`MASK_TRUE`] or [`MASK_FALSE`] and `sy`, `sz` are −0.0 (flip the sign) or 0.0.
 /// `swap` is stored in all four lanes, so the blend mask is one vector load:
-/// from a broadcast scalar, LLVM (seeing that the blend reads only the sign
-/// bit) built it with a load, an integer compare and three shuffles, 40 of
-/// the iiwa FK's 468 instructions (callgrind; 428 now). Measured from Python
-/// in two builds each (benchmarks/compare_builds.py): fkine and jacob0 no
-/// slower on the iiwa, 8-13 and ~10 ns faster on the panda.
+/// from a broadcast scalar LLVM rebuilds the mask on every joint
+/// (benchmarks/history.md, "Code comments moved here").
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Exact {
     swap: [f64; 4],
@@ -344,8 +341,7 @@ macro_rules! by_length {
 /// runs one straight-line function with no branch on the shape. With the
 /// three walks in one function, the taken jumps between its distant parts
 /// cost from Python, where each call starts with the branch predictors and
-/// instruction caches holding the interpreter's code: the panda's jacob0
-/// (modified DH, the second shape) cost 13 ns more than the iiwa's.
+/// instruction caches holding the interpreter's code.
 macro_rules! by_shape {
     ($shape:expr, |$S:ident| $body:expr) => {{
         match $shape {
@@ -648,8 +644,7 @@ impl Chain {
                         let swap = V::from_array(row.twist.swap);
                         (t.x, t.y, t.z) = (xn, swap.select(zs, w), swap.select(w, zs));
                         // Tz(d)·Tx(a): p ← p + (a·x + d·z), one add on p's own
-                        // chain. Criterion, iiwa FK, 2026-11-24: 68 ns this
-                        // way, 78 ns with two fused multiply-adds on p.
+                        // dependency chain rather than two fused multiply-adds.
                         t.p = t.p.add(V::splat(row.a).madd(xn, V::splat(row.d).mul(z)));
                     }
                     StepKind::Modified => {
@@ -887,10 +882,9 @@ pub(crate) fn jacobian_core<
     // Four consecutive joints per block. Row-major with n ≥ 4, the last
     // block is the last four joints (overlapping the one before when 4 does
     // not divide n, which then writes some values twice, the same both
-    // times), so every row store is a whole unmasked one: on AMD Zen 3 a
-    // masked 256-bit store costs ~7 cycles of throughput. Column-major, each
-    // column is two stores of its own, and an overlapping block would only
-    // add stores (Criterion: ~7 ns slower).
+    // times), so every row store is a whole unmasked one: masked AVX stores
+    // are slow on some cores. Column-major, each column is two stores of its
+    // own, and an overlapping block would only add stores.
     for b in 0..n.div_ceil(4) {
         let c0 = if whole { (4 * b).min(n - 4) } else { 4 * b };
         let cols = if whole { 4 } else { (n - c0).min(4) };
@@ -938,9 +932,6 @@ pub(crate) fn jacobian_core<
                 // at r·n + c0 are within it. (Checked slicing here was a
                 // tenth of the whole Jacobian's instructions.)
                 let at = unsafe { std::slice::from_raw_parts_mut(base.add(r * n + c0), cols) };
-                // Rust loop, 2026-11-24 (iiwa, panda, ur5): 76-80 ns with a masked
-                // last block, 67-70 ns this way. From Python no difference
-                // beyond the ±10 ns of code placement (benchmarks/README.md).
                 if whole {
                     row.store_prefix(at);
                 } else {

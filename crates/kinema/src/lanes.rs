@@ -16,9 +16,8 @@
 //!
 //! The lanes are written out explicitly rather than left to the
 //! autovectoriser: with plain `[f64; 4]` code LLVM split frame columns into a
-//! 2-lane register and a scalar and kept per-joint bounds checks, about 775
-//! instructions for one 7-joint FK (counted with callgrind) where this form
-//! needs about a third of that.
+//! 2-lane register and a scalar and kept per-joint bounds checks, about three
+//! times the instructions of this form.
 
 use std::mem::MaybeUninit;
 
@@ -485,9 +484,8 @@ mod avx2 {
 
         #[inline(always)]
         fn store_prefix(self, dst: &mut [MaybeUninit<f64>]) {
-            // Plain 256/128/64-bit stores, not `maskstore`: on AMD Zen 3 a
-            // masked 256-bit store costs ~7 cycles of throughput (measured
-            // 11.2 ns for six against 3.7 ns for six 128+64-bit pairs).
+            // Plain 256/128/64-bit stores, not `maskstore`, which is slow on
+            // some cores (benchmarks/history.md).
             // SAFETY: AVX is available; only the first min(len, 4) ≤ dst.len()
             // elements of `dst` are written.
             unsafe {

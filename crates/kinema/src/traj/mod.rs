@@ -738,7 +738,7 @@ mod tests {
         let e = sample_times(most + dt, dt).unwrap_err().to_string();
         assert!(e.contains("would give 10000001 samples (at most 10000000)"), "{e}");
         // A duration that is a whole number of steps has no extra end sample: exactly
-        // MAX_SAMPLES of them fit (it was refused, its count misreported, until 2026-11-25).
+        // MAX_SAMPLES of them fit.
         let whole = (MAX_SAMPLES - 1) as f64 * 0.5;
         assert_eq!(sample_times(whole, 0.5).unwrap().len(), MAX_SAMPLES);
         let e = sample_times(whole + 0.5, 0.5).unwrap_err().to_string();
