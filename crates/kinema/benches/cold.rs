@@ -12,7 +12,7 @@
 //! Python, each call starts after the interpreter has run its own code, so
 //! the kernel's bytes are fetched again and every taken jump costs more. Code
 //! size and the number of taken jumps then matter as much as the loop's
-//! time (ARCHITECTURE.md, "The hot loops"; benchmarks/README.md, "Exact-length
+//! time (docs/internals.md, "The hot loops"; benchmarks/README.md, "Exact-length
 //! walks, one function per shape").
 //!
 //! Each timed iteration here first runs 40 KB of straight-line additions

@@ -312,7 +312,7 @@ pub(crate) const EXACT: [usize; 3] = [5, 6, 7];
 /// a constant the Jacobian's second pass has no loop and no bounds left.
 ///
 /// Comparisons, not a `match`: a `match` of four arms or more can become a
-/// jump table (ARCHITECTURE.md, "The hot loops").
+/// jump table (docs/internals.md, "The hot loops").
 macro_rules! by_length {
     ($n:expr, |$N:ident, $CAP:ident| $body:expr) => {{
         let n: usize = $n;

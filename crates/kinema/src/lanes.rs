@@ -492,7 +492,7 @@ mod avx2 {
                 let p = dst.as_mut_ptr().cast::<f64>();
                 let (len, lo) = (dst.len(), _mm256_castpd256_pd128(self.0));
                 // Range tests, not a `match`: a match on the length becomes a
-                // jump table (see ARCHITECTURE.md, "The hot loops").
+                // jump table (see docs/internals.md, "The hot loops").
                 if len >= 4 {
                     _mm256_storeu_pd(p, self.0);
                 } else if len >= 2 {

@@ -4,7 +4,7 @@
 //! (Spong/Corke), modified DH (Craig), or a general fixed transform followed by
 //! a motion along/about a joint axis (URDF). All three are compiled on
 //! construction into one form that forward kinematics and Jacobians run on
-//! (see the private `chain` module and ARCHITECTURE.md).
+//! (see the private `chain` module and docs/internals.md).
 
 use nalgebra::Vector3;
 

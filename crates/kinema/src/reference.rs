@@ -4,7 +4,7 @@
 //! This module is the definition of what kinema computes; start reading here.
 //! [`Robot::fk`], [`Robot::link_frames`] and [`Robot::jacobian`] run a
 //! compiled, vectorised form of the same chain (the private `chain` and
-//! `lanes` modules, see ARCHITECTURE.md, "The hot loops"), and
+//! `lanes` modules, see docs/internals.md, "The hot loops"), and
 //! `crates/kinema/tests/reference.rs` tests them against the functions here on
 //! every built-in robot, on random arms of every joint kind and on URDFs.
 //!
