@@ -56,20 +56,6 @@ pub(crate) fn read_text_limited(path: &Path, max: u64, what: &str) -> Result<Str
     })
 }
 
-/// For a file that a library reads from its path: an error unless `path`
-/// is a regular file of at most `max` bytes (a FIFO or a device has no size
-/// to check, and `/dev/zero` never ends).
-pub(crate) fn check_regular_file(path: &Path, max: u64, what: &str) -> Result<()> {
-    let m = std::fs::metadata(path).with_context(|| format!("cannot read {what} `{}`", path.display()))?;
-    if !m.is_file() {
-        bail!("cannot read {what} `{}`: it is not a regular file", path.display());
-    }
-    if m.len() > max {
-        bail!("{what} `{}` is larger than the limit of {}", path.display(), size_text(max));
-    }
-    Ok(())
-}
-
 /// Line numbers of CSV records from their byte offsets, met in increasing
 /// order: the `csv` crate's position of a record is where its reading began,
 /// before the `#` comment and blank lines it skipped, and its line count does

@@ -20,8 +20,11 @@ mod input;
 mod interrupt;
 mod lang_cmd;
 mod output;
+#[cfg(feature = "plot")]
 mod plot_cmd;
+#[cfg(feature = "scorbot")]
 mod scorbot_cmd;
+#[cfg(feature = "serve")]
 mod serve_cmd;
 mod traj_cmd;
 
@@ -89,18 +92,53 @@ enum Cmd {
     /// Compile a robot program and print its motion plan (--listing).
     Compile(lang_cmd::CompileArgs),
     /// Pictures: robot, workspace, trajectory, ellipsoids, self-motion, IK error, tracking (.svg or .png).
+    #[cfg(feature = "plot")]
     Plot {
         #[command(subcommand)]
         cmd: plot_cmd::PlotCmd,
     },
+    /// Pictures (.svg or .png): not in this build, which lacks the `plot` feature.
+    #[cfg(not(feature = "plot"))]
+    Plot(NotBuilt),
     /// Start the interactive 3D viewer on 127.0.0.1 (Ctrl-C to stop).
+    #[cfg(feature = "serve")]
     Serve(serve_cmd::ServeArgs),
+    /// The interactive 3D viewer: not in this build, which lacks the `serve` feature.
+    #[cfg(not(feature = "serve"))]
+    Serve(NotBuilt),
     /// The Scorbot-ER V Plus on real hardware: encoder counts, controller simulator and client,
     /// tracking accuracy, calibration (seed 000).
+    #[cfg(feature = "scorbot")]
     Scorbot {
         #[command(subcommand)]
         cmd: scorbot_cmd::ScorbotCmd,
     },
+    /// The Scorbot-ER V Plus on real hardware: not in this build, which lacks the `scorbot` feature.
+    #[cfg(not(feature = "scorbot"))]
+    Scorbot(NotBuilt),
+}
+
+/// The arguments of a sub-command left out of this build. It stays listed
+/// and takes any arguments, so that `kinema plot robot …` copied from the
+/// README says which feature is missing (exit code 1, the build lacks
+/// something) instead of clap's "unrecognized subcommand" usage error (64),
+/// which would suggest a typo.
+#[cfg(not(all(feature = "plot", feature = "scorbot", feature = "serve")))]
+#[derive(Args)]
+struct NotBuilt {
+    // Accepted only to be ignored.
+    #[allow(dead_code)]
+    #[arg(trailing_var_arg = true, allow_hyphen_values = true, hide = true)]
+    args: Vec<String>,
+}
+
+/// The error of a sub-command whose cargo feature was left out of this build.
+#[cfg(not(all(feature = "plot", feature = "scorbot", feature = "serve")))]
+fn not_built(feature: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "this kinema was built without the `{feature}` feature; rebuild with \
+         `cargo install --path crates/kinema-cli --features {feature}` (or with the default features)"
+    )
 }
 
 #[derive(Args)]
@@ -291,10 +329,13 @@ fn main() -> ExitCode {
 /// The commands that write to sockets, pseudo-terminals or serial lines,
 /// where a peer that goes away must not end the process.
 fn talks_to_peers(cmd: &Cmd) -> bool {
-    matches!(
-        cmd,
-        Cmd::Serve(_) | Cmd::Scorbot { cmd: scorbot_cmd::ScorbotCmd::Sim(_) | scorbot_cmd::ScorbotCmd::Connect(_) }
-    )
+    match cmd {
+        #[cfg(feature = "serve")]
+        Cmd::Serve(_) => true,
+        #[cfg(feature = "scorbot")]
+        Cmd::Scorbot { cmd: scorbot_cmd::ScorbotCmd::Sim(_) | scorbot_cmd::ScorbotCmd::Connect(_) } => true,
+        _ => false,
+    }
 }
 
 /// A closed standard output (`kinema info … | head -1`) ends the process
@@ -325,9 +366,18 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
         Cmd::Compile(a) => lang_cmd::compile(a),
+        #[cfg(feature = "plot")]
         Cmd::Plot { cmd } => plot_cmd::plot(cmd),
+        #[cfg(not(feature = "plot"))]
+        Cmd::Plot(_) => Err(not_built("plot")),
+        #[cfg(feature = "serve")]
         Cmd::Serve(a) => serve_cmd::run(a),
+        #[cfg(not(feature = "serve"))]
+        Cmd::Serve(_) => Err(not_built("serve")),
+        #[cfg(feature = "scorbot")]
         Cmd::Scorbot { cmd } => scorbot_cmd::run(cmd),
+        #[cfg(not(feature = "scorbot"))]
+        Cmd::Scorbot(_) => Err(not_built("scorbot")),
     }
 }
 

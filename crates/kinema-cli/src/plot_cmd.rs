@@ -226,7 +226,7 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
             let (r, traj) = match (csv, program) {
                 (Some(path), _) => {
                     let r = robot.load()?;
-                    let t = traj_cmd::read_trajectory(&r, &path)?;
+                    let (t, _) = traj_cmd::read_trajectory_with_resolution(&r, &path)?;
                     (r, t)
                 }
                 (None, Some(program)) => {

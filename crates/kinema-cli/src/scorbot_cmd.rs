@@ -76,8 +76,22 @@ fn read_points(path: &std::path::Path) -> Result<Vec<kinema::nalgebra::Vector3<f
 /// A path CSV for `follow`: the library reads it from its path, so the size
 /// limit is checked here first, and only a regular file has a size to check.
 fn read_path(path: &std::path::Path, deg: bool) -> Result<Vec<follow::PathPoint>> {
-    crate::input::check_regular_file(path, MAX_CSV_BYTES, "path CSV")?;
+    check_regular_file(path, MAX_CSV_BYTES, "path CSV")?;
     Ok(follow::read_path_csv(path, deg)?)
+}
+
+/// For a file that a library reads from its path: an error unless `path`
+/// is a regular file of at most `max` bytes (a FIFO or a device has no size
+/// to check, and `/dev/zero` never ends).
+fn check_regular_file(path: &std::path::Path, max: u64, what: &str) -> Result<()> {
+    let m = std::fs::metadata(path).with_context(|| format!("cannot read {what} `{}`", path.display()))?;
+    if !m.is_file() {
+        bail!("cannot read {what} `{}`: it is not a regular file", path.display());
+    }
+    if m.len() > max {
+        bail!("{what} `{}` is larger than the limit of {}", path.display(), crate::input::size_text(max));
+    }
+    Ok(())
 }
 
 #[derive(Args)]

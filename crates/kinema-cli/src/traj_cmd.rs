@@ -819,11 +819,6 @@ pub(crate) fn open_csv(path: &std::path::Path) -> Result<(CsvReader, Vec<String>
     Ok((rd, head.iter().map(str::to_string).collect()))
 }
 
-/// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd* optional).
-pub(crate) fn read_trajectory(robot: &Robot, path: &std::path::Path) -> Result<JointTrajectory> {
-    read_trajectory_with_resolution(robot, path).map(|(traj, _)| traj)
-}
-
 /// Half the last digit of numbers written with a fixed count of decimals:
 /// the most decimals seen (a writer of shortest round-trip numbers shows ~17,
 /// so its values count as exact); 0 when every number has an exponent.
@@ -844,7 +839,8 @@ impl Decimals {
     }
 }
 
-/// [`read_trajectory`], with how finely the file gives (values, times).
+/// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd*
+/// optional), with how finely the file gives (values, times).
 pub(crate) fn read_trajectory_with_resolution(
     robot: &Robot,
     path: &std::path::Path,

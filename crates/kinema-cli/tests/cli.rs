@@ -976,6 +976,7 @@ fn language_ctrl_c_cancels_a_run_and_writes_nothing() {
     assert!(!out.exists(), "no file when cancelled");
 }
 
+#[cfg(feature = "plot")]
 #[test]
 fn plot_writes_every_kind_of_picture_or_nothing() {
     let dir = tempdir("plot");
@@ -1059,6 +1060,7 @@ fn plot_writes_every_kind_of_picture_or_nothing() {
     assert!(std::fs::read_dir(&dir).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().contains("kinema-tmp")));
 }
 
+#[cfg(feature = "scorbot")]
 #[test]
 fn scorbot_counts_and_angles_invert_each_other() {
     let v = json(&["scorbot", "counts", "--q", "10,80,-70,-60,30", "--deg", "--constants", "factory", "--json"]);
@@ -1088,6 +1090,7 @@ fn scorbot_counts_and_angles_invert_each_other() {
     assert!(fails(&["scorbot", "angles", "--counts", "1,2,3,4"]).contains("expected 5"));
 }
 
+#[cfg(feature = "scorbot")]
 /// Seed 000 Fig. 6 on the simulator: the square lies in the xz plane as the
 /// seed has it, and the factory model misses it by far more than the true one.
 #[test]
@@ -1125,11 +1128,13 @@ fn scorbot_square_runs_seed_000_fig_6_in_the_xz_plane() {
 }
 
 /// `kinema scorbot sim --tcp` in the background, killed when dropped.
+#[cfg(feature = "scorbot")]
 struct SimProcess {
     child: std::process::Child,
     addr: String,
 }
 
+#[cfg(feature = "scorbot")]
 impl Drop for SimProcess {
     fn drop(&mut self) {
         let _ = self.child.kill();
@@ -1137,6 +1142,7 @@ impl Drop for SimProcess {
     }
 }
 
+#[cfg(feature = "scorbot")]
 fn sim_process(extra: &[&str]) -> SimProcess {
     use std::io::BufRead;
     let mut child = Command::new(env!("CARGO_BIN_EXE_kinema"))
@@ -1153,6 +1159,7 @@ fn sim_process(extra: &[&str]) -> SimProcess {
     SimProcess { child, addr }
 }
 
+#[cfg(feature = "scorbot")]
 #[test]
 fn scorbot_connect_homes_moves_and_follows_against_the_simulator() {
     let dir = tempdir("scorbot-connect");
@@ -1186,6 +1193,7 @@ fn scorbot_connect_homes_moves_and_follows_against_the_simulator() {
     assert!(fails(&["scorbot", "connect", "--tcp", a, "--timeout", "0.5", "home"]).contains("cannot connect"));
 }
 
+#[cfg(feature = "scorbot")]
 #[test]
 fn scorbot_track_reports_the_seed_error_and_iso_9283() {
     let dir = tempdir("scorbot-track");
@@ -1219,6 +1227,7 @@ fn scorbot_track_reports_the_seed_error_and_iso_9283() {
     assert!(fails(&["scorbot", "track", "--desired", &d, "--measured", &bad]).contains("bad.csv:1"));
 }
 
+#[cfg(feature = "scorbot")]
 #[test]
 fn scorbot_calibrate_recovers_constants_from_simulated_measurements() {
     use kinema_scorbot::encoder::Constants;
@@ -1536,6 +1545,7 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
 
 // ---------------------------------------------------------------- serve
 
+#[cfg(feature = "serve")]
 /// `kinema serve` stops cleanly on SIGTERM and on Ctrl-C (SIGINT), even with
 /// a program running and a connection left open: it answers the program with
 /// 503 and exits with success.

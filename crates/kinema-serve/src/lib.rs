@@ -85,8 +85,12 @@
 mod api;
 mod error;
 pub mod json;
+// The only module that needs axum, hyper and tokio: `kinema-cli` built
+// without its `serve` feature still prints the JSON of `json` and `App`.
+#[cfg(feature = "server")]
 mod server;
 
 pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
 pub use error::{Error, Result};
+#[cfg(feature = "server")]
 pub use server::{Limits, Running, Server};
