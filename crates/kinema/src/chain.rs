@@ -952,34 +952,6 @@ pub(crate) fn jacobian_core<
     scanned
 }
 
-/// `a·b + c`, plain on the portable path, fused where the CPU has FMA.
-pub(crate) trait Madd {
-    fn madd(a: f64, b: f64, c: f64) -> f64;
-}
-
-/// Separate multiply and add (portable).
-pub(crate) struct Plain;
-
-impl Madd for Plain {
-    #[inline(always)]
-    fn madd(a: f64, b: f64, c: f64) -> f64 {
-        a * b + c
-    }
-}
-
-/// Fused multiply-add; only used inside functions compiled with FMA enabled,
-/// where `mul_add` is one instruction (elsewhere it would be a library call).
-#[cfg(target_arch = "x86_64")]
-pub(crate) struct Fused;
-
-#[cfg(target_arch = "x86_64")]
-impl Madd for Fused {
-    #[inline(always)]
-    fn madd(a: f64, b: f64, c: f64) -> f64 {
-        a.mul_add(b, c)
-    }
-}
-
 /// A rigid transform as four columns of lanes (x, y, z axes and position;
 /// lane 3 is padding and stays zero), the form the hot loops work on.
 #[derive(Debug, Clone, Copy)]

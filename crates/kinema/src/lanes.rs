@@ -21,8 +21,8 @@
 
 use std::mem::MaybeUninit;
 
-use crate::chain::{Madd, Plain};
 use crate::math::sin_cos_kernel;
+use crate::math::{Madd, Plain};
 
 /// Four `f64` lanes with the arithmetic the kinematic loops need.
 pub(crate) trait Lanes: Copy {
@@ -219,7 +219,8 @@ mod avx2 {
     use std::mem::MaybeUninit;
 
     use super::Lanes;
-    use crate::chain::{self, Chain, Fused, Scanned};
+    use crate::chain::{self, Chain, Scanned};
+    use crate::math::Fused;
     use crate::math::{Pose, COS_POLY, PIO2_1, PIO2_2, PIO2_3, RINT_SHIFT, SIN_POLY};
 
     /// Proof that this CPU has AVX2 and FMA: the private field keeps any
@@ -627,7 +628,7 @@ mod tests {
             let x = angles(&mut rng);
             let (s, c, exp) = avx.run_closure(|| {
                 let (s, c) = A4::from_array(x).sin_cos();
-                (s.to_array(), c.to_array(), x.map(sin_cos_kernel::<crate::chain::Fused>))
+                (s.to_array(), c.to_array(), x.map(sin_cos_kernel::<crate::math::Fused>))
             });
             for k in 0..4 {
                 assert_eq!(

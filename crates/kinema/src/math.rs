@@ -510,7 +510,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     if !(x.abs() <= SIN_COS_RANGE) {
         return x.sin_cos();
     }
-    sin_cos_kernel::<crate::chain::Plain>(x)
+    sin_cos_kernel::<Plain>(x)
 }
 
 /// Largest |x| the fast [`sin_cos`] kernel handles itself.
@@ -551,9 +551,37 @@ pub(crate) const COS_POLY: [f64; 10] = [
     -1.0 / 6_402_373_705_728_000.0,
 ];
 
+/// `a·b + c`, plain on the portable path, fused where the CPU has FMA.
+pub(crate) trait Madd {
+    fn madd(a: f64, b: f64, c: f64) -> f64;
+}
+
+/// Separate multiply and add (portable).
+pub(crate) struct Plain;
+
+impl Madd for Plain {
+    #[inline(always)]
+    fn madd(a: f64, b: f64, c: f64) -> f64 {
+        a * b + c
+    }
+}
+
+/// Fused multiply-add; only used inside functions compiled with FMA enabled,
+/// where `mul_add` is one instruction (elsewhere it would be a library call).
+#[cfg(target_arch = "x86_64")]
+pub(crate) struct Fused;
+
+#[cfg(target_arch = "x86_64")]
+impl Madd for Fused {
+    #[inline(always)]
+    fn madd(a: f64, b: f64, c: f64) -> f64 {
+        a.mul_add(b, c)
+    }
+}
+
 /// The branch-free core of [`sin_cos`], valid for |x| ≤ [`SIN_COS_RANGE`].
 #[inline(always)]
-pub(crate) fn sin_cos_kernel<M: crate::chain::Madd>(x: f64) -> (f64, f64) {
+pub(crate) fn sin_cos_kernel<M: Madd>(x: f64) -> (f64, f64) {
     let shifted = x * std::f64::consts::FRAC_2_PI + RINT_SHIFT;
     let k = shifted - RINT_SHIFT;
     // k mod 4 sits in the low mantissa bits of `shifted` (2^51 + k, two's complement).
