@@ -35,7 +35,9 @@ use toml::Spanned;
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{Convention, DhConvention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot};
+use crate::model::{
+    Convention, DhConvention, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
+};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -106,6 +108,20 @@ struct JointSpec {
     vel: Option<f64>,
     acc: Option<f64>,
     jerk: Option<f64>,
+    inertial: Option<InertialSpec>,
+}
+
+/// `[joint.inertial]`: mass properties of the link the joint moves, in its
+/// link frame. Mass in kg; `com` in the length unit; `inertia` (ixx, iyy, izz,
+/// ixy, ixz, iyz, about the centre of mass) in kg·(length unit)².
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InertialSpec {
+    mass: f64,
+    #[serde(default)]
+    com: [f64; 3],
+    #[serde(default)]
+    inertia: [f64; 6],
 }
 
 fn revolute() -> JointType {
@@ -175,6 +191,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         return Err(ctx.err(0..0, "joint", "no [[joint]] tables: a robot needs at least one joint"));
     }
     let mut joints = Vec::with_capacity(f.joint.len());
+    let mut inertials = Vec::with_capacity(f.joint.len());
     for (i, sj) in f.joint.iter().enumerate() {
         let span = sj.span();
         let j = sj.get_ref();
@@ -250,6 +267,14 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 }
             }
         }
+        let inertial = match &j.inertial {
+            None => None,
+            Some(b) => Some(
+                Inertial::new(b.mass, Vector3::from(b.com) * len, b.inertia.map(|v| v * len * len))
+                    .map_err(|err| e("inertial", err.to_string()))?,
+            ),
+        };
+        inertials.push(inertial);
         joints.push(Joint {
             name: j.name.clone(),
             kind: j.kind,
@@ -289,10 +314,15 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         poses.push(NamedPose { name: name.clone(), q });
     }
     let meta = Metadata { manufacturer: f.manufacturer, source: f.source, notes: f.notes };
-    Robot::new(f.name, f.convention, meta, joints, base, tool, poses).map_err(|e| match e {
+    let to_desc = |e| match e {
         Error::InvalidModel { message, .. } => ctx.err(0..0, "(model)", message),
         other => other,
-    })
+    };
+    let robot = Robot::new(f.name, f.convention, meta, joints, base, tool, poses).map_err(to_desc)?;
+    if inertials.iter().any(Option::is_some) {
+        return robot.with_inertials(inertials).map_err(to_desc);
+    }
+    Ok(robot)
 }
 
 #[cfg(test)]

@@ -122,6 +122,16 @@ pub enum Error {
         /// All of them.
         violations: Vec<crate::traj::Violation>,
     },
+    /// A dynamics computation on a robot whose link has no mass properties.
+    #[error("robot `{robot}`: link {link} (moved by joint `{joint}`) has no mass properties (inertial); dynamics needs mass, centre of mass and inertia for every link")]
+    NoInertial {
+        /// Robot name.
+        robot: String,
+        /// 1-based index of the link (= of the joint that moves it).
+        link: usize,
+        /// Name of the joint that moves it.
+        joint: String,
+    },
     /// An argument outside its domain.
     #[error("invalid `{what}`: {message}")]
     InvalidArgument {

@@ -48,6 +48,7 @@ pub use nalgebra;
 pub mod analysis;
 mod chain;
 mod desc;
+pub mod dynamics;
 mod error;
 pub mod ik;
 pub mod kin;
@@ -63,6 +64,6 @@ pub use error::{Error, Result};
 pub use kin::{Fk, Frame, Workspace};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{
-    Convention, DhConvention, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
+    Convention, DhConvention, Inertial, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
 };
 pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};

@@ -6,7 +6,7 @@
 //! construction into one form that forward kinematics and Jacobians run on
 //! (see the private `chain` module and docs/internals.md).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use crate::chain::Chain;
 use crate::error::{Error, Result};
@@ -118,6 +118,117 @@ pub struct Joint {
     pub limits: Limits,
 }
 
+/// Mass properties of one link — the body that joint i moves — in that
+/// link's frame (the frame [`Robot::link_frames`] returns for link i: DH frame
+/// i, or the URDF child link frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertial {
+    /// Mass \[kg\] (≥ 0).
+    pub mass: f64,
+    /// Centre of mass in the link frame \[m\].
+    pub com: Vector3<f64>,
+    /// Inertia tensor about the centre of mass, in the axes of the link frame
+    /// \[kg·m²\]; symmetric positive semi-definite, principal moments obeying
+    /// the triangle inequalities.
+    pub inertia: Matrix3<f64>,
+}
+
+impl Inertial {
+    /// A massless link.
+    pub const ZERO: Inertial = Inertial {
+        mass: 0.0,
+        com: Vector3::new(0.0, 0.0, 0.0),
+        inertia: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+
+    /// Builds and validates mass properties: `mass` \[kg\], `com` \[m\] and the
+    /// six inertia values `[ixx, iyy, izz, ixy, ixz, iyz]` \[kg·m²\] about the
+    /// centre of mass (the products as they stand in the tensor, I = \[\[ixx ixy
+    /// ixz\] \[ixy iyy iyz\] \[ixz iyz izz\]\], as in URDF). Errors
+    /// ([`Error::InvalidArgument`]) if a value is not finite, the mass is
+    /// negative, or the tensor is not physical (a negative principal moment, or
+    /// one larger than the sum of the other two, beyond 10⁻⁹ of the trace).
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::{Inertial, nalgebra::Vector3};
+    /// let rod = Inertial::new(2.0, Vector3::new(0.5, 0.0, 0.0), [0.0, 1.0 / 6.0, 1.0 / 6.0, 0.0, 0.0, 0.0])?;
+    /// assert_eq!(rod.inertia[(1, 1)], 1.0 / 6.0);
+    /// assert!(Inertial::new(1.0, Vector3::zeros(), [1.0, 1.0, 3.0, 0.0, 0.0, 0.0]).is_err());
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn new(mass: f64, com: Vector3<f64>, inertia: [f64; 6]) -> Result<Inertial> {
+        let [ixx, iyy, izz, ixy, ixz, iyz] = inertia;
+        let i = Inertial { mass, com, inertia: Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz) };
+        i.validate()?;
+        Ok(i)
+    }
+
+    /// The checks of [`Inertial::new`] (and symmetry of the tensor), for
+    /// values built field by field.
+    pub fn validate(&self) -> Result<()> {
+        let (mass, com, i) = (self.mass, self.com, self.inertia);
+        let six = [i[(0, 0)], i[(1, 1)], i[(2, 2)], i[(0, 1)], i[(0, 2)], i[(1, 2)]];
+        let bad = |message: String| Error::InvalidArgument { what: "inertial".into(), message };
+        if !mass.is_finite() || com.iter().chain(i.iter()).any(|v| !v.is_finite()) {
+            return Err(bad(format!(
+                "mass {mass}, centre of mass {:?} and inertia {six:?} must be finite",
+                com.as_slice()
+            )));
+        }
+        if mass < 0.0 {
+            return Err(bad(format!("mass {mass} kg is negative")));
+        }
+        let tol = 1e-9 * (six[0].abs() + six[1].abs() + six[2].abs());
+        if (i - i.transpose()).amax() > tol {
+            return Err(bad(format!("inertia tensor {:?} is not symmetric", i.as_slice())));
+        }
+        let mut p = i.symmetric_eigenvalues();
+        p.as_mut_slice().sort_by(f64::total_cmp);
+        if p[0] < -tol {
+            return Err(bad(format!(
+                "inertia {six:?} (ixx, iyy, izz, ixy, ixz, iyz) has a negative principal moment {:.6e} kg·m²",
+                p[0]
+            )));
+        }
+        if p[0] + p[1] < p[2] - tol {
+            return Err(bad(format!(
+                "inertia {six:?} (ixx, iyy, izz, ixy, ixz, iyz): principal moments {:.6e}, {:.6e}, {:.6e} kg·m² break the triangle inequality (the largest exceeds the sum of the others)",
+                p[0], p[1], p[2]
+            )));
+        }
+        Ok(())
+    }
+
+    /// The same body described in a parent frame, given `parent_from_link`:
+    /// centre of mass moved, inertia rotated (R·I·Rᵀ; still about the centre of mass).
+    pub fn transformed(&self, parent_from_link: &Pose) -> Inertial {
+        let r = parent_from_link.rot;
+        Inertial {
+            mass: self.mass,
+            com: parent_from_link.transform_point(&self.com),
+            inertia: r * self.inertia * r.transpose(),
+        }
+    }
+
+    /// Two bodies rigidly joined, both described in the same frame: masses
+    /// add, the centre of mass is the mass-weighted mean, and each inertia is
+    /// moved to the common centre by the parallel-axis theorem
+    /// (I + m·(|d|²·1 − d·dᵀ) for an offset d).
+    pub fn combined(&self, other: &Inertial) -> Inertial {
+        let mass = self.mass + other.mass;
+        if mass <= 0.0 {
+            return Inertial { mass: 0.0, com: Vector3::zeros(), inertia: self.inertia + other.inertia };
+        }
+        let com = (self.com * self.mass + other.com * other.mass) / mass;
+        let shift = |b: &Inertial| {
+            let d = b.com - com;
+            b.inertia + b.mass * (Matrix3::identity() * d.norm_squared() - d * d.transpose())
+        };
+        Inertial { mass, com, inertia: shift(self) + shift(other) }
+    }
+}
+
 /// A named joint configuration such as `home`, `qz` or `qr`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NamedPose {
@@ -164,6 +275,7 @@ pub struct Robot {
     base: Pose,
     tool: Pose,
     poses: Vec<NamedPose>,
+    inertials: Vec<Option<Inertial>>,
     pub(crate) chain: Chain,
 }
 
@@ -263,7 +375,8 @@ impl Robot {
             }
         }
         let chain = Chain::new(&joints, &base, &tool);
-        Ok(Robot { name, convention, meta, joints, base, tool, poses, chain })
+        let inertials = vec![None; joints.len()];
+        Ok(Robot { name, convention, meta, joints, base, tool, poses, inertials, chain })
     }
 
     /// Robot name (e.g. `lbr-iiwa-14-r820`).
@@ -326,6 +439,7 @@ impl Robot {
             tool,
             self.poses.clone(),
         )
+        .map(|r| Robot { inertials: self.inertials.clone(), ..r })
     }
 
     /// Copy of the robot with another base transform (`world_from_base`).
@@ -339,6 +453,44 @@ impl Robot {
             self.tool,
             self.poses.clone(),
         )
+        .map(|r| Robot { inertials: self.inertials.clone(), ..r })
+    }
+
+    /// Mass properties per link (entry i for the body joint i moves, in link
+    /// frame i); `None` where the description gives none.
+    pub fn inertials(&self) -> &[Option<Inertial>] {
+        &self.inertials
+    }
+
+    /// Copy of the robot with mass properties per link: one entry per joint
+    /// (`None` for a link without them), each checked by [`Inertial::validate`].
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::{Inertial, nalgebra::Vector3};
+    /// let robot = kinema::Robot::builtin("scara5")?;
+    /// let ball = Inertial::new(1.0, Vector3::zeros(), [0.0; 6])?;
+    /// let heavy = robot.with_inertials(vec![Some(ball); robot.dof()])?;
+    /// assert_eq!(heavy.inertials()[2], Some(ball));
+    /// assert!(robot.with_inertials(vec![None]).is_err());
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn with_inertials(&self, inertials: Vec<Option<Inertial>>) -> Result<Robot> {
+        if inertials.len() != self.dof() {
+            return Err(Error::InvalidModel {
+                robot: self.name.clone(),
+                message: format!("{} inertials given, one per joint ({}) expected", inertials.len(), self.dof()),
+            });
+        }
+        for (i, b) in inertials.iter().enumerate() {
+            if let Some(b) = b {
+                b.validate().map_err(|e| Error::InvalidModel {
+                    robot: self.name.clone(),
+                    message: format!("link {} (moved by `{}`): {e}", i + 1, self.joints[i].name),
+                })?;
+            }
+        }
+        Ok(Robot { inertials, ..self.clone() })
     }
 
     /// Parses joint values given as text: a named pose (`home`, `qr`, …) or

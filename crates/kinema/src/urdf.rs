@@ -6,6 +6,13 @@
 //! the model with their `origin`, `axis` (any direction, also negative) and
 //! `limit`. Anything else on the path (`floating`, `planar`, `spherical`) is an
 //! error.
+//!
+//! Mass properties (`<inertial>`) are read per moving joint: those of its
+//! child link and of every link rigidly attached to it — through fixed joints,
+//! and through joints off the chain, which are held at 0 — expressed in the
+//! child link frame (kinema's link frame for that joint) and combined by the
+//! parallel-axis theorem. A URDF in which no link has mass or inertia gives a
+//! robot without mass properties.
 
 use std::collections::{HashMap, HashSet};
 
@@ -13,7 +20,7 @@ use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{Convention, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot};
+use crate::model::{Convention, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot};
 
 /// Parses a URDF document and extracts the chain from its root link to `tip`
 /// (default: the only leaf link). `file` is used in messages only.
@@ -83,6 +90,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
     path.reverse();
 
     let mut pending = Pose::IDENTITY; // fixed transforms not yet attached
+    let mut moving_children = Vec::new();
     let mut base = None;
     let mut joints = Vec::new();
     for j in &path {
@@ -130,6 +138,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
             pending * origin
         };
         pending = Pose::IDENTITY;
+        moving_children.push(j.child.link.as_str());
         joints.push(Joint {
             name: j.name.clone(),
             kind,
@@ -141,6 +150,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
     if joints.is_empty() {
         return Err(err(format!("the chain from `{}` to `{tip}` has no moving joint", roots[0])));
     }
+    let inertials = inertials(&u, &path, &moving_children, file)?;
     let home =
         joints.iter().map(|j| if j.limits.contains(0.0) { 0.0 } else { 0.5 * (j.limits.min + j.limits.max) }).collect();
     let name = if u.name.is_empty() { file.to_string() } else { u.name.clone() };
@@ -149,7 +159,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
         source: format!("URDF {file}, chain {} → {tip}", roots[0]),
         notes: String::new(),
     };
-    Robot::new(
+    let robot = Robot::new(
         name,
         Convention::General,
         meta,
@@ -158,5 +168,65 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
         pending,
         vec![NamedPose { name: "home".into(), q: home }],
     )
-    .map_err(|e| err(e.to_string()))
+    .map_err(|e| err(e.to_string()))?;
+    match inertials {
+        Some(b) => robot.with_inertials(b.into_iter().map(Some).collect()).map_err(|e| err(e.to_string())),
+        None => Ok(robot),
+    }
+}
+
+/// The mass properties of each moving joint's body, in its child link frame
+/// (see the module documentation); `None` if no link of the URDF has any.
+fn inertials(
+    u: &urdf_rs::Robot,
+    path: &[&urdf_rs::Joint],
+    moving_children: &[&str],
+    file: &str,
+) -> Result<Option<Vec<Inertial>>> {
+    let massless = |l: &urdf_rs::Link| {
+        let i = &l.inertial.inertia;
+        l.inertial.mass.value == 0.0 && [i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz].iter().all(|v| *v == 0.0)
+    };
+    if u.links.iter().all(massless) {
+        return Ok(None);
+    }
+    let link_by_name: HashMap<&str, &urdf_rs::Link> = u.links.iter().map(|l| (l.name.as_str(), l)).collect();
+    // The chain's moving joints end a rigid body; every other joint is rigid (held at 0).
+    let chain_moving: HashSet<&str> =
+        path.iter().filter(|j| j.joint_type != urdf_rs::JointType::Fixed).map(|j| j.name.as_str()).collect();
+    let mut out = Vec::with_capacity(moving_children.len());
+    for &child in moving_children {
+        let mut body = Inertial::ZERO;
+        // (link, child_from_link), depth first.
+        let mut stack = vec![(child, Pose::IDENTITY)];
+        let mut visited = 0usize;
+        while let Some((name, child_from_link)) = stack.pop() {
+            visited += 1;
+            if visited > u.links.len() + 1 {
+                return Err(Error::Urdf { file: file.to_string(), message: "the joints form a cycle".into() });
+            }
+            if let Some(l) = link_by_name.get(name) {
+                let o = &l.inertial.origin;
+                let link_from_inertial = Pose::from_xyz_rpy(*o.xyz, *o.rpy, RpyConvention::Zyx);
+                let i = &l.inertial.inertia;
+                let own = Inertial::new(
+                    l.inertial.mass.value,
+                    nalgebra::Vector3::zeros(),
+                    [i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz],
+                )
+                .map_err(|e| Error::Urdf {
+                    file: file.to_string(),
+                    message: format!("link `{name}`: <inertial>: {e}"),
+                })?;
+                let own = own.transformed(&(child_from_link * link_from_inertial));
+                body = body.combined(&own);
+            }
+            for j in u.joints.iter().filter(|j| j.parent.link == name && !chain_moving.contains(j.name.as_str())) {
+                let origin = Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy, RpyConvention::Zyx);
+                stack.push((j.child.link.as_str(), child_from_link * origin));
+            }
+        }
+        out.push(body);
+    }
+    Ok(Some(out))
 }
