@@ -167,6 +167,18 @@ fn too_far(point: &Vector3<f64>) -> Option<Unreachable> {
     })
 }
 
+/// Checks the target and runs a kernel, naming the solver in its refusal.
+fn run_kernel<const M: usize>(
+    name: &'static str,
+    target: &Pose,
+    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
+) -> Result<Candidates<6, M>> {
+    check_target(target)?;
+    let mut c = Candidates::<6, M>::default();
+    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
+    Ok(c)
+}
+
 /// Runs a kernel and turns its candidates into solutions.
 fn solve_with<const M: usize>(
     common: &Common,
@@ -174,10 +186,7 @@ fn solve_with<const M: usize>(
     target: &Pose,
     kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
 ) -> Result<Vec<Solution>> {
-    check_target(target)?;
-    let mut c = Candidates::<6, M>::default();
-    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
-    c.evaluate(&common.robot, target)
+    run_kernel(name, target, kernel)?.evaluate(&common.robot, target)
 }
 
 /// The kernel's candidates unmeasured, for the contract ([`IkSolver::propose`]).
@@ -186,10 +195,7 @@ fn propose_with<const M: usize>(
     target: &Pose,
     kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
 ) -> Result<Vec<Solution>> {
-    check_target(target)?;
-    let mut c = Candidates::<6, M>::default();
-    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
-    Ok(c.iter().map(|(q, b)| Solution::unmeasured(q.to_vec(), b)).collect())
+    Ok(run_kernel(name, target, kernel)?.iter().map(|(q, b)| Solution::unmeasured(q.to_vec(), b)).collect())
 }
 
 fn candidates_with<const M: usize>(
@@ -198,10 +204,7 @@ fn candidates_with<const M: usize>(
     out: &mut CandidateSet,
     kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
 ) -> Result<()> {
-    check_target(target)?;
-    let mut c = Candidates::<6, M>::default();
-    kernel(target, &mut c).map_err(|reason| Error::Unreachable { solver: name.into(), reason, closest: None })?;
-    c.write_into(out);
+    run_kernel(name, target, kernel)?.write_into(out);
     Ok(())
 }
 
