@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 include!(concat!(env!("OUT_DIR"), "/builtin_robots.rs"));
 

@@ -81,7 +81,8 @@ use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::FastMath;
 use crate::math::{rot_y, rot_z, Pose};
-use crate::model::{DhConvention, JointType, LinkGeometry, Robot};
+use crate::model::{DhConvention, JointType, LinkGeometry};
+use crate::robot::Robot;
 
 /// Configuration bit: set when q2 < 0 (shoulder).
 pub const SHOULDER: u8 = 1;
@@ -175,7 +176,7 @@ pub struct ValidationReport {
 /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
 /// let ik = IiwaIk::new(&robot)?;
 /// let q = [0.3, 0.5, 0.0, -1.2, 0.4, 0.8, 0.1];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?; // q3 = 0 by default
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?; // q3 = 0 by default
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)));
 /// # Ok::<(), kinema::Error>(())
 /// ```
@@ -652,7 +653,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let target = robot.fk(&q)?.pose;
+    /// let target = robot.fk(&q)?.world_from_tool;
     /// let sols = ik.solve_q3(&target, q[2])?;
     /// assert_eq!(sols.len(), 8);
     /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
@@ -679,7 +680,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.pose, q[2])?;
+    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.world_from_tool, q[2])?;
     /// assert_eq!(c.len(), 8);
     /// assert!(c.qs().iter().any(|s| s.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)));
     /// # Ok::<(), kinema::Error>(())
@@ -705,7 +706,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let next = robot.fk(&[0.301, 0.5, -0.7, -1.199, 0.4, 0.8, 0.1])?.pose;
+    /// let next = robot.fk(&[0.301, 0.5, -0.7, -1.199, 0.4, 0.8, 0.1])?.world_from_tool;
     /// let c = ik.solve_q3_near(&next, -0.7, &q)?;
     /// assert_eq!(c.len(), 2);
     /// # Ok::<(), kinema::Error>(())
@@ -811,7 +812,7 @@ impl IiwaIk {
             });
         }
         let fk = self.robot.fk(q)?;
-        let t = self.arm_target(&fk.pose)?;
+        let t = self.arm_target(&fk.world_from_tool)?;
         let config = bits(q);
         let psi0 = self.psi_of(q);
         (0..steps)
@@ -917,7 +918,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let sols = ik.solve_searching(&robot.fk(&q)?.pose, 0.0)?;
+    /// let sols = ik.solve_searching(&robot.fk(&q)?.world_from_tool, 0.0)?;
     /// assert!(!sols.is_empty());
     /// assert!(sols.iter().all(|s| s.within_limits() && s.position_error < 1e-10 && s.orientation_error < 1e-10));
     /// # Ok::<(), kinema::Error>(())
@@ -1247,17 +1248,17 @@ impl IiwaIk {
         (0..n)
             .map(|_| {
                 self.robot.random_q_into(&mut rng, &mut q);
-                let error =
-                    self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.pose).ok()).map_or(f64::INFINITY, |t| {
-                        match self.solve_q3_raw(&t, q[2], 0.0) {
-                            Ok(sols) => sols
-                                .qs()
-                                .iter()
-                                .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
-                                .fold(f64::INFINITY, f64::min),
-                            Err(_) => f64::INFINITY,
-                        }
-                    });
+                let error = self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.world_from_tool).ok()).map_or(
+                    f64::INFINITY,
+                    |t| match self.solve_q3_raw(&t, q[2], 0.0) {
+                        Ok(sols) => sols
+                            .qs()
+                            .iter()
+                            .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
+                            .fold(f64::INFINITY, f64::min),
+                        Err(_) => f64::INFINITY,
+                    },
+                );
                 ValidationCase { q: q.clone(), error, limit: self.rounding_limit(&q) }
             })
             .collect()

@@ -12,7 +12,8 @@ use super::subproblems::rot;
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::Pose;
-use crate::model::{JointType, Robot};
+use crate::model::JointType;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -42,7 +43,7 @@ impl Kinematics {
     /// let robot = kinema::Robot::builtin("ur5")?;
     /// let kin = Kinematics::new(&robot)?;
     /// let q = [0.1, -0.7, 1.2, 0.3, -0.4, 2.0];
-    /// let (a, b) = (kin.fk(&q), robot.fk(&q)?.pose);
+    /// let (a, b) = (kin.fk(&q), robot.fk(&q)?.world_from_tool);
     /// assert!((a.pos - b.pos).norm() < 1e-12 && (a.rot - b.rot).norm() < 1e-12);
     /// # Ok::<(), kinema::Error>(())
     /// ```
@@ -59,7 +60,7 @@ impl Kinematics {
         }
         let n = robot.dof();
         let q0 = vec![0.0; n];
-        let tool = robot.fk(&q0)?.pose;
+        let tool = robot.fk(&q0)?.world_from_tool;
         let jac = robot.jacobian(&q0, Frame::Base)?;
         let mut h = Vec::with_capacity(n);
         let mut p = Vec::with_capacity(n);
@@ -74,7 +75,7 @@ impl Kinematics {
         let mut rng = ChaCha8Rng::seed_from_u64(0x6765_6f6b);
         for _ in 0..3 {
             let q = robot.random_q(&mut rng);
-            let (a, b) = (kin.fk(&q), robot.fk(&q)?.pose);
+            let (a, b) = (kin.fk(&q), robot.fk(&q)?.world_from_tool);
             let scale = 1.0 + b.pos.norm();
             let err = ((a.pos - b.pos).norm() / scale).max((a.rot - b.rot).norm());
             if !(err <= 1e-9) {
@@ -177,7 +178,7 @@ mod tests {
             tried += 1;
             for _ in 0..500 {
                 let q: Vec<f64> = (0..robot.dof()).map(|_| rng.random_range(-PI..PI)).collect();
-                let (a, b) = (kin.fk(&q), robot.fk(&q).unwrap().pose);
+                let (a, b) = (kin.fk(&q), robot.fk(&q).unwrap().world_from_tool);
                 assert!((a.pos - b.pos).norm() < 1e-12 && (a.rot - b.rot).norm() < 1e-12, "{name} {q:?}");
             }
             for h in &kin.h {

@@ -60,7 +60,7 @@ pub use wrist_search::TwoIntersectingSearchIk;
 use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// Tolerance for the structure tests: unit axis directions whose cross
 /// product is below it are parallel, lines closer than it \[m\] intersect.
@@ -217,7 +217,7 @@ fn candidates_with<const M: usize>(
 /// let ik = GeoIk::new(&robot)?;
 /// assert_eq!(ik.name(), "geo-three-parallel");
 /// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));

@@ -32,7 +32,7 @@ use super::{candidates_with, label, propose_with, reject, solve_with, too_far, C
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -48,7 +48,7 @@ const SING_TOL: f64 = 1e-12;
 /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ur5.urdf"), None)?;
 /// let ik = ThreeParallelIk::new(&robot)?;
 /// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// # Ok::<(), kinema::Error>(())

@@ -25,7 +25,7 @@ use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, 
 use crate::error::Result;
 use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -46,7 +46,7 @@ type V3 = Vector3<f64>;
 /// let robot = kinema::Robot::from_toml_str(&toml, "ur5-offset.toml")?;
 /// let ik = ThreeParallelSearchIk::new(&robot)?;
 /// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
 /// # Ok::<(), kinema::Error>(())

@@ -33,7 +33,7 @@ use super::{candidates_with, label, propose_with, reject, solve_with, too_far, C
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -61,7 +61,7 @@ pub enum ShoulderKind {
 /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/puma560.urdf"), None)?;
 /// let ik = SphericalWristIk::new(&robot)?;
 /// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// # Ok::<(), kinema::Error>(())

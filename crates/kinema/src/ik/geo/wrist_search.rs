@@ -24,7 +24,7 @@ use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, 
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -45,7 +45,7 @@ type V3 = Vector3<f64>;
 /// let robot = kinema::Robot::from_toml_str(&toml, "puma-offset.toml")?;
 /// let ik = TwoIntersectingSearchIk::new(&robot)?;
 /// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
 /// # Ok::<(), kinema::Error>(())

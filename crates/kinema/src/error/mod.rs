@@ -1,4 +1,10 @@
-//! The error type of the core library.
+//! The error type of the core library, and the data its variants carry.
+
+mod unreachable;
+mod violation;
+
+pub use unreachable::{Closest, Tolerance, Unreachable};
+pub use violation::{Violation, ViolationKind};
 
 /// Everything that can go wrong in `kinema`. Each variant carries what was
 /// wrong and, where it helps, what was expected.
@@ -92,14 +98,22 @@ pub enum Error {
         pitch: f64,
     },
     /// An inverse-kinematics target that cannot be reached, and why.
-    #[error("unreachable target ({}): {reason}{}", solver_phrase(solver), closest_phrase(closest))]
+    #[error("unreachable target ({solver} solver): {reason}{}", closest_phrase(closest))]
     Unreachable {
         /// Which solver decided.
         solver: String,
         /// Why.
-        reason: crate::ik::Unreachable,
+        reason: Unreachable,
         /// The configuration that came closest, when the solver found one.
-        closest: Option<Box<crate::ik::Closest>>,
+        closest: Option<Box<Closest>>,
+    },
+    /// A sample of a Cartesian path that failed (IK, most often).
+    #[error("at t = {t:.4} s of the path: {source}")]
+    OnPath {
+        /// Time of the sample along the path \[s\].
+        t: f64,
+        /// What went wrong there.
+        source: Box<Error>,
     },
     /// The work was interrupted before it finished (Ctrl-C, a deadline).
     #[error("cancelled before it finished")]
@@ -120,7 +134,7 @@ pub enum Error {
         /// The first violation, in words.
         first: String,
         /// All of them.
-        violations: Vec<crate::traj::Violation>,
+        violations: Vec<Violation>,
     },
     /// A dynamics computation on a robot whose link has no mass properties.
     #[error("robot `{robot}`: link {link} (moved by joint `{joint}`) has no mass properties (inertial); dynamics needs mass, centre of mass and inertia for every link")]
@@ -142,13 +156,22 @@ pub enum Error {
     },
 }
 
+impl Error {
+    /// The error itself, under the context that locates it ([`Error::InBatch`],
+    /// [`Error::OnPath`]): what kind of thing went wrong.
+    pub fn root(&self) -> &Error {
+        match self {
+            Error::InBatch { source, .. } | Error::OnPath { source, .. } => source.root(),
+            other => other,
+        }
+    }
+}
+
 /// Result alias of the core library.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// "iiwa" → "iiwa solver"; "iiwa, at t = 1.2 s of the path" (a sample of a Cartesian path,
-/// named so by the trajectory module) → "iiwa solver, at t = 1.2 s of the path".
 /// The closest configuration of an unreachable target, as a clause of its message.
-fn closest_phrase(closest: &Option<Box<crate::ik::Closest>>) -> String {
+fn closest_phrase(closest: &Option<Box<Closest>>) -> String {
     match closest {
         Some(c) => {
             let q: Vec<String> = c.q.iter().map(|v| format!("{v:.6}")).collect();
@@ -160,12 +183,5 @@ fn closest_phrase(closest: &Option<Box<crate::ik::Closest>>) -> String {
             )
         }
         None => String::new(),
-    }
-}
-
-fn solver_phrase(solver: &str) -> String {
-    match solver.split_once(", ") {
-        Some((name, rest)) => format!("{name} solver, {rest}"),
-        None => format!("{solver} solver"),
     }
 }
