@@ -929,7 +929,7 @@ impl<'a> Compiler<'a> {
                                     Ok(f) => self.scara = Scara::Solver(Rc::from(f)),
                                     Err(e) => {
                                         let why = match e {
-                                            kinema::Error::InvalidArgument { message, .. } => message,
+                                            kinema::Error::SolverDoesNotFit { reason, .. } => reason,
                                             e => e.to_string(),
                                         };
                                         let line = self.line(&t.span());

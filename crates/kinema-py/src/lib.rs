@@ -59,11 +59,12 @@ fn to_py(e: Error) -> PyErr {
         | Error::NonFinite { .. }
         | Error::UnknownPose { .. }
         | Error::InvalidArgument { .. }
+        | Error::SolverDoesNotFit { .. }
         | Error::RpySingularity { .. } => InvalidInput::new_err(message),
         Error::Description { .. } | Error::Urdf { .. } | Error::InvalidModel { .. } => {
             DescriptionError::new_err(message)
         }
-        Error::Io { .. } => RobotFileError::new_err(message),
+        Error::Io { .. } | Error::FileTooLarge { .. } => RobotFileError::new_err(message),
         Error::Trajectory { .. } => TrajectoryError::new_err(message),
         _ => KinemaError::new_err(message),
     }

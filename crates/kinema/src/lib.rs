@@ -61,7 +61,7 @@ mod robot;
 pub mod traj;
 mod urdf;
 
-pub use error::{Error, Result};
+pub use error::{Error, IoError, Result};
 pub use kin::{Buffers, Fk, Frame};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{

@@ -514,9 +514,12 @@ fn unknown_robot_and_pose_names() {
 fn from_file_missing_and_wrong_extension() {
     let missing = data("no-such-robot.toml");
     let e = Robot::from_file(&missing, None).unwrap_err();
-    let Error::Io { path, message } = &e else { panic!("{e:?}") };
+    let Error::Io { path, source } = &e else { panic!("{e:?}") };
     assert_eq!(path, &missing.display().to_string());
-    assert!(!message.is_empty());
+    assert_eq!(source.0.kind(), std::io::ErrorKind::NotFound);
+    // The operating system's error stays reachable as the source.
+    let cause = std::error::Error::source(&e).and_then(|s| s.source()).expect("an io::Error source");
+    assert!(cause.downcast_ref::<std::io::Error>().is_some(), "{cause:?}");
     assert!(e.to_string().contains("no-such-robot.toml"), "{e}");
     let e = Robot::from_file(data("no-such-robot.urdf"), None).unwrap_err();
     assert!(matches!(e, Error::Io { .. }), "{e:?}");

@@ -191,7 +191,7 @@ fn detection_accepts_and_rejects() {
         let robot = Robot::builtin(name).unwrap();
         match PieperIk::new(&robot) {
             Ok(_) => {}
-            Err(Error::InvalidArgument { message, .. }) => assert!(message.starts_with(robot.name()), "{message}"),
+            Err(Error::SolverDoesNotFit { robot: r, .. }) => assert_eq!(r, robot.name()),
             Err(e) => panic!("{name}: {e}"),
         }
     }

@@ -191,7 +191,10 @@ fn variant_lengths_base_and_tool() {
     }
     let bad = robot.with_tool(Pose::translation(0.05, 0.0, 0.0)).unwrap();
     assert!(matches!(RommelIk::new(&bad), Err(Error::InvalidArgument { .. })));
-    assert!(matches!(RommelIk::new(&Robot::builtin("scorbot-er-v-plus").unwrap()), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(
+        RommelIk::new(&Robot::builtin("scorbot-er-v-plus").unwrap()),
+        Err(Error::SolverDoesNotFit { .. })
+    ));
 }
 
 #[test]

@@ -333,7 +333,7 @@ fn variant_lengths_base_and_tool() {
     let bad = robot.with_tool(Pose::translation(0.05, 0.0, 0.0)).unwrap();
     assert!(matches!(ScorbotIk::new(&bad), Err(Error::InvalidArgument { .. })));
     // Not a Scorbot at all.
-    assert!(matches!(ScorbotIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ScorbotIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::SolverDoesNotFit { .. })));
     let _ = FRAC_PI_2;
 }
 

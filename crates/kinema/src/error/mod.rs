@@ -76,12 +76,33 @@ pub enum Error {
         message: String,
     },
     /// A file that cannot be read.
-    #[error("cannot read `{path}`: {message}")]
+    #[error("cannot read `{path}`: {source}")]
     Io {
         /// Path as given.
         path: String,
-        /// The operating system's message.
-        message: String,
+        /// The operating system's error.
+        source: IoError,
+    },
+    /// A file larger than the limit for its kind (a FIFO or `/dev/zero` given
+    /// by mistake, most often).
+    #[error("cannot read `{path}`: the file is larger than the limit of {} for {what}", size_text(*limit))]
+    FileTooLarge {
+        /// Path as given.
+        path: String,
+        /// What the file was read as (e.g. "a robot description").
+        what: String,
+        /// The limit \[bytes\].
+        limit: u64,
+    },
+    /// A robot whose structure an IK solver family does not handle.
+    #[error("the {solver} solver does not fit robot `{robot}`: {reason}")]
+    SolverDoesNotFit {
+        /// The solver family.
+        solver: String,
+        /// Robot name.
+        robot: String,
+        /// What structure the solver needs and what the robot has.
+        reason: String,
     },
     /// A model that is internally inconsistent (built in code, not from a file).
     #[error("invalid robot model `{robot}`: {message}")]
@@ -156,6 +177,35 @@ pub enum Error {
     },
 }
 
+/// An operating-system I/O error, shared so that [`Error`] stays `Clone`;
+/// two compare equal when their kind and message do.
+#[derive(Debug, Clone)]
+pub struct IoError(pub std::sync::Arc<std::io::Error>);
+
+impl From<std::io::Error> for IoError {
+    fn from(e: std::io::Error) -> Self {
+        IoError(std::sync::Arc::new(e))
+    }
+}
+
+impl PartialEq for IoError {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.kind() == other.0.kind() && self.0.to_string() == other.0.to_string()
+    }
+}
+
+impl std::fmt::Display for IoError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for IoError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(self.0.as_ref())
+    }
+}
+
 impl Error {
     /// The error itself, under the context that locates it ([`Error::InBatch`],
     /// [`Error::OnPath`]): what kind of thing went wrong.
@@ -169,6 +219,15 @@ impl Error {
 
 /// Result alias of the core library.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// A size in bytes as people read it: "16 MiB" when whole, else bytes.
+fn size_text(bytes: u64) -> String {
+    if bytes >= 1 << 20 && bytes % (1 << 20) == 0 {
+        format!("{} MiB", bytes >> 20)
+    } else {
+        format!("{bytes} bytes")
+    }
+}
 
 /// The closest configuration of an unreachable target, as a clause of its message.
 fn closest_phrase(closest: &Option<Box<Closest>>) -> String {

@@ -249,8 +249,8 @@ struct Elbow {
     s4: f64,
 }
 
-fn invalid(message: String) -> Error {
-    Error::InvalidArgument { what: "robot".into(), message }
+fn invalid(robot: &Robot, reason: String) -> Error {
+    Error::SolverDoesNotFit { solver: "iiwa".into(), robot: robot.name().into(), reason }
 }
 
 /// ZYZ Euler angles (a, b, c) of m = Rz(a)·Ry(b)·Rz(c) with sign(b) = `sign`.
@@ -385,47 +385,52 @@ impl IiwaIk {
     pub fn new(robot: &Robot) -> Result<Self> {
         const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
         if robot.dof() != 7 {
-            return Err(invalid(format!(
-                "`{}` has {} joints; the iiwa solver needs a 7-joint arm",
-                robot.name(),
-                robot.dof()
-            )));
+            return Err(invalid(
+                robot,
+                format!("`{}` has {} joints; the iiwa solver needs a 7-joint arm", robot.name(), robot.dof()),
+            ));
         }
         let mut d = [0.0; 7];
         for (i, j) in robot.joints().iter().enumerate() {
             let n = i + 1;
             if j.kind != JointType::Revolute {
-                return Err(invalid(format!("joint {n} of `{}` is not revolute", robot.name())));
+                return Err(invalid(robot, format!("joint {n} of `{}` is not revolute", robot.name())));
             }
             let LinkGeometry::Dh { convention: DhConvention::Standard, d: di, a, alpha, .. } = j.geometry else {
-                return Err(invalid(format!(
+                return Err(invalid(robot, format!(
                     "joint {n} of `{}` is not described by a standard DH row; the iiwa solver reads a standard DH table",
                     robot.name()
                 )));
             };
             if a.abs() > 1e-12 {
-                return Err(invalid(format!("joint {n}: link length a = {a} m, the iiwa shape needs a = 0")));
+                return Err(invalid(robot, format!("joint {n}: link length a = {a} m, the iiwa shape needs a = 0")));
             }
             if wrap_angle(alpha - TWIST[i]).abs() > 1e-9 {
-                return Err(invalid(format!(
-                    "joint {n}: twist α = {:.4}°, the iiwa shape needs {:.0}° (−90, 90, −90, 90, −90, 90, 0)",
-                    alpha.to_degrees(),
-                    TWIST[i].to_degrees()
-                )));
+                return Err(invalid(
+                    robot,
+                    format!(
+                        "joint {n}: twist α = {:.4}°, the iiwa shape needs {:.0}° (−90, 90, −90, 90, −90, 90, 0)",
+                        alpha.to_degrees(),
+                        TWIST[i].to_degrees()
+                    ),
+                ));
             }
             if j.offset.abs() > 1e-12 {
-                return Err(invalid(format!("joint {n}: offset {} rad, the iiwa shape needs 0", j.offset)));
+                return Err(invalid(robot, format!("joint {n}: offset {} rad, the iiwa shape needs 0", j.offset)));
             }
             if i % 2 == 1 && di.abs() > 1e-12 {
-                return Err(invalid(format!("joint {n}: d = {di} m, the iiwa shape needs d2 = d4 = d6 = 0")));
+                return Err(invalid(robot, format!("joint {n}: d = {di} m, the iiwa shape needs d2 = d4 = d6 = 0")));
             }
             d[i] = di;
         }
         if !(d[2] > 0.0 && d[4] > 0.0) {
-            return Err(invalid(format!(
-                "d3 = {} m and d5 = {} m must be positive (shoulder–elbow and elbow–wrist lengths)",
-                d[2], d[4]
-            )));
+            return Err(invalid(
+                robot,
+                format!(
+                    "d3 = {} m and d5 = {} m must be positive (shoulder–elbow and elbow–wrist lengths)",
+                    d[2], d[4]
+                ),
+            ));
         }
         Ok(IiwaIk {
             robot: robot.clone(),

@@ -191,7 +191,8 @@ impl PieperIk {
     /// Errors ([`Error::InvalidArgument`]) say which condition fails.
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
-        let reject = |message: String| Err(Error::InvalidArgument { what: "robot".into(), message });
+        let reject =
+            |reason: String| Err(Error::SolverDoesNotFit { solver: "pieper".into(), robot: name.into(), reason });
         let types = robot.joint_types();
         if robot.dof() != 6 || types != "RRRRRR" {
             return reject(format!(

@@ -115,7 +115,7 @@ impl RommelIk {
     /// Errors ([`Error::InvalidArgument`]) for a robot that is not five revolute
     /// modified-DH joints with that geometry, or a tool that leaves the flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.joint_types() != "RRRRR" {
             return Err(bad(format!(
                 "the ROMMEL solver needs 5 revolute joints; `{}` is {}",

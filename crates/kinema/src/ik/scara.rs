@@ -152,7 +152,7 @@ impl ScaraIk {
     /// included; any base translation is fine), whose tool is tilted (its z axis must
     /// stay vertical), or whose rail is too short for the zone rule.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.joint_types() != "PRRPR" {
             return Err(bad(format!(
                 "the SCARA solver needs joints PRRPR (rail, shoulder, elbow, z, wrist); `{}` is {}",

@@ -143,7 +143,7 @@ impl ScorbotIk {
     /// a4 = a5 = 0, a2 > 0, a3 > 0, and a tool whose translation lies along the
     /// flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.dof() != 5 || robot.joint_types() != "RRRRR" {
             return Err(bad(format!(
                 "the Scorbot solver needs 5 revolute joints (RRRRR); `{}` has {} ({})",

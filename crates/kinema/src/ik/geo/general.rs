@@ -138,7 +138,7 @@ impl GeneralIk {
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         for i in 0..5 {
             if parallel(&h(i), &h(i + 1), GEOM_TOL) && distance_to_line(&p(i + 1), &p(i), &h(i)) <= GEOM_TOL {
-                return reject(robot, format!("axes {} and {} coincide", i + 1, i + 2));
+                return reject("geo-general", robot, format!("axes {} and {} coincide", i + 1, i + 2));
             }
         }
         let mut size = 0.0f64;

@@ -50,12 +50,10 @@ impl Kinematics {
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
         if let Some(i) = robot.joints().iter().position(|j| j.kind != JointType::Revolute) {
-            return Err(Error::InvalidArgument {
-                what: "robot".into(),
-                message: format!(
-                    "{name}: joint {} is prismatic; the geometric solvers handle revolute joints only",
-                    i + 1
-                ),
+            return Err(Error::SolverDoesNotFit {
+                solver: "geometric".into(),
+                robot: name.into(),
+                reason: format!("joint {} is prismatic; the geometric solvers handle revolute joints only", i + 1),
             });
         }
         let n = robot.dof();
@@ -79,11 +77,10 @@ impl Kinematics {
             let scale = 1.0 + b.pos.norm();
             let err = ((a.pos - b.pos).norm() / scale).max((a.rot - b.rot).norm());
             if !(err <= 1e-9) {
-                return Err(Error::InvalidArgument {
-                    what: "robot".into(),
-                    message: format!(
-                        "{name}: the axes read at q = 0 do not reproduce the forward kinematics (error {err:.3e})"
-                    ),
+                return Err(Error::SolverDoesNotFit {
+                    solver: "geometric".into(),
+                    robot: name.into(),
+                    reason: format!("the axes read at q = 0 do not reproduce the forward kinematics (error {err:.3e})"),
                 });
             }
         }

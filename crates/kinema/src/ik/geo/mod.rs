@@ -101,8 +101,9 @@ impl Common {
     fn with_dof(robot: &Robot, solver: &str, dof: usize) -> Result<Self> {
         if robot.dof() != dof {
             return reject(
+                solver,
                 robot,
-                format!("the {solver} solver needs exactly {dof} revolute joints; this robot has {}", robot.dof()),
+                format!("it needs exactly {dof} revolute joints; this robot has {}", robot.dof()),
             );
         }
         let kin = Kinematics::new(robot)?;
@@ -152,8 +153,8 @@ impl Common {
     }
 }
 
-fn reject<T>(robot: &Robot, message: String) -> Result<T> {
-    Err(Error::InvalidArgument { what: "robot".into(), message: format!("{}: {message}", robot.name()) })
+fn reject<T>(solver: &str, robot: &Robot, reason: String) -> Result<T> {
+    Err(Error::SolverDoesNotFit { solver: solver.into(), robot: robot.name().into(), reason })
 }
 
 /// A target whose motion is absurdly large (or not finite after the tool is
@@ -256,9 +257,10 @@ impl GeoIk {
             Ok(s) => return Ok(GeoIk::TwoIntersectingSearch(s)),
             Err(e) => e,
         };
-        Err(Error::InvalidArgument {
-            what: "robot".into(),
-            message: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),
+        Err(Error::SolverDoesNotFit {
+            solver: "geometric".into(),
+            robot: robot.name().into(),
+            reason: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),
         })
     }
 

@@ -69,16 +69,28 @@ impl ThreeParallelSearchIk {
         let common = Common::new(robot, "geo-three-parallel-search")?;
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         if !(parallel(&h(1), &h(2), GEOM_TOL) && parallel(&h(1), &h(3), GEOM_TOL)) {
-            return reject(robot, "axes 2, 3 and 4 are not parallel".into());
+            return reject("geo-three-parallel-search", robot, "axes 2, 3 and 4 are not parallel".into());
         }
         if parallel(&h(0), &h(1), GEOM_TOL) || parallel(&h(4), &h(1), GEOM_TOL) || parallel(&h(4), &h(5), GEOM_TOL) {
-            return reject(robot, "axis 1 or 5 is parallel to axes 2–4, or axis 6 to axis 5: a degenerate arm".into());
+            return reject(
+                "geo-three-parallel-search",
+                robot,
+                "axis 1 or 5 is parallel to axes 2–4, or axis 6 to axis 5: a degenerate arm".into(),
+            );
         }
         if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL || distance_to_line(&p(3), &p(2), &h(2)) <= GEOM_TOL {
-            return reject(robot, "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into());
+            return reject(
+                "geo-three-parallel-search",
+                robot,
+                "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into(),
+            );
         }
         if intersection(&p(4), &h(4), &p(5), &h(5), GEOM_TOL).is_some() {
-            return reject(robot, "axes 5 and 6 meet: the closed form applies, not the search".into());
+            return reject(
+                "geo-three-parallel-search",
+                robot,
+                "axes 5 and 6 meet: the closed form applies, not the search".into(),
+            );
         }
         let h2 = h(1);
         let seed = if h2.x.abs() < 0.9 { V3::x() } else { V3::y() };

@@ -132,6 +132,7 @@ impl SrsIk {
     pub fn new(robot: &Robot) -> Result<Self> {
         if robot.dof() != 7 {
             return reject(
+                NAME,
                 robot,
                 format!("the {NAME} solver needs exactly 7 revolute joints; this robot has {}", robot.dof()),
             );
@@ -142,6 +143,7 @@ impl SrsIk {
         let (h4, p4) = (common.h(3), common.p(3));
         if distance_to_line(&s, &p4, &h4) <= GEOM_TOL || distance_to_line(&w, &p4, &h4) <= GEOM_TOL {
             return reject(
+                NAME,
                 robot,
                 "axis 4 passes through the shoulder point or the wrist centre: the elbow cannot change their distance"
                     .into(),
@@ -591,12 +593,14 @@ fn meeting_point(c: &Common, first: usize, what: &str) -> Result<V3> {
     let robot = &c.robot;
     let Some(x) = intersection(&c.p(a), &c.h(a), &c.p(b), &c.h(b), GEOM_TOL) else {
         return reject(
+            NAME,
             robot,
             format!("axes {} and {} do not meet (or are parallel): no spherical {what}", a + 1, b + 1),
         );
     };
     if parallel(&c.h(b), &c.h(k), GEOM_TOL) || distance_to_line(&x, &c.p(k), &c.h(k)) > GEOM_TOL {
         return reject(
+            NAME,
             robot,
             format!(
                 "axis {} does not pass through the point where axes {} and {} meet (or is parallel to axis {}): \
