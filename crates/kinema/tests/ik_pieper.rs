@@ -170,8 +170,8 @@ fn solutions_respect_limits_and_flags() {
 fn detection_accepts_and_rejects() {
     assert!(PieperIk::new(&puma()).is_ok());
     let msg = |name: &str| match PieperIk::new(&Robot::builtin(name).unwrap()) {
-        Err(Error::InvalidArgument { message, .. }) => message,
-        other => panic!("{name}: expected InvalidArgument, got {other:?}"),
+        Err(Error::SolverDoesNotFit { reason, .. }) => reason,
+        other => panic!("{name}: expected SolverDoesNotFit, got {other:?}"),
     };
     let ur5 = msg("ur5");
     assert!(ur5.contains("ur5") && ur5.contains("axes 4, 5, 6 do not intersect") && ur5.contains("0.0946"), "{ur5}");
@@ -182,8 +182,8 @@ fn detection_accepts_and_rejects() {
     // A general (URDF-like) description is rejected: the solver reads the DH table.
     let general = Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ur5-general.toml"), None).unwrap();
     let m = match PieperIk::new(&general) {
-        Err(Error::InvalidArgument { message, .. }) => message,
-        other => panic!("expected InvalidArgument, got {other:?}"),
+        Err(Error::SolverDoesNotFit { reason, .. }) => reason,
+        other => panic!("expected SolverDoesNotFit, got {other:?}"),
     };
     assert!(m.contains("general transform") && m.contains("DH table"), "{m}");
     // Every built-in robot is either accepted or rejected with a message, never a panic.
@@ -428,8 +428,8 @@ fn unsupported_arrangements_are_rejected() {
         (0.0, 0.0, 0.0, 0.0),
     ];
     let err = |rows| match PieperIk::new(&synthetic("x", "standard", rows, "")) {
-        Err(Error::InvalidArgument { message, .. }) => message,
-        other => panic!("expected InvalidArgument, got {other:?}"),
+        Err(Error::SolverDoesNotFit { reason, .. }) => reason,
+        other => panic!("expected SolverDoesNotFit, got {other:?}"),
     };
     // Axes 1 and 2 coincide (α1 = 0, a1 = 0).
     let mut rows = rows_ok;
