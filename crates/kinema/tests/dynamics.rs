@@ -7,8 +7,8 @@
 
 use std::f64::consts::PI;
 
-use kinema::dynamics::{coriolis, forward_dynamics, gravity_torques, mass_matrix, rnea};
-use kinema::nalgebra::{DVector, Matrix3, Rotation3, Unit, Vector3};
+use kinema::dynamics::{coriolis, coriolis_matrix, forward_dynamics, gravity_torques, mass_matrix, rnea};
+use kinema::nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Unit, Vector3};
 use kinema::{
     Convention, DhConvention, Error, Inertial, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot,
 };
@@ -225,6 +225,78 @@ fn forward_dynamics_inverts_rnea() {
         }
     }
     eprintln!("forward dynamics vs RNEA: worst |Δq̈| {worst:.2e} rad/s²");
+}
+
+/// The oracle for forward dynamics: q̈ = M⁻¹·(τ − h) with M from CRBA and
+/// h = C·q̇ + g from RNEA, solved by Cholesky — shares with ABA only the
+/// model, not the recursion.
+fn fd_by_mass_matrix(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64]) -> Vec<f64> {
+    let n = robot.dof();
+    let h = rnea(robot, q, qd, &vec![0.0; n], &G).unwrap();
+    let m = mass_matrix(robot, q).unwrap();
+    let rhs = DVector::from_iterator(n, tau.iter().zip(&h).map(|(t, h)| t - h));
+    m.cholesky().expect("M positive definite").solve(&rhs).iter().copied().collect()
+}
+
+#[test]
+fn aba_matches_the_mass_matrix_solve() {
+    let mut rng = ChaCha8Rng::seed_from_u64(32);
+    let mut worst = 0.0f64;
+    let mut states = 0;
+    for robot in robots(&mut rng, 400) {
+        let n = robot.dof();
+        for _ in 0..10 {
+            let q = robot.random_q(&mut rng);
+            let (qd, tau) = (random_vec(&mut rng, n, 2.0), random_vec(&mut rng, n, 20.0));
+            let aba = forward_dynamics(&robot, &q, &qd, &tau, &G).unwrap();
+            let oracle = fd_by_mass_matrix(&robot, &q, &qd, &tau);
+            let scale = 1.0 + oracle.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let err = max_abs_diff(&aba, &oracle) / scale;
+            worst = worst.max(err);
+            assert!(err < 1e-9, "{}: ABA {aba:?} vs M⁻¹(τ − h) {oracle:?}", robot.name());
+            states += 1;
+        }
+    }
+    eprintln!("ABA vs M⁻¹(τ − h): worst relative difference {worst:.2e} over {states} states");
+}
+
+#[test]
+fn aba_refuses_a_joint_that_moves_no_mass() {
+    let robot = planar(&[1.0, 1.0], &[1.0, 0.0], &[0.5, 0.5], &[0.1, 0.0]);
+    let e = forward_dynamics(&robot, &[0.0, 0.0], &[0.0; 2], &[0.0; 2], &G).unwrap_err();
+    assert!(e.to_string().contains("j2"), "{e}");
+    assert!(forward_dynamics(&robot, &[0.0, 0.0], &[f64::NAN, 0.0], &[0.0; 2], &G).is_err());
+}
+
+#[test]
+fn coriolis_matrix_times_qd_is_coriolis_and_mdot_minus_2c_is_skew() {
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    let (mut worst_cqd, mut worst_skew) = (0.0f64, 0.0f64);
+    for robot in robots(&mut rng, 200) {
+        let n = robot.dof();
+        for _ in 0..5 {
+            let (q, qd) = (robot.random_q(&mut rng), random_vec(&mut rng, n, 2.0));
+            let c = coriolis_matrix(&robot, &q, &qd).unwrap();
+            let cqd = &c * DVector::from_column_slice(&qd);
+            let h = coriolis(&robot, &q, &qd).unwrap();
+            let scale = 1.0 + h.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let err = max_abs_diff(cqd.as_slice(), &h) / scale;
+            worst_cqd = worst_cqd.max(err);
+            assert!(err < 1e-10, "{}: C·q̇ {cqd} vs {h:?}", robot.name());
+            // Ṁ along q̇ by central differences of CRBA.
+            let eps = 1e-6;
+            let at = |t: f64| {
+                let qt: Vec<f64> = (0..n).map(|i| q[i] + qd[i] * t).collect();
+                mass_matrix(&robot, &qt).unwrap()
+            };
+            let mdot: DMatrix<f64> = (at(eps) - at(-eps)) / (2.0 * eps);
+            let n_mat = &mdot - 2.0 * &c;
+            let err = (&n_mat + n_mat.transpose()).amax() / (1.0 + mdot.amax() + c.amax());
+            worst_skew = worst_skew.max(err);
+            assert!(err < 1e-6, "{}: Ṁ − 2C not skew by {err}\n{n_mat}", robot.name());
+        }
+    }
+    eprintln!("C·q̇ vs RNEA: worst relative {worst_cqd:.2e}; Ṁ − 2C skew to {worst_skew:.2e} (finite differences)");
 }
 
 /// A planar arm of revolute joints about z, links of length `l` along x of
