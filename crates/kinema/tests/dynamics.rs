@@ -517,23 +517,25 @@ fn urdf_inertials_are_merged_across_fixed_joints_into_the_link_frame() {
 
 /// Against Pinocchio: reads the CSV written by benchmarks/dyn_peers.py (run by
 /// benchmarks/run_dyn_peers.sh, which sets `KINEMA_DYN_PEERS_CSV`) and compares
-/// RNEA, the mass matrix and forward dynamics state by state.
+/// RNEA, the mass matrix, forward dynamics (ABA) and the Coriolis matrix state
+/// by state. A spec `builtin:NAME@FILE` is the built-in against Pinocchio's
+/// model of the URDF its inertials came from.
 #[test]
 #[ignore = "needs the CSV from benchmarks/run_dyn_peers.sh (Pinocchio in a throwaway venv)"]
 fn dynamics_matches_pinocchio() {
     let path = std::env::var("KINEMA_DYN_PEERS_CSV").expect("set KINEMA_DYN_PEERS_CSV to dyn_peers.py's output");
     let text = std::fs::read_to_string(&path).unwrap();
     let mut loaded: std::collections::HashMap<String, Robot> = Default::default();
-    let mut worst: std::collections::BTreeMap<String, [f64; 4]> = Default::default();
+    let mut worst: std::collections::BTreeMap<String, [f64; 5]> = Default::default();
     for line in text.lines() {
         let mut fields = line.split(',');
         let spec = fields.next().unwrap().to_string();
         let n: usize = fields.next().unwrap().parse().unwrap();
         let v: Vec<f64> = fields.map(|x| x.parse().unwrap()).collect();
-        assert_eq!(v.len(), 6 * n + n * n, "{spec}");
+        assert_eq!(v.len(), 6 * n + 2 * n * n, "{spec}");
         let robot = loaded.entry(spec.clone()).or_insert_with(|| {
             if let Some(name) = spec.strip_prefix("builtin:") {
-                Robot::builtin(name).unwrap()
+                Robot::builtin(name.split('@').next().unwrap()).unwrap()
             } else {
                 let rest = spec.strip_prefix("urdf:").unwrap();
                 let (file, tip) = rest.rsplit_once(':').unwrap();
@@ -543,28 +545,31 @@ fn dynamics_matches_pinocchio() {
         assert_eq!(robot.dof(), n, "{spec}");
         let (q, qd, qdd, tau) = (&v[..n], &v[n..2 * n], &v[2 * n..3 * n], &v[3 * n..4 * n]);
         let m_pin = &v[4 * n..4 * n + n * n];
-        let (tau2, qdd2) = (&v[4 * n + n * n..5 * n + n * n], &v[5 * n + n * n..]);
+        let (tau2, qdd2) = (&v[4 * n + n * n..5 * n + n * n], &v[5 * n + n * n..6 * n + n * n]);
+        let c_pin = &v[6 * n + n * n..];
         let ours = rnea(robot, q, qd, qdd, &G).unwrap();
         let m = mass_matrix(robot, q).unwrap();
-        let m_rows: Vec<f64> = (0..n * n).map(|k| m[(k / n, k % n)]).collect();
+        let rows = |a: &DMatrix<f64>| -> Vec<f64> { (0..n * n).map(|k| a[(k / n, k % n)]).collect() };
         let fd = forward_dynamics(robot, q, qd, tau2, &G).unwrap();
+        let c = coriolis_matrix(robot, q, qd).unwrap();
         let scale = 1.0 + tau.iter().fold(0.0f64, |a, t| a.max(t.abs()));
         let errs = [
             max_abs_diff(&ours, tau),
             max_abs_diff(&ours, tau) / scale,
-            max_abs_diff(&m_rows, m_pin),
+            max_abs_diff(&rows(&m), m_pin),
             max_abs_diff(&fd, qdd2) / (1.0 + qdd2.iter().fold(0.0f64, |a, t| a.max(t.abs()))),
+            max_abs_diff(&rows(&c), c_pin),
         ];
         let w = worst.entry(spec.rsplit('/').next().unwrap().to_string()).or_default();
         for (w, e) in w.iter_mut().zip(errs) {
             *w = w.max(e);
         }
-        assert!(errs[1] < 1e-10 && errs[2] < 1e-10 && errs[3] < 1e-10, "{spec}: {errs:?} at q = {q:?}");
+        assert!(errs[1..].iter().all(|e| *e < 1e-10), "{spec}: {errs:?} at q = {q:?}, q̇ = {qd:?}");
     }
     for (spec, w) in &worst {
         eprintln!(
-            "{spec}: max |Δτ| {:.2e} N·m ({:.2e} relative), max |ΔM| {:.2e}, max |Δq̈| {:.2e} relative",
-            w[0], w[1], w[2], w[3]
+            "{spec}: max |Δτ| {:.2e} N·m ({:.2e} relative), max |ΔM| {:.2e}, max |Δq̈| {:.2e} relative, max |ΔC| {:.2e}",
+            w[0], w[1], w[2], w[3], w[4]
         );
     }
 }
