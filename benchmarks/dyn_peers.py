@@ -7,7 +7,7 @@ Robots: the built-in TOML robots that carry mass properties (PUMA 560, Panda, UR
 in Pinocchio joint by joint from the same file; the Panda and UR5 built-ins again against Pinocchio's model
 of the example-robot-data URDF their inertials were taken from (spec `builtin:NAME@FILE`), after checking
 that the URDF moves the same links at the same q; and URDFs from example-robot-data (UR3, UR5, UR10,
-Panda, Unitree Z1), loaded by Pinocchio's own URDF parser, with joints off kinema's chain (the Panda's
+Panda, Unitree Z1, UFactory xArm 7, SO-100, SO-101), loaded by Pinocchio's own URDF parser, with joints off kinema's chain (the Panda's
 fingers) locked at 0. Each CSV row: `spec,n,q…,qd…,qdd…,tau…,M… (row-major),tau2…,qdd2…,C… (row-major)` where
 tau = rnea(q, qd, qdd), M = crba(q), qdd2 = aba(q, qd, tau2), C = computeCoriolisMatrix(q, qd), gravity [0, 0, -9.81] m/s².
 `spec` is `builtin:NAME`, `builtin:NAME@FILE` or `urdf:PATH:TIP`.
@@ -160,6 +160,9 @@ def main():
         ("ur_description/urdf/ur10_robot.urdf", "tool0", None),
         ("panda_description/urdf/panda.urdf", "panda_link8", [f"panda_joint{i}" for i in range(1, 8)]),
         ("z1_description/urdf/z1.urdf", None, None),
+        ("xarm_description/urdf/xarm7.urdf", None, None),
+        ("so_arm_description/urdf/so100.urdf", None, None),
+        ("so_arm_description/urdf/so101.urdf", "moving_jaw_so101_v1_link", None),
     ]:
         path = os.path.join(robots, rel)
         full = pin.buildModelFromUrdf(path)
