@@ -25,11 +25,11 @@ pub(super) fn aba(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &V
     let mut c = Vec::with_capacity(n);
     let mut ia: Vec<Matrix6<f64>> = k.inertia.clone();
     let mut pa = Vec::with_capacity(n);
-    for i in 0..n {
-        let sqd = k.s[i] * qd[i];
+    for ((s, inertia), &rate) in k.s.iter().zip(&k.inertia).zip(qd) {
+        let sqd = s * rate;
         v += sqd;
         c.push(cross_motion(&v, &sqd));
-        pa.push(cross_force(&v, &(k.inertia[i] * v)));
+        pa.push(cross_force(&v, &(inertia * v)));
     }
 
     // Pass 2, inward: articulated inertias I^A_i and bias forces p^A_i; each

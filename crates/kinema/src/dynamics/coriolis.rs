@@ -2,10 +2,10 @@
 //! and for which Ṁ − 2C is skew-symmetric.
 //!
 //! C is not unique (any C + N with N·q̇ = 0 gives the same torques); this is
-//! the factorisation of Echeandia and Wensing, "A numerical method for
-//! computing the Coriolis factorization", 2021 (eq. 19–22), the one
-//! Pinocchio's `computeCoriolisMatrix` returns, so the two agree entry by
-//! entry. Per body, B(I, v) = ½(v×*·I − I·v× + (I·v)×̄) with (f×̄)·m = m ×* f
+//! the factorisation of Echeandia and Wensing, "Numerical methods to
+//! compute the Coriolis matrix and Christoffel symbols for rigid-body
+//! systems" (J. Comput. Nonlinear Dyn., 2021), the one Pinocchio's
+//! `computeCoriolisMatrix` returns, so the two agree entry by entry. Per body, B(I, v) = ½(v×*·I − I·v× + (I·v)×̄) with (f×̄)·m = m ×* f
 //! satisfies B·v = v ×* I·v and B + Bᵀ = İ; summed over the links beyond
 //! joint k into Bᶜ_k (like the composite inertia Iᶜ_k of CRBA),
 //! C_ij = S_iᵀ·(Iᶜ_k·Ṡ_j + Bᶜ_k·S_j) with k the later of i and j.
@@ -48,12 +48,11 @@ pub(super) fn coriolis_matrix(robot: &Robot, q: &[f64], qd: &[f64]) -> Result<DM
     let mut v = Vector6::zeros();
     let mut sdot = Vec::with_capacity(n);
     let mut b = Vec::with_capacity(n);
-    for i in 0..n {
-        v += k.s[i] * qd[i];
-        sdot.push(cross_motion(&v, &k.s[i]));
+    for ((s, inertia), &rate) in k.s.iter().zip(&k.inertia).zip(qd) {
+        v += s * rate;
+        sdot.push(cross_motion(&v, s));
         let vx = motion_cross_matrix(&v);
-        let iv = k.inertia[i] * v;
-        b.push(0.5 * (-vx.transpose() * k.inertia[i] - k.inertia[i] * vx + force_bar_matrix(&iv)));
+        b.push(0.5 * (-vx.transpose() * inertia - inertia * vx + force_bar_matrix(&(inertia * v))));
     }
     // Inward: composites of links k..n, in one frame a plain sum.
     let mut c = DMatrix::zeros(n, n);
