@@ -400,6 +400,23 @@ fn a_link_without_mass_properties_is_named() {
     assert!(rnea(&puma, puma.home(), &[f64::NAN; 6], &[0.0; 6], &G).is_err());
     assert!(rnea(&puma, puma.home(), &[0.0; 6], &[0.0; 6], &Vector3::new(f64::INFINITY, 0.0, 0.0)).is_err());
     assert!(forward_dynamics(&puma, puma.home(), &[0.0; 6], &[0.0; 7], &G).is_err());
+    assert!(forward_dynamics(&puma, puma.home(), &[0.0; 5], &[0.0; 6], &G).is_err());
+    assert!(forward_dynamics(&puma, puma.home(), &[0.0; 6], &[f64::INFINITY; 6], &G).is_err());
+    assert!(coriolis_matrix(&puma, puma.home(), &[0.0; 7]).is_err());
+    assert!(coriolis_matrix(&puma, puma.home(), &[f64::NAN; 6]).is_err());
+    assert!(coriolis_matrix(&puma, &[0.0; 5], &[0.0; 6]).is_err());
+    assert!(coriolis_matrix(&robot, robot.home(), &[0.0; 5]).is_err()); // link 4 has no mass properties
+}
+
+#[test]
+fn the_builtins_with_published_inertias_have_every_link() {
+    // Their files name the sources; Robot::builtin has validated every tensor (triangle inequality).
+    for name in ["puma560", "panda", "ur5", "lbr-iiwa-14-r820"] {
+        let r = Robot::builtin(name).unwrap();
+        assert!(r.inertials().iter().all(Option::is_some), "{name}");
+        let total: f64 = r.inertials().iter().map(|b| b.unwrap().mass).sum();
+        assert!(total > 10.0 && total < 30.0, "{name}: {total} kg");
+    }
 }
 
 #[test]

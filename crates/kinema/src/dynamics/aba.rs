@@ -34,7 +34,7 @@ pub(super) fn aba(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &V
 
     // Pass 2, inward: articulated inertias I^A_i and bias forces p^A_i; each
     // link hands its parent what the parent feels through a joint that moves
-    // freely under τ_i (Table 7.1, second loop; eq. 7.43–7.44 for one DOF).
+    // freely under τ_i (Table 7.1, second loop, for one-DOF joints).
     let mut u = vec![Vector6::zeros(); n];
     let mut d = vec![0.0; n];
     let mut uu = vec![0.0; n];
