@@ -18,7 +18,6 @@ import math
 import os
 import sys
 import tomllib
-import tempfile
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -142,7 +141,7 @@ def main():
         models.append((f"builtin:{name}", dh_model(os.path.join(REPO, "robots", f"{name}.toml"))[0]))
     # The built-ins whose inertials come from an example-robot-data URDF, against Pinocchio's model of
     # that URDF at the same q (the Panda's without its hand, which the built-in leaves out).
-    tmp = tempfile.mkdtemp()
+    tmp = os.path.dirname(os.path.abspath(args.out))  # the arm-only URDF goes beside the CSV
     hand = {"panda_hand", "panda_hand_tcp", "panda_leftfinger", "panda_rightfinger"}
     for name, rel, drop in [
         ("panda", "panda_description/urdf/panda.urdf", hand),
