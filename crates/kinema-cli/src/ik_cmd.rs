@@ -267,7 +267,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
         return batch::run(&a, &robot, input, output);
     }
     let target = target(&a)?;
-    let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
+    let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
     let (result, orientation_free) = solve(&a, &robot, target, q0.as_deref())?;
     let answer = match result {
         Ok(s) => s,
@@ -423,7 +423,7 @@ pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
             robot.name()
         );
     };
-    let q = robot.parse_q(&a.q, a.deg)?;
+    let q = crate::input::parse_q(&robot, &a.q, a.deg)?;
     let samples = kinema::ik::family::self_motion(&robot, redundancy, &q, a.steps)?;
     if a.json {
         let list: Vec<Value> = samples

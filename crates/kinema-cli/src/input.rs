@@ -118,9 +118,74 @@ pub(crate) fn first_row<'a>(fields: impl IntoIterator<Item = &'a str>, path: &Pa
     }
 }
 
+/// Joint values given on the command line: a named pose (`home`, `qr`, …) or
+/// comma-separated numbers in rad and m — or, with `degrees`, degrees for
+/// revolute joints (prismatic values stay in m). Checked for length and
+/// finiteness by the core.
+pub(crate) fn parse_q(robot: &kinema::Robot, text: &str, degrees: bool) -> kinema::Result<Vec<f64>> {
+    let t = text.trim();
+    let lower = t.to_ascii_lowercase();
+    if t.chars().next().is_some_and(|c| c.is_ascii_alphabetic()) && lower != "nan" && !lower.starts_with("inf") {
+        return Ok(robot.pose(t)?.to_vec());
+    }
+    let mut q = Vec::with_capacity(robot.dof());
+    for (i, item) in t.split(',').enumerate() {
+        let item = item.trim();
+        let v: f64 = item.parse().map_err(|_| kinema::Error::InvalidArgument {
+            what: "joint values".into(),
+            message: format!(
+                "value {} `{item}` is not a number; give {} comma-separated numbers or a named pose ({})",
+                i + 1,
+                robot.dof(),
+                robot.poses().iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+            ),
+        })?;
+        let revolute = robot.joints().get(i).is_some_and(|j| j.kind == kinema::JointType::Revolute);
+        q.push(if degrees && revolute { v.to_radians() } else { v });
+    }
+    robot.check_q(&q)?;
+    Ok(q)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use kinema::{Error, Robot};
+
+    #[test]
+    fn parse_q_reads_poses_numbers_and_degrees() {
+        let robot = Robot::builtin("scara5").unwrap();
+        assert_eq!(parse_q(&robot, "home", false).unwrap(), robot.home());
+        // Degrees only for revolute joints.
+        let q = parse_q(&robot, " 0.5, 90, -90, 0.1, 180 ", true).unwrap();
+        assert_eq!((q[0], q[3]), (0.5, 0.1));
+        assert!((q[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!((q[4] - std::f64::consts::PI).abs() < 1e-15);
+    }
+
+    #[test]
+    fn parse_q_rejects_bad_text() {
+        let robot = Robot::builtin("scara5").unwrap();
+        let e = parse_q(&robot, "1,2,x", false).unwrap_err();
+        let Error::InvalidArgument { what, message } = &e else { panic!("{e:?}") };
+        assert_eq!(what, "joint values");
+        assert!(message.contains("value 3") && message.contains("`x`"), "{message}");
+        assert!(message.contains("home") && message.contains("qz"), "{message}");
+        for text in ["", ",", "1,,2,3,4", "1;2;3;4;5", "0.5, 90deg, 0, 0, 0", "1 2 3 4 5"] {
+            assert!(matches!(parse_q(&robot, text, false), Err(Error::InvalidArgument { .. })), "{text:?}");
+        }
+        let e = parse_q(&robot, "0.5, 0, 0, nan, 0", false).unwrap_err();
+        assert!(matches!(e, Error::NonFinite { joint: 4, .. }), "{e:?}");
+        let e = parse_q(&robot, "inf, 0, 0, 0, 0", true).unwrap_err();
+        assert!(matches!(e, Error::NonFinite { joint: 1, .. }), "{e:?}");
+        let e = parse_q(&robot, "nan", false).unwrap_err();
+        assert!(matches!(e, Error::JointCount { got: 1, .. } | Error::NonFinite { .. }), "{e:?}");
+        assert!(matches!(parse_q(&robot, "qx", false), Err(Error::UnknownPose { .. })));
+        for len in [1, 4, 6, 9] {
+            let e = parse_q(&robot, &vec!["0.1"; len].join(","), false).unwrap_err();
+            assert!(matches!(e, Error::JointCount { expected: 5, got, .. } if got == len), "{e:?}");
+        }
+    }
 
     #[test]
     fn first_rows_are_numbers_names_or_an_error() {

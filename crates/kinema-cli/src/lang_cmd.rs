@@ -71,7 +71,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
     let robot = a.robot.load()?;
     let src = crate::input::read_text_limited(&a.program, crate::input::MAX_TEXT_BYTES, "program")?;
     let start = match &a.start {
-        Some(text) => Some(robot.parse_q(text, false)?),
+        Some(text) => Some(crate::input::parse_q(&robot, text, false)?),
         None => None,
     };
     let mut stop = match a.time_limit {
@@ -109,7 +109,7 @@ pub fn check(a: ProgramArgs) -> Result<()> {
 
 fn summary(plan: &Plan) -> Result<serde_json::Value> {
     let q = plan.final_q().to_vec();
-    let pose = plan.robot.fk(&q)?.pose;
+    let pose = plan.robot.fk(&q)?.world_from_tool;
     Ok(json!({
         "duration": plan.duration(),
         "motions": plan.motions.len(),

@@ -426,14 +426,14 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
         return print_json(&kinema_serve::json::robot_info(r));
     }
     let m = r.metadata();
-    println!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.convention());
+    println!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.geometry_kind());
     if !m.manufacturer.is_empty() {
         println!("manufacturer: {}", m.manufacturer);
     }
     println!("source: {}", m.source);
     println!("\nlengths in m, angles in deg; revolute θ = q + offset, prismatic d = q + offset");
-    match r.convention() {
-        kinema::Convention::General => {
+    match r.geometry_kind() {
+        kinema::GeometryKind::General => {
             println!(
                 "{:>2} {:<16} {:>4} {:>28} {:>26} {:>22}",
                 "i", "joint", "type", "origin xyz", "origin rpy", "axis"
@@ -460,7 +460,7 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
             }
         }
         _ => {
-            let modified = r.convention() == kinema::Convention::Modified;
+            let modified = r.geometry_kind() == kinema::GeometryKind::Modified;
             let (al, aa) = if modified { ("α(i-1)", "a(i-1)") } else { ("α", "a") };
             println!(
                 "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9} {:>9} {:>9}",
@@ -527,9 +527,9 @@ fn fk(a: FkArgs) -> Result<()> {
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
         return fk_batch_file(&r, input, output, a.deg, conv);
     }
-    let q = r.parse_q(a.q.as_deref().expect("clap requires --q without --input"), a.deg)?;
+    let q = crate::input::parse_q(&r, a.q.as_deref().expect("clap requires --q without --input"), a.deg)?;
     let fk = r.fk(&q)?;
-    let p = fk.pose;
+    let p = fk.world_from_tool;
     if a.json {
         let mut v = kinema_serve::json::pose_in(&p, conv);
         v["robot"] = json!(r.name());
@@ -611,7 +611,7 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
         const CHUNK: usize = 65_536;
         for chunk in qs.chunks(CHUNK * n) {
             for fk in r.fk_batch(chunk)? {
-                let p = fk.pose;
+                let p = fk.world_from_tool;
                 let rpy = p.rpy(conv);
                 let q = p.quaternion();
                 let vals = [p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2], q.w, q.i, q.j, q.k];
@@ -684,7 +684,7 @@ fn matrix_rows(j: &Matrix6xX<f64>) -> Vec<Vec<f64>> {
 
 fn jacobian(a: JacobianArgs) -> Result<()> {
     let r = a.robot.load()?;
-    let q = r.parse_q(&a.q.q, a.q.deg)?;
+    let q = crate::input::parse_q(&r, &a.q.q, a.q.deg)?;
     let (j, kind) = match a.analytic {
         Some(c) => {
             (r.analytic_jacobian(&q, c.into())?, format!("analytic (rpy {})", kinema_serve::json::conv_name(c.into())))
@@ -716,7 +716,7 @@ fn jacobian(a: JacobianArgs) -> Result<()> {
 
 fn manip(a: ManipArgs) -> Result<()> {
     let r = a.robot.load()?;
-    let q = r.parse_q(&a.q.q, a.q.deg)?;
+    let q = crate::input::parse_q(&r, &a.q.q, a.q.deg)?;
     let j = r.jacobian(&q, Frame::Base)?;
     let rep = analysis::report(&j)?;
     let along = match &a.direction {
@@ -833,7 +833,7 @@ fn bench(a: BenchArgs) -> Result<()> {
     };
     let mut sink = 0.0;
     let fk = time_batches(&mut |q| {
-        sink += std::hint::black_box(r.fk(std::hint::black_box(q)).map(|f| f.pose.pos.x).unwrap_or(0.0));
+        sink += std::hint::black_box(r.fk(std::hint::black_box(q)).map(|f| f.world_from_tool.pos.x).unwrap_or(0.0));
     });
     let mut jbuf = Matrix6xX::zeros(n);
     let jac = time_batches(&mut |q| {
@@ -885,7 +885,7 @@ fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<Value> {
     use rand::SeedableRng;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed.wrapping_add(1));
     let targets: Vec<Pose> =
-        (0..count).map(|_| r.fk(&r.random_q(&mut rng)).map(|f| f.pose)).collect::<Result<_, _>>()?;
+        (0..count).map(|_| r.fk(&r.random_q(&mut rng)).map(|f| f.world_from_tool)).collect::<Result<_, _>>()?;
     let solver = NumericIk::new(r);
     let bar = indicatif::ProgressBar::new(count as u64);
     let (mut ok, mut iters, mut restarts) = (0usize, 0usize, 0usize);

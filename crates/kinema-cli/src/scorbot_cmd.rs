@@ -373,11 +373,11 @@ fn limits_text(robot: &Robot, q: &[f64]) -> Vec<String> {
 fn counts(a: CountsArgs) -> Result<()> {
     let robot = robot()?;
     let c = a.constants.load()?;
-    let q = robot.parse_q(&a.q, a.deg)?;
+    let q = crate::input::parse_q(&robot, &a.q, a.deg)?;
     let exact = c.counts(&q)?;
     let counts = c.counts_rounded(&q)?;
     let u = c.tool_uncertainty(&robot, &q)?;
-    let p = robot.fk(&q)?.pose.pos;
+    let p = robot.fk(&q)?.world_from_tool.pos;
     let outside = limits_text(&robot, &q);
     if a.json {
         return print_json(&json!({
@@ -416,7 +416,7 @@ fn angles(a: AnglesArgs) -> Result<()> {
     let c = a.constants.load()?;
     let counts = parse_list(&a.counts, "--counts", 5)?;
     let q = c.angles(&counts)?;
-    let p = robot.fk(&q)?.pose.pos;
+    let p = robot.fk(&q)?.world_from_tool.pos;
     let outside = limits_text(&robot, &q);
     let shown: Vec<f64> = if a.deg { q.iter().map(|v| v.to_degrees()).collect() } else { q.to_vec() };
     if a.json {
@@ -526,7 +526,7 @@ fn connect(a: ConnectArgs) -> Result<()> {
             eprintln!("aborted");
         }
         Action::Move { q, deg, time } => {
-            let q = robot.parse_q(&q, deg)?;
+            let q = crate::input::parse_q(&robot, &q, deg)?;
             let outside = limits_text(&robot, &q);
             if !outside.is_empty() {
                 bail!("not sent: {}", outside.join("; "));
@@ -569,7 +569,7 @@ fn connect(a: ConnectArgs) -> Result<()> {
             arm.here("KHERE")?;
             let r = arm.listpv("KHERE")?;
             let q = c.angles(&r.counts.map(|v| v as f64))?;
-            let p = robot.fk(&q)?.pose.pos;
+            let p = robot.fk(&q)?.world_from_tool.pos;
             if json {
                 return print_json(&json!({
                     "counts": r.counts,

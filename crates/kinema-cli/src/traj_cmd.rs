@@ -430,8 +430,8 @@ fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Resul
 
 fn ptp(a: PtpArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    let from = robot.parse_q(&a.from, a.deg)?;
-    let to = robot.parse_q(&a.to, a.deg)?;
+    let from = crate::input::parse_q(&robot, &a.from, a.deg)?;
+    let to = crate::input::parse_q(&robot, &a.to, a.deg)?;
     if !(a.speed > 0.0 && a.speed <= 100.0) {
         bail!("--speed {}: the override must be a percentage in (0, 100]", a.speed);
     }
@@ -573,8 +573,8 @@ fn cart_motion(
     blend: Blend,
     skipped: &[SkippedPoint],
 ) -> Result<()> {
-    let q0 = robot.parse_q(&c.from, c.deg)?;
-    let start = robot.fk(&q0)?.pose;
+    let q0 = crate::input::parse_q(&robot, &c.from, c.deg)?;
+    let start = robot.fk(&q0)?.world_from_tool;
     let limits = CartesianLimits {
         vel: c.vmax,
         acc: c.amax,
@@ -694,7 +694,7 @@ fn circ(a: CircArgs) -> Result<()> {
 
 fn expr(a: ExprArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    let q0 = robot.parse_q(&a.q0, false)?;
+    let q0 = crate::input::parse_q(&robot, &a.q0, false)?;
     if a.joint.is_empty() {
         bail!("give at least one --joint N EXPR");
     }
@@ -923,7 +923,7 @@ pub fn table(robot: &Robot, traj: &JointTrajectory, conv: RpyConvention) -> Resu
         row.extend_from_slice(q);
         row.extend_from_slice(traj.qd(k));
         row.extend_from_slice(traj.qdd(k));
-        let p = fk.pose;
+        let p = fk.world_from_tool;
         row.extend([p.pos.x, p.pos.y, p.pos.z]);
         row.extend(p.rpy(conv));
         row.push(yoshikawa(&jac, Axes::Translation)?);

@@ -46,7 +46,7 @@ fn check_tool_positions(head: &[String], rows: &[Vec<f64>], name: &str, robot: &
     let x = col(head, &format!("{name}_x"));
     for row in rows {
         let q = &row[q0..q0 + robot.dof()];
-        let want = base.transform_point(&robot.fk(q).unwrap().pose.pos);
+        let want = base.transform_point(&robot.fk(q).unwrap().world_from_tool.pos);
         let got = Vector3::new(row[x], row[x + 1], row[x + 2]);
         assert!((got - want).norm() < 1e-9, "{name} at t = {}: {got} against {want}", row[0]);
     }

@@ -87,7 +87,7 @@ fn fk_json_matches_the_library() {
     let q = [0.3, -1.2, 1.1, -0.4, 0.9, 2.0];
     let qs = q.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",");
     let v = json(&["fk", "--robot", "ur5", "--q", &qs, "--json"]);
-    let pose = robot.fk(&q).unwrap().pose;
+    let pose = robot.fk(&q).unwrap().world_from_tool;
     let rows = pose.to_rows();
     let t = matrix(&v["T"]);
     for r in 0..4 {
@@ -175,7 +175,7 @@ fn fk_batch_file_round_trip_and_atomic_failure() {
     assert!(lines.next().unwrap().starts_with("x,y,z,roll,pitch,yaw"));
     for (line, q) in lines.zip(&qs) {
         let f: Vec<&str> = line.split(',').collect();
-        let p = robot.fk(q).unwrap().pose;
+        let p = robot.fk(q).unwrap().world_from_tool;
         for (k, field) in f.iter().take(3).enumerate() {
             assert!((field.parse::<f64>().unwrap() - p.pos[k]).abs() < 1e-9, "{line}");
         }
@@ -301,7 +301,7 @@ fn bad_input_is_a_clear_error() {
 fn ik_numeric_reaches_fk_targets() {
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     let q = [0.4, 0.6, -0.3, -1.1, 0.5, 0.9, -0.2];
-    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let rows = robot.fk(&q).unwrap().world_from_tool.to_rows();
     let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
     let v = json(&["ik", "--robot", "lbr-iiwa-14-r820", "--T", &t.join(","), "--solver", "numeric", "--json"]);
     assert_eq!(v["solver"], "numeric");
@@ -310,10 +310,10 @@ fn ik_numeric_reaches_fk_targets() {
     assert!(s["orientation_error"].as_f64().unwrap() < 1e-6, "{s}");
     assert_eq!(s["within_limits"], true);
     let sol: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
-    let reached = robot.fk(&sol).unwrap().pose;
-    assert!((reached.pos - robot.fk(&q).unwrap().pose.pos).norm() < 1e-6);
+    let reached = robot.fk(&sol).unwrap().world_from_tool;
+    assert!((reached.pos - robot.fk(&q).unwrap().world_from_tool.pos).norm() < 1e-6);
     // --pose in degrees, started near the answer: converges to the nearby solution.
-    let p = robot.fk(&q).unwrap().pose;
+    let p = robot.fk(&q).unwrap().world_from_tool;
     let rpy = p.rpy(kinema::RpyConvention::Zyx).map(f64::to_degrees);
     let pose = format!("{},{},{},{},{},{}", p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2]);
     let q0: Vec<String> = q.iter().map(|v| format!("{}", v.to_degrees() + 2.0)).collect();
@@ -363,7 +363,7 @@ fn ik_lists_only_solutions_that_meet_the_target() {
     let mut discarded = 0;
     for _ in 0..40 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let t: Vec<String> = target.to_rows().iter().flatten().map(|v| format!("{v:.17}")).collect();
         let t = t.join(",");
         let q0: Vec<String> = q.iter().map(|v| format!("{v:.17}")).collect();
@@ -374,7 +374,7 @@ fn ik_lists_only_solutions_that_meet_the_target() {
             let v = json(&args);
             for s in v["solutions"].as_array().unwrap() {
                 let got: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
-                let e = kinema::math::pose_error(&target, &robot.fk(&got).unwrap().pose);
+                let e = kinema::math::pose_error(&target, &robot.fk(&got).unwrap().world_from_tool);
                 assert!(e.position_norm() < 1e-6 && e.rotation_angle() < 1e-6, "{args:?}: {s}");
             }
             discarded += v["discarded"]["count"].as_u64().unwrap();
@@ -395,7 +395,7 @@ fn ik_lists_only_solutions_that_meet_the_target() {
     // Freeing the rotation about the world z axis makes it reachable.
     let v = json(&["ik", "--robot", "scorbot-er-v-plus", "--pose", pose, "--mask", "1,1,1,1,1,0", "--json"]);
     let got: Vec<f64> = v["solutions"][0]["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
-    let reached = robot.fk(&got).unwrap().pose;
+    let reached = robot.fk(&got).unwrap().world_from_tool;
     assert!((reached.pos - kinema::nalgebra::Vector3::new(0.35, 0.0, 0.3)).norm() < 1e-6);
     let e = fails(&["ik", "--robot", "ur5", "--pose", pose, "--mask", "1,1,1,0,0,2"]);
     assert!(e.contains("0/1"), "{e}");
@@ -419,7 +419,7 @@ fn ik_batch_from_a_csv_file() {
     let mut lines = vec!["# targets".to_string(), "a,b,c".to_string()];
     let mut targets = Vec::new();
     for k in 0..120 {
-        let pose = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+        let pose = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
         let line = match k % 3 {
             0 => pose.to_rows().iter().flatten().map(|v| format!("{v:.17}")).collect::<Vec<_>>().join(","),
             1 => {
@@ -443,7 +443,7 @@ fn ik_batch_from_a_csv_file() {
     for (row, (pose, position_only)) in rows.iter().zip(&targets) {
         assert_eq!(row[1], "solved", "{row:?}");
         let q: Vec<f64> = row[3..9].iter().map(|v| v.parse().unwrap()).collect();
-        let e = kinema::math::pose_error(pose, &robot.fk(&q).unwrap().pose);
+        let e = kinema::math::pose_error(pose, &robot.fk(&q).unwrap().world_from_tool);
         assert!(e.position_norm() < 1e-6, "{row:?}");
         assert!(*position_only || e.rotation_angle() < 1e-6, "{row:?}");
     }
@@ -471,7 +471,7 @@ fn ik_at_an_arm_angle_on_a_urdf_iiwa() {
     let ik = kinema::ik::geo::SrsIk::new(&robot).unwrap();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x5136);
     let q = robot.random_q(&mut rng);
-    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let rows = robot.fk(&q).unwrap().world_from_tool.to_rows();
     let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
     let t = t.join(",");
     let psi = kinema::ik::wrap_angle(ik.psi_of(&q) + 0.3);
@@ -498,7 +498,7 @@ fn ik_analytic_solvers_from_the_command_line() {
     // PUMA 560: Pieper solver, all 8 branches, each reaching the target.
     let robot = Robot::builtin("puma560").unwrap();
     let q = [0.3, 0.7, -2.2, 0.4, 0.9, -0.5];
-    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let rows = robot.fk(&q).unwrap().world_from_tool.to_rows();
     let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
     let v = json(&["ik", "--robot", "puma560", "--T", &t.join(","), "--all", "--json"]);
     assert_eq!(v["solver"], "pieper");
@@ -511,7 +511,7 @@ fn ik_analytic_solvers_from_the_command_line() {
     // iiwa with a fixed q3: the closed form keeps q3.
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     let q = [0.4, 0.6, -0.3, -1.1, 0.5, 0.9, -0.2];
-    let rows = robot.fk(&q).unwrap().pose.to_rows();
+    let rows = robot.fk(&q).unwrap().world_from_tool.to_rows();
     let t: Vec<String> = rows.iter().flatten().map(|v| format!("{v:.17}")).collect();
     let v = json(&["ik", "--robot", "lbr-iiwa-14-r820", "--T", &t.join(","), "--q3", "-0.3", "--all", "--json"]);
     assert_eq!(v["solver"], "iiwa");
@@ -573,13 +573,13 @@ fn ik_validate_and_selfmotion() {
     let e = fails(&["ik-validate", "--robot", "panda", "--n", "10"]);
     assert!(e.contains("no analytic solver"), "{e}");
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
-    let want = robot.fk(robot.pose("fig9").unwrap()).unwrap().pose;
+    let want = robot.fk(robot.pose("fig9").unwrap()).unwrap().world_from_tool;
     let v = json(&["selfmotion", "--robot", "lbr-iiwa-14-r820", "--q", "fig9", "--steps", "12", "--json"]);
     let samples = v["samples"].as_array().unwrap();
     assert_eq!(samples.len(), 12);
     for s in samples {
         let q: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
-        let p = robot.fk(&q).unwrap().pose;
+        let p = robot.fk(&q).unwrap().world_from_tool;
         assert!((p.pos - want.pos).norm() < 1e-9 && (p.rot - want.rot).norm() < 1e-9);
     }
     let e = fails(&["selfmotion", "--robot", "puma560", "--q", "home"]);
@@ -587,14 +587,14 @@ fn ik_validate_and_selfmotion() {
     // The same self-motion from the URDF: the tool pose held, ψ a full turn.
     let urdf = Robot::from_file(data("iiwa14.urdf"), None).unwrap();
     let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    let want = urdf.fk(&q).unwrap().pose;
+    let want = urdf.fk(&q).unwrap().world_from_tool;
     let q_arg = q.map(|x| x.to_string()).join(",");
     let v = json(&["selfmotion", "--robot", &data("iiwa14.urdf"), "--q", &q_arg, "--steps", "12", "--json"]);
     let samples = v["samples"].as_array().unwrap();
     assert_eq!(samples.len(), 12);
     for s in samples {
         let q: Vec<f64> = s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
-        let p = urdf.fk(&q).unwrap().pose;
+        let p = urdf.fk(&q).unwrap().world_from_tool;
         assert!((p.pos - want.pos).norm() < 1e-9 && (p.rot - want.rot).norm() < 1e-9);
     }
 }
@@ -674,7 +674,7 @@ fn traj_ptp_writes_a_checked_csv_or_nothing() {
     // The pose columns are FK of the joint columns.
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     let mid = &rows[rows.len() / 2];
-    let p = robot.fk(&mid[1..8]).unwrap().pose.pos;
+    let p = robot.fk(&mid[1..8]).unwrap().world_from_tool.pos;
     assert!((p.x - mid[22]).abs() < 1e-9 && (p.z - mid[24]).abs() < 1e-9);
     // Missing acceleration limits: an error naming the flag, and no file.
     let bad = dir.join("bad.csv");
@@ -1241,7 +1241,7 @@ fn scorbot_calibrate_recovers_constants_from_simulated_measurements() {
         let q = robot.random_q(&mut rng);
         let counts = truth.counts_rounded(&q).unwrap().map(|c| c as f64);
         // Exact position for those counts (no noise: the recovery must be exact).
-        let p = robot.fk(&truth.angles(&counts).unwrap()).unwrap().pose.pos;
+        let p = robot.fk(&truth.angles(&counts).unwrap()).unwrap().world_from_tool.pos;
         rows.push_str(&format!(
             "{},{},{},{},{},{},{},{}\n",
             counts[0], counts[1], counts[2], counts[3], counts[4], p.x, p.y, p.z

@@ -266,7 +266,7 @@ fn fixtures(dir: &Path) {
     let ur5 = Robot::builtin("ur5").unwrap();
     let mut targets = String::new();
     for k in 0..12 {
-        let pose = ur5.fk(&ur5.random_q(&mut rng)).unwrap().pose;
+        let pose = ur5.fk(&ur5.random_q(&mut rng)).unwrap().world_from_tool;
         let numbers: Vec<f64> = match k % 3 {
             0 => pose.to_matrix().transpose().iter().copied().collect(),
             1 => pose.pos.iter().copied().chain(pose.rpy(RpyConvention::Zyx)).collect(),

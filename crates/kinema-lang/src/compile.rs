@@ -929,7 +929,7 @@ impl<'a> Compiler<'a> {
                                     Ok(f) => self.scara = Scara::Solver(Rc::from(f)),
                                     Err(e) => {
                                         let why = match e {
-                                            kinema::Error::InvalidArgument { message, .. } => message,
+                                            kinema::Error::SolverDoesNotFit { reason, .. } => reason,
                                             e => e.to_string(),
                                         };
                                         let line = self.line(&t.span());
@@ -1111,7 +1111,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn current_pose(&self) -> Pose {
-        self.robot_tool.fk(&self.q).map(|f| f.pose).unwrap_or_else(|_| Pose::IDENTITY)
+        self.robot_tool.fk(&self.q).map(|f| f.world_from_tool).unwrap_or_else(|_| Pose::IDENTITY)
     }
 
     /// The pose a Cartesian motion goes to (joint targets by FK).
@@ -1129,7 +1129,7 @@ impl<'a> Compiler<'a> {
         match self.resolve(t)? {
             PosValue::Cart(p) => Some(p),
             PosValue::Joint(q) => match self.robot_tool.fk(&q) {
-                Ok(f) => Some(f.pose),
+                Ok(f) => Some(f.world_from_tool),
                 Err(e) => {
                     self.err(Diagnostic::error(t.span(), e.to_string()));
                     None
@@ -1702,7 +1702,7 @@ impl<'a> Compiler<'a> {
         let mut q = self.q.clone();
         let z0 = self.current_pose().pos.z;
         q[3] += 0.01;
-        let z1 = self.robot_tool.fk(&q).map(|f| f.pose.pos.z).unwrap_or(z0 - 0.01);
+        let z1 = self.robot_tool.fk(&q).map(|f| f.world_from_tool.pos.z).unwrap_or(z0 - 0.01);
         (z1 - z0) / 0.01
     }
 

@@ -30,7 +30,7 @@ fn one_error(src: &str, robot: &Robot) -> (usize, String) {
 }
 
 fn tool(robot: &Robot, q: &[f64]) -> kinema::Pose {
-    robot.fk(q).unwrap().pose
+    robot.fk(q).unwrap().world_from_tool
 }
 
 /// Seed 003's loop, computed by hand: every move is relative, so after each
@@ -234,7 +234,7 @@ fn tool_and_base_frames() {
     // With a 100 mm tool along z, the tool point of the same joints lies 100 mm further along the flange z.
     let plan = ok("TOOL CART(0mm, 0mm, 100mm, 0deg, 0deg, 0deg)\nWAIT 0.1s\n", &r);
     let flange = tool(&r, plan.final_q());
-    let with_tool = plan.robot.fk(plan.final_q()).unwrap().pose;
+    let with_tool = plan.robot.fk(plan.final_q()).unwrap().world_from_tool;
     assert!((with_tool.pos - flange.pos - flange.rot.column(2) * 0.1).norm() < 1e-12);
     // A BASE shifts later Cartesian targets.
     let src = "JACC 90deg/s^2\nBASE CART(0mm, 100mm, 0mm, 0deg, 0deg, 0deg)\nPTP CART(550mm, -150mm, 300mm, 0deg, 180deg, 0deg)\n";
@@ -252,8 +252,8 @@ fn scara_tool_offset_is_followed_and_a_tilted_one_stops_the_relative_moves() {
     let r = robot("scara5");
     let src = "TOOL CART(50mm, 0mm, 0mm, 0deg, 0deg, 30deg)\nHOME 1\nMOVEXY 20, -10, 1\nMOVEZ -30, 1\n";
     let plan = ok(src, &r);
-    let start = plan.robot.fk(r.home()).unwrap().pose;
-    let end = plan.robot.fk(plan.final_q()).unwrap().pose;
+    let start = plan.robot.fk(r.home()).unwrap().world_from_tool;
+    let end = plan.robot.fk(plan.final_q()).unwrap().world_from_tool;
     let moved = end.pos - start.pos;
     assert!((moved - kinema::nalgebra::Vector3::new(0.02, -0.01, -0.03)).norm() < 1e-9, "{moved}");
     assert!((plan.duration() - 3.0).abs() < 1e-9, "{}", plan.duration());

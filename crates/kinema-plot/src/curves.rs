@@ -102,7 +102,7 @@ impl CartesianCurves {
             let qd = kinema::nalgebra::DVector::from_column_slice(traj.qd(k));
             let v = j.fixed_rows::<3>(0) * qd;
             vel.extend_from_slice(v.as_slice());
-            pos.push(fk.pose.pos);
+            pos.push(fk.world_from_tool.pos);
         }
         let mut acc = vec![0.0; 3 * n];
         let (mut a, mut scratch) = ([0.0; 3], [0.0; 3]);
@@ -152,7 +152,7 @@ impl ManipulabilityCurve {
         crate::check_traj(robot, traj, 2)?;
         let n = traj.len();
         let (mut wt, mut wr, mut along) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        let mut ws = kinema::Workspace::new(robot);
+        let mut ws = kinema::Buffers::new(robot);
         let mut speed = Vec::with_capacity(n);
         for k in 0..n {
             let j = ws.jacobian(robot, traj.q(k), Frame::Base)?;

@@ -79,7 +79,7 @@ impl WorkspaceCloud {
             let chunk = (opts.samples - points.len()).min(10_000);
             for _ in 0..chunk {
                 robot.random_q_into(&mut rng, &mut q);
-                points.push(robot.fk(&q)?.pose.pos);
+                points.push(robot.fk(&q)?.world_from_tool.pos);
             }
             progress(points.len());
         }

@@ -48,12 +48,8 @@ pyo3::import_exception!(kinema._errors, ProgramError);
 /// A core error as a Python exception with the core's message.
 fn to_py(e: Error) -> PyErr {
     let message = e.to_string();
-    // A batch error is classified by what is wrong with the configuration.
-    let kind = match &e {
-        Error::InBatch { source, .. } => source.as_ref(),
-        other => other,
-    };
-    match kind {
+    // A batch row or path sample is classified by what is wrong there.
+    match e.root() {
         Error::Unreachable { solver, reason, closest } => {
             let closest = closest.as_ref().map(|c| ClosestArg(c.q.clone(), c.position_error, c.orientation_error));
             Unreachable::new_err((message, solver.clone(), reason.to_string(), closest))
@@ -63,11 +59,12 @@ fn to_py(e: Error) -> PyErr {
         | Error::NonFinite { .. }
         | Error::UnknownPose { .. }
         | Error::InvalidArgument { .. }
+        | Error::SolverDoesNotFit { .. }
         | Error::RpySingularity { .. } => InvalidInput::new_err(message),
         Error::Description { .. } | Error::Urdf { .. } | Error::InvalidModel { .. } => {
             DescriptionError::new_err(message)
         }
-        Error::Io { .. } => RobotFileError::new_err(message),
+        Error::Io { .. } | Error::FileTooLarge { .. } => RobotFileError::new_err(message),
         Error::Trajectory { .. } => TrajectoryError::new_err(message),
         _ => KinemaError::new_err(message),
     }
@@ -1055,7 +1052,7 @@ impl PyRobot {
         let robot = Arc::clone(&self.robot);
         let (motion, traj, poses) = py
             .allow_threads(move || -> kinema::Result<_> {
-                let start = robot.fk(&q0)?.pose;
+                let start = robot.fk(&q0)?.world_from_tool;
                 let motion = CartesianMotion::new(segments(start)?, o.profile, &o.limits, blend)?;
                 let traj = match o.max_step {
                     Some(step) => to_joints_at(

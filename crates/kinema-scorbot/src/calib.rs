@@ -228,7 +228,7 @@ pub struct Calibration {
 /// The tool position \[m\] the model `robot` reaches when the arm behaves
 /// as `constants` say and is commanded `counts`: FK(`constants.angles(counts)`).
 pub fn tool_position(robot: &Robot, constants: &Constants, counts: &[f64; MOTORS]) -> Result<Vector3<f64>> {
-    Ok(robot.fk(&constants.angles(counts)?)?.pose.pos)
+    Ok(robot.fk(&constants.angles(counts)?)?.world_from_tool.pos)
 }
 
 /// Reads samples: CSV with a header naming columns `c1,c2,c3,c4,c5` (counts)
@@ -680,9 +680,9 @@ impl<'a> Model<'a> {
             set(4, g[4] * (-ce[4] / (cg[4] * cg[4])));
             set(8, g[4] - g[3]);
             if self.estimate_links {
-                let p0 = robot.fk(&q)?.pose.pos;
+                let p0 = robot.fk(&q)?.world_from_tool.pos;
                 for (l, r) in longer.iter().enumerate() {
-                    set(ENCODER.len() + l, r.fk(&q)?.pose.pos - p0);
+                    set(ENCODER.len() + l, r.fk(&q)?.world_from_tool.pos - p0);
                 }
             }
         }
@@ -724,15 +724,7 @@ fn with_links(robot: &Robot, links: &[f64]) -> Result<Robot> {
             }
         }
     }
-    Ok(Robot::new(
-        robot.name(),
-        robot.convention(),
-        robot.metadata().clone(),
-        joints,
-        *robot.base(),
-        *robot.tool(),
-        robot.poses().to_vec(),
-    )?)
+    Ok(Robot::new(robot.model().to_builder().joints(joints).build()?))
 }
 
 #[cfg(test)]

@@ -436,7 +436,7 @@ mod tests {
         let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
         let c = Constants::named("factory").unwrap();
         let q = c.angles(&[0.0; 5]).unwrap();
-        let p = robot.fk(&q).unwrap().pose.pos;
+        let p = robot.fk(&q).unwrap().world_from_tool.pos;
         assert!((p.x - 0.169).abs() < 0.001 && p.y.abs() < 1e-9 && (p.z - 0.5046).abs() < 0.001, "{p:?}");
         assert!(((q[1] + q[2] + q[3]).to_degrees() + 63.3).abs() < 0.5);
         assert!(robot.check_q(&q).is_ok());
@@ -451,7 +451,7 @@ mod tests {
             let q = robot.random_q(&mut rng);
             let u = c.tool_uncertainty(&robot, &q).unwrap();
             let counts = c.counts(&q).unwrap();
-            let p0 = robot.fk(&q).unwrap().pose.pos;
+            let p0 = robot.fk(&q).unwrap().world_from_tool.pos;
             let mut var = [0.0; 3];
             for (k, (name, dp)) in u.contributions.iter().enumerate() {
                 // Perturb the constant by ε·σ and difference the FK of the angles
@@ -464,7 +464,7 @@ mod tests {
                 } else {
                     c2.home_offsets[i] += eps * c.home_offsets_sigma[i];
                 }
-                let p1 = robot.fk(&c2.angles(&counts).unwrap()).unwrap().pose.pos;
+                let p1 = robot.fk(&c2.angles(&counts).unwrap()).unwrap().world_from_tool.pos;
                 for a in 0..3 {
                     let fd = (p1[a] - p0[a]) / eps;
                     assert!((fd - dp[a]).abs() < 1e-6 + 1e-3 * dp[a].abs(), "{name}: {fd} vs {}", dp[a]);

@@ -324,7 +324,7 @@ mod tests {
         assert_eq!(p.points.len(), 41);
         for (k, q) in p.q.iter().enumerate() {
             let fk = robot.fk(q).unwrap();
-            assert!((fk.pose.pos - p.points[k].position).norm() < 1e-9);
+            assert!((fk.world_from_tool.pos - p.points[k].position).norm() < 1e-9);
             assert!(fk.within_limits());
             // Counts agree with eq. 24 and map back to within half a count.
             let back = c.angles(&p.counts[k].map(|v| v as f64)).unwrap();

@@ -92,7 +92,7 @@ fn home_move_and_read_back_over_tcp() {
     // The controller's Cartesian coordinates (factory constants) match FK.
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
     let q = Constants::named("factory").unwrap().angles(&target.map(|v| v as f64)).unwrap();
-    let p = robot.fk(&q).unwrap().pose.pos;
+    let p = robot.fk(&q).unwrap().world_from_tool.pos;
     let cart = r.cartesian.expect("LISTPV prints Cartesian coordinates");
     assert!((cart[0] as f64 / 1e4 - p.x).abs() < 2e-4 && (cart[2] as f64 / 1e4 - p.z).abs() < 2e-4, "{cart:?} {p:?}");
     // Out of range: refused naming the axis, and the arm stays.

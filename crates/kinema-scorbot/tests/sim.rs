@@ -166,7 +166,7 @@ fn listpv_xy(counts: i64) -> String {
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
     let k = Constants::named("factory").unwrap();
     let q = k.angles(&[counts as f64, 0.0, 0.0, 0.0, 0.0]).unwrap();
-    let p = robot.fk(&q).unwrap().pose.pos;
+    let p = robot.fk(&q).unwrap().world_from_tool.pos;
     format!("X:{} Y:{}", (p.x * 1e4).round() as i64, (p.y * 1e4).round() as i64)
 }
 
@@ -345,12 +345,12 @@ fn record_file_is_the_physical_arm_seen_by_the_camera() {
     for (k, row) in rows[501..].iter().enumerate() {
         let s = k as f64 / 150.0;
         let q = truth.angles(&[-7094.0 * s, 0.0, 0.0, 500.0 * s, 0.0]).unwrap();
-        let p = robot.fk(&q).unwrap().pose.pos;
+        let p = robot.fk(&q).unwrap().world_from_tool.pos;
         assert!((row[0] - p.x).abs() < 1e-12 && (row[1] - p.y).abs() < 1e-12 && (row[2] - p.z).abs() < 1e-12);
     }
     // Not the controller's own model: the factory constants put the tool elsewhere.
     let factory = Constants::named("factory").unwrap();
-    let p = robot.fk(&factory.angles(&[-7094.0, 0.0, 0.0, 500.0, 0.0]).unwrap()).unwrap().pose.pos;
+    let p = robot.fk(&factory.angles(&[-7094.0, 0.0, 0.0, 500.0, 0.0]).unwrap()).unwrap().world_from_tool.pos;
     let last = rows[rows.len() - 1];
     assert!(((last[0] - p.x).powi(2) + (last[1] - p.y).powi(2) + (last[2] - p.z).powi(2)).sqrt() > 1e-3);
     assert!(std::fs::read_dir(&dir).unwrap().count() == 1, "no temporary file left");

@@ -224,7 +224,7 @@ impl App {
     fn robot_named(&self, name: &str, in_path: bool) -> Result<&Robot> {
         self.robots.iter().find(|r| r.name() == name).ok_or_else(|| Error::UnknownRobot {
             name: name.into(),
-            known: self.robots.iter().map(Robot::name).collect::<Vec<_>>().join(", "),
+            known: self.robots.iter().map(|r| r.name()).collect::<Vec<_>>().join(", "),
             in_path,
         })
     }
@@ -250,7 +250,7 @@ impl App {
         let fk = r.fk(&req.q)?;
         let j = r.jacobian(&req.q, Frame::Base)?;
         let rep = analysis::report(&j)?;
-        let p = fk.pose.pos;
+        let p = fk.world_from_tool.pos;
         let centre = [p.x, p.y, p.z];
         Ok(json!({
             "robot": r.name(), "q": req.q,
@@ -372,7 +372,7 @@ impl App {
                         return Err(bad(format!("/api/traj: {what} = {v} must be a positive number")));
                     }
                 }
-                let start = r.fk(&req.from)?.pose;
+                let start = r.fk(&req.from)?.world_from_tool;
                 let seg = Segment::lin(&start, &target, Orientation::Slerp)?;
                 let mut limits = CartesianLimits::new(vmax, amax);
                 if profile == Profile::SCurve {

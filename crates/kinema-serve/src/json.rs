@@ -76,7 +76,7 @@ pub fn robot_info(r: &Robot) -> Value {
     // The self-motion parameters a request may fix (the viewer's q3 slider).
     let redundancy = family.as_ref().and_then(|f| f.redundancy()).map_or(&[][..], |r| r.parameters());
     json!({
-        "name": r.name(), "dof": r.dof(), "convention": format!("{:?}", r.convention()).to_lowercase(),
+        "name": r.name(), "dof": r.dof(), "convention": format!("{:?}", r.geometry_kind()).to_lowercase(),
         "manufacturer": r.metadata().manufacturer, "source": r.metadata().source, "notes": r.metadata().notes,
         "joints": joints, "base": pose(r.base()), "tool": pose(r.tool()),
         "poses": poses, "home": r.home(),
@@ -115,7 +115,7 @@ pub(crate) fn robot_summary(r: &Robot, default: bool) -> Value {
 /// frame: a point on it and its direction (standard DH: z of frame i − 1;
 /// modified DH: z of frame i; general: the joint's axis in frame i).
 pub(crate) fn fk(r: &Robot, q: &[f64], fk: &Fk, frames: &[Pose]) -> Value {
-    let mut v = pose(&fk.pose);
+    let mut v = pose(&fk.world_from_tool);
     v["robot"] = json!(r.name());
     v["q"] = json!(q);
     v["within_limits"] = json!(fk.within_limits());

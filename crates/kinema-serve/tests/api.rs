@@ -115,7 +115,7 @@ fn fk_equals_the_library() {
             assert_eq!(a.status, 200, "{name}: {}", a.json);
             let fk = robot.fk(&q).unwrap();
             let t = rows(&a.json["T"]);
-            let expected = fk.pose.to_rows();
+            let expected = fk.world_from_tool.to_rows();
             for r in 0..4 {
                 for c in 0..4 {
                     assert!((t[r][c] - expected[r][c]).abs() <= 1e-12, "{name} T[{r}][{c}]");
@@ -142,7 +142,7 @@ fn ik_reaches_the_target_and_recovers_q_with_its_q3() {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
     for _ in 0..20 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let a = post(addr, "/api/ik", &json!({"T": target.to_rows(), "q3": q[2], "q0": q}));
         assert_eq!(a.status, 200, "{}", a.json);
         assert_eq!(a.json["solver"], "iiwa");
@@ -154,7 +154,7 @@ fn ik_reaches_the_target_and_recovers_q_with_its_q3() {
             // Each solution reaches the target, as the server says and as FK says.
             assert!(s["position_error"].as_f64().unwrap() < 1e-9);
             assert!(s["orientation_error"].as_f64().unwrap() < 1e-9);
-            let e = kinema::math::pose_error(&target, &robot.fk(&sq).unwrap().pose);
+            let e = kinema::math::pose_error(&target, &robot.fk(&sq).unwrap().world_from_tool);
             assert!(e.position_norm() < 1e-9 && e.rotation_angle() < 1e-9);
             assert!(s["branch"].is_string() && s["within_limits"].is_boolean());
             let d = sq.iter().zip(&q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -168,7 +168,7 @@ fn ik_reaches_the_target_and_recovers_q_with_its_q3() {
     }
     // The same through position + rpy, and through the library's closed form at q3.
     let q = [0.3, 0.6, -0.4, -1.1, 0.2, 0.9, -0.3];
-    let p = robot.fk(&q).unwrap().pose;
+    let p = robot.fk(&q).unwrap().world_from_tool;
     let rpy = p.rpy(kinema::RpyConvention::Zyx);
     let a = post(addr, "/api/ik", &json!({"position": [p.pos.x, p.pos.y, p.pos.z], "rpy": rpy, "q3": q[2]}));
     assert_eq!(a.status, 200);
@@ -187,7 +187,7 @@ fn arm_angle_on_a_urdf_iiwa() {
     let addr = server.local_addr();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x5137);
     let q = robot.random_q(&mut rng);
-    let target = robot.fk(&q).unwrap().pose;
+    let target = robot.fk(&q).unwrap().world_from_tool;
     let psi = kinema::ik::wrap_angle(ik.psi_of(&q) - 0.4);
     let a = post(addr, "/api/ik", &json!({"T": target.to_rows(), "psi": psi}));
     assert_eq!(a.status, 200, "{}", a.json);
@@ -200,7 +200,7 @@ fn arm_angle_on_a_urdf_iiwa() {
         assert!(s["position_error"].as_f64().unwrap() < 1e-9, "{s}");
     }
     let from = [0.3, 1.0, 0.4, -0.8, 0.2, 0.9, 0.1];
-    let p = robot.fk(&from).unwrap().pose;
+    let p = robot.fk(&from).unwrap().world_from_tool;
     let goal = [p.pos.x + 0.05, p.pos.y + 0.1, p.pos.z - 0.1];
     let body = json!({"kind": "lin", "from": from, "position": goal, "rpy": p.rpy(kinema::RpyConvention::Zyx),
         "vmax": 0.2, "amax": 1.0, "psi": "hold"});
@@ -222,7 +222,7 @@ fn ik_unreachable_and_other_robots() {
     // A robot without an analytic solver: numeric, from q0.
     let panda = Robot::builtin("panda").unwrap();
     let q = [0.1, -0.3, 0.2, -2.0, 0.1, 1.8, 0.5];
-    let t = panda.fk(&q).unwrap().pose;
+    let t = panda.fk(&q).unwrap().world_from_tool;
     let a = post(addr, "/api/ik", &json!({"robot": "panda", "T": t.to_rows(), "q0": panda.home()}));
     assert_eq!(a.status, 200, "{}", a.json);
     assert_eq!(a.json["solver"], "numeric");
@@ -247,7 +247,7 @@ fn manipulability_matches_the_library() {
     assert_eq!(floats(&e["radii"]).len(), 3);
     assert_eq!(rows(&e["axes"]).len(), 3);
     let c = floats(&e["centre"]);
-    assert!((c[2] - robot.fk(&q).unwrap().pose.pos.z).abs() < 1e-12);
+    assert!((c[2] - robot.fk(&q).unwrap().world_from_tool.pos.z).abs() < 1e-12);
 }
 
 #[test]
@@ -270,7 +270,7 @@ fn trajectories_and_programs() {
     // LIN to a pose 10 cm lower, tool orientation kept.
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     let start_q = [0.0, 0.6, 0.0, -1.3, 0.0, 0.8, 0.0];
-    let p = robot.fk(&start_q).unwrap().pose;
+    let p = robot.fk(&start_q).unwrap().world_from_tool;
     let goal = [p.pos.x + 0.05, p.pos.y, p.pos.z - 0.1];
     let a = post(
         addr,
@@ -279,12 +279,12 @@ fn trajectories_and_programs() {
     );
     assert_eq!(a.status, 200, "{}", a.json);
     let q = rows(&a.json["q"]);
-    let end = robot.fk(q.last().unwrap()).unwrap().pose.pos;
+    let end = robot.fk(q.last().unwrap()).unwrap().world_from_tool.pos;
     assert!((end - kinema::nalgebra::Vector3::from(goal)).norm() < 1e-6);
     // The self-motion policy: q3 held by default and with "hold"; steered,
     // it moves; a value the start does not have, or both q3 and ψ, are 4xx.
     let from2 = [0.3, 1.0, 0.4, -0.8, 0.2, 0.9, 0.1];
-    let p2 = robot.fk(&from2).unwrap().pose;
+    let p2 = robot.fk(&from2).unwrap().world_from_tool;
     let goal2 = [p2.pos.x + 0.05, p2.pos.y + 0.1, p2.pos.z - 0.1];
     let lin = |extra: Value| {
         let mut body = json!({"kind": "lin", "from": from2, "position": goal2,

@@ -26,7 +26,7 @@ const N_TARGETS: usize = 1000;
 
 fn fk_targets(robot: &Robot) -> Vec<Pose> {
     let qs = configs(robot, 0x1c, N_TARGETS);
-    qs.chunks_exact(robot.dof()).map(|q| robot.fk(q).expect("valid q").pose).collect()
+    qs.chunks_exact(robot.dof()).map(|q| robot.fk(q).expect("valid q").world_from_tool).collect()
 }
 
 fn k_target(p: &Pose) -> Iso {
@@ -114,7 +114,8 @@ fn ik(c: &mut Criterion) {
     let robot = Robot::builtin("lbr-iiwa-14-r820").expect("built-in");
     let iiwa = kinema::ik::iiwa::IiwaIk::new(&robot).expect("iiwa");
     let qs = configs(&robot, 0x3a, N_TARGETS);
-    let cases: Vec<(Pose, f64)> = qs.chunks_exact(7).map(|q| (robot.fk(q).expect("valid").pose, q[2])).collect();
+    let cases: Vec<(Pose, f64)> =
+        qs.chunks_exact(7).map(|q| (robot.fk(q).expect("valid").world_from_tool, q[2])).collect();
     let mut i = 0;
     g.bench_function("lbr-iiwa-14-r820/solve_q3", |b| {
         b.iter(|| {
@@ -134,7 +135,8 @@ fn ik(c: &mut Criterion) {
     let robot = Robot::from_file(urdf, None).expect("iiwa14.urdf");
     let srs = kinema::ik::geo::SrsIk::new(&robot).expect("SRS arm");
     let qs = configs(&robot, 0x3b, N_TARGETS);
-    let cases: Vec<(Pose, f64)> = qs.chunks_exact(7).map(|q| (robot.fk(q).expect("valid").pose, q[2])).collect();
+    let cases: Vec<(Pose, f64)> =
+        qs.chunks_exact(7).map(|q| (robot.fk(q).expect("valid").world_from_tool, q[2])).collect();
     let mut i = 0;
     g.bench_function("iiwa14.urdf/geo-srs/solve_q3", |b| {
         b.iter(|| {
@@ -148,7 +150,7 @@ fn ik(c: &mut Criterion) {
     let typed: Vec<([f64; 3], f64, f64)> = configs(&robot, 0x5c, N_TARGETS)
         .chunks_exact(5)
         .map(|q| {
-            let p = robot.fk(q).expect("valid").pose.pos;
+            let p = robot.fk(q).expect("valid").world_from_tool.pos;
             // β = −θ234 and γ = θ5 with θ4 = q4 − π/2 (seed 000 Tabla I offsets).
             ([p.x, p.y, p.z], -(q[1] + q[2] + q[3]), q[4])
         })
@@ -175,7 +177,7 @@ fn ik(c: &mut Criterion) {
     let rail: Vec<([f64; 4], f64)> = configs(&robot, 0x5d, N_TARGETS)
         .chunks_exact(5)
         .map(|q| {
-            let t = robot.fk(q).expect("valid").pose;
+            let t = robot.fk(q).expect("valid").world_from_tool;
             ([t.pos.x, t.pos.y, t.pos.z, t.rot[(1, 0)].atan2(t.rot[(0, 0)])], q[0])
         })
         .collect();
@@ -205,8 +207,10 @@ fn batch(c: &mut Criterion) {
     for name in ["ur5", "lbr-iiwa-14-r820"] {
         let robot = Robot::builtin(name).expect("built-in");
         let qs = configs(&robot, 0xba7c, 4000);
-        let targets: Vec<IkTarget> =
-            qs.chunks_exact(robot.dof()).map(|q| IkTarget::Pose(robot.fk(q).expect("valid q").pose)).collect();
+        let targets: Vec<IkTarget> = qs
+            .chunks_exact(robot.dof())
+            .map(|q| IkTarget::Pose(robot.fk(q).expect("valid q").world_from_tool))
+            .collect();
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
             g.bench_function(format!("{name}/threads-{threads}"), |b| {

@@ -65,7 +65,7 @@ fn traj(c: &mut Criterion) {
             "puma560" => vec![0.2, -0.6, 0.4, 0.3, 0.7, -0.2],
             _ => vec![0.3, 0.6, -0.2, -1.2, 0.4, 0.9, 0.1],
         };
-        let a = robot.fk(&q0).expect("valid").pose;
+        let a = robot.fk(&q0).expect("valid").world_from_tool;
         let b = Pose::new(a.rot * kinema::math::rot_x(0.2), a.pos + Vector3::new(0.05, 0.15, 0.1));
         let seg = Segment::lin(&a, &b, Orientation::Slerp).expect("segment");
         let lim = CartesianLimits::new(1.0, 1.0);

@@ -7,9 +7,9 @@ use kinema::{Robot, RpyConvention};
 
 fn main() -> Result<(), kinema::Error> {
     let robot = Robot::builtin("scorbot-er-v-plus")?;
-    let q = robot.parse_q("10, 60, -40, -60, 30", true)?;
+    let q: Vec<f64> = [10.0f64, 60.0, -40.0, -60.0, 30.0].map(f64::to_radians).to_vec();
     let fk = robot.fk(&q)?;
-    let p = fk.pose;
+    let p = fk.world_from_tool;
     println!("{}: tool at [{:.4}, {:.4}, {:.4}] m", robot.name(), p.pos.x, p.pos.y, p.pos.z);
     let zyx = p.rpy(RpyConvention::Zyx).map(f64::to_degrees);
     let xyz = p.rpy(RpyConvention::Xyz).map(f64::to_degrees);

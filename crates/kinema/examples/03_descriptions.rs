@@ -71,7 +71,7 @@ fn main() -> Result<(), kinema::Error> {
     let b = Robot::from_toml_str(MODIFIED, "modified.toml")?;
     let c = Robot::from_urdf_str(URDF, "rr.urdf", None)?;
     for q in [[0.0, 0.0], [0.7, -1.1], [2.0, 0.4]] {
-        let (pa, pb, pc) = (a.fk(&q)?.pose, b.fk(&q)?.pose, c.fk(&q)?.pose);
+        let (pa, pb, pc) = (a.fk(&q)?.world_from_tool, b.fk(&q)?.world_from_tool, c.fk(&q)?.world_from_tool);
         println!(
             "q = {q:?}: standard {:?}  modified {:?}  urdf {:?}",
             pa.pos.as_slice(),

@@ -36,8 +36,9 @@ use toml::Spanned;
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::{
-    Convention, DhConvention, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
+    DhConvention, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, Model, NamedPose,
 };
+use crate::robot::Robot;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -48,7 +49,7 @@ struct RobotFile {
     source: String,
     #[serde(default)]
     notes: String,
-    convention: Convention,
+    convention: GeometryKind,
     units: Units,
     base: Option<Spanned<FrameSpec>>,
     tool: Option<Spanned<FrameSpec>>,
@@ -203,7 +204,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         // Joint-value unit: angle for revolute joints, length for prismatic ones.
         let qunit = if prismatic { len } else { ang };
         let geometry = match f.convention {
-            Convention::Standard | Convention::Modified => {
+            GeometryKind::Standard | GeometryKind::Modified => {
                 for (name, v) in [("xyz", j.xyz.is_some()), ("rpy", j.rpy.is_some()), ("axis", j.axis.is_some())] {
                     if v {
                         return Err(e(name, "`xyz`/`rpy`/`axis` belong to convention = \"general\"; a DH row has d, a, alpha (and theta for prismatic joints)".into()));
@@ -217,8 +218,11 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 }
                 let a = j.a.ok_or_else(|| e("a", "missing DH link length `a`".into()))?;
                 let alpha = j.alpha.ok_or_else(|| e("alpha", "missing DH link twist `alpha`".into()))?;
-                let convention =
-                    if f.convention == Convention::Standard { DhConvention::Standard } else { DhConvention::Modified };
+                let convention = if f.convention == GeometryKind::Standard {
+                    DhConvention::Standard
+                } else {
+                    DhConvention::Modified
+                };
                 LinkGeometry::Dh {
                     convention,
                     d: j.d.unwrap_or(0.0) * len,
@@ -227,7 +231,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                     theta: j.theta.unwrap_or(0.0) * ang,
                 }
             }
-            Convention::General => {
+            GeometryKind::General => {
                 for (name, v) in [("d", j.d), ("a", j.a), ("alpha", j.alpha), ("theta", j.theta)] {
                     if v.is_some() {
                         return Err(e(name, "DH fields belong to convention = \"standard\" or \"modified\"; a general joint has xyz, rpy and axis".into()));
@@ -318,11 +322,12 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         Error::InvalidModel { message, .. } => ctx.err(0..0, "(model)", message),
         other => other,
     };
-    let robot = Robot::new(f.name, f.convention, meta, joints, base, tool, poses).map_err(to_desc)?;
+    let mut model =
+        Model::builder(f.name, f.convention).metadata(meta).joints(joints).base(base).tool(tool).poses(poses);
     if inertials.iter().any(Option::is_some) {
-        return robot.with_inertials(inertials).map_err(to_desc);
+        model = model.inertials(inertials);
     }
-    Ok(robot)
+    Ok(Robot::new(model.build().map_err(to_desc)?))
 }
 
 #[cfg(test)]
@@ -358,7 +363,7 @@ home = [0, 90]
         assert_eq!(r.dof(), 2);
         assert!((r.joints()[0].limits.max - 170f64.to_radians()).abs() < 1e-15);
         let fk = r.fk(r.home()).unwrap();
-        assert!((fk.pose.pos.x - 1.0).abs() < 1e-12 && (fk.pose.pos.y - 1.0).abs() < 1e-12);
+        assert!((fk.world_from_tool.pos.x - 1.0).abs() < 1e-12 && (fk.world_from_tool.pos.y - 1.0).abs() < 1e-12);
     }
 
     fn err_of(text: &str) -> Error {

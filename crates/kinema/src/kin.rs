@@ -3,7 +3,7 @@
 //! The hot paths ([`Robot::fk`], [`Robot::jacobian_into`],
 //! [`Robot::link_frames_into`]) do not allocate and do not depend on any
 //! earlier call. Convenience forms that allocate ([`Robot::jacobian`],
-//! [`Robot::link_frames`]) sit on top, and [`Workspace`] bundles reusable
+//! [`Robot::link_frames`]) sit on top, and [`Buffers`] bundles reusable
 //! output buffers.
 //!
 //! Jacobian rows are ordered \[vx vy vz ωx ωy ωz\]: linear velocity of the tool
@@ -17,7 +17,8 @@ use std::mem::MaybeUninit;
 use crate::chain::{as_uninit, Layout};
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{JointSet, Robot};
+use crate::model::JointSet;
+use crate::robot::Robot;
 
 /// The frame a Jacobian (or a velocity) is expressed in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -33,8 +34,9 @@ pub enum Frame {
 /// The result of forward kinematics.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fk {
-    /// `base_from_tool` (including the base and tool transforms).
-    pub pose: Pose,
+    /// The tool pose in the world frame: the robot's base transform
+    /// (`world_from_base`), the chain, then the tool transform.
+    pub world_from_tool: Pose,
     /// Joints whose value is outside their position limits. FK is computed
     /// anyway; this says which values a real robot could not take.
     pub out_of_limits: JointSet,
@@ -59,7 +61,7 @@ impl Robot {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let fk = robot.fk(robot.home())?;
     /// // Stretched upright: 0.36 + 0.42 + 0.40 + 0.126 m above the base.
-    /// assert!((fk.pose.pos.z - 1.306).abs() < 1e-12);
+    /// assert!((fk.world_from_tool.pos.z - 1.306).abs() < 1e-12);
     /// assert!(fk.within_limits());
     /// # Ok::<(), kinema::Error>(())
     /// ```
@@ -73,7 +75,7 @@ impl Robot {
         if !scanned.finite {
             return Err(self.bad_q(q));
         }
-        Ok(Fk { pose, out_of_limits: JointSet(scanned.outside) })
+        Ok(Fk { world_from_tool: pose, out_of_limits: JointSet(scanned.outside) })
     }
 
     /// Forward kinematics as the row-major 4 × 4 homogeneous matrix of
@@ -129,7 +131,7 @@ impl Robot {
     /// let qs = [robot.home(), robot.pose("qr")?].concat();
     /// let all = robot.fk_batch(&qs)?;
     /// assert_eq!(all.len(), 2);
-    /// assert_eq!(all[1].pose, robot.fk(robot.pose("qr")?)?.pose);
+    /// assert_eq!(all[1].world_from_tool, robot.fk(robot.pose("qr")?)?.world_from_tool);
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn fk_batch(&self, qs: &[f64]) -> Result<Vec<Fk>> {
@@ -148,7 +150,7 @@ impl Robot {
             .with_min_len(1024)
             .map(|q| {
                 let (pose, scanned) = self.chain.fk(q);
-                Fk { pose, out_of_limits: JointSet(scanned.outside) }
+                Fk { world_from_tool: pose, out_of_limits: JointSet(scanned.outside) }
             })
             .collect())
     }
@@ -168,7 +170,7 @@ impl Robot {
         }
         out[0] = *self.base();
         self.chain.link_frames(q, out);
-        Ok(Fk { pose: out[n + 1], out_of_limits })
+        Ok(Fk { world_from_tool: out[n + 1], out_of_limits })
     }
 
     /// As [`Robot::link_frames_into`], allocating the result.
@@ -195,7 +197,7 @@ impl Robot {
         // SAFETY: `jacobian_in` writes only computed values into the matrix.
         let data = unsafe { as_uninit(out.as_mut_slice()) };
         let out_of_limits = self.jacobian_in(q, frame, Layout::ColumnMajor, data, Some(&mut pose))?;
-        Ok(Fk { pose, out_of_limits })
+        Ok(Fk { world_from_tool: pose, out_of_limits })
     }
 
     /// As [`Robot::jacobian_into`], written row-major into a slice of
@@ -287,7 +289,7 @@ impl Robot {
     pub fn analytic_jacobian(&self, q: &[f64], conv: RpyConvention) -> Result<Matrix6xX<f64>> {
         let mut j = Matrix6xX::zeros(self.dof());
         let fk = self.jacobian_into(q, Frame::Base, &mut j)?;
-        let rpy = fk.pose.rpy(conv);
+        let rpy = fk.world_from_tool.rpy(conv);
         let e = rpy_rate_matrix(rpy, conv);
         let cos_mid = rpy[1].cos();
         if cos_mid.abs() < 1e-9 {
@@ -324,9 +326,9 @@ pub fn rpy_rate_matrix(rpy: [f64; 3], conv: RpyConvention) -> Matrix3<f64> {
 ///
 /// # Examples
 /// ```
-/// use kinema::{Robot, Frame, Workspace};
+/// use kinema::{Robot, Frame, Buffers};
 /// let robot = Robot::builtin("panda")?;
-/// let mut ws = Workspace::new(&robot);
+/// let mut ws = Buffers::new(&robot);
 /// for q in [robot.home(), robot.pose("qr")?] {
 ///     let j = ws.jacobian(&robot, q, Frame::Base)?;
 ///     assert_eq!(j.ncols(), 7);
@@ -334,31 +336,31 @@ pub fn rpy_rate_matrix(rpy: [f64; 3], conv: RpyConvention) -> Matrix3<f64> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct Workspace {
+pub struct Buffers {
     jacobian: Matrix6xX<f64>,
     frames: Vec<Pose>,
 }
 
-impl Workspace {
+impl Buffers {
     /// Buffers sized for `robot`.
     pub fn new(robot: &Robot) -> Self {
-        Workspace { jacobian: Matrix6xX::zeros(robot.dof()), frames: vec![Pose::IDENTITY; robot.dof() + 2] }
+        Buffers { jacobian: Matrix6xX::zeros(robot.dof()), frames: vec![Pose::IDENTITY; robot.dof() + 2] }
     }
 
     fn fit(&mut self, robot: &Robot) {
         if self.jacobian.ncols() != robot.dof() {
-            *self = Workspace::new(robot);
+            *self = Buffers::new(robot);
         }
     }
 
-    /// Geometric Jacobian into the workspace's buffer.
+    /// Geometric Jacobian into its buffer.
     pub fn jacobian(&mut self, robot: &Robot, q: &[f64], frame: Frame) -> Result<&Matrix6xX<f64>> {
         self.fit(robot);
         robot.jacobian_into(q, frame, &mut self.jacobian)?;
         Ok(&self.jacobian)
     }
 
-    /// All link frames into the workspace's buffer (see [`Robot::link_frames_into`]).
+    /// All link frames into its buffer (see [`Robot::link_frames_into`]).
     pub fn link_frames(&mut self, robot: &Robot, q: &[f64]) -> Result<&[Pose]> {
         self.fit(robot);
         robot.link_frames_into(q, &mut self.frames)?;

@@ -2,8 +2,8 @@
 //!
 //! The core library of the kinema toolkit:
 //!
-//! * [`Robot`] — an immutable serial chain of revolute and prismatic joints,
-//!   described by a standard-DH table, a modified-DH table or per-joint fixed
+//! * [`Model`] — the plain description of a serial chain of revolute and
+//!   prismatic joints, and [`Robot`], a model compiled for computing; described by a standard-DH table, a modified-DH table or per-joint fixed
 //!   transforms and axes (URDF). Load one with [`Robot::builtin`],
 //!   [`Robot::from_file`] (`.toml` or `.urdf`) or build it in code.
 //! * Forward kinematics ([`Robot::fk`], [`Robot::link_frames`],
@@ -34,8 +34,8 @@
 //! // A tiny joint motion moves the tool by J·dq.
 //! let dq = [1e-7; 7];
 //! let moved = robot.fk(&[q[0] + dq[0], q[1] + dq[1], q[2] + dq[2], q[3] + dq[3], q[4] + dq[4], q[5] + dq[5], q[6] + dq[6]])?;
-//! let predicted = fk.pose.pos + (j.fixed_rows::<3>(0) * kinema::nalgebra::DVector::from_row_slice(&dq));
-//! assert!((moved.pose.pos - predicted).norm() < 1e-12);
+//! let predicted = fk.world_from_tool.pos + (j.fixed_rows::<3>(0) * kinema::nalgebra::DVector::from_row_slice(&dq));
+//! assert!((moved.world_from_tool.pos - predicted).norm() < 1e-12);
 //! # Ok::<(), kinema::Error>(())
 //! ```
 #![warn(missing_docs)]
@@ -57,13 +57,16 @@ pub mod math;
 pub mod model;
 pub mod reference;
 mod registry;
+mod robot;
 pub mod traj;
 mod urdf;
 
-pub use error::{Error, Result};
-pub use kin::{Fk, Frame, Workspace};
+pub use error::{Error, IoError, Result};
+pub use kin::{Buffers, Fk, Frame};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{
-    Convention, DhConvention, Inertial, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot,
+    DhConvention, GeometryKind, Inertial, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, Model,
+    ModelBuilder, NamedPose,
 };
 pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};
+pub use robot::Robot;

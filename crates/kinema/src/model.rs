@@ -3,12 +3,14 @@
 //! A link can be described in three ways ([`LinkGeometry`]): standard DH
 //! (Spong/Corke), modified DH (Craig), or a general fixed transform followed by
 //! a motion along/about a joint axis (URDF). All three are compiled on
-//! construction into one form that forward kinematics and Jacobians run on
-//! (see the private `chain` module and docs/internals.md).
+//! construction of a [`Robot`](crate::Robot) into one form that forward
+//! kinematics and Jacobians run on (see the private `chain` module).
+//!
+//! [`Model`] is the plain, validated description; it depends on nothing but
+//! the spatial math. What is derived from it lives in [`crate::Robot`].
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::chain::Chain;
 use crate::error::{Error, Result};
 use crate::math::Pose;
 
@@ -119,7 +121,7 @@ pub struct Joint {
 }
 
 /// Mass properties of one link — the body that joint i moves — in that
-/// link's frame (the frame [`Robot::link_frames`] returns for link i: DH frame
+/// link's frame (the frame [`Robot::link_frames`](crate::Robot::link_frames) returns for link i: DH frame
 /// i, or the URDF child link frame).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inertial {
@@ -238,10 +240,10 @@ pub struct NamedPose {
     pub q: Vec<f64>,
 }
 
-/// Which kind of description the robot came from (for display).
+/// Which link geometry a model's joints are described in (for display).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Convention {
+pub enum GeometryKind {
     /// Standard DH table.
     Standard,
     /// Modified DH table.
@@ -261,58 +263,101 @@ pub struct Metadata {
     pub notes: String,
 }
 
-/// A robot arm: an immutable, `Clone + Send + Sync` serial chain.
-///
-/// Build it from a built-in name ([`Robot::builtin`]), a TOML description
-/// ([`Robot::from_toml_str`]), a URDF ([`Robot::from_urdf_str`]) or in code
-/// ([`Robot::new`]).
+/// A robot arm's description: joints, link geometry, limits, base and tool
+/// transforms, named poses and mass properties. Plain, validated, immutable
+/// data; build one with [`Model::builder`] (or load a
+/// [`Robot`](crate::Robot), which holds one).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Robot {
+pub struct Model {
     name: String,
-    convention: Convention,
+    kind: GeometryKind,
     meta: Metadata,
     joints: Vec<Joint>,
     base: Pose,
     tool: Pose,
     poses: Vec<NamedPose>,
     inertials: Vec<Option<Inertial>>,
-    pub(crate) chain: Chain,
 }
 
-impl Robot {
-    /// Builds and validates a model.
-    ///
-    /// `poses` must contain `home`; every pose must have one value per joint.
-    /// Errors name the robot and what is inconsistent.
-    ///
-    /// # Examples
-    /// ```
-    /// use kinema::{Robot, Joint, JointType, LinkGeometry, DhConvention, Limits, NamedPose, Pose, Convention};
-    /// // A planar two-link arm, 1 m links.
-    /// let link = |name: &str| Joint {
-    ///     name: name.into(),
-    ///     kind: JointType::Revolute,
-    ///     geometry: LinkGeometry::Dh { convention: DhConvention::Standard, d: 0.0, a: 1.0, alpha: 0.0, theta: 0.0 },
-    ///     offset: 0.0,
-    ///     limits: Limits::position(-3.0, 3.0),
-    /// };
-    /// let robot = Robot::new("planar2", Convention::Standard, Default::default(), vec![link("j1"), link("j2")],
-    ///     Pose::IDENTITY, Pose::IDENTITY, vec![NamedPose { name: "home".into(), q: vec![0.0, 0.0] }])?;
-    /// let fk = robot.fk(&[0.0, std::f64::consts::FRAC_PI_2])?;
-    /// assert!((fk.pose.pos.x - 1.0).abs() < 1e-12 && (fk.pose.pos.y - 1.0).abs() < 1e-12);
-    /// # Ok::<(), kinema::Error>(())
-    /// ```
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        name: impl Into<String>,
-        convention: Convention,
-        meta: Metadata,
-        joints: Vec<Joint>,
-        base: Pose,
-        tool: Pose,
-        poses: Vec<NamedPose>,
-    ) -> Result<Robot> {
-        let name = name.into();
+/// Builds a [`Model`] field by field; [`ModelBuilder::build`] validates it.
+///
+/// # Examples
+/// ```
+/// use kinema::{DhConvention, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, Robot};
+/// // A planar two-link arm, 1 m links.
+/// let link = |name: &str| Joint {
+///     name: name.into(),
+///     kind: JointType::Revolute,
+///     geometry: LinkGeometry::Dh { convention: DhConvention::Standard, d: 0.0, a: 1.0, alpha: 0.0, theta: 0.0 },
+///     offset: 0.0,
+///     limits: Limits::position(-3.0, 3.0),
+/// };
+/// let model = Model::builder("planar2", GeometryKind::Standard)
+///     .joints(vec![link("j1"), link("j2")])
+///     .pose("home", vec![0.0, 0.0])
+///     .build()?;
+/// let robot = Robot::new(model);
+/// let fk = robot.fk(&[0.0, std::f64::consts::FRAC_PI_2])?;
+/// assert!((fk.world_from_tool.pos.x - 1.0).abs() < 1e-12 && (fk.world_from_tool.pos.y - 1.0).abs() < 1e-12);
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+#[must_use]
+pub struct ModelBuilder {
+    name: String,
+    kind: GeometryKind,
+    meta: Metadata,
+    joints: Vec<Joint>,
+    base: Pose,
+    tool: Pose,
+    poses: Vec<NamedPose>,
+    inertials: Option<Vec<Option<Inertial>>>,
+}
+
+impl ModelBuilder {
+    /// The joints, base first.
+    pub fn joints(mut self, joints: Vec<Joint>) -> Self {
+        self.joints = joints;
+        self
+    }
+    /// Manufacturer, source and notes.
+    pub fn metadata(mut self, meta: Metadata) -> Self {
+        self.meta = meta;
+        self
+    }
+    /// The `world_from_base` transform (identity by default).
+    pub fn base(mut self, base: Pose) -> Self {
+        self.base = base;
+        self
+    }
+    /// The `flange_from_tool` transform (identity by default).
+    pub fn tool(mut self, tool: Pose) -> Self {
+        self.tool = tool;
+        self
+    }
+    /// Adds (or replaces) a named configuration; `home` is required.
+    pub fn pose(mut self, name: &str, q: Vec<f64>) -> Self {
+        self.poses.retain(|p| p.name != name);
+        self.poses.push(NamedPose { name: name.into(), q });
+        self
+    }
+    /// All named configurations at once, replacing any given before.
+    pub fn poses(mut self, poses: Vec<NamedPose>) -> Self {
+        self.poses = poses;
+        self
+    }
+    /// Mass properties per link, one entry per joint (`None` for a link
+    /// without them); none at all by default.
+    pub fn inertials(mut self, inertials: Vec<Option<Inertial>>) -> Self {
+        self.inertials = Some(inertials);
+        self
+    }
+
+    /// Validates and builds the model. Errors name the robot and what is
+    /// inconsistent: no joints, non-finite geometry, limits that are not an
+    /// interval, a pose of the wrong length, no `home`, invalid inertials.
+    pub fn build(self) -> Result<Model> {
+        let ModelBuilder { name, kind, meta, joints, base, tool, poses, inertials } = self;
         let invalid = |message: String| Error::InvalidModel { robot: name.clone(), message };
         if joints.is_empty() {
             return Err(invalid("a robot needs at least one joint".into()));
@@ -374,9 +419,37 @@ impl Robot {
                 return Err(invalid(format!("pose `{}` contains {v}; joint values must be finite", p.name)));
             }
         }
-        let chain = Chain::new(&joints, &base, &tool);
-        let inertials = vec![None; joints.len()];
-        Ok(Robot { name, convention, meta, joints, base, tool, poses, inertials, chain })
+        let inertials = inertials.unwrap_or_else(|| vec![None; joints.len()]);
+        if inertials.len() != joints.len() {
+            return Err(invalid(format!(
+                "{} inertials given, one per joint ({}) expected",
+                inertials.len(),
+                joints.len()
+            )));
+        }
+        for (i, b) in inertials.iter().enumerate() {
+            if let Some(b) = b {
+                b.validate().map_err(|e| invalid(format!("link {} (moved by `{}`): {e}", i + 1, joints[i].name)))?;
+            }
+        }
+        Ok(Model { name, kind, meta, joints, base, tool, poses, inertials })
+    }
+}
+
+impl Model {
+    /// A builder for a model named `name` whose links are described in `kind`
+    /// geometry: no joints yet, identity base and tool, no poses.
+    pub fn builder(name: impl Into<String>, kind: GeometryKind) -> ModelBuilder {
+        ModelBuilder {
+            name: name.into(),
+            kind,
+            meta: Metadata::default(),
+            joints: Vec::new(),
+            base: Pose::IDENTITY,
+            tool: Pose::IDENTITY,
+            poses: Vec::new(),
+            inertials: None,
+        }
     }
 
     /// Robot name (e.g. `lbr-iiwa-14-r820`).
@@ -391,9 +464,9 @@ impl Robot {
     pub fn joints(&self) -> &[Joint] {
         &self.joints
     }
-    /// Kind of description the model was built from.
-    pub fn convention(&self) -> Convention {
-        self.convention
+    /// Which link geometry the model is described in.
+    pub fn geometry_kind(&self) -> GeometryKind {
+        self.kind
     }
     /// Manufacturer, source and notes.
     pub fn metadata(&self) -> &Metadata {
@@ -425,35 +498,7 @@ impl Robot {
     }
     /// The `home` configuration.
     pub fn home(&self) -> &[f64] {
-        self.pose("home").expect("validated in Robot::new")
-    }
-
-    /// Copy of the robot with another tool transform (`flange_from_tool`).
-    pub fn with_tool(&self, tool: Pose) -> Result<Robot> {
-        Robot::new(
-            self.name.clone(),
-            self.convention,
-            self.meta.clone(),
-            self.joints.clone(),
-            self.base,
-            tool,
-            self.poses.clone(),
-        )
-        .map(|r| Robot { inertials: self.inertials.clone(), ..r })
-    }
-
-    /// Copy of the robot with another base transform (`world_from_base`).
-    pub fn with_base(&self, base: Pose) -> Result<Robot> {
-        Robot::new(
-            self.name.clone(),
-            self.convention,
-            self.meta.clone(),
-            self.joints.clone(),
-            base,
-            self.tool,
-            self.poses.clone(),
-        )
-        .map(|r| Robot { inertials: self.inertials.clone(), ..r })
+        self.pose("home").expect("validated by ModelBuilder::build")
     }
 
     /// Mass properties per link (entry i for the body joint i moves, in link
@@ -462,114 +507,19 @@ impl Robot {
         &self.inertials
     }
 
-    /// Copy of the robot with mass properties per link: one entry per joint
-    /// (`None` for a link without them), each checked by [`Inertial::validate`].
-    ///
-    /// # Examples
-    /// ```
-    /// use kinema::{Inertial, nalgebra::Vector3};
-    /// let robot = kinema::Robot::builtin("scara5")?;
-    /// let ball = Inertial::new(1.0, Vector3::zeros(), [0.0; 6])?;
-    /// let heavy = robot.with_inertials(vec![Some(ball); robot.dof()])?;
-    /// assert_eq!(heavy.inertials()[2], Some(ball));
-    /// assert!(robot.with_inertials(vec![None]).is_err());
-    /// # Ok::<(), kinema::Error>(())
-    /// ```
-    pub fn with_inertials(&self, inertials: Vec<Option<Inertial>>) -> Result<Robot> {
-        if inertials.len() != self.dof() {
-            return Err(Error::InvalidModel {
-                robot: self.name.clone(),
-                message: format!("{} inertials given, one per joint ({}) expected", inertials.len(), self.dof()),
-            });
+    /// A builder that starts from this model (to change its tool, base,
+    /// inertials, …); `build` validates the result again.
+    pub fn to_builder(&self) -> ModelBuilder {
+        ModelBuilder {
+            name: self.name.clone(),
+            kind: self.kind,
+            meta: self.meta.clone(),
+            joints: self.joints.clone(),
+            base: self.base,
+            tool: self.tool,
+            poses: self.poses.clone(),
+            inertials: Some(self.inertials.clone()),
         }
-        for (i, b) in inertials.iter().enumerate() {
-            if let Some(b) = b {
-                b.validate().map_err(|e| Error::InvalidModel {
-                    robot: self.name.clone(),
-                    message: format!("link {} (moved by `{}`): {e}", i + 1, self.joints[i].name),
-                })?;
-            }
-        }
-        Ok(Robot { inertials, ..self.clone() })
-    }
-
-    /// Parses joint values given as text: a named pose (`home`, `qr`, …) or
-    /// comma-separated numbers in rad and m — or, with `degrees`, degrees for
-    /// revolute joints (prismatic values stay in m). The result is checked
-    /// for length and finiteness.
-    ///
-    /// # Examples
-    /// ```
-    /// let robot = kinema::Robot::builtin("scara5")?;
-    /// let q = robot.parse_q("0.5, 90, -90, 0.1, 0", true)?;
-    /// assert!((q[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-15 && q[0] == 0.5);
-    /// assert_eq!(robot.parse_q("home", false)?, robot.home());
-    /// assert!(robot.parse_q("1, 2", false).is_err());
-    /// # Ok::<(), kinema::Error>(())
-    /// ```
-    pub fn parse_q(&self, text: &str, degrees: bool) -> Result<Vec<f64>> {
-        let t = text.trim();
-        if t.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-            && !t.eq_ignore_ascii_case("nan")
-            && !t.to_ascii_lowercase().starts_with("inf")
-        {
-            return Ok(self.pose(t)?.to_vec());
-        }
-        let mut q = Vec::with_capacity(self.dof());
-        for (i, item) in t.split(',').enumerate() {
-            let item = item.trim();
-            let v: f64 = item.parse().map_err(|_| Error::InvalidArgument {
-                what: "joint values".into(),
-                message: format!(
-                    "value {} `{item}` is not a number; give {} comma-separated numbers or a named pose ({})",
-                    i + 1,
-                    self.dof(),
-                    self.poses.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
-                ),
-            })?;
-            let is_rev = self.joints.get(i).is_some_and(|j| j.kind == JointType::Revolute);
-            q.push(if degrees && is_rev { v.to_radians() } else { v });
-        }
-        self.check_q(&q)?;
-        Ok(q)
-    }
-
-    /// Checks length and finiteness of a joint vector.
-    #[inline]
-    pub fn check_q(&self, q: &[f64]) -> Result<()> {
-        self.scan_q(q).map(|_| ())
-    }
-
-    /// Checks length and finiteness of `q` and returns the joints outside
-    /// their limits, in one pass. The detailed error is only built on failure.
-    #[inline]
-    pub(crate) fn scan_q(&self, q: &[f64]) -> Result<JointSet> {
-        if q.len() != self.joints.len() {
-            return Err(self.bad_q(q));
-        }
-        let (finite, bits) = self.chain.scan(q);
-        if !finite {
-            return Err(self.bad_q(q));
-        }
-        Ok(JointSet(bits))
-    }
-
-    /// The error for a joint vector that failed [`Robot::scan_q`] (kept out of line).
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn bad_q(&self, q: &[f64]) -> Error {
-        if q.len() != self.joints.len() {
-            return Error::JointCount { robot: self.name.clone(), expected: self.joints.len(), got: q.len() };
-        }
-        let i = q.iter().position(|v| !v.is_finite()).unwrap_or(0);
-        Error::NonFinite { robot: self.name.clone(), joint: i + 1, name: self.joints[i].name.clone(), value: q[i] }
-    }
-
-    /// Bit set of the joints whose value lies outside its position limits
-    /// (bit i set for joint i + 1). `q` must have `dof()` values.
-    #[inline]
-    pub fn limit_flags(&self, q: &[f64]) -> JointSet {
-        JointSet(self.chain.scan(q).1)
     }
 
     /// A uniformly random configuration within the position limits (joints
@@ -580,7 +530,7 @@ impl Robot {
         q
     }
 
-    /// As [`Robot::random_q`], writing into `q` (length must be `dof()`).
+    /// As [`Model::random_q`], writing into `q` (length must be `dof()`).
     pub fn random_q_into<R: rand::Rng + ?Sized>(&self, rng: &mut R, q: &mut [f64]) {
         for (v, j) in q.iter_mut().zip(&self.joints) {
             let (lo, hi) = sampling_range(&j.limits);

@@ -28,7 +28,7 @@
 //! use kinema::{reference, Frame, Robot};
 //! let robot = Robot::builtin("panda")?;
 //! let q = robot.home();
-//! let fast = robot.fk(q)?.pose;
+//! let fast = robot.fk(q)?.world_from_tool;
 //! let plain = reference::world_from_tool(&robot, q)?;
 //! assert!((fast.pos - plain.translation.vector).norm() < 1e-12);
 //! assert!((fast.rot - plain.rotation.matrix()).norm() < 1e-12);
@@ -42,7 +42,8 @@ use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, RealField, Rotation3, Transl
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::Pose;
-use crate::model::{DhConvention, Joint, JointType, LinkGeometry, Robot};
+use crate::model::{DhConvention, Joint, JointType, LinkGeometry};
+use crate::robot::Robot;
 
 /// A model constant (given in `f64`) in the scalar `T`.
 fn constant<T: RealField + Copy>(x: f64) -> T {

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 include!(concat!(env!("OUT_DIR"), "/builtin_robots.rs"));
 
@@ -16,15 +16,16 @@ pub const MAX_DESCRIPTION_BYTES: u64 = 16 << 20;
 /// The text of a description file, at most [`MAX_DESCRIPTION_BYTES`] long.
 fn read_description(path: &Path, shown: &str) -> Result<String> {
     use std::io::Read;
-    let io = |message: String| Error::Io { path: shown.to_string(), message };
-    let file = std::fs::File::open(path).map_err(|e| io(e.to_string()))?;
+    let io = |e: std::io::Error| Error::Io { path: shown.to_string(), source: e.into() };
+    let file = std::fs::File::open(path).map_err(io)?;
     let mut text = String::new();
-    file.take(MAX_DESCRIPTION_BYTES + 1).read_to_string(&mut text).map_err(|e| io(e.to_string()))?;
+    file.take(MAX_DESCRIPTION_BYTES + 1).read_to_string(&mut text).map_err(io)?;
     if text.len() as u64 > MAX_DESCRIPTION_BYTES {
-        return Err(io(format!(
-            "the file is larger than the limit of {} MiB for a robot description",
-            MAX_DESCRIPTION_BYTES >> 20
-        )));
+        return Err(Error::FileTooLarge {
+            path: shown.to_string(),
+            what: "a robot description".into(),
+            limit: MAX_DESCRIPTION_BYTES,
+        });
     }
     Ok(text)
 }

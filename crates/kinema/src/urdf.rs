@@ -20,7 +20,8 @@ use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{Convention, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose, Robot};
+use crate::model::{GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, Model};
+use crate::robot::Robot;
 
 /// Parses a URDF document and extracts the chain from its root link to `tip`
 /// (default: the only leaf link). `file` is used in messages only.
@@ -159,20 +160,16 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
         source: format!("URDF {file}, chain {} → {tip}", roots[0]),
         notes: String::new(),
     };
-    let robot = Robot::new(
-        name,
-        Convention::General,
-        meta,
-        joints,
-        base.unwrap_or(Pose::IDENTITY),
-        pending,
-        vec![NamedPose { name: "home".into(), q: home }],
-    )
-    .map_err(|e| err(e.to_string()))?;
-    match inertials {
-        Some(b) => robot.with_inertials(b.into_iter().map(Some).collect()).map_err(|e| err(e.to_string())),
-        None => Ok(robot),
+    let mut model = Model::builder(name, GeometryKind::General)
+        .metadata(meta)
+        .joints(joints)
+        .base(base.unwrap_or(Pose::IDENTITY))
+        .tool(pending)
+        .pose("home", home);
+    if let Some(b) = inertials {
+        model = model.inertials(b.into_iter().map(Some).collect());
     }
+    Ok(Robot::new(model.build().map_err(|e| err(e.to_string()))?))
 }
 
 /// The mass properties of each moving joint's body, in its child link frame

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use kinema::analysis::{self, Axes};
 use kinema::nalgebra::{Matrix3, Matrix6xX, Vector3};
-use kinema::{builtin_names, Convention, Frame, JointType, Pose, Robot};
+use kinema::{builtin_names, Frame, GeometryKind, JointType, Pose, Robot};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -45,9 +45,9 @@ fn three_iiwas() -> [Robot; 3] {
 #[test]
 fn three_iiwa_descriptions_have_one_fk_and_one_jacobian() {
     let [standard, modified, urdf] = three_iiwas();
-    assert_eq!(standard.convention(), Convention::Standard);
-    assert_eq!(modified.convention(), Convention::Modified);
-    assert_eq!(urdf.convention(), Convention::General);
+    assert_eq!(standard.geometry_kind(), GeometryKind::Standard);
+    assert_eq!(modified.geometry_kind(), GeometryKind::Modified);
+    assert_eq!(urdf.geometry_kind(), GeometryKind::General);
     assert_eq!(urdf.name(), "lbr_iiwa_14_r820");
     // The URDF's fixed joints are folded away: 7 moving joints remain.
     assert_eq!(urdf.dof(), 7);
@@ -67,15 +67,15 @@ fn three_iiwa_descriptions_have_one_fk_and_one_jacobian() {
     assert_same_pose(modified.base(), standard.base(), 1e-15, "base");
 
     // Upright home: mount + (0, 0, 1.306 + 0.045) rotated by nothing but the yaw.
-    let home = standard.fk(standard.home()).unwrap().pose;
+    let home = standard.fk(standard.home()).unwrap().world_from_tool;
     assert_same_pose(&home, &Pose::new(rot_z(FRAC_PI_6), Vector3::new(0.1, -0.2, 0.05 + 1.306 + 0.045)), 1e-12, "home");
 
     let mut rng = ChaCha8Rng::seed_from_u64(0x3d);
     for _ in 0..3000 {
         let q = standard.random_q(&mut rng);
-        let fs = standard.fk(&q).unwrap().pose;
-        let fm = modified.fk(&q).unwrap().pose;
-        let fu = urdf.fk(&q).unwrap().pose;
+        let fs = standard.fk(&q).unwrap().world_from_tool;
+        let fm = modified.fk(&q).unwrap().world_from_tool;
+        let fu = urdf.fk(&q).unwrap().world_from_tool;
         assert_same_pose(&fm, &fs, 1e-12, &format!("modified vs standard at {q:?}"));
         assert_same_pose(&fu, &fs, 1e-12, &format!("URDF vs standard at {q:?}"));
         for frame in [Frame::Base, Frame::Tool] {
@@ -128,7 +128,7 @@ fn urdf_negative_axes_and_link_frames() {
 fn general_toml_equals_dh_toml() {
     let dh = Robot::builtin("ur5").unwrap();
     let general = Robot::from_file(data("ur5-general.toml"), None).unwrap();
-    assert_eq!(general.convention(), Convention::General);
+    assert_eq!(general.geometry_kind(), GeometryKind::General);
     assert_eq!(general.dof(), 6);
     for (a, b) in general.poses().iter().zip(dh.poses()) {
         assert_eq!(a.name, b.name);
@@ -139,7 +139,12 @@ fn general_toml_equals_dh_toml() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x65);
     for _ in 0..2000 {
         let q = dh.random_q(&mut rng);
-        assert_same_pose(&general.fk(&q).unwrap().pose, &dh.fk(&q).unwrap().pose, 1e-12, &format!("q = {q:?}"));
+        assert_same_pose(
+            &general.fk(&q).unwrap().world_from_tool,
+            &dh.fk(&q).unwrap().world_from_tool,
+            1e-12,
+            &format!("q = {q:?}"),
+        );
         let jg = general.jacobian(&q, Frame::Base).unwrap();
         let jd = dh.jacobian(&q, Frame::Base).unwrap();
         assert!(max_abs(&(&jg - &jd)) < 1e-12, "q = {q:?}");
@@ -174,7 +179,7 @@ fn urdf_tip_selects_the_chain() {
         let fk = a.fk(&q).unwrap();
         assert!(fk.within_limits());
         let p = rot_z(q[0]) * Vector3::new(0.3, 0.0, 0.0) + Vector3::new(0.0, 0.0, 0.5);
-        assert_same_pose(&fk.pose, &Pose::new(rot_z(q[0]) * rot_y(q[1]), p), 1e-12, "leaf_a");
+        assert_same_pose(&fk.world_from_tool, &Pose::new(rot_z(q[0]) * rot_y(q[1]), p), 1e-12, "leaf_a");
     }
     // A continuous joint is never out of limits.
     assert!(a.fk(&[0.0, 1e6]).unwrap().within_limits());
@@ -188,7 +193,7 @@ fn urdf_tip_selects_the_chain() {
         assert!((0.1..=0.4).contains(&q[1]));
         let fk = b.fk(&q).unwrap();
         let p = rot_z(q[0]) * Vector3::new(q[1], 0.2, 0.0) + Vector3::new(0.0, 0.0, 0.5);
-        assert_same_pose(&fk.pose, &Pose::new(rot_z(q[0]), p), 1e-12, "leaf_b");
+        assert_same_pose(&fk.world_from_tool, &Pose::new(rot_z(q[0]), p), 1e-12, "leaf_b");
     }
 
     // An inner link as tip: the one joint above it.

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 use kinema::dynamics::{coriolis, coriolis_matrix, forward_dynamics, gravity_torques, mass_matrix, rnea};
 use kinema::nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Unit, Vector3};
 use kinema::{
-    Convention, DhConvention, Error, Inertial, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot,
+    DhConvention, Error, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -75,16 +75,14 @@ fn random_robot(rng: &mut ChaCha8Rng) -> Robot {
             }
         })
         .collect();
-    let robot = Robot::new(
-        "random",
-        Convention::General,
-        Default::default(),
-        joints,
-        random_pose(rng),
-        random_pose(rng),
-        vec![NamedPose { name: "home".into(), q: vec![0.0; n] }],
-    )
-    .unwrap();
+    let robot = Model::builder("random", GeometryKind::General)
+        .joints(joints)
+        .base(random_pose(rng))
+        .tool(random_pose(rng))
+        .poses(vec![NamedPose { name: "home".into(), q: vec![0.0; n] }])
+        .build()
+        .map(Robot::new)
+        .unwrap();
     robot.with_inertials((0..n).map(|_| Some(random_inertial(rng))).collect()).unwrap()
 }
 
@@ -315,16 +313,12 @@ fn planar(l: &[f64], m: &[f64], lc: &[f64], izz: &[f64]) -> Robot {
         })
         .collect();
     let n = l.len();
-    let r = Robot::new(
-        "planar",
-        Convention::Standard,
-        Default::default(),
-        joints,
-        Pose::IDENTITY,
-        Pose::IDENTITY,
-        vec![NamedPose { name: "home".into(), q: vec![0.0; n] }],
-    )
-    .unwrap();
+    let r = Model::builder("planar", GeometryKind::Standard)
+        .joints(joints)
+        .poses(vec![NamedPose { name: "home".into(), q: vec![0.0; n] }])
+        .build()
+        .map(Robot::new)
+        .unwrap();
     // The DH frame of link i sits at the link's far end: the centre of mass is at x = lc − l.
     let bodies = (0..n)
         .map(|i| {

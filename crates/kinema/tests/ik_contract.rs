@@ -63,7 +63,7 @@ fn make_target(robot: &Robot, kind: Kind, rng: &mut ChaCha8Rng) -> (Vec<f64>, Po
     if kind == Kind::NearSingular && q.len() >= 5 {
         q[4] = 1e-7;
     }
-    let mut pose = robot.fk(&q).unwrap().pose;
+    let mut pose = robot.fk(&q).unwrap().world_from_tool;
     match kind {
         Kind::Perturbed => {
             pose.pos += random_axis(rng) * rng.random_range(0.0..0.01);
@@ -78,7 +78,7 @@ fn make_target(robot: &Robot, kind: Kind, rng: &mut ChaCha8Rng) -> (Vec<f64>, Po
 
 /// The masked residual of `q` against `target`, computed here.
 fn misses(robot: &Robot, q: &[f64], target: &Pose, mask: [bool; 6]) -> bool {
-    let reached = robot.fk(q).unwrap().pose;
+    let reached = robot.fk(q).unwrap().world_from_tool;
     let dp = target.pos - reached.pos;
     let dw = rot_to_axis_angle(&(target.rot * reached.rot.transpose()));
     let norm = |v: Vector3<f64>, m: &[bool]| (0..3).filter(|&k| m[k]).map(|k| v[k] * v[k]).sum::<f64>().sqrt();

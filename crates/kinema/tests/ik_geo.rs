@@ -12,7 +12,9 @@ use kinema::ik::geo::{
 use kinema::ik::pieper::PieperIk;
 use kinema::ik::{analytic_solver, IkSolver, NumericIk, NumericOptions, Solution};
 use kinema::nalgebra::{Rotation3, Unit, Vector3};
-use kinema::{Convention, DhConvention, Error, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot};
+use kinema::{
+    DhConvention, Error, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -158,23 +160,21 @@ fn random_chain(rng: &mut ChaCha8Rng) -> Robot {
         .collect();
     let home = NamedPose { name: "home".into(), q: vec![0.0; n] };
     // A table mixing conventions is a `general` robot; the joints say which convention each row follows.
-    Robot::new(
-        "random",
-        Convention::General,
-        Default::default(),
-        joints,
-        random_pose(rng),
-        random_pose(rng),
-        vec![home],
-    )
-    .unwrap()
+    Model::builder("random", GeometryKind::General)
+        .joints(joints)
+        .base(random_pose(rng))
+        .tool(random_pose(rng))
+        .poses(vec![home])
+        .build()
+        .map(Robot::new)
+        .unwrap()
 }
 
 fn assert_poe_matches_fk(robot: &Robot, rng: &mut ChaCha8Rng, n: usize) {
     let kin = Kinematics::new(robot).unwrap_or_else(|e| panic!("{}: {e}", robot.name()));
     for _ in 0..n {
         let q: Vec<f64> = (0..robot.dof()).map(|_| rng.random_range(-2.0 * PI..2.0 * PI)).collect();
-        let (a, b) = (kin.fk(&q), robot.fk(&q).unwrap().pose);
+        let (a, b) = (kin.fk(&q), robot.fk(&q).unwrap().world_from_tool);
         let err = (a.pos - b.pos).norm().max((a.rot - b.rot).norm());
         assert!(err < 1e-12, "{}: q = {q:?}: {err:.3e}", robot.name());
     }
@@ -244,7 +244,7 @@ fn round_trips(robot: &Robot, ik: &dyn IkSolver, n: usize, seed: u64) -> Tally {
     let mut t = Tally::default();
     for _ in 0..n {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let what = format!("{} q = {q:?}", robot.name());
         let sols = ik.solve(&target).unwrap_or_else(|e| panic!("{what}: {e}"));
         check_solutions(robot, &sols, &what);
@@ -293,7 +293,7 @@ fn complete_against_numeric(robot: &Robot, targets: usize, starts: usize) -> usi
     let mut fewer = 0;
     for _ in 0..targets {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve(&target).unwrap();
         if sols.len() < 8 {
             fewer += 1;
@@ -369,7 +369,7 @@ fn puma560_agrees_with_pieper() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x9199);
     for _ in 0..2000 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let (a, b) = (geo.solve(&target).unwrap(), pieper.solve(&target).unwrap());
         assert_eq!(a.len(), b.len(), "q = {q:?}");
         for s in &a {
@@ -434,7 +434,7 @@ fn singular_configurations_give_finite_solutions() {
                 1 => q[2] = 0.0,
                 _ => q[4] = PI,
             }
-            let target = robot.fk(&q).unwrap().pose;
+            let target = robot.fk(&q).unwrap().world_from_tool;
             let what = format!("{} q = {q:?}", robot.name());
             match ik.solve(&target) {
                 Ok(sols) => {
@@ -448,7 +448,7 @@ fn singular_configurations_give_finite_solutions() {
         }
         // All zeros: the PUMA's and the UR5's wrists are singular there.
         let q0 = [0.0; 6];
-        let sols = ik.solve(&robot.fk(&q0).unwrap().pose).unwrap();
+        let sols = ik.solve(&robot.fk(&q0).unwrap().world_from_tool).unwrap();
         assert!(sols.iter().all(|s| s.position_error < 1e-8 && s.orientation_error < 1e-8), "{sols:?}");
     }
 }
@@ -485,7 +485,13 @@ fn dh_robot(name: &str, rows: &[(f64, f64, f64, f64); 6], tool: Pose) -> Robot {
         })
         .collect();
     let home = NamedPose { name: "home".into(), q: vec![0.0; 6] };
-    Robot::new(name, Convention::Standard, Default::default(), joints, Pose::IDENTITY, tool, vec![home]).unwrap()
+    Model::builder(name, GeometryKind::Standard)
+        .joints(joints)
+        .tool(tool)
+        .poses(vec![home])
+        .build()
+        .map(Robot::new)
+        .unwrap()
 }
 
 #[test]
@@ -524,7 +530,7 @@ fn industrial_spherical_wrist_arms_round_trip_and_match_pieper() {
         let (geo, pieper) = (GeoIk::new(&robot).unwrap(), PieperIk::new(&robot).unwrap());
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         for _ in 0..500 {
-            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
             let (a, b) = (geo.solve(&target).unwrap(), pieper.solve(&target).unwrap());
             assert_eq!(a.len(), b.len());
             assert!(a.iter().all(|s| b.iter().any(|t| same_angles(&s.q, &t.q, 1e-8))), "{}", robot.name());
@@ -540,7 +546,7 @@ fn candidates_into_equals_solve() {
         let ik = GeoIk::new(&robot).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(31);
         for _ in 0..200 {
-            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
             let sols = ik.solve(&target).unwrap();
             ik.candidates_into(&target, &mut set).unwrap();
             assert_eq!(set.len(), sols.len());
@@ -550,7 +556,7 @@ fn candidates_into_equals_solve() {
             }
         }
         // Every branch label appears at most once.
-        let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+        let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
         let mut labels: Vec<String> = ik.solve(&target).unwrap().iter().map(|s| s.branch.to_string()).collect();
         let n = labels.len();
         labels.sort();
@@ -568,18 +574,16 @@ fn joint_values_move_into_the_limits_by_a_turn() {
     for j in &mut joints {
         j.limits = Limits::position(0.0, 2.0 * PI - 1e-9);
     }
-    let shifted = Robot::new(
-        "ur5-shifted",
-        Convention::Standard,
-        Default::default(),
-        joints,
-        *ur5.base(),
-        *ur5.tool(),
-        vec![NamedPose { name: "home".into(), q: vec![1.0; 6] }],
-    )
-    .unwrap();
+    let shifted = Model::builder("ur5-shifted", GeometryKind::Standard)
+        .joints(joints)
+        .base(*ur5.base())
+        .tool(*ur5.tool())
+        .poses(vec![NamedPose { name: "home".into(), q: vec![1.0; 6] }])
+        .build()
+        .map(Robot::new)
+        .unwrap();
     let (a, b) = (GeoIk::new(&ur5).unwrap(), GeoIk::new(&shifted).unwrap());
-    let target = ur5.fk(&[0.3, -1.1, 1.4, -0.6, 0.9, 2.0]).unwrap().pose;
+    let target = ur5.fk(&[0.3, -1.1, 1.4, -0.6, 0.9, 2.0]).unwrap().world_from_tool;
     let (sa, sb) = (a.solve(&target).unwrap(), b.solve(&target).unwrap());
     assert_eq!(sa.len(), sb.len());
     for (x, y) in sa.iter().zip(&sb) {
@@ -597,16 +601,14 @@ fn search_solves_three_parallel_arms_with_an_offset_wrist() {
     if let LinkGeometry::Dh { a, .. } = &mut joints[4].geometry {
         *a = 0.02;
     }
-    let offset = Robot::new(
-        "ur5-offset-wrist",
-        Convention::Standard,
-        Default::default(),
-        joints,
-        *ur5.base(),
-        *ur5.tool(),
-        ur5.poses().to_vec(),
-    )
-    .unwrap();
+    let offset = Model::builder("ur5-offset-wrist", GeometryKind::Standard)
+        .joints(joints)
+        .base(*ur5.base())
+        .tool(*ur5.tool())
+        .poses(ur5.poses().to_vec())
+        .build()
+        .map(Robot::new)
+        .unwrap();
     assert!(ThreeParallelIk::new(&offset).is_err());
     assert!(ThreeParallelSearchIk::new(&ur5).is_err());
     assert_eq!(analytic_solver(&offset).map(|s| s.name()), Some("geo-three-parallel-search"));
@@ -637,16 +639,14 @@ fn search_solves_offset_wrists_whose_last_two_axes_meet() {
     if let LinkGeometry::Dh { a, .. } = &mut joints[3].geometry {
         *a = 0.03;
     }
-    let offset = Robot::new(
-        "puma560-offset-wrist",
-        Convention::Standard,
-        Default::default(),
-        joints,
-        *puma.base(),
-        *puma.tool(),
-        puma.poses().to_vec(),
-    )
-    .unwrap();
+    let offset = Model::builder("puma560-offset-wrist", GeometryKind::Standard)
+        .joints(joints)
+        .base(*puma.base())
+        .tool(*puma.tool())
+        .poses(puma.poses().to_vec())
+        .build()
+        .map(Robot::new)
+        .unwrap();
     assert!(SphericalWristIk::new(&offset).is_err() && TwoIntersectingSearchIk::new(&puma).is_err());
     assert_eq!(analytic_solver(&offset).map(|s| s.name()), Some("geo-two-intersecting-search"));
     let ik = GeoIk::new(&offset).unwrap();

@@ -104,7 +104,7 @@ fn round_trips(robots: &[Robot], per_arm: usize, seed: u64) -> Sweep {
         let ik = GeneralIk::new(robot).unwrap();
         for _ in 0..per_arm {
             let q = robot.random_q(&mut rng);
-            let target = robot.fk(&q).unwrap().pose;
+            let target = robot.fk(&q).unwrap().world_from_tool;
             let t0 = Instant::now();
             let sols = ik.solve(&target).unwrap_or_default();
             s.nanos += t0.elapsed().as_nanos();
@@ -116,7 +116,7 @@ fn round_trips(robots: &[Robot], per_arm: usize, seed: u64) -> Sweep {
                     "{}: q = {q:?}: {sol:?}",
                     robot.name()
                 );
-                let fk = robot.fk(&sol.q).unwrap().pose;
+                let fk = robot.fk(&sol.q).unwrap().world_from_tool;
                 assert!((fk.pos - target.pos).norm() < 1e-9 && (fk.rot - target.rot).norm() < 1e-9);
             }
             let qs: Vec<Vec<f64>> = sols.iter().map(|x| x.q.clone()).collect();
@@ -188,7 +188,7 @@ fn compare_with_numeric(arms_seed: u64, arm_count: usize, per_arm: usize, starts
         let ik = GeneralIk::new(robot).unwrap();
         for _ in 0..per_arm {
             let q = robot.random_q(&mut rng);
-            let target = robot.fk(&q).unwrap().pose;
+            let target = robot.fk(&q).unwrap().world_from_tool;
             let sols: Vec<Solution> = ik.solve(&target).unwrap_or_default();
             let numeric = numeric_solutions(robot, &target, starts, &mut rng);
             targets += 1;

@@ -41,7 +41,7 @@ fn round_trip_for_fixed_q3() {
     let mut worst: f64 = 0.0;
     for _ in 0..3000 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve_q3(&target, q[2]).unwrap();
         assert!(sols.len() <= 8 && !sols.is_empty());
         for s in &sols {
@@ -82,7 +82,7 @@ fn base_and_tool_are_handled() {
     for _ in 0..500 {
         let mut q = robot.random_q(&mut rng);
         q[2] = 0.4;
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve(&target).unwrap();
         assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
         assert!(sols.iter().any(|s| max_diff(&s.q, &q) < 1e-9));
@@ -94,7 +94,7 @@ fn default_q3_is_zero() {
     let (robot, ik) = setup();
     assert_eq!(ik.q3(), 0.0);
     let q = [0.3, 0.5, 0.0, -1.2, 0.4, 0.8, 0.1];
-    let sols = ik.solve(&robot.fk(&q).unwrap().pose).unwrap();
+    let sols = ik.solve(&robot.fk(&q).unwrap().world_from_tool).unwrap();
     assert_eq!(sols.len(), 8);
     assert!(sols.iter().all(|s| s.q[2] == 0.0));
     assert!(sols.iter().any(|s| max_diff(&s.q, &q) < 1e-12));
@@ -129,7 +129,7 @@ fn singular_configurations_give_finite_answers() {
     qs.push(vec![0.4, 0.0, 0.0, 0.0, 0.3, 0.0, -0.2]);
     qs.push(vec![0.2, 0.3, 0.0, -0.6, 0.0, 0.3, 0.0]);
     for q in &qs {
-        let target = robot.fk(q).unwrap().pose;
+        let target = robot.fk(q).unwrap().world_from_tool;
         for q3 in [q[2], 0.0, 0.5] {
             match ik.solve_q3(&target, q3) {
                 Ok(sols) => {
@@ -186,7 +186,7 @@ fn unreachable_and_invalid_targets() {
     ));
     // Reachable, but not with this q3: wrist on the joint-1 axis needs sin q3 · sin q4 = 0.
     let q = [0.0, 0.3, 0.0, 1.0, 0.0, 0.0, 0.0];
-    let mut target = robot.fk(&q).unwrap().pose;
+    let mut target = robot.fk(&q).unwrap().world_from_tool;
     let w = target.pos - target.rot.column(2) * 0.126;
     target.pos -= Vector3::new(w.x, w.y, 0.0);
     match ik.solve_q3(&target, 1.0) {
@@ -196,14 +196,14 @@ fn unreachable_and_invalid_targets() {
         other => panic!("{other:?}"),
     }
     assert!(ik.solve_q3(&target, 0.0).is_ok());
-    let mut nan = robot.fk(robot.home()).unwrap().pose;
+    let mut nan = robot.fk(robot.home()).unwrap().world_from_tool;
     nan.pos.x = f64::NAN;
     assert!(matches!(ik.solve_q3(&nan, 0.0), Err(Error::InvalidArgument { .. })));
     assert!(matches!(ik.solve(&nan), Err(Error::InvalidArgument { .. })));
     assert!(ik.solve_psi(&nan, 0.0, 0).is_err());
     assert!(ik.feasible_psi_intervals(&nan, 0).is_err());
     assert!(ik.select(robot.home(), &nan, None).is_err());
-    let good = robot.fk(robot.pose("fig9").unwrap()).unwrap().pose;
+    let good = robot.fk(robot.pose("fig9").unwrap()).unwrap().world_from_tool;
     assert!(ik.solve_q3(&good, f64::INFINITY).is_err());
     assert!(ik.solve_psi(&good, f64::NAN, 0).is_err());
     assert!(ik.solve_psi(&good, 0.0, 8).is_err());
@@ -225,7 +225,7 @@ fn arm_angle_round_trip() {
             continue;
         }
         n += 1;
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let config = ik.config_of(&q);
         let psi = ik.psi_of(&q);
         let s = ik.solve_psi(&target, psi, config).unwrap();
@@ -252,7 +252,7 @@ fn self_motion_keeps_the_pose_and_moves_the_elbow_on_a_circle() {
         if near_singular(&q, 1e-3) {
             continue;
         }
-        let fk = robot.fk(&q).unwrap().pose;
+        let fk = robot.fk(&q).unwrap().world_from_tool;
         let samples = ik.self_motion(&q, 36).unwrap();
         assert_eq!(samples.len(), 36);
         assert!(max_diff(&samples[0].q, &q) < 1e-9);
@@ -265,7 +265,7 @@ fn self_motion_keeps_the_pose_and_moves_the_elbow_on_a_circle() {
         let radius = (samples[0].elbow - centre).norm();
         assert!(radius > 1e-4);
         for s in &samples {
-            let p = robot.fk(&s.q).unwrap().pose;
+            let p = robot.fk(&s.q).unwrap().world_from_tool;
             let e = kinema::math::pose_error(&fk, &p);
             assert!(e.position_norm() < 1e-10 && e.rotation_angle() < 1e-10, "{s:?}");
             assert_eq!(ik.config_of(&s.q), ik.config_of(&q));
@@ -292,7 +292,7 @@ fn feasible_psi_intervals_are_correct() {
         if near_singular(&q, 1e-3) {
             continue;
         }
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let config = ik.config_of(&q);
         let iv = ik.feasible_psi_intervals(&target, config).unwrap();
         // q itself is within limits, so its ψ lies in one interval.
@@ -335,7 +335,7 @@ fn selection_is_continuous_along_a_line() {
             continue;
         }
         tries += 1;
-        let start = robot.fk(&q0).unwrap().pose;
+        let start = robot.fk(&q0).unwrap().world_from_tool;
         let dir = Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
             .normalize();
         let length = 0.1;
@@ -370,7 +370,7 @@ fn selection_is_continuous_along_a_line() {
 fn selection_prefers_elbow_up_and_manipulability() {
     let (robot, ik) = setup();
     let q = robot.pose("fig9").unwrap().to_vec();
-    let target = robot.fk(&q).unwrap().pose;
+    let target = robot.fk(&q).unwrap().world_from_tool;
     let dir = Vector3::new(1.0, 0.0, 0.0);
     let s = ik.select(&q, &target, Some(&dir)).unwrap();
     assert!(s.position_error < 1e-10 && max_diff(&s.q, &q) <= 0.05 + 1e-12);
@@ -421,7 +421,7 @@ fn validation_error_is_at_the_conditioning_floor() {
     let mut worst: f64 = 0.0;
     for _ in 0..2000 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let e = ik.solve_q3(&target, q[2]).unwrap().iter().map(|s| max_diff(&s.q, &q)).fold(f64::INFINITY, f64::min);
         let j = robot.jacobian(&q, kinema::Frame::Base).unwrap();
         let j6 = kinema::nalgebra::DMatrix::from_fn(6, 6, |r, c| j[(r, if c < 2 { c } else { c + 1 })]);
@@ -448,7 +448,7 @@ fn ill_conditioned_cases_are_limited_by_the_target() {
     let (robot, ik) = setup();
     // Wrist nearly stretched (q6 = 2e-5 rad): σ_min ≈ 4e-6.
     let q = [0.4, 0.7, -0.3, -1.1, 0.9, 2e-5, 0.2];
-    let target = robot.fk(&q).unwrap().pose;
+    let target = robot.fk(&q).unwrap().world_from_tool;
     let j = robot.jacobian(&q, kinema::Frame::Base).unwrap();
     let j6 = kinema::nalgebra::Matrix6::from_fn(|r, c| j[(r, if c < 2 { c } else { c + 1 })]);
     let svd = j6.svd(true, true);
@@ -496,7 +496,7 @@ fn solve_q3_kernel_matches_solve_q3() {
     let mut rng = ChaCha8Rng::seed_from_u64(79);
     for _ in 0..3000 {
         let q = robot.random_q(&mut rng);
-        let t = robot.fk(&q).unwrap().pose;
+        let t = robot.fk(&q).unwrap().world_from_tool;
         let c = ik.solve_q3_candidates(&t, q[2]).unwrap();
         let s = ik.solve_q3(&t, q[2]).unwrap();
         common::kernel_matches_solve(&robot, &c, &s, [t.pos.x, t.pos.y, t.pos.z]);
@@ -507,7 +507,7 @@ fn solve_q3_kernel_matches_solve_q3() {
 /// A returned solution reaches `target` (FK-checked) and is within limits.
 fn assert_reaches_within_limits(robot: &Robot, s: &kinema::ik::Solution, target: &Pose) {
     let fk = robot.fk(&s.q).unwrap();
-    let e = kinema::math::pose_error(target, &fk.pose);
+    let e = kinema::math::pose_error(target, &fk.world_from_tool);
     assert!(e.position_norm() < 1e-9 && e.rotation_angle() < 1e-9, "{s:?}");
     assert!(s.position_error < 1e-9 && s.orientation_error < 1e-9, "{s:?}");
     assert!(s.within_limits() && fk.within_limits(), "{s:?}");
@@ -529,7 +529,7 @@ fn searching_solves_every_reachable_target() {
     let mut searched = 0;
     for _ in 0..3000 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve_searching(&target, 0.0).unwrap_or_else(|e| panic!("{q:?} refused: {e}"));
         assert!(!sols.is_empty());
         for s in &sols {
@@ -559,7 +559,7 @@ fn searching_refuses_only_what_no_q3_reaches() {
     assert!(matches!(ik.solve_searching(&far, f64::NAN), Err(Error::InvalidArgument { .. })));
     // The flange pointing into the base column: no ψ keeps q2 and q6 within ±120°.
     let q = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let straight = robot.fk(&q).unwrap().pose;
+    let straight = robot.fk(&q).unwrap().world_from_tool;
     let down = Pose::new(Pose::rot_x(PI).rot, straight.pos - Vector3::new(0.0, 0.0, 0.6));
     match ik.solve_searching(&down, 0.0) {
         Err(Error::Unreachable { reason: Unreachable::JointLimits { rejected }, .. }) => {
@@ -585,7 +585,7 @@ fn selection_falls_back_to_the_search() {
     for _ in 0..3000 {
         let q = robot.random_q(&mut rng);
         let q0 = nearby(&robot, &q, &mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let s = ik.select(&q0, &target, None).unwrap_or_else(|e| panic!("{q:?} from {q0:?} refused: {e}"));
         assert_reaches_within_limits(&robot, &s, &target);
         if (s.q[2] - q0[2]).abs() > 0.05 + 1e-12 {

@@ -19,14 +19,14 @@ fn round_trip_every_robot() {
         let mut failures = 0;
         for _ in 0..cases {
             let q = robot.random_q(&mut rng);
-            let target = robot.fk(&q).unwrap().pose;
+            let target = robot.fk(&q).unwrap().world_from_tool;
             let Ok(sols) = solver.solve(&target) else {
                 failures += 1;
                 continue;
             };
             let s = &sols[0];
             // Residual measured independently of the solver.
-            let e = pose_error(&target, &robot.fk(&s.q).unwrap().pose);
+            let e = pose_error(&target, &robot.fk(&s.q).unwrap().world_from_tool);
             // The full pose, also for arms with fewer than six joints.
             assert!(e.position_norm() < 1e-6, "{name}: {}", e.position_norm());
             assert!(e.rotation_angle() < 1e-6, "{name}: {}", e.rotation_angle());
@@ -51,7 +51,7 @@ fn the_iiwa_reaches_thousands_of_poses() {
     let n = 2000;
     let ok = (0..n)
         .filter(|_| {
-            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
             solver.solve(&target).is_ok_and(|s| s[0].within_limits() && s[0].position_error < 1e-6)
         })
         .count();
@@ -65,7 +65,7 @@ fn same_input_same_answer_and_seed_matters_only_for_restarts() {
     let a = NumericIk::with_options(&robot, NumericOptions { seed: 1, ..Default::default() }).unwrap();
     let b = NumericIk::with_options(&robot, NumericOptions { seed: 1, ..Default::default() }).unwrap();
     for _ in 0..200 {
-        let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+        let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
         assert_eq!(a.solve(&target).unwrap(), b.solve(&target).unwrap());
     }
 }
@@ -74,7 +74,7 @@ fn same_input_same_answer_and_seed_matters_only_for_restarts() {
 fn starting_at_a_solution_takes_no_iteration() {
     let robot = Robot::builtin("panda").unwrap();
     let q = robot.pose("qr").unwrap().to_vec();
-    let target = robot.fk(&q).unwrap().pose;
+    let target = robot.fk(&q).unwrap().world_from_tool;
     let s = NumericIk::new(&robot).solve_from(&target, &q).unwrap();
     assert_eq!(s.numeric.unwrap().iterations, 0);
     assert_eq!(s.q, q);
@@ -99,14 +99,14 @@ fn unreachable_target_is_an_error_not_a_wrong_success() {
 fn bad_targets_and_options_are_rejected() {
     let robot = Robot::builtin("puma560").unwrap();
     let solver = NumericIk::new(&robot);
-    let mut t = robot.fk(robot.home()).unwrap().pose;
+    let mut t = robot.fk(robot.home()).unwrap().world_from_tool;
     t.pos.x = f64::NAN;
     assert!(matches!(solver.solve(&t), Err(Error::InvalidArgument { .. })));
-    let mut t = robot.fk(robot.home()).unwrap().pose;
+    let mut t = robot.fk(robot.home()).unwrap().world_from_tool;
     t.rot[(0, 0)] = 2.0;
     let e = solver.solve(&t).unwrap_err();
     assert!(e.to_string().contains("not a rotation"), "{e}");
-    let good = robot.fk(robot.home()).unwrap().pose;
+    let good = robot.fk(robot.home()).unwrap().world_from_tool;
     assert!(matches!(solver.solve_from(&good, &[0.0; 3]), Err(Error::JointCount { .. })));
     let no_mask = NumericOptions { mask: Some([false; 6]), ..Default::default() };
     assert!(NumericIk::with_options(&robot, no_mask).is_err());
@@ -124,7 +124,7 @@ fn position_mask_ignores_orientation() {
     let mut rng = ChaCha8Rng::seed_from_u64(4);
     for _ in 0..300 {
         let q = robot.random_q(&mut rng);
-        let mut target = robot.fk(&q).unwrap().pose;
+        let mut target = robot.fk(&q).unwrap().world_from_tool;
         // An orientation this arm cannot take at that position must not matter.
         target.rot = kinema::math::rot_x(0.7) * target.rot;
         let s = &solver.solve(&target).unwrap()[0];
@@ -141,11 +141,11 @@ fn five_joints_meet_the_full_pose_or_refuse() {
     let mut rng = ChaCha8Rng::seed_from_u64(41);
     for _ in 0..40 {
         let q = robot.random_q(&mut rng);
-        let mut target = robot.fk(&q).unwrap().pose;
+        let mut target = robot.fk(&q).unwrap().world_from_tool;
         target.rot = kinema::math::rot_x(0.7) * target.rot;
         match solver.solve(&target) {
             Err(Error::Unreachable { reason: Unreachable::NoConvergence { .. }, closest: Some(c), .. }) => {
-                let e = pose_error(&target, &robot.fk(&c.q).unwrap().pose);
+                let e = pose_error(&target, &robot.fk(&c.q).unwrap().world_from_tool);
                 assert!((e.position_norm() - c.position_error).abs() < 1e-12);
                 assert!(c.position_error > 1e-6 || c.orientation_error > 1e-6);
             }
@@ -167,7 +167,7 @@ fn null_space_rest_pose_pulls_a_redundant_arm() {
     for _ in 0..200 {
         // Targets near the rest pose, started from a perturbed configuration.
         let q: Vec<f64> = rest.iter().map(|v| v + rng.random_range(-0.3..0.3)).collect();
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let start: Vec<f64> = q.iter().map(|v| v + rng.random_range(-0.2..0.2)).collect();
         let a = plain.solve_from(&target, &start).unwrap();
         let b = pulled.solve_from(&target, &start).unwrap();
@@ -186,7 +186,7 @@ fn every_damping_rule_solves_urdf_robots_too() {
     for damping in [Damping::Chan, Damping::Sugihara, Damping::Wampler] {
         let solver = NumericIk::with_options(&robot, NumericOptions { damping, ..Default::default() }).unwrap();
         for _ in 0..100 {
-            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
             let s = &solver.solve(&target).unwrap()[0];
             assert!(s.position_error < 1e-6 && s.orientation_error < 1e-6 && s.within_limits(), "{damping:?}");
         }

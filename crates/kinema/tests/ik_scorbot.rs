@@ -27,7 +27,7 @@ fn same(a: &[f64], b: &[f64], tol: f64) -> bool {
 
 /// (x, y, z, pitch, roll) of a configuration via FK and seed 000 eq. 13.
 fn typed_target(robot: &Robot, q: &[f64]) -> ([f64; 3], f64, f64) {
-    let p = robot.fk(q).unwrap().pose.pos;
+    let p = robot.fk(q).unwrap().world_from_tool.pos;
     ([p.x, p.y, p.z], -(q[1] + q[2] + q[3]), q[4])
 }
 
@@ -43,7 +43,7 @@ fn rpy_of_r_rh_is_seed000_eq13() {
         if th234.abs() > 1.5 {
             continue;
         }
-        let r = robot.fk(&q).unwrap().pose.rot * R_H;
+        let r = robot.fk(&q).unwrap().world_from_tool.rot * R_H;
         let [roll, pitch, yaw] = rot_to_rpy(&r, RpyConvention::Zyx);
         assert!(wrap(roll - q[4]).abs() < 1e-9 && (pitch + th234).abs() < 1e-9 && wrap(yaw - q[0]).abs() < 1e-9);
     }
@@ -65,7 +65,7 @@ fn typed_round_trip_2000() {
             assert!(s.q.iter().all(|v| v.is_finite()));
             // Each solution really has the asked pitch and roll (seed 000 eq. 13).
             assert!(wrap(-(s.q[1] + s.q[2] + s.q[3]) - pitch).abs() < 1e-12 && s.q[4] == roll);
-            let p2 = robot.fk(&s.q).unwrap().pose.pos;
+            let p2 = robot.fk(&s.q).unwrap().world_from_tool.pos;
             assert!((p2 - Vector3::from(p)).norm() < 1e-10);
         }
         // Limits are flagged consistently with FK.
@@ -82,7 +82,7 @@ fn pose_round_trip_2000_and_yaw_error() {
     let mut rng = ChaCha8Rng::seed_from_u64(0xfee1);
     for i in 0..2000 {
         let q = robot.random_q(&mut rng);
-        let mut target = robot.fk(&q).unwrap().pose;
+        let mut target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve(&target).unwrap();
         assert!(sols.iter().any(|s| same(&s.q, &q, 1e-9)), "q = {q:?}");
         assert!(sols[0].position_error < 1e-10 && sols[0].orientation_error < 1e-10);
@@ -97,7 +97,7 @@ fn pose_round_trip_2000_and_yaw_error() {
         assert!(sols.iter().all(|s| s.position_error < 1e-10));
         assert!((sols[0].orientation_error - ye).abs() < 1e-9, "{} vs {ye}", sols[0].orientation_error);
         let horizontal = target.pos.x.hypot(target.pos.y) > 1e-9;
-        let approach_vertical = (robot.fk(&q).unwrap().pose.rot[(2, 2)].abs() - 1.0).abs() < 1e-12;
+        let approach_vertical = (robot.fk(&q).unwrap().world_from_tool.rot[(2, 2)].abs() - 1.0).abs() < 1e-12;
         if horizontal && !approach_vertical {
             let e = turn.abs().min(PI - turn.abs());
             assert!((ye - e).abs() < 1e-9, "yaw error {ye} for a turn of {turn}");
@@ -121,7 +121,7 @@ fn four_branches_and_labels() {
         let elbow = Vector3::new(q1.cos() * (a1 + a2 * q2.cos()), q1.sin() * (a1 + a2 * q2.cos()), d1 + a2 * q2.sin());
         let shoulder = Vector3::new(q1.cos() * a1, q1.sin() * a1, d1);
         let th234 = s.q[1] + s.q[2] + s.q[3];
-        let tip = robot.fk(&s.q).unwrap().pose.pos;
+        let tip = robot.fk(&s.q).unwrap().world_from_tool.pos;
         let wrist = tip - 0.145 * Vector3::new(q1.cos() * th234.cos(), q1.sin() * th234.cos(), th234.sin());
         // Height of the elbow above the line, in the plane of the arm.
         let u = |v: Vector3<f64>| v.x * q1.cos() + v.y * q1.sin();
@@ -175,7 +175,7 @@ fn seed000_eq17_denominator_is_2_a2_a3() {
     let th3 = printed;
     let th2 = eq20(k1, k2, th3, a2, a3);
     let bad = [q[0], th2, th3, q[1] + q[2] + q[3] - th2 - th3, q[4]];
-    let pb = robot.fk(&bad).unwrap().pose.pos;
+    let pb = robot.fk(&bad).unwrap().world_from_tool.pos;
     assert!((pb - Vector3::from(p)).norm() > 1e-3);
     // The same in millimetres (the paper's units): still wrong.
     let mm = 1000.0;
@@ -196,12 +196,12 @@ fn seed000_eq23_theta2_must_be_recomputed() {
     let th2 = eq20(k1, k2, th3, a2, a3);
     // Printed eq. 23: θ3' = −θ3, θ2' = −θ2 — misses the point.
     let printed = [q[0], -th2, -th3, th234 + th2 + th3, q[4]];
-    let miss = (robot.fk(&printed).unwrap().pose.pos - Vector3::from(p)).norm();
+    let miss = (robot.fk(&printed).unwrap().world_from_tool.pos - Vector3::from(p)).norm();
     assert!(miss > 0.05, "printed eq. 23 misses by only {miss}");
     // Corrected: θ2 from eq. 20 with θ3' = −θ3 reaches the point, and is the original q.
     let th2b = eq20(k1, k2, -th3, a2, a3);
     let fixed = [q[0], th2b, -th3, wrap(th234 - th2b + th3), q[4]];
-    assert!((robot.fk(&fixed).unwrap().pose.pos - Vector3::from(p)).norm() < 1e-12);
+    assert!((robot.fk(&fixed).unwrap().world_from_tool.pos - Vector3::from(p)).norm() < 1e-12);
     assert!(same(&fixed, &q, 1e-12));
 }
 
@@ -259,20 +259,20 @@ fn singular_targets_are_finite() {
     // boundary a rounding error ε in the reach moves θ3 by ~√(ε/a) ≈ 3e-8 rad
     // without moving the tool (the position is insensitive to θ3 there).
     let q = robot.pose("qz").unwrap().to_vec();
-    let target = robot.fk(&q).unwrap().pose;
+    let target = robot.fk(&q).unwrap().world_from_tool;
     let sols = ik.solve(&target).unwrap();
     assert!(sols.iter().any(|s| same(&s.q, &q, 1e-7)));
     assert!(sols.iter().all(|s| s.q.iter().all(|v| v.is_finite()) && s.position_error < 1e-10));
     // home: approach vertical (pitch π/2): roll absorbs yaw, exact for any yaw.
     let home = robot.home().to_vec();
-    let mut t = robot.fk(&home).unwrap().pose;
+    let mut t = robot.fk(&home).unwrap().world_from_tool;
     t.rot = rot_z(0.7) * t.rot;
     let sols = ik.solve(&t).unwrap();
     assert!(sols[0].orientation_error < 1e-10 && sols[0].position_error < 1e-10);
     assert_eq!(ik.yaw_error(&t), 0.0);
     // Tool point on the base axis: θ1 free; the Pose solve takes the target's yaw.
     let q = [0.6, 1.6, 0.9, -0.2, 0.3];
-    let mut t = robot.fk(&q).unwrap().pose;
+    let mut t = robot.fk(&q).unwrap().world_from_tool;
     t.pos.x = 0.0;
     t.pos.y = 0.0;
     let sols = ik.solve(&t).unwrap();
@@ -321,7 +321,7 @@ fn variant_lengths_base_and_tool() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     for _ in 0..500 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve(&target).unwrap();
         assert!(sols.iter().any(|s| same(&s.q, &q, 1e-9)), "{q:?}");
         assert!(sols[0].position_error < 1e-10 && sols[0].orientation_error < 1e-10);
@@ -333,7 +333,7 @@ fn variant_lengths_base_and_tool() {
     let bad = robot.with_tool(Pose::translation(0.05, 0.0, 0.0)).unwrap();
     assert!(matches!(ScorbotIk::new(&bad), Err(Error::InvalidArgument { .. })));
     // Not a Scorbot at all.
-    assert!(matches!(ScorbotIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ScorbotIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::SolverDoesNotFit { .. })));
     let _ = FRAC_PI_2;
 }
 
@@ -349,7 +349,7 @@ fn kernels_match_the_evaluating_solvers() {
     let mut rng = ChaCha8Rng::seed_from_u64(78);
     for _ in 0..3000 {
         let q = robot.random_q(&mut rng);
-        let t = robot.fk(&q).unwrap().pose;
+        let t = robot.fk(&q).unwrap().world_from_tool;
         let p = [t.pos.x, t.pos.y, t.pos.z];
         let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
         let c = ik.xyz_pitch_roll_candidates(p, pitch, roll).unwrap();

@@ -102,7 +102,7 @@ fn round_trips(robot: &Robot, cases: usize, seed: u64) -> (usize, usize) {
     let mut singular_misses = 0;
     for _ in 0..cases {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve_q3(&target, q[2]).unwrap_or_else(|e| panic!("{} {q:?}: {e}", robot.name()));
         assert!(!sols.is_empty() && sols.len() <= 8);
         assert!(sols.iter().all(reaches), "{} {q:?}: {sols:?}", robot.name());
@@ -163,7 +163,7 @@ fn same_solution_set_as_the_dh_iiwa_solver() {
     for _ in 0..2000 {
         let q = robot.random_q(&mut rng);
         let q3 = if rng.random_bool(0.5) { q[2] } else { rng.random_range(-2.9..2.9) };
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         match (geo.solve_q3(&target, q3), dh.solve_q3(&target, q3)) {
             (Ok(a), Ok(b)) => {
                 let covered =
@@ -199,7 +199,7 @@ fn kernel_matches_solve() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x512a);
     for _ in 0..200 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let c = ik.solve_q3_candidates(&target, q[2]).unwrap();
         let sols = ik.solve_q3(&target, q[2]).unwrap();
         common::kernel_matches_solve(&robot, &c, &sols, target.pos.into());
@@ -217,7 +217,7 @@ fn searching_never_refuses_a_reachable_target() {
         let mut searched = 0;
         for _ in 0..2000 {
             let q = robot.random_q(&mut rng);
-            let target = robot.fk(&q).unwrap().pose;
+            let target = robot.fk(&q).unwrap().world_from_tool;
             let sols = ik.solve_searching(&target, 0.0).unwrap_or_else(|e| panic!("{q:?} refused: {e}"));
             assert!(!sols.is_empty());
             assert!(sols.iter().all(|s| s.within_limits() && reaches(s)), "{q:?}: {sols:?}");
@@ -241,7 +241,7 @@ fn singular_configurations_give_finite_solutions() {
         [0.3, 1e-9, 0.2, 0.0, 0.4, 0.8, 0.1],  // next to the shoulder singularity
     ];
     for q in cases {
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve_q3(&target, q[2]).unwrap_or_else(|e| panic!("{q:?}: {e}"));
         assert_eq!(sols.len(), 8, "{q:?}");
         assert!(sols.iter().all(reaches), "{q:?}: {sols:?}");
@@ -271,7 +271,10 @@ fn unreachable_and_malformed_targets() {
     for r in [ik.solve_q3(&far, 0.3), ik.solve_searching(&far, 0.0)] {
         assert!(matches!(r, Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })), "{r:?}");
     }
-    assert!(matches!(ik.solve_q3(&robot.fk(&[0.0; 7]).unwrap().pose, f64::NAN), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(
+        ik.solve_q3(&robot.fk(&[0.0; 7]).unwrap().world_from_tool, f64::NAN),
+        Err(Error::InvalidArgument { .. })
+    ));
     assert!(matches!(ik.solve_searching(&far, f64::INFINITY), Err(Error::InvalidArgument { .. })));
     let mut bad = far;
     bad.pos.x = f64::NAN;
@@ -279,7 +282,7 @@ fn unreachable_and_malformed_targets() {
     let huge = Pose::translation(1e300, -1e300, 1e308);
     assert!(matches!(ik.solve_q3(&huge, 0.0), Err(Error::Unreachable { .. })));
     // The flange pointing into the base column: no q3 keeps q2 and q6 within limits.
-    let straight = robot.fk(&[0.0; 7]).unwrap().pose;
+    let straight = robot.fk(&[0.0; 7]).unwrap().world_from_tool;
     let down = Pose::new(Pose::rot_x(PI).rot, straight.pos - Vector3::new(0.0, 0.0, 0.6));
     match ik.solve_searching(&down, 0.0) {
         Err(Error::Unreachable { reason: Unreachable::JointLimits { rejected }, .. }) => assert!(!rejected.is_empty()),
@@ -331,7 +334,7 @@ fn requests_on_a_urdf_iiwa_use_the_geometric_closed_form() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x512d);
     for _ in 0..100 {
         let q = robot.random_q(&mut rng);
-        let pose = robot.fk(&q).unwrap().pose;
+        let pose = robot.fk(&q).unwrap().world_from_tool;
         let (name, sols) = solve_request(&robot, &pose, &IkRequest { q3: Some(q[2]), ..Default::default() }).unwrap();
         assert_eq!((name, &sols), ("geo-srs", &ik.solve_q3(&pose, q[2]).unwrap()));
         let psi = ik.psi_of(&q);
@@ -391,7 +394,7 @@ fn psi_round_trips(robot: &Robot, cases: usize, seed: u64) -> PsiStats {
     let mut st = PsiStats { cases, ..Default::default() };
     for _ in 0..cases {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let psi = rng.random_range(-PI..PI);
         match ik.solve_psi(&target, psi) {
             Ok(sols) => {
@@ -470,8 +473,8 @@ fn the_arm_angle_is_the_dh_iiwa_solvers() {
         let (mut max_psi, mut max_q, mut differ) = (0.0f64, 0.0f64, 0);
         for _ in 0..2000 {
             let q = robot.random_q(&mut rng);
-            let target = robot.fk(&q).unwrap().pose;
-            assert!(((target.pos - reference.fk(&q).unwrap().pose.pos).norm()) < 1e-12);
+            let target = robot.fk(&q).unwrap().world_from_tool;
+            assert!(((target.pos - reference.fk(&q).unwrap().world_from_tool.pos).norm()) < 1e-12);
             max_psi = max_psi.max(angle_gap(geo.psi_of(&q), dh.psi_of(&q)));
             let psi = if rng.random_bool(0.5) { dh.psi_of(&q) } else { rng.random_range(-PI..PI) };
             let ours = geo.solve_psi(&target, psi).unwrap();
@@ -516,7 +519,7 @@ fn reversing_axis_1_or_2_moves_the_zero_of_the_arm_angle_by_pi() {
             for &i in reversed {
                 flipped[i] = -q[i];
             }
-            let (a, b) = (robot.fk(&flipped).unwrap().pose, dh_iiwa().fk(&q).unwrap().pose);
+            let (a, b) = (robot.fk(&flipped).unwrap().world_from_tool, dh_iiwa().fk(&q).unwrap().world_from_tool);
             assert!((a.pos - b.pos).norm() < 1e-12 && (a.rot - b.rot).norm() < 1e-12);
             max_gap = max_gap.max(angle_gap(geo.psi_of(&flipped), dh.psi_of(&q) + shift));
         }
@@ -538,7 +541,7 @@ fn branch_labels_follow_their_branch_along_the_arm_angle() {
     let (mut swaps, mut largest) = (0, 0.0f64);
     for _ in 0..50 {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q).unwrap().pose;
+        let target = robot.fk(&q).unwrap().world_from_tool;
         let at = |k: usize| ik.solve_psi(&target, -PI + 2.0 * PI * k as f64 / steps as f64).unwrap();
         let mut prev = at(0);
         for k in 1..=steps {
@@ -585,7 +588,7 @@ fn the_generic_self_motion_is_the_iiwas_and_works_from_urdf() {
             assert_eq!(a.within_limits, b.within_limits);
         }
         let q = urdf.random_q(&mut rng);
-        let pose = urdf.fk(&q).unwrap().pose;
+        let pose = urdf.fk(&q).unwrap().world_from_tool;
         let samples = kinema::ik::family::self_motion(&urdf, urdf_family.redundancy().unwrap(), &q, 24).unwrap();
         assert!(samples[0].q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-8));
         // Equal steps of ψ put the elbows equally spaced on one circle: its
@@ -593,7 +596,7 @@ fn the_generic_self_motion_is_the_iiwas_and_works_from_urdf() {
         let centre = samples.iter().map(|m| m.elbow).sum::<Vector3<f64>>() / samples.len() as f64;
         let radius = (samples[0].elbow - centre).norm();
         for m in &samples {
-            let reached = urdf.fk(&m.q).unwrap().pose;
+            let reached = urdf.fk(&m.q).unwrap().world_from_tool;
             assert!((reached.pos - pose.pos).norm() < 1e-9 && (reached.rot - pose.rot).norm() < 1e-9);
             assert!(((m.elbow - centre).norm() - radius).abs() < 1e-9);
         }

@@ -5,7 +5,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use kinema::nalgebra::{Matrix3, Matrix6xX, Vector3};
-use kinema::{builtin_names, Convention, Frame, JointType, Pose, Robot, RpyConvention, Workspace};
+use kinema::{builtin_names, Buffers, Frame, GeometryKind, JointType, Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -19,7 +19,7 @@ fn robots() -> Vec<Robot> {
 }
 
 fn pose(robot: &Robot, q: &[f64]) -> Pose {
-    robot.fk(q).unwrap().pose
+    robot.fk(q).unwrap().world_from_tool
 }
 
 fn shifted(q: &[f64], i: usize, h: f64) -> Vec<f64> {
@@ -188,9 +188,9 @@ fn analytic_jacobian_errors_at_the_rpy_singularity() {
 fn jacobian_forms_agree() {
     for robot in robots() {
         let mut rng = ChaCha8Rng::seed_from_u64(0x1f);
-        let mut ws = Workspace::new(&robot);
+        let mut ws = Buffers::new(&robot);
         // A workspace sized for another robot must adapt.
-        let mut other_ws = Workspace::new(&Robot::builtin("scara5").unwrap());
+        let mut other_ws = Buffers::new(&Robot::builtin("scara5").unwrap());
         let mut buf = Matrix6xX::from_element(robot.dof(), f64::NAN);
         for _ in 0..SAMPLES {
             let q = robot.random_q(&mut rng);
@@ -209,13 +209,13 @@ fn jacobian_forms_agree() {
 /// For each joint: (origin, unit axis) in the base frame, from the link frames.
 fn joint_axes_from_frames(robot: &Robot, frames: &[Pose]) -> Vec<(Vector3<f64>, Vector3<f64>)> {
     (0..robot.dof())
-        .map(|i| match robot.convention() {
+        .map(|i| match robot.geometry_kind() {
             // Standard DH: joint i + 1 moves about z of frame i (frame 0 = base).
-            Convention::Standard => (frames[i].pos, frames[i].rot.column(2).into_owned()),
+            GeometryKind::Standard => (frames[i].pos, frames[i].rot.column(2).into_owned()),
             // Modified DH: joint i + 1 moves about z of frame i + 1.
-            Convention::Modified => (frames[i + 1].pos, frames[i + 1].rot.column(2).into_owned()),
+            GeometryKind::Modified => (frames[i + 1].pos, frames[i + 1].rot.column(2).into_owned()),
             // General/URDF: about `axis`, given in the child link frame i + 1.
-            Convention::General => {
+            GeometryKind::General => {
                 let kinema::LinkGeometry::General { axis, .. } = robot.joints()[i].geometry else {
                     panic!("general robot with a DH joint")
                 };
@@ -229,7 +229,7 @@ fn joint_axes_from_frames(robot: &Robot, frames: &[Pose]) -> Vec<(Vector3<f64>, 
 fn link_frames_agree_with_fk_and_jacobian_columns() {
     for robot in robots() {
         let mut rng = ChaCha8Rng::seed_from_u64(0x11);
-        let mut ws = Workspace::new(&robot);
+        let mut ws = Buffers::new(&robot);
         let n = robot.dof();
         for _ in 0..SAMPLES {
             let q = robot.random_q(&mut rng);
@@ -240,20 +240,21 @@ fn link_frames_agree_with_fk_and_jacobian_columns() {
             assert_eq!(frames[0], *robot.base());
             let last = frames[n + 1];
             assert!(
-                (last.pos - fk.pose.pos).norm() < 1e-14 && (last.rot - fk.pose.rot).norm() < 1e-14,
+                (last.pos - fk.world_from_tool.pos).norm() < 1e-14
+                    && (last.rot - fk.world_from_tool.rot).norm() < 1e-14,
                 "{}",
                 robot.name()
             );
             // Flange (last link frame) · tool = tool frame.
             let flange_tool = frames[n] * *robot.tool();
-            assert!((flange_tool.pos - fk.pose.pos).norm() < 1e-12);
-            assert!((flange_tool.rot - fk.pose.rot).norm() < 1e-12);
+            assert!((flange_tool.pos - fk.world_from_tool.pos).norm() < 1e-12);
+            assert!((flange_tool.rot - fk.world_from_tool.rot).norm() < 1e-12);
             for f in &frames {
                 assert!((f.rot.transpose() * f.rot - Matrix3::identity()).norm() < 1e-12);
                 assert!((f.rot.determinant() - 1.0).abs() < 1e-12);
             }
             let j = robot.jacobian(&q, Frame::Base).unwrap();
-            let pe = fk.pose.pos;
+            let pe = fk.world_from_tool.pos;
             for (i, (o, z)) in joint_axes_from_frames(&robot, &frames).into_iter().enumerate() {
                 let (v, w) = match robot.joints()[i].kind {
                     JointType::Revolute => (z.cross(&(pe - o)), z),
@@ -330,7 +331,12 @@ fn fk_batch_equals_fk_bitwise() {
         for (q, b) in qs.chunks_exact(n).zip(&batch) {
             let one = robot.fk(q).unwrap();
             // Bitwise: same floating-point operations in the same order.
-            for (x, y) in one.pose.rot.iter().chain(one.pose.pos.iter()).zip(b.pose.rot.iter().chain(b.pose.pos.iter()))
+            for (x, y) in one
+                .world_from_tool
+                .rot
+                .iter()
+                .chain(one.world_from_tool.pos.iter())
+                .zip(b.world_from_tool.rot.iter().chain(b.world_from_tool.pos.iter()))
             {
                 assert_eq!(x.to_bits(), y.to_bits(), "{}: q = {q:?}", robot.name());
             }

@@ -1,19 +1,10 @@
 //! The core's module graph points one way (issue 26): a module's `crate::…`
 //! uses, read from the source, may not lead back to it. The fast backend's
-//! two files (`chain`, `lanes`) count as one module. The edges that still
-//! close a cycle are listed in `KNOWN` with the reason; the test fails on any
-//! other cycle, and on a listed edge that no longer exists, so the list only
-//! shrinks.
+//! two files (`chain`, `lanes`) count as one module; an item re-exported at
+//! the crate root (`crate::Robot`) counts as a use of the module it comes from.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
-
-/// Edges known to close a cycle, to be removed by the Model/Data split.
-const KNOWN: &[(&str, &str, &str)] = &[
-    ("model", "backend", "`Robot` holds the compiled chain (Data, not Model)"),
-    ("error", "ik", "`Error::Unreachable` carries `ik::Unreachable` and `ik::Closest`"),
-    ("error", "traj", "`Error::Trajectory` carries `traj::Violation`"),
-];
 
 /// The top-level module a source file belongs to (`ik/geo/srs.rs` → `ik`).
 fn module_of(relative: &Path) -> String {
@@ -46,8 +37,22 @@ fn crate_uses(text: &str) -> BTreeSet<String> {
     out
 }
 
+/// The modules of the items `lib.rs` re-exports (`pub use robot::Robot;` → Robot: robot).
+fn root_items(lib: &str) -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    for statement in code(lib).split(';') {
+        let Some(path) = statement.trim().strip_prefix("pub use ") else { continue };
+        let Some((module, items)) = path.split_once("::") else { continue };
+        for item in items.split(|c: char| !(c.is_alphanumeric() || c == '_')).filter(|w| !w.is_empty()) {
+            out.insert(item.to_string(), module.to_string());
+        }
+    }
+    out
+}
+
 fn graph() -> BTreeMap<String, BTreeSet<String>> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let items = root_items(&std::fs::read_to_string(src.join("lib.rs")).unwrap());
     let mut files = Vec::new();
     let mut stack = vec![src.clone()];
     while let Some(dir) = stack.pop() {
@@ -69,13 +74,14 @@ fn graph() -> BTreeMap<String, BTreeSet<String>> {
         graph.entry(module.clone()).or_default();
         let text = std::fs::read_to_string(path).unwrap();
         for used in crate_uses(&code(&text)) {
+            let used = items.get(&used).cloned().unwrap_or(used);
             let used = if used == "chain" || used == "lanes" { "backend".to_string() } else { used };
             if used != module {
                 graph.entry(module.clone()).or_default().insert(used);
             }
         }
     }
-    // Keep only edges to modules (not to re-exported items such as `crate::Robot`).
+    // Keep only edges to modules (not to items such as `crate::nalgebra`).
     let modules: BTreeSet<String> = graph.keys().cloned().collect();
     for deps in graph.values_mut() {
         deps.retain(|d| modules.contains(d));
@@ -98,16 +104,14 @@ fn reachable(graph: &BTreeMap<String, BTreeSet<String>>, from: &str) -> BTreeSet
 }
 
 #[test]
-fn the_module_graph_has_no_cycle_but_the_known_ones() {
-    let mut graph = graph();
+fn the_module_graph_has_no_cycle() {
+    let graph = graph();
     for (module, deps) in &graph {
         println!("{module} -> {}", deps.iter().cloned().collect::<Vec<_>>().join(", "));
     }
-    for (from, to, why) in KNOWN {
-        assert!(
-            graph.get_mut(*from).is_some_and(|deps| deps.remove(*to)),
-            "the known edge {from} -> {to} ({why}) is gone: remove it from KNOWN"
-        );
+    // The layers the issue asks for, bottom up.
+    for (lower, upper) in [("math", "model"), ("model", "robot"), ("robot", "ik"), ("robot", "traj"), ("error", "ik")] {
+        assert!(!reachable(&graph, lower).contains(upper), "{lower} depends on {upper}");
     }
     let cycles: Vec<String> = graph
         .iter()
@@ -125,4 +129,7 @@ fn the_reader_finds_uses_and_skips_comments_and_tests() {
         "use crate::math::Pose;\n// crate::ik in a comment\nfn f() { crate::model::X }\n#[cfg(test)]\nuse crate::traj;";
     let uses = crate_uses(&code(text));
     assert_eq!(uses.into_iter().collect::<Vec<_>>(), vec!["math".to_string(), "model".to_string()]);
+    let items = root_items("pub use robot::Robot;\npub use model::{\n    Joint, Model,\n};\nmod x;");
+    assert_eq!(items["Robot"], "robot");
+    assert_eq!((items["Joint"].as_str(), items["Model"].as_str()), ("model", "model"));
 }

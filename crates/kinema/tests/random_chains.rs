@@ -101,11 +101,11 @@ fn fk_and_link_frames_equal_the_matrix_product() {
             // The matrix form is the same pose, value for value, and the same limit flags.
             let mut m = [0.0; 16];
             assert_eq!(robot.fk_matrix_into(&q, &mut m).unwrap(), fk.out_of_limits);
-            let rows = fk.pose.to_rows();
+            let rows = fk.world_from_tool.to_rows();
             for (k, (a, b)) in m.iter().zip(rows.iter().flatten()).enumerate() {
                 assert_eq!(a.to_bits(), b.to_bits(), "matrix entry {k}: {robot:?} at q = {q:?}");
             }
-            let e = pose_error(&fk.pose, &naive[n]);
+            let e = pose_error(&fk.world_from_tool, &naive[n]);
             // Chains reach up to ~20 × 1.2 m; errors stay at rounding level.
             assert!(e < 1e-12, "FK differs by {e:e}: {robot:?} at q = {q:?}");
             worst = worst.max(e);

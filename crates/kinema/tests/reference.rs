@@ -88,7 +88,7 @@ fn check_fast_path(robot: &Robot, q: &[f64], worst: &mut Worst, label: &str) {
     let tol = tolerance(robot, q);
     let what = |part: &str| format!("{label}: {part} at q = {q:?} of {robot:?}");
     let frames = reference::link_frames(robot, q).unwrap();
-    worst.see(pose_diff(&robot.fk(q).unwrap().pose, &frames[n + 1]), tol, &|| what("FK"));
+    worst.see(pose_diff(&robot.fk(q).unwrap().world_from_tool, &frames[n + 1]), tol, &|| what("FK"));
     for (i, (fast, plain)) in robot.link_frames(q).unwrap().iter().zip(&frames).enumerate() {
         worst.see(pose_diff(fast, plain), tol, &|| what(&format!("frame {i}")));
     }

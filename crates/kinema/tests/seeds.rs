@@ -58,8 +58,18 @@ fn scorbot_fk_equals_seed000_eq3_eq4() {
         let q = robot.random_q(&mut rng);
         let fk = robot.fk(&q).unwrap();
         let (r, p) = scorbot_eq3_eq4([q[0], q[1], q[2], q[3], q[4]]);
-        assert!((fk.pose.pos - p).norm() < 1e-12, "q = {q:?}: position {:?} vs eq. (4) {:?}", fk.pose.pos, p);
-        assert!((fk.pose.rot - r).norm() < 1e-12, "q = {q:?}: rotation {} vs eq. (3) {}", fk.pose.rot, r);
+        assert!(
+            (fk.world_from_tool.pos - p).norm() < 1e-12,
+            "q = {q:?}: position {:?} vs eq. (4) {:?}",
+            fk.world_from_tool.pos,
+            p
+        );
+        assert!(
+            (fk.world_from_tool.rot - r).norm() < 1e-12,
+            "q = {q:?}: rotation {} vs eq. (3) {}",
+            fk.world_from_tool.rot,
+            r
+        );
     }
 }
 
@@ -74,7 +84,7 @@ fn scorbot_eq3_uses_joint_value_not_dh_angle() {
         let q = robot.random_q(&mut rng);
         let fk = robot.fk(&q).unwrap();
         let (r, p) = scorbot_eq3_eq4([q[0], q[1], q[2], q[3] + FRAC_PI_2, q[4]]);
-        if (fk.pose.pos - p).norm() > 1e-3 && (fk.pose.rot - r).norm() > 1e-3 {
+        if (fk.world_from_tool.pos - p).norm() > 1e-3 && (fk.world_from_tool.rot - r).norm() > 1e-3 {
             mismatches += 1;
         }
     }
@@ -108,7 +118,7 @@ fn scorbot_rpy_equals_seed000_eq13() {
         if (wrap(th234).abs() - FRAC_PI_2).abs() < 1e-3 {
             continue;
         }
-        let r = robot.fk(&q).unwrap().pose.rot * rh;
+        let r = robot.fk(&q).unwrap().world_from_tool.rot * rh;
         let [roll, pitch, yaw] = rot_to_rpy(&r, RpyConvention::Zyx);
         let (want_roll, want_pitch, want_yaw) = if wrap(th234).abs() < FRAC_PI_2 {
             inside += 1;
@@ -147,8 +157,8 @@ fn scara5_fk_equals_seed003_eq1() {
             l2 * (q[1] + q[2]).sin() + l1 * q[1].sin() + q[0],
             -h2 - q[3] + h1,
         );
-        assert!((fk.pose.pos - p).norm() < 1e-12, "q = {q:?}");
-        assert!((fk.pose.rot - r).norm() < 1e-12, "q = {q:?}");
+        assert!((fk.world_from_tool.pos - p).norm() < 1e-12, "q = {q:?}");
+        assert!((fk.world_from_tool.rot - r).norm() < 1e-12, "q = {q:?}");
     }
 }
 
@@ -185,8 +195,8 @@ fn rommel_home_equals_seed001_eq8() {
     let fk = robot.fk(robot.home()).unwrap();
     let p = Vector3::new(-0.05, 0.743, 0.0);
     let r = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, -1.0));
-    assert!((fk.pose.pos - p).norm() < 1e-12, "{:?}", fk.pose.pos);
-    assert!((fk.pose.rot - r).norm() < 1e-12, "{}", fk.pose.rot);
+    assert!((fk.world_from_tool.pos - p).norm() < 1e-12, "{:?}", fk.world_from_tool.pos);
+    assert!((fk.world_from_tool.rot - r).norm() < 1e-12, "{}", fk.world_from_tool.rot);
 }
 
 /// Eigenvalues of J·Jᵀ, square-rooted and sorted descending: the singular
@@ -267,8 +277,8 @@ fn iiwa_singularities_of_seed004_cuadro_iii() {
 fn iiwa_home_is_upright() {
     let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
     let fk = robot.fk(robot.home()).unwrap();
-    assert!((fk.pose.pos - Vector3::new(0.0, 0.0, 1.306)).norm() < 1e-12);
-    assert!((fk.pose.rot - Matrix3::identity()).norm() < 1e-12);
+    assert!((fk.world_from_tool.pos - Vector3::new(0.0, 0.0, 1.306)).norm() < 1e-12);
+    assert!((fk.world_from_tool.rot - Matrix3::identity()).norm() < 1e-12);
 }
 
 /// Seed 004 Cuadro I: the iiwa's position and velocity limits.
@@ -329,14 +339,14 @@ fn rommel_position_ignores_q4_q5_unlike_seed001_eq5_to_eq7() {
         q5[4] += 1.0;
         let mut q4 = q.clone();
         q4[3] -= 0.7;
-        let p = robot.fk(&q).unwrap().pose.pos;
-        assert!((robot.fk(&q5).unwrap().pose.pos - p).norm() < 1e-12);
-        assert!((robot.fk(&q4).unwrap().pose.pos - p).norm() < 1e-12);
+        let p = robot.fk(&q).unwrap().world_from_tool.pos;
+        assert!((robot.fk(&q5).unwrap().world_from_tool.pos - p).norm() < 1e-12);
+        assert!((robot.fk(&q4).unwrap().world_from_tool.pos - p).norm() < 1e-12);
         let t = [q[0], q[1], q[2], q[3], q[4]];
         let t5 = [q[0], q[1], q[2], q[3], q[4] + 1.0];
         assert!((eq5_7(t, l) - eq5_7(t5, l)).norm() > 1e-6, "eq. (5)-(7) should depend on θ5 here");
     }
-    assert!((robot.fk(robot.home()).unwrap().pose.pos - Vector3::new(-0.05, 0.743, 0.0)).norm() < 1e-12);
+    assert!((robot.fk(robot.home()).unwrap().world_from_tool.pos - Vector3::new(-0.05, 0.743, 0.0)).norm() < 1e-12);
 }
 
 /// Seed 004 §VII-B says det J22 "is directly zero" (no orientation

@@ -175,7 +175,7 @@ fn seed_lin(orientation: Orientation) -> (CartesianMotion, Pose) {
 /// Every sample of `traj` on the path of `m`, within 1e-6 m / 1e-6 rad.
 fn assert_on_path(robot: &Robot, m: &CartesianMotion, traj: &kinema::traj::JointTrajectory) {
     for k in 0..traj.len() {
-        let p = robot.fk(traj.q(k)).unwrap().pose;
+        let p = robot.fk(traj.q(k)).unwrap().world_from_tool;
         let want = m.at(traj.times()[k]).pose;
         assert!((p.pos - want.pos).norm() < 1e-6 && rot_to_axis_angle(&(p.rot * want.rot.transpose())).norm() < 1e-6);
     }
@@ -211,7 +211,7 @@ fn seed_lin_example_within_cuadro_i() {
     // Resolved rate follows the same line (damped, with error feedback).
     let rr = to_joints(&robot, &m, &q0, 0.01, JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 }).unwrap();
     let worst = (0..rr.len())
-        .map(|k| (robot.fk(rr.q(k)).unwrap().pose.pos - m.at(rr.times()[k]).pose.pos).norm())
+        .map(|k| (robot.fk(rr.q(k)).unwrap().world_from_tool.pos - m.at(rr.times()[k]).pose.pos).norm())
         .fold(0.0, f64::max);
     assert!(worst < 1e-3, "{worst}");
 }
@@ -266,7 +266,7 @@ fn a_held_arm_angle_holds_on_a_urdf_iiwa() {
     let ik = kinema::ik::geo::SrsIk::new(&robot).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(0x5135);
     let q0: Vec<f64> = [0.3, 0.7, -0.4, -1.3, 0.4, 0.9, 0.1].iter().map(|v| v + rng.random_range(-0.1..0.1)).collect();
-    let a = robot.fk(&q0).unwrap().pose;
+    let a = robot.fk(&q0).unwrap().world_from_tool;
     let shift = Vector3::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1));
     let b = Pose::new(a.rot, a.pos + shift);
     let m = CartesianMotion::new(
@@ -334,7 +334,7 @@ fn a_fixed_parameter_holds_along_the_path() {
     // A six-joint arm has no self-motion to choose.
     let puma = Robot::builtin("puma560").unwrap();
     let q = [0.3, 0.6, -2.5, 0.2, 0.8, 0.9];
-    let p = puma.fk(&q).unwrap().pose;
+    let p = puma.fk(&q).unwrap().world_from_tool;
     let line = CartesianMotion::new(
         vec![Segment::lin(&p, &Pose::new(p.rot, p.pos + Vector3::new(0.05, 0.0, 0.0)), Orientation::Slerp).unwrap()],
         Profile::Trapezoid,
@@ -519,9 +519,9 @@ fn bad_cartesian_input_gives_clear_errors() {
     .unwrap();
     let e = to_joints(&robot, &m, &q0, 0.05, JointMethod::default()).unwrap_err().to_string();
     assert!(e.contains("at t = "), "{e}");
-    // The solver named as a solver, the time as the time (once read "(iiwa, at t = … of the path solver)").
-    assert!(e.starts_with("unreachable target (iiwa solver, at t = "), "{e}");
-    assert!(e.contains(" s of the path): "), "{e}");
+    // The time as context, the solver named as a solver (once read "(iiwa, at t = … of the path solver)").
+    assert!(e.starts_with("at t = "), "{e}");
+    assert!(e.contains(" s of the path: unreachable target (iiwa solver): "), "{e}");
 }
 
 /// The largest |a|, |ω| and |α| of `m` relative to `limits`, on a fine grid.

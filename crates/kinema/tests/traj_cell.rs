@@ -30,8 +30,8 @@ fn common_clock_poses_distances_and_manipulability() {
     let base_free = iiwa();
     for (k, &t) in report.times.iter().enumerate() {
         // Independent: FK of each robot's interpolated q, robot 2 through its base by hand.
-        let p1 = r1.fk(&report.q[0][k]).unwrap().pose.pos;
-        let p2 = base2.transform_point(&base_free.fk(&report.q[1][k]).unwrap().pose.pos);
+        let p1 = r1.fk(&report.q[0][k]).unwrap().world_from_tool.pos;
+        let p2 = base2.transform_point(&base_free.fk(&report.q[1][k]).unwrap().world_from_tool.pos);
         assert!((report.tools[0][k].pos - p1).norm() < 1e-12 && (report.tools[1][k].pos - p2).norm() < 1e-12);
         assert!((report.distances[0].1[k] - (p1 - p2).norm()).abs() < 1e-12);
         for (m, robot) in [&r1, &r2].into_iter().enumerate() {
@@ -104,6 +104,6 @@ fn approaches_spans_below_a_distance_and_placement() {
     let at = Pose::new(rot_z(0.3), Vector3::new(0.5, -0.2, 0.1));
     let moved = kinema::traj::cell::placed(&scara, &at).unwrap();
     let q = scara.home().to_vec();
-    let want = at.transform_point(&scara.fk(&q).unwrap().pose.pos);
-    assert!((moved.fk(&q).unwrap().pose.pos - want).norm() < 1e-12);
+    let want = at.transform_point(&scara.fk(&q).unwrap().world_from_tool.pos);
+    assert!((moved.fk(&q).unwrap().world_from_tool.pos - want).norm() < 1e-12);
 }

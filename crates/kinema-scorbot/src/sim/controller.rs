@@ -977,7 +977,7 @@ impl Controller {
     /// controller's constants.
     fn cartesian_of(&self, c: [i64; MOTORS]) -> std::result::Result<[i64; MOTORS], String> {
         let q = self.constants.angles(&c.map(|v| v as f64)).map_err(|e| format!("*** BAD ARGUMENT: {e}"))?;
-        let p = self.robot.fk(&q).map_err(|e| format!("*** BAD ARGUMENT: {e}"))?.pose.pos;
+        let p = self.robot.fk(&q).map_err(|e| format!("*** BAD ARGUMENT: {e}"))?.world_from_tool.pos;
         let tenths = |v: f64| (v * 10.0).round().clamp(-9e15, 9e15) as i64;
         Ok([
             tenths(p.x * 1000.0),
@@ -1164,7 +1164,7 @@ impl Controller {
             let counts = a.at(tau * self.time_scale);
             let Ok(q) = self.true_constants.angles(&counts) else { continue };
             let Ok(fk) = self.robot.fk(&q) else { continue };
-            let p = fk.pose.pos;
+            let p = fk.world_from_tool.pos;
             let mut s = [p.x, p.y, p.z];
             if self.noise > 0.0 {
                 for v in &mut s {

@@ -173,7 +173,7 @@ fn setpv_listpv_here_and_the_home_reading() {
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
     let k = Constants::named("factory").unwrap();
     let q = k.angles(&[0.0, -1000.0, 0.0, 0.0, 300.0]).unwrap();
-    let p = robot.fk(&q).unwrap().pose.pos;
+    let p = robot.fk(&q).unwrap().world_from_tool.pos;
     assert_eq!(cart[0], (p.x * 1e4).round() as i64);
     assert_eq!(cart[2], (p.z * 1e4).round() as i64);
     assert_eq!(cart[3], ((q[1] + q[2] + q[3]).to_degrees() * 10.0).round() as i64);
@@ -197,7 +197,7 @@ fn setpvc_solves_with_the_controllers_kinematics_nearest_the_arm() {
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
     let k = Constants::named("factory").unwrap();
     let q = k.angles(&counts.map(|v| v as f64)).unwrap();
-    let p = robot.fk(&q).unwrap().pose.pos;
+    let p = robot.fk(&q).unwrap().world_from_tool.pos;
     assert!((p.x - 0.3).abs() < 2e-4 && p.y.abs() < 2e-4 && (p.z - 0.3).abs() < 2e-4, "{p:?}");
     assert!(((q[1] + q[2] + q[3]).to_degrees() + 90.0).abs() < 0.05);
     assert!(robot.fk(&q).unwrap().within_limits());
@@ -519,7 +519,7 @@ fn record_holds_the_physical_tool_positions() {
     assert_eq!(c.recorded().len(), 501);
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
     let truth = cfg.true_constants.clone();
-    let at = |counts: [f64; 5]| robot.fk(&truth.angles(&counts).unwrap()).unwrap().pose.pos;
+    let at = |counts: [f64; 5]| robot.fk(&truth.angles(&counts).unwrap()).unwrap().world_from_tool.pos;
     let p0 = at([0.0; 5]);
     assert!(c.recorded().iter().all(|s| s == &[p0.x, p0.y, p0.z]));
     ok(&mut c, ms(100), "DEFP A");
@@ -573,7 +573,7 @@ fn record_noise_has_the_configured_sigma_and_follows_the_seed() {
     assert_ne!(a, run(2));
     let robot = Robot::builtin("scorbot-er-v-plus").unwrap();
     let truth = Constants::named("calibrated").unwrap();
-    let p = robot.fk(&truth.angles(&[0.0; 5]).unwrap()).unwrap().pose.pos;
+    let p = robot.fk(&truth.angles(&[0.0; 5]).unwrap()).unwrap().world_from_tool.pos;
     for (axis, centre) in [p.x, p.y, p.z].into_iter().enumerate() {
         let e: Vec<f64> = a.iter().map(|s| s[axis] - centre).collect();
         let n = e.len() as f64;

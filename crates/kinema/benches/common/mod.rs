@@ -204,7 +204,7 @@ pub fn cross_check(robot: &Robot, chain: &k::SerialChain<f64>) {
     let mut jac = Matrix6xX::zeros(n);
     let tool_node = chain.iter().last().expect("non-empty chain").clone();
     for q in qs.chunks_exact(n) {
-        let want = robot.fk(q).expect("valid q").pose;
+        let want = robot.fk(q).expect("valid q").world_from_tool;
         let got = k_fk(chain, q);
         // The last node's cached world transform is the same pose.
         let cached = tool_node.world_transform().expect("updated");

@@ -8,7 +8,7 @@ use nalgebra::{Matrix6, Vector3, Vector6};
 
 use super::{check_gravity, check_rates, cross_force, cross_motion, join, kinematics};
 use crate::error::{Error, Result};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// q̈ for τ at (q, q̇) under `gravity`, in O(n); see [`super::forward_dynamics`].
 pub(super) fn aba(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &Vector3<f64>) -> Result<Vec<f64>> {

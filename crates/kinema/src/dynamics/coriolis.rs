@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, Matrix6, Vector6};
 
 use super::{check_rates, cross_motion, kinematics, skew, split};
 use crate::error::Result;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// The matrix of v ×ₘ (Featherstone eq. 2.31): \[\[ω̃, 0\], \[ṽ₀, ω̃\]\].
 fn motion_cross_matrix(v: &Vector6<f64>) -> Matrix6<f64> {

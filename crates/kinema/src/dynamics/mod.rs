@@ -27,7 +27,8 @@ mod coriolis;
 
 use crate::error::{Error, Result};
 use crate::math::Pose;
-use crate::model::{DhConvention, Inertial, JointType, LinkGeometry, Robot};
+use crate::model::{DhConvention, Inertial, JointType, LinkGeometry};
+use crate::robot::Robot;
 
 /// The skew-symmetric matrix of `v`: `skew(v)·w = v × w`.
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {

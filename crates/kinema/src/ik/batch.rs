@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::request::{pick_one, solve_target_with, IkRequest, IkTarget};
 use super::Solution;
 use crate::error::{Error, Result};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// Solves every target of `targets` as `request` asks and picks one solution
 /// each (within limits, nearest `request.q0` when given), in parallel.
@@ -29,7 +29,7 @@ use crate::model::Robot;
 /// let robot = kinema::Robot::builtin("puma560")?;
 /// let targets: Vec<IkTarget> = [[0.1, -0.5, 0.4, 0.3, 0.6, -0.2], [0.3, -0.2, 0.1, 0.2, 0.5, 0.1]]
 ///     .iter()
-///     .map(|q| robot.fk(q).map(|f| IkTarget::Pose(f.pose)))
+///     .map(|q| robot.fk(q).map(|f| IkTarget::Pose(f.world_from_tool)))
 ///     .collect::<Result<_, _>>()?;
 /// let far = IkTarget::Position([5.0, 0.0, 0.0]);
 /// let all: Vec<IkTarget> = targets.into_iter().chain([far]).collect();

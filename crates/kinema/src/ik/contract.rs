@@ -6,40 +6,16 @@
 //! typed target) can report a wrong pose as a solution.
 
 use std::borrow::Cow;
-use std::fmt;
 
 use nalgebra::Vector3;
 
 use super::family::{self, Family};
 use super::request::IkTarget;
 use super::{Closest, Solution, Unreachable};
+pub use crate::error::Tolerance;
 use crate::error::{Error, Result};
 use crate::math::{rot_to_axis_angle, Pose};
-use crate::model::Robot;
-
-/// How close forward kinematics of a returned solution must come to the
-/// target, on the components the request constrains.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tolerance {
-    /// Position \[m\].
-    pub position: f64,
-    /// Orientation \[rad\].
-    pub orientation: f64,
-}
-
-impl Default for Tolerance {
-    /// 1e-6 m and 1e-6 rad: the numeric solver's convergence test, and far
-    /// above the rounding level of the closed forms.
-    fn default() -> Self {
-        Tolerance { position: 1e-6, orientation: 1e-6 }
-    }
-}
-
-impl fmt::Display for Tolerance {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{:.1e} m, {:.1e} rad", self.position, self.orientation)
-    }
-}
+use crate::robot::Robot;
 
 /// The residual of one configuration against a target, on the constrained
 /// components only.
@@ -75,7 +51,7 @@ impl Residual {
 /// use kinema::math::rot_z;
 /// use kinema::Pose;
 /// let robot = kinema::Robot::builtin("ur5")?;
-/// let reached = robot.fk(robot.home())?.pose;
+/// let reached = robot.fk(robot.home())?.world_from_tool;
 /// let turned = Pose::new(rot_z(0.1) * reached.rot, reached.pos);
 /// let full = residual(&robot, &IkTarget::Pose(turned), None, &reached)?;
 /// assert!((full.orientation - 0.1).abs() < 1e-12);
@@ -165,7 +141,7 @@ pub fn sort_out(
     let mut closest: Option<(f64, Closest)> = None;
     for mut s in candidates {
         let fk = robot.fk(&s.q)?;
-        let r = residual_with(robot, fitted, target, mask, &fk.pose)?;
+        let r = residual_with(robot, fitted, target, mask, &fk.world_from_tool)?;
         (s.position_error, s.orientation_error) = (r.position, r.orientation);
         s.out_of_limits = fk.out_of_limits;
         if r.meets(&tol) {
@@ -227,8 +203,8 @@ mod tests {
             q[0] += 0.1;
             q
         };
-        let target = IkTarget::Pose(robot.fk(&inside).unwrap().pose);
-        let target_out = IkTarget::Pose(robot.fk(&outside).unwrap().pose);
+        let target = IkTarget::Pose(robot.fk(&inside).unwrap().world_from_tool);
+        let target_out = IkTarget::Pose(robot.fk(&outside).unwrap().world_from_tool);
         let tol = Tolerance::default();
         let propose =
             |q: &Vec<f64>| vec![Solution::unmeasured(q.clone(), "a"), Solution::unmeasured(missing.clone(), "b")];

@@ -13,7 +13,7 @@ use super::request::IkTarget;
 use super::{geo, iiwa, pieper, rommel, scara, scorbot, CandidateSet, IkSolver, Solution};
 use crate::error::Result;
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 use nalgebra::Vector3;
 
 /// The kinds of typed target (a tool point plus the components a family's
@@ -310,7 +310,7 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
     if robot.dof() < 4 {
         return Err(invalid("robot", format!("robot `{}` has no elbow frame", robot.name())));
     }
-    let target = robot.fk(q)?.pose;
+    let target = robot.fk(q)?.world_from_tool;
     let psi0 = family.parameter_of(q, "psi");
     let start = family.solve_at(&target, "psi", psi0)?;
     let branch = start

@@ -81,7 +81,8 @@ use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::FastMath;
 use crate::math::{rot_y, rot_z, Pose};
-use crate::model::{DhConvention, JointType, LinkGeometry, Robot};
+use crate::model::{DhConvention, JointType, LinkGeometry};
+use crate::robot::Robot;
 
 /// Configuration bit: set when q2 < 0 (shoulder).
 pub const SHOULDER: u8 = 1;
@@ -175,7 +176,7 @@ pub struct ValidationReport {
 /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
 /// let ik = IiwaIk::new(&robot)?;
 /// let q = [0.3, 0.5, 0.0, -1.2, 0.4, 0.8, 0.1];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?; // q3 = 0 by default
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?; // q3 = 0 by default
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)));
 /// # Ok::<(), kinema::Error>(())
 /// ```
@@ -248,8 +249,8 @@ struct Elbow {
     s4: f64,
 }
 
-fn invalid(message: String) -> Error {
-    Error::InvalidArgument { what: "robot".into(), message }
+fn invalid(robot: &Robot, reason: String) -> Error {
+    Error::SolverDoesNotFit { solver: "iiwa".into(), robot: robot.name().into(), reason }
 }
 
 /// ZYZ Euler angles (a, b, c) of m = Rz(a)·Ry(b)·Rz(c) with sign(b) = `sign`.
@@ -384,47 +385,52 @@ impl IiwaIk {
     pub fn new(robot: &Robot) -> Result<Self> {
         const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
         if robot.dof() != 7 {
-            return Err(invalid(format!(
-                "`{}` has {} joints; the iiwa solver needs a 7-joint arm",
-                robot.name(),
-                robot.dof()
-            )));
+            return Err(invalid(
+                robot,
+                format!("`{}` has {} joints; the iiwa solver needs a 7-joint arm", robot.name(), robot.dof()),
+            ));
         }
         let mut d = [0.0; 7];
         for (i, j) in robot.joints().iter().enumerate() {
             let n = i + 1;
             if j.kind != JointType::Revolute {
-                return Err(invalid(format!("joint {n} of `{}` is not revolute", robot.name())));
+                return Err(invalid(robot, format!("joint {n} of `{}` is not revolute", robot.name())));
             }
             let LinkGeometry::Dh { convention: DhConvention::Standard, d: di, a, alpha, .. } = j.geometry else {
-                return Err(invalid(format!(
+                return Err(invalid(robot, format!(
                     "joint {n} of `{}` is not described by a standard DH row; the iiwa solver reads a standard DH table",
                     robot.name()
                 )));
             };
             if a.abs() > 1e-12 {
-                return Err(invalid(format!("joint {n}: link length a = {a} m, the iiwa shape needs a = 0")));
+                return Err(invalid(robot, format!("joint {n}: link length a = {a} m, the iiwa shape needs a = 0")));
             }
             if wrap_angle(alpha - TWIST[i]).abs() > 1e-9 {
-                return Err(invalid(format!(
-                    "joint {n}: twist α = {:.4}°, the iiwa shape needs {:.0}° (−90, 90, −90, 90, −90, 90, 0)",
-                    alpha.to_degrees(),
-                    TWIST[i].to_degrees()
-                )));
+                return Err(invalid(
+                    robot,
+                    format!(
+                        "joint {n}: twist α = {:.4}°, the iiwa shape needs {:.0}° (−90, 90, −90, 90, −90, 90, 0)",
+                        alpha.to_degrees(),
+                        TWIST[i].to_degrees()
+                    ),
+                ));
             }
             if j.offset.abs() > 1e-12 {
-                return Err(invalid(format!("joint {n}: offset {} rad, the iiwa shape needs 0", j.offset)));
+                return Err(invalid(robot, format!("joint {n}: offset {} rad, the iiwa shape needs 0", j.offset)));
             }
             if i % 2 == 1 && di.abs() > 1e-12 {
-                return Err(invalid(format!("joint {n}: d = {di} m, the iiwa shape needs d2 = d4 = d6 = 0")));
+                return Err(invalid(robot, format!("joint {n}: d = {di} m, the iiwa shape needs d2 = d4 = d6 = 0")));
             }
             d[i] = di;
         }
         if !(d[2] > 0.0 && d[4] > 0.0) {
-            return Err(invalid(format!(
-                "d3 = {} m and d5 = {} m must be positive (shoulder–elbow and elbow–wrist lengths)",
-                d[2], d[4]
-            )));
+            return Err(invalid(
+                robot,
+                format!(
+                    "d3 = {} m and d5 = {} m must be positive (shoulder–elbow and elbow–wrist lengths)",
+                    d[2], d[4]
+                ),
+            ));
         }
         Ok(IiwaIk {
             robot: robot.clone(),
@@ -652,7 +658,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let target = robot.fk(&q)?.pose;
+    /// let target = robot.fk(&q)?.world_from_tool;
     /// let sols = ik.solve_q3(&target, q[2])?;
     /// assert_eq!(sols.len(), 8);
     /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
@@ -679,7 +685,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.pose, q[2])?;
+    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.world_from_tool, q[2])?;
     /// assert_eq!(c.len(), 8);
     /// assert!(c.qs().iter().any(|s| s.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-10)));
     /// # Ok::<(), kinema::Error>(())
@@ -705,7 +711,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let next = robot.fk(&[0.301, 0.5, -0.7, -1.199, 0.4, 0.8, 0.1])?.pose;
+    /// let next = robot.fk(&[0.301, 0.5, -0.7, -1.199, 0.4, 0.8, 0.1])?.world_from_tool;
     /// let c = ik.solve_q3_near(&next, -0.7, &q)?;
     /// assert_eq!(c.len(), 2);
     /// # Ok::<(), kinema::Error>(())
@@ -811,7 +817,7 @@ impl IiwaIk {
             });
         }
         let fk = self.robot.fk(q)?;
-        let t = self.arm_target(&fk.pose)?;
+        let t = self.arm_target(&fk.world_from_tool)?;
         let config = bits(q);
         let psi0 = self.psi_of(q);
         (0..steps)
@@ -917,7 +923,7 @@ impl IiwaIk {
     /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
     /// let ik = IiwaIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let sols = ik.solve_searching(&robot.fk(&q)?.pose, 0.0)?;
+    /// let sols = ik.solve_searching(&robot.fk(&q)?.world_from_tool, 0.0)?;
     /// assert!(!sols.is_empty());
     /// assert!(sols.iter().all(|s| s.within_limits() && s.position_error < 1e-10 && s.orientation_error < 1e-10));
     /// # Ok::<(), kinema::Error>(())
@@ -1247,17 +1253,17 @@ impl IiwaIk {
         (0..n)
             .map(|_| {
                 self.robot.random_q_into(&mut rng, &mut q);
-                let error =
-                    self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.pose).ok()).map_or(f64::INFINITY, |t| {
-                        match self.solve_q3_raw(&t, q[2], 0.0) {
-                            Ok(sols) => sols
-                                .qs()
-                                .iter()
-                                .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
-                                .fold(f64::INFINITY, f64::min),
-                            Err(_) => f64::INFINITY,
-                        }
-                    });
+                let error = self.robot.fk(&q).ok().and_then(|fk| self.arm_target(&fk.world_from_tool).ok()).map_or(
+                    f64::INFINITY,
+                    |t| match self.solve_q3_raw(&t, q[2], 0.0) {
+                        Ok(sols) => sols
+                            .qs()
+                            .iter()
+                            .map(|s| s.iter().zip(&q).map(|(a, b)| wrap_angle(a - b).abs()).fold(0.0, f64::max))
+                            .fold(f64::INFINITY, f64::min),
+                        Err(_) => f64::INFINITY,
+                    },
+                );
                 ValidationCase { q: q.clone(), error, limit: self.rounding_limit(&q) }
             })
             .collect()

@@ -18,7 +18,8 @@ use std::fmt;
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::{pose_error, Pose};
-use crate::model::{JointSet, Robot};
+use crate::model::JointSet;
+use crate::robot::Robot;
 
 mod batch;
 pub mod contract;
@@ -32,8 +33,9 @@ pub mod rommel;
 pub mod scara;
 pub mod scorbot;
 
+pub use crate::error::{Closest, Tolerance, Unreachable};
 pub use batch::solve_batch;
-pub use contract::{Discarded, IkAnswer, Residual, Tolerance};
+pub use contract::{Discarded, IkAnswer, Residual};
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};
 pub use request::{pick_one, solve_request, solve_target, solve_target_with, IkRequest, IkTarget, SolverChoice};
@@ -101,7 +103,7 @@ impl Solution {
         branch: impl Into<Cow<'static, str>>,
     ) -> Result<Solution> {
         let fk = robot.fk(&q)?;
-        let e = pose_error(target, &fk.pose);
+        let e = pose_error(target, &fk.world_from_tool);
         Ok(Solution {
             q,
             branch: branch.into(),
@@ -131,18 +133,7 @@ impl Solution {
     }
 }
 
-/// The configuration that came closest to an unreachable target, with its
-/// residual on the constrained components.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Closest {
-    /// Joint values \[rad or m\].
-    pub q: Vec<f64>,
-    /// Position error \[m\].
-    pub position_error: f64,
-    /// Orientation error \[rad\].
-    pub orientation_error: f64,
-}
-
+// Built here, where solutions are; defined with the error that carries it.
 impl Closest {
     /// The configuration and residuals of `s`.
     pub fn of(s: &Solution) -> Closest {
@@ -376,98 +367,6 @@ impl<const N: usize, const M: usize> Candidates<N, M> {
     /// `robot` against `target`.
     pub fn evaluate(&self, robot: &Robot, target: &Pose) -> Result<Vec<Solution>> {
         self.iter().map(|(q, b)| Solution::evaluate(robot, q.to_vec(), target, b)).collect()
-    }
-}
-
-/// Why a target cannot be reached.
-#[non_exhaustive]
-#[derive(Debug, Clone, PartialEq)]
-pub enum Unreachable {
-    /// The position lies outside the reachable sphere/annulus/region.
-    OutsideReach {
-        /// How far outside \[m\].
-        by: f64,
-        /// Which boundary (e.g. "outer sphere of radius 0.59 m around the shoulder").
-        boundary: String,
-    },
-    /// The position lies inside a region the arm cannot enter (e.g. the
-    /// cylinder around axis 1 that a lateral offset keeps the wrist out of).
-    InsideExcluded {
-        /// How far inside \[m\].
-        by: f64,
-        /// Which region (e.g. "cylinder of radius 0.15 m around axis 1 …").
-        region: String,
-    },
-    /// The orientation asked for is not one this arm can take at that position.
-    Orientation {
-        /// The smallest orientation error achievable \[rad\].
-        angle: f64,
-        /// What the arm can and cannot control.
-        detail: String,
-    },
-    /// Solutions exist but every one violates a joint limit.
-    JointLimits {
-        /// One entry per rejected solution: its branch and the violated joints.
-        rejected: Vec<String>,
-    },
-    /// Candidates were found, but forward kinematics of every one misses the
-    /// target by more than the tolerance on a constrained component (e.g. a
-    /// full pose given to an arm with fewer than six joints).
-    Missed {
-        /// How many candidates were measured and discarded.
-        candidates: usize,
-        /// Position error of the closest candidate \[m\].
-        position_error: f64,
-        /// Orientation error of the closest candidate \[rad\].
-        orientation_error: f64,
-        /// The tolerance they were measured against.
-        tolerance: contract::Tolerance,
-        /// Joints of the robot.
-        dof: usize,
-    },
-    /// The numeric solver found no solution within its restarts.
-    NoConvergence {
-        /// Best position error reached \[m\].
-        position_error: f64,
-        /// Best orientation error reached \[rad\].
-        orientation_error: f64,
-        /// Restarts tried.
-        restarts: usize,
-    },
-}
-
-impl fmt::Display for Unreachable {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Unreachable::OutsideReach { by, boundary } => write!(f, "the position is {by:.6} m outside the {boundary}"),
-            Unreachable::InsideExcluded { by, region } => write!(f, "the position is {by:.6} m inside the {region}"),
-            Unreachable::Orientation { angle, detail } => {
-                write!(f, "the orientation is not achievable: off by at least {angle:.6} rad ({detail})")
-            }
-            Unreachable::JointLimits { rejected } => {
-                write!(f, "every solution violates a joint limit: {}", rejected.join("; "))
-            }
-            Unreachable::Missed { candidates: 0, .. } => f.write_str("the solver proposed no candidate"),
-            Unreachable::Missed { candidates, position_error, orientation_error, tolerance, dof } => {
-                write!(
-                    f,
-                    "no candidate meets the target within {tolerance}: the closest misses it by \
-                     {position_error:.3e} m and {orientation_error:.3e} rad ({candidates} candidate(s) discarded)"
-                )?;
-                if *dof < 6 && *orientation_error > tolerance.orientation {
-                    write!(
-                        f,
-                        "; an arm with {dof} joints cannot take every orientation at a position: give a pose on its \
-                         reachable set, or a task mask that frees the components it cannot control"
-                    )?;
-                }
-                Ok(())
-            }
-            Unreachable::NoConvergence { position_error, orientation_error, restarts } => write!(
-                f,
-                "no solution found after {restarts} restarts (best residual {position_error:.3e} m, {orientation_error:.3e} rad)"
-            ),
-        }
     }
 }
 
@@ -711,7 +610,7 @@ pub fn round_trip_cases(
     let mut out = Vec::with_capacity(n);
     for _ in 0..n {
         let q = robot.random_q(&mut rng);
-        let target = robot.fk(&q)?.pose;
+        let target = robot.fk(&q)?.world_from_tool;
         let sols = match solver.solve(&target) {
             Ok(s) if !s.is_empty() => s,
             _ => {

@@ -26,7 +26,8 @@ use super::{check_target, Closest, IkSolver, NumericInfo, Solution, Stop, Unreac
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::{rot_to_axis_angle, Pose};
-use crate::model::{JointType, Robot};
+use crate::model::JointType;
+use crate::robot::Robot;
 
 /// A start whose error energy has not halved within this many iterations is
 /// abandoned for a restart (LM converges much faster than that near a solution).
@@ -96,7 +97,7 @@ impl Default for NumericOptions {
 /// ```
 /// use kinema::ik::{IkSolver, NumericIk};
 /// let robot = kinema::Robot::builtin("lbr-iiwa-14-r820")?;
-/// let target = robot.fk(&[0.3, 0.5, -0.2, -1.2, 0.4, 0.8, 0.1])?.pose;
+/// let target = robot.fk(&[0.3, 0.5, -0.2, -1.2, 0.4, 0.8, 0.1])?.world_from_tool;
 /// let sols = NumericIk::new(&robot).solve(&target)?;
 /// assert!(sols[0].position_error < 1e-6 && sols[0].within_limits());
 /// # Ok::<(), kinema::Error>(())
@@ -189,7 +190,7 @@ impl NumericIk {
         let r = &self.robot;
         let o = &self.opts;
         let fk = r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
-        let mut e = task_error(target, &fk.pose, mask);
+        let mut e = task_error(target, &fk.world_from_tool, mask);
         let mut energy = 0.5 * e.norm_squared();
         mask_rows(&mut ws.j, mask);
         let mut mu = 1.0;
@@ -241,7 +242,7 @@ impl NumericIk {
                 clamp(r, &mut ws.trial);
             }
             let fk_trial = r.fk(&ws.trial)?;
-            let e_trial = task_error(target, &fk_trial.pose, mask);
+            let e_trial = task_error(target, &fk_trial.world_from_tool, mask);
             let energy_trial = 0.5 * e_trial.norm_squared();
             if energy_trial < energy {
                 std::mem::swap(&mut ws.q, &mut ws.trial);
@@ -350,7 +351,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let solver = NumericIk::new(&robot);
         for _ in 0..50 {
-            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
             let a = solver.solve(&target).unwrap();
             let b = solver.solve(&target).unwrap();
             assert_eq!(a, b);
@@ -364,7 +365,7 @@ mod tests {
         for damping in [Damping::Chan, Damping::Sugihara, Damping::Wampler] {
             let solver = NumericIk::with_options(&robot, NumericOptions { damping, ..Default::default() }).unwrap();
             for _ in 0..100 {
-                let target = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+                let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
                 let s = &solver.solve(&target).unwrap()[0];
                 assert!(s.position_error < 1e-6 && s.orientation_error < 1e-6, "{damping:?}: {s:?}");
                 assert!(s.within_limits());

@@ -80,7 +80,8 @@ use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::Pose;
-use crate::model::{DhConvention, LinkGeometry, Robot};
+use crate::model::{DhConvention, LinkGeometry};
+use crate::robot::Robot;
 
 /// Tolerance on DH lengths \[m\] and on sines/cosines of twists when deciding
 /// the geometry.
@@ -150,7 +151,7 @@ fn twist(alpha: f64) -> (f64, f64) {
 /// let robot = kinema::Robot::builtin("puma560")?;
 /// let ik = PieperIk::new(&robot)?;
 /// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
-/// let target = robot.fk(&q)?.pose;
+/// let target = robot.fk(&q)?.world_from_tool;
 /// let sols = ik.solve(&target)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
@@ -190,7 +191,8 @@ impl PieperIk {
     /// Errors ([`Error::InvalidArgument`]) say which condition fails.
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
-        let reject = |message: String| Err(Error::InvalidArgument { what: "robot".into(), message });
+        let reject =
+            |reason: String| Err(Error::SolverDoesNotFit { solver: "pieper".into(), robot: name.into(), reason });
         let types = robot.joint_types();
         if robot.dof() != 6 || types != "RRRRRR" {
             return reject(format!(
@@ -317,11 +319,11 @@ impl PieperIk {
         let mut rng = ChaCha8Rng::seed_from_u64(0x5049_4550);
         for _ in 0..3 {
             let mut q = robot.random_q(&mut rng);
-            let w0 = ik.wrist_centre(&robot.fk(&q)?.pose);
+            let w0 = ik.wrist_centre(&robot.fk(&q)?.world_from_tool);
             for v in &mut q[3..] {
                 *v += 0.7;
             }
-            let w1 = ik.wrist_centre(&robot.fk(&q)?.pose);
+            let w1 = ik.wrist_centre(&robot.fk(&q)?.world_from_tool);
             let scale = 1.0 + w0.norm() + tool.pos.norm();
             if (w1 - w0).norm() > 1e-9 * scale {
                 return reject(format!(

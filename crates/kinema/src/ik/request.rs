@@ -11,7 +11,7 @@ use super::family::{self, Family};
 use super::{Closest, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// Which solver a request asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -138,7 +138,7 @@ impl IkRequest<'_> {
 /// use kinema::ik::{solve_request, pick_one, IkRequest};
 /// let robot = kinema::Robot::builtin("puma560")?;
 /// let q = [0.1, -0.5, 0.4, 0.3, 0.6, -0.2];
-/// let target = robot.fk(&q)?.pose;
+/// let target = robot.fk(&q)?.world_from_tool;
 /// let (name, all) = solve_request(&robot, &target, &IkRequest { all: true, ..Default::default() })?;
 /// assert_eq!((name, all.len()), ("pieper", 8));
 /// let one = pick_one(&robot, name, all, Some(&q))?;
@@ -278,7 +278,7 @@ fn solve_request_with(
 /// use kinema::Pose;
 /// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
 /// let q = [0.3, 1.2, -1.0, -0.6, 0.4];
-/// let reached = robot.fk(&q)?.pose;
+/// let reached = robot.fk(&q)?.world_from_tool;
 /// let p = reached.pos;
 /// // Seed 000 eq. 13: pitch β = −(θ2 + θ3 + θ4), roll γ = θ5.
 /// let target = IkTarget::PositionPitchRoll { position: [p.x, p.y, p.z], pitch: -(1.2 - 1.0 - 0.6), roll: 0.4 };
@@ -408,7 +408,7 @@ fn propose(
 /// A position target as a pose: home's rotation is a placeholder that the
 /// position mask leaves out.
 fn position_pose(robot: &Robot, p: [f64; 3]) -> Result<Pose> {
-    Ok(Pose::new(robot.fk(robot.home())?.pose.rot, Vector3::from(p)))
+    Ok(Pose::new(robot.fk(robot.home())?.world_from_tool.rot, Vector3::from(p)))
 }
 
 /// Restarts of the numeric search behind an analytic solver's refusal.
@@ -504,7 +504,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(85);
         for _ in 0..200 {
             let q = robot.random_q(&mut rng);
-            let pose = robot.fk(&q).unwrap().pose;
+            let pose = robot.fk(&q).unwrap().world_from_tool;
             let request = IkRequest { q0: Some(&q), all: true, ..Default::default() };
             let (name, sols) = solve_request(&robot, &pose, &request).unwrap();
             assert_eq!(name, "iiwa");
@@ -519,7 +519,7 @@ mod tests {
             assert!(d(&picked[0]) < 0.5, "{:?} vs {q:?}", picked[0].q);
         }
         let panda = Robot::builtin("panda").unwrap();
-        let pose = panda.fk(panda.home()).unwrap().pose;
+        let pose = panda.fk(panda.home()).unwrap().world_from_tool;
         let e = solve_request(&panda, &pose, &IkRequest { q3: Some(0.1), ..Default::default() }).unwrap_err();
         assert!(e.to_string().contains("q3 and ψ select the closed form of iiwa-type arms"), "{e}");
     }
@@ -531,7 +531,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(80);
         for _ in 0..50 {
             let q = robot.random_q(&mut rng);
-            let pose = robot.fk(&q).unwrap().pose;
+            let pose = robot.fk(&q).unwrap().world_from_tool;
             let request = IkRequest { q0: Some(&q), ..Default::default() };
             assert_eq!(
                 solve_target(&robot, &IkTarget::Pose(pose), &request).unwrap().solutions,
@@ -549,7 +549,7 @@ mod tests {
         let mut recovered = 0;
         for _ in 0..300 {
             let q = robot.random_q(&mut rng);
-            let p = xyz(&robot.fk(&q).unwrap().pose);
+            let p = xyz(&robot.fk(&q).unwrap().world_from_tool);
             let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
             let target = IkTarget::PositionPitchRoll { position: p, pitch, roll };
             let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
@@ -559,7 +559,7 @@ mod tests {
             let qs = |v: &[Solution]| v.iter().map(|s| (s.q.clone(), s.branch.clone())).collect::<Vec<_>>();
             assert_eq!(qs(&sols), qs(&proposed));
             for s in &sols {
-                let fk = robot.fk(&s.q).unwrap().pose;
+                let fk = robot.fk(&s.q).unwrap().world_from_tool;
                 assert!((fk.pos - Vector3::from(p)).norm() < 1e-9, "{s:?}");
                 let yaw_only = fk.rot * R_H * rot_x(roll).transpose() * rot_y(pitch).transpose();
                 assert!((yaw_only[(2, 2)] - 1.0).abs() < 1e-9, "{s:?}");
@@ -576,14 +576,14 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(82);
         for _ in 0..300 {
             let q = robot.random_q(&mut rng);
-            let fk = robot.fk(&q).unwrap().pose;
+            let fk = robot.fk(&q).unwrap().world_from_tool;
             let a = fk.rot.column(2) * 2.5; // any length
             let target = IkTarget::PositionApproach { position: xyz(&fk), approach: [a.x, a.y, a.z] };
             let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
             assert_eq!(name, "rommel");
             assert!(!sols.is_empty());
             for s in &sols {
-                let got = robot.fk(&s.q).unwrap().pose;
+                let got = robot.fk(&s.q).unwrap().world_from_tool;
                 assert!((got.pos - fk.pos).norm() < 1e-9);
                 assert!((got.rot.column(2) - fk.rot.column(2)).norm() < 1e-9);
             }
@@ -598,7 +598,7 @@ mod tests {
         let mut reached = 0;
         for _ in 0..300 {
             let q = robot.random_q(&mut rng);
-            let p = xyz(&robot.fk(&q).unwrap().pose);
+            let p = xyz(&robot.fk(&q).unwrap().world_from_tool);
             let alpha = q[1] + q[2] + q[4];
             let target = IkTarget::PositionAlpha { position: p, alpha };
             let request = IkRequest { q0: Some(&q), ..Default::default() };
@@ -608,7 +608,7 @@ mod tests {
                     assert_eq!(name, "scara");
                     assert_eq!(sols, vec![zone.unwrap()]);
                     let s = &sols[0];
-                    let fk = robot.fk(&s.q).unwrap().pose;
+                    let fk = robot.fk(&s.q).unwrap().world_from_tool;
                     assert!((fk.pos - Vector3::from(p)).norm() < 1e-9);
                     assert!(wrap_angle(s.q[1] + s.q[2] + s.q[4] - alpha).abs() < 1e-9);
                     assert!(s.orientation_error < 1e-9);
@@ -627,12 +627,12 @@ mod tests {
             let mut rng = ChaCha8Rng::seed_from_u64(84);
             for _ in 0..15 {
                 let q = robot.random_q(&mut rng);
-                let p = xyz(&robot.fk(&q).unwrap().pose);
+                let p = xyz(&robot.fk(&q).unwrap().world_from_tool);
                 let IkAnswer { solver, solutions: sols, .. } =
                     solve_target(&robot, &IkTarget::Position(p), &IkRequest::default()).unwrap();
                 assert_eq!(solver, "numeric");
                 for s in &sols {
-                    assert!((robot.fk(&s.q).unwrap().pose.pos - Vector3::from(p)).norm() < 1e-6, "{name}");
+                    assert!((robot.fk(&s.q).unwrap().world_from_tool.pos - Vector3::from(p)).norm() < 1e-6, "{name}");
                 }
             }
         }
@@ -649,7 +649,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(86);
         let mut refused = 0;
         for _ in 0..400 {
-            let pose = robot.fk(&robot.random_q(&mut rng)).unwrap().pose;
+            let pose = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
             let q3 = 2.0;
             let request = IkRequest { q3: Some(q3), ..Default::default() };
             match (ik.solve_q3(&pose, q3), solve_target(&robot, &IkTarget::Pose(pose), &request)) {
@@ -678,7 +678,7 @@ mod tests {
         let numeric = IkRequest { solver: SolverChoice::Numeric, ..Default::default() };
         assert!(message(&scorbot, &typed, &numeric).contains("select an analytic solver"));
         let q3 = IkRequest { q3: Some(0.0), ..Default::default() };
-        let pose = iiwa.fk(iiwa.home()).unwrap().pose;
+        let pose = iiwa.fk(iiwa.home()).unwrap().world_from_tool;
         assert!(message(&iiwa, &IkTarget::Position(xyz(&pose)), &q3).contains("full target pose"));
         let both = IkRequest { q3: Some(0.0), psi: Some(0.0), ..Default::default() };
         assert!(message(&iiwa, &IkTarget::Pose(pose), &both).contains("not both"));

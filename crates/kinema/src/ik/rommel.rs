@@ -50,7 +50,8 @@ use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::Pose;
-use crate::model::{DhConvention, LinkGeometry, Robot};
+use crate::model::{DhConvention, LinkGeometry};
+use crate::robot::Robot;
 
 /// Name of the solver in errors.
 const NAME: &str = "rommel";
@@ -69,7 +70,7 @@ pub const APPROACH_TOL: f64 = 1e-9;
 /// let robot = kinema::Robot::builtin("rommel")?;
 /// let ik = RommelIk::new(&robot)?;
 /// let q = [0.3, 0.4, 0.5, 0.6, 0.0];
-/// let fk = robot.fk(&q)?.pose;
+/// let fk = robot.fk(&q)?.world_from_tool;
 /// let a = fk.rot.column(2);
 /// let sols = ik.solve_position_approach([fk.pos.x, fk.pos.y, fk.pos.z], [a[0], a[1], a[2]])?;
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(x, y)| (x - y).abs() < 1e-9)));
@@ -114,7 +115,7 @@ impl RommelIk {
     /// Errors ([`Error::InvalidArgument`]) for a robot that is not five revolute
     /// modified-DH joints with that geometry, or a tool that leaves the flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.joint_types() != "RRRRR" {
             return Err(bad(format!(
                 "the ROMMEL solver needs 5 revolute joints; `{}` is {}",
@@ -143,7 +144,7 @@ impl RommelIk {
         for k in 0..7 {
             let t = k as f64;
             let q = [0.9 * t - 3.0, 0.5 * t - 1.4, 1.2 - 0.4 * t, 0.7 * t - 2.0, 0.3 * t];
-            let fk = bare.fk(&q)?.pose;
+            let fk = bare.fk(&q)?.world_from_tool;
             let (p, z) = me.forward(&q);
             if (fk.pos - p).norm() > 1e-9 || (fk.rot.column(2) - z).norm() > 1e-9 {
                 return Err(bad(format!(
@@ -220,7 +221,7 @@ impl RommelIk {
         let raw = self.branches(&pl, &al, |_| 0.0)?;
         raw.into_iter()
             .map(|r| {
-                let reached = self.robot.fk(&r.q)?.pose;
+                let reached = self.robot.fk(&r.q)?.world_from_tool;
                 Solution::evaluate(&self.robot, r.q, &Pose::new(reached.rot, Vector3::from(p)), r.label)
             })
             .collect()
@@ -350,7 +351,8 @@ impl IkSolver for RommelIk {
         let bare = self.robot.with_base(Pose::IDENTITY)?.with_tool(Pose::IDENTITY)?;
         let raw = self.branches(&local.pos, &a, |q| {
             // q5: the angle about the approach from the x axis at q5 = 0 to the target's.
-            let r0 = bare.fk(&[q[0], q[1], q[2], q[3], 0.0]).map(|f| f.pose.rot).unwrap_or_else(|_| flange_rot);
+            let r0 =
+                bare.fk(&[q[0], q[1], q[2], q[3], 0.0]).map(|f| f.world_from_tool.rot).unwrap_or_else(|_| flange_rot);
             let (x0, z0) = (r0.column(0).into_owned(), r0.column(2).into_owned());
             x0.cross(&x_target).dot(&z0).fast_atan2(x0.dot(&x_target))
         })?;

@@ -77,7 +77,8 @@ use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachabl
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::{rot_z, Pose};
-use crate::model::{LinkGeometry, Robot};
+use crate::model::LinkGeometry;
+use crate::robot::Robot;
 
 /// Name of the solver in errors.
 const NAME: &str = "scara";
@@ -151,7 +152,7 @@ impl ScaraIk {
     /// included; any base translation is fine), whose tool is tilted (its z axis must
     /// stay vertical), or whose rail is too short for the zone rule.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.joint_types() != "PRRPR" {
             return Err(bad(format!(
                 "the SCARA solver needs joints PRRPR (rail, shoulder, elbow, z, wrist); `{}` is {}",
@@ -175,7 +176,7 @@ impl ScaraIk {
         for k in 0..7 {
             let t = k as f64;
             let q = [0.1 * t, 0.7 * t - 2.0, 1.3 - 0.5 * t, 0.03 * t, 0.9 * t - 3.0];
-            let fk = bare.fk(&q)?.pose;
+            let fk = bare.fk(&q)?.world_from_tool;
             let phi = q[1] + q[2] + q[4];
             let p = Vector3::new(
                 l1 * q[1].cos() + l2 * (q[1] + q[2]).cos(),

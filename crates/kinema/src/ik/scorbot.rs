@@ -71,7 +71,8 @@ use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachabl
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::{rot_x, rot_y, Pose, RpyConvention};
-use crate::model::{DhConvention, LinkGeometry, Robot};
+use crate::model::{DhConvention, LinkGeometry};
+use crate::robot::Robot;
 
 /// Name of the solver in errors.
 const NAME: &str = "scorbot";
@@ -93,7 +94,7 @@ pub const R_H: Matrix3<f64> = Matrix3::new(0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0
 /// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
 /// let ik = ScorbotIk::new(&robot)?;
 /// let q = [0.3, 1.2, -1.0, -0.6, 0.4];
-/// let p = robot.fk(&q)?.pose.pos;
+/// let p = robot.fk(&q)?.world_from_tool.pos;
 /// // pitch β = −(θ2 + θ3 + θ4), roll γ = θ5 (seed 000 eq. 13)
 /// let sols = ik.solve_xyz_pitch_roll([p.x, p.y, p.z], -(1.2 - 1.0 - 0.6), 0.4)?;
 /// assert_eq!(sols.len(), 2); // front elbow up/down; the back branch is out of reach here
@@ -142,7 +143,7 @@ impl ScorbotIk {
     /// a4 = a5 = 0, a2 > 0, a3 > 0, and a tool whose translation lies along the
     /// flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |message: String| Error::InvalidArgument { what: "robot".into(), message };
+        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.dof() != 5 || robot.joint_types() != "RRRRR" {
             return Err(bad(format!(
                 "the Scorbot solver needs 5 revolute joints (RRRRR); `{}` has {} ({})",
@@ -244,7 +245,7 @@ impl ScorbotIk {
                     q: q.to_vec(),
                     branch: label.into(),
                     out_of_limits: fk.out_of_limits,
-                    position_error: (fk.pose.pos - Vector3::from(p)).norm(),
+                    position_error: (fk.world_from_tool.pos - Vector3::from(p)).norm(),
                     orientation_error: 0.0,
                     numeric: None,
                 })
@@ -295,7 +296,7 @@ impl ScorbotIk {
     /// use kinema::{Pose, RpyConvention};
     /// let robot = kinema::Robot::builtin("scorbot-er-v-plus")?;
     /// let ik = ScorbotIk::new(&robot)?;
-    /// let reached = robot.fk(&[0.2, 1.0, -0.5, -0.3, 0.1])?.pose;
+    /// let reached = robot.fk(&[0.2, 1.0, -0.5, -0.3, 0.1])?.world_from_tool;
     /// assert!(ik.yaw_error(&reached) < 1e-12);
     /// let turned = Pose::new(kinema::math::rot_z(0.25) * reached.rot, reached.pos);
     /// assert!((ik.yaw_error(&turned) - 0.25).abs() < 1e-9);

@@ -14,7 +14,7 @@ use crate::analysis::{yoshikawa, Axes};
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// One robot of a cell with its trajectory.
 #[derive(Debug, Clone)]
@@ -117,7 +117,7 @@ impl CellReport {
 /// let robot = Robot::builtin("ur5")?;
 /// let at = Pose::from_xyz_rpy([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], kinema::RpyConvention::Zyx);
 /// let moved = placed(&robot, &at)?;
-/// let (a, b) = (robot.fk(robot.home())?.pose.pos, moved.fk(robot.home())?.pose.pos);
+/// let (a, b) = (robot.fk(robot.home())?.world_from_tool.pos, moved.fk(robot.home())?.world_from_tool.pos);
 /// assert!((b.x - a.x - 1.0).abs() < 1e-12 && (b.y - a.y).abs() < 1e-12);
 /// # Ok(()) }
 /// ```
@@ -179,7 +179,7 @@ impl Cell {
             for &t in &report.times {
                 interpolate(&member.traj, t, &mut q);
                 let fk = member.robot.jacobian_into(&q, Frame::Base, &mut jac)?;
-                report.tools[m].push(fk.pose);
+                report.tools[m].push(fk.world_from_tool);
                 report.manipulability[m].push(yoshikawa(&jac, Axes::Translation)?);
                 report.q[m].push(q.clone());
             }

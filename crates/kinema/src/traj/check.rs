@@ -9,13 +9,12 @@
 //! mass), so it is within A too; and the secant of q̈ is the mean of q⃛,
 //! within the jerk limit when q̈ is continuous, as a jerk limit requires.
 
-use std::fmt;
-
 use super::{joint_limits, JointTrajectory};
 use crate::analysis::{rows, yoshikawa, Axes};
 use crate::error::{Error, Result};
+pub use crate::error::{Violation, ViolationKind};
 use crate::kin::Frame;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// The inverse condition number σ_min/σ_max of the Jacobian below which
 /// `kinema traj check` reports a singular passage (a warning, not a
@@ -26,120 +25,6 @@ pub const SINGULAR_WARNING: f64 = 1e-3;
 /// Extra room on the derivative-consistency bound A·h/2, for derivatives
 /// estimated by finite differences rather than given exactly.
 const CONSISTENCY_SLACK: f64 = 0.05;
-
-/// What a trajectory check found wrong.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ViolationKind {
-    /// A value that is not a finite number, or times that do not increase.
-    Malformed,
-    /// A joint value outside its position limits.
-    Position,
-    /// A joint velocity above its limit.
-    Velocity,
-    /// A joint acceleration above its limit.
-    Acceleration,
-    /// A joint moving between two samples farther than its velocity limit
-    /// allows (a branch flip or a gap in the data).
-    Jump,
-    /// Manipulability below the threshold (close to a singularity).
-    NearSingular,
-    /// A joint jerk above its limit.
-    Jerk,
-    /// A velocity or acceleration column that q itself contradicts (a glitch
-    /// in q, or derivatives that belong to another trajectory).
-    Inconsistent,
-    /// A singular passage: the Jacobian's inverse condition number below
-    /// the threshold (reported as a warning).
-    Singular,
-}
-
-impl ViolationKind {
-    /// The order of kinds at one sample and joint in a report.
-    fn rank(self) -> u8 {
-        match self {
-            ViolationKind::Malformed => 0,
-            ViolationKind::Position => 1,
-            ViolationKind::Velocity => 2,
-            ViolationKind::Jump => 3,
-            ViolationKind::Acceleration => 4,
-            ViolationKind::Inconsistent => 5,
-            ViolationKind::Jerk => 6,
-            ViolationKind::NearSingular => 7,
-            ViolationKind::Singular => 8,
-        }
-    }
-
-    /// The lower-case name (`malformed`, `position`, `velocity`,
-    /// `acceleration`, `jump`, `nearsingular`, `jerk`, `inconsistent`,
-    /// `singular`), as `kinema traj check --json` prints it.
-    pub fn name(self) -> &'static str {
-        match self {
-            ViolationKind::Malformed => "malformed",
-            ViolationKind::Position => "position",
-            ViolationKind::Velocity => "velocity",
-            ViolationKind::Acceleration => "acceleration",
-            ViolationKind::Jump => "jump",
-            ViolationKind::NearSingular => "nearsingular",
-            ViolationKind::Jerk => "jerk",
-            ViolationKind::Inconsistent => "inconsistent",
-            ViolationKind::Singular => "singular",
-        }
-    }
-}
-
-/// One problem found by [`check`], with where and when.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Violation {
-    /// What is wrong.
-    pub kind: ViolationKind,
-    /// Index of the sample.
-    pub sample: usize,
-    /// Time of the sample \[s\].
-    pub time: f64,
-    /// The joint (0-based), where one is concerned.
-    pub joint: Option<usize>,
-    /// The offending value.
-    pub value: f64,
-    /// The limit it broke.
-    pub limit: f64,
-}
-
-impl fmt::Display for Violation {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "t = {:.4} s (sample {}): ", self.time, self.sample)?;
-        let j = self.joint.map(|j| j + 1).unwrap_or(0);
-        match self.kind {
-            ViolationKind::Malformed => write!(f, "malformed sample (value {}, previous time {})", self.value, self.limit),
-            ViolationKind::Position => {
-                write!(f, "joint {j} at {:.6} is outside its position limits (nearest bound {:.6})", self.value, self.limit)
-            }
-            ViolationKind::Velocity => write!(f, "joint {j} velocity {:.6} exceeds its limit {:.6}", self.value, self.limit),
-            ViolationKind::Acceleration => {
-                write!(f, "joint {j} acceleration {:.6} exceeds its limit {:.6}", self.value, self.limit)
-            }
-            ViolationKind::Jump => write!(
-                f,
-                "joint {j} jumps by {:.6} since the previous sample, more than its velocity limit allows ({:.6}); a branch flip?",
-                self.value, self.limit
-            ),
-            ViolationKind::NearSingular => {
-                write!(f, "manipulability {:.3e} is below the threshold {:.3e} (close to a singularity)", self.value, self.limit)
-            }
-            ViolationKind::Jerk => write!(f, "joint {j} jerk {:.6} exceeds its limit {:.6}", self.value, self.limit),
-            ViolationKind::Inconsistent => write!(
-                f,
-                "joint {j}: the derivative column says {:.6}, but q changes at {:.6} on average over the step \
-                 (more apart than the acceleration limit allows); a glitch in q?",
-                self.value, self.limit
-            ),
-            ViolationKind::Singular => write!(
-                f,
-                "singular passage: the Jacobian's inverse condition number {:.3e} is below {:.3e}",
-                self.value, self.limit
-            ),
-        }
-    }
-}
 
 /// Options of [`check`].
 #[derive(Debug, Clone, PartialEq)]

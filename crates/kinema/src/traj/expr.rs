@@ -13,7 +13,7 @@ use std::fmt;
 
 use super::{sample_times, JointTrajectory};
 use crate::error::{Error, Result};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// A parsed expression of `t`.
 #[derive(Debug, Clone, PartialEq)]

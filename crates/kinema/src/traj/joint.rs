@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::ik::{self, CandidateSet, NumericIk, NumericOptions};
 use crate::kin::Frame;
 use crate::math::{pose_error, Pose};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// How a Cartesian motion becomes joint values.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,7 +86,7 @@ pub fn to_joints_at(
         });
     }
     let start = motion.at(0.0).pose;
-    let e = pose_error(&start, &robot.fk(q_start)?.pose);
+    let e = pose_error(&start, &robot.fk(q_start)?.world_from_tool);
     if e.position_norm() > TRACK_TOL || e.rotation_angle() > TRACK_TOL {
         return Err(Error::InvalidArgument {
             what: "q_start".into(),
@@ -104,13 +104,9 @@ pub fn to_joints_at(
     }
 }
 
+/// `e` located at the path sample of time `t`.
 pub(super) fn at_time(t: f64, e: Error) -> Error {
-    match e {
-        Error::Unreachable { solver, reason, closest } => {
-            Error::Unreachable { solver: format!("{solver}, at t = {t:.4} s of the path"), reason, closest }
-        }
-        e => Error::InvalidArgument { what: format!("path sample at t = {t:.4} s"), message: e.to_string() },
-    }
+    Error::OnPath { t, source: Box::new(e) }
 }
 
 fn unreachable_orientation(t: f64, solver: &str) -> Error {
@@ -144,7 +140,7 @@ fn outside_limits(robot: &Robot, t: f64, solver: &str, set: &CandidateSet) -> Er
 
 /// Whether `q` reaches `target` within [`TRACK_TOL`].
 pub(super) fn reaches(robot: &Robot, q: &[f64], target: &Pose) -> Result<bool> {
-    let e = pose_error(target, &robot.fk(q)?.pose);
+    let e = pose_error(target, &robot.fk(q)?.world_from_tool);
     Ok(e.position_norm() <= TRACK_TOL && e.rotation_angle() <= TRACK_TOL)
 }
 
@@ -172,7 +168,7 @@ fn newton_track(robot: &Robot, target: &Pose, q: &mut [f64], jac: &mut Matrix6xX
     let mut last_step = f64::INFINITY;
     for _ in 0..=NEWTON_STEPS {
         let fk = robot.jacobian_into(q, Frame::Base, jac)?;
-        let e = pose_error(target, &fk.pose);
+        let e = pose_error(target, &fk.world_from_tool);
         if e.position_norm() <= NEWTON_TOL && e.rotation_angle() <= NEWTON_TOL {
             return Ok(true);
         }
@@ -427,7 +423,7 @@ fn resolved_rate(
         let st = motion.at(t);
         let fk = robot.jacobian_into(&q, Frame::Base, &mut jac)?;
         let step = if k + 1 < times.len() { times[k + 1] - t } else { times[k] - times[k.saturating_sub(1)] };
-        let e = pose_error(&st.pose, &fk.pose);
+        let e = pose_error(&st.pose, &fk.world_from_tool);
         let fb = if step > 0.0 { gain / step } else { 0.0 };
         let twist = Vector6::from_iterator(
             (st.vel + e.translation * fb).iter().chain((st.omega + e.rotation * fb).iter()).copied(),
@@ -461,7 +457,7 @@ fn resolved_rate(
 
 /// The tool pose of every sample of `traj` (for comparing a joint trajectory with its path).
 pub fn poses(robot: &Robot, traj: &JointTrajectory) -> Result<Vec<Pose>> {
-    (0..traj.len()).map(|k| robot.fk(traj.q(k)).map(|f| f.pose)).collect()
+    (0..traj.len()).map(|k| robot.fk(traj.q(k)).map(|f| f.world_from_tool)).collect()
 }
 
 #[cfg(test)]
@@ -505,7 +501,7 @@ mod tests {
         while compared < 150 {
             let q_a: Vec<f64> =
                 robot.joints().iter().map(|j| rng.random_range(0.8 * j.limits.min..0.8 * j.limits.max)).collect();
-            let a = robot.fk(&q_a).unwrap().pose;
+            let a = robot.fk(&q_a).unwrap().world_from_tool;
             let shift =
                 Vector3::new(rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2));
             let turn = rpy_to_rot(
@@ -538,7 +534,7 @@ mod tests {
     fn a_joint_with_more_than_a_turn_passes_through_pi() {
         let robot = Robot::builtin("puma560").unwrap();
         let q_a = [0.3, 0.6, -2.5, 0.2, 0.8, 2.9];
-        let a = robot.fk(&q_a).unwrap().pose;
+        let a = robot.fk(&q_a).unwrap().world_from_tool;
         let b = Pose::new(a.rot * rpy_to_rot([0.0, 0.0, 0.8], RpyConvention::Zyx), a.pos);
         let m = lin(&a, &b);
         let times = sample_times(m.duration(), 0.01).unwrap();

@@ -44,7 +44,7 @@ pub use self_motion::SelfMotion;
 pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 
 use crate::error::{Error, Result};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// A joint whose model has a jerk limit cannot follow a step in
 /// acceleration (the Panda's controller rejects one), so the laws that start

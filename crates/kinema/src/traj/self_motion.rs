@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::ik::family::{Choice, Redundancy};
 use crate::ik::{self, CandidateSet};
 use crate::kin::Frame;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// The policy for a redundant arm's self-motion along a Cartesian path.
 #[derive(Debug, Clone, PartialEq, Default)]

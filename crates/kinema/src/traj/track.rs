@@ -37,6 +37,11 @@ pub struct PathDistance {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn distances_to_path(points: &[Vector3<f64>], path: &[Vector3<f64>]) -> Result<Vec<PathDistance>> {
+    distances(points, "points", path)
+}
+
+/// [`distances_to_path`], with the points named `points_name` in errors.
+fn distances(points: &[Vector3<f64>], points_name: &str, path: &[Vector3<f64>]) -> Result<Vec<PathDistance>> {
     let bad = |what: &str, message: String| Error::InvalidArgument { what: what.into(), message };
     if path.len() < 2 {
         return Err(bad("path", format!("it has {} point(s); at least two are needed", path.len())));
@@ -45,7 +50,7 @@ pub fn distances_to_path(points: &[Vector3<f64>], path: &[Vector3<f64>]) -> Resu
         return Err(bad("path", format!("point {} is not finite: {:?}", i + 1, path[i].as_slice())));
     }
     if let Some(i) = points.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-        return Err(bad("points", format!("point {} is not finite: {:?}", i + 1, points[i].as_slice())));
+        return Err(bad(points_name, format!("point {} is not finite: {:?}", i + 1, points[i].as_slice())));
     }
     // Cumulative arc length at the start of each segment.
     let mut start = Vec::with_capacity(path.len());
@@ -123,12 +128,7 @@ pub fn tracking_error(desired: &[Vector3<f64>], runs: &[Vec<Vector3<f64>>]) -> R
     }
     let mut run_means = Vec::with_capacity(runs.len());
     for (i, run) in runs.iter().enumerate() {
-        let d = distances_to_path(run, desired).map_err(|e| match e {
-            Error::InvalidArgument { what, message } if what == "points" => {
-                Error::InvalidArgument { what: "runs".into(), message: format!("run {}: {message}", i + 1) }
-            }
-            other => other,
-        })?;
+        let d = distances(run, &format!("runs: run {}", i + 1), desired)?;
         run_means.push(d.iter().map(|d| d.distance).sum::<f64>() / d.len() as f64);
     }
     let n = run_means.len() as f64;

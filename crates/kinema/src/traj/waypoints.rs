@@ -6,7 +6,7 @@
 use crate::error::{Error, Result};
 use crate::ik::{self, IkRequest, IkTarget};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// A waypoint left out of a path, and why.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,7 +35,7 @@ pub fn reach(robot: &Robot, pose: &Pose) -> Result<()> {
 /// use kinema::traj::waypoints::skip_unreachable;
 /// use kinema::Pose;
 /// let robot = kinema::Robot::builtin("puma560")?;
-/// let near = robot.fk(&[0.2, 0.4, -2.6, 0.1, 0.8, 0.3])?.pose;
+/// let near = robot.fk(&[0.2, 0.4, -2.6, 0.1, 0.8, 0.3])?.world_from_tool;
 /// let far = Pose::new(near.rot, near.pos * 10.0);
 /// let (kept, skipped) = skip_unreachable(&robot, &[near, far, near])?;
 /// assert_eq!((kept.len(), skipped.len(), skipped[0].index), (2, 1, 1));

@@ -5,7 +5,9 @@ pub mod arms;
 
 use kinema::ik::IkSolver;
 use kinema::nalgebra::Vector3;
-use kinema::{Convention, Error, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot, RpyConvention};
+use kinema::{
+    Error, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot, RpyConvention,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -56,7 +58,7 @@ pub fn kernel_matches_solve<const N: usize, const M: usize>(
     for ((q, label), s) in candidates.iter().zip(solutions) {
         assert_eq!(&q[..], &s.q[..]);
         assert_eq!(label, s.branch);
-        let p = robot.fk(q).unwrap().pose.pos;
+        let p = robot.fk(q).unwrap().world_from_tool.pos;
         let d = (p - kinema::nalgebra::Vector3::from(target_position)).norm();
         assert!(d < 1e-9, "{label}: {d}");
     }
@@ -80,5 +82,12 @@ pub fn robot_from_axes(name: &str, h: &[Vector3<f64>], p: &[Vector3<f64>], base:
         })
         .collect();
     let home = NamedPose { name: "home".into(), q: vec![0.0; h.len()] };
-    Robot::new(name, Convention::General, Default::default(), joints, base, tool, vec![home]).unwrap()
+    Model::builder(name, GeometryKind::General)
+        .joints(joints)
+        .base(base)
+        .tool(tool)
+        .poses(vec![home])
+        .build()
+        .map(Robot::new)
+        .unwrap()
 }

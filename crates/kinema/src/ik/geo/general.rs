@@ -50,7 +50,7 @@ use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, 
 use crate::error::Result;
 use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::{rot_to_axis_angle, Pose};
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -108,7 +108,7 @@ const LABELS: [&str; 16] = [
 /// let robot = kinema::Robot::from_toml_str(&toml, "skew6.toml")?;
 /// let ik = GeneralIk::new(&robot)?;
 /// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
 /// # Ok::<(), kinema::Error>(())
@@ -138,7 +138,7 @@ impl GeneralIk {
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         for i in 0..5 {
             if parallel(&h(i), &h(i + 1), GEOM_TOL) && distance_to_line(&p(i + 1), &p(i), &h(i)) <= GEOM_TOL {
-                return reject(robot, format!("axes {} and {} coincide", i + 1, i + 2));
+                return reject("geo-general", robot, format!("axes {} and {} coincide", i + 1, i + 2));
             }
         }
         let mut size = 0.0f64;

@@ -12,7 +12,8 @@ use super::subproblems::rot;
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::Pose;
-use crate::model::{JointType, Robot};
+use crate::model::JointType;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -42,24 +43,22 @@ impl Kinematics {
     /// let robot = kinema::Robot::builtin("ur5")?;
     /// let kin = Kinematics::new(&robot)?;
     /// let q = [0.1, -0.7, 1.2, 0.3, -0.4, 2.0];
-    /// let (a, b) = (kin.fk(&q), robot.fk(&q)?.pose);
+    /// let (a, b) = (kin.fk(&q), robot.fk(&q)?.world_from_tool);
     /// assert!((a.pos - b.pos).norm() < 1e-12 && (a.rot - b.rot).norm() < 1e-12);
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
         if let Some(i) = robot.joints().iter().position(|j| j.kind != JointType::Revolute) {
-            return Err(Error::InvalidArgument {
-                what: "robot".into(),
-                message: format!(
-                    "{name}: joint {} is prismatic; the geometric solvers handle revolute joints only",
-                    i + 1
-                ),
+            return Err(Error::SolverDoesNotFit {
+                solver: "geometric".into(),
+                robot: name.into(),
+                reason: format!("joint {} is prismatic; the geometric solvers handle revolute joints only", i + 1),
             });
         }
         let n = robot.dof();
         let q0 = vec![0.0; n];
-        let tool = robot.fk(&q0)?.pose;
+        let tool = robot.fk(&q0)?.world_from_tool;
         let jac = robot.jacobian(&q0, Frame::Base)?;
         let mut h = Vec::with_capacity(n);
         let mut p = Vec::with_capacity(n);
@@ -74,15 +73,14 @@ impl Kinematics {
         let mut rng = ChaCha8Rng::seed_from_u64(0x6765_6f6b);
         for _ in 0..3 {
             let q = robot.random_q(&mut rng);
-            let (a, b) = (kin.fk(&q), robot.fk(&q)?.pose);
+            let (a, b) = (kin.fk(&q), robot.fk(&q)?.world_from_tool);
             let scale = 1.0 + b.pos.norm();
             let err = ((a.pos - b.pos).norm() / scale).max((a.rot - b.rot).norm());
             if !(err <= 1e-9) {
-                return Err(Error::InvalidArgument {
-                    what: "robot".into(),
-                    message: format!(
-                        "{name}: the axes read at q = 0 do not reproduce the forward kinematics (error {err:.3e})"
-                    ),
+                return Err(Error::SolverDoesNotFit {
+                    solver: "geometric".into(),
+                    robot: name.into(),
+                    reason: format!("the axes read at q = 0 do not reproduce the forward kinematics (error {err:.3e})"),
                 });
             }
         }
@@ -177,7 +175,7 @@ mod tests {
             tried += 1;
             for _ in 0..500 {
                 let q: Vec<f64> = (0..robot.dof()).map(|_| rng.random_range(-PI..PI)).collect();
-                let (a, b) = (kin.fk(&q), robot.fk(&q).unwrap().pose);
+                let (a, b) = (kin.fk(&q), robot.fk(&q).unwrap().world_from_tool);
                 assert!((a.pos - b.pos).norm() < 1e-12 && (a.rot - b.rot).norm() < 1e-12, "{name} {q:?}");
             }
             for h in &kin.h {

@@ -60,7 +60,7 @@ pub use wrist_search::TwoIntersectingSearchIk;
 use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 /// Tolerance for the structure tests: unit axis directions whose cross
 /// product is below it are parallel, lines closer than it \[m\] intersect.
@@ -101,8 +101,9 @@ impl Common {
     fn with_dof(robot: &Robot, solver: &str, dof: usize) -> Result<Self> {
         if robot.dof() != dof {
             return reject(
+                solver,
                 robot,
-                format!("the {solver} solver needs exactly {dof} revolute joints; this robot has {}", robot.dof()),
+                format!("it needs exactly {dof} revolute joints; this robot has {}", robot.dof()),
             );
         }
         let kin = Kinematics::new(robot)?;
@@ -152,8 +153,8 @@ impl Common {
     }
 }
 
-fn reject<T>(robot: &Robot, message: String) -> Result<T> {
-    Err(Error::InvalidArgument { what: "robot".into(), message: format!("{}: {message}", robot.name()) })
+fn reject<T>(solver: &str, robot: &Robot, reason: String) -> Result<T> {
+    Err(Error::SolverDoesNotFit { solver: solver.into(), robot: robot.name().into(), reason })
 }
 
 /// A target whose motion is absurdly large (or not finite after the tool is
@@ -217,7 +218,7 @@ fn candidates_with<const M: usize>(
 /// let ik = GeoIk::new(&robot)?;
 /// assert_eq!(ik.name(), "geo-three-parallel");
 /// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
@@ -256,9 +257,10 @@ impl GeoIk {
             Ok(s) => return Ok(GeoIk::TwoIntersectingSearch(s)),
             Err(e) => e,
         };
-        Err(Error::InvalidArgument {
-            what: "robot".into(),
-            message: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),
+        Err(Error::SolverDoesNotFit {
+            solver: "geometric".into(),
+            robot: robot.name().into(),
+            reason: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),
         })
     }
 

@@ -32,7 +32,7 @@ use super::{candidates_with, label, propose_with, reject, solve_with, too_far, C
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -48,7 +48,7 @@ const SING_TOL: f64 = 1e-12;
 /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ur5.urdf"), None)?;
 /// let ik = ThreeParallelIk::new(&robot)?;
 /// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// # Ok::<(), kinema::Error>(())
@@ -77,16 +77,25 @@ impl ThreeParallelIk {
         let common = Common::new(robot, "geo-three-parallel")?;
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         if !(parallel(&h(1), &h(2), GEOM_TOL) && parallel(&h(1), &h(3), GEOM_TOL)) {
-            return reject(robot, "axes 2, 3 and 4 are not parallel".into());
+            return reject("geo-three-parallel", robot, "axes 2, 3 and 4 are not parallel".into());
         }
         if parallel(&h(0), &h(1), GEOM_TOL) || parallel(&h(4), &h(1), GEOM_TOL) {
-            return reject(robot, "axis 1 or axis 5 is parallel to axes 2–4: a degenerate arm".into());
+            return reject(
+                "geo-three-parallel",
+                robot,
+                "axis 1 or axis 5 is parallel to axes 2–4: a degenerate arm".into(),
+            );
         }
         if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL || distance_to_line(&p(3), &p(2), &h(2)) <= GEOM_TOL {
-            return reject(robot, "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into());
+            return reject(
+                "geo-three-parallel",
+                robot,
+                "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into(),
+            );
         }
         let Some(x) = intersection(&p(4), &h(4), &p(5), &h(5), GEOM_TOL) else {
             return reject(
+                "geo-three-parallel",
                 robot,
                 "axes 5 and 6 do not meet (or are parallel); the three-parallel closed form needs them to".into(),
             );

@@ -25,7 +25,7 @@ use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, 
 use crate::error::Result;
 use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -46,7 +46,7 @@ type V3 = Vector3<f64>;
 /// let robot = kinema::Robot::from_toml_str(&toml, "ur5-offset.toml")?;
 /// let ik = ThreeParallelSearchIk::new(&robot)?;
 /// let q = [0.3, -1.1, 1.4, -0.6, 0.9, 2.0];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
 /// # Ok::<(), kinema::Error>(())
@@ -69,16 +69,28 @@ impl ThreeParallelSearchIk {
         let common = Common::new(robot, "geo-three-parallel-search")?;
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         if !(parallel(&h(1), &h(2), GEOM_TOL) && parallel(&h(1), &h(3), GEOM_TOL)) {
-            return reject(robot, "axes 2, 3 and 4 are not parallel".into());
+            return reject("geo-three-parallel-search", robot, "axes 2, 3 and 4 are not parallel".into());
         }
         if parallel(&h(0), &h(1), GEOM_TOL) || parallel(&h(4), &h(1), GEOM_TOL) || parallel(&h(4), &h(5), GEOM_TOL) {
-            return reject(robot, "axis 1 or 5 is parallel to axes 2–4, or axis 6 to axis 5: a degenerate arm".into());
+            return reject(
+                "geo-three-parallel-search",
+                robot,
+                "axis 1 or 5 is parallel to axes 2–4, or axis 6 to axis 5: a degenerate arm".into(),
+            );
         }
         if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL || distance_to_line(&p(3), &p(2), &h(2)) <= GEOM_TOL {
-            return reject(robot, "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into());
+            return reject(
+                "geo-three-parallel-search",
+                robot,
+                "axis 3 coincides with axis 2 or axis 4: a degenerate planar arm".into(),
+            );
         }
         if intersection(&p(4), &h(4), &p(5), &h(5), GEOM_TOL).is_some() {
-            return reject(robot, "axes 5 and 6 meet: the closed form applies, not the search".into());
+            return reject(
+                "geo-three-parallel-search",
+                robot,
+                "axes 5 and 6 meet: the closed form applies, not the search".into(),
+            );
         }
         let h2 = h(1);
         let seed = if h2.x.abs() < 0.9 { V3::x() } else { V3::y() };

@@ -33,7 +33,7 @@ use super::{candidates_with, label, propose_with, reject, solve_with, too_far, C
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -61,7 +61,7 @@ pub enum ShoulderKind {
 /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/puma560.urdf"), None)?;
 /// let ik = SphericalWristIk::new(&robot)?;
 /// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// # Ok::<(), kinema::Error>(())
@@ -87,25 +87,31 @@ impl SphericalWristIk {
         let common = Common::new(robot, "geo-spherical-wrist")?;
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         let Some(w) = intersection(&p(3), &h(3), &p(4), &h(4), GEOM_TOL) else {
-            return reject(robot, "axes 4 and 5 do not meet (or are parallel): no spherical wrist".into());
+            return reject(
+                "geo-spherical-wrist",
+                robot,
+                "axes 4 and 5 do not meet (or are parallel): no spherical wrist".into(),
+            );
         };
         if parallel(&h(4), &h(5), GEOM_TOL) || distance_to_line(&w, &p(5), &h(5)) > GEOM_TOL {
-            return reject(robot, "axis 6 does not pass through the point where axes 4 and 5 meet (or is parallel to axis 5): no spherical wrist".into());
+            return reject("geo-spherical-wrist", robot, "axis 6 does not pass through the point where axes 4 and 5 meet (or is parallel to axis 5): no spherical wrist".into());
         }
         let shoulder = if parallel(&h(1), &h(2), GEOM_TOL) {
             if parallel(&h(0), &h(1), GEOM_TOL) {
                 return reject(
+                    "geo-spherical-wrist",
                     robot,
                     "axes 1, 2 and 3 are all parallel: the wrist centre cannot reach a 3-D region".into(),
                 );
             }
             if distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL {
-                return reject(robot, "axes 2 and 3 coincide".into());
+                return reject("geo-spherical-wrist", robot, "axes 2 and 3 coincide".into());
             }
             ShoulderKind::Parallel23
         } else if let Some(c) = intersection(&p(0), &h(0), &p(1), &h(1), GEOM_TOL) {
             if distance_to_line(&c, &p(2), &h(2)) <= GEOM_TOL {
                 return reject(
+                    "geo-spherical-wrist",
                     robot,
                     "axis 3 passes through the point where axes 1 and 2 meet: joint 3 cannot change the reach".into(),
                 );
@@ -113,12 +119,17 @@ impl SphericalWristIk {
             ShoulderKind::Intersecting12 { c }
         } else {
             return reject(
+                "geo-spherical-wrist",
                 robot,
                 "axes 2 and 3 are not parallel and axes 1 and 2 do not meet: no closed form for the arm".into(),
             );
         };
         if distance_to_line(&w, &p(2), &h(2)) <= GEOM_TOL {
-            return reject(robot, "the wrist centre lies on axis 3: joint 3 cannot change the reach".into());
+            return reject(
+                "geo-spherical-wrist",
+                robot,
+                "the wrist centre lies on axis 3: joint 3 cannot change the reach".into(),
+            );
         }
         let h6 = h(5);
         let seed = if h6.x.abs() < 0.9 { V3::x() } else { V3::y() };

@@ -67,7 +67,7 @@ use crate::error::{Error, Result};
 use crate::ik::iiwa::golden_max;
 use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -101,7 +101,7 @@ type Margins = [(f64, [f64; 7]); 8];
 /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
 /// let ik = SrsIk::new(&robot)?;
 /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-/// let sols = ik.solve_q3(&robot.fk(&q)?.pose, q[2])?;
+/// let sols = ik.solve_q3(&robot.fk(&q)?.world_from_tool, q[2])?;
 /// assert_eq!(sols.len(), 8);
 /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.orientation_error < 1e-10));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
@@ -132,6 +132,7 @@ impl SrsIk {
     pub fn new(robot: &Robot) -> Result<Self> {
         if robot.dof() != 7 {
             return reject(
+                NAME,
                 robot,
                 format!("the {NAME} solver needs exactly 7 revolute joints; this robot has {}", robot.dof()),
             );
@@ -142,6 +143,7 @@ impl SrsIk {
         let (h4, p4) = (common.h(3), common.p(3));
         if distance_to_line(&s, &p4, &h4) <= GEOM_TOL || distance_to_line(&w, &p4, &h4) <= GEOM_TOL {
             return reject(
+                NAME,
                 robot,
                 "axis 4 passes through the shoulder point or the wrist centre: the elbow cannot change their distance"
                     .into(),
@@ -186,7 +188,7 @@ impl SrsIk {
     /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
     /// let ik = SrsIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.pose, q[2])?;
+    /// let c = ik.solve_q3_candidates(&robot.fk(&q)?.world_from_tool, q[2])?;
     /// assert_eq!(c.len(), 8);
     /// # Ok::<(), kinema::Error>(())
     /// ```
@@ -304,7 +306,7 @@ impl SrsIk {
     /// let ik = SrsIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
     /// let psi = ik.psi_of(&q);
-    /// let sols = ik.solve_psi(&robot.fk(&q)?.pose, psi)?;
+    /// let sols = ik.solve_psi(&robot.fk(&q)?.world_from_tool, psi)?;
     /// assert_eq!(sols.len(), 8);
     /// assert!(sols.iter().all(|s| s.position_error < 1e-10 && (ik.psi_of(&s.q) - psi).abs() < 1e-9));
     /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
@@ -479,7 +481,7 @@ impl SrsIk {
     /// let robot = kinema::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/iiwa14.urdf"), None)?;
     /// let ik = SrsIk::new(&robot)?;
     /// let q = [0.3, 0.5, -0.7, -1.2, 0.4, 0.8, 0.1];
-    /// let sols = ik.solve_searching(&robot.fk(&q)?.pose, 0.0)?;
+    /// let sols = ik.solve_searching(&robot.fk(&q)?.world_from_tool, 0.0)?;
     /// assert!(!sols.is_empty());
     /// assert!(sols.iter().all(|s| s.within_limits() && s.position_error < 1e-10));
     /// # Ok::<(), kinema::Error>(())
@@ -591,12 +593,14 @@ fn meeting_point(c: &Common, first: usize, what: &str) -> Result<V3> {
     let robot = &c.robot;
     let Some(x) = intersection(&c.p(a), &c.h(a), &c.p(b), &c.h(b), GEOM_TOL) else {
         return reject(
+            NAME,
             robot,
             format!("axes {} and {} do not meet (or are parallel): no spherical {what}", a + 1, b + 1),
         );
     };
     if parallel(&c.h(b), &c.h(k), GEOM_TOL) || distance_to_line(&x, &c.p(k), &c.h(k)) > GEOM_TOL {
         return reject(
+            NAME,
             robot,
             format!(
                 "axis {} does not pass through the point where axes {} and {} meet (or is parallel to axis {}): \

@@ -24,7 +24,7 @@ use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, 
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
-use crate::model::Robot;
+use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
 
@@ -45,7 +45,7 @@ type V3 = Vector3<f64>;
 /// let robot = kinema::Robot::from_toml_str(&toml, "puma-offset.toml")?;
 /// let ik = TwoIntersectingSearchIk::new(&robot)?;
 /// let q = [0.3, 0.6, -2.5, 0.4, 0.7, -0.2];
-/// let sols = ik.solve(&robot.fk(&q)?.pose)?;
+/// let sols = ik.solve(&robot.fk(&q)?.world_from_tool)?;
 /// assert!(sols.iter().all(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9));
 /// assert!(sols.iter().any(|s| s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9)));
 /// # Ok::<(), kinema::Error>(())
@@ -70,23 +70,39 @@ impl TwoIntersectingSearchIk {
         let common = Common::new(robot, "geo-two-intersecting-search")?;
         let (h, p) = (|i| common.h(i), |i| common.p(i));
         let Some(x) = intersection(&p(4), &h(4), &p(5), &h(5), GEOM_TOL) else {
-            return reject(robot, "axes 5 and 6 do not meet (or are parallel)".into());
+            return reject("geo-two-intersecting-search", robot, "axes 5 and 6 do not meet (or are parallel)".into());
         };
         if distance_to_line(&x, &p(3), &h(3)) <= GEOM_TOL {
-            return reject(robot, "axis 4 passes through the point where axes 5 and 6 meet: a spherical wrist".into());
+            return reject(
+                "geo-two-intersecting-search",
+                robot,
+                "axis 4 passes through the point where axes 5 and 6 meet: a spherical wrist".into(),
+            );
         }
         let shoulder = if parallel(&h(1), &h(2), GEOM_TOL) {
             if parallel(&h(0), &h(1), GEOM_TOL) || distance_to_line(&p(1), &p(2), &h(2)) <= GEOM_TOL {
-                return reject(robot, "axes 1, 2, 3 are all parallel, or axes 2 and 3 coincide".into());
+                return reject(
+                    "geo-two-intersecting-search",
+                    robot,
+                    "axes 1, 2, 3 are all parallel, or axes 2 and 3 coincide".into(),
+                );
             }
             ShoulderKind::Parallel23
         } else if let Some(c) = intersection(&p(0), &h(0), &p(1), &h(1), GEOM_TOL) {
             if distance_to_line(&c, &p(2), &h(2)) <= GEOM_TOL {
-                return reject(robot, "axis 3 passes through the point where axes 1 and 2 meet".into());
+                return reject(
+                    "geo-two-intersecting-search",
+                    robot,
+                    "axis 3 passes through the point where axes 1 and 2 meet".into(),
+                );
             }
             ShoulderKind::Intersecting12 { c }
         } else {
-            return reject(robot, "axes 2 and 3 are not parallel and axes 1 and 2 do not meet".into());
+            return reject(
+                "geo-two-intersecting-search",
+                robot,
+                "axes 2 and 3 are not parallel and axes 1 and 2 do not meet".into(),
+            );
         };
         let h6 = h(5);
         let seed = if h6.x.abs() < 0.9 { V3::x() } else { V3::y() };

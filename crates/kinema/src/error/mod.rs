@@ -1,4 +1,10 @@
-//! The error type of the core library.
+//! The error type of the core library, and the data its variants carry.
+
+mod unreachable;
+mod violation;
+
+pub use unreachable::{Closest, Tolerance, Unreachable};
+pub use violation::{Violation, ViolationKind};
 
 /// Everything that can go wrong in `kinema`. Each variant carries what was
 /// wrong and, where it helps, what was expected.
@@ -70,12 +76,33 @@ pub enum Error {
         message: String,
     },
     /// A file that cannot be read.
-    #[error("cannot read `{path}`: {message}")]
+    #[error("cannot read `{path}`: {source}")]
     Io {
         /// Path as given.
         path: String,
-        /// The operating system's message.
-        message: String,
+        /// The operating system's error.
+        source: IoError,
+    },
+    /// A file larger than the limit for its kind (a FIFO or `/dev/zero` given
+    /// by mistake, most often).
+    #[error("cannot read `{path}`: the file is larger than the limit of {} for {what}", size_text(*limit))]
+    FileTooLarge {
+        /// Path as given.
+        path: String,
+        /// What the file was read as (e.g. "a robot description").
+        what: String,
+        /// The limit \[bytes\].
+        limit: u64,
+    },
+    /// A robot whose structure an IK solver family does not handle.
+    #[error("the {solver} solver does not fit robot `{robot}`: {reason}")]
+    SolverDoesNotFit {
+        /// The solver family.
+        solver: String,
+        /// Robot name.
+        robot: String,
+        /// What structure the solver needs and what the robot has.
+        reason: String,
     },
     /// A model that is internally inconsistent (built in code, not from a file).
     #[error("invalid robot model `{robot}`: {message}")]
@@ -92,14 +119,22 @@ pub enum Error {
         pitch: f64,
     },
     /// An inverse-kinematics target that cannot be reached, and why.
-    #[error("unreachable target ({}): {reason}{}", solver_phrase(solver), closest_phrase(closest))]
+    #[error("unreachable target ({solver} solver): {reason}{}", closest_phrase(closest))]
     Unreachable {
         /// Which solver decided.
         solver: String,
         /// Why.
-        reason: crate::ik::Unreachable,
+        reason: Unreachable,
         /// The configuration that came closest, when the solver found one.
-        closest: Option<Box<crate::ik::Closest>>,
+        closest: Option<Box<Closest>>,
+    },
+    /// A sample of a Cartesian path that failed (IK, most often).
+    #[error("at t = {t:.4} s of the path: {source}")]
+    OnPath {
+        /// Time of the sample along the path \[s\].
+        t: f64,
+        /// What went wrong there.
+        source: Box<Error>,
     },
     /// The work was interrupted before it finished (Ctrl-C, a deadline).
     #[error("cancelled before it finished")]
@@ -120,7 +155,7 @@ pub enum Error {
         /// The first violation, in words.
         first: String,
         /// All of them.
-        violations: Vec<crate::traj::Violation>,
+        violations: Vec<Violation>,
     },
     /// A dynamics computation on a robot whose link has no mass properties.
     #[error("robot `{robot}`: link {link} (moved by joint `{joint}`) has no mass properties (inertial); dynamics needs mass, centre of mass and inertia for every link")]
@@ -142,13 +177,60 @@ pub enum Error {
     },
 }
 
+/// An operating-system I/O error, shared so that [`Error`] stays `Clone`;
+/// two compare equal when their kind and message do.
+#[derive(Debug, Clone)]
+pub struct IoError(pub std::sync::Arc<std::io::Error>);
+
+impl From<std::io::Error> for IoError {
+    fn from(e: std::io::Error) -> Self {
+        IoError(std::sync::Arc::new(e))
+    }
+}
+
+impl PartialEq for IoError {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.kind() == other.0.kind() && self.0.to_string() == other.0.to_string()
+    }
+}
+
+impl std::fmt::Display for IoError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for IoError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(self.0.as_ref())
+    }
+}
+
+impl Error {
+    /// The error itself, under the context that locates it ([`Error::InBatch`],
+    /// [`Error::OnPath`]): what kind of thing went wrong.
+    pub fn root(&self) -> &Error {
+        match self {
+            Error::InBatch { source, .. } | Error::OnPath { source, .. } => source.root(),
+            other => other,
+        }
+    }
+}
+
 /// Result alias of the core library.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// "iiwa" → "iiwa solver"; "iiwa, at t = 1.2 s of the path" (a sample of a Cartesian path,
-/// named so by the trajectory module) → "iiwa solver, at t = 1.2 s of the path".
+/// A size in bytes as people read it: "16 MiB" when whole, else bytes.
+fn size_text(bytes: u64) -> String {
+    if bytes >= 1 << 20 && bytes % (1 << 20) == 0 {
+        format!("{} MiB", bytes >> 20)
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
 /// The closest configuration of an unreachable target, as a clause of its message.
-fn closest_phrase(closest: &Option<Box<crate::ik::Closest>>) -> String {
+fn closest_phrase(closest: &Option<Box<Closest>>) -> String {
     match closest {
         Some(c) => {
             let q: Vec<String> = c.q.iter().map(|v| format!("{v:.6}")).collect();
@@ -160,12 +242,5 @@ fn closest_phrase(closest: &Option<Box<crate::ik::Closest>>) -> String {
             )
         }
         None => String::new(),
-    }
-}
-
-fn solver_phrase(solver: &str) -> String {
-    match solver.split_once(", ") {
-        Some((name, rest)) => format!("{name} solver, {rest}"),
-        None => format!("{solver} solver"),
     }
 }

@@ -1,0 +1,134 @@
+//! Why an inverse-kinematics target was refused: the data
+//! [`Error::Unreachable`](super::Error::Unreachable) carries. Defined here,
+//! below `ik`, so the error type depends on nothing above it; `ik` re-exports
+//! these types and builds them.
+
+use std::fmt;
+
+/// How close forward kinematics of a returned solution must come to the
+/// target, on the components the request constrains.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance {
+    /// Position \[m\].
+    pub position: f64,
+    /// Orientation \[rad\].
+    pub orientation: f64,
+}
+
+impl Default for Tolerance {
+    /// 1e-6 m and 1e-6 rad: the numeric solver's convergence test, and far
+    /// above the rounding level of the closed forms.
+    fn default() -> Self {
+        Tolerance { position: 1e-6, orientation: 1e-6 }
+    }
+}
+
+impl fmt::Display for Tolerance {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:.1e} m, {:.1e} rad", self.position, self.orientation)
+    }
+}
+
+/// The configuration that came closest to an unreachable target, with its
+/// residual on the constrained components.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Closest {
+    /// Joint values \[rad or m\].
+    pub q: Vec<f64>,
+    /// Position error \[m\].
+    pub position_error: f64,
+    /// Orientation error \[rad\].
+    pub orientation_error: f64,
+}
+
+/// Why a target cannot be reached.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq)]
+pub enum Unreachable {
+    /// The position lies outside the reachable sphere/annulus/region.
+    OutsideReach {
+        /// How far outside \[m\].
+        by: f64,
+        /// Which boundary (e.g. "outer sphere of radius 0.59 m around the shoulder").
+        boundary: String,
+    },
+    /// The position lies inside a region the arm cannot enter (e.g. the
+    /// cylinder around axis 1 that a lateral offset keeps the wrist out of).
+    InsideExcluded {
+        /// How far inside \[m\].
+        by: f64,
+        /// Which region (e.g. "cylinder of radius 0.15 m around axis 1 …").
+        region: String,
+    },
+    /// The orientation asked for is not one this arm can take at that position.
+    Orientation {
+        /// The smallest orientation error achievable \[rad\].
+        angle: f64,
+        /// What the arm can and cannot control.
+        detail: String,
+    },
+    /// Solutions exist but every one violates a joint limit.
+    JointLimits {
+        /// One entry per rejected solution: its branch and the violated joints.
+        rejected: Vec<String>,
+    },
+    /// Candidates were found, but forward kinematics of every one misses the
+    /// target by more than the tolerance on a constrained component (e.g. a
+    /// full pose given to an arm with fewer than six joints).
+    Missed {
+        /// How many candidates were measured and discarded.
+        candidates: usize,
+        /// Position error of the closest candidate \[m\].
+        position_error: f64,
+        /// Orientation error of the closest candidate \[rad\].
+        orientation_error: f64,
+        /// The tolerance they were measured against.
+        tolerance: Tolerance,
+        /// Joints of the robot.
+        dof: usize,
+    },
+    /// The numeric solver found no solution within its restarts.
+    NoConvergence {
+        /// Best position error reached \[m\].
+        position_error: f64,
+        /// Best orientation error reached \[rad\].
+        orientation_error: f64,
+        /// Restarts tried.
+        restarts: usize,
+    },
+}
+
+impl fmt::Display for Unreachable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Unreachable::OutsideReach { by, boundary } => write!(f, "the position is {by:.6} m outside the {boundary}"),
+            Unreachable::InsideExcluded { by, region } => write!(f, "the position is {by:.6} m inside the {region}"),
+            Unreachable::Orientation { angle, detail } => {
+                write!(f, "the orientation is not achievable: off by at least {angle:.6} rad ({detail})")
+            }
+            Unreachable::JointLimits { rejected } => {
+                write!(f, "every solution violates a joint limit: {}", rejected.join("; "))
+            }
+            Unreachable::Missed { candidates: 0, .. } => f.write_str("the solver proposed no candidate"),
+            Unreachable::Missed { candidates, position_error, orientation_error, tolerance, dof } => {
+                write!(
+                    f,
+                    "no candidate meets the target within {tolerance}: the closest misses it by \
+                     {position_error:.3e} m and {orientation_error:.3e} rad ({candidates} candidate(s) discarded)"
+                )?;
+                if *dof < 6 && *orientation_error > tolerance.orientation {
+                    write!(
+                        f,
+                        "; an arm with {dof} joints cannot take every orientation at a position: give a pose on its \
+                         reachable set, or a task mask that frees the components it cannot control"
+                    )?;
+                }
+                Ok(())
+            }
+            Unreachable::NoConvergence { position_error, orientation_error, restarts } => write!(
+                f,
+                "no solution found after {restarts} restarts (best residual {position_error:.3e} m, {orientation_error:.3e} rad)"
+            ),
+        }
+    }
+}
