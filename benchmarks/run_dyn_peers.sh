@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks kinema's dynamics (RNEA, mass matrix, forward dynamics) against Pinocchio at seeded
+# Checks kinema's dynamics (RNEA, mass matrix, ABA, Coriolis matrix) against Pinocchio at seeded
 # random states: benchmarks/dyn_peers.py writes Pinocchio's numbers to a CSV in a throwaway venv
 # with pinned pin and example-robot-data (its URDFs), then the ignored Rust test
 # `dynamics_matches_pinocchio` reads it and fails on a difference above 1e-10.

@@ -42,7 +42,7 @@ fn dynamics(c: &mut Criterion) {
         })
     });
     c.bench_function("puma560 mass_matrix (crba)", |b| b.iter(|| black_box(mass_matrix(&robot, &next()[0]).unwrap())));
-    c.bench_function("puma560 forward_dynamics (cholesky)", |b| {
+    c.bench_function("puma560 forward_dynamics (aba)", |b| {
         b.iter(|| {
             let [q, qd, tau] = next();
             black_box(forward_dynamics(&robot, q, qd, tau, &g).unwrap())

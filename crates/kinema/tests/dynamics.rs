@@ -7,8 +7,8 @@
 
 use std::f64::consts::PI;
 
-use kinema::dynamics::{coriolis, forward_dynamics, gravity_torques, mass_matrix, rnea};
-use kinema::nalgebra::{DVector, Matrix3, Rotation3, Unit, Vector3};
+use kinema::dynamics::{coriolis, coriolis_matrix, forward_dynamics, gravity_torques, mass_matrix, rnea};
+use kinema::nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Unit, Vector3};
 use kinema::{
     DhConvention, Error, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot,
 };
@@ -225,6 +225,78 @@ fn forward_dynamics_inverts_rnea() {
     eprintln!("forward dynamics vs RNEA: worst |Δq̈| {worst:.2e} rad/s²");
 }
 
+/// The oracle for forward dynamics: q̈ = M⁻¹·(τ − h) with M from CRBA and
+/// h = C·q̇ + g from RNEA, solved by Cholesky — shares with ABA only the
+/// model, not the recursion.
+fn fd_by_mass_matrix(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64]) -> Vec<f64> {
+    let n = robot.dof();
+    let h = rnea(robot, q, qd, &vec![0.0; n], &G).unwrap();
+    let m = mass_matrix(robot, q).unwrap();
+    let rhs = DVector::from_iterator(n, tau.iter().zip(&h).map(|(t, h)| t - h));
+    m.cholesky().expect("M positive definite").solve(&rhs).iter().copied().collect()
+}
+
+#[test]
+fn aba_matches_the_mass_matrix_solve() {
+    let mut rng = ChaCha8Rng::seed_from_u64(32);
+    let mut worst = 0.0f64;
+    let mut states = 0;
+    for robot in robots(&mut rng, 400) {
+        let n = robot.dof();
+        for _ in 0..10 {
+            let q = robot.random_q(&mut rng);
+            let (qd, tau) = (random_vec(&mut rng, n, 2.0), random_vec(&mut rng, n, 20.0));
+            let aba = forward_dynamics(&robot, &q, &qd, &tau, &G).unwrap();
+            let oracle = fd_by_mass_matrix(&robot, &q, &qd, &tau);
+            let scale = 1.0 + oracle.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let err = max_abs_diff(&aba, &oracle) / scale;
+            worst = worst.max(err);
+            assert!(err < 1e-9, "{}: ABA {aba:?} vs M⁻¹(τ − h) {oracle:?}", robot.name());
+            states += 1;
+        }
+    }
+    eprintln!("ABA vs M⁻¹(τ − h): worst relative difference {worst:.2e} over {states} states");
+}
+
+#[test]
+fn aba_refuses_a_joint_that_moves_no_mass() {
+    let robot = planar(&[1.0, 1.0], &[1.0, 0.0], &[0.5, 0.5], &[0.1, 0.0]);
+    let e = forward_dynamics(&robot, &[0.0, 0.0], &[0.0; 2], &[0.0; 2], &G).unwrap_err();
+    assert!(e.to_string().contains("j2"), "{e}");
+    assert!(forward_dynamics(&robot, &[0.0, 0.0], &[f64::NAN, 0.0], &[0.0; 2], &G).is_err());
+}
+
+#[test]
+fn coriolis_matrix_times_qd_is_coriolis_and_mdot_minus_2c_is_skew() {
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    let (mut worst_cqd, mut worst_skew) = (0.0f64, 0.0f64);
+    for robot in robots(&mut rng, 200) {
+        let n = robot.dof();
+        for _ in 0..5 {
+            let (q, qd) = (robot.random_q(&mut rng), random_vec(&mut rng, n, 2.0));
+            let c = coriolis_matrix(&robot, &q, &qd).unwrap();
+            let cqd = &c * DVector::from_column_slice(&qd);
+            let h = coriolis(&robot, &q, &qd).unwrap();
+            let scale = 1.0 + h.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let err = max_abs_diff(cqd.as_slice(), &h) / scale;
+            worst_cqd = worst_cqd.max(err);
+            assert!(err < 1e-10, "{}: C·q̇ {cqd} vs {h:?}", robot.name());
+            // Ṁ along q̇ by central differences of CRBA.
+            let eps = 1e-6;
+            let at = |t: f64| {
+                let qt: Vec<f64> = (0..n).map(|i| q[i] + qd[i] * t).collect();
+                mass_matrix(&robot, &qt).unwrap()
+            };
+            let mdot: DMatrix<f64> = (at(eps) - at(-eps)) / (2.0 * eps);
+            let n_mat = &mdot - 2.0 * &c;
+            let err = (&n_mat + n_mat.transpose()).amax() / (1.0 + mdot.amax() + c.amax());
+            worst_skew = worst_skew.max(err);
+            assert!(err < 1e-6, "{}: Ṁ − 2C not skew by {err}\n{n_mat}", robot.name());
+        }
+    }
+    eprintln!("C·q̇ vs RNEA: worst relative {worst_cqd:.2e}; Ṁ − 2C skew to {worst_skew:.2e} (finite differences)");
+}
+
 /// A planar arm of revolute joints about z, links of length `l` along x of
 /// their standard-DH frames, each with mass m at `lc` from its joint and
 /// moment `izz` about its centre of mass.
@@ -322,6 +394,23 @@ fn a_link_without_mass_properties_is_named() {
     assert!(rnea(&puma, puma.home(), &[f64::NAN; 6], &[0.0; 6], &G).is_err());
     assert!(rnea(&puma, puma.home(), &[0.0; 6], &[0.0; 6], &Vector3::new(f64::INFINITY, 0.0, 0.0)).is_err());
     assert!(forward_dynamics(&puma, puma.home(), &[0.0; 6], &[0.0; 7], &G).is_err());
+    assert!(forward_dynamics(&puma, puma.home(), &[0.0; 5], &[0.0; 6], &G).is_err());
+    assert!(forward_dynamics(&puma, puma.home(), &[0.0; 6], &[f64::INFINITY; 6], &G).is_err());
+    assert!(coriolis_matrix(&puma, puma.home(), &[0.0; 7]).is_err());
+    assert!(coriolis_matrix(&puma, puma.home(), &[f64::NAN; 6]).is_err());
+    assert!(coriolis_matrix(&puma, &[0.0; 5], &[0.0; 6]).is_err());
+    assert!(coriolis_matrix(&robot, robot.home(), &[0.0; 5]).is_err()); // link 4 has no mass properties
+}
+
+#[test]
+fn the_builtins_with_published_inertias_have_every_link() {
+    // Their files name the sources; Robot::builtin has validated every tensor (triangle inequality).
+    for name in ["puma560", "panda", "ur5", "lbr-iiwa-14-r820"] {
+        let r = Robot::builtin(name).unwrap();
+        assert!(r.inertials().iter().all(Option::is_some), "{name}");
+        let total: f64 = r.inertials().iter().map(|b| b.unwrap().mass).sum();
+        assert!(total > 10.0 && total < 30.0, "{name}: {total} kg");
+    }
 }
 
 #[test]
@@ -439,23 +528,25 @@ fn urdf_inertials_are_merged_across_fixed_joints_into_the_link_frame() {
 
 /// Against Pinocchio: reads the CSV written by benchmarks/dyn_peers.py (run by
 /// benchmarks/run_dyn_peers.sh, which sets `KINEMA_DYN_PEERS_CSV`) and compares
-/// RNEA, the mass matrix and forward dynamics state by state.
+/// RNEA, the mass matrix, forward dynamics (ABA) and the Coriolis matrix state
+/// by state. A spec `builtin:NAME@FILE` is the built-in against Pinocchio's
+/// model of the URDF its inertials came from.
 #[test]
 #[ignore = "needs the CSV from benchmarks/run_dyn_peers.sh (Pinocchio in a throwaway venv)"]
 fn dynamics_matches_pinocchio() {
     let path = std::env::var("KINEMA_DYN_PEERS_CSV").expect("set KINEMA_DYN_PEERS_CSV to dyn_peers.py's output");
     let text = std::fs::read_to_string(&path).unwrap();
     let mut loaded: std::collections::HashMap<String, Robot> = Default::default();
-    let mut worst: std::collections::BTreeMap<String, [f64; 4]> = Default::default();
+    let mut worst: std::collections::BTreeMap<String, [f64; 5]> = Default::default();
     for line in text.lines() {
         let mut fields = line.split(',');
         let spec = fields.next().unwrap().to_string();
         let n: usize = fields.next().unwrap().parse().unwrap();
         let v: Vec<f64> = fields.map(|x| x.parse().unwrap()).collect();
-        assert_eq!(v.len(), 6 * n + n * n, "{spec}");
+        assert_eq!(v.len(), 6 * n + 2 * n * n, "{spec}");
         let robot = loaded.entry(spec.clone()).or_insert_with(|| {
             if let Some(name) = spec.strip_prefix("builtin:") {
-                Robot::builtin(name).unwrap()
+                Robot::builtin(name.split('@').next().unwrap()).unwrap()
             } else {
                 let rest = spec.strip_prefix("urdf:").unwrap();
                 let (file, tip) = rest.rsplit_once(':').unwrap();
@@ -465,28 +556,31 @@ fn dynamics_matches_pinocchio() {
         assert_eq!(robot.dof(), n, "{spec}");
         let (q, qd, qdd, tau) = (&v[..n], &v[n..2 * n], &v[2 * n..3 * n], &v[3 * n..4 * n]);
         let m_pin = &v[4 * n..4 * n + n * n];
-        let (tau2, qdd2) = (&v[4 * n + n * n..5 * n + n * n], &v[5 * n + n * n..]);
+        let (tau2, qdd2) = (&v[4 * n + n * n..5 * n + n * n], &v[5 * n + n * n..6 * n + n * n]);
+        let c_pin = &v[6 * n + n * n..];
         let ours = rnea(robot, q, qd, qdd, &G).unwrap();
         let m = mass_matrix(robot, q).unwrap();
-        let m_rows: Vec<f64> = (0..n * n).map(|k| m[(k / n, k % n)]).collect();
+        let rows = |a: &DMatrix<f64>| -> Vec<f64> { (0..n * n).map(|k| a[(k / n, k % n)]).collect() };
         let fd = forward_dynamics(robot, q, qd, tau2, &G).unwrap();
+        let c = coriolis_matrix(robot, q, qd).unwrap();
         let scale = 1.0 + tau.iter().fold(0.0f64, |a, t| a.max(t.abs()));
         let errs = [
             max_abs_diff(&ours, tau),
             max_abs_diff(&ours, tau) / scale,
-            max_abs_diff(&m_rows, m_pin),
+            max_abs_diff(&rows(&m), m_pin),
             max_abs_diff(&fd, qdd2) / (1.0 + qdd2.iter().fold(0.0f64, |a, t| a.max(t.abs()))),
+            max_abs_diff(&rows(&c), c_pin),
         ];
         let w = worst.entry(spec.rsplit('/').next().unwrap().to_string()).or_default();
         for (w, e) in w.iter_mut().zip(errs) {
             *w = w.max(e);
         }
-        assert!(errs[1] < 1e-10 && errs[2] < 1e-10 && errs[3] < 1e-10, "{spec}: {errs:?} at q = {q:?}");
+        assert!(errs[1..].iter().all(|e| *e < 1e-10), "{spec}: {errs:?} at q = {q:?}, q̇ = {qd:?}");
     }
     for (spec, w) in &worst {
         eprintln!(
-            "{spec}: max |Δτ| {:.2e} N·m ({:.2e} relative), max |ΔM| {:.2e}, max |Δq̈| {:.2e} relative",
-            w[0], w[1], w[2], w[3]
+            "{spec}: max |Δτ| {:.2e} N·m ({:.2e} relative), max |ΔM| {:.2e}, max |Δq̈| {:.2e} relative, max |ΔC| {:.2e}",
+            w[0], w[1], w[2], w[3], w[4]
         );
     }
 }

@@ -2,7 +2,7 @@
 //! Newton–Euler ([`rnea`]), gravity torques ([`gravity_torques`]), the
 //! joint-space mass matrix by the composite-rigid-body algorithm
 //! ([`mass_matrix`]), Coriolis and centrifugal torques ([`coriolis`]) and
-//! forward dynamics ([`forward_dynamics`]).
+//! forward dynamics by the articulated-body algorithm ([`forward_dynamics`]).
 //!
 //! This is the plain reference path: every quantity is a 6-vector of
 //! Featherstone's spatial algebra (Featherstone, *Rigid Body Dynamics
@@ -20,7 +20,10 @@
 //! torques in N·m (revolute) or N (prismatic), the mass matrix in kg·m²,
 //! kg·m or kg.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
+use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
+
+mod aba;
+mod coriolis;
 
 use crate::error::{Error, Result};
 use crate::math::Pose;
@@ -214,6 +217,27 @@ pub fn coriolis(robot: &Robot, q: &[f64], qd: &[f64]) -> Result<Vec<f64>> {
     rnea(robot, q, qd, &zero, &Vector3::zeros())
 }
 
+/// The Coriolis matrix C(q, q̇) (dof × dof; N·m·s/rad, N·s/m or N·s for
+/// the mixed entries of revolute and prismatic joints) with C(q, q̇)·q̇ =
+/// [`coriolis`]`(q, q̇)` and Ṁ(q) − 2C(q, q̇) skew-symmetric. C is not unique;
+/// this one is Echeandia and Wensing's factorisation (2021), the one
+/// Pinocchio's `computeCoriolisMatrix` returns.
+///
+/// # Examples
+/// ```
+/// use kinema::dynamics;
+/// let robot = kinema::Robot::builtin("puma560")?;
+/// let (q, qd) = (robot.home(), [0.1, -0.2, 0.3, 0.0, 0.5, -1.0]);
+/// let c = dynamics::coriolis_matrix(&robot, q, &qd)?;
+/// let cqd = c * kinema::nalgebra::DVector::from_column_slice(&qd);
+/// let h = dynamics::coriolis(&robot, q, &qd)?;
+/// assert!((0..6).all(|i| (cqd[i] - h[i]).abs() < 1e-12));
+/// # Ok::<(), kinema::Error>(())
+/// ```
+pub fn coriolis_matrix(robot: &Robot, q: &[f64], qd: &[f64]) -> Result<DMatrix<f64>> {
+    coriolis::coriolis_matrix(robot, q, qd)
+}
+
 /// The joint-space mass matrix M(q) (dof × dof, symmetric positive definite
 /// for a chain whose every joint moves mass; kg·m², kg·m or kg) by the
 /// composite-rigid-body algorithm: M_ij = S_iᵀ·I^c_j·S_j for i ≤ j, where
@@ -247,18 +271,22 @@ pub fn mass_matrix(robot: &Robot, q: &[f64]) -> Result<DMatrix<f64>> {
 
 /// Forward dynamics: the accelerations q̈ \[rad/s² or m/s²\] that torques
 /// `tau` \[N·m or N\] produce at `q`, `qd` under `gravity` \[m/s², world frame\],
-/// solving M(q)·q̈ = τ − C(q, q̇)·q̇ − g(q) by Cholesky (not the
-/// articulated-body algorithm; O(n³), exact to rounding). Errors if M(q) is
-/// not positive definite (a joint that moves no mass).
+/// i.e. q̈ = M(q)⁻¹·(τ − C(q, q̇)·q̇ − g(q)), by Featherstone's
+/// articulated-body algorithm (O(n), no matrix is formed). Errors if a joint
+/// drives no mass at `q` (then M(q) is singular and q̈ undetermined).
+///
+/// # Examples
+/// ```
+/// use kinema::{dynamics, nalgebra::Vector3};
+/// let robot = kinema::Robot::builtin("puma560")?;
+/// let g = Vector3::new(0.0, 0.0, -9.81);
+/// let (q, qd) = (robot.home(), [0.1, -0.2, 0.3, 0.0, 0.5, -1.0]);
+/// let qdd = [1.0, 0.5, -0.5, 2.0, 0.0, 1.0];
+/// let tau = dynamics::rnea(&robot, q, &qd, &qdd, &g)?;
+/// let back = dynamics::forward_dynamics(&robot, q, &qd, &tau, &g)?;
+/// assert!(back.iter().zip(&qdd).all(|(a, b)| (a - b).abs() < 1e-9));
+/// # Ok::<(), kinema::Error>(())
+/// ```
 pub fn forward_dynamics(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &Vector3<f64>) -> Result<Vec<f64>> {
-    check_rates(robot, "tau", tau)?;
-    let zero = vec![0.0; robot.dof()];
-    let h = rnea(robot, q, qd, &zero, gravity)?;
-    let m = mass_matrix(robot, q)?;
-    let rhs = DVector::from_iterator(tau.len(), tau.iter().zip(&h).map(|(t, h)| t - h));
-    let chol = m.cholesky().ok_or_else(|| Error::InvalidModel {
-        robot: robot.name().to_string(),
-        message: "the mass matrix is not positive definite at this configuration (a joint that moves no mass?)".into(),
-    })?;
-    Ok(chol.solve(&rhs).iter().copied().collect())
+    aba::aba(robot, q, qd, tau, gravity)
 }
