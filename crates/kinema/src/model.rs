@@ -304,52 +304,47 @@ pub struct Model {
 #[derive(Debug, Clone)]
 #[must_use]
 pub struct ModelBuilder {
-    name: String,
-    kind: GeometryKind,
-    meta: Metadata,
-    joints: Vec<Joint>,
-    base: Pose,
-    tool: Pose,
-    poses: Vec<NamedPose>,
-    inertials: Option<Vec<Option<Inertial>>>,
+    /// The model as given so far, not yet validated; no inertials given is
+    /// an empty list.
+    draft: Model,
 }
 
 impl ModelBuilder {
     /// The joints, base first.
     pub fn joints(mut self, joints: Vec<Joint>) -> Self {
-        self.joints = joints;
+        self.draft.joints = joints;
         self
     }
     /// Manufacturer, source and notes.
     pub fn metadata(mut self, meta: Metadata) -> Self {
-        self.meta = meta;
+        self.draft.meta = meta;
         self
     }
     /// The `world_from_base` transform (identity by default).
     pub fn base(mut self, base: Pose) -> Self {
-        self.base = base;
+        self.draft.base = base;
         self
     }
     /// The `flange_from_tool` transform (identity by default).
     pub fn tool(mut self, tool: Pose) -> Self {
-        self.tool = tool;
+        self.draft.tool = tool;
         self
     }
     /// Adds (or replaces) a named configuration; `home` is required.
     pub fn pose(mut self, name: &str, q: Vec<f64>) -> Self {
-        self.poses.retain(|p| p.name != name);
-        self.poses.push(NamedPose { name: name.into(), q });
+        self.draft.poses.retain(|p| p.name != name);
+        self.draft.poses.push(NamedPose { name: name.into(), q });
         self
     }
     /// All named configurations at once, replacing any given before.
     pub fn poses(mut self, poses: Vec<NamedPose>) -> Self {
-        self.poses = poses;
+        self.draft.poses = poses;
         self
     }
     /// Mass properties per link, one entry per joint (`None` for a link
-    /// without them); none at all by default.
+    /// without them); none at all by default or when `inertials` is empty.
     pub fn inertials(mut self, inertials: Vec<Option<Inertial>>) -> Self {
-        self.inertials = Some(inertials);
+        self.draft.inertials = inertials;
         self
     }
 
@@ -357,7 +352,7 @@ impl ModelBuilder {
     /// inconsistent: no joints, non-finite geometry, limits that are not an
     /// interval, a pose of the wrong length, no `home`, invalid inertials.
     pub fn build(self) -> Result<Model> {
-        let ModelBuilder { name, kind, meta, joints, base, tool, poses, inertials } = self;
+        let Model { name, kind, meta, joints, base, tool, poses, inertials } = self.draft;
         let invalid = |message: String| Error::InvalidModel { robot: name.clone(), message };
         if joints.is_empty() {
             return Err(invalid("a robot needs at least one joint".into()));
@@ -419,7 +414,7 @@ impl ModelBuilder {
                 return Err(invalid(format!("pose `{}` contains {v}; joint values must be finite", p.name)));
             }
         }
-        let inertials = inertials.unwrap_or_else(|| vec![None; joints.len()]);
+        let inertials = if inertials.is_empty() { vec![None; joints.len()] } else { inertials };
         if inertials.len() != joints.len() {
             return Err(invalid(format!(
                 "{} inertials given, one per joint ({}) expected",
@@ -441,14 +436,16 @@ impl Model {
     /// geometry: no joints yet, identity base and tool, no poses.
     pub fn builder(name: impl Into<String>, kind: GeometryKind) -> ModelBuilder {
         ModelBuilder {
-            name: name.into(),
-            kind,
-            meta: Metadata::default(),
-            joints: Vec::new(),
-            base: Pose::IDENTITY,
-            tool: Pose::IDENTITY,
-            poses: Vec::new(),
-            inertials: None,
+            draft: Model {
+                name: name.into(),
+                kind,
+                meta: Metadata::default(),
+                joints: Vec::new(),
+                base: Pose::IDENTITY,
+                tool: Pose::IDENTITY,
+                poses: Vec::new(),
+                inertials: Vec::new(),
+            },
         }
     }
 
@@ -510,16 +507,7 @@ impl Model {
     /// A builder that starts from this model (to change its tool, base,
     /// inertials, …); `build` validates the result again.
     pub fn to_builder(&self) -> ModelBuilder {
-        ModelBuilder {
-            name: self.name.clone(),
-            kind: self.kind,
-            meta: self.meta.clone(),
-            joints: self.joints.clone(),
-            base: self.base,
-            tool: self.tool,
-            poses: self.poses.clone(),
-            inertials: Some(self.inertials.clone()),
-        }
+        ModelBuilder { draft: self.clone() }
     }
 
     /// A uniformly random configuration within the position limits (joints

@@ -9,9 +9,7 @@ use std::f64::consts::PI;
 
 use kinema::dynamics::{coriolis, coriolis_matrix, forward_dynamics, gravity_torques, mass_matrix, rnea};
 use kinema::nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Unit, Vector3};
-use kinema::{
-    DhConvention, Error, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot,
-};
+use kinema::{DhConvention, Error, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Model, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -79,7 +77,7 @@ fn random_robot(rng: &mut ChaCha8Rng) -> Robot {
         .joints(joints)
         .base(random_pose(rng))
         .tool(random_pose(rng))
-        .poses(vec![NamedPose { name: "home".into(), q: vec![0.0; n] }])
+        .pose("home", vec![0.0; n])
         .build()
         .map(Robot::new)
         .unwrap();
@@ -315,7 +313,7 @@ fn planar(l: &[f64], m: &[f64], lc: &[f64], izz: &[f64]) -> Robot {
     let n = l.len();
     let r = Model::builder("planar", GeometryKind::Standard)
         .joints(joints)
-        .poses(vec![NamedPose { name: "home".into(), q: vec![0.0; n] }])
+        .pose("home", vec![0.0; n])
         .build()
         .map(Robot::new)
         .unwrap();

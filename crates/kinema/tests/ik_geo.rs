@@ -12,9 +12,7 @@ use kinema::ik::geo::{
 use kinema::ik::pieper::PieperIk;
 use kinema::ik::{analytic_solver, IkSolver, NumericIk, NumericOptions, Solution};
 use kinema::nalgebra::{Rotation3, Unit, Vector3};
-use kinema::{
-    DhConvention, Error, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot,
-};
+use kinema::{DhConvention, Error, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -158,13 +156,12 @@ fn random_chain(rng: &mut ChaCha8Rng) -> Robot {
             }
         })
         .collect();
-    let home = NamedPose { name: "home".into(), q: vec![0.0; n] };
     // A table mixing conventions is a `general` robot; the joints say which convention each row follows.
     Model::builder("random", GeometryKind::General)
         .joints(joints)
         .base(random_pose(rng))
         .tool(random_pose(rng))
-        .poses(vec![home])
+        .pose("home", vec![0.0; n])
         .build()
         .map(Robot::new)
         .unwrap()
@@ -484,11 +481,10 @@ fn dh_robot(name: &str, rows: &[(f64, f64, f64, f64); 6], tool: Pose) -> Robot {
             limits: Limits::position(-PI, PI),
         })
         .collect();
-    let home = NamedPose { name: "home".into(), q: vec![0.0; 6] };
     Model::builder(name, GeometryKind::Standard)
         .joints(joints)
         .tool(tool)
-        .poses(vec![home])
+        .pose("home", vec![0.0; 6])
         .build()
         .map(Robot::new)
         .unwrap()
@@ -578,7 +574,7 @@ fn joint_values_move_into_the_limits_by_a_turn() {
         .joints(joints)
         .base(*ur5.base())
         .tool(*ur5.tool())
-        .poses(vec![NamedPose { name: "home".into(), q: vec![1.0; 6] }])
+        .pose("home", vec![1.0; 6])
         .build()
         .map(Robot::new)
         .unwrap();

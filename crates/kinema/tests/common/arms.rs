@@ -4,7 +4,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use kinema::nalgebra::{Matrix3, Rotation3, Unit, Vector3};
-use kinema::{DhConvention, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot};
+use kinema::{DhConvention, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, Pose, Robot};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -82,12 +82,12 @@ pub fn random_geometry(
 
 /// A robot of `joints` with the given base and tool transforms (limits ±π, home at 0).
 pub fn robot_of(joints: Vec<Joint>, base: Pose, tool: Pose) -> Robot {
-    let home = NamedPose { name: "home".into(), q: vec![0.0; joints.len()] };
+    let n = joints.len();
     Model::builder("random", GeometryKind::Standard)
         .joints(joints)
         .base(base)
         .tool(tool)
-        .poses(vec![home])
+        .pose("home", vec![0.0; n])
         .build()
         .map(Robot::new)
         .expect("random robot is valid")

@@ -5,9 +5,7 @@ pub mod arms;
 
 use kinema::ik::IkSolver;
 use kinema::nalgebra::Vector3;
-use kinema::{
-    Error, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, NamedPose, Pose, Robot, RpyConvention,
-};
+use kinema::{Error, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -81,12 +79,11 @@ pub fn robot_from_axes(name: &str, h: &[Vector3<f64>], p: &[Vector3<f64>], base:
             }
         })
         .collect();
-    let home = NamedPose { name: "home".into(), q: vec![0.0; h.len()] };
     Model::builder(name, GeometryKind::General)
         .joints(joints)
         .base(base)
         .tool(tool)
-        .poses(vec![home])
+        .pose("home", vec![0.0; h.len()])
         .build()
         .map(Robot::new)
         .unwrap()
