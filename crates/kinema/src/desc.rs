@@ -249,7 +249,8 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 LinkGeometry::General { origin: Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx), axis: axis / norm }
             }
         };
-        let values = [("offset", Some(j.offset)), ("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk), ("effort", j.effort)];
+        let values =
+            [("offset", Some(j.offset)), ("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk), ("effort", j.effort)];
         for (name, v) in values {
             if let Some(v) = v {
                 if !v.is_finite() {

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use kinema::nalgebra::Matrix6xX;
 use kinema::{
-    builtin_names, Convention, DhConvention, Error, Frame, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose, Robot,
-    RpyConvention, Workspace,
+    builtin_names, Convention, DhConvention, Error, Frame, Joint, JointType, Limits, LinkGeometry, NamedPose, Pose,
+    Robot, RpyConvention, Workspace,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -404,7 +404,15 @@ fn model_rejects_a_bad_effort_limit() {
     };
     let home = || vec![NamedPose { name: "home".into(), q: vec![0.0] }];
     let make = |effort| {
-        Robot::new("one", Convention::Standard, Default::default(), vec![joint(effort)], Pose::IDENTITY, Pose::IDENTITY, home())
+        Robot::new(
+            "one",
+            Convention::Standard,
+            Default::default(),
+            vec![joint(effort)],
+            Pose::IDENTITY,
+            Pose::IDENTITY,
+            home(),
+        )
     };
     assert_eq!(make(Some(5.0)).unwrap().joints()[0].limits.effort, Some(5.0));
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
