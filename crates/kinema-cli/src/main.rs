@@ -15,6 +15,7 @@ use serde_json::{json, Value};
 pub(crate) use output::write_atomically;
 
 mod cell_cmd;
+mod dyn_cmd;
 mod ik_cmd;
 mod input;
 mod interrupt;
@@ -82,6 +83,9 @@ enum Cmd {
         #[command(subcommand)]
         cmd: traj_cmd::TrajCmd,
     },
+    /// Joint torques along a trajectory CSV by inverse dynamics (RNEA), checked against the
+    /// motor effort limits (exit code 1 if exceeded; the torques are written either way).
+    Dyn(dyn_cmd::DynArgs),
     /// Several robots on a common clock (seed 004 §VIII-E): per-robot checks and the closest
     /// distance between their tools (exit code 3 when closer than the minimum).
     Cell(cell_cmd::CellArgs),
@@ -362,6 +366,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Selfmotion(a) => ik_cmd::selfmotion(a),
         Cmd::Bench(a) => bench(a),
         Cmd::Traj { cmd } => traj_cmd::traj(cmd),
+        Cmd::Dyn(a) => dyn_cmd::run(a),
         Cmd::Cell(a) => cell_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
