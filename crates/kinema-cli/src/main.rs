@@ -492,18 +492,19 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
             }
         }
     }
-    println!("\nlimits (deg or m, per s …)");
+    println!("\nlimits (deg or m, per s …; effort in N·m or N)");
     for (i, j) in r.joints().iter().enumerate() {
         let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", shown(j.kind, v)));
         println!(
-            "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}",
+            "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}  effort {}",
             i + 1,
             j.name,
             shown(j.kind, j.limits.min),
             shown(j.kind, j.limits.max),
             opt(j.limits.vel),
             opt(j.limits.acc),
-            opt(j.limits.jerk)
+            opt(j.limits.jerk),
+            j.limits.effort.map_or("-".to_string(), |v| format!("{v}"))
         );
     }
     for (name, p) in [("base", r.base()), ("tool", r.tool())] {

@@ -68,6 +68,11 @@ fn info_shows_table_limits_and_poses() {
     assert_eq!(v["convention"], "modified");
     assert!((v["joints"][3]["max"].as_f64().unwrap() + 0.0698).abs() < 1e-12);
     assert!((v["tool"]["position"][2].as_f64().unwrap() - 0.103).abs() < 1e-12);
+    // Motor limits in N·m, from Franka's τ_max.
+    assert_eq!(v["joints"][0]["effort"], 87.0);
+    assert_eq!(v["joints"][6]["effort"], 12.0);
+    let ur5 = kinema(&["info", "--robot", "ur5"]);
+    assert!(ur5.stdout.contains("effort 150") && ur5.stdout.contains("effort 28"), "{}", ur5.stdout);
     // Text output of a general (URDF) robot prints its joint frames.
     let u = kinema(&["info", "--robot", &data("iiwa14.urdf")]);
     assert!(u.ok && u.stdout.contains("axis"), "{}{}", u.stdout, u.stderr);
