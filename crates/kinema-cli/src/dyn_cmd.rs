@@ -88,9 +88,9 @@ pub fn run(a: DynArgs) -> Result<()> {
     }
     let n = robot.dof();
     let mut rows = Vec::with_capacity(traj.len());
-    for k in 0..traj.len() {
+    for (k, (t, line)) in times.iter().zip(&samples.lines).enumerate() {
         let tau = dynamics::rnea(&robot, traj.q(k), traj.qd(k), traj.qdd(k), &gravity)
-            .with_context(|| format!("`{file}` line {} (t = {})", samples.lines[k], times[k]))?;
+            .with_context(|| format!("`{file}` line {line} (t = {t})"))?;
         rows.push(tau);
     }
     let violations = check(&robot, times, &rows);
