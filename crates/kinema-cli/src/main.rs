@@ -15,6 +15,7 @@ use serde_json::{json, Value};
 pub(crate) use output::write_atomically;
 
 mod cell_cmd;
+mod dyn_cmd;
 mod ik_cmd;
 mod input;
 mod interrupt;
@@ -82,6 +83,9 @@ enum Cmd {
         #[command(subcommand)]
         cmd: traj_cmd::TrajCmd,
     },
+    /// Joint torques along a trajectory CSV by inverse dynamics (RNEA), checked against the
+    /// motor effort limits (exit code 1 if exceeded; the torques are written either way).
+    Dyn(dyn_cmd::DynArgs),
     /// Several robots on a common clock (seed 004 §VIII-E): per-robot checks and the closest
     /// distance between their tools (exit code 3 when closer than the minimum).
     Cell(cell_cmd::CellArgs),
@@ -362,6 +366,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Selfmotion(a) => ik_cmd::selfmotion(a),
         Cmd::Bench(a) => bench(a),
         Cmd::Traj { cmd } => traj_cmd::traj(cmd),
+        Cmd::Dyn(a) => dyn_cmd::run(a),
         Cmd::Cell(a) => cell_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
@@ -487,18 +492,19 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
             }
         }
     }
-    println!("\nlimits (deg or m, per s …)");
+    println!("\nlimits (deg or m, per s …; effort in N·m or N)");
     for (i, j) in r.joints().iter().enumerate() {
         let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", shown(j.kind, v)));
         println!(
-            "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}",
+            "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}  effort {}",
             i + 1,
             j.name,
             shown(j.kind, j.limits.min),
             shown(j.kind, j.limits.max),
             opt(j.limits.vel),
             opt(j.limits.acc),
-            opt(j.limits.jerk)
+            opt(j.limits.jerk),
+            j.limits.effort.map_or("-".to_string(), |v| format!("{v}"))
         );
     }
     for (name, p) in [("base", r.base()), ("tool", r.tool())] {

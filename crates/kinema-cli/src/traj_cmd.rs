@@ -845,6 +845,25 @@ pub(crate) fn read_trajectory_with_resolution(
     robot: &Robot,
     path: &std::path::Path,
 ) -> Result<(JointTrajectory, (f64, f64))> {
+    let s = read_samples(robot, path)?;
+    Ok((s.traj, s.resolution))
+}
+
+/// A trajectory CSV as read: the trajectory and what the file itself gave.
+pub(crate) struct Samples {
+    /// t, q and q̇, q̈ (estimated from q where the file has no such columns).
+    pub traj: JointTrajectory,
+    /// How finely the file gives (values, times).
+    pub resolution: (f64, f64),
+    /// Whether the file has qd1..qdn and qdd1..qddn columns.
+    pub given: (bool, bool),
+    /// The line of the file each sample comes from.
+    pub lines: Vec<u64>,
+}
+
+/// [`read_trajectory_with_resolution`], also saying which columns the file
+/// gave and where each sample is.
+pub(crate) fn read_samples(robot: &Robot, path: &std::path::Path) -> Result<Samples> {
     let (mut rd, head) = open_csv(path)?;
     let n = robot.dof();
     let col = |name: &str| head.iter().position(|h| h == name);
@@ -866,10 +885,12 @@ pub(crate) fn read_trajectory_with_resolution(
     let mut qs: Vec<f64> = Vec::new();
     let mut qds: Vec<f64> = Vec::new();
     let mut qdds: Vec<f64> = Vec::new();
+    let mut lines = Vec::new();
     let (mut value_digits, mut time_digits) = (Decimals::default(), Decimals::default());
     for rec in rd.records() {
         let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
         let line = rec.position().map_or(0, |p| p.line());
+        lines.push(line);
         let get = |c: usize, digits: &mut Decimals| -> Result<f64> {
             let s = rec.get(c).unwrap_or("");
             digits.see(s);
@@ -891,8 +912,9 @@ pub(crate) fn read_trajectory_with_resolution(
         bail!("`{}` holds no samples", path.display());
     }
     // Velocities and accelerations the file does not give are estimated from the positions.
+    let given = (qd_cols.is_some(), qdd_cols.is_some());
     let traj = JointTrajectory::from_samples(n, t, qs, qd_cols.map(|_| qds), qdd_cols.map(|_| qdds))?;
-    Ok((traj, (value_digits.resolution(), time_digits.resolution())))
+    Ok(Samples { traj, resolution: (value_digits.resolution(), time_digits.resolution()), given, lines })
 }
 
 /// The CSV header of a sampled trajectory.

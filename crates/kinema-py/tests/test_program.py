@@ -131,7 +131,7 @@ def test_program_errors():
     with pytest.raises(kinema.ProgramError, match=r"^<program>:1:1: error: the sample period must be positive"):
         kinema.run_program("WAIT 1s\n", "scara5", dt=0.0)
     # Unreachable targets and limit violations are diagnostics too.
-    with pytest.raises(kinema.ProgramError, match=r"^<program>:1:1: error: LIN cannot be followed: unreachable target"):
+    with pytest.raises(kinema.ProgramError, match=r"^<program>:1:1: error: LIN cannot be followed: at t = [0-9.]+ s of the path: unreachable target"):
         kinema.run_program("LIN CART(3m, 0m, 0.5m, 0deg, 180deg, 0deg)\n", "lbr-iiwa-14-r820")
     with pytest.raises(kinema.UnknownRobot):
         kinema.run_program("WAIT 1s\n", "no-such-robot")

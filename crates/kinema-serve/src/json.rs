@@ -66,7 +66,7 @@ pub fn robot_info(r: &Robot) -> Value {
             json!({
                 "name": j.name, "type": kind_name(j.kind), "offset": j.offset, "geometry": geometry,
                 "min": finite_or_null(j.limits.min), "max": finite_or_null(j.limits.max),
-                "vel": j.limits.vel, "acc": j.limits.acc, "jerk": j.limits.jerk,
+                "vel": j.limits.vel, "acc": j.limits.acc, "jerk": j.limits.jerk, "effort": j.limits.effort,
             })
         })
         .collect();

@@ -109,6 +109,9 @@ struct JointSpec {
     vel: Option<f64>,
     acc: Option<f64>,
     jerk: Option<f64>,
+    /// Motor effort limit, always SI (N·m revolute, N prismatic) whatever `[units]`
+    /// says: datasheets give torques in N·m, and `[units]` scales lengths and angles.
+    effort: Option<f64>,
     inertial: Option<InertialSpec>,
 }
 
@@ -250,7 +253,8 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 LinkGeometry::General { origin: Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx), axis: axis / norm }
             }
         };
-        let values = [("offset", Some(j.offset)), ("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk)];
+        let values =
+            [("offset", Some(j.offset)), ("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk), ("effort", j.effort)];
         for (name, v) in values {
             if let Some(v) = v {
                 if !v.is_finite() {
@@ -264,10 +268,10 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 format!("limits min = {} and max = {} are not an interval (need min ≤ max)", j.min, j.max),
             ));
         }
-        for (name, v) in [("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk)] {
+        for (name, v) in [("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk), ("effort", j.effort)] {
             if let Some(v) = v {
                 if v <= 0.0 {
-                    return Err(e(name, format!("{v}: a {name} limit must be positive")));
+                    return Err(e(name, format!("{v}: a {name} limit must be positive (leave it out if unknown)")));
                 }
             }
         }
@@ -290,6 +294,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 vel: j.vel.map(|v| v * qunit),
                 acc: j.acc.map(|v| v * qunit),
                 jerk: j.jerk.map(|v| v * qunit),
+                effort: j.effort,
             },
         });
     }
@@ -415,6 +420,30 @@ home = [0, 90]
             panic!()
         };
         assert_eq!(field, "convention");
+    }
+
+    #[test]
+    fn effort_is_si_whatever_the_units() {
+        // GOOD is in mm and degrees; effort stays N·m, vel scales with the angle unit.
+        let text = GOOD.replacen("max = 170\n", "max = 170\nvel = 90\neffort = 12.5\n", 1);
+        let r = robot_from_toml(&text, "e.toml").unwrap();
+        let l = r.joints()[0].limits;
+        assert_eq!(l.effort, Some(12.5));
+        assert!((l.vel.unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert_eq!(r.joints()[1].limits.effort, None);
+    }
+
+    #[test]
+    fn bad_effort_names_the_joint_and_what_is_expected() {
+        for (value, says) in [("0", "must be positive"), ("-3", "must be positive"), ("inf", "not a finite number")] {
+            let text = GOOD.replacen("max = 170\n", &format!("max = 170\neffort = {value}\n"), 1);
+            let Error::Description { line, field, message, .. } = err_of(&text) else { panic!() };
+            assert_eq!((line, field.as_str()), (8, "joint[0].effort"), "{value}");
+            assert!(message.contains("joint 1 (`j1`)") && message.contains(says), "{value}: {message}");
+        }
+        let text = GOOD.replacen("max = 170\n", "max = 170\neffort = \"high\"\n", 1);
+        let Error::Description { field, .. } = err_of(&text) else { panic!() };
+        assert_eq!(field, "joint[0].effort");
     }
 
     #[test]

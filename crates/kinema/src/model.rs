@@ -88,12 +88,15 @@ pub struct Limits {
     pub acc: Option<f64>,
     /// Jerk limit \[rad/s³ or m/s³\], if known.
     pub jerk: Option<f64>,
+    /// Motor effort limit: the largest |τ| the joint's drive delivers \[N·m for a revolute
+    /// joint, N for a prismatic one\], if known.
+    pub effort: Option<f64>,
 }
 
 impl Limits {
     /// Position limits only.
     pub fn position(min: f64, max: f64) -> Self {
-        Limits { min, max, vel: None, acc: None, jerk: None }
+        Limits { min, max, vel: None, acc: None, jerk: None, effort: None }
     }
     /// No limits at all (a continuous joint).
     pub fn unbounded() -> Self {
@@ -391,7 +394,7 @@ impl ModelBuilder {
                     l.max
                 )));
             }
-            for (what, v) in [("velocity", l.vel), ("acceleration", l.acc), ("jerk", l.jerk)] {
+            for (what, v) in [("velocity", l.vel), ("acceleration", l.acc), ("jerk", l.jerk), ("effort", l.effort)] {
                 if let Some(v) = v {
                     if !(v > 0.0 && v.is_finite()) {
                         return Err(invalid(format!(

@@ -4,7 +4,7 @@
 //! transform before the first moving joint and into the tool transform after
 //! the last). `revolute`, `continuous` and `prismatic` joints become joints of
 //! the model with their `origin`, `axis` (any direction, also negative) and
-//! `limit`. Anything else on the path (`floating`, `planar`, `spherical`) is an
+//! `limit` (position, `velocity` and `effort`; 0 counts as unknown). Anything else on the path (`floating`, `planar`, `spherical`) is an
 //! error.
 //!
 //! Mass properties (`<inertial>`) are read per moving joint: those of its
@@ -132,6 +132,16 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
             Limits::position(l.lower, l.upper)
         };
         let vel = (j.limit.velocity > 0.0 && j.limit.velocity.is_finite()).then_some(j.limit.velocity);
+        // URDF requires `effort` on a <limit>, so files without a known value write 0: that
+        // (or no <limit> at all) means unknown; a negative or non-finite value is a mistake.
+        let effort = j.limit.effort;
+        if effort.is_nan() || effort < 0.0 || effort.is_infinite() {
+            return Err(err(format!(
+                "joint `{}`: <limit effort=\"{effort}\"> is not a motor limit (need a finite value > 0 in N·m or N, or 0 if unknown)",
+                j.name
+            )));
+        }
+        let effort = (effort > 0.0).then_some(effort);
         let origin = if base.is_none() {
             base = Some(pending);
             origin
@@ -145,7 +155,7 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
             kind,
             geometry: LinkGeometry::General { origin, axis: axis / norm },
             offset: 0.0,
-            limits: Limits { vel, ..limits },
+            limits: Limits { vel, effort, ..limits },
         });
     }
     if joints.is_empty() {

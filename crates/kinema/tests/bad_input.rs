@@ -3,7 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use kinema::nalgebra::Matrix6xX;
-use kinema::{builtin_names, Buffers, Error, Frame, Pose, Robot, RpyConvention};
+use kinema::{
+    builtin_names, Buffers, DhConvention, Error, Frame, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model,
+    Pose, Robot, RpyConvention,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -367,6 +370,52 @@ fn urdf_limit_lower_above_upper() {
     );
     let m = urdf_err(&text, None);
     assert!(m.contains("`j1`") && m.contains("axis"), "{m}");
+}
+
+#[test]
+fn urdf_effort_zero_is_unknown_and_negative_is_an_error() {
+    let limit = |effort: &str| format!(r#"<limit lower="-1" upper="1" effort="{effort}" velocity="1"/>"#);
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", &limit("87")),
+        joint_xml("j2", "revolute", "l1", "l2", &limit("0"))
+    );
+    let r = Robot::from_urdf_str(&text, "ok.urdf", None).unwrap();
+    assert_eq!((r.joints()[0].limits.effort, r.joints()[1].limits.effort), (Some(87.0), None));
+    for bad in ["-5", "NaN", "inf"] {
+        let text = format!(
+            "{GOOD_URDF_HEAD}{}{}</robot>",
+            joint_xml("j1", "revolute", "base", "l1", LIMIT),
+            joint_xml("j2", "revolute", "l1", "l2", &limit(bad))
+        );
+        let m = urdf_err(&text, None);
+        assert!(m.contains("`j2`") && m.contains("effort") && m.contains("> 0"), "{bad}: {m}");
+    }
+}
+
+#[test]
+fn model_rejects_a_bad_effort_limit() {
+    let joint = |effort| Joint {
+        name: "j1".into(),
+        kind: JointType::Revolute,
+        geometry: LinkGeometry::Dh { convention: DhConvention::Standard, d: 0.0, a: 1.0, alpha: 0.0, theta: 0.0 },
+        offset: 0.0,
+        limits: Limits { effort, ..Limits::position(-1.0, 1.0) },
+    };
+    let make = |effort| {
+        Model::builder("one", GeometryKind::Standard)
+            .joints(vec![joint(effort)])
+            .pose("home", vec![0.0])
+            .build()
+            .map(Robot::new)
+    };
+    assert_eq!(make(Some(5.0)).unwrap().joints()[0].limits.effort, Some(5.0));
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = make(Some(bad)).unwrap_err();
+        assert!(matches!(&e, Error::InvalidModel { .. }), "{e:?}");
+        let m = e.to_string();
+        assert!(m.contains("`j1`") && m.contains("effort limit") && m.contains("positive and finite"), "{m}");
+    }
 }
 
 #[test]

@@ -62,6 +62,11 @@ fn three_iiwa_descriptions_have_one_fk_and_one_jacobian() {
             assert!((a.limits.vel.unwrap() - b.limits.vel.unwrap()).abs() < 1e-12);
         }
     }
+    // KUKA's axis torques reach the model from the TOML `effort` keys and from <limit effort>.
+    let effort = |r: &Robot| r.joints().iter().map(|j| j.limits.effort).collect::<Vec<_>>();
+    let kuka = [320.0, 320.0, 176.0, 176.0, 110.0, 40.0, 40.0].map(Some);
+    assert_eq!(effort(&standard), kuka);
+    assert_eq!(effort(&urdf), kuka);
     // The fixed mount joint became the URDF model's base.
     assert_same_pose(urdf.base(), standard.base(), 1e-15, "base");
     assert_same_pose(modified.base(), standard.base(), 1e-15, "base");

@@ -253,6 +253,24 @@ class Robot:
         """(N, n) configurations -> (N, 6, n) base-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
     def jacobe_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
         """(N, n) configurations -> (N, 6, n) tool-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
+    def rne(self, q: JointVector, qd: ArrayLike, qdd: ArrayLike, gravity: Optional[ArrayLike] = None) -> F64Array:
+        """Inverse dynamics (recursive Newton-Euler, Corke's ``rne``): joint torques
+        tau = M(q) qdd + C(q, qd) qd + g(q) [N m revolute, N prismatic]. Arguments of shape (n,), or
+        all (N, n) for N configurations (result (n,) or (N, n)). ``gravity``: the acceleration of
+        gravity in the world frame [m/s^2], default [0, 0, -9.81] (Corke's ``Robot.gravity``).
+        ``rne(q, qd, 0, gravity=[0, 0, 0])`` is the Coriolis and centrifugal torque C(q, qd) qd.
+        Raises InvalidInput (shapes, NaN/inf), KinemaError (a link without mass properties)."""
+    def inertia(self, q: JointVector) -> F64Array:
+        """Joint-space inertia (mass) matrix M(q), symmetric positive definite, shape (n, n), or
+        (N, n, n) for (N, n) configurations [kg m^2, kg m or kg]."""
+    def coriolis(self, q: JointVector, qd: ArrayLike) -> F64Array:
+        """Coriolis and centrifugal matrix C(q, qd) (Corke's ``coriolis``), shape (n, n), or (N, n, n)
+        for (N, n) rows; C qd is the velocity part of rne and dM/dt - 2C is skew-symmetric."""
+    def gravload(self, q: JointVector, gravity: Optional[ArrayLike] = None) -> F64Array:
+        """Gravity torques g(q) = rne(q, 0, 0, gravity), shape (n,) or (N, n); ``gravity`` as in rne."""
+    def accel(self, q: JointVector, qd: ArrayLike, torque: ArrayLike, gravity: Optional[ArrayLike] = None) -> F64Array:
+        """Forward dynamics (Corke's ``accel``): joint accelerations M(q)^-1 (torque - C(q, qd) qd - g(q))
+        [rad/s^2 or m/s^2]; shapes and ``gravity`` as in rne."""
     def ik_batch(
         self,
         T: Optional[ArrayLike] = None,
