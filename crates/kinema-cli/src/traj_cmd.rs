@@ -573,7 +573,7 @@ fn cart_motion(
     blend: Blend,
     skipped: &[SkippedPoint],
 ) -> Result<()> {
-    let q0 = crate::input::parse_q(&robot, &c.from, c.deg)?;
+    let q0 = crate::input::parse_q(robot, &c.from, c.deg)?;
     let start = robot.fk(&q0)?.world_from_tool;
     let limits = CartesianLimits {
         vel: c.vmax,

@@ -23,7 +23,7 @@ type Answer<'a> = (u64, std::result::Result<(&'a str, Solution), String>);
 
 pub(super) fn run(a: &IkArgs, robot: &Robot, input: &Path, output: &Path) -> Result<()> {
     let rows = read_targets(a, input)?;
-    let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
+    let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(robot, t, a.deg)).transpose()?;
     let request = request(a, q0.as_deref())?;
     let targets: Vec<IkTarget> = rows.iter().filter_map(|(_, t)| t.clone().ok()).collect();
     let bar = crate::progress_bar(targets.len(), "targets", 2_000);
