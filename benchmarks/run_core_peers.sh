@@ -12,9 +12,9 @@
 #
 # Steps: a throwaway venv (benchmarks/peers_env.sh) with pinned `pin` (its C++ headers and shared
 # libraries, a cmeel prefix), example-robot-data, and the Eigen and urdfdom headers the pin wheel
-# does not ship; benchmarks/core_peers/pinocchio_bench.cpp compiled against them (g++ -O3
-# -march=native, Pinocchio's header templates inlined; the defines Pinocchio's CMake targets
-# carry); the Rust crate benchmarks/core_peers (kinema by path, k from crates.io; Criterion).
+# does not ship; benchmarks/core_peers/pinocchio_bench.cpp compiled against them (g++ -O3, the
+# defines Pinocchio's CMake targets carry, so the algorithms run from the wheel's prebuilt library);
+# the Rust crate benchmarks/core_peers (kinema by path, k from crates.io; Criterion).
 # pinocchio_bench writes seeded states and Pinocchio's results; `core-peers check` compares
 # kinema (plain and fast dynamics) and k with them and stops the run above 1e-12. Then P passes,
 # each timing every robot in C++ and in Rust (Criterion), the order of the two alternating; the
@@ -44,16 +44,20 @@ prefix="$("$py" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/
 erd="$prefix/share/example-robot-data/robots"
 
 echo "== g++ pinocchio_bench.cpp (a few minutes)"
-# The defines are those of Pinocchio's CMake targets (pinocchio_headers, pinocchio_parsers with
-# urdfdom 3). EIGEN_MAX_ALIGN_BYTES=16 keeps Eigen's object layout that of the prebuilt libraries
-# (built without AVX), which hand us the Model: with -march=native alone Eigen would align to 32
-# bytes and the two sides would disagree about the same types.
-g++ -std=c++17 -O3 -march=native -DNDEBUG -DEIGEN_MAX_ALIGN_BYTES=16 \
+# The defines of Pinocchio's CMake targets pinocchio_default and pinocchio_parsers (urdfdom 3, coal):
+# with PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION the algorithms on double come from the wheel's
+# prebuilt libpinocchio_default (its release build). No -march=native: the prebuilt libraries hand
+# us the Model, and a program built with it (even with EIGEN_MAX_ALIGN_BYTES=16, with or without
+# the instantiations) crashes in the Model's destructor — Eigen's types no longer match theirs.
+g++ -std=c++17 -O3 -DNDEBUG \
   -DBOOST_MPL_LIMIT_LIST_SIZE=30 -DBOOST_MPL_LIMIT_VECTOR_SIZE=30 -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS \
-  -DBOOST_FUSION_INVOKE_MAX_ARITY=12 -DPINOCCHIO_WITH_URDFDOM -DPINOCCHIO_URDFDOM_HEADERS_MAJOR_VERSION=3 \
-  -DPINOCCHIO_URDFDOM_HEADERS_MINOR_VERSION=0 -DPINOCCHIO_URDFDOM_HEADERS_PATCH_VERSION=0 \
-  -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" \
-  "$here/core_peers/pinocchio_bench.cpp" -o "$tmp/pinocchio_bench" \
+  -DBOOST_FUSION_INVOKE_MAX_ARITY=12 -DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION -DPINOCCHIO_WITH_COLLISION \
+  -DCOAL_BACKWARD_COMPATIBILITY_WITH_HPP_FCL -DCOAL_HAS_OCTOMAP -DCOAL_HAVE_OCTOMAP -DOCTOMAP_MAJOR_VERSION=1 \
+  -DOCTOMAP_MINOR_VERSION=10 -DOCTOMAP_PATCH_VERSION=0 -DPINOCCHIO_WITH_URDFDOM \
+  -DPINOCCHIO_URDFDOM_HEADERS_MAJOR_VERSION=3 -DPINOCCHIO_URDFDOM_HEADERS_MINOR_VERSION=0 \
+  -DPINOCCHIO_URDFDOM_HEADERS_PATCH_VERSION=0 \
+  -I"$prefix/include" -I"$prefix/include/pinocchio/deprecated" -I"$prefix/include/eigen3" \
+  -I"$prefix/include/urdfdom_headers" "$here/core_peers/pinocchio_bench.cpp" -o "$tmp/pinocchio_bench" \
   -L"$prefix/lib" -Wl,-rpath,"$prefix/lib" -lpinocchio_parsers -lpinocchio_default -lurdfdom_model \
   -lboost_filesystem -lboost_serialization -w
 pinb="$tmp/pinocchio_bench"

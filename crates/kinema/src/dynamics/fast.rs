@@ -78,13 +78,26 @@ impl DynBuffers {
     }
 }
 
-/// The mass properties of link `i` (0-based), or the error naming it.
-fn body(robot: &Robot, i: usize) -> Result<&Inertial> {
-    robot.inertials()[i].as_ref().ok_or_else(|| Error::NoInertial {
-        robot: robot.name().to_string(),
-        link: i + 1,
-        joint: robot.joints()[i].name.clone(),
-    })
+/// The mass properties of every link, or the error naming the first link
+/// without. Checked once per call so that the loops below need no error path.
+fn bodies(robot: &Robot) -> Result<&[Option<Inertial>]> {
+    let inertials = robot.inertials();
+    match inertials.iter().position(Option::is_none) {
+        None => Ok(inertials),
+        Some(i) => Err(Error::NoInertial {
+            robot: robot.name().to_string(),
+            link: i + 1,
+            joint: robot.joints()[i].name.clone(),
+        }),
+    }
+}
+
+/// R·I·Rᵀ for a symmetric I: the product's upper triangle, mirrored.
+fn rotate_symmetric(r: &Matrix3<f64>, i: &Matrix3<f64>) -> Matrix3<f64> {
+    let a = r * i;
+    let e = |row: usize, col: usize| a.row(row).dot(&r.row(col));
+    let (xx, xy, xz, yy, yz, zz) = (e(0, 0), e(0, 1), e(0, 2), e(1, 1), e(1, 2), e(2, 2));
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
 }
 
 /// Every joint's motion subspace in the world frame at the world origin,
@@ -141,6 +154,7 @@ pub fn rnea_into(
     check_gravity(gravity)?;
     let n = robot.dof();
     check_len(robot, "tau", tau.len(), n)?;
+    let bodies = bodies(robot)?;
     buf.fit(n);
     robot.link_frames_into(q, &mut buf.frames)?;
     subspaces(robot, &buf.frames, &mut buf.subspace);
@@ -149,8 +163,8 @@ pub fn rnea_into(
     // body point at the world origin; gravity as an upward base acceleration.
     let (mut w, mut v) = (Vector3::zeros(), Vector3::zeros());
     let (mut dw, mut dv) = (Vector3::zeros(), -gravity);
-    for i in 0..n {
-        let b = body(robot, i)?;
+    for (i, b) in bodies.iter().enumerate() {
+        let b = b.as_ref().unwrap_or(&Inertial::ZERO); // all present (checked above)
         let s = &buf.subspace[i];
         let (sw, sv) = (s.ang * qd[i], s.lin * qd[i]);
         w += sw;
@@ -202,9 +216,7 @@ pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut 
             message: format!("is {} × {}, robot `{}` needs {n} × {n}", m.nrows(), m.ncols(), robot.name()),
         });
     }
-    for i in 0..n {
-        body(robot, i)?;
-    }
+    let bodies = bodies(robot)?;
     buf.fit(n);
     robot.link_frames_into(q, &mut buf.frames)?;
     subspaces(robot, &buf.frames, &mut buf.subspace);
@@ -213,11 +225,11 @@ pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut 
     // moment h = m·c, rotational inertia Ī (Featherstone eq. 2.63's blocks).
     let (mut mass, mut h, mut ibar) = (0.0, Vector3::zeros(), Matrix3::zeros());
     for j in (0..n).rev() {
-        let b = body(robot, j)?;
+        let b = bodies[j].as_ref().unwrap_or(&Inertial::ZERO); // all present (checked above)
         let frame = &buf.frames[j + 1];
         let c = frame.rot * b.com + frame.pos;
         // I_c rotated into the world, moved to the origin: + m·(|c|²·1 − c·cᵀ).
-        let mut about_origin = frame.rot * b.inertia * frame.rot.transpose() - (c * c.transpose()) * b.mass;
+        let mut about_origin = rotate_symmetric(&frame.rot, &b.inertia) - (c * c.transpose()) * b.mass;
         let shift = b.mass * c.norm_squared();
         for k in 0..3 {
             about_origin[(k, k)] += shift;
