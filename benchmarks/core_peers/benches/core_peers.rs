@@ -40,7 +40,8 @@ fn core_peers(c: &mut Criterion) {
     let list = std::fs::read_to_string(&list).expect("CORE_PEERS_LIST is readable");
     let g = Vector3::new(0.0, 0.0, -9.81);
     for line in list.lines().filter(|l| !l.trim().is_empty()) {
-        let [name, urdf, tip, states]: [&str; 4] = line.split('\t').collect::<Vec<_>>().try_into().expect("4 tab-separated fields");
+        let [name, urdf, tip, states]: [&str; 4] =
+            line.split('\t').collect::<Vec<_>>().try_into().expect("4 tab-separated fields");
         let peers = load(Path::new(urdf), tip).expect("robot loads");
         let (robot, chain) = (&peers.robot, &peers.k);
         let n = robot.dof();

@@ -53,7 +53,11 @@ pub fn read_states(path: &Path, n: usize) -> Result<Vec<State>, String> {
     text.lines()
         .enumerate()
         .map(|(i, line)| {
-            let v: Vec<f64> = line.split(',').map(str::parse).collect::<Result<_, _>>().map_err(|e| format!("line {}: {e}", i + 1))?;
+            let v: Vec<f64> = line
+                .split(',')
+                .map(str::parse)
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("line {}: {e}", i + 1))?;
             if v.len() != 3 * n + 12 + 6 * n + n + n * n {
                 return Err(format!("line {}: {} values for {n} joints", i + 1, v.len()));
             }
@@ -111,7 +115,12 @@ fn link(out: &mut String, name: &str, body: Option<&Inertial>) {
 }
 
 fn fixed(out: &mut String, name: &str, parent: &str, child: &str, at: &Pose) {
-    writeln!(out, r#"  <joint name="{name}" type="fixed"><parent link="{parent}"/><child link="{child}"/>{}</joint>"#, origin(at)).unwrap();
+    writeln!(
+        out,
+        r#"  <joint name="{name}" type="fixed"><parent link="{parent}"/><child link="{child}"/>{}</joint>"#,
+        origin(at)
+    )
+    .unwrap();
 }
 
 /// `robot` as a URDF: links `link0` (the base frame) … `link{n}` carrying the mass properties
@@ -120,7 +129,11 @@ fn fixed(out: &mut String, name: &str, parent: &str, child: &str, at: &Pose) {
 /// a modified DH row and a general joint become one joint whose origin carries the fixed part.
 /// Joint offsets go into the origins (URDF has none), so q means the same in every reader.
 pub fn urdf_of(robot: &Robot) -> String {
-    let mut out = format!("<?xml version=\"1.0\"?>\n<!-- {} written by kinema-core-peers from kinema's model -->\n<robot name=\"{}\">\n", robot.name(), robot.name());
+    let mut out = format!(
+        "<?xml version=\"1.0\"?>\n<!-- {} written by kinema-core-peers from kinema's model -->\n<robot name=\"{}\">\n",
+        robot.name(),
+        robot.name()
+    );
     link(&mut out, "world", None);
     link(&mut out, "link0", None);
     fixed(&mut out, "base", "world", "link0", robot.base());
@@ -136,7 +149,9 @@ pub fn urdf_of(robot: &Robot) -> String {
                 let x = Pose::translation(a, 0.0, 0.0) * Pose::rot_x(alpha);
                 match convention {
                     DhConvention::Standard => (z, Vector3::z(), Some(x)),
-                    DhConvention::Modified => (Pose::rot_x(alpha) * Pose::translation(a, 0.0, 0.0) * z, Vector3::z(), None),
+                    DhConvention::Modified => {
+                        (Pose::rot_x(alpha) * Pose::translation(a, 0.0, 0.0) * z, Vector3::z(), None)
+                    }
                 }
             }
             LinkGeometry::General { origin, axis } => {

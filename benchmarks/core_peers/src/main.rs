@@ -36,13 +36,26 @@ fn check(urdf: &Path, tip: &str, states: &Path) -> Result<bool, String> {
     let (mut tau, mut m) = (vec![0.0; n], DMatrix::zeros(n, n));
     // Worst difference per quantity: kinema's pose, Jacobian, τ (plain, fast), M (plain, fast); k's pose, Jacobian.
     let mut worst = [0.0f64; 8];
-    let names = ["kinema pose", "kinema J", "kinema rnea", "kinema rnea_into", "kinema crba", "kinema mass_matrix_into", "k pose", "k J"];
+    let names = [
+        "kinema pose",
+        "kinema J",
+        "kinema rnea",
+        "kinema rnea_into",
+        "kinema crba",
+        "kinema mass_matrix_into",
+        "k pose",
+        "k J",
+    ];
     for s in &states {
         let pose = robot.fk(&s.q).map_err(|e| e.to_string())?.pose;
-        let mine = (0..3).flat_map(|r| (0..3).map(move |c| (r, c))).map(|(r, c)| pose.rot[(r, c)]).chain(pose.pos.iter().copied());
+        let mine = (0..3)
+            .flat_map(|r| (0..3).map(move |c| (r, c)))
+            .map(|(r, c)| pose.rot[(r, c)])
+            .chain(pose.pos.iter().copied());
         worst[0] = worst[0].max(max_diff(mine, &s.pose));
         let j = robot.jacobian(&s.q, Frame::Base).map_err(|e| e.to_string())?;
-        worst[1] = worst[1].max(max_diff((0..6).flat_map(|r| (0..n).map(move |c| (r, c))).map(|rc| j[rc]), &s.jacobian));
+        worst[1] =
+            worst[1].max(max_diff((0..6).flat_map(|r| (0..n).map(move |c| (r, c))).map(|rc| j[rc]), &s.jacobian));
 
         let reference = rnea(robot, &s.q, &s.qd, &s.qdd, &g).map_err(|e| e.to_string())?;
         worst[2] = worst[2].max(max_diff(reference, &s.tau) / scale(&s.tau));
@@ -56,14 +69,23 @@ fn check(urdf: &Path, tip: &str, states: &Path) -> Result<bool, String> {
         chain.set_joint_positions_unchecked(&s.q);
         let t = chain.end_transform();
         let r = t.rotation.to_rotation_matrix();
-        let theirs = (0..3).flat_map(|a| (0..3).map(move |b| (a, b))).map(|(a, b)| r[(a, b)]).chain(t.translation.vector.iter().copied());
+        let theirs = (0..3)
+            .flat_map(|a| (0..3).map(move |b| (a, b)))
+            .map(|(a, b)| r[(a, b)])
+            .chain(t.translation.vector.iter().copied());
         worst[6] = worst[6].max(max_diff(theirs, &s.pose));
         let jk = k::jacobian(chain);
-        worst[7] = worst[7].max(max_diff((0..6).flat_map(|r| (0..n).map(move |c| (r, c))).map(|rc| jk[rc]), &s.jacobian));
+        worst[7] =
+            worst[7].max(max_diff((0..6).flat_map(|r| (0..n).map(move |c| (r, c))).map(|rc| jk[rc]), &s.jacobian));
     }
     let ok = worst.iter().all(|w| *w <= BOUND);
     let listed: Vec<String> = names.iter().zip(worst).map(|(n, w)| format!("{n} {w:.1e}")).collect();
-    println!("  {} states, max difference from Pinocchio: {}{}", states.len(), listed.join(", "), if ok { "" } else { "  ABOVE 1e-12" });
+    println!(
+        "  {} states, max difference from Pinocchio: {}{}",
+        states.len(),
+        listed.join(", "),
+        if ok { "" } else { "  ABOVE 1e-12" }
+    );
     Ok(ok)
 }
 

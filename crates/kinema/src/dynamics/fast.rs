@@ -12,11 +12,11 @@
 //!   acceleration of that point and the moment in the link's own axes, where
 //!   the inertia tensor is constant (two rotations of a 3-vector instead of
 //!   rotating the tensor).
-//! * CRBA keeps each body as mass, first moment h = m·c and the 3 × 3
-//!   rotational inertia about the origin (13 numbers instead of 36), so that
-//!   the composite inertias stay plain sums and I·S costs two 3 × 3 products.
+//! * CRBA keeps each body as mass, first moment h = m·c and the symmetric
+//!   rotational inertia about the origin (10 numbers instead of 36), so that
+//!   the composite inertias stay plain sums and I·S is a handful of products.
 
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, Vector3};
 
 use super::{check_gravity, check_rates};
 use crate::error::{Error, Result};
@@ -92,12 +92,63 @@ fn bodies(robot: &Robot) -> Result<&[Option<Inertial>]> {
     }
 }
 
-/// R·I·Rᵀ for a symmetric I: the product's upper triangle, mirrored.
-fn rotate_symmetric(r: &Matrix3<f64>, i: &Matrix3<f64>) -> Matrix3<f64> {
-    let a = r * i;
-    let e = |row: usize, col: usize| a.row(row).dot(&r.row(col));
-    let (xx, xy, xz, yy, yz, zz) = (e(0, 0), e(0, 1), e(0, 2), e(1, 1), e(1, 2), e(2, 2));
-    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+/// A body's inertia about the world origin in world axes, in the compact
+/// form CRBA sums: mass, first moment h = m·c, and the symmetric rotational
+/// inertia Ī as its six values \[xx, yy, zz, xy, xz, yz\] (Featherstone eq.
+/// 2.63's blocks). Six numbers instead of a 3 × 3 keep the sums and products
+/// short.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Body {
+    mass: f64,
+    h: Vector3<f64>,
+    i: [f64; 6],
+}
+
+impl Body {
+    const ZERO: Body = Body { mass: 0.0, h: Vector3::new(0.0, 0.0, 0.0), i: [0.0; 6] };
+
+    /// The body `b`, given in the link frame at `frame`, seen from the world.
+    fn in_world(b: &Inertial, frame: &Pose) -> Body {
+        let r = &frame.rot;
+        let c = r * b.com + frame.pos;
+        // R·I_c·Rᵀ (symmetric: the upper triangle), then the parallel-axis
+        // shift to the origin, m·(|c|²·1 − c·cᵀ).
+        let a = r * b.inertia;
+        let e = |x: usize, y: usize| a[(x, 0)] * r[(y, 0)] + a[(x, 1)] * r[(y, 1)] + a[(x, 2)] * r[(y, 2)];
+        let mc = c * b.mass;
+        Body {
+            mass: b.mass,
+            h: mc,
+            i: [
+                e(0, 0) + mc.y * c.y + mc.z * c.z,
+                e(1, 1) + mc.x * c.x + mc.z * c.z,
+                e(2, 2) + mc.x * c.x + mc.y * c.y,
+                e(0, 1) - mc.x * c.y,
+                e(0, 2) - mc.x * c.z,
+                e(1, 2) - mc.y * c.z,
+            ],
+        }
+    }
+
+    fn add(&mut self, other: &Body) {
+        self.mass += other.mass;
+        self.h += other.h;
+        for (a, b) in self.i.iter_mut().zip(&other.i) {
+            *a += b;
+        }
+    }
+
+    /// The wrench I·s that moving with `s` needs (Featherstone eq. 2.63):
+    /// \[Ī·ω + h × v; m·v − h × ω\].
+    fn times(&self, s: &Spatial) -> Spatial {
+        let ([xx, yy, zz, xy, xz, yz], w) = (self.i, &s.ang);
+        let iw = Vector3::new(
+            xx * w.x + xy * w.y + xz * w.z,
+            xy * w.x + yy * w.y + yz * w.z,
+            xz * w.x + yz * w.y + zz * w.z,
+        );
+        Spatial { ang: iw + self.h.cross(&s.lin), lin: s.lin * self.mass - self.h.cross(w) }
+    }
 }
 
 /// Every joint's motion subspace in the world frame at the world origin,
@@ -221,25 +272,13 @@ pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut 
     robot.link_frames_into(q, &mut buf.frames)?;
     subspaces(robot, &buf.frames, &mut buf.subspace);
 
-    // The composite body of links j..n about the world origin: mass, first
-    // moment h = m·c, rotational inertia Ī (Featherstone eq. 2.63's blocks).
-    let (mut mass, mut h, mut ibar) = (0.0, Vector3::zeros(), Matrix3::zeros());
+    // The composite body of links j..n: in one frame a plain sum.
+    let mut composite = Body::ZERO;
     for j in (0..n).rev() {
         let b = bodies[j].as_ref().unwrap_or(&Inertial::ZERO); // all present (checked above)
-        let frame = &buf.frames[j + 1];
-        let c = frame.rot * b.com + frame.pos;
-        // I_c rotated into the world, moved to the origin: + m·(|c|²·1 − c·cᵀ).
-        let mut about_origin = rotate_symmetric(&frame.rot, &b.inertia) - (c * c.transpose()) * b.mass;
-        let shift = b.mass * c.norm_squared();
-        for k in 0..3 {
-            about_origin[(k, k)] += shift;
-        }
-        mass += b.mass;
-        h += c * b.mass;
-        ibar += about_origin;
+        composite.add(&Body::in_world(b, &buf.frames[j + 1]));
         // The wrench that q̈_j = 1 alone needs from the locked links j..n: I^c·S_j.
-        let s = &buf.subspace[j];
-        let f = Spatial { ang: ibar * s.ang + h.cross(&s.lin), lin: s.lin * mass - h.cross(&s.ang) };
+        let f = composite.times(&buf.subspace[j]);
         for i in 0..=j {
             let mij = buf.subspace[i].dot(&f);
             m[(i, j)] = mij;
