@@ -1,18 +1,20 @@
 //! Dynamics per call on the PUMA 560 (its `[joint.inertial]` tables): RNEA,
-//! the mass matrix (CRBA) and forward dynamics, at 256 seeded random states.
+//! the mass matrix (CRBA) and forward dynamics, at 256 seeded random states;
+//! the allocating reference functions and the buffered `rnea_into` and
+//! `mass_matrix_into`.
 //!
 //! ```text
 //! cargo bench -p kinema --bench dynamics
 //! ```
 //!
 //! The reference path allocates per call (link frames, the motion subspaces);
-//! benchmarks/README.md puts the figures beside Pinocchio's.
+//! benchmarks/run_core_peers.sh times the same calls beside Pinocchio's C++.
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use kinema::dynamics::{forward_dynamics, mass_matrix, rnea};
-use kinema::nalgebra::Vector3;
+use kinema::dynamics::{forward_dynamics, mass_matrix, mass_matrix_into, rnea, rnea_into, DynBuffers};
+use kinema::nalgebra::{DMatrix, Vector3};
 use kinema::Robot;
 use rand::{Rng, SeedableRng};
 
@@ -41,7 +43,23 @@ fn dynamics(c: &mut Criterion) {
             black_box(rnea(&robot, q, qd, qdd, &g).unwrap())
         })
     });
+    let mut buf = DynBuffers::new(&robot);
+    let mut tau = [0.0; 6];
+    c.bench_function("puma560 rnea_into", |b| {
+        b.iter(|| {
+            let [q, qd, qdd] = next();
+            rnea_into(&robot, &mut buf, q, qd, qdd, &g, &mut tau).unwrap();
+            black_box(&tau);
+        })
+    });
     c.bench_function("puma560 mass_matrix (crba)", |b| b.iter(|| black_box(mass_matrix(&robot, &next()[0]).unwrap())));
+    let mut m = DMatrix::zeros(6, 6);
+    c.bench_function("puma560 mass_matrix_into (crba)", |b| {
+        b.iter(|| {
+            mass_matrix_into(&robot, &mut buf, &next()[0], &mut m).unwrap();
+            black_box(&m);
+        })
+    });
     c.bench_function("puma560 forward_dynamics (aba)", |b| {
         b.iter(|| {
             let [q, qd, tau] = next();

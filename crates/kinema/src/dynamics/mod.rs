@@ -30,6 +30,9 @@ use crate::math::Pose;
 use crate::model::{DhConvention, Inertial, JointType, LinkGeometry};
 use crate::robot::Robot;
 
+mod fast;
+pub use fast::{mass_matrix_into, rnea_into, DynBuffers};
+
 /// The skew-symmetric matrix of `v`: `skew(v)·w = v × w`.
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
