@@ -18,10 +18,10 @@
 
 use nalgebra::{DMatrix, Vector3};
 
-use super::{check_gravity, check_rates};
+use super::{check_gravity, check_rates, joint_axis};
 use crate::error::{Error, Result};
 use crate::math::Pose;
-use crate::model::{DhConvention, Inertial, JointType, LinkGeometry};
+use crate::model::{Inertial, JointType};
 use crate::robot::Robot;
 
 /// A spatial motion or force vector as its angular and linear parts (see the
@@ -154,20 +154,10 @@ impl Body {
 
 /// Every joint's motion subspace in the world frame at the world origin,
 /// from the link frames (`frames[i + 1]` is link i's), as in the reference's
-/// `kinematics`: a standard DH joint turns about z of the frame before it,
-/// a modified DH joint about z of its own frame, a general joint about its
-/// `axis` in its own frame.
+/// `kinematics`.
 fn subspaces(robot: &Robot, frames: &[Pose], out: &mut [Spatial]) {
     for (i, (j, s)) in robot.joints().iter().zip(out.iter_mut()).enumerate() {
-        let (dir, point) = match j.geometry {
-            LinkGeometry::Dh { convention: DhConvention::Standard, .. } => {
-                (frames[i].rot.column(2).into_owned(), frames[i].pos)
-            }
-            LinkGeometry::Dh { convention: DhConvention::Modified, .. } => {
-                (frames[i + 1].rot.column(2).into_owned(), frames[i + 1].pos)
-            }
-            LinkGeometry::General { axis, .. } => (frames[i + 1].rot * axis, frames[i + 1].pos),
-        };
+        let (dir, point) = joint_axis(j, i, frames);
         *s = match j.kind {
             JointType::Revolute => Spatial { ang: dir, lin: point.cross(&dir) },
             JointType::Prismatic => Spatial { ang: Vector3::zeros(), lin: dir },
