@@ -198,7 +198,7 @@ pub fn link_frames<T: RealField + Copy>(robot: &Robot, q: &[T]) -> Result<Vec<Is
 }
 
 /// Forward kinematics: the tool pose in the world frame, base and tool
-/// transforms included (what [`Robot::fk`] returns as [`crate::Fk::pose`]).
+/// transforms included (what [`Robot::fk`] returns as [`crate::Fk::world_from_tool`]).
 /// `q` holds one value per joint \[rad or m\].
 ///
 /// Errors if `q` does not have one value per joint.
@@ -295,4 +295,77 @@ pub fn jacobian<T: RealField + Copy>(robot: &Robot, q: &[T], frame: Frame) -> Re
         }
     }
     Ok(j)
+}
+
+/// The time derivative J̇(q, q̇) of [`jacobian`]: how the Jacobian's columns
+/// change while the joints move at rates `qd` \[rad/s or m/s\], 6 × dof in
+/// `frame`, rows \[v; ω\] as [`jacobian`]. With it a tool acceleration is
+/// J·q̈ + J̇·q̇ (operational-space control, acceleration-level IK).
+///
+/// Why it is one more walk: a joint's axis moves only with the joints before
+/// it, so its direction z turns with their angular velocity ω₍<i₎ (ż = ω₍<i₎ × z)
+/// and its point o moves with their velocity at o; the tool point moves with
+/// every joint (ṗ = J_v·q̇). A revolute column z × (p − o) then changes at
+/// ż × (p − o) + z × (ṗ − ȯ), its angular part at ż; a prismatic column's
+/// linear part at ż. In the tool's axes, d/dt(Rᵀ·x) = Rᵀ·(ẋ − ω × x), with ω
+/// the tool's angular velocity.
+///
+/// Errors if `q` or `qd` does not have one value per joint.
+///
+/// # Examples
+/// ```
+/// use kinema::{reference, Frame, Robot};
+/// let robot = Robot::builtin("ur5")?;
+/// let (q, qd) = ([0.1, -0.7, 1.2, 0.3, -0.4, 2.0], [0.5, 0.2, -0.3, 0.1, 0.4, -0.2]);
+/// let jd = reference::jacobian_dot(&robot, &q, &qd, Frame::Base)?;
+/// // Close to the Jacobian's change over a short move along q̇.
+/// let h = 1e-6;
+/// let at = |s: f64| -> Vec<f64> { q.iter().zip(&qd).map(|(a, b)| a + s * b).collect() };
+/// let (ahead, behind) = (reference::jacobian(&robot, &at(h), Frame::Base)?, reference::jacobian(&robot, &at(-h), Frame::Base)?);
+/// assert!((jd - (ahead - behind) / (2.0 * h)).abs().max() < 1e-6);
+/// # Ok::<(), kinema::Error>(())
+/// ```
+pub fn jacobian_dot<T: RealField + Copy>(robot: &Robot, q: &[T], qd: &[T], frame: Frame) -> Result<Matrix6xX<T>> {
+    if qd.len() != robot.dof() {
+        return Err(Error::JointCount { robot: robot.name().to_string(), expected: robot.dof(), got: qd.len() });
+    }
+    let frames = link_frames(robot, q)?;
+    let n = robot.dof();
+    let j = jacobian(robot, q, Frame::Base)?;
+    let p = frames[n + 1].translation.vector;
+    let column = |i: usize| (j.fixed_view::<3, 1>(0, i).into_owned(), j.fixed_view::<3, 1>(3, i).into_owned());
+    // The tool point's velocity, from every joint.
+    let p_dot = (0..n).fold(Vector3::zeros(), |acc, k| acc + column(k).0 * qd[k]);
+    let mut jd = Matrix6xX::zeros(n);
+    // The angular velocity of the links before joint i, and the velocity
+    // they give the point of joint i's axis, accumulated joint by joint.
+    let mut omega = Vector3::zeros();
+    let mut moved_by: Vec<(Vector3<T>, Vector3<T>, JointType)> = Vec::with_capacity(n);
+    for (i, joint) in robot.joints().iter().enumerate() {
+        let (o, z) = joint_axis(joint, &frames[i], &frames[i + 1]);
+        let o_dot = moved_by.iter().zip(qd).fold(Vector3::zeros(), |acc, ((ok, zk, kind), &r)| match kind {
+            JointType::Revolute => acc + zk.cross(&(o - ok)) * r,
+            JointType::Prismatic => acc + zk * r,
+        });
+        let z_dot = omega.cross(&z);
+        let (v_dot, w_dot) = match joint.kind {
+            JointType::Revolute => (z_dot.cross(&(p - o)) + z.cross(&(p_dot - o_dot)), z_dot),
+            JointType::Prismatic => (z_dot, Vector3::zeros()),
+        };
+        jd.fixed_view_mut::<3, 1>(0, i).copy_from(&v_dot);
+        jd.fixed_view_mut::<3, 1>(3, i).copy_from(&w_dot);
+        omega += column(i).1 * qd[i];
+        moved_by.push((o, z, joint.kind));
+    }
+    if frame == Frame::Tool {
+        let tool_from_world = frames[n + 1].rotation.matrix().transpose();
+        for i in 0..n {
+            let (v, w) = column(i);
+            let v_dot = tool_from_world * (jd.fixed_view::<3, 1>(0, i) - omega.cross(&v));
+            let w_dot = tool_from_world * (jd.fixed_view::<3, 1>(3, i) - omega.cross(&w));
+            jd.fixed_view_mut::<3, 1>(0, i).copy_from(&v_dot);
+            jd.fixed_view_mut::<3, 1>(3, i).copy_from(&w_dot);
+        }
+    }
+    Ok(jd)
 }

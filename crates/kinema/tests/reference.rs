@@ -304,6 +304,55 @@ fn reference_jacobian_equals_reference_fk_differentiated_with_dual_numbers() {
     worst.report("reference Jacobian − dual-number derivatives of reference FK");
 }
 
+/// Joint rates for `robot`, each in [−2, 2] rad/s or m/s.
+fn random_rates(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
+    (0..n).map(|_| rng.random_range(-2.0..=2.0)).collect()
+}
+
+#[test]
+fn jacobian_dot_equals_the_jacobian_differentiated_with_dual_numbers() {
+    // q + ε·q̇ through the reference Jacobian: its ε part is exactly dJ/dt.
+    let mut rng = ChaCha8Rng::seed_from_u64(0x2ef6);
+    let mut worst = Worst::default();
+    for (robot, q) in sample_arms(&mut rng) {
+        let qd = random_rates(&mut rng, robot.dof());
+        let dual: Vec<Dual64> = q.iter().zip(&qd).map(|(&a, &b)| Dual64::new(a, b)).collect();
+        let tol = tolerance(&robot, &q) * 4.0;
+        for frame in [Frame::Base, Frame::Tool] {
+            let jd = reference::jacobian_dot(&robot, &q, &qd, frame).unwrap();
+            let want = reference::jacobian(&robot, &dual, frame).unwrap().map(|x| x.eps);
+            let what = || format!("{frame:?} at q = {q:?}, q̇ = {qd:?} of {robot:?}");
+            worst.see((jd - want).abs().max(), tol, &what);
+        }
+        worst.cases += 1;
+    }
+    worst.report("reference J̇ − dual-number derivative of the reference Jacobian");
+}
+
+#[test]
+fn jacobian_dot_equals_central_differences_of_the_jacobian() {
+    const H: f64 = 1e-6;
+    let mut rng = ChaCha8Rng::seed_from_u64(0x2ef7);
+    let mut worst = Worst::default();
+    for (robot, q) in sample_arms(&mut rng) {
+        let qd = random_rates(&mut rng, robot.dof());
+        let at = |s: f64| -> Vec<f64> { q.iter().zip(&qd).map(|(a, b)| a + s * b).collect() };
+        let tol = 1e-7 * reach(&robot, &q).max(1.0).powi(2);
+        for frame in [Frame::Base, Frame::Tool] {
+            let jd = reference::jacobian_dot(&robot, &q, &qd, frame).unwrap();
+            let ahead = reference::jacobian(&robot, &at(H), frame).unwrap();
+            let behind = reference::jacobian(&robot, &at(-H), frame).unwrap();
+            let what = || format!("{frame:?} at q = {q:?}, q̇ = {qd:?} of {robot:?}");
+            worst.see((jd - (ahead - behind) / (2.0 * H)).abs().max(), tol, &what);
+        }
+        worst.cases += 1;
+    }
+    worst.report("reference J̇ − central differences of the reference Jacobian");
+    let robot = Robot::builtin("panda").unwrap();
+    let e = reference::jacobian_dot(&robot, robot.home(), &[0.0; 6], Frame::Base).unwrap_err();
+    assert!(matches!(e, kinema::Error::JointCount { expected: 7, got: 6, .. }), "{e:?}");
+}
+
 #[test]
 fn a_wrong_joint_count_is_an_error() {
     let robot = Robot::builtin("panda").unwrap();
