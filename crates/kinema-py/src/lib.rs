@@ -61,6 +61,8 @@ fn to_py(e: Error) -> PyErr {
         | Error::UnknownPose { .. }
         | Error::InvalidArgument { .. }
         | Error::SolverDoesNotFit { .. }
+        | Error::WrongLength { .. }
+        | Error::NotFinite { .. }
         | Error::RpySingularity { .. } => InvalidInput::new_err(message),
         Error::Description { .. } | Error::Urdf { .. } | Error::InvalidModel { .. } => {
             DescriptionError::new_err(message)

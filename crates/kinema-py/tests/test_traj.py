@@ -47,7 +47,7 @@ def test_ptp_errors(robots):
         r.ptp(r.home, qf, 0.01, profile="bogus")
     with pytest.raises(kinema.InvalidInput, match=r"has 7 joints, but 3 joint values"):
         r.ptp(r.home, [0, 0, 0], 0.01)
-    with pytest.raises(kinema.InvalidInput, match=r"2 values given; expected 1 \(every joint\) or 7"):
+    with pytest.raises(kinema.InvalidInput, match=r"has 2 values; 7 expected \(one per joint of `lbr-iiwa-14-r820`, or 1 for every joint\)"):
         r.ptp(r.home, qf, 0.01, vmax=[1.0, 2.0])
     with pytest.raises(kinema.InvalidInput):
         r.ptp(r.home, qf, 0.01, speed=0.0)
@@ -116,9 +116,9 @@ def test_ptp_with_zero_boundaries_is_todays_straight_line(robots):
 
 def test_ptp_boundary_errors_name_the_argument(robots):
     r = robots["lbr-iiwa-14-r820"]
-    with pytest.raises(kinema.InvalidInput, match="v1.*2 values given; expected 7"):
+    with pytest.raises(kinema.InvalidInput, match="`v1` has 2 values; 7 expected"):
         r.ptp("home", QF, 0.01, profile="scurve", v1=[0.1, 0.2])
-    with pytest.raises(kinema.InvalidInput, match="a0.*joint 2: nan is not a finite number|a0.*joint 2: NaN"):
+    with pytest.raises(kinema.InvalidInput, match=r"`a0\[2\]` is NaN; it must be a finite number"):
         r.ptp("home", QF, 0.01, profile="scurve", a0=[0.0, np.nan, 0, 0, 0, 0, 0])
     with pytest.raises(kinema.InvalidInput, match="only moves rest to rest"):
         r.ptp("home", QF, 0.01, profile="quintic", v0=W)

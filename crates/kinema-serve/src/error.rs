@@ -63,6 +63,10 @@ pub enum Error {
         /// What is wrong, in the library's words.
         message: String,
     },
+    /// The core library refused the request (a bad joint vector, an
+    /// unreachable target, a limit violation, …), with its typed error.
+    #[error(transparent)]
+    Core(#[from] kinema::Error),
     /// A robot program with errors (rendered diagnostics without colour).
     #[error("the program does not compile: {first}")]
     Program {
@@ -119,16 +123,10 @@ impl Error {
             Error::MethodNotAllowed { .. } => 405,
             Error::TooLarge { .. } => 413,
             Error::BodyTimeout { .. } => 408,
-            Error::Unprocessable { .. } | Error::Program { .. } | Error::RunBudget { .. } => 422,
+            Error::Unprocessable { .. } | Error::Core(_) | Error::Program { .. } | Error::RunBudget { .. } => 422,
             Error::Busy { .. } | Error::ShuttingDown => 503,
             Error::Bind { .. } | Error::Internal { .. } => 500,
         }
-    }
-}
-
-impl From<kinema::Error> for Error {
-    fn from(e: kinema::Error) -> Self {
-        Error::Unprocessable { message: e.to_string() }
     }
 }
 

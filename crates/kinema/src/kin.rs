@@ -109,9 +109,8 @@ impl Robot {
         }
         let len = out.len();
         let Ok(out) = <&mut [MaybeUninit<f64>; 16]>::try_from(out) else {
-            return Err(Error::InvalidArgument {
-                what: "out".into(),
-                message: format!("has {len} values, a 4 × 4 matrix needs 16"),
+            return Err(Error::WrongLength {
+                what: "out".into(), got: len, expected: 16, of: "a 4 × 4 matrix".into()
             });
         };
         let scanned = self.chain.fk_rows(q, out);
@@ -163,9 +162,11 @@ impl Robot {
         let out_of_limits = self.scan_q(q)?;
         let n = self.dof();
         if out.len() != n + 2 {
-            return Err(Error::InvalidArgument {
+            return Err(Error::WrongLength {
                 what: "out".into(),
-                message: format!("needs {} frames (base, {n} links, tool), has {}", n + 2, out.len()),
+                got: out.len(),
+                expected: n + 2,
+                of: format!("frames: the base, {n} links and the tool"),
             });
         }
         out[0] = *self.base();
@@ -187,9 +188,11 @@ impl Robot {
     pub fn jacobian_into(&self, q: &[f64], frame: Frame, out: &mut Matrix6xX<f64>) -> Result<Fk> {
         let n = self.dof();
         if q.len() == n && out.ncols() != n {
-            return Err(Error::InvalidArgument {
+            return Err(Error::WrongLength {
                 what: "out".into(),
-                message: format!("Jacobian buffer has {} columns, robot `{}` has {n} joints", out.ncols(), self.name()),
+                got: out.ncols(),
+                expected: n,
+                of: format!("Jacobian columns, one per joint of `{}`", self.name()),
             });
         }
         // Column-major 6 × n storage: column i is data[6i..6i+6].
@@ -227,14 +230,11 @@ impl Robot {
     pub fn jacobian_rows_into_uninit(&self, q: &[f64], frame: Frame, out: &mut [MaybeUninit<f64>]) -> Result<JointSet> {
         let n = self.dof();
         if q.len() == n && out.len() != 6 * n {
-            return Err(Error::InvalidArgument {
+            return Err(Error::WrongLength {
                 what: "out".into(),
-                message: format!(
-                    "has {} values, a 6 × {n} Jacobian of robot `{}` needs {}",
-                    out.len(),
-                    self.name(),
-                    6 * n
-                ),
+                got: out.len(),
+                expected: 6 * n,
+                of: format!("a 6 × {n} Jacobian of `{}`", self.name()),
             });
         }
         self.jacobian_in(q, frame, Layout::RowMajor, out, None)

@@ -273,9 +273,12 @@ fn unreachable_and_malformed_targets() {
     }
     assert!(matches!(
         ik.solve_q3(&robot.fk(&[0.0; 7]).unwrap().world_from_tool, f64::NAN),
-        Err(Error::InvalidArgument { .. })
+        Err(Error::NotFinite { .. })
     ));
-    assert!(matches!(ik.solve_searching(&far, f64::INFINITY), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(
+        ik.solve_searching(&far, f64::INFINITY),
+        Err(Error::InvalidArgument { .. } | Error::NotFinite { .. })
+    ));
     let mut bad = far;
     bad.pos.x = f64::NAN;
     assert!(matches!(ik.solve_q3(&bad, 0.0), Err(Error::InvalidArgument { .. })));
@@ -293,7 +296,7 @@ fn unreachable_and_malformed_targets() {
         ik.solve_psi(&far, 0.3),
         Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })
     ));
-    assert!(matches!(ik.solve_psi(&straight, f64::NAN), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve_psi(&straight, f64::NAN), Err(Error::NotFinite { .. })));
     assert!(matches!(ik.solve_psi(&bad, 0.0), Err(Error::InvalidArgument { .. })));
     assert!(matches!(ik.solve_psi(&huge, 0.0), Err(Error::Unreachable { .. })));
     assert!(ik.psi_of(&[0.1, f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]).is_nan() && ik.psi_of(&[0.1; 6]).is_nan());

@@ -465,22 +465,33 @@ mod ptp {
     fn bad_boundaries_give_errors_that_name_the_field() {
         let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
         let msg = |b: JointBoundary, o: PtpOptions| match BoundaryPtp::new(&robot, robot.home(), &TO, &o, &b) {
-            Err(Error::InvalidArgument { what, message }) => format!("{what}: {message}"),
+            Err(e) => e.to_string(),
             other => panic!("{other:?}"),
         };
         let m = msg(JointBoundary { v0: Some(vec![0.1, 0.2]), ..Default::default() }, opts(Profile::SCurve));
-        assert_eq!(m, "v0: 2 values given; expected 7, one per joint");
+        assert_eq!(m, "`v0` has 2 values; 7 expected (one per joint)");
         let mut nan = vec![0.0; 7];
         nan[3] = f64::NAN;
         let m = msg(JointBoundary { a1: Some(nan), ..Default::default() }, opts(Profile::SCurve));
-        assert_eq!(m, "a1: joint 4: NaN is not a finite number");
+        assert_eq!(m, "`a1[4]` is NaN; it must be a finite number");
         let v = Some(vec![0.1; 7]);
         let m = msg(JointBoundary { v1: v.clone(), ..Default::default() }, opts(Profile::Cubic));
-        assert!(m.starts_with("profile: the cubic profile only moves rest to rest"), "{m}");
+        assert!(m.starts_with("invalid `profile`: the cubic profile only moves rest to rest"), "{m}");
         let m = msg(JointBoundary { a0: v.clone(), ..Default::default() }, opts(Profile::Trapezoid));
-        assert!(m.starts_with("a0: joint 1: a boundary acceleration needs the jerk-limited scurve"), "{m}");
-        let m = msg(JointBoundary { v0: Some(vec![5.0; 7]), ..Default::default() }, opts(Profile::SCurve));
-        assert!(m.starts_with("vmax: joint 1 (`") && m.contains("start velocity 5 is beyond vmax"), "{m}");
+        assert!(m.starts_with("invalid `a0`: joint 1: a boundary acceleration needs the jerk-limited scurve"), "{m}");
+        // A state no law can leave is named by its joint, the cause kept typed underneath.
+        let e = BoundaryPtp::new(
+            &robot,
+            robot.home(),
+            &TO,
+            &opts(Profile::SCurve),
+            &JointBoundary { v0: Some(vec![5.0; 7]), ..Default::default() },
+        )
+        .unwrap_err();
+        assert!(matches!(&e, Error::ForJoint { joint: 1, .. }), "{e:?}");
+        assert!(matches!(e.root(), Error::InvalidArgument { what, .. } if what == "vmax"), "{e:?}");
+        let m = e.to_string();
+        assert!(m.starts_with("joint 1 (`") && m.contains("start velocity 5 is beyond vmax"), "{m}");
     }
 
     #[test]

@@ -157,7 +157,7 @@ fn bad_input_gives_errors_that_name_the_problem() {
         &SEED_Q_OBJ,
         &PtpOptions { acc: Some(vec![1.0, 2.0]), ..opts(Profile::Cubic) },
     ));
-    assert!(m.contains("expected 1") && m.contains("or 7"), "{m}");
+    assert!(m.contains("7 expected") && m.contains("or 1 for every joint"), "{m}");
     let m =
         msg(Ptp::new(&robot, robot.home(), &SEED_Q_OBJ, &PtpOptions { acc: Some(vec![-1.0]), ..opts(Profile::Cubic) }));
     assert!(m.contains("amax"), "{m}");

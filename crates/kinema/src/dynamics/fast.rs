@@ -283,8 +283,10 @@ fn check_len(robot: &Robot, what: &str, len: usize, n: usize) -> Result<()> {
     if len == n {
         return Ok(());
     }
-    Err(Error::InvalidArgument {
+    Err(Error::WrongLength {
         what: what.into(),
-        message: format!("has {len} values, robot `{}` has {n} joints", robot.name()),
+        got: len,
+        expected: n,
+        of: format!("one per joint of `{}`", robot.name()),
     })
 }

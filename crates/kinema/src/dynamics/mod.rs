@@ -138,15 +138,18 @@ fn bodies(robot: &Robot) -> Result<Vec<&Inertial>> {
 /// Checks a vector of joint rates (`what` = "qd", "qdd", "tau"): length and finiteness.
 fn check_rates(robot: &Robot, what: &str, v: &[f64]) -> Result<()> {
     if v.len() != robot.dof() {
-        return Err(Error::InvalidArgument {
+        return Err(Error::WrongLength {
             what: what.into(),
-            message: format!("has {} values, robot `{}` has {} joints", v.len(), robot.name(), robot.dof()),
+            got: v.len(),
+            expected: robot.dof(),
+            of: format!("one per joint of `{}`", robot.name()),
         });
     }
     if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(Error::InvalidArgument {
-            what: what.into(),
-            message: format!("value {} (joint `{}`) is {}; must be finite", i + 1, robot.joints()[i].name, v[i]),
+        return Err(Error::ForJoint {
+            joint: i + 1,
+            name: robot.joints()[i].name.clone(),
+            source: Box::new(Error::NotFinite { what: what.into(), value: v[i] }),
         });
     }
     Ok(())

@@ -167,6 +167,37 @@ pub enum Error {
         /// Name of the joint that moves it.
         joint: String,
     },
+    /// A list or buffer with the wrong number of values.
+    #[error("`{what}` has {got} values; {expected} expected ({of})")]
+    WrongLength {
+        /// Which argument.
+        what: String,
+        /// How many values it has.
+        got: usize,
+        /// How many it needs.
+        expected: usize,
+        /// What they are (e.g. "one per joint of `ur5`", "a 4 × 4 matrix").
+        of: String,
+    },
+    /// A value that must be a finite number and is not (of an argument other
+    /// than a joint vector, which is [`Error::NonFinite`]).
+    #[error("`{what}` is {value}; it must be a finite number")]
+    NotFinite {
+        /// Which value (e.g. `qd[3]`, `q3`).
+        what: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// Something wrong with one joint's part of a request.
+    #[error("joint {joint} (`{name}`): {source}")]
+    ForJoint {
+        /// 1-based joint index.
+        joint: usize,
+        /// Joint name.
+        name: String,
+        /// What is wrong there.
+        source: Box<Error>,
+    },
     /// An argument outside its domain.
     #[error("invalid `{what}`: {message}")]
     InvalidArgument {
@@ -208,10 +239,12 @@ impl std::error::Error for IoError {
 
 impl Error {
     /// The error itself, under the context that locates it ([`Error::InBatch`],
-    /// [`Error::OnPath`]): what kind of thing went wrong.
+    /// [`Error::OnPath`], [`Error::ForJoint`]): what kind of thing went wrong.
     pub fn root(&self) -> &Error {
         match self {
-            Error::InBatch { source, .. } | Error::OnPath { source, .. } => source.root(),
+            Error::InBatch { source, .. } | Error::OnPath { source, .. } | Error::ForJoint { source, .. } => {
+                source.root()
+            }
             other => other,
         }
     }

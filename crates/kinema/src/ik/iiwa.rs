@@ -669,7 +669,7 @@ impl IiwaIk {
     /// ```
     pub fn solve_q3(&self, target: &Pose, q3: f64) -> Result<Vec<Solution>> {
         if !q3.is_finite() {
-            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
         }
         let t = self.arm_target(target)?;
         self.solve_q3_raw(&t, q3, 0.0)?.evaluate(&self.robot, target)
@@ -692,7 +692,7 @@ impl IiwaIk {
     /// ```
     pub fn solve_q3_candidates(&self, target: &Pose, q3: f64) -> Result<Candidates<7, 8>> {
         if !q3.is_finite() {
-            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
         }
         let t = self.arm_target(target)?;
         self.solve_q3_raw(&t, q3, 0.0)
@@ -718,7 +718,7 @@ impl IiwaIk {
     /// ```
     pub fn solve_q3_near(&self, target: &Pose, q3: f64, near: &[f64]) -> Result<Candidates<7, 8>> {
         if !q3.is_finite() {
-            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
         }
         self.robot.check_q(near)?;
         let t = self.arm_target(target)?;
@@ -933,7 +933,7 @@ impl IiwaIk {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect())
             }
-            Err(e @ Error::InvalidArgument { .. }) => return Err(e),
+            Err(e @ (Error::InvalidArgument { .. } | Error::NotFinite { .. })) => return Err(e),
             _ => {}
         }
         let t = self.arm_target(target)?;

@@ -107,13 +107,11 @@ pub(crate) fn joint_limits(
     match given {
         Some(v) if v.len() == 1 => Ok(vec![Some(v[0]); n]),
         Some(v) if v.len() == n => Ok(v.iter().map(|&x| Some(x)).collect()),
-        Some(v) => Err(Error::InvalidArgument {
+        Some(v) => Err(Error::WrongLength {
             what: what.into(),
-            message: format!(
-                "{} values given; expected 1 (every joint) or {n} (one per joint of `{}`)",
-                v.len(),
-                robot.name()
-            ),
+            got: v.len(),
+            expected: n,
+            of: format!("one per joint of `{}`, or 1 for every joint", robot.name()),
         }),
         None => Ok((0..n).map(from_robot).collect()),
     }
@@ -294,16 +292,15 @@ impl JointBoundary {
         let one = |what: &str, v: &Option<Vec<f64>>| -> Result<Vec<f64>> {
             let Some(v) = v else { return Ok(vec![0.0; dof]) };
             if v.len() != dof {
-                return Err(Error::InvalidArgument {
+                return Err(Error::WrongLength {
                     what: what.into(),
-                    message: format!("{} values given; expected {dof}, one per joint", v.len()),
+                    got: v.len(),
+                    expected: dof,
+                    of: "one per joint".into(),
                 });
             }
             if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                return Err(Error::InvalidArgument {
-                    what: what.into(),
-                    message: format!("joint {}: {} is not a finite number", i + 1, v[i]),
-                });
+                return Err(Error::NotFinite { what: format!("{what}[{}]", i + 1), value: v[i] });
             }
             Ok(v.clone())
         };
@@ -428,8 +425,8 @@ impl BoundaryPtp {
             };
             // Name the joint in a refused state.
             BoundaryLaw::fastest(start, end, &lim).map_err(|e| match e {
-                Error::InvalidArgument { what, message } => {
-                    Error::InvalidArgument { what, message: format!("joint {} (`{}`): {message}", i + 1, js[i].name) }
+                Error::InvalidArgument { .. } => {
+                    Error::ForJoint { joint: i + 1, name: js[i].name.clone(), source: Box::new(e) }
                 }
                 e => e,
             })?;

@@ -194,7 +194,7 @@ impl SrsIk {
     /// ```
     pub fn solve_q3_candidates(&self, target: &Pose, q3: f64) -> Result<Candidates<7, 8>> {
         if !q3.is_finite() {
-            return Err(Error::InvalidArgument { what: "q3".into(), message: format!("{q3} is not a finite angle") });
+            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
         }
         check_target(target)?;
         let mut out = Candidates::default();
@@ -320,7 +320,7 @@ impl SrsIk {
     /// branch labels without the FK check, without allocating. Same errors.
     pub fn solve_psi_candidates(&self, target: &Pose, psi: f64) -> Result<Candidates<7, 8>> {
         if !psi.is_finite() {
-            return Err(Error::InvalidArgument { what: "psi".into(), message: format!("{psi} is not a finite angle") });
+            return Err(Error::NotFinite { what: "psi".into(), value: psi });
         }
         check_target(target)?;
         let mut out = Candidates::default();
@@ -491,7 +491,7 @@ impl SrsIk {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect());
             }
-            Err(e @ Error::InvalidArgument { .. }) => return Err(e),
+            Err(e @ (Error::InvalidArgument { .. } | Error::NotFinite { .. })) => return Err(e),
             other => other,
         };
         let mut best = self.search_q3(target);
