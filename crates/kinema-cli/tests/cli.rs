@@ -1639,40 +1639,7 @@ fn torque_rows(text: &str, n: usize) -> Vec<Vec<f64>> {
 
 /// Two unit links turning about horizontal axes (the base is rolled 90°), 1 kg each at mid-link,
 /// joint 1 with a 5 N·m motor: held out straight it needs 9.81·(0.5 + 1.5) = 19.62 N·m.
-const PENDULUM: &str = r#"
-name = "pendulum2"
-source = "a test arm"
-convention = "standard"
-[units]
-length = "m"
-angle = "deg"
-[base]
-rpy = [90, 0, 0]
-[[joint]]
-name = "j1"
-a = 1
-alpha = 0
-min = -180
-max = 180
-effort = 5
-[joint.inertial]
-mass = 1
-com = [-0.5, 0, 0]
-inertia = [0.001, 0.01, 0.01, 0, 0, 0]
-[[joint]]
-name = "j2"
-a = 1
-alpha = 0
-min = -180
-max = 180
-effort = 100
-[joint.inertial]
-mass = 1
-com = [-0.5, 0, 0]
-inertia = [0.001, 0.01, 0.01, 0, 0, 0]
-[poses]
-home = [0, 0]
-"#;
+const PENDULUM: &str = include_str!("../../kinema/tests/data/pendulum2.toml");
 
 #[test]
 fn dyn_at_rest_gives_the_gravity_torques() {

@@ -9,46 +9,14 @@ import pytest
 
 import kinema
 
-from cli import kinema_binary, needs_cli
+from cli import ROOT, kinema_binary, needs_cli
 
 G = 9.81
 
 # Two unit links about horizontal axes (the base is rolled 90° about x, so joint z axes point
 # along world -y), 1 kg each at mid-link. Held out straight along +x, the torques that hold it
 # are m g times the lever arms: joint 1 carries 0.5 + 1.5 m, joint 2 0.5 m.
-PENDULUM = """
-name = "pendulum2"
-source = "a test arm"
-convention = "standard"
-[units]
-length = "m"
-angle = "deg"
-[base]
-rpy = [90, 0, 0]
-[[joint]]
-name = "j1"
-a = 1
-alpha = 0
-min = -180
-max = 180
-effort = 5
-[joint.inertial]
-mass = 1
-com = [-0.5, 0, 0]
-inertia = [0.001, 0.01, 0.01, 0, 0, 0]
-[[joint]]
-name = "j2"
-a = 1
-alpha = 0
-min = -180
-max = 180
-[joint.inertial]
-mass = 1
-com = [-0.5, 0, 0]
-inertia = [0.001, 0.01, 0.01, 0, 0, 0]
-[poses]
-home = [0, 0]
-"""
+PENDULUM = (ROOT / "crates" / "kinema" / "tests" / "data" / "pendulum2.toml").read_text()
 
 
 @pytest.fixture(scope="module")
