@@ -269,13 +269,7 @@ fn a_held_arm_angle_holds_on_a_urdf_iiwa() {
     let a = robot.fk(&q0).unwrap().world_from_tool;
     let shift = Vector3::new(rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1), rng.random_range(-0.1..0.1));
     let b = Pose::new(a.rot, a.pos + shift);
-    let m = CartesianMotion::new(
-        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
-        Profile::Trapezoid,
-        &limits(),
-        Blend::None,
-    )
-    .unwrap();
+    let m = lin_motion(&a, &b);
     let psi0 = ik.psi_of(&q0);
     for value in [Some(psi0), None] {
         let by_psi = SelfMotion::Fixed { parameter: "psi".into(), value };
@@ -496,13 +490,7 @@ fn bad_cartesian_input_gives_clear_errors() {
     .is_err());
     // A start configuration that is not at the start pose.
     let robot = iiwa();
-    let m = CartesianMotion::new(
-        vec![Segment::lin(&a, &b, Orientation::Slerp).unwrap()],
-        Profile::Trapezoid,
-        &limits(),
-        Blend::None,
-    )
-    .unwrap();
+    let m = lin_motion(&a, &b);
     let e = to_joints(&robot, &m, robot.home(), 0.01, JointMethod::default()).unwrap_err().to_string();
     assert!(e.contains("start pose"), "{e}");
     // An unreachable path: the error says when.
@@ -510,18 +498,23 @@ fn bad_cartesian_input_gives_clear_errors() {
     let start = Pose::from_xyz_rpy([0.5, 0.0, 0.5], [0.0, std::f64::consts::PI, 0.0], RpyConvention::Zyx);
     let far = Pose::new(start.rot, far.pos);
     let q0 = IiwaIk::new(&robot).unwrap().solve_within_limits(&start).unwrap()[0].q.clone();
-    let m = CartesianMotion::new(
-        vec![Segment::lin(&start, &far, Orientation::Slerp).unwrap()],
-        Profile::Trapezoid,
-        &limits(),
-        Blend::None,
-    )
-    .unwrap();
+    let m = lin_motion(&start, &far);
     let e = to_joints(&robot, &m, &q0, 0.05, JointMethod::default()).unwrap_err().to_string();
     assert!(e.contains("at t = "), "{e}");
     // The time as context, the solver named as a solver (once read "(iiwa, at t = … of the path solver)").
     assert!(e.starts_with("at t = "), "{e}");
     assert!(e.contains(" s of the path: unreachable target (iiwa solver): "), "{e}");
+}
+
+/// One straight SLERP segment from `a` to `b`, trapezoid law, the test limits, no blending.
+fn lin_motion(a: &Pose, b: &Pose) -> CartesianMotion {
+    CartesianMotion::new(
+        vec![Segment::lin(a, b, Orientation::Slerp).unwrap()],
+        Profile::Trapezoid,
+        &limits(),
+        Blend::None,
+    )
+    .unwrap()
 }
 
 /// The largest |a|, |ω| and |α| of `m` relative to `limits`, on a fine grid.
