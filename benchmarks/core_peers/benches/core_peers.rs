@@ -11,7 +11,7 @@
 //!
 //! * fk: kinema `Robot::fk` (checks q, tool pose, limit flags); k `set_joint_positions_unchecked`
 //!   + `SerialChain::end_transform`.
-//! * jacobian: kinema `Robot::jacobian_into(q, Frame::Base, ..)` into a kept 6 × n matrix (it
+//! * jacobian: kinema `kin::jacobian_into(q, Frame::Base, ..)` into a kept 6 × n matrix (it
 //!   computes the pose on the way); k `set_joint_positions_unchecked` + `k::jacobian` (allocates).
 //! * rnea, crba: kinema `dynamics::rnea_into` and `mass_matrix_into` over kept buffers (both
 //!   triangles), and `-plain`: the allocating reference `rnea` and `mass_matrix`. k has no dynamics.
@@ -59,7 +59,7 @@ fn core_peers(c: &mut Criterion) {
         let mut jac = Matrix6xX::zeros(n);
         group.bench_function("jacobian-kinema", |b| {
             b.iter(|| {
-                robot.jacobian_into(&next().q, Frame::Base, &mut jac).unwrap();
+                kinema::kin::jacobian_into(robot, &next().q, Frame::Base, &mut jac).unwrap();
                 black_box(&jac);
             })
         });

@@ -843,7 +843,7 @@ fn bench(a: BenchArgs) -> Result<()> {
     });
     let mut jbuf = Matrix6xX::zeros(n);
     let jac = time_batches(&mut |q| {
-        let _ = r.jacobian_into(std::hint::black_box(q), Frame::Base, &mut jbuf);
+        let _ = kinema::kin::jacobian_into(&r, std::hint::black_box(q), Frame::Base, &mut jbuf);
         sink += std::hint::black_box(jbuf[(0, 0)]);
     });
     let t = Instant::now();

@@ -939,7 +939,7 @@ pub fn table(robot: &Robot, traj: &JointTrajectory, conv: RpyConvention) -> Resu
     let mut rows = Vec::with_capacity(traj.len());
     for k in 0..traj.len() {
         let q = traj.q(k);
-        let fk = robot.jacobian_into(q, Frame::Base, &mut jac)?;
+        let fk = kinema::kin::jacobian_into(robot, q, Frame::Base, &mut jac)?;
         let mut row = Vec::with_capacity(1 + 3 * robot.dof() + 7);
         row.push(traj.times()[k]);
         row.extend_from_slice(q);

@@ -98,7 +98,7 @@ impl CartesianCurves {
         let mut j = kinema::nalgebra::Matrix6xX::zeros(robot.dof());
         for k in 0..n {
             // The Jacobian's forward kinematics gives the position too.
-            let fk = robot.jacobian_into(traj.q(k), Frame::Base, &mut j)?;
+            let fk = kinema::kin::jacobian_into(robot, traj.q(k), Frame::Base, &mut j)?;
             let qd = kinema::nalgebra::DVector::from_column_slice(traj.qd(k));
             let v = j.fixed_rows::<3>(0) * qd;
             vel.extend_from_slice(v.as_slice());

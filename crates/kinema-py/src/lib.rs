@@ -1024,7 +1024,7 @@ impl PyRobot {
         // straight into the result; on bad input it writes nothing.
         self.with_q_py(q, |q| {
             npio::result_array(py, out, [6, n], |o| {
-                self.robot.jacobian_rows_into_uninit(q, frame, o).map(|_| ()).map_err(to_py)
+                kinema::kin::jacobian_rows_into_uninit(&self.robot, q, frame, o).map(|_| ()).map_err(to_py)
             })
         })
     }
@@ -1038,7 +1038,7 @@ impl PyRobot {
     ) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dof();
         let robot = &*self.robot;
-        let row = |q: &[f64], o: &mut _| robot.jacobian_rows_into_uninit(q, frame, o).map(|_| ());
+        let row = |q: &[f64], o: &mut _| kinema::kin::jacobian_rows_into_uninit(robot, q, frame, o).map(|_| ());
         fast::batch(py, robot, qs, "Q", out, [6, n], row)
     }
 
@@ -1204,7 +1204,9 @@ impl PyRobot {
         // The matrix rows are written by the core straight into the result;
         // on bad input it writes nothing.
         self.with_q_py(q, |q| {
-            npio::result_array(py, out, [4, 4], |o| self.robot.fk_matrix_into_uninit(q, o).map(|_| ()).map_err(to_py))
+            npio::result_array(py, out, [4, 4], |o| {
+                kinema::kin::fk_matrix_into_uninit(&self.robot, q, o).map(|_| ()).map_err(to_py)
+            })
         })
     }
 
@@ -1361,7 +1363,7 @@ impl PyRobot {
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let robot = &*self.robot;
-        let row = |q: &[f64], o: &mut _| robot.fk_matrix_into_uninit(q, o).map(|_| ());
+        let row = |q: &[f64], o: &mut _| kinema::kin::fk_matrix_into_uninit(robot, q, o).map(|_| ());
         fast::batch(py, robot, Q, "Q", out, [4, 4], row)
     }
 

@@ -240,7 +240,7 @@ impl App {
         let req: QReq = parse(body, "/api/fk", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
         let r = self.robot(&req.robot)?;
         let mut frames = vec![Pose::IDENTITY; r.dof() + 2];
-        let fk = r.link_frames_into(&req.q, &mut frames)?;
+        let fk = kinema::kin::link_frames_into(r, &req.q, &mut frames)?;
         Ok(json::fk(r, &req.q, &fk, &frames))
     }
 

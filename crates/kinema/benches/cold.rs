@@ -28,10 +28,10 @@
 //! Benchmark ids (`<robot>` is every built-in robot; each call takes the next
 //! of 1024 seeded random configurations):
 //!
-//! * `cold/fk/<robot>`, `warm/fk/<robot>` — `Robot::fk_matrix_into`, the pose as
+//! * `cold/fk/<robot>`, `warm/fk/<robot>` — `kin::fk_matrix_into`, the pose as
 //!   a row-major 4×4 (the Python package's `fkine`).
 //! * `cold/jacobian/rows/<robot>`, `warm/jacobian/rows/<robot>` —
-//!   `Robot::jacobian_rows_into(q, Frame::Base, ..)` (the Python package's
+//!   `kin::jacobian_rows_into(q, Frame::Base, ..)` (the Python package's
 //!   `jacob0`).
 //! * `cold/fk/k-end/<robot>`, `cold/jacobian/k/<robot>` — the `k` crate's
 //!   `SerialChain::end_transform` and `k::jacobian` on the same chain,
@@ -152,14 +152,17 @@ mod cold {
                 g.bench_function(format!("fk/{name}"), |b| {
                     b.iter_custom(|iters| {
                         one_at_a_time(iters, cold, per_ns, |i| {
-                            black_box(robot.fk_matrix_into(q_at(i), black_box(&mut pose)).is_ok());
+                            black_box(kinema::kin::fk_matrix_into(&robot, q_at(i), black_box(&mut pose)).is_ok());
                         })
                     })
                 });
                 g.bench_function(format!("jacobian/rows/{name}"), |b| {
                     b.iter_custom(|iters| {
                         one_at_a_time(iters, cold, per_ns, |i| {
-                            black_box(robot.jacobian_rows_into(q_at(i), Frame::Base, black_box(&mut rows)).is_ok());
+                            black_box(
+                                kinema::kin::jacobian_rows_into(&robot, q_at(i), Frame::Base, black_box(&mut rows))
+                                    .is_ok(),
+                            );
                         })
                     })
                 });

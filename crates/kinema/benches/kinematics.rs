@@ -18,9 +18,9 @@
 //! Benchmark ids:
 //!
 //! * `fk/<robot>` — `Robot::fk` (checks q, computes the tool pose, flags limits).
-//! * `jacobian/<robot>` — `Robot::jacobian_into(q, Frame::Base, &mut buf)` into a
+//! * `jacobian/<robot>` — `kin::jacobian_into(q, Frame::Base, &mut buf)` into a
 //!   preallocated `Matrix6xX`.
-//! * `jacobian/rows/<robot>` — `Robot::jacobian_rows_into(q, Frame::Base, &mut buf)`,
+//! * `jacobian/rows/<robot>` — `kin::jacobian_rows_into(q, Frame::Base, &mut buf)`,
 //!   row-major into a preallocated slice: the layout of a C or numpy array (the
 //!   Python package's `jacob0`).
 //! * `fk/k/<robot>` — k: `set_joint_positions_unchecked` + `update_transforms`
@@ -113,7 +113,7 @@ fn kinematics(c: &mut Criterion) {
                 b.iter(|| {
                     let q = black_box(q_at(i));
                     i = i.wrapping_add(1);
-                    black_box(robot.jacobian_into(q, Frame::Base, black_box(&mut buf)))
+                    black_box(kinema::kin::jacobian_into(robot, q, Frame::Base, black_box(&mut buf)))
                 })
             });
             black_box(&buf);
@@ -123,7 +123,7 @@ fn kinematics(c: &mut Criterion) {
                 b.iter(|| {
                     let q = black_box(q_at(i));
                     i = i.wrapping_add(1);
-                    black_box(robot.jacobian_rows_into(q, Frame::Base, black_box(&mut rows)))
+                    black_box(kinema::kin::jacobian_rows_into(robot, q, Frame::Base, black_box(&mut rows)))
                 })
             });
             g.bench_function(format!("k/{name}"), |b| {

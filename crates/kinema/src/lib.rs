@@ -9,7 +9,7 @@
 //! * Forward kinematics ([`Robot::fk`], [`Robot::link_frames`],
 //!   [`Robot::fk_batch`]) and Jacobians ([`Robot::jacobian`],
 //!   [`Robot::analytic_jacobian`]) in [`kin`]; the hot paths do not allocate.
-//! * [`reference`] — the same FK, frames and Jacobians written plainly and
+//! * [`reference`](mod@reference) — the same FK, frames and Jacobians written plainly and
 //!   generic over the scalar (dual numbers work): the definition the fast
 //!   path is tested against, and the place to start reading.
 //! * Spatial math in [`math`]: [`Pose`], roll-pitch-yaw in two named

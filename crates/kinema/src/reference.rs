@@ -162,10 +162,10 @@ pub fn link_transform<T: RealField + Copy>(joint: &Joint, q: T) -> IsometryMatri
 }
 
 /// All frames along the chain, as [`Robot::link_frames`] gives them:
-/// element 0 is the base frame (`world_from_base`, [`Robot::base`]), element
+/// element 0 is the base frame (`world_from_base`, [`Model::base`](crate::Model::base)), element
 /// i is `world_from_link_i` (DH frame i for DH tables, the URDF child link
 /// frame for URDF), and element dof + 1 is `world_from_tool`
-/// ([`Robot::tool`] after the last link). `q` holds one value per joint
+/// ([`Model::tool`](crate::Model::tool) after the last link). `q` holds one value per joint
 /// \[rad or m\].
 ///
 /// Errors if `q` does not have one value per joint. The values are not

@@ -451,11 +451,11 @@ fn wrong_joint_count() {
     assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "qs" && message.contains("13")), "{e:?}");
     // Wrongly sized output buffers.
     let mut j = Matrix6xX::zeros(5);
-    let e = robot.jacobian_into(robot.home(), Frame::Base, &mut j).unwrap_err();
+    let e = kinema::kin::jacobian_into(&robot, robot.home(), Frame::Base, &mut j).unwrap_err();
     assert!(matches!(&e, Error::WrongLength { what, got: 5, expected: 6, .. } if what == "out"), "{e:?}");
     for len in [0, 15, 17] {
         let mut t = vec![7.5; len];
-        let e = robot.fk_matrix_into(robot.home(), &mut t).unwrap_err();
+        let e = kinema::kin::fk_matrix_into(&robot, robot.home(), &mut t).unwrap_err();
         assert!(
             matches!(&e, Error::WrongLength { what, got, expected: 16, .. } if what == "out" && *got == len),
             "{e:?}"
@@ -465,7 +465,7 @@ fn wrong_joint_count() {
     }
     for len in [0, 35, 37, 42] {
         let mut rows = vec![7.5; len];
-        let e = robot.jacobian_rows_into(robot.home(), Frame::Base, &mut rows).unwrap_err();
+        let e = kinema::kin::jacobian_rows_into(&robot, robot.home(), Frame::Base, &mut rows).unwrap_err();
         assert!(
             matches!(&e, Error::WrongLength { what, got, expected: 36, .. } if what == "out" && *got == len),
             "{e:?}"
@@ -474,7 +474,7 @@ fn wrong_joint_count() {
         assert!(rows.iter().all(|&v| v == 7.5));
     }
     let mut frames = vec![Pose::IDENTITY; 6];
-    let e = robot.link_frames_into(robot.home(), &mut frames).unwrap_err();
+    let e = kinema::kin::link_frames_into(&robot, robot.home(), &mut frames).unwrap_err();
     assert!(matches!(&e, Error::WrongLength { what, got: 6, expected: 8, .. } if what == "out"), "{e:?}");
 }
 
@@ -500,13 +500,13 @@ fn non_finite_joint_values() {
                 check(robot.fk(&q).unwrap_err());
                 // A caller's buffer is left as it was.
                 let mut t = [7.5; 16];
-                check(robot.fk_matrix_into(&q, &mut t).unwrap_err());
+                check(kinema::kin::fk_matrix_into(&robot, &q, &mut t).unwrap_err());
                 assert!(t.iter().all(|&v| v == 7.5), "{name}: fk_matrix_into wrote into `out` on bad input");
                 let mut buf = kinema::nalgebra::Matrix6xX::from_element(n, 7.5);
-                check(robot.jacobian_into(&q, Frame::Base, &mut buf).unwrap_err());
+                check(kinema::kin::jacobian_into(&robot, &q, Frame::Base, &mut buf).unwrap_err());
                 assert!(buf.iter().all(|&v| v == 7.5), "{name}: jacobian_into wrote into `out` on bad input");
                 let mut rows = vec![7.5; 6 * n];
-                check(robot.jacobian_rows_into(&q, Frame::Tool, &mut rows).unwrap_err());
+                check(kinema::kin::jacobian_rows_into(&robot, &q, Frame::Tool, &mut rows).unwrap_err());
                 assert!(rows.iter().all(|&v| v == 7.5), "{name}: jacobian_rows_into wrote into `out` on bad input");
                 check(robot.jacobian(&q, Frame::Base).unwrap_err());
                 check(robot.jacobian(&q, Frame::Tool).unwrap_err());

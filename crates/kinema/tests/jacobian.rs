@@ -196,7 +196,7 @@ fn jacobian_forms_agree() {
             let q = robot.random_q(&mut rng);
             for frame in [Frame::Base, Frame::Tool] {
                 let j = robot.jacobian(&q, frame).unwrap();
-                let fk = robot.jacobian_into(&q, frame, &mut buf).unwrap();
+                let fk = kinema::kin::jacobian_into(&robot, &q, frame, &mut buf).unwrap();
                 assert_eq!(fk, robot.fk(&q).unwrap());
                 assert_eq!(buf, j);
                 assert_eq!(ws.jacobian(&robot, &q, frame).unwrap(), &j);
@@ -382,9 +382,12 @@ fn out_of_limits_flags_exactly_the_offending_joints() {
             }
             // Every path reports the same flags.
             let mut j = Matrix6xX::zeros(n);
-            assert_eq!(robot.jacobian_into(&q, Frame::Base, &mut j).unwrap().out_of_limits, fk.out_of_limits);
+            assert_eq!(
+                kinema::kin::jacobian_into(&robot, &q, Frame::Base, &mut j).unwrap().out_of_limits,
+                fk.out_of_limits
+            );
             let mut frames = vec![Pose::IDENTITY; n + 2];
-            assert_eq!(robot.link_frames_into(&q, &mut frames).unwrap().out_of_limits, fk.out_of_limits);
+            assert_eq!(kinema::kin::link_frames_into(&robot, &q, &mut frames).unwrap().out_of_limits, fk.out_of_limits);
             seen_empty |= want.is_empty();
             seen_full |= want.len() == n;
         }

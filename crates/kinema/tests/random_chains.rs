@@ -100,7 +100,7 @@ fn fk_and_link_frames_equal_the_matrix_product() {
             let fk = robot.fk(&q).unwrap();
             // The matrix form is the same pose, value for value, and the same limit flags.
             let mut m = [0.0; 16];
-            assert_eq!(robot.fk_matrix_into(&q, &mut m).unwrap(), fk.out_of_limits);
+            assert_eq!(kinema::kin::fk_matrix_into(&robot, &q, &mut m).unwrap(), fk.out_of_limits);
             let rows = fk.world_from_tool.to_rows();
             for (k, (a, b)) in m.iter().zip(rows.iter().flatten()).enumerate() {
                 assert_eq!(a.to_bits(), b.to_bits(), "matrix entry {k}: {robot:?} at q = {q:?}");
@@ -154,7 +154,7 @@ fn jacobians_equal_central_differences_of_the_matrix_product() {
         for frame in [Frame::Base, Frame::Tool] {
             let cols = robot.jacobian(&q, frame).unwrap();
             let mut buf = vec![f64::from_bits(POISON); 6 * n + 4];
-            let outside = robot.jacobian_rows_into(&q, frame, &mut buf[..6 * n]).unwrap();
+            let outside = kinema::kin::jacobian_rows_into(&robot, &q, frame, &mut buf[..6 * n]).unwrap();
             assert!(buf[6 * n..].iter().all(|g| g.to_bits() == POISON), "wrote past the end: {robot:?}");
             let rows = &buf[..6 * n];
             assert_eq!(outside, robot.fk(&q).unwrap().out_of_limits);

@@ -2,7 +2,7 @@
 //! derivatives of itself.
 //!
 //! `Robot::fk`, `Robot::link_frames`, `Robot::jacobian` (base and tool frame)
-//! and `Robot::jacobian_rows_into` must equal `kinema::reference` to rounding
+//! and `kin::jacobian_rows_into` must equal `kinema::reference` to rounding
 //! on every built-in robot, on random arms of every joint kind, mix and
 //! length from 1 to 12, on chains of every joint kind after every other, and
 //! on the descriptions in `tests/data`. The reference Jacobian must equal
@@ -97,7 +97,7 @@ fn check_fast_path(robot: &Robot, q: &[f64], worst: &mut Worst, label: &str) {
         let plain = reference::jacobian(robot, q, frame).unwrap();
         let fast = robot.jacobian(q, frame).unwrap();
         worst.see((&fast - &plain).abs().max(), tol, &|| what(&format!("{frame:?} Jacobian")));
-        robot.jacobian_rows_into(q, frame, &mut rows).unwrap();
+        kinema::kin::jacobian_rows_into(robot, q, frame, &mut rows).unwrap();
         let row_major = Matrix6xX::from_row_slice(&rows);
         worst.see((&row_major - &plain).abs().max(), tol, &|| what(&format!("{frame:?} Jacobian rows")));
     }

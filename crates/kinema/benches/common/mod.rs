@@ -229,7 +229,7 @@ pub fn cross_check(robot: &Robot, chain: &k::SerialChain<f64>) {
             "{name}: k end_transform differs from update_transforms at q = {q:?}"
         );
 
-        robot.jacobian_into(q, Frame::Base, &mut jac).expect("valid q");
+        kinema::kin::jacobian_into(robot, q, Frame::Base, &mut jac).expect("valid q");
         let kj = k::jacobian(chain);
         assert_eq!((kj.nrows(), kj.ncols()), (6, n));
         let mut jerr: f64 = 0.0;

@@ -4,7 +4,7 @@
 //! compute (they are the reference these are tested against).
 //!
 //! Both work in the world frame like the reference, on the link frames of
-//! the fast kinematics backend ([`Robot::link_frames_into`]), with moments
+//! the fast kinematics backend ([`crate::kin::link_frames_into`]), with moments
 //! taken at the world origin. What differs is how the bodies enter:
 //!
 //! * RNEA never forms a 6 × 6 inertia. Each link's Newton–Euler equations
@@ -198,7 +198,7 @@ pub fn rnea_into(
     check_len(robot, "tau", tau.len(), n)?;
     let bodies = bodies(robot)?;
     buf.fit(n);
-    robot.link_frames_into(q, &mut buf.frames)?;
+    crate::kin::link_frames_into(robot, q, &mut buf.frames)?;
     subspaces(robot, &buf.frames, &mut buf.subspace);
 
     // Outward, as in the reference: velocity and spatial acceleration of the
@@ -260,7 +260,7 @@ pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut 
     }
     let bodies = bodies(robot)?;
     buf.fit(n);
-    robot.link_frames_into(q, &mut buf.frames)?;
+    crate::kin::link_frames_into(robot, q, &mut buf.frames)?;
     subspaces(robot, &buf.frames, &mut buf.subspace);
 
     // The composite body of links j..n: in one frame a plain sum.

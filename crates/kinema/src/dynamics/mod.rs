@@ -14,7 +14,7 @@
 //! the link frames at `q`, and the body inertias are rotated into the world
 //! once per call.
 //!
-//! Mass properties come from [`Robot::inertials`]; a link without them is the
+//! Mass properties come from [`Model::inertials`](crate::Model::inertials); a link without them is the
 //! error [`Error::NoInertial`]. Units: q in rad or m, q̇ in rad/s or m/s, q̈
 //! in rad/s² or m/s², gravity in m/s² (world frame, e.g. \[0, 0, −9.81\]),
 //! torques in N·m (revolute) or N (prismatic), the mass matrix in kg·m²,

@@ -65,7 +65,7 @@ impl ViolationKind {
     }
 }
 
-/// One problem found by [`check`], with where and when.
+/// One problem found by [`crate::traj::check`], with where and when.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Violation {
     /// What is wrong.

@@ -189,7 +189,7 @@ impl NumericIk {
     fn run(&self, target: &Pose, mask: &[bool; 6], ws: &mut Work) -> Result<(Stop, usize, f64, f64)> {
         let r = &self.robot;
         let o = &self.opts;
-        let fk = r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
+        let fk = crate::kin::jacobian_into(r, &ws.q, Frame::Base, &mut ws.j)?;
         let mut e = task_error(target, &fk.world_from_tool, mask);
         let mut energy = 0.5 * e.norm_squared();
         mask_rows(&mut ws.j, mask);
@@ -246,7 +246,7 @@ impl NumericIk {
             let energy_trial = 0.5 * e_trial.norm_squared();
             if energy_trial < energy {
                 std::mem::swap(&mut ws.q, &mut ws.trial);
-                r.jacobian_into(&ws.q, Frame::Base, &mut ws.j)?;
+                crate::kin::jacobian_into(r, &ws.q, Frame::Base, &mut ws.j)?;
                 mask_rows(&mut ws.j, mask);
                 e = e_trial;
                 energy = energy_trial;

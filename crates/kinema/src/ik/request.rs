@@ -40,7 +40,7 @@ pub enum IkTarget {
     Position([f64; 3]),
     /// Scorbot (seed 000 eq. 13): the tool point with pitch β = −(θ2 + θ3 + θ4)
     /// and roll γ = θ5; the yaw follows from the position
-    /// ([`ScorbotIk::solve_xyz_pitch_roll`], up to four solutions).
+    /// ([`ScorbotIk::solve_xyz_pitch_roll`](crate::ik::scorbot::ScorbotIk::solve_xyz_pitch_roll), up to four solutions).
     PositionPitchRoll {
         /// Tool point \[m\].
         position: [f64; 3],
@@ -51,7 +51,7 @@ pub enum IkTarget {
     },
     /// ROMMEL (seed 001): the tool point with the tool z axis along
     /// `approach` (any non-zero vector, normalised), q5 = 0
-    /// ([`RommelIk::solve_position_approach`], up to four solutions).
+    /// ([`RommelIk::solve_position_approach`](crate::ik::rommel::RommelIk::solve_position_approach), up to four solutions).
     PositionApproach {
         /// Tool point \[m\].
         position: [f64; 3],
@@ -61,7 +61,7 @@ pub enum IkTarget {
     /// SCARA on a rail (seed 003): the tool point with the tool angle
     /// α = q2 + q3 + q5 about the vertical, the rail placed by the zone rule;
     /// elbow side and q5 follow `IkRequest::q0` when given
-    /// ([`ScaraIk::solve_zone`], one solution).
+    /// ([`ScaraIk::solve_zone`](crate::ik::scara::ScaraIk::solve_zone), one solution).
     PositionAlpha {
         /// Tool point \[m\].
         position: [f64; 3],
@@ -248,8 +248,8 @@ fn solve_request_with(
 /// * A position ([`IkTarget::Position`]): [`solve_request`] with the position-only task mask
 ///   (numeric solver; [`SolverChoice::Analytic`] is refused as for any masked
 ///   target).
-/// * The typed targets: the family's solver ([`ScorbotIk`], [`RommelIk`],
-///   [`ScaraIk`]) whatever the robot; a robot of another family gives that
+/// * The typed targets: the family's solver ([`ScorbotIk`](crate::ik::scorbot::ScorbotIk), [`RommelIk`](crate::ik::rommel::RommelIk),
+///   [`ScaraIk`](crate::ik::scara::ScaraIk)) whatever the robot; a robot of another family gives that
 ///   solver's own error ("the Scorbot solver needs 5 revolute joints …").
 ///   `request.all` and `request.numeric` do not apply; the SCARA keeps the
 ///   elbow side and q5 of `request.q0`.

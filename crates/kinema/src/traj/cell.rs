@@ -178,7 +178,7 @@ impl Cell {
             let mut q = vec![0.0; member.robot.dof()];
             for &t in &report.times {
                 interpolate(&member.traj, t, &mut q);
-                let fk = member.robot.jacobian_into(&q, Frame::Base, &mut jac)?;
+                let fk = crate::kin::jacobian_into(&member.robot, &q, Frame::Base, &mut jac)?;
                 report.tools[m].push(fk.world_from_tool);
                 report.manipulability[m].push(yoshikawa(&jac, Axes::Translation)?);
                 report.q[m].push(q.clone());

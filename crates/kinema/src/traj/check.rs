@@ -179,7 +179,7 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
             }
         }
         if let Some(th) = opts.min_manipulability {
-            robot.jacobian_into(q, Frame::Base, &mut jac)?;
+            crate::kin::jacobian_into(robot, q, Frame::Base, &mut jac)?;
             let m = yoshikawa(&jac, opts.manipulability_axes)?;
             if report.min_manipulability.is_none_or(|(_, best)| m < best) {
                 report.min_manipulability = Some((t, m));
@@ -295,7 +295,7 @@ fn singular_passages(robot: &Robot, traj: &JointTrajectory, threshold: f64, axes
             inside = false;
             continue;
         }
-        robot.jacobian_into(traj.q(k), Frame::Base, &mut jac)?;
+        crate::kin::jacobian_into(robot, traj.q(k), Frame::Base, &mut jac)?;
         // min(rows, joints) singular values: all of them are zero-able.
         let sv = rows(&jac, axes)?.singular_values();
         let (lo, hi) = sv.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| (lo.min(s), hi.max(s)));

@@ -167,7 +167,7 @@ fn newton_track(robot: &Robot, target: &Pose, q: &mut [f64], jac: &mut Matrix6xX
     q0.copy_from_slice(q);
     let mut last_step = f64::INFINITY;
     for _ in 0..=NEWTON_STEPS {
-        let fk = robot.jacobian_into(q, Frame::Base, jac)?;
+        let fk = crate::kin::jacobian_into(robot, q, Frame::Base, jac)?;
         let e = pose_error(target, &fk.world_from_tool);
         if e.position_norm() <= NEWTON_TOL && e.rotation_angle() <= NEWTON_TOL {
             return Ok(true);
@@ -421,7 +421,7 @@ fn resolved_rate(
     let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
     for (k, &t) in times.iter().enumerate() {
         let st = motion.at(t);
-        let fk = robot.jacobian_into(&q, Frame::Base, &mut jac)?;
+        let fk = crate::kin::jacobian_into(robot, &q, Frame::Base, &mut jac)?;
         let step = if k + 1 < times.len() { times[k + 1] - t } else { times[k] - times[k.saturating_sub(1)] };
         let e = pose_error(&st.pose, &fk.world_from_tool);
         let fb = if step > 0.0 { gain / step } else { 0.0 };
