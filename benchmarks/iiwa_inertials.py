@@ -14,9 +14,10 @@ and benchmarks/run_dyn_corke.sh run it after benchmarks/dyn_corke.py.
    quarter turn of the root about the vertical. Those fixed placements P_i are measured.
 3. The move: each link's centre of mass and inertia taken into its DH frame with P_i (c' = Rᵀ(c - p),
    I' = Rᵀ I R), printed in the TOML's units (mm, kg·mm²) beside the TOML's values.
-4. Dynamics: kinema's `rne`, `inertia` and `gravload` of the built-in against Pinocchio's `rnea`,
-   `crba` and `computeGeneralizedGravity` on Drake's chain, at `home` and --n seeded random states
-   (joint 4's sign flipped on the way in and out), gravity [0, 0, -9.81]; the measure is
+4. Dynamics: kinema's `rne`, `inertia`, `coriolis`, `gravload` and `accel` of the built-in against
+   Pinocchio's `rnea`, `crba`, `computeCoriolisMatrix`, `computeGeneralizedGravity` and `aba` on
+   Drake's chain, at `home` and --n seeded random states (τ in [-20, 20] N·m for `accel`; joint 4's
+   sign flipped on the way in and out), gravity [0, 0, -9.81]; the measure is
    max|Δ| / max|Pinocchio| per state. Exits 1 if it exceeds --bound or the kinematics differ.
 """
 
@@ -31,6 +32,11 @@ import numpy as np
 import pinocchio as pin
 
 import kinema
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    import tomli as tomllib  # type: ignore[no-redef]
 
 REPO = Path(__file__).resolve().parents[1]
 GRAVITY = np.array([0.0, 0.0, -9.81])
@@ -118,6 +124,7 @@ def main():
     Q = np.vstack([robot.home, rng.uniform(lo, hi, size=(args.n, robot.n))])
     QD = rng.uniform(-2, 2, size=Q.shape)
     QDD = rng.uniform(-3, 3, size=Q.shape)
+    TAU = rng.uniform(-20, 20, size=Q.shape)
     failures = []
 
     quarter, P, worst = placements(robot, model, Q[:20])
@@ -129,8 +136,6 @@ def main():
           f"URDF root turned {90 * quarter} deg about z, q4 reversed")
 
     # the move, in the TOML's units
-    import tomllib
-
     with open(REPO / "robots" / "lbr-iiwa-14-r820.toml", "rb") as f:
         toml = tomllib.load(f)
     assert toml["units"]["length"] == "mm"
@@ -156,16 +161,21 @@ def main():
 
     print("\n## dynamics: kinema (the built-in) vs Pinocchio (Drake's chain)")
     rows = []
+    SS = np.outer(SIGN, SIGN)
     for call, kin, ref in [
-        ("rne", lambda q, qd, qdd: robot.rne(q, qd, qdd, gravity=GRAVITY),
-         lambda q, qd, qdd: SIGN * pin.rnea(model, data, SIGN * q, SIGN * qd, SIGN * qdd)),
-        ("inertia", lambda q, qd, qdd: robot.inertia(q),
-         lambda q, qd, qdd: np.outer(SIGN, SIGN) * sym(pin.crba(model, data, SIGN * q))),
-        ("gravload", lambda q, qd, qdd: robot.gravload(q, gravity=GRAVITY),
-         lambda q, qd, qdd: SIGN * pin.computeGeneralizedGravity(model, data, SIGN * q)),
+        ("rne", lambda q, qd, qdd, tau: robot.rne(q, qd, qdd, gravity=GRAVITY),
+         lambda q, qd, qdd, tau: SIGN * pin.rnea(model, data, SIGN * q, SIGN * qd, SIGN * qdd)),
+        ("inertia", lambda q, qd, qdd, tau: robot.inertia(q),
+         lambda q, qd, qdd, tau: SS * sym(pin.crba(model, data, SIGN * q))),
+        ("coriolis", lambda q, qd, qdd, tau: robot.coriolis(q, qd),
+         lambda q, qd, qdd, tau: SS * pin.computeCoriolisMatrix(model, data, SIGN * q, SIGN * qd)),
+        ("gravload", lambda q, qd, qdd, tau: robot.gravload(q, gravity=GRAVITY),
+         lambda q, qd, qdd, tau: SIGN * pin.computeGeneralizedGravity(model, data, SIGN * q)),
+        ("accel", lambda q, qd, qdd, tau: robot.accel(q, qd, tau, gravity=GRAVITY),
+         lambda q, qd, qdd, tau: SIGN * pin.aba(model, data, SIGN * q, SIGN * qd, SIGN * tau)),
     ]:
         worst_abs = worst_rel = 0.0
-        for s in zip(Q, QD, QDD):
+        for s in zip(Q, QD, QDD, TAU):
             a, r = np.asarray(kin(*s), float), np.asarray(ref(*s), float)
             d = float(np.abs(a - r).max())
             worst_abs, worst_rel = max(worst_abs, d), max(worst_rel, d / float(np.abs(r).max()))
