@@ -34,8 +34,10 @@ cd "$tmp"
 status=0
 "$py" "$here/ik_peers.py" --require-toolbox "$@" || status=$?
 # the dynamics checks need the same peers; all three run even if one fails
+dyn_start=$SECONDS
 echo "== python benchmarks/dyn_corke.py"
 "$py" "$here/dyn_corke.py" || status=$?
 echo "== python benchmarks/iiwa_inertials.py"
 "$py" "$here/iiwa_inertials.py" || status=$?
+echo "== the dynamics checks took $((SECONDS - dyn_start)) s"
 exit "$status"
