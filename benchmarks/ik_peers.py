@@ -199,7 +199,9 @@ def motion(kind, axis, v):
 class Description:
     """A robot file (robots/NAME.toml) read by this script with tomllib, not by kinema, in m and
     rad: the convention, base and tool, and per joint its kind ("R"/"P"), offset, limits and
-    either its DH row (d, a, alpha, theta) or, for `general` joints, its origin (4x4) and unit axis."""
+    either its DH row (d, a, alpha, theta) or, for `general` joints, its origin (4x4) and unit axis;
+    and, if the file has a `[joint.inertial]` table, `inertial`: mass (kg), com (m, link frame) and
+    the 3x3 inertia about the centre of mass in the link frame's axes (kg·m²)."""
 
     def __init__(self, path):
         with open(path, "rb") as f:
@@ -225,6 +227,11 @@ class Description:
                 row.update(origin=frame(j), axis=axis / np.linalg.norm(axis))
             else:
                 row.update(d=j.get("d", 0) * ls, a=j["a"] * ls, alpha=j["alpha"] * as_, theta=j.get("theta", 0) * as_)
+            if "inertial" in j:
+                b = j["inertial"]
+                ixx, iyy, izz, ixy, ixz, iyz = (v * ls**2 for v in b.get("inertia", [0.0] * 6))
+                row["inertial"] = dict(mass=float(b["mass"]), com=np.asarray(b.get("com", [0, 0, 0]), float) * ls,
+                                       inertia=np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]))
             self.joints.append(row)
 
     def placements(self):
@@ -261,12 +268,14 @@ def pin_model(desc):
     return model
 
 
-def rtb_model(desc, rtb):
+def rtb_model(desc, rtb, dynamics=False):
     """The toolbox's model of the description, built with its own classes: a DH table becomes a
     `DHRobot` of `RevoluteDH`/`PrismaticDH` (standard) or `RevoluteMDH`/`PrismaticMDH` (modified)
     links with their offsets and the base and tool; `general` joints an ETS (ET.SE3 of the origin,
     then the joint's Rx/Ry/Rz/tx/ty/tz with a constant offset before it, an axis off x, y and z
-    turned onto z by a constant ET.SE3 each side)."""
+    turned onto z by a constant ET.SE3 each side). With `dynamics` (DH only), each link also gets
+    the file's mass m, centre of mass r and inertia I (3x3, about the centre of mass) and no motor:
+    Jm = 0, G = 1, B = 0, Tc = [0, 0], so that the toolbox's dynamics are the rigid bodies alone."""
     from spatialmath import SE3
 
     if desc.convention != "general":
@@ -276,8 +285,15 @@ def rtb_model(desc, rtb):
             cls = {("standard", "R"): rtb.RevoluteDH, ("standard", "P"): rtb.PrismaticDH,
                    ("modified", "R"): rtb.RevoluteMDH, ("modified", "P"): rtb.PrismaticMDH}[key]
             fixed = dict(d=j["d"]) if j["kind"] == "R" else dict(theta=j["theta"])
+            if dynamics:
+                b = j.get("inertial")
+                if b is None:
+                    raise ValueError(f"joint {j['name']!r} has no [joint.inertial]")
+                fixed.update(m=b["mass"], r=b["com"].copy(), I=b["inertia"].copy(), Jm=0.0, G=1.0, B=0.0, Tc=[0.0, 0.0])
             links.append(cls(a=j["a"], alpha=j["alpha"], offset=j["offset"], qlim=np.array(j["qlim"]), **fixed))
         return rtb.DHRobot(links, name=desc.name, base=SE3(desc.base, check=False), tool=SE3(desc.tool, check=False))
+    if dynamics:
+        raise ValueError("the toolbox's dynamics are built here for DH tables only")
     ET = rtb.ET
     ets = ET.SE3(desc.base)
     for j in desc.joints:

@@ -1,5 +1,5 @@
-# Shared by benchmarks/run_peers.sh and benchmarks/run_ik_peers.sh (sourced, not run): a throwaway
-# venv with pinned peers from PyPI and the kinema wheel built from crates/kinema-py.
+# Shared by benchmarks/run_peers.sh, run_ik_peers.sh, run_dyn_peers.sh and run_dyn_corke.sh (sourced,
+# not run): a throwaway venv with pinned peers from PyPI and the kinema wheel built from crates/kinema-py.
 #
 #   source "$here/peers_env.sh"    # needs $here (benchmarks/); sets repo, py, tmp (removed on exit)
 #   pipi PACKAGE==VERSION ...      # pip install under the constraints below

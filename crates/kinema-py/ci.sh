@@ -6,7 +6,8 @@
 # Then installs it a second time the way the README says, `pip install ./crates/kinema-py`,
 # and runs the README example and the model tests against that install. With KINEMA_PEERS=1 (as
 # .ci/run sets it) it also runs benchmarks/run_ik_peers.sh on the wheel built here: kinema checked
-# against Pinocchio and Corke's toolbox, or a SKIP line if PyPI cannot be reached.
+# against Pinocchio and Corke's toolbox (FK, Jacobian, IK, and the Python dynamics calls), or a
+# SKIP line if PyPI cannot be reached.
 # Needs Rust (cargo), a C compiler and Python ≥ 3.9 with pip and venv (python3,
 # or $PYTHON). Downloads pinned maturin/numpy/pytest from PyPI and the crates in
 # Cargo.lock. Cargo output goes to crates/kinema-py/target (gitignored; reused
@@ -59,8 +60,11 @@ PIP_CONSTRAINT="$tmp/constraints.txt" PIP_BUILD_CONSTRAINT="$tmp/constraints.txt
 if [ "${KINEMA_PEERS:-0}" = 1 ]; then
   # kinema checked against Pinocchio and Corke's toolbox (and the analytic IK timed against IK-Geo,
   # a smoke run), the peers installed from PyPI into a venv of their own, the wheel built above
-  # installed into it. Fails on an FK/Jacobian difference over 1e-12 or a wrong IK solution; a
-  # SKIP line, not a failure, only if PyPI cannot be reached. About 1.5 min, most of it pip.
+  # installed into it; then, in that venv, rne/inertia/coriolis/gravload/accel against the toolbox's
+  # (benchmarks/dyn_corke.py) and the iiwa's inertials against Drake's (benchmarks/iiwa_inertials.py).
+  # Fails on an FK/Jacobian difference over 1e-12, a wrong IK solution or a dynamics difference over
+  # 1e-9 (relative); a SKIP line, not a failure, only if PyPI cannot be reached. About 1.5 min, most
+  # of it pip.
   peers_args=(--n 200 --ik-n 100 --speed-n 200 --repeats 3 --lm-n 20)
   step "KINEMA_PEERS=1: benchmarks/run_ik_peers.sh ${peers_args[*]}"
   KINEMA_WHEELS="$tmp/wheels" KINEMA_PEERS_IF_ONLINE=1 KINEMA_PY_TARGET_DIR="$CARGO_TARGET_DIR" \
