@@ -11,7 +11,7 @@
 //!
 //! * [`parse`] — source text to a syntax tree ([`ast`]) and diagnostics;
 //!   never panics, reports every syntax error in one run.
-//! * [`compile`] — checks names, units, argument counts and what the robot
+//! * [`compile`](fn@compile) — checks names, units, argument counts and what the robot
 //!   can do, then runs the program on the robot model (IK for every
 //!   target, a time law per motion, samples every `dt`) and checks the
 //!   joint signals against the limits. The result is a [`Plan`]: the

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// A stop condition for [`crate::compile`]; the default never stops.
+/// A stop condition for [`crate::compile`](fn@crate::compile); the default never stops.
 #[derive(Debug, Clone, Default)]
 pub struct Stop {
     deadline: Option<(Instant, Duration)>,
