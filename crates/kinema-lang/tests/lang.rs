@@ -245,8 +245,8 @@ fn tool_and_base_frames() {
 
 /// The SCARA takes a tool offset and turned about z, and its relative moves then move that
 /// tool point. A tilted tool is fine for PTP and HOME (a warning), but the relative moves,
-/// which need the closed-form IK, are errors after it (until 2026-11-25 they silently did
-/// nothing, and HOME lost seed 003's law).
+/// which need the closed-form IK, are errors after it (not silently nothing), and HOME
+/// keeps seed 003's law.
 #[test]
 fn scara_tool_offset_is_followed_and_a_tilted_one_stops_the_relative_moves() {
     let r = robot("scara5");
@@ -388,9 +388,8 @@ fn runaway_programs_are_cut_with_an_error() {
     assert!(compile("WAIT 5s\nWAIT 5s\n", &r, &opts).is_err());
 }
 
-/// One statement that alone lasts too long to sample is an error at that statement.
-/// (Until 2026-11-25 a `WAIT` of 10⁷ s was dropped without a word, and so was a timed
-/// motion: the plan ended before it, zero seconds long.)
+/// One statement that alone lasts too long to sample is an error at that statement, not
+/// dropped: a `WAIT` of 10⁷ s, or a timed motion the plan would end before.
 #[test]
 fn a_statement_too_long_to_sample_is_an_error_not_skipped() {
     let iiwa = robot("lbr-iiwa-14-r820");

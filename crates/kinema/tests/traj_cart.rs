@@ -383,8 +383,8 @@ fn seed_continuous_lin_reports_or_avoids_the_wrist_flip() {
 fn resampling_keeps_consecutive_poses_within_the_step() {
     let mut rng = ChaCha8Rng::seed_from_u64(43);
     // A centimetre (seed 000's controller) and finer steps down to 20 µm, where one of the
-    // 20 000 coarse steps of a path spans several samples (2026-11-25: these once
-    // left gaps of two or more steps, with no error).
+    // 20 000 coarse steps of a path spans several samples: no gap of two or more
+    // steps may be left without an error.
     for case in 0..30 {
         let (step, angle) = if case < 10 {
             (0.01, 0.05)
