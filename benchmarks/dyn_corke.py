@@ -55,24 +55,14 @@ def states(robot, rng, n):
     return q, qd, qdd, tau
 
 
-def kinema_calls(robot, q, qd, qdd, tau):
-    """{call: f(q, qd, qdd, tau) -> array}, for one row or (N, n) rows."""
+def dynamics_calls(robot):
+    """{call: f(q, qd, qdd, tau) -> array}: kinema and the toolbox share these names and arguments."""
     return {
         "rne": lambda q, qd, qdd, tau: robot.rne(q, qd, qdd, gravity=GRAVITY),
         "inertia": lambda q, qd, qdd, tau: robot.inertia(q),
         "coriolis": lambda q, qd, qdd, tau: robot.coriolis(q, qd),
         "gravload": lambda q, qd, qdd, tau: robot.gravload(q, gravity=GRAVITY),
         "accel": lambda q, qd, qdd, tau: robot.accel(q, qd, tau, gravity=GRAVITY),
-    }
-
-
-def toolbox_calls(model):
-    return {
-        "rne": lambda q, qd, qdd, tau: model.rne(q, qd, qdd, gravity=GRAVITY),
-        "inertia": lambda q, qd, qdd, tau: model.inertia(q),
-        "coriolis": lambda q, qd, qdd, tau: model.coriolis(q, qd),
-        "gravload": lambda q, qd, qdd, tau: model.gravload(q, gravity=GRAVITY),
-        "accel": lambda q, qd, qdd, tau: model.accel(q, qd, tau, gravity=GRAVITY),
     }
 
 
@@ -108,7 +98,7 @@ def main():
         model.gravity = GRAVITY
         cls = type(model.links[0]).__name__
         Q, QD, QDD, TAU = states(robot, rng, args.n)
-        kin, tb = kinema_calls(robot, Q, QD, QDD, TAU), toolbox_calls(model)
+        kin, tb = dynamics_calls(robot), dynamics_calls(model)
         print(f"{name}  (n={robot.n}, {desc.convention} DH: DHRobot of {cls}, {len(Q)} states)")
         for call in CALLS:
             ref = [np.asarray(tb[call](*s), float) for s in zip(Q, QD, QDD, TAU)]
