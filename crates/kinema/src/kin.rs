@@ -136,9 +136,12 @@ impl Robot {
     pub fn fk_batch(&self, qs: &[f64]) -> Result<Vec<Fk>> {
         let n = self.dof();
         if qs.len() % n != 0 {
-            return Err(Error::InvalidArgument {
+            // The nearest whole number of configurations, as the count expected.
+            return Err(Error::WrongLength {
                 what: "qs".into(),
-                message: format!("{} values is not a whole number of {n}-joint configurations", qs.len()),
+                got: qs.len(),
+                expected: (qs.len() / n).max(1) * n,
+                of: format!("a whole number of {n}-joint configurations"),
             });
         }
         for (index, q) in qs.chunks_exact(n).enumerate() {
