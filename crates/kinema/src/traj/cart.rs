@@ -676,16 +676,14 @@ impl CartesianMotion {
         }
         // Named after the limit that asks for most of the samples.
         let (what, value) = if by_angle > 0.5 * needed { ("max_angle", max_angle) } else { ("max_step", max_step) };
-        let too_many = |about: String| {
-            Error::OutOfRange {
+        let too_many = |about: String| Error::OutOfRange {
             what: what.into(),
             value,
             expected: format!(
-                "steps that split this path into at most {MAX_SAMPLES} samples; {} m / {} rad would split it into {about}",
+                "larger steps: {} m / {} rad would split this path into {about} samples (at most {MAX_SAMPLES})",
                 crate::error::number_text(max_step),
                 crate::error::number_text(max_angle)
             ),
-        }
         };
         if needed > 1.01 * MAX_SAMPLES as f64 {
             let about = if needed.is_finite() { format!("about {needed:.3e}") } else { "more than 10^308".into() };

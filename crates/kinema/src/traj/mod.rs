@@ -556,7 +556,7 @@ pub fn sample_count(duration: f64, dt: f64) -> Result<usize> {
             what: "dt".into(),
             value: dt,
             expected: format!(
-                "a time step that gives at most {MAX_SAMPLES} samples over {} s; this one would give {count} samples",
+                "a larger time step: over {} s this one would give {count} samples (at most {MAX_SAMPLES})",
                 crate::error::number_text(duration)
             ),
         });
@@ -749,13 +749,13 @@ mod tests {
         let most = (MAX_SAMPLES as f64 - 1.5) * dt;
         assert_eq!(sample_times(most, dt).unwrap().len(), MAX_SAMPLES);
         let e = sample_times(most + dt, dt).unwrap_err().to_string();
-        assert!(e.contains("at most 10000000 samples") && e.contains("would give 10000001 samples"), "{e}");
+        assert!(e.contains("would give 10000001 samples (at most 10000000)"), "{e}");
         // A duration that is a whole number of steps has no extra end sample: exactly
         // MAX_SAMPLES of them fit.
         let whole = (MAX_SAMPLES - 1) as f64 * 0.5;
         assert_eq!(sample_times(whole, 0.5).unwrap().len(), MAX_SAMPLES);
         let e = sample_times(whole + 0.5, 0.5).unwrap_err().to_string();
-        assert!(e.contains("at most 10000000 samples") && e.contains("would give 10000001 samples"), "{e}");
+        assert!(e.contains("would give 10000001 samples (at most 10000000)"), "{e}");
         let e = sample_count(1e300, 1e-300).unwrap_err().to_string();
         assert!(e.contains("would give more than 10^308 samples"), "{e}");
         for (duration, dt, what) in [
