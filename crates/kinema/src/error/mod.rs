@@ -206,7 +206,7 @@ pub enum Error {
         what: String,
         /// The offending value.
         value: f64,
-        /// The accepted range, in words (e.g. "a positive time step [s]").
+        /// The accepted range, in words (e.g. "a positive time step \[s\]").
         expected: String,
     },
     /// Too few items where a list needs some: an empty input, a path of one
