@@ -129,11 +129,16 @@ pub(crate) fn parse_q(robot: &kinema::Robot, text: &str, degrees: bool) -> kinem
         return Ok(robot.pose(t)?.to_vec());
     }
     let mut q = Vec::with_capacity(robot.dof());
-    for (i, item) in t.split(',').enumerate() {
-        let item = item.trim();
-        let v: f64 = item.parse().map_err(|_| kinema::Error::InvalidArgument {
+    let mut start = 0; // byte offset of the current item in `t`
+    for (i, raw) in t.split(',').enumerate() {
+        let item = raw.trim();
+        let at = start + (raw.len() - raw.trim_start().len());
+        start += raw.len() + 1;
+        let v: f64 = item.parse().map_err(|_| kinema::Error::Syntax {
             what: "joint values".into(),
-            message: format!(
+            text: t.into(),
+            column: t[..at].chars().count() + 1,
+            expected: format!(
                 "value {} `{item}` is not a number; give {} comma-separated numbers or a named pose ({})",
                 i + 1,
                 robot.dof(),
@@ -167,13 +172,15 @@ mod tests {
     fn parse_q_rejects_bad_text() {
         let robot = Robot::builtin("scara5").unwrap();
         let e = parse_q(&robot, "1,2,x", false).unwrap_err();
-        let Error::InvalidArgument { what, message } = &e else { panic!("{e:?}") };
-        assert_eq!(what, "joint values");
-        assert!(message.contains("value 3") && message.contains("`x`"), "{message}");
-        assert!(message.contains("home") && message.contains("qz"), "{message}");
+        let Error::Syntax { what, column, expected, .. } = &e else { panic!("{e:?}") };
+        assert_eq!((what.as_str(), *column), ("joint values", 5));
+        assert!(expected.contains("value 3") && expected.contains("`x`"), "{expected}");
+        assert!(expected.contains("home") && expected.contains("qz"), "{expected}");
         for text in ["", ",", "1,,2,3,4", "1;2;3;4;5", "0.5, 90deg, 0, 0, 0", "1 2 3 4 5"] {
-            assert!(matches!(parse_q(&robot, text, false), Err(Error::InvalidArgument { .. })), "{text:?}");
+            assert!(matches!(parse_q(&robot, text, false), Err(Error::Syntax { .. })), "{text:?}");
         }
+        let e = parse_q(&robot, "0.5, 90deg, 0, 0, 0", false).unwrap_err();
+        assert!(matches!(e, Error::Syntax { column: 6, .. }), "{e:?}");
         let e = parse_q(&robot, "0.5, 0, 0, nan, 0", false).unwrap_err();
         assert!(matches!(e, Error::NonFinite { joint: 4, .. }), "{e:?}");
         let e = parse_q(&robot, "inf, 0, 0, 0, 0", true).unwrap_err();

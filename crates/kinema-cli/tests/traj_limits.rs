@@ -283,7 +283,7 @@ mod boundary {
         assert_eq!(r.code, Some(1));
         assert!(r.stderr.contains("only moves rest to rest"), "{}", r.stderr);
         let r = kinema(&[&base[..], &["--profile", "scurve", "--v0", "5,0,0,0,0,0,0"]].concat());
-        assert!(r.stderr.contains("start velocity 5 is beyond vmax"), "{}", r.stderr);
+        assert!(r.stderr.contains("`start velocity`: 5; expected a velocity within ±"), "{}", r.stderr);
     }
 
     #[test]

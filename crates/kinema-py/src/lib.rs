@@ -59,7 +59,13 @@ fn to_py(e: Error) -> PyErr {
         Error::JointCount { .. }
         | Error::NonFinite { .. }
         | Error::UnknownPose { .. }
-        | Error::InvalidArgument { .. }
+        | Error::OutOfRange { .. }
+        | Error::TooFew { .. }
+        | Error::MissingLimit { .. }
+        | Error::UnknownName { .. }
+        | Error::DoesNotFit { .. }
+        | Error::Infeasible { .. }
+        | Error::Syntax { .. }
         | Error::SolverDoesNotFit { .. }
         | Error::WrongLength { .. }
         | Error::NotFinite { .. }

@@ -126,7 +126,7 @@ def test_a_trajectory_breaking_a_limit_is_in_its_check(robots):
 def test_bad_cells_raise_the_documented_exceptions(robots):
     ur5 = robots["ur5"]
     tr = ur5.ptp("home", [0.5, -1.2, 1.0, -0.5, 1.2, 0.3], 0.01, amax=2.0)
-    with pytest.raises(kinema.InvalidInput, match="no robot"):
+    with pytest.raises(kinema.InvalidInput, match="`cell` has 0 robots"):
         kinema.Cell().run()
     for kwargs in [{"dt": 0}, {"dt": float("nan")}, {"min_distance": -1}]:
         with pytest.raises(kinema.InvalidInput):

@@ -53,7 +53,7 @@ def test_ptp_errors(robots):
         r.ptp(r.home, qf, 0.01, speed=0.0)
     with pytest.raises(kinema.InvalidInput):
         r.ptp(r.home, qf, -1.0)
-    with pytest.raises(kinema.InvalidInput, match=r"^invalid `amax`: joint 1 .* has no acceleration limit"):
+    with pytest.raises(kinema.InvalidInput, match=r"^joint 1 \(`.+`\): no acceleration limit for its motion in the robot model; give one \(`amax`\)"):
         r.ptp(r.home, qf, 0.01)
     # Velocity limits above the robot's: planned, then rejected by the check.
     with pytest.raises(kinema.TrajectoryError, match=r"^the trajectory is not emitted: \d+ violation"):

@@ -265,7 +265,7 @@ def test_cartesian_errors(iiwa):
             r.lin(q0, GOAL, 0.01, vmax=0.2, amax=0.5, **kwargs)
     with pytest.raises(kinema.InvalidInput, match="dt"):
         r.lin(q0, GOAL, -0.01, vmax=0.2, amax=0.5)
-    with pytest.raises(kinema.InvalidInput, match="velocity -1 and acceleration 0.5 must be positive"):
+    with pytest.raises(kinema.InvalidInput, match=r"invalid `vel`: -1; expected a positive finite limit"):
         r.circ(q0, [0.7, -0.5, 0.6], GOAL, 0.01, vmax=-1.0, amax=0.5)
     with pytest.raises(TypeError):
         r.lin(q0, GOAL, 0.01)  # the Cartesian limits have no default

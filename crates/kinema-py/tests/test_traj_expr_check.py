@@ -67,7 +67,7 @@ def test_random_sines_against_numpy(rommel):
 def test_expr_errors(rommel):
     with pytest.raises(kinema.InvalidInput, match=r"column 6"):
         rommel.expr({1: "sin(t"}, 1.0)
-    with pytest.raises(kinema.InvalidInput, match=r"joint 9 does not exist; `rommel` has joints 1 to 5"):
+    with pytest.raises(kinema.InvalidInput, match=r"invalid `joint`: 9; expected a joint of `rommel`, 1 to 5"):
         rommel.expr({9: "t"}, 1.0)
     with pytest.raises(kinema.InvalidInput, match=r"joint 0: joints are numbered from 1"):
         rommel.expr({0: "t"}, 1.0)
@@ -225,7 +225,7 @@ def test_check_errors(iiwa):
         iiwa.check(tr.t, tr.q, tr.qd[1:])
     with pytest.raises(kinema.InvalidInput, match=r"`t` must have shape \(N,\)"):
         iiwa.check(tr.q, tr.q)
-    with pytest.raises(kinema.InvalidInput, match=r"invalid `t`: no samples"):
+    with pytest.raises(kinema.InvalidInput, match=r"`t` has 0 samples; at least 1 needed"):
         iiwa.check(np.zeros(0), np.zeros((0, 7)))
     with pytest.raises(kinema.InvalidInput, match=r"vmax"):
         iiwa.check(tr, vmax=[1.0, 2.0])

@@ -383,7 +383,7 @@ fn bad_requests_get_4xx_and_a_json_error() {
             "/api/traj",
             b"{\"kind\": \"ptp\", \"from\": [0,0,0,0,0,0,0], \"to\": [9,0,0,0,0,0,0]}",
             422,
-            "outside its limits",
+            "invalid `to`: 9; expected a value within the joint's limits",
         ),
         ("POST", "/api/run", b"{\"program\": 42}", 400, "invalid type"),
         ("POST", "/api/run", b"{\"program\": \"HOME\", \"start\": [0]}", 422, "7 joints"),

@@ -39,9 +39,9 @@ fn start_config(robot: &Robot, pose: &Pose) -> kinema::Result<Vec<f64>> {
             }
         }
     }
-    best.ok_or_else(|| kinema::Error::InvalidArgument {
+    best.ok_or_else(|| kinema::Error::Infeasible {
         what: "pose".into(),
-        message: "no q3 in ±3.2 rad gives a solution within the joint limits".into(),
+        reason: "no q3 in ±3.2 rad gives a solution within the joint limits".into(),
     })
 }
 

@@ -21,11 +21,8 @@ pub enum Axes {
 }
 
 pub(crate) fn rows(j: &Matrix6xX<f64>, axes: Axes) -> Result<DMatrix<f64>> {
-    if j.iter().any(|v| !v.is_finite()) {
-        return Err(Error::InvalidArgument {
-            what: "jacobian".into(),
-            message: "contains NaN or infinite entries".into(),
-        });
+    if let Some(&value) = j.iter().find(|v| !v.is_finite()) {
+        return Err(Error::NotFinite { what: "jacobian".into(), value });
     }
     let (start, n) = match axes {
         Axes::All => (0, 6),
@@ -88,7 +85,7 @@ pub fn rank(j: &Matrix6xX<f64>, axes: Axes, tol: Option<f64>) -> Result<(usize, 
     let s = singular_values(j, axes)?;
     let tol = tol.unwrap_or_else(|| default_rank_tolerance(m.nrows(), m.ncols(), s[0]));
     if !(tol >= 0.0) {
-        return Err(Error::InvalidArgument { what: "tolerance".into(), message: format!("{tol} must be ≥ 0") });
+        return Err(Error::OutOfRange { what: "tolerance".into(), value: tol, expected: "a number ≥ 0".into() });
     }
     Ok((s.iter().filter(|&&v| v > tol).count(), tol))
 }
@@ -107,9 +104,9 @@ pub struct Ellipsoid {
 /// Errors for [`Axes::All`] (a 6-D ellipsoid has no 3×3 form).
 pub fn ellipsoid(j: &Matrix6xX<f64>, axes: Axes) -> Result<Ellipsoid> {
     if axes == Axes::All {
-        return Err(Error::InvalidArgument {
+        return Err(Error::DoesNotFit {
             what: "axes".into(),
-            message: "an ellipsoid is drawn for translation or rotation, not both".into(),
+            reason: "an ellipsoid is drawn for translation or rotation, not both".into(),
         });
     }
     let m = rows(j, axes)?;
@@ -137,9 +134,10 @@ pub fn ellipsoid(j: &Matrix6xX<f64>, axes: Axes) -> Result<Ellipsoid> {
 pub fn manipulability_along(j: &Matrix6xX<f64>, axes: Axes, v: &Vector3<f64>) -> Result<f64> {
     let norm = v.norm();
     if !(norm > 0.0 && norm.is_finite()) {
-        return Err(Error::InvalidArgument {
+        return Err(Error::OutOfRange {
             what: "direction".into(),
-            message: format!("{:?} is not a usable direction", v.as_slice()),
+            value: norm,
+            expected: format!("a direction of finite, non-zero length (this is its length; {:?})", v.as_slice()),
         });
     }
     let e = ellipsoid(j, axes)?;
@@ -179,6 +177,11 @@ pub struct Dependency {
 pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Dependency>> {
     let m = rows(j, Axes::All)?;
     let tol = tol.unwrap_or(1e-9);
+    if !(tol >= 0.0 && tol.is_finite()) {
+        return Err(Error::OutOfRange {
+            what: "tolerance".into(), value: tol, expected: "a finite number ≥ 0".into()
+        });
+    }
     let scale = m.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-300);
     let mut basis: Vec<usize> = Vec::new();
     let mut out = Vec::new();
@@ -202,7 +205,8 @@ pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Depe
         let svd = b.clone().svd(true, true);
         let x: DVector<f64> = svd
             .solve(&col, tol * scale)
-            .map_err(|e| Error::InvalidArgument { what: "jacobian".into(), message: e.into() })?;
+            // Fails only for a negative tolerance, refused above.
+            .map_err(|e| Error::Infeasible { what: "tolerance".into(), reason: e.into() })?;
         let resid = (&b * &x - &col).norm();
         if resid <= tol * scale.max(col.norm()) * 10.0 {
             let on = basis.iter().zip(x.iter()).filter(|(_, &v)| v.abs() > 1e-9).map(|(&k, &v)| (k, v)).collect();

@@ -134,9 +134,12 @@ pub fn fk_matrix_into_uninit(robot: &Robot, q: &[f64], out: &mut [MaybeUninit<f6
 pub fn fk_batch(robot: &Robot, qs: &[f64]) -> Result<Vec<Fk>> {
     let n = robot.dof();
     if qs.len() % n != 0 {
-        return Err(Error::InvalidArgument {
+        // The nearest whole number of configurations, as the count expected.
+        return Err(Error::WrongLength {
             what: "qs".into(),
-            message: format!("{} values is not a whole number of {n}-joint configurations", qs.len()),
+            got: qs.len(),
+            expected: (qs.len() / n).max(1) * n,
+            of: format!("a whole number of {n}-joint configurations"),
         });
     }
     for (index, q) in qs.chunks_exact(n).enumerate() {

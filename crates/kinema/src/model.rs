@@ -150,7 +150,7 @@ impl Inertial {
     /// six inertia values `[ixx, iyy, izz, ixy, ixz, iyz]` \[kg·m²\] about the
     /// centre of mass (the products as they stand in the tensor, I = \[\[ixx ixy
     /// ixz\] \[ixy iyy iyz\] \[ixz iyz izz\]\], as in URDF). Errors
-    /// ([`Error::InvalidArgument`]) if a value is not finite, the mass is
+    /// ([`Error::NotFinite`], [`Error::OutOfRange`]) if a value is not finite, the mass is
     /// negative, or the tensor is not physical (a negative principal moment, or
     /// one larger than the sum of the other two, beyond 10⁻⁹ of the trace).
     ///
@@ -174,33 +174,54 @@ impl Inertial {
     pub fn validate(&self) -> Result<()> {
         let (mass, com, i) = (self.mass, self.com, self.inertia);
         let six = [i[(0, 0)], i[(1, 1)], i[(2, 2)], i[(0, 1)], i[(0, 2)], i[(1, 2)]];
-        let bad = |message: String| Error::InvalidArgument { what: "inertial".into(), message };
-        if !mass.is_finite() || com.iter().chain(i.iter()).any(|v| !v.is_finite()) {
-            return Err(bad(format!(
-                "mass {mass}, centre of mass {:?} and inertia {six:?} must be finite",
-                com.as_slice()
-            )));
+        let not_finite = [("mass", mass), ("com.x", com.x), ("com.y", com.y), ("com.z", com.z)]
+            .into_iter()
+            .chain(["ixx", "iyy", "izz", "ixy", "ixz", "iyz"].into_iter().zip(six))
+            .find(|(_, v)| !v.is_finite());
+        if let Some((what, value)) = not_finite {
+            return Err(Error::NotFinite { what: format!("inertial {what}"), value });
+        }
+        if i.iter().any(|v| !v.is_finite()) {
+            // A tensor built field by field whose lower triangle alone is not finite.
+            let value = i.iter().copied().find(|v| !v.is_finite()).unwrap_or(f64::NAN);
+            return Err(Error::NotFinite { what: "inertial inertia".into(), value });
         }
         if mass < 0.0 {
-            return Err(bad(format!("mass {mass} kg is negative")));
+            return Err(Error::OutOfRange { what: "mass".into(), value: mass, expected: "a mass ≥ 0 [kg]".into() });
         }
         let tol = 1e-9 * (six[0].abs() + six[1].abs() + six[2].abs());
-        if (i - i.transpose()).amax() > tol {
-            return Err(bad(format!("inertia tensor {:?} is not symmetric", i.as_slice())));
+        let asymmetry = (i - i.transpose()).amax();
+        if asymmetry > tol {
+            return Err(Error::OutOfRange {
+                what: "inertia".into(),
+                value: asymmetry,
+                expected: format!(
+                    "a symmetric tensor (the value is the largest |I − Iᵀ| entry of {:?}, at most {tol:e})",
+                    i.as_slice()
+                ),
+            });
         }
         let mut p = i.symmetric_eigenvalues();
         p.as_mut_slice().sort_by(f64::total_cmp);
         if p[0] < -tol {
-            return Err(bad(format!(
-                "inertia {six:?} (ixx, iyy, izz, ixy, ixz, iyz) has a negative principal moment {:.6e} kg·m²",
-                p[0]
-            )));
+            return Err(Error::OutOfRange {
+                what: "inertia".into(),
+                value: p[0],
+                expected: format!(
+                    "principal moments ≥ 0 kg·m² (the value is the smallest of inertia {six:?}, as ixx, iyy, izz, ixy, ixz, iyz)"
+                ),
+            });
         }
         if p[0] + p[1] < p[2] - tol {
-            return Err(bad(format!(
-                "inertia {six:?} (ixx, iyy, izz, ixy, ixz, iyz): principal moments {:.6e}, {:.6e}, {:.6e} kg·m² break the triangle inequality (the largest exceeds the sum of the others)",
-                p[0], p[1], p[2]
-            )));
+            return Err(Error::OutOfRange {
+                what: "inertia".into(),
+                value: p[2],
+                expected: format!(
+                    "a largest principal moment ≤ {:.6e} kg·m², the sum of the other two (the triangle \
+                     inequality; inertia {six:?}, as ixx, iyy, izz, ixy, ixz, iyz)",
+                    p[0] + p[1]
+                ),
+            });
         }
         Ok(())
     }

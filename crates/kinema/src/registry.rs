@@ -83,17 +83,17 @@ impl Robot {
         match ext.as_deref() {
             Some("toml") => {
                 if tip.is_some() {
-                    return Err(Error::InvalidArgument {
+                    return Err(Error::DoesNotFit {
                         what: "tip".into(),
-                        message: "a tip link only applies to URDF files".into(),
+                        reason: "a tip link only applies to URDF files".into(),
                     });
                 }
                 Robot::from_toml_str(&read()?, &shown)
             }
             Some("urdf") | Some("xml") => Robot::from_urdf_str(&read()?, &shown, tip),
-            _ => Err(Error::InvalidArgument {
+            _ => Err(Error::DoesNotFit {
                 what: "robot file".into(),
-                message: format!("`{shown}` must end in .toml (kinema description) or .urdf"),
+                reason: format!("`{shown}` must end in .toml (kinema description) or .urdf"),
             }),
         }
     }
@@ -102,9 +102,9 @@ impl Robot {
     pub fn load(spec: &str, tip: Option<&str>) -> Result<Robot> {
         if builtin_source(spec).is_some() {
             if tip.is_some() {
-                return Err(Error::InvalidArgument {
+                return Err(Error::DoesNotFit {
                     what: "tip".into(),
-                    message: "a tip link only applies to URDF files".into(),
+                    reason: "a tip link only applies to URDF files".into(),
                 });
             }
             return Robot::builtin(spec);

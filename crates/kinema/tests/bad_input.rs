@@ -425,9 +425,9 @@ fn urdf_unknown_tip() {
     assert!(m.contains("`link_99`") && m.contains("link_7") && m.contains("tool0"), "{m}");
     // A tip for a TOML file makes no sense.
     let e = Robot::from_file(data("iiwa-modified.toml"), Some("tool0")).unwrap_err();
-    assert!(matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"), "{e:?}");
+    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "tip"), "{e:?}");
     let e = Robot::load("panda", Some("tool0")).unwrap_err();
-    assert!(matches!(&e, Error::InvalidArgument { what, .. } if what == "tip"), "{e:?}");
+    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "tip"), "{e:?}");
 }
 
 #[test]
@@ -448,7 +448,8 @@ fn wrong_joint_count() {
     }
     // fk_batch: not a whole number of configurations.
     let e = robot.fk_batch(&[0.0; 13]).unwrap_err();
-    assert!(matches!(&e, Error::InvalidArgument { what, message } if what == "qs" && message.contains("13")), "{e:?}");
+    assert!(matches!(&e, Error::WrongLength { what, got: 13, expected: 12, .. } if what == "qs"), "{e:?}");
+    assert!(e.to_string().contains("a whole number of 6-joint configurations"), "{e}");
     // Wrongly sized output buffers.
     let mut j = Matrix6xX::zeros(5);
     let e = kinema::kin::jacobian_into(&robot, robot.home(), Frame::Base, &mut j).unwrap_err();
@@ -584,9 +585,9 @@ fn from_file_missing_and_wrong_extension() {
 
     for path in [data("robot.txt"), data("iiwa14"), PathBuf::from("Cargo.lock")] {
         let e = Robot::from_file(&path, None).unwrap_err();
-        let Error::InvalidArgument { what, message } = &e else { panic!("{e:?}") };
+        let Error::DoesNotFit { what, reason } = &e else { panic!("{e:?}") };
         assert_eq!(what, "robot file");
-        assert!(message.contains(".toml") && message.contains(".urdf"), "{message}");
+        assert!(reason.contains(".toml") && reason.contains(".urdf"), "{reason}");
     }
     // A directory with a robot extension.
     let dir = std::env::temp_dir().join(format!("kinema-test-dir-{}.toml", std::process::id()));
@@ -799,4 +800,80 @@ fn random_urdf_never_panics() {
         }
     }
     assert!(ok > 100 && err > 500, "ok = {ok}, err = {err}");
+}
+
+// ---------------------------------------------------------------------------
+// Typed argument errors: each kind is returned with its fields, and its
+// message names what was wrong and what was expected.
+
+#[test]
+fn argument_errors_are_typed() {
+    use kinema::nalgebra::Vector3;
+    use kinema::traj::{distances_to_path, sample_count, Expr, MotionLimits, Profile, Ptp, PtpOptions, TimeLaw};
+
+    // OutOfRange: a negative time step.
+    let e = sample_count(1.0, -0.1).unwrap_err();
+    assert!(matches!(&e, Error::OutOfRange { what, value, .. } if what == "dt" && *value == -0.1), "{e:?}");
+    assert_eq!(e.to_string(), "invalid `dt`: -0.1; expected a positive time step [s]");
+    let e = sample_count(1e300, 1e-300).unwrap_err();
+    assert!(matches!(&e, Error::OutOfRange { what, .. } if what == "dt"), "{e:?}");
+    assert!(e.to_string().contains("expected a larger time step: over 1e300 s this one would give"), "{e}");
+
+    // OutOfRange under the joint it concerns: a target beyond a joint's limits.
+    let iiwa = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let mut to = iiwa.home().to_vec();
+    to[1] = 3.0;
+    let e = Ptp::new(&iiwa, iiwa.home(), &to, &PtpOptions::default()).unwrap_err();
+    assert!(matches!(&e, Error::ForJoint { joint: 2, .. }), "{e:?}");
+    assert!(matches!(e.root(), Error::OutOfRange { what, value: 3.0, .. } if what == "to"), "{e:?}");
+    assert!(e.to_string().contains("invalid `to`: 3; expected a value within the joint's limits ["), "{e}");
+
+    // TooFew: a path of one point.
+    let o = Vector3::zeros();
+    let e = distances_to_path(&[o], &[o]).unwrap_err();
+    assert!(matches!(&e, Error::TooFew { what, got: 1, min: 2, .. } if what == "path"), "{e:?}");
+    assert_eq!(e.to_string(), "`path` has 1 point(s); at least 2 needed");
+
+    // MissingLimit: the iiwa model has no acceleration limits, and a PTP needs them.
+    to[1] = 0.5;
+    let e = Ptp::new(&iiwa, iiwa.home(), &to, &PtpOptions::default()).unwrap_err();
+    assert!(matches!(&e, Error::ForJoint { joint: 2, .. }), "{e:?}");
+    assert!(
+        matches!(e.root(), Error::MissingLimit { limit, option, .. } if limit == "acceleration" && option == "amax"),
+        "{e:?}"
+    );
+    assert!(
+        e.to_string().ends_with("no acceleration limit for its motion in the robot model; give one (`amax`)"),
+        "{e}"
+    );
+    let e = TimeLaw::from_limits(Profile::SCurve, 1.0, &MotionLimits::new(1.0, 1.0)).unwrap_err();
+    assert!(matches!(&e, Error::MissingLimit { option, .. } if option == "jmax"), "{e:?}");
+    assert_eq!(e.to_string(), "no jerk limit for the scurve profile; give one (`jmax`)");
+
+    // UnknownName: a profile that does not exist, with the known ones.
+    let e = "zigzag".parse::<Profile>().unwrap_err();
+    assert!(
+        matches!(&e, Error::UnknownName { what, name, known }
+        if what == "profile" && name == "zigzag" && known.contains("scurve")),
+        "{e:?}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "invalid `profile`: unknown profile `zigzag`; expected one of: trapezoid, scurve, cubic, quintic, linear"
+    );
+
+    // DoesNotFit: a tip link for a built-in robot.
+    let e = Robot::load("panda", Some("tool0")).unwrap_err();
+    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "tip"), "{e:?}");
+    assert_eq!(e.to_string(), "invalid `tip`: a tip link only applies to URDF files");
+
+    // Infeasible: limits so fast that the motion would be shorter than a motion may last.
+    let e = TimeLaw::from_limits(Profile::Linear, 1e-12, &MotionLimits::new(1.0, 1.0)).unwrap_err();
+    assert!(matches!(&e, Error::Infeasible { what, .. } if what == "duration"), "{e:?}");
+    assert!(e.to_string().starts_with("infeasible `duration`: the limits give a duration of 1e-12 s"), "{e}");
+
+    // Syntax: an unclosed call, with the column and a caret under it.
+    let e = Expr::parse("sin(t").unwrap_err();
+    assert!(matches!(&e, Error::Syntax { what, column: 6, .. } if what == "expression"), "{e:?}");
+    assert_eq!(e.to_string(), "invalid `expression`: `sin(t`, column 6: expected `,` or `)`\n  sin(t\n       ^");
 }

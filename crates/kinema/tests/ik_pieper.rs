@@ -587,10 +587,10 @@ fn unreachable_and_invalid_targets() {
     }
     let mut nan = Pose::translation(0.5, 0.1, 0.5);
     nan.pos.y = f64::NAN;
-    assert!(matches!(ik.solve(&nan), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve(&nan), Err(Error::NotFinite { .. })));
     let mut bad = Pose::translation(0.5, 0.1, 0.5);
     bad.rot[(0, 0)] = 2.0;
-    assert!(matches!(ik.solve(&bad), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve(&bad), Err(Error::OutOfRange { .. })));
     // Huge but finite targets: an error, never a panic or NaN.
     for s in [1e10, 1e200, f64::MAX] {
         match ik.solve(&Pose::translation(s, -s, s)) {

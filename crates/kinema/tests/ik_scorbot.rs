@@ -298,11 +298,11 @@ fn singular_targets_are_finite() {
 fn nan_rejected() {
     let robot = robot();
     let ik = ScorbotIk::new(&robot).unwrap();
-    assert!(matches!(ik.solve_xyz_pitch_roll([f64::NAN, 0.0, 0.3], 0.0, 0.0), Err(Error::InvalidArgument { .. })));
-    assert!(matches!(ik.solve_xyz_pitch_roll([0.3, 0.0, 0.3], f64::INFINITY, 0.0), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve_xyz_pitch_roll([f64::NAN, 0.0, 0.3], 0.0, 0.0), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve_xyz_pitch_roll([0.3, 0.0, 0.3], f64::INFINITY, 0.0), Err(Error::NotFinite { .. })));
     let mut t = Pose::translation(0.3, 0.0, 0.3);
     t.rot[(0, 0)] = f64::NAN;
-    assert!(matches!(ik.solve(&t), Err(Error::InvalidArgument { .. })));
+    assert!(matches!(ik.solve(&t), Err(Error::NotFinite { .. })));
     assert_eq!(ik.yaw_error(&t), f64::INFINITY);
 }
 

@@ -179,7 +179,7 @@ fn prescribed_durations_end_exactly_then_and_blocked_ones_are_refused() {
         }
         // Shorter than the fastest: refused.
         let e = BoundaryLaw::with_duration(from, to, &lim, fastest.duration() * 0.99).unwrap_err().to_string();
-        assert!(e.contains("shorter than the fastest") || fastest.duration() == 0.0, "{e}");
+        assert!(e.contains("the fastest motion between these states") || fastest.duration() == 0.0, "{e}");
     }
     assert!(solved > 2500 && blocked > 5, "{solved} solved, {blocked} blocked");
 }
@@ -257,16 +257,19 @@ fn states_no_law_can_respect_are_refused_naming_the_limit() {
     let refuse = |from: BoundaryState, to: BoundaryState, lim: &MotionLimits| {
         let e = BoundaryLaw::fastest(from, to, lim).unwrap_err();
         match &e {
-            kinema::Error::InvalidArgument { what, .. } => (what.clone(), e.to_string()),
+            kinema::Error::OutOfRange { what, .. }
+            | kinema::Error::Infeasible { what, .. }
+            | kinema::Error::NotFinite { what, .. }
+            | kinema::Error::MissingLimit { option: what, .. } => (what.clone(), e.to_string()),
             other => panic!("{other:?}"),
         }
     };
     let (w, m) = refuse(BoundaryState::new(0.0, 1.5, 0.0), BoundaryState::rest(1.0), &lim);
-    assert_eq!(w, "vmax");
-    assert!(m.contains("start velocity 1.5 is beyond vmax 1"), "{m}");
+    assert_eq!(w, "start velocity");
+    assert!(m.contains("`start velocity`: 1.5; expected a velocity within ±1 (vmax)"), "{m}");
     let (w, m) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.0, -3.0), &lim);
-    assert_eq!(w, "amax");
-    assert!(m.contains("target acceleration -3 is beyond amax 2"), "{m}");
+    assert_eq!(w, "target acceleration");
+    assert!(m.contains("`target acceleration`: -3; expected an acceleration within ±2 (amax)"), "{m}");
     // 0.8 + 1.5²/(2·4) = 1.08 > 1: the velocity limit is broken whatever the jerk.
     let (w, m) = refuse(BoundaryState::new(0.0, 0.8, 1.5), BoundaryState::rest(1.0), &lim);
     assert_eq!(w, "vmax");
@@ -275,9 +278,9 @@ fn states_no_law_can_respect_are_refused_naming_the_limit() {
     assert_eq!(w, "vmax");
     let (w, m) = refuse(BoundaryState::new(0.0, 0.0, 1.0), BoundaryState::rest(1.0), &MotionLimits::new(1.0, 2.0));
     assert_eq!(w, "jmax");
-    assert!(m.contains("needs a jerk limit"), "{m}");
+    assert!(m.contains("no jerk limit for the start acceleration 1"), "{m}");
     let (w, _) = refuse(BoundaryState::new(f64::NAN, 0.0, 0.0), BoundaryState::rest(1.0), &lim);
-    assert_eq!(w, "start");
+    assert_eq!(w, "start position");
     let (w, _) = refuse(BoundaryState::rest(0.0), BoundaryState::rest(1.0), &MotionLimits::with_jerk(1.0, -2.0, 4.0));
     assert_eq!(w, "amax");
     // A state equal to its target is already there, moving or not.
@@ -478,7 +481,8 @@ mod ptp {
         let m = msg(JointBoundary { v1: v.clone(), ..Default::default() }, opts(Profile::Cubic));
         assert!(m.starts_with("invalid `profile`: the cubic profile only moves rest to rest"), "{m}");
         let m = msg(JointBoundary { a0: v.clone(), ..Default::default() }, opts(Profile::Trapezoid));
-        assert!(m.starts_with("invalid `a0`: joint 1: a boundary acceleration needs the jerk-limited scurve"), "{m}");
+        assert!(m.starts_with("joint 1 (`"), "{m}");
+        assert!(m.contains("): invalid `a0`: a boundary acceleration needs the jerk-limited scurve"), "{m}");
         // A state no law can leave is named by its joint, the cause kept typed underneath.
         let e = BoundaryPtp::new(
             &robot,
@@ -489,9 +493,9 @@ mod ptp {
         )
         .unwrap_err();
         assert!(matches!(&e, Error::ForJoint { joint: 1, .. }), "{e:?}");
-        assert!(matches!(e.root(), Error::InvalidArgument { what, .. } if what == "vmax"), "{e:?}");
+        assert!(matches!(e.root(), Error::OutOfRange { what, value: 5.0, .. } if what == "start velocity"), "{e:?}");
         let m = e.to_string();
-        assert!(m.starts_with("joint 1 (`") && m.contains("start velocity 5 is beyond vmax"), "{m}");
+        assert!(m.starts_with("joint 1 (`") && m.contains("`start velocity`: 5; expected a velocity within ±"), "{m}");
     }
 
     #[test]

@@ -67,7 +67,7 @@ fn cell_errors() {
     let e = cell.add("x", scara, JointTrajectory::new(7)).unwrap_err().to_string();
     assert!(e.contains("5 joints") && e.contains('7'), "{e}");
     let e = cell.add("y", iiwa(), JointTrajectory::new(7)).unwrap_err().to_string();
-    assert!(e.contains("no sample"), "{e}");
+    assert!(e.contains("`y` has 0 trajectory samples"), "{e}");
     cell.add("z", iiwa(), ptp(&iiwa(), &[0.1; 7])).unwrap();
     assert!(cell.run(0.0).is_err());
     assert!(cell.run(0.01).unwrap().distances.is_empty());

@@ -401,7 +401,7 @@ fn zero_distance_is_a_still_law() {
 fn bad_inputs_are_errors_naming_the_argument() {
     let ok = MotionLimits::with_jerk(1.0, 1.0, 1.0);
     let name = |e: Error| match e {
-        Error::InvalidArgument { what, .. } => what,
+        Error::OutOfRange { what, .. } => what,
         other => panic!("unexpected error {other:?}"),
     };
     for d in [-1.0, f64::NAN, f64::INFINITY] {

@@ -253,9 +253,11 @@ pub fn rnea_into(
 pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut DMatrix<f64>) -> Result<()> {
     let n = robot.dof();
     if m.nrows() != n || m.ncols() != n {
-        return Err(Error::InvalidArgument {
+        return Err(Error::WrongLength {
             what: "m".into(),
-            message: format!("is {} × {}, robot `{}` needs {n} × {n}", m.nrows(), m.ncols(), robot.name()),
+            got: m.len(),
+            expected: n * n,
+            of: format!("an {n} × {n} matrix for robot `{}`; it is {} × {}", robot.name(), m.nrows(), m.ncols()),
         });
     }
     let bodies = bodies(robot)?;

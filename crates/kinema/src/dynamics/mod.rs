@@ -156,13 +156,9 @@ fn check_rates(robot: &Robot, what: &str, v: &[f64]) -> Result<()> {
 }
 
 fn check_gravity(gravity: &Vector3<f64>) -> Result<()> {
-    if gravity.iter().all(|g| g.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::InvalidArgument {
-            what: "gravity".into(),
-            message: format!("{:?} must be finite", gravity.as_slice()),
-        })
+    match gravity.iter().position(|g| !g.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(Error::NotFinite { what: format!("gravity[{i}]"), value: gravity[i] }),
     }
 }
 

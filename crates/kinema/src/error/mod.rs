@@ -198,13 +198,82 @@ pub enum Error {
         /// What is wrong there.
         source: Box<Error>,
     },
-    /// An argument outside its domain.
-    #[error("invalid `{what}`: {message}")]
-    InvalidArgument {
+    /// A number outside the range its argument accepts (a negative time
+    /// step, a speed override above 1, a joint value beyond its limits…).
+    #[error("invalid `{what}`: {}; expected {expected}", number_text(*value))]
+    OutOfRange {
+        /// Which argument (e.g. `dt`, `speed`, `tol_position`).
+        what: String,
+        /// The offending value.
+        value: f64,
+        /// The accepted range, in words (e.g. "a positive time step \[s\]").
+        expected: String,
+    },
+    /// Too few items where a list needs some: an empty input, a path of one
+    /// point, a task mask that selects nothing.
+    #[error("`{what}` has {got} {of}; at least {min} needed")]
+    TooFew {
         /// Which argument.
         what: String,
-        /// What is wrong and what is expected.
-        message: String,
+        /// How many it has.
+        got: usize,
+        /// How many it needs at least.
+        min: usize,
+        /// What is counted (e.g. "points", "samples").
+        of: String,
+    },
+    /// A kinematic limit that a motion needs and that neither the robot
+    /// model nor the options give (per joint, inside [`Error::ForJoint`]).
+    #[error("no {limit} limit for {needed_by}; give one (`{option}`)")]
+    MissingLimit {
+        /// The quantity: "velocity", "acceleration" or "jerk".
+        limit: String,
+        /// The option that gives it (e.g. `vmax`, `amax`, `jmax`).
+        option: String,
+        /// What needs it (e.g. "its motion in the robot model", "the scurve profile").
+        needed_by: String,
+    },
+    /// A name that is not one of those an argument accepts.
+    #[error("invalid `{what}`: unknown {what} `{name}`; expected one of: {known}")]
+    UnknownName {
+        /// Which argument (e.g. `profile`, `q3`).
+        what: String,
+        /// What was asked for.
+        name: String,
+        /// Comma-separated list of the accepted names (and forms).
+        known: String,
+    },
+    /// A valid value that does not fit the rest of the request: a profile
+    /// that cannot do what the motion needs, a target kind a solver does not
+    /// take, two options that exclude each other.
+    #[error("invalid `{what}`: {reason}")]
+    DoesNotFit {
+        /// Which argument to change.
+        what: String,
+        /// Why it does not fit, and what would.
+        reason: String,
+    },
+    /// Arguments that are each valid but admit no result: no motion within
+    /// the limits, a duration that rounding makes unusable, an integration
+    /// that diverges.
+    #[error("infeasible `{what}`: {reason}")]
+    Infeasible {
+        /// Which argument to change (e.g. `duration`, `vmax`).
+        what: String,
+        /// Why nothing fits, with the numbers.
+        reason: String,
+    },
+    /// Text that does not parse (an expression, a list of numbers).
+    #[error("invalid `{what}`: `{text}`, column {column}: {expected}\n  {text}\n  {}^", caret_pad(text, *column))]
+    Syntax {
+        /// Which argument.
+        what: String,
+        /// The text as given.
+        text: String,
+        /// 1-based column (in characters) where it goes wrong.
+        column: usize,
+        /// What is wrong there and what was expected.
+        expected: String,
     },
 }
 
@@ -260,6 +329,22 @@ fn size_text(bytes: u64) -> String {
     } else {
         format!("{bytes} bytes")
     }
+}
+
+/// A number as people read it in a message: plain, or in scientific notation
+/// when plain would run to many digits (1e300, 1e-300).
+pub(crate) fn number_text(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e15).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// Spaces up to the 1-based character `column` of `text`, to put a caret under it.
+fn caret_pad(text: &str, column: usize) -> String {
+    " ".repeat(column.saturating_sub(1).min(text.chars().count()))
 }
 
 /// The closest configuration of an unreachable target, as a clause of its message.

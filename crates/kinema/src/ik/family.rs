@@ -65,9 +65,9 @@ pub trait Family: IkSolver {
     /// that keep a branch or a side from it.
     fn solve_typed(&self, target: &IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         let _ = q0;
-        Err(crate::Error::InvalidArgument {
+        Err(crate::Error::DoesNotFit {
             what: "target".into(),
-            message: format!("the {} solver takes no {:?} target", self.name(), target.typed_kind()),
+            reason: format!("the {} solver takes no {:?} target", self.name(), target.typed_kind()),
         })
     }
 
@@ -196,23 +196,28 @@ impl Choice<'_> {
 
     /// Checks the grid and the step limits against `dof` joints.
     pub fn check(&self, dof: usize) -> Result<()> {
-        if !(self.window >= 0.0 && self.window.is_finite() && self.center.is_finite())
-            || self.max_steps.len() != dof
-            || self.points % 2 == 0
-            || self.prev.len() != dof
-        {
-            return Err(crate::Error::InvalidArgument {
+        use crate::Error;
+        if !self.center.is_finite() {
+            return Err(Error::NotFinite { what: "center".into(), value: self.center });
+        }
+        if !(self.window >= 0.0 && self.window.is_finite()) {
+            return Err(Error::OutOfRange {
                 what: "window".into(),
-                message: format!(
-                    "the grid (centre {}, half-width {} ≥ 0, {} points, odd) and the {} step limits and {} previous \
-                     values must fit {dof} joints",
-                    self.center,
-                    self.window,
-                    self.points,
-                    self.max_steps.len(),
-                    self.prev.len()
-                ),
+                value: self.window,
+                expected: "a finite half-width ≥ 0".into(),
             });
+        }
+        if self.points % 2 == 0 {
+            return Err(Error::OutOfRange {
+                what: "points".into(),
+                value: self.points as f64,
+                expected: "an odd number of grid points".into(),
+            });
+        }
+        for (what, got) in [("max_steps", self.max_steps.len()), ("prev", self.prev.len())] {
+            if got != dof {
+                return Err(Error::WrongLength { what: what.into(), got, expected: dof, of: "one per joint".into() });
+            }
         }
         Ok(())
     }
@@ -293,22 +298,25 @@ pub struct SelfMotionSample {
 /// joints or a URDF. Errors: no arm angle, `steps` = 0, a `q` the closed
 /// form does not reproduce.
 pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usize) -> Result<Vec<SelfMotionSample>> {
-    let invalid = |what: &str, message: String| crate::Error::InvalidArgument { what: what.into(), message };
+    let infeasible = |what: &str, reason: String| crate::Error::Infeasible { what: what.into(), reason };
     if steps == 0 {
-        return Err(invalid("steps", "at least one sample is needed".into()));
+        return Err(super::iiwa::no_steps());
     }
     if !family.parameters().contains(&"psi") {
-        return Err(invalid(
-            "robot",
-            format!(
+        return Err(crate::Error::DoesNotFit {
+            what: "robot".into(),
+            reason: format!(
                 "robot `{}` has no arm angle ψ to turn (its self-motion parameters: {})",
                 robot.name(),
                 family.parameters().join(", ")
             ),
-        ));
+        });
     }
     if robot.dof() < 4 {
-        return Err(invalid("robot", format!("robot `{}` has no elbow frame", robot.name())));
+        return Err(crate::Error::DoesNotFit {
+            what: "robot".into(),
+            reason: format!("robot `{}` has no elbow frame", robot.name()),
+        });
     }
     let target = robot.fk(q)?.world_from_tool;
     let psi0 = family.parameter_of(q, "psi");
@@ -319,7 +327,7 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .filter(|(d, _)| *d < 1e-6)
         .map(|(_, s)| s.branch.clone())
-        .ok_or_else(|| invalid("q", format!("the closed form at ψ = {psi0:.6} rad does not reproduce q")))?;
+        .ok_or_else(|| infeasible("q", format!("the closed form at ψ = {psi0:.6} rad does not reproduce q")))?;
     (0..steps)
         .map(|k| {
             let psi = super::wrap_angle(psi0 + std::f64::consts::TAU * k as f64 / steps as f64);
@@ -327,7 +335,7 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
                 .solve_at(&target, "psi", psi)?
                 .into_iter()
                 .find(|s| s.branch == branch)
-                .ok_or_else(|| invalid("psi", format!("branch {branch} has no solution at ψ = {psi:.6} rad")))?;
+                .ok_or_else(|| infeasible("psi", format!("branch {branch} has no solution at ψ = {psi:.6} rad")))?;
             let elbow = robot.link_frames(&s.q)?[3].pos;
             Ok(SelfMotionSample { psi, q3: s.q[2], within_limits: s.within_limits(), elbow, q: s.q })
         })

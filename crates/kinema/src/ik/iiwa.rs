@@ -249,6 +249,23 @@ struct Elbow {
     s4: f64,
 }
 
+/// Refuses a configuration label that is not 3 bits.
+fn check_config(config: u8) -> Result<()> {
+    if config > 7 {
+        return Err(Error::OutOfRange {
+            what: "config".into(),
+            value: f64::from(config),
+            expected: "a 3-bit value, 0 to 7".into(),
+        });
+    }
+    Ok(())
+}
+
+/// The error for a self-motion of no samples.
+pub(crate) fn no_steps() -> Error {
+    Error::TooFew { what: "steps".into(), got: 0, min: 1, of: "samples".into() }
+}
+
 fn invalid(robot: &Robot, reason: String) -> Error {
     Error::SolverDoesNotFit { solver: "iiwa".into(), robot: robot.name().into(), reason }
 }
@@ -380,7 +397,7 @@ pub fn config_label(config: u8) -> &'static str {
 
 impl IiwaIk {
     /// A solver for `robot`, which must be a 7R arm of the iiwa's shape
-    /// (see the module documentation); otherwise [`Error::InvalidArgument`]
+    /// (see the module documentation); otherwise [`Error::SolverDoesNotFit`]
     /// says what does not fit. The default q3 of [`IkSolver::solve`] is 0.
     pub fn new(robot: &Robot) -> Result<Self> {
         const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
@@ -646,7 +663,7 @@ impl IiwaIk {
     /// (`shoulder+/elbow-/wrist+/front`, see the module documentation). Solutions outside the joint limits are included and
     /// flagged; coinciding solutions (singular cases) are returned once.
     ///
-    /// Errors: a non-finite target ([`Error::InvalidArgument`]); a wrist point
+    /// Errors: a non-finite target ([`Error::NotFinite`]); a wrist point
     /// outside the shoulder–wrist annulus \[|d3 − d5|, d3 + d5\], or inside the
     /// cylinder around the axis of joint 1 of radius d5·|sin q3·sin q4| that
     /// this q3 cannot reach ([`Error::Unreachable`] with
@@ -770,12 +787,10 @@ impl IiwaIk {
     /// angle, shoulder in front (q1° = atan2(w_y, w_x)). Errors as
     /// [`IiwaIk::solve_q3`] (the annulus only: every ψ is reachable).
     pub fn solve_psi(&self, target: &Pose, psi: f64, config: u8) -> Result<Solution> {
-        if !psi.is_finite() || config > 7 {
-            return Err(Error::InvalidArgument {
-                what: "psi/config".into(),
-                message: format!("ψ = {psi} must be finite and config = {config} a 3-bit value (0–7)"),
-            });
+        if !psi.is_finite() {
+            return Err(Error::NotFinite { what: "psi".into(), value: psi });
         }
+        check_config(config)?;
         let t = self.arm_target(target)?;
         let q = self.solve_psi_raw(&t, psi, config)?;
         Solution::evaluate(&self.robot, q.to_vec(), target, config_label(config))
@@ -811,10 +826,7 @@ impl IiwaIk {
     /// moves on a circle about the shoulder–wrist line (a point if q4 = 0).
     pub fn self_motion(&self, q: &[f64], steps: usize) -> Result<Vec<SelfMotionSample>> {
         if steps == 0 {
-            return Err(Error::InvalidArgument {
-                what: "steps".into(),
-                message: "at least one sample is needed".into(),
-            });
+            return Err(no_steps());
         }
         let fk = self.robot.fk(q)?;
         let t = self.arm_target(&fk.world_from_tool)?;
@@ -845,12 +857,7 @@ impl IiwaIk {
     /// a feasible or infeasible stretch shorter than the sample spacing
     /// (≈ 3 mrad) can be missed. An empty list means no ψ is feasible.
     pub fn feasible_psi_intervals(&self, target: &Pose, config: u8) -> Result<Vec<(f64, f64)>> {
-        if config > 7 {
-            return Err(Error::InvalidArgument {
-                what: "config".into(),
-                message: format!("{config} is not a 3-bit value (0–7)"),
-            });
-        }
+        check_config(config)?;
         let t = self.arm_target(target)?;
         self.elbow(t.w.norm())?;
         let feasible = |psi: f64| -> bool {
@@ -933,7 +940,7 @@ impl IiwaIk {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect())
             }
-            Err(e @ (Error::InvalidArgument { .. } | Error::NotFinite { .. })) => return Err(e),
+            Err(e @ (Error::OutOfRange { .. } | Error::NotFinite { .. })) => return Err(e),
             _ => {}
         }
         let t = self.arm_target(target)?;

@@ -518,23 +518,30 @@ pub(crate) fn two_link_elbow_terms(r: f64, l1: f64, l2: f64, tol: f64) -> std::r
     })
 }
 
+/// The error for a task mask that selects no component.
+pub(crate) fn no_component() -> Error {
+    Error::TooFew { what: "mask".into(), got: 0, min: 1, of: "selected components (of x, y, z, ωx, ωy, ωz)".into() }
+}
+
 /// Rejects a target with NaN/inf entries or a rotation block that is not a rotation.
 pub fn check_target(target: &Pose) -> Result<()> {
-    if !target.is_finite() {
-        return Err(Error::InvalidArgument {
-            what: "target".into(),
-            message: "the target pose contains NaN or infinite values".into(),
-        });
+    if let Some(&value) = target.pos.iter().chain(target.rot.iter()).find(|v| !v.is_finite()) {
+        return Err(Error::NotFinite { what: "target".into(), value });
     }
     let r = &target.rot;
     let orth = (r.transpose() * r - nalgebra::Matrix3::identity()).norm();
-    if orth > 1e-6 || r.determinant() < 0.0 {
-        return Err(Error::InvalidArgument {
+    if orth > 1e-6 {
+        return Err(Error::OutOfRange {
             what: "target".into(),
-            message: format!(
-                "the rotation block is not a rotation (‖RᵀR − I‖ = {orth:.2e}, det = {:.3})",
-                r.determinant()
-            ),
+            value: orth,
+            expected: "a rotation block: this is its ‖RᵀR − I‖, which must be ≤ 1e-6".into(),
+        });
+    }
+    if r.determinant() < 0.0 {
+        return Err(Error::OutOfRange {
+            what: "target".into(),
+            value: r.determinant(),
+            expected: "a rotation block: this is its determinant, which must be +1 (not a reflection)".into(),
         });
     }
     Ok(())

@@ -22,7 +22,7 @@ use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::{check_target, Closest, IkSolver, NumericInfo, Solution, Stop, Unreachable};
+use super::{check_target, no_component, Closest, IkSolver, NumericInfo, Solution, Stop, Unreachable};
 use crate::error::{Error, Result};
 use crate::kin::Frame;
 use crate::math::{rot_to_axis_angle, Pose};
@@ -116,21 +116,30 @@ impl NumericIk {
 
     /// A solver with the given options (checked).
     pub fn with_options(robot: &Robot, opts: NumericOptions) -> Result<Self> {
-        let bad = |what: &str, message: String| Err(Error::InvalidArgument { what: what.into(), message });
-        if !(opts.tol_position > 0.0 && opts.tol_orientation > 0.0) {
-            return bad("tolerance", "tolerances must be positive".into());
+        for (what, value) in [("tol_position", opts.tol_position), ("tol_orientation", opts.tol_orientation)] {
+            if !(value > 0.0) {
+                return Err(Error::OutOfRange { what: what.into(), value, expected: "a positive tolerance".into() });
+            }
         }
         if opts.max_iterations == 0 {
-            return bad("max_iterations", "at least one iteration is needed".into());
+            return Err(Error::OutOfRange {
+                what: "max_iterations".into(),
+                value: 0.0,
+                expected: "at least 1 iteration".into(),
+            });
         }
         if let Some(rest) = &opts.rest {
             robot.check_q(rest)?;
         }
         if !(opts.rest_gain >= 0.0 && opts.rest_gain.is_finite()) {
-            return bad("rest_gain", format!("{} must be ≥ 0", opts.rest_gain));
+            return Err(Error::OutOfRange {
+                what: "rest_gain".into(),
+                value: opts.rest_gain,
+                expected: "a finite gain ≥ 0".into(),
+            });
         }
         if opts.mask.is_some_and(|m| !m.iter().any(|&b| b)) {
-            return bad("mask", "the task mask selects no component".into());
+            return Err(no_component());
         }
         Ok(NumericIk { robot: robot.clone(), opts })
     }

@@ -188,7 +188,7 @@ impl PieperIk {
     /// q4…q6 change, at a few seeded configurations. The shoulder
     /// arrangement ([`ArmKind`]) is classified with the same tolerances.
     ///
-    /// Errors ([`Error::InvalidArgument`]) say which condition fails.
+    /// Errors ([`Error::SolverDoesNotFit`]) say which condition fails.
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
         let reject =

@@ -165,9 +165,9 @@ fn solve_request_with(
     let masked = request.mask.is_some();
     let fixed = request.q3.map(|v| ("q3", v)).or(request.psi.map(|v| ("psi", v)));
     if fixed.is_some() && masked {
-        return Err(Error::InvalidArgument {
+        return Err(Error::DoesNotFit {
             what: "target".into(),
-            message: "q3 and ψ need a full target pose, not a task mask".into(),
+            reason: "q3 and ψ need a full target pose, not a task mask".into(),
         });
     }
     let numeric_only = masked || request.solver == SolverChoice::Numeric;
@@ -179,7 +179,7 @@ fn solve_request_with(
                 let params = f.redundancy().map_or("none".to_string(), |r| r.parameters().join(", "));
                 format!("the {} solver, whose self-motion parameters are: {params}", f.name())
             });
-            let message = if f.and_then(|f| f.redundancy()).is_some() {
+            let reason = if f.and_then(|f| f.redundancy()).is_some() {
                 format!("{parameter} is not a self-motion parameter of robot `{}` (it has {has})", robot.name())
             } else {
                 format!(
@@ -187,7 +187,7 @@ fn solve_request_with(
                     robot.name()
                 )
             };
-            return Err(Error::InvalidArgument { what: parameter.into(), message });
+            return Err(Error::DoesNotFit { what: parameter.into(), reason });
         };
         return Ok((f.map_or("", |f| f.name()), r.solve_at(target, parameter, value)?));
     }
@@ -210,17 +210,17 @@ fn solve_request_with(
         }
     }
     match (request.solver, family) {
-        (SolverChoice::Analytic, None) if masked => Err(Error::InvalidArgument {
+        (SolverChoice::Analytic, None) if masked => Err(Error::DoesNotFit {
             what: "solver".into(),
-            message: format!(
+            reason: format!(
                 "robot `{}` has no analytic solver for a task mask or a position-only target (the closed forms \
                  solve full poses); use the numeric solver",
                 robot.name()
             ),
         }),
-        (SolverChoice::Analytic, None) => Err(Error::InvalidArgument {
+        (SolverChoice::Analytic, None) => Err(Error::DoesNotFit {
             what: "solver".into(),
-            message: format!(
+            reason: format!(
                 "robot `{}` has no analytic solver for this target (analytic solvers: iiwa-type 7R, 6R with a \
                  spherical wrist or with three parallel axes, Scorbot, SCARA on a rail, ROMMEL; position-only \
                  targets are numeric); use the numeric solver",
@@ -265,7 +265,7 @@ fn solve_request_with(
 /// joints meets a full pose exactly or not at all, unless a mask frees what
 /// it cannot control.
 ///
-/// Errors ([`Error::InvalidArgument`]) before any solving: both q3 and ψ;
+/// Errors ([`Error::DoesNotFit`], [`Error::TooFew`], [`Error::OutOfRange`]) before any solving: both q3 and ψ;
 /// `q0` not a configuration of `robot`; a typed target, q3 or ψ with
 /// [`SolverChoice::Numeric`] (they select an analytic solver); q3 or ψ with a
 /// target that is not a full pose; a mask with a target that is not a full
@@ -344,8 +344,7 @@ pub fn solve_target_with(
 
 /// The combinations [`solve_target`] refuses before solving.
 pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<()> {
-    let invalid =
-        |what: &str, message: &str| Err(Error::InvalidArgument { what: what.into(), message: message.into() });
+    let invalid = |what: &str, reason: &str| Err(Error::DoesNotFit { what: what.into(), reason: reason.into() });
     let iiwa = request.q3.is_some() || request.psi.is_some();
     if request.q3.is_some() && request.psi.is_some() {
         return invalid("q3", "give q3 or psi, not both");
@@ -369,10 +368,14 @@ pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkReques
         );
     }
     if request.mask.is_some_and(|m| !m.iter().any(|&b| b)) {
-        return invalid("mask", "the task mask selects no component; expected at least one of x, y, z, ωx, ωy, ωz");
+        return Err(super::no_component());
     }
-    if !(request.tolerance.position > 0.0 && request.tolerance.orientation > 0.0) {
-        return invalid("tolerance", "the position and orientation tolerances must be positive numbers");
+    let tolerance =
+        [("tolerance.position", request.tolerance.position), ("tolerance.orientation", request.tolerance.orientation)];
+    for (what, value) in tolerance {
+        if !(value > 0.0) {
+            return Err(Error::OutOfRange { what: what.into(), value, expected: "a positive tolerance".into() });
+        }
     }
     Ok(())
 }
@@ -388,11 +391,8 @@ fn propose(
     match *target {
         IkTarget::Pose(ref pose) => solve_request_with(robot, fitted, pose, request),
         IkTarget::Position(p) => {
-            if p.iter().any(|v| !v.is_finite()) {
-                return Err(Error::InvalidArgument {
-                    what: "position".into(),
-                    message: format!("{p:?}: all values must be finite"),
-                });
+            if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
+                return Err(Error::NotFinite { what: "position".into(), value });
             }
             let mut masked = request.clone();
             masked.mask = Some(POSITION_MASK);
@@ -474,7 +474,7 @@ pub fn pick_one(robot: &Robot, solver: &str, solutions: Vec<Solution>, q0: Optio
         None => within.into_iter().next(),
     };
     // `within` is not empty, so there is a pick.
-    pick.ok_or_else(|| Error::InvalidArgument { what: "solutions".into(), message: "none to pick from".into() })
+    pick.ok_or_else(|| Error::TooFew { what: "solutions".into(), got: 0, min: 1, of: "solutions within limits".into() })
 }
 
 #[cfg(test)]

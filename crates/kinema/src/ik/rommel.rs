@@ -112,7 +112,7 @@ impl RommelIk {
     /// checking with forward kinematics that the geometry of the module
     /// documentation holds.
     ///
-    /// Errors ([`Error::InvalidArgument`]) for a robot that is not five revolute
+    /// Errors ([`Error::SolverDoesNotFit`]) for a robot that is not five revolute
     /// modified-DH joints with that geometry, or a tool that leaves the flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
         let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
@@ -183,7 +183,7 @@ impl RommelIk {
     /// Up to four solutions (front/back × elbow-pos/neg), each evaluated against
     /// the pose it reaches with the target position (the roll about the approach is
     /// not part of this target), flagged for joint limits. Errors: non-finite input
-    /// or a zero approach ([`Error::InvalidArgument`]); the position out of reach
+    /// ([`Error::NotFinite`]) or a zero approach ([`Error::OutOfRange`]); the position out of reach
     /// ([`Unreachable::OutsideReach`]); no position branch whose forearm is
     /// perpendicular to the approach ([`Unreachable::Orientation`], with the smallest
     /// angle to a reachable approach).
@@ -200,18 +200,17 @@ impl RommelIk {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn solve_position_approach(&self, p: [f64; 3], approach: [f64; 3]) -> Result<Vec<Solution>> {
-        if p.iter().chain(&approach).any(|v| !v.is_finite()) {
-            return Err(Error::InvalidArgument {
-                what: "target".into(),
-                message: format!("position {p:?} and approach {approach:?} must be finite"),
-            });
+        let named = p.iter().map(|&v| ("position", v)).chain(approach.iter().map(|&v| ("approach", v)));
+        if let Some((what, value)) = named.into_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::NotFinite { what: what.into(), value });
         }
         let a = Vector3::from(approach);
         let n = a.norm();
         if n <= 1e-12 {
-            return Err(Error::InvalidArgument {
+            return Err(Error::OutOfRange {
                 what: "approach".into(),
-                message: "the approach vector is zero".into(),
+                value: n,
+                expected: "a direction of non-zero length (this is its length)".into(),
             });
         }
         let a = a / n;
@@ -370,9 +369,9 @@ impl super::family::Family for RommelIk {
             super::IkTarget::PositionApproach { position, approach } => {
                 self.solve_position_approach(position, approach)
             }
-            _ => Err(Error::InvalidArgument {
+            _ => Err(Error::DoesNotFit {
                 what: "target".into(),
-                message: "ROMMEL's typed target is a position with an approach direction".into(),
+                reason: "ROMMEL's typed target is a position with an approach direction".into(),
             }),
         }
     }

@@ -147,7 +147,7 @@ impl ScaraIk {
     /// H2 (offset of joint 4) from its DH table and checking with forward kinematics
     /// that the model is seed 003 eq. 1 with these values.
     ///
-    /// Errors ([`Error::InvalidArgument`]) for a robot that is not PRRPR with DH rows,
+    /// Errors ([`Error::SolverDoesNotFit`]) for a robot that is not PRRPR with DH rows,
     /// whose forward kinematics is not eq. 1 (a base rotation other than Rx(−90°)
     /// included; any base translation is fine), whose tool is tilted (its z axis must
     /// stay vertical), or whose rail is too short for the zone rule.
@@ -299,11 +299,11 @@ impl ScaraIk {
     }
 
     fn check_typed(target: &[f64; 4], extra: &[f64]) -> Result<()> {
-        if target.iter().chain(extra).any(|v| !v.is_finite()) {
-            return Err(Error::InvalidArgument {
-                what: "target".into(),
-                message: format!("target {target:?} and rail position {extra:?} must be finite"),
-            });
+        if let Some(&value) = target.iter().find(|v| !v.is_finite()) {
+            return Err(Error::NotFinite { what: "target".into(), value });
+        }
+        if let Some(&value) = extra.iter().find(|v| !v.is_finite()) {
+            return Err(Error::NotFinite { what: "rail position".into(), value });
         }
         Ok(())
     }
@@ -441,9 +441,11 @@ impl ScaraIk {
         Self::check_typed(&target, previous.unwrap_or(&[]))?;
         if let Some(p) = previous {
             if p.len() != 5 {
-                return Err(Error::InvalidArgument {
+                return Err(Error::WrongLength {
                     what: "previous".into(),
-                    message: format!("{} values given, the SCARA has 5 joints", p.len()),
+                    got: p.len(),
+                    expected: 5,
+                    of: "one per joint of the SCARA".into(),
                 });
             }
         }
@@ -693,9 +695,9 @@ impl super::family::Family for ScaraIk {
             super::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
                 Ok(vec![self.solve_zone([x, y, z, alpha], q0)?])
             }
-            _ => Err(Error::InvalidArgument {
+            _ => Err(Error::DoesNotFit {
                 what: "target".into(),
-                message: "the SCARA's typed target is a position with the tool angle α".into(),
+                reason: "the SCARA's typed target is a position with the tool angle α".into(),
             }),
         }
     }

@@ -138,7 +138,7 @@ impl ScorbotIk {
     /// A solver for `robot`, reading d1, a1, a2, a3, d5 and the joint offsets from
     /// its DH table.
     ///
-    /// Errors ([`Error::InvalidArgument`]) unless the robot has five revolute
+    /// Errors ([`Error::SolverDoesNotFit`]) unless the robot has five revolute
     /// standard-DH joints with twists (π/2, 0, 0, π/2, 0), d2 = d3 = d4 = 0,
     /// a4 = a5 = 0, a2 > 0, a3 > 0, and a tool whose translation lies along the
     /// flange z axis.
@@ -218,7 +218,7 @@ impl ScorbotIk {
     /// Returns up to four solutions (front/back × elbow up/down), each flagged for
     /// joint limits and evaluated against the pose they reach, i.e.
     /// Rz(θ1)·Ry(β)·Rx(γ)·R_hᵀ with the yaw θ1 that the position imposes — so their
-    /// residuals are ~0. Errors: non-finite input ([`Error::InvalidArgument`]); the
+    /// residuals are ~0. Errors: non-finite input ([`Error::NotFinite`]); the
     /// wrist point outside the annulus \[|a2 − a3|, a2 + a3\] around the shoulder for
     /// both the front and the back branch ([`Unreachable::OutsideReach`], with the
     /// smaller miss).
@@ -267,11 +267,9 @@ impl ScorbotIk {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn xyz_pitch_roll_candidates(&self, p: [f64; 3], pitch: f64, roll: f64) -> Result<ScorbotCandidates> {
-        if p.iter().chain([&pitch, &roll]).any(|v| !v.is_finite()) {
-            return Err(Error::InvalidArgument {
-                what: "target".into(),
-                message: format!("position {p:?}, pitch {pitch} and roll {roll} must be finite"),
-            });
+        let named = p.iter().map(|&v| ("position", v)).chain([("pitch", pitch), ("roll", roll)]);
+        if let Some((what, value)) = named.into_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::NotFinite { what: what.into(), value });
         }
         let pb = self.base_inv.transform_point(&Vector3::from(p));
         let mut out = ScorbotCandidates::default();
@@ -526,9 +524,9 @@ impl super::family::Family for ScorbotIk {
             super::IkTarget::PositionPitchRoll { position, pitch, roll } => {
                 self.solve_xyz_pitch_roll(position, pitch, roll)
             }
-            _ => Err(Error::InvalidArgument {
+            _ => Err(Error::DoesNotFit {
                 what: "target".into(),
-                message: "the Scorbot solver's typed target is a position with pitch and roll".into(),
+                reason: "the Scorbot solver's typed target is a position with pitch and roll".into(),
             }),
         }
     }

@@ -181,8 +181,9 @@ pub struct BoundaryLaw {
     jerk_limited: bool,
 }
 
-fn invalid(what: &str, message: String) -> Error {
-    Error::InvalidArgument { what: what.into(), message }
+/// An [`Error::Infeasible`] about `what`.
+fn infeasible(what: &str, reason: String) -> Error {
+    Error::Infeasible { what: what.into(), reason }
 }
 
 /// The limits of one problem, validated.
@@ -686,12 +687,16 @@ fn timed_second(p: &Prob, l: &Lim, t: f64, out: &mut Vec<Segs>) {
 fn lim_of(limits: &MotionLimits) -> Result<Lim> {
     for (name, v) in [("vmax", limits.vel), ("amax", limits.acc)] {
         if !(v.is_finite() && v > 0.0) {
-            return Err(invalid(name, format!("{v} must be a positive finite number")));
+            return Err(Error::OutOfRange { what: name.into(), value: v, expected: "a positive finite number".into() });
         }
     }
     if let Some(j) = limits.jerk {
         if !(j.is_finite() && j > 0.0) {
-            return Err(invalid("jmax", format!("{j} must be a positive finite number")));
+            return Err(Error::OutOfRange {
+                what: "jmax".into(),
+                value: j,
+                expected: "a positive finite number".into(),
+            });
         }
     }
     Ok(Lim { v: limits.vel, a: limits.acc, j: limits.jerk })
@@ -702,41 +707,47 @@ fn check_states(from: &BoundaryState, to: &BoundaryState, l: &Lim) -> Result<()>
     for (what, s) in [("start", from), ("target", to)] {
         for (name, x) in [("position", s.p), ("velocity", s.v), ("acceleration", s.a)] {
             if !x.is_finite() {
-                return Err(invalid(what, format!("the {what} {name} {x} is not a finite number")));
+                return Err(Error::NotFinite { what: format!("{what} {name}"), value: x });
             }
         }
         let tol = 1e-12;
         if s.v.abs() > l.v * (1.0 + tol) {
-            return Err(invalid(
-                "vmax",
-                format!(
-                    "the {what} velocity {} is beyond vmax {}; no motion within the limits starts or ends there",
-                    s.v, l.v
+            return Err(Error::OutOfRange {
+                what: format!("{what} velocity"),
+                value: s.v,
+                expected: format!(
+                    "a velocity within ±{} (vmax); no motion within the limits starts or ends beyond it",
+                    l.v
                 ),
-            ));
+            });
         }
         match l.j {
             None if s.a != 0.0 => {
-                return Err(invalid(
-                    "jmax",
-                    format!(
-                        "the {what} acceleration {} needs a jerk limit: without one the acceleration \
-                         is a step and boundary accelerations must be 0",
+                return Err(Error::MissingLimit {
+                    limit: "jerk".into(),
+                    option: "jmax".into(),
+                    needed_by: format!(
+                        "the {what} acceleration {} (without one the acceleration is a step and boundary \
+                         accelerations must be 0)",
                         s.a
                     ),
-                ))
+                })
             }
             None => {}
             Some(j) => {
                 if s.a.abs() > l.a * (1.0 + tol) {
-                    return Err(invalid("amax", format!("the {what} acceleration {} is beyond amax {}", s.a, l.a)));
+                    return Err(Error::OutOfRange {
+                        what: format!("{what} acceleration"),
+                        value: s.a,
+                        expected: format!("an acceleration within ±{} (amax)", l.a),
+                    });
                 }
                 // The velocity the acceleration carries to, forwards from the
                 // start or backwards from the target, before jerk can undo it.
                 let reach =
                     if what == "start" { s.v + s.a * s.a.abs() / (2.0 * j) } else { s.v - s.a * s.a.abs() / (2.0 * j) };
                 if reach.abs() > l.v * (1.0 + 1e-9) {
-                    return Err(invalid(
+                    return Err(infeasible(
                         "vmax",
                         format!(
                             "the {what} state (velocity {}, acceleration {}) reaches a velocity of {reach} \
@@ -913,7 +924,11 @@ impl BoundaryLaw {
     ) -> Result<BoundaryLaw> {
         let l = *l;
         if !(duration.is_finite() && duration >= 0.0) {
-            return Err(invalid("duration", format!("{duration} s must be a finite duration ≥ 0")));
+            return Err(Error::OutOfRange {
+                what: "duration".into(),
+                value: duration,
+                expected: "a finite duration ≥ 0 [s]".into(),
+            });
         }
         let still = from.v == 0.0 && from.a == 0.0 && to.v == 0.0 && to.a == 0.0 && from.p == to.p;
         if from == to && duration == 0.0 {
@@ -921,13 +936,11 @@ impl BoundaryLaw {
         }
         if let Some(fast) = optimal.first() {
             if duration < fast.duration * (1.0 - 1e-12) {
-                return Err(invalid(
-                    "duration",
-                    format!(
-                        "{duration} s is shorter than the fastest motion between these states, {} s",
-                        fast.duration
-                    ),
-                ));
+                return Err(Error::OutOfRange {
+                    what: "duration".into(),
+                    value: duration,
+                    expected: format!("at least {} s, the fastest motion between these states [s]", fast.duration),
+                });
             }
         }
         check_min(duration)?;
@@ -1147,7 +1160,7 @@ impl BoundaryLaw {
 
 fn check_min(duration: f64) -> Result<()> {
     if duration > 0.0 && duration < MIN_DURATION {
-        return Err(invalid(
+        return Err(infeasible(
             "duration",
             format!("the motion would last {duration:e} s, shorter than the {MIN_DURATION:e} s a motion may last"),
         ));
@@ -1157,7 +1170,7 @@ fn check_min(duration: f64) -> Result<()> {
 
 fn no_profile(from: &BoundaryState, to: &BoundaryState, duration: Option<f64>) -> Error {
     let when = duration.map_or(String::new(), |t| format!(" lasting exactly {t} s"));
-    invalid(
+    infeasible(
         "duration",
         format!(
             "no motion{when} from (p {}, v {}, a {}) to (p {}, v {}, a {}) within the limits \
@@ -1181,11 +1194,15 @@ pub fn sync_duration(
     limits: &[MotionLimits],
     at_least: f64,
 ) -> Result<(f64, Vec<BoundaryLaw>)> {
-    if from.len() != to.len() || from.len() != limits.len() {
-        return Err(invalid(
-            "states",
-            format!("{} start states, {} targets, {} limits", from.len(), to.len(), limits.len()),
-        ));
+    for (what, got) in [("to", to.len()), ("limits", limits.len())] {
+        if got != from.len() {
+            return Err(Error::WrongLength {
+                what: what.into(),
+                got,
+                expected: from.len(),
+                of: "one per start state".into(),
+            });
+        }
     }
     let mut critical = Vec::new();
     let mut t0 = at_least.max(0.0);
@@ -1226,5 +1243,5 @@ pub fn sync_duration(
         }
         return Ok((t, laws));
     }
-    Err(last_err.unwrap_or_else(|| invalid("duration", "no common duration".into())))
+    Err(last_err.unwrap_or_else(|| infeasible("duration", "no duration suits every coordinate".into())))
 }

@@ -110,15 +110,10 @@ pub struct Segment {
 /// (R, ω, α) of a world-frame rotation increment at u with u̇, ü.
 type RotState = (Matrix3<f64>, Vector3<f64>, Vector3<f64>);
 
-fn bad(what: &str, message: String) -> Error {
-    Error::InvalidArgument { what: what.into(), message }
-}
-
 fn finite_pose(what: &str, p: &Pose) -> Result<()> {
-    if p.is_finite() {
-        Ok(())
-    } else {
-        Err(bad(what, "the pose contains NaN or infinite values".into()))
+    match p.pos.iter().chain(p.rot.iter()).find(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(&value) => Err(Error::NotFinite { what: format!("{what} pose"), value }),
     }
 }
 
@@ -151,19 +146,20 @@ impl Segment {
     pub fn circ_through(from: &Pose, aux: &Vector3<f64>, to: &Pose) -> Result<Segment> {
         finite_pose("from", from)?;
         finite_pose("to", to)?;
-        if !aux.iter().all(|v| v.is_finite()) {
-            return Err(bad("aux", "the auxiliary point contains NaN or infinite values".into()));
+        if let Some(&value) = aux.iter().find(|v| !v.is_finite()) {
+            return Err(Error::NotFinite { what: "aux".into(), value });
         }
         let (a, b, c) = (from.pos, *aux, to.pos);
         let (ab, ac) = (b - a, c - a);
         let n = ab.cross(&ac);
         let scale = ab.norm().max(ac.norm());
         if n.norm() <= 1e-9 * scale * scale || scale == 0.0 {
-            return Err(bad(
-                "aux",
-                "start, auxiliary and end points are (nearly) on one line or coincide; no circle passes through them"
+            return Err(Error::Infeasible {
+                what: "aux".into(),
+                reason: "start, auxiliary and end points are (nearly) on one line or coincide; no circle passes \
+                         through them"
                     .into(),
-            ));
+            });
         }
         // Circumcentre: a + (|ab|²·(ac × n) + |ac|²·(n × ab)) / (2|n|²).
         let centre =
@@ -192,19 +188,23 @@ impl Segment {
     /// the orientation `rot`.
     pub fn circ_about(centre: &Pose, start: &Vector3<f64>, angle: f64, rot: &Matrix3<f64>) -> Result<Segment> {
         finite_pose("centre", centre)?;
-        if !(start.iter().all(|v| v.is_finite()) && angle.is_finite() && rot.iter().all(|v| v.is_finite())) {
-            return Err(bad("circle", "start point, angle and orientation must be finite".into()));
+        let not_finite = (start.iter().map(|&v| ("start", v)))
+            .chain([("angle", angle)])
+            .chain(rot.iter().map(|&v| ("rot", v)))
+            .find(|(_, v)| !v.is_finite());
+        if let Some((what, value)) = not_finite {
+            return Err(Error::NotFinite { what: what.into(), value });
         }
         let local = centre.inverse().transform_point(start);
         let r = local.x.hypot(local.y);
         if r == 0.0 || local.z.abs() > 1e-9 * r.max(1.0) {
-            return Err(bad(
-                "start",
-                format!(
+            return Err(Error::DoesNotFit {
+                what: "start".into(),
+                reason: format!(
                     "the start point must lie in the xy plane of the centre frame, away from its origin (local {:.6}, {:.6}, {:.6})",
                     local.x, local.y, local.z
                 ),
-            ));
+            });
         }
         let e1 = centre.rot * Vector3::new(local.x / r, local.y / r, 0.0);
         let z = centre.rot.column(2).into_owned();
@@ -429,32 +429,38 @@ impl CartesianMotion {
     /// Errors: no segment; segments that do not join; invalid limits.
     pub fn new(segments: Vec<Segment>, profile: Profile, limits: &CartesianLimits, blend: Blend) -> Result<Self> {
         if segments.is_empty() {
-            return Err(bad("segments", "a Cartesian motion needs at least one segment".into()));
+            return Err(Error::TooFew { what: "segments".into(), got: 0, min: 1, of: "segments".into() });
         }
         for (i, w) in segments.windows(2).enumerate() {
             let (a, b) = (w[0].end(), w[1].start());
             let dp = (a.pos - b.pos).norm();
             let dr = rot_to_axis_angle(&(a.rot * b.rot.transpose())).norm();
             if dp > 1e-9 || dr > 1e-9 {
-                return Err(bad(
-                    "segments",
-                    format!(
+                return Err(Error::DoesNotFit {
+                    what: "segments".into(),
+                    reason: format!(
                         "segment {} does not start where segment {} ends (off by {dp:.3e} m, {dr:.3e} rad)",
                         i + 2,
                         i + 1
                     ),
-                ));
+                });
             }
         }
         let lin_jerk = match (profile, limits.jerk) {
-            (Profile::SCurve, None) => return Err(bad("jmax", "the scurve profile needs a jerk limit".into())),
+            (Profile::SCurve, None) => {
+                return Err(Error::MissingLimit {
+                    limit: "jerk".into(),
+                    option: "jmax".into(),
+                    needed_by: "the scurve profile".into(),
+                })
+            }
             (_, j) => j,
         };
         let rot_jerk = limits.rot_jerk.or(lin_jerk);
-        for (v, a, what) in [(limits.vel, limits.acc, "limits"), (limits.rot_vel, limits.rot_acc, "rot_limits")] {
-            if !(v.is_finite() && v > 0.0 && a.is_finite() && a > 0.0) {
-                return Err(bad(what, format!("velocity {v} and acceleration {a} must be positive")));
-            }
+        let named =
+            [("vel", limits.vel), ("acc", limits.acc), ("rot_vel", limits.rot_vel), ("rot_acc", limits.rot_acc)];
+        if let Some((what, value)) = named.into_iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+            return Err(Error::OutOfRange { what: what.into(), value, expected: "a positive finite limit".into() });
         }
         let laws = segments
             .iter()
@@ -573,13 +579,14 @@ impl CartesianMotion {
     /// accelerations by k², jerks by k³, and every limit still holds.
     pub fn stretched_to(&self, duration: f64) -> Result<Self> {
         if !(duration.is_finite() && duration >= self.duration) {
-            return Err(bad(
-                "duration",
-                format!(
-                    "{duration} s: a motion can only be stretched to at least its own duration {} s",
+            return Err(Error::OutOfRange {
+                what: "duration".into(),
+                value: duration,
+                expected: format!(
+                    "at least the motion's own duration, {} s (a motion is only stretched)",
                     self.duration
                 ),
-            ));
+            });
         }
         if self.duration == 0.0 {
             return Ok(self.clone());
@@ -640,8 +647,14 @@ impl CartesianMotion {
     /// 000 used 1 cm for its controller), from start to end: the times at
     /// which to sample.
     pub fn resample_times(&self, max_step: f64, max_angle: f64) -> Result<Vec<f64>> {
-        if !(max_step > 0.0 && max_angle > 0.0) {
-            return Err(bad("max_step", format!("{max_step} m / {max_angle} rad must be positive")));
+        for (what, value, unit) in [("max_step", max_step, "m"), ("max_angle", max_angle, "rad")] {
+            if !(value > 0.0) {
+                return Err(Error::OutOfRange {
+                    what: what.into(),
+                    value,
+                    expected: format!("a positive step [{unit}]"),
+                });
+            }
         }
         let n = 20_000usize;
         let coarse: Vec<Pose> = (0..=n).map(|k| self.at(self.duration * k as f64 / n as f64).pose).collect();
@@ -662,14 +675,15 @@ impl CartesianMotion {
             }
         }
         // Named after the limit that asks for most of the samples.
-        let what = if by_angle > 0.5 * needed { "max_angle" } else { "max_step" };
-        let too_many = |about: String| {
-            bad(
-                what,
-                format!(
-                    "{max_step} m / {max_angle} rad would split this path into {about} samples (at most {MAX_SAMPLES})"
-                ),
-            )
+        let (what, value) = if by_angle > 0.5 * needed { ("max_angle", max_angle) } else { ("max_step", max_step) };
+        let too_many = |about: String| Error::OutOfRange {
+            what: what.into(),
+            value,
+            expected: format!(
+                "larger steps: {} m / {} rad would split this path into {about} samples (at most {MAX_SAMPLES})",
+                crate::error::number_text(max_step),
+                crate::error::number_text(max_angle)
+            ),
         };
         if needed > 1.01 * MAX_SAMPLES as f64 {
             let about = if needed.is_finite() { format!("about {needed:.3e}") } else { "more than 10^308".into() };
@@ -695,7 +709,11 @@ impl CartesianMotion {
                     }
                 }
                 if lo <= *out.last().expect("non-empty") {
-                    return Err(bad("max_step", format!("{max_step} m is below the sampling resolution of this path")));
+                    return Err(Error::OutOfRange {
+                        what: "max_step".into(),
+                        value: max_step,
+                        expected: "a step above the sampling resolution of this path [m]".into(),
+                    });
                 }
                 // Room for this sample and the end's.
                 if out.len() + 2 > MAX_SAMPLES {

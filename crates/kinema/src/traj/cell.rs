@@ -143,7 +143,7 @@ impl Cell {
             });
         }
         if traj.is_empty() {
-            return Err(Error::InvalidArgument { what: name, message: "the trajectory has no sample".into() });
+            return Err(Error::TooFew { what: name, got: 0, min: 1, of: "trajectory samples".into() });
         }
         self.members.push(CellMember { name, robot, traj });
         Ok(self)
@@ -160,7 +160,7 @@ impl Cell {
     /// its last it holds them.
     pub fn run(&self, dt: f64) -> Result<CellReport> {
         if self.members.is_empty() {
-            return Err(Error::InvalidArgument { what: "cell".into(), message: "the cell has no robot".into() });
+            return Err(Error::TooFew { what: "cell".into(), got: 0, min: 1, of: "robots".into() });
         }
         let end = self.members.iter().map(|m| *m.traj.times().last().expect("non-empty")).fold(0.0, f64::max);
         let times = super::sample_times(end, dt)?;

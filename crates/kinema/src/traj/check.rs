@@ -282,9 +282,10 @@ fn check_steps(
 /// below `threshold`, at the passage's most singular sample.
 fn singular_passages(robot: &Robot, traj: &JointTrajectory, threshold: f64, axes: Axes) -> Result<Vec<Violation>> {
     if !(threshold > 0.0 && threshold < 1.0) {
-        return Err(Error::InvalidArgument {
+        return Err(Error::OutOfRange {
             what: "singular_warning".into(),
-            message: format!("{threshold} must lie in (0, 1): it is a ratio of singular values"),
+            value: threshold,
+            expected: "a number in (0, 1): it is a ratio of singular values".into(),
         });
     }
     let mut jac = nalgebra::Matrix6xX::zeros(robot.dof());

@@ -81,16 +81,11 @@ const FUNCS: [(&str, Func, usize); 20] = [
     ("max", Func::Max, 2),
 ];
 
-/// A syntax error: the 1-based column and what was expected.
+/// A syntax error at byte `col` of `text`: the 1-based column (in
+/// characters) and what was expected.
 fn syntax(text: &str, col: usize, message: String) -> Error {
-    Error::InvalidArgument {
-        what: "expression".into(),
-        message: format!(
-            "`{text}`, column {}: {message}\n  {text}\n  {}^",
-            col + 1,
-            " ".repeat(text[..col.min(text.len())].chars().count())
-        ),
-    }
+    let column = text.get(..col.min(text.len())).map_or(col, |s| s.chars().count()) + 1;
+    Error::Syntax { what: "expression".into(), text: text.into(), column, expected: message }
 }
 
 struct Parser<'a> {
@@ -491,18 +486,20 @@ pub fn expression_trajectory(
 ) -> Result<JointTrajectory> {
     robot.check_q(q0)?;
     if !(duration.is_finite() && duration > 0.0) {
-        return Err(Error::InvalidArgument {
+        return Err(Error::OutOfRange {
             what: "duration".into(),
-            message: format!("{duration} s must be positive"),
+            value: duration,
+            expected: "a positive, finite time [s]".into(),
         });
     }
     let n = robot.dof();
     let mut compiled = Vec::with_capacity(exprs.len());
     for (j, e) in exprs {
         if *j >= n {
-            return Err(Error::InvalidArgument {
+            return Err(Error::OutOfRange {
                 what: "joint".into(),
-                message: format!("joint {} does not exist; `{}` has joints 1 to {n}", j + 1, robot.name()),
+                value: (j + 1) as f64,
+                expected: format!("a joint of `{}`, 1 to {n}", robot.name()),
             });
         }
         let d1 = e.derivative();
@@ -517,9 +514,12 @@ pub fn expression_trajectory(
             (q[*j], qd[*j], qdd[*j]) = (e.eval(t), d1.eval(t), d2.eval(t));
             for (what, v) in [("value", q[*j]), ("velocity", qd[*j]), ("acceleration", qdd[*j])] {
                 if !v.is_finite() {
-                    return Err(Error::InvalidArgument {
+                    return Err(Error::Infeasible {
                         what: "expression".into(),
-                        message: format!("`{e}` for joint {}: the {what} at t = {t:.4} s is {v}", j + 1),
+                        reason: format!(
+                            "`{e}` for joint {}: the {what} at t = {t:.4} s is {v}; it must stay finite",
+                            j + 1
+                        ),
                     });
                 }
             }

@@ -79,18 +79,13 @@ pub fn to_joints_at(
     method: JointMethod,
 ) -> Result<JointTrajectory> {
     robot.check_q(q_start)?;
-    if times.first() != Some(&0.0) || times.windows(2).any(|w| !(w[1] > w[0])) || times.iter().any(|t| !t.is_finite()) {
-        return Err(Error::InvalidArgument {
-            what: "times".into(),
-            message: "sample times must start at 0 and increase strictly".into(),
-        });
-    }
+    check_times(times)?;
     let start = motion.at(0.0).pose;
     let e = pose_error(&start, &robot.fk(q_start)?.world_from_tool);
     if e.position_norm() > TRACK_TOL || e.rotation_angle() > TRACK_TOL {
-        return Err(Error::InvalidArgument {
+        return Err(Error::DoesNotFit {
             what: "q_start".into(),
-            message: format!(
+            reason: format!(
                 "the start configuration does not reach the motion's start pose (off by {:.3e} m, {:.3e} rad)",
                 e.position_norm(),
                 e.rotation_angle()
@@ -399,6 +394,31 @@ pub fn derivatives(t: &[f64], q: &[f64], dof: usize, k: usize, qd: &mut [f64], q
     }
 }
 
+/// Sample times start at 0, are finite and increase strictly.
+fn check_times(times: &[f64]) -> Result<()> {
+    let Some(&first) = times.first() else {
+        return Err(Error::TooFew { what: "times".into(), got: 0, min: 1, of: "sample times".into() });
+    };
+    if first != 0.0 {
+        return Err(Error::OutOfRange {
+            what: "times[0]".into(),
+            value: first,
+            expected: "0 (sample times start at 0 and increase strictly)".into(),
+        });
+    }
+    if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+        return Err(Error::NotFinite { what: format!("times[{k}]"), value: times[k] });
+    }
+    if let Some(k) = times.windows(2).position(|w| !(w[1] > w[0])) {
+        return Err(Error::OutOfRange {
+            what: format!("times[{}]", k + 1),
+            value: times[k + 1],
+            expected: format!("more than times[{k}] = {} (sample times increase strictly)", times[k]),
+        });
+    }
+    Ok(())
+}
+
 fn resolved_rate(
     robot: &Robot,
     motion: &CartesianMotion,
@@ -407,11 +427,15 @@ fn resolved_rate(
     damping: f64,
     gain: f64,
 ) -> Result<JointTrajectory> {
-    if !(damping >= 0.0 && damping.is_finite() && gain > 0.0 && gain <= 1.0) {
-        return Err(Error::InvalidArgument {
-            what: "resolved rate".into(),
-            message: format!("damping {damping} must be ≥ 0 and gain {gain} in (0, 1]"),
+    if !(damping >= 0.0 && damping.is_finite()) {
+        return Err(Error::OutOfRange {
+            what: "damping".into(),
+            value: damping,
+            expected: "a finite number ≥ 0".into(),
         });
+    }
+    if !(gain > 0.0 && gain <= 1.0) {
+        return Err(Error::OutOfRange { what: "gain".into(), value: gain, expected: "a number in (0, 1]".into() });
     }
     let n = robot.dof();
     let mut jac = Matrix6xX::zeros(n);
@@ -429,9 +453,9 @@ fn resolved_rate(
             (st.vel + e.translation * fb).iter().chain((st.omega + e.rotation * fb).iter()).copied(),
         );
         let jjt = &jac * jac.transpose() + Matrix6::identity() * (damping * damping);
-        let y = jjt.lu().solve(&twist).ok_or_else(|| Error::InvalidArgument {
+        let y = jjt.lu().solve(&twist).ok_or_else(|| Error::Infeasible {
             what: "damping".into(),
-            message: format!("J·Jᵀ is singular at t = {t:.4} s; use a positive damping"),
+            reason: format!("J·Jᵀ is singular at t = {t:.4} s; use a positive damping"),
         })?;
         let qd: Vec<f64> = (jac.transpose() * y).iter().copied().collect();
         qs.push(q.clone());
@@ -440,9 +464,9 @@ fn resolved_rate(
             q[i] += qd[i] * step;
         }
         if q.iter().any(|v| !v.is_finite()) {
-            return Err(Error::InvalidArgument {
+            return Err(Error::Infeasible {
                 what: "resolved rate".into(),
-                message: format!("the integration diverged at t = {t:.4} s (near a singularity?)"),
+                reason: format!("the integration diverged at t = {t:.4} s (near a singularity?)"),
             });
         }
     }

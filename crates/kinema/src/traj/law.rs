@@ -79,9 +79,10 @@ impl fmt::Display for Profile {
 impl FromStr for Profile {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        Profile::ALL.into_iter().find(|p| p.name().eq_ignore_ascii_case(s)).ok_or_else(|| Error::InvalidArgument {
+        Profile::ALL.into_iter().find(|p| p.name().eq_ignore_ascii_case(s)).ok_or_else(|| Error::UnknownName {
             what: "profile".into(),
-            message: format!("unknown profile `{s}`; expected one of trapezoid, scurve, cubic, quintic, linear"),
+            name: s.into(),
+            known: Profile::ALL.map(|p| p.name()).join(", "),
         })
     }
 }
@@ -176,16 +177,17 @@ pub struct TimeLaw {
     n: usize,
 }
 
-fn invalid(what: &str, message: String) -> Error {
-    Error::InvalidArgument { what: what.into(), message }
-}
-
 fn check_positive(what: &str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(invalid(what, format!("{v} must be a positive finite number")))
+        Err(Error::OutOfRange { what: what.into(), value: v, expected: "a positive finite number".into() })
     }
+}
+
+/// An [`Error::Infeasible`] about `what`.
+fn infeasible(what: &str, reason: String) -> Error {
+    Error::Infeasible { what: what.into(), reason }
 }
 
 /// The shortest motion \[s\] a law may last: trajectory times are written
@@ -194,10 +196,13 @@ pub const MIN_DURATION: f64 = 1e-9;
 
 fn check_duration(duration: f64) -> Result<()> {
     if !duration.is_finite() {
-        return Err(invalid("duration", format!("the limits give a duration of {duration} s, which overflows")));
+        return Err(Error::Infeasible {
+            what: "duration".into(),
+            reason: format!("the limits give a duration of {duration} s, which overflows"),
+        });
     }
     if duration < MIN_DURATION {
-        return Err(invalid(
+        return Err(infeasible(
             "duration",
             format!(
                 "the limits give a duration of {duration:e} s, shorter than the {MIN_DURATION:e} s a motion may last"
@@ -233,7 +238,11 @@ impl TimeLaw {
     /// break a limit.
     pub fn from_limits(profile: Profile, distance: f64, limits: &MotionLimits) -> Result<TimeLaw> {
         if !(distance.is_finite() && distance >= 0.0) {
-            return Err(invalid("distance", format!("{distance} must be a finite number ≥ 0")));
+            return Err(Error::OutOfRange {
+                what: "distance".into(),
+                value: distance,
+                expected: "a finite number ≥ 0".into(),
+            });
         }
         check_positive("vmax", limits.vel)?;
         if profile != Profile::Linear {
@@ -241,7 +250,11 @@ impl TimeLaw {
         }
         let jerk = match (profile, limits.jerk) {
             (Profile::SCurve, None) => {
-                return Err(invalid("jmax", "the scurve profile needs a jerk limit (jmax)".into()));
+                return Err(Error::MissingLimit {
+                    limit: "jerk".into(),
+                    option: "jmax".into(),
+                    needed_by: "the scurve profile".into(),
+                });
             }
             (_, Some(j)) => {
                 check_positive("jmax", j)?;
@@ -292,7 +305,7 @@ impl TimeLaw {
         }
         for (quantity, name, peak, limit) in reached {
             if !(peak <= limit * (1.0 + 1e-9)) {
-                return Err(invalid(
+                return Err(infeasible(
                     name,
                     format!(
                         "these limits are too extreme: rounding gives a peak {quantity} \
@@ -332,10 +345,11 @@ impl TimeLaw {
     /// factors k, k², k³ with k = T/T′, so limits that held still hold.
     pub fn stretched_to(&self, duration: f64) -> Result<TimeLaw> {
         if !(duration.is_finite() && duration >= self.duration) {
-            return Err(invalid(
-                "duration",
-                format!("{duration} s: a law can only be stretched to at least its own duration {} s", self.duration),
-            ));
+            return Err(Error::OutOfRange {
+                what: "duration".into(),
+                value: duration,
+                expected: format!("at least the law's own duration, {} s (a law is only stretched)", self.duration),
+            });
         }
         if self.duration == 0.0 || duration == self.duration {
             return Ok(*self);

@@ -57,16 +57,18 @@ fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64]) -> 
     }
     let jerk = |i: usize| robot.joints()[i].limits.jerk;
     let Some(i) = (0..delta.len()).find(|&i| delta[i] != 0.0 && jerk(i).is_some()) else { return Ok(()) };
-    Err(Error::InvalidArgument {
-        what: "profile".into(),
-        message: format!(
-            "joint {} (`{}`) has a jerk limit of {}, which the {} profile's steps in acceleration break; \
-             use the scurve or quintic profile",
-            i + 1,
-            robot.joints()[i].name,
-            jerk(i).unwrap_or(f64::NAN),
-            profile.name()
-        ),
+    Err(Error::ForJoint {
+        joint: i + 1,
+        name: robot.joints()[i].name.clone(),
+        source: Box::new(Error::DoesNotFit {
+            what: "profile".into(),
+            reason: format!(
+                "the joint has a jerk limit of {}, which the {} profile's steps in acceleration break; \
+                 use the scurve or quintic profile",
+                jerk(i).unwrap_or(f64::NAN),
+                profile.name()
+            ),
+        }),
     })
 }
 
@@ -146,23 +148,22 @@ impl Ptp {
         for (what, q) in [("from", from), ("to", to)] {
             if let Some(i) = robot.limit_flags(q).indices().next() {
                 let l = robot.joints()[i].limits;
-                return Err(Error::InvalidArgument {
-                    what: what.into(),
-                    message: format!(
-                        "joint {} (`{}`) = {} is outside its limits [{}, {}]",
-                        i + 1,
-                        robot.joints()[i].name,
-                        q[i],
-                        l.min,
-                        l.max
-                    ),
+                return Err(Error::ForJoint {
+                    joint: i + 1,
+                    name: robot.joints()[i].name.clone(),
+                    source: Box::new(Error::OutOfRange {
+                        what: what.into(),
+                        value: q[i],
+                        expected: format!("a value within the joint's limits [{}, {}]", l.min, l.max),
+                    }),
                 });
             }
         }
         if !(opts.speed > 0.0 && opts.speed <= 1.0) {
-            return Err(Error::InvalidArgument {
+            return Err(Error::OutOfRange {
                 what: "speed".into(),
-                message: format!("{} is not an override in (0, 1]", opts.speed),
+                value: opts.speed,
+                expected: "an override in (0, 1]".into(),
             });
         }
         let js = robot.joints();
@@ -180,13 +181,14 @@ impl Ptp {
             if d == 0.0 {
                 continue;
             }
-            let missing = |what: &str, flag: &str| Error::InvalidArgument {
-                what: flag.into(),
-                message: format!(
-                    "joint {} (`{}`) moves but has no {what} limit in the robot model; give one ({flag})",
-                    i + 1,
-                    js[i].name
-                ),
+            let missing = |limit: &str, option: &str| Error::ForJoint {
+                joint: i + 1,
+                name: js[i].name.clone(),
+                source: Box::new(Error::MissingLimit {
+                    limit: limit.into(),
+                    option: option.into(),
+                    needed_by: "its motion in the robot model".into(),
+                }),
             };
             let v = vel[i].ok_or_else(|| missing("velocity", "vmax"))?;
             shared.vel = shared.vel.min(v * k / d);
@@ -366,9 +368,9 @@ impl BoundaryPtp {
             Profile::SCurve => true,
             Profile::Trapezoid => false,
             p => {
-                return Err(Error::InvalidArgument {
+                return Err(Error::DoesNotFit {
                     what: "profile".into(),
-                    message: format!(
+                    reason: format!(
                         "the {} profile only moves rest to rest; boundary velocities and accelerations \
                          need the trapezoid or scurve profile",
                         p.name()
@@ -379,13 +381,15 @@ impl BoundaryPtp {
         if !jerk_limited {
             if let Some(i) = a0.iter().chain(&a1).position(|&a| a != 0.0) {
                 let (what, j) = if i < a0.len() { ("a0", i) } else { ("a1", i - a0.len()) };
-                return Err(Error::InvalidArgument {
-                    what: what.into(),
-                    message: format!(
-                        "joint {}: a boundary acceleration needs the jerk-limited scurve profile \
-                         (the trapezoid's acceleration steps)",
-                        j + 1
-                    ),
+                return Err(Error::ForJoint {
+                    joint: j + 1,
+                    name: robot.joints()[j].name.clone(),
+                    source: Box::new(Error::DoesNotFit {
+                        what: what.into(),
+                        reason: "a boundary acceleration needs the jerk-limited scurve profile \
+                                 (the trapezoid's acceleration steps)"
+                            .into(),
+                    }),
                 });
             }
         }
@@ -404,13 +408,14 @@ impl BoundaryPtp {
         for i in 0..n {
             let start = BoundaryState::new(from[i], v0[i], a0[i]);
             let end = BoundaryState::new(to[i], v1[i], a1[i]);
-            let missing = |what: &str, flag: &str| Error::InvalidArgument {
-                what: flag.into(),
-                message: format!(
-                    "joint {} (`{}`) moves but has no {what} limit in the robot model; give one ({flag})",
-                    i + 1,
-                    js[i].name
-                ),
+            let missing = |limit: &str, option: &str| Error::ForJoint {
+                joint: i + 1,
+                name: js[i].name.clone(),
+                source: Box::new(Error::MissingLimit {
+                    limit: limit.into(),
+                    option: option.into(),
+                    needed_by: "its motion in the robot model".into(),
+                }),
             };
             let lim = if start == end && start.v == 0.0 && start.a == 0.0 {
                 MotionLimits::with_jerk(1.0, 1.0, 1.0) // at rest throughout
@@ -425,7 +430,10 @@ impl BoundaryPtp {
             };
             // Name the joint in a refused state.
             BoundaryLaw::fastest(start, end, &lim).map_err(|e| match e {
-                Error::InvalidArgument { .. } => {
+                Error::OutOfRange { .. }
+                | Error::NotFinite { .. }
+                | Error::MissingLimit { .. }
+                | Error::Infeasible { .. } => {
                     Error::ForJoint { joint: i + 1, name: js[i].name.clone(), source: Box::new(e) }
                 }
                 e => e,
@@ -529,15 +537,13 @@ pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
 /// (to check a budget first); the same errors.
 pub fn sample_count(duration: f64, dt: f64) -> Result<usize> {
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(Error::InvalidArgument {
-            what: "dt".into(),
-            message: format!("{dt} s must be a positive time step"),
-        });
+        return Err(Error::OutOfRange { what: "dt".into(), value: dt, expected: "a positive time step [s]".into() });
     }
     if !(duration.is_finite() && duration >= 0.0) {
-        return Err(Error::InvalidArgument {
+        return Err(Error::OutOfRange {
             what: "duration".into(),
-            message: format!("{duration} s must be a finite, non-negative time"),
+            value: duration,
+            expected: "a finite, non-negative time [s]".into(),
         });
     }
     let steps = (duration / dt).floor();
@@ -546,9 +552,13 @@ pub fn sample_count(duration: f64, dt: f64) -> Result<usize> {
     let samples = steps + 1.0 + f64::from(u8::from(end_apart));
     if samples > MAX_SAMPLES as f64 {
         let count = if samples.is_finite() { format!("{samples:.0}") } else { "more than 10^308".to_string() };
-        return Err(Error::InvalidArgument {
+        return Err(Error::OutOfRange {
             what: "dt".into(),
-            message: format!("{dt} s over {duration} s would give {count} samples (at most {MAX_SAMPLES})"),
+            value: dt,
+            expected: format!(
+                "a larger time step: over {} s this one would give {count} samples (at most {MAX_SAMPLES})",
+                crate::error::number_text(duration)
+            ),
         });
     }
     Ok(samples as usize)
@@ -587,9 +597,11 @@ impl JointTrajectory {
     /// ([`joint::derivatives`]). Errors: `q` not `dof` values per time.
     pub fn from_positions(dof: usize, t: Vec<f64>, q: Vec<f64>) -> Result<Self> {
         if q.len() != t.len() * dof {
-            return Err(Error::InvalidArgument {
+            return Err(Error::WrongLength {
                 what: "q".into(),
-                message: format!("{} values for {} samples of {dof} joints", q.len(), t.len()),
+                got: q.len(),
+                expected: t.len() * dof,
+                of: format!("{dof} per sample time, {} times", t.len()),
             });
         }
         let mut qd = vec![0.0; q.len()];
@@ -628,14 +640,16 @@ impl JointTrajectory {
         qdd: Option<Vec<f64>>,
     ) -> Result<Self> {
         if t.is_empty() {
-            return Err(Error::InvalidArgument { what: "t".into(), message: "no samples".into() });
+            return Err(Error::TooFew { what: "t".into(), got: 0, min: 1, of: "samples".into() });
         }
         for (what, v) in [("qd", &qd), ("qdd", &qdd)] {
             if let Some(v) = v {
                 if v.len() != t.len() * dof {
-                    return Err(Error::InvalidArgument {
+                    return Err(Error::WrongLength {
                         what: what.into(),
-                        message: format!("{} values for {} samples of {dof} joints", v.len(), t.len()),
+                        got: v.len(),
+                        expected: t.len() * dof,
+                        of: format!("{dof} per sample time, {} times", t.len()),
                     });
                 }
             }
@@ -654,9 +668,11 @@ impl JointTrajectory {
     pub fn push(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<()> {
         for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
             if v.len() != self.dof {
-                return Err(Error::InvalidArgument {
+                return Err(Error::WrongLength {
                     what: what.into(),
-                    message: format!("{} values given, the trajectory has {} joints", v.len(), self.dof),
+                    got: v.len(),
+                    expected: self.dof,
+                    of: "one per joint of the trajectory".into(),
                 });
             }
         }
@@ -753,7 +769,7 @@ mod tests {
             (1e300, 1e-300, "dt"),
         ] {
             match sample_times(duration, dt) {
-                Err(Error::InvalidArgument { what: w, .. }) => assert_eq!(w, what, "{duration} {dt}"),
+                Err(Error::OutOfRange { what: w, .. }) => assert_eq!(w, what, "{duration} {dt}"),
                 other => panic!("{duration} s / {dt} s: {other:?}"),
             }
         }
@@ -783,6 +799,6 @@ mod tests {
         assert!(JointTrajectory::from_samples(2, t.clone(), q.clone(), None, Some(vec![0.0; 3])).is_err());
         assert!(JointTrajectory::from_samples(2, t, q[..6].to_vec(), None, None).is_err());
         let e = JointTrajectory::from_samples(2, vec![], vec![], None, None).unwrap_err();
-        assert!(e.to_string().contains("no samples"), "{e}");
+        assert!(matches!(&e, Error::TooFew { what, got: 0, .. } if what == "t"), "{e:?}");
     }
 }

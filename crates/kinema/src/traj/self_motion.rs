@@ -96,16 +96,15 @@ impl SelfMotion {
             Ok(v) if (v * scale).is_finite() => {
                 Ok(SelfMotion::Fixed { parameter: parameter.into(), value: Some(v * scale) })
             }
-            _ => {
-                Err(Error::InvalidArgument {
-                    what: parameter.into(),
-                    message: if first {
-                        format!("`{text}` is not a policy (auto, hold, track, manipulability, avoid-limits) or a finite angle")
-                    } else {
-                        format!("`{text}` is not `hold` or a finite angle")
-                    },
-                })
-            }
+            _ => Err(Error::UnknownName {
+                what: parameter.into(),
+                name: text.into(),
+                known: if first {
+                    "auto, hold, track, manipulability, avoid-limits, or a finite angle".into()
+                } else {
+                    "hold, or a finite angle".into()
+                },
+            }),
         }
     }
 }
@@ -155,7 +154,7 @@ pub(crate) fn plan<'a>(
     q_start: &[f64],
 ) -> Result<Plan<'a>> {
     let redundant = robot.dof() > 6;
-    let refuse = |message: String| Err(Error::InvalidArgument { what: "self-motion".into(), message });
+    let refuse = |reason: String| Err(Error::DoesNotFit { what: "self-motion".into(), reason });
     if !redundant {
         return match policy {
             SelfMotion::Auto => Ok(Plan::None),
@@ -182,11 +181,11 @@ pub(crate) fn plan<'a>(
         }
         SelfMotion::Fixed { parameter, value } => {
             let Some(&name) = family.parameters().iter().find(|p| **p == parameter.as_str()) else {
-                return refuse(format!(
-                    "`{parameter}` is not a self-motion parameter of robot `{}` (it has {})",
-                    robot.name(),
-                    family.parameters().join(", ")
-                ));
+                return Err(Error::UnknownName {
+                    what: "self-motion".into(),
+                    name: parameter.clone(),
+                    known: family.parameters().join(", "),
+                });
             };
             let at_start = family.parameter_of(q_start, name);
             let Some(value) = *value else {

@@ -42,15 +42,14 @@ pub fn distances_to_path(points: &[Vector3<f64>], path: &[Vector3<f64>]) -> Resu
 
 /// [`distances_to_path`], with the points named `points_name` in errors.
 fn distances(points: &[Vector3<f64>], points_name: &str, path: &[Vector3<f64>]) -> Result<Vec<PathDistance>> {
-    let bad = |what: &str, message: String| Error::InvalidArgument { what: what.into(), message };
     if path.len() < 2 {
-        return Err(bad("path", format!("it has {} point(s); at least two are needed", path.len())));
+        return Err(Error::TooFew { what: "path".into(), got: path.len(), min: 2, of: "point(s)".into() });
     }
-    if let Some(i) = path.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-        return Err(bad("path", format!("point {} is not finite: {:?}", i + 1, path[i].as_slice())));
-    }
-    if let Some(i) = points.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-        return Err(bad(points_name, format!("point {} is not finite: {:?}", i + 1, points[i].as_slice())));
+    for (what, list) in [("path", path), (points_name, points)] {
+        if let Some(i) = list.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
+            let value = list[i].iter().copied().find(|v| !v.is_finite()).unwrap_or(f64::NAN);
+            return Err(Error::NotFinite { what: format!("{what}: point {}", i + 1), value });
+        }
     }
     // Cumulative arc length at the start of each segment.
     let mut start = Vec::with_capacity(path.len());
@@ -60,7 +59,11 @@ fn distances(points: &[Vector3<f64>], points_name: &str, path: &[Vector3<f64>]) 
         s += (w[1] - w[0]).norm();
     }
     if s == 0.0 {
-        return Err(bad("path", "all its points coincide (zero length)".into()));
+        return Err(Error::OutOfRange {
+            what: "path".into(),
+            value: s,
+            expected: "a path of non-zero length (all its points coincide)".into(),
+        });
     }
     Ok(points
         .iter()
@@ -103,8 +106,9 @@ pub struct TrackingError {
 /// standard deviation of those per-run means, which the seed prints as
 /// "0,17 ± 0,02 cm".
 ///
-/// Errors ([`Error::InvalidArgument`]): no run, an empty run, a desired path
-/// of fewer than two points or of zero length, non-finite coordinates.
+/// Errors: no run or an empty run, a desired path of fewer than two points
+/// ([`Error::TooFew`]); a path of zero length ([`Error::OutOfRange`]);
+/// non-finite coordinates ([`Error::NotFinite`]).
 ///
 /// # Examples
 /// ```
@@ -119,12 +123,11 @@ pub struct TrackingError {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn tracking_error(desired: &[Vector3<f64>], runs: &[Vec<Vector3<f64>>]) -> Result<TrackingError> {
-    let bad = |message: String| Error::InvalidArgument { what: "runs".into(), message };
     if runs.is_empty() {
-        return Err(bad("no measured run was given; at least one is needed".into()));
+        return Err(Error::TooFew { what: "runs".into(), got: 0, min: 1, of: "measured runs".into() });
     }
     if let Some(i) = runs.iter().position(|r| r.is_empty()) {
-        return Err(bad(format!("run {} has no points", i + 1)));
+        return Err(Error::TooFew { what: format!("runs: run {}", i + 1), got: 0, min: 1, of: "points".into() });
     }
     let mut run_means = Vec::with_capacity(runs.len());
     for (i, run) in runs.iter().enumerate() {
@@ -175,7 +178,7 @@ mod tests {
     #[test]
     fn bad_paths_are_errors() {
         let o = Vector3::zeros();
-        assert!(distances_to_path(&[o], &[o]).unwrap_err().to_string().contains("at least two"));
+        assert!(distances_to_path(&[o], &[o]).unwrap_err().to_string().contains("at least 2"));
         assert!(distances_to_path(&[o], &[o, o]).unwrap_err().to_string().contains("zero length"));
         let nan = Vector3::new(f64::NAN, 0.0, 0.0);
         assert!(distances_to_path(&[nan], &[o, Vector3::x()]).unwrap_err().to_string().contains("point 1"));
@@ -209,14 +212,16 @@ mod tests {
     #[test]
     fn tracking_error_refuses_bad_input() {
         let path = [Vector3::zeros(), Vector3::x()];
-        assert!(tracking_error(&path, &[]).unwrap_err().to_string().contains("no measured run"));
+        let e = tracking_error(&path, &[]).unwrap_err();
+        assert!(matches!(&e, Error::TooFew { what, got: 0, min: 1, .. } if what == "runs"), "{e:?}");
+        assert!(e.to_string().contains("0 measured runs; at least 1 needed"), "{e}");
         assert!(tracking_error(&path, &[vec![Vector3::x()], vec![]])
             .unwrap_err()
             .to_string()
-            .contains("run 2 has no points"));
+            .contains("`runs: run 2` has 0 points"));
         let nan = Vector3::new(0.0, f64::NAN, 0.0);
         let e = tracking_error(&path, &[vec![Vector3::x()], vec![Vector3::x(), nan]]).unwrap_err().to_string();
         assert!(e.contains("run 2") && e.contains("point 2"), "{e}");
-        assert!(tracking_error(&path[..1], &[vec![Vector3::x()]]).unwrap_err().to_string().contains("at least two"));
+        assert!(tracking_error(&path[..1], &[vec![Vector3::x()]]).unwrap_err().to_string().contains("at least 2"));
     }
 }

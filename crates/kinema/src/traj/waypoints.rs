@@ -54,9 +54,9 @@ pub fn skip_unreachable(robot: &Robot, points: &[Pose]) -> Result<(Vec<Pose>, Ve
         }
     }
     if kept.is_empty() {
-        return Err(Error::InvalidArgument {
+        return Err(Error::Infeasible {
             what: "waypoints".into(),
-            message: format!("robot `{}` reaches none of the {} waypoints", robot.name(), points.len()),
+            reason: format!("robot `{}` reaches none of the {} waypoints", robot.name(), points.len()),
         });
     }
     Ok((kept, skipped))

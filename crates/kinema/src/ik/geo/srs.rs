@@ -170,7 +170,7 @@ impl SrsIk {
     /// `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`; solutions outside the limits
     /// are included and flagged.
     ///
-    /// Errors: a non-finite `q3` or target ([`Error::InvalidArgument`]); a
+    /// Errors: a non-finite `q3` or target ([`Error::NotFinite`]); a
     /// wrist centre outside the shell the elbow reaches
     /// ([`Unreachable::OutsideReach`]), in the cones around axis 1 that this
     /// q3 cannot reach ([`Unreachable::InsideExcluded`]), or an orientation
@@ -292,7 +292,7 @@ impl SrsIk {
     /// and flagged. Each label keeps its branch as ψ varies, away from the
     /// singularities.
     ///
-    /// Errors: a non-finite `psi` or target ([`Error::InvalidArgument`]); a
+    /// Errors: a non-finite `psi` or target ([`Error::NotFinite`]); a
     /// wrist centre outside the shell the elbow reaches
     /// ([`Unreachable::OutsideReach`]); an arm angle joints 1–3 cannot turn
     /// the upper arm to, or an orientation the wrist cannot take
@@ -491,7 +491,7 @@ impl SrsIk {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect());
             }
-            Err(e @ (Error::InvalidArgument { .. } | Error::NotFinite { .. })) => return Err(e),
+            Err(e @ (Error::OutOfRange { .. } | Error::NotFinite { .. })) => return Err(e),
             other => other,
         };
         let mut best = self.search_q3(target);
