@@ -47,7 +47,7 @@ fn check(urdf: &Path, tip: &str, states: &Path) -> Result<bool, String> {
         "k J",
     ];
     for s in &states {
-        let pose = robot.fk(&s.q).map_err(|e| e.to_string())?.pose;
+        let pose = robot.fk(&s.q).map_err(|e| e.to_string())?.world_from_tool;
         let mine = (0..3)
             .flat_map(|r| (0..3).map(move |c| (r, c)))
             .map(|(r, c)| pose.rot[(r, c)])
