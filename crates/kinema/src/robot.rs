@@ -108,6 +108,11 @@ impl Robot {
         Error::NonFinite { robot: self.name().into(), joint: i + 1, name: joints[i].name.clone(), value: q[i] }
     }
 
+    /// `source` as the error of joint `i` (0-based), named as the model names it.
+    pub(crate) fn for_joint(&self, i: usize, source: Error) -> Error {
+        Error::ForJoint { joint: i + 1, name: self.joints()[i].name.clone(), source: Box::new(source) }
+    }
+
     /// Bit set of the joints whose value lies outside its position limits
     /// (bit i set for joint i + 1). `q` must have `dof()` values.
     #[inline]

@@ -146,11 +146,7 @@ fn check_rates(robot: &Robot, what: &str, v: &[f64]) -> Result<()> {
         });
     }
     if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(Error::ForJoint {
-            joint: i + 1,
-            name: robot.joints()[i].name.clone(),
-            source: Box::new(Error::NotFinite { what: what.into(), value: v[i] }),
-        });
+        return Err(robot.for_joint(i, Error::NotFinite { what: what.into(), value: v[i] }));
     }
     Ok(())
 }

@@ -46,6 +46,18 @@ pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 use crate::error::{Error, Result};
 use crate::robot::Robot;
 
+/// Joint `i` moves but the robot model gives no `limit` for it, and neither does `option`.
+fn missing_limit(robot: &Robot, i: usize, limit: &str, option: &str) -> Error {
+    robot.for_joint(
+        i,
+        Error::MissingLimit {
+            limit: limit.into(),
+            option: option.into(),
+            needed_by: "its motion in the robot model".into(),
+        },
+    )
+}
+
 /// A joint whose model has a jerk limit cannot follow a step in
 /// acceleration (the Panda's controller rejects one), so the laws that start
 /// and stop with one — the trapezoid and the cubic — are refused when such a
@@ -57,10 +69,9 @@ fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64]) -> 
     }
     let jerk = |i: usize| robot.joints()[i].limits.jerk;
     let Some(i) = (0..delta.len()).find(|&i| delta[i] != 0.0 && jerk(i).is_some()) else { return Ok(()) };
-    Err(Error::ForJoint {
-        joint: i + 1,
-        name: robot.joints()[i].name.clone(),
-        source: Box::new(Error::DoesNotFit {
+    Err(robot.for_joint(
+        i,
+        Error::DoesNotFit {
             what: "profile".into(),
             reason: format!(
                 "the joint has a jerk limit of {}, which the {} profile's steps in acceleration break; \
@@ -68,8 +79,8 @@ fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64]) -> 
                 jerk(i).unwrap_or(f64::NAN),
                 profile.name()
             ),
-        }),
-    })
+        },
+    ))
 }
 
 /// Options of a point-to-point motion.
@@ -148,15 +159,14 @@ impl Ptp {
         for (what, q) in [("from", from), ("to", to)] {
             if let Some(i) = robot.limit_flags(q).indices().next() {
                 let l = robot.joints()[i].limits;
-                return Err(Error::ForJoint {
-                    joint: i + 1,
-                    name: robot.joints()[i].name.clone(),
-                    source: Box::new(Error::OutOfRange {
+                return Err(robot.for_joint(
+                    i,
+                    Error::OutOfRange {
                         what: what.into(),
                         value: q[i],
                         expected: format!("a value within the joint's limits [{}, {}]", l.min, l.max),
-                    }),
-                });
+                    },
+                ));
             }
         }
         if !(opts.speed > 0.0 && opts.speed <= 1.0) {
@@ -181,15 +191,7 @@ impl Ptp {
             if d == 0.0 {
                 continue;
             }
-            let missing = |limit: &str, option: &str| Error::ForJoint {
-                joint: i + 1,
-                name: js[i].name.clone(),
-                source: Box::new(Error::MissingLimit {
-                    limit: limit.into(),
-                    option: option.into(),
-                    needed_by: "its motion in the robot model".into(),
-                }),
-            };
+            let missing = |limit: &str, option: &str| missing_limit(robot, i, limit, option);
             let v = vel[i].ok_or_else(|| missing("velocity", "vmax"))?;
             shared.vel = shared.vel.min(v * k / d);
             if need_acc {
@@ -381,16 +383,15 @@ impl BoundaryPtp {
         if !jerk_limited {
             if let Some(i) = a0.iter().chain(&a1).position(|&a| a != 0.0) {
                 let (what, j) = if i < a0.len() { ("a0", i) } else { ("a1", i - a0.len()) };
-                return Err(Error::ForJoint {
-                    joint: j + 1,
-                    name: robot.joints()[j].name.clone(),
-                    source: Box::new(Error::DoesNotFit {
+                return Err(robot.for_joint(
+                    j,
+                    Error::DoesNotFit {
                         what: what.into(),
                         reason: "a boundary acceleration needs the jerk-limited scurve profile \
                                  (the trapezoid's acceleration steps)"
                             .into(),
-                    }),
-                });
+                    },
+                ));
             }
         }
         // A joint moves if it changes position or has a boundary velocity.
@@ -408,15 +409,7 @@ impl BoundaryPtp {
         for i in 0..n {
             let start = BoundaryState::new(from[i], v0[i], a0[i]);
             let end = BoundaryState::new(to[i], v1[i], a1[i]);
-            let missing = |limit: &str, option: &str| Error::ForJoint {
-                joint: i + 1,
-                name: js[i].name.clone(),
-                source: Box::new(Error::MissingLimit {
-                    limit: limit.into(),
-                    option: option.into(),
-                    needed_by: "its motion in the robot model".into(),
-                }),
-            };
+            let missing = |limit: &str, option: &str| missing_limit(robot, i, limit, option);
             let lim = if start == end && start.v == 0.0 && start.a == 0.0 {
                 MotionLimits::with_jerk(1.0, 1.0, 1.0) // at rest throughout
             } else {
@@ -433,9 +426,7 @@ impl BoundaryPtp {
                 Error::OutOfRange { .. }
                 | Error::NotFinite { .. }
                 | Error::MissingLimit { .. }
-                | Error::Infeasible { .. } => {
-                    Error::ForJoint { joint: i + 1, name: js[i].name.clone(), source: Box::new(e) }
-                }
+                | Error::Infeasible { .. } => robot.for_joint(i, e),
                 e => e,
             })?;
             starts.push(start);
