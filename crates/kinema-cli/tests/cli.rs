@@ -1091,7 +1091,7 @@ fn scorbot_counts_and_angles_invert_each_other() {
     let v = json(&["scorbot", "counts", "--q", "home", "--json"]);
     assert!(v["tool_sigma_radius"].as_f64().unwrap() > 1e-3);
     assert!(fails(&["scorbot", "counts", "--q", "1,2,3"]).contains("3 joint values"));
-    assert!(fails(&["scorbot", "counts", "--q", "home", "--constants", "nope"]).contains("not a preset"));
+    assert!(fails(&["scorbot", "counts", "--q", "home", "--constants", "nope"]).contains("unknown constants `nope`"));
     assert!(fails(&["scorbot", "angles", "--counts", "1,2,3,4"]).contains("expected 5"));
 }
 
