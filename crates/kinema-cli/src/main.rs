@@ -323,11 +323,27 @@ fn main() -> ExitCode {
         Err(e) => match e.downcast_ref::<Exit>() {
             Some(Exit(code)) => ExitCode::from(*code),
             None => {
-                eprintln!("error: {e:#}");
+                eprintln!("error: {}", chain_text(&e));
                 ExitCode::FAILURE
             }
         },
     }
+}
+
+/// An error and its causes on one line, each cause only when its text is
+/// not already in the line: the libraries' errors show their source in their
+/// own message (so that `to_string` alone is complete), and `{:#}` would
+/// repeat it once per level.
+fn chain_text(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !text.contains(&c) {
+            text.push_str(": ");
+            text.push_str(&c);
+        }
+    }
+    text
 }
 
 /// The commands that write to sockets, pseudo-terminals or serial lines,

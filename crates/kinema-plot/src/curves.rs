@@ -26,7 +26,7 @@ struct TimePanels {
 }
 
 impl TimePanels {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let body = title_area(area, &self.title)?;
         let (w, _) = body.dim_in_pixel();
         let font_px = (w / 70).clamp(10, 16);
@@ -133,7 +133,7 @@ impl CartesianCurves {
 }
 
 impl Plot for CartesianCurves {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         self.0.draw(area)
     }
 }
@@ -185,7 +185,7 @@ impl ManipulabilityCurve {
 }
 
 impl Plot for ManipulabilityCurve {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         self.0.draw(area)
     }
 }

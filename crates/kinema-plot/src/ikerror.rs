@@ -52,7 +52,7 @@ impl IkErrorPlot {
 }
 
 impl Plot for IkErrorPlot {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let unsolved = self.errors.iter().filter(|e| e.is_none()).count();
         let (max, mean) = self.max_mean();
         let mut title = self.title.clone();

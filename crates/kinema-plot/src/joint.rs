@@ -103,7 +103,7 @@ impl JointCurves {
 }
 
 impl Plot for JointCurves {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let (w, _) = area.dim_in_pixel();
         let font_px = (w / 70).clamp(10, 16);
         let body = crate::title_area(area, &format!("{}: joint trajectory", self.name))?;

@@ -52,17 +52,58 @@ pub enum Error {
     /// Bad input (a wrong joint count, an empty trajectory, …).
     #[error("{0}")]
     Kinema(#[from] kinema::Error),
-    /// The input cannot be drawn.
-    #[error("cannot plot {what}: {message}")]
-    Invalid {
-        /// What was given.
+    /// Too few items to draw: a trajectory of one sample, no measured run,
+    /// too few self-motion steps.
+    #[error("cannot plot `{what}`: it has {got} {of}; at least {min} needed")]
+    TooFew {
+        /// Which input.
         what: String,
-        /// Why it cannot be drawn.
-        message: String,
+        /// How many it has.
+        got: usize,
+        /// How many it needs at least.
+        min: usize,
+        /// What is counted (e.g. "samples", "points").
+        of: String,
     },
-    /// The drawing backend failed.
+    /// A list with the wrong number of values (a trajectory for another robot).
+    #[error("cannot plot `{what}`: it has {got} {of}; {expected} expected")]
+    WrongLength {
+        /// Which input.
+        what: String,
+        /// How many it has.
+        got: usize,
+        /// How many it needs.
+        expected: usize,
+        /// What is counted (e.g. "joints").
+        of: String,
+    },
+    /// A number outside the range its argument accepts (a picture size, a
+    /// grid size).
+    #[error("cannot plot: invalid `{what}`: {value}; expected {expected}")]
+    OutOfRange {
+        /// Which argument.
+        what: String,
+        /// The offending value.
+        value: f64,
+        /// The accepted range, in words.
+        expected: String,
+    },
+    /// A valid input that this plot cannot show (a robot without a
+    /// closed-form self-motion).
+    #[error("cannot plot `{what}`: {reason}")]
+    DoesNotFit {
+        /// Which input.
+        what: String,
+        /// Why it cannot be drawn, and what would.
+        reason: String,
+    },
+    /// The embedded font could not be registered with the drawing library.
+    #[error("drawing failed: the embedded DejaVu Sans font could not be loaded")]
+    Font,
+    /// The drawing backend failed; its error (an I/O error for SVG, a
+    /// bitmap error for PNG) is the source.
     #[error("drawing failed: {0}")]
-    Drawing(String),
+    Drawing(#[source] Box<dyn std::error::Error + Send + Sync>),
 }
 
 /// Result with [`Error`].
@@ -91,7 +132,7 @@ impl Format {
 /// A picture.
 pub trait Plot {
     /// Draws the picture on `area` (already cleared to white).
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()>;
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()>;
 }
 
 /// The font family every plot uses.
@@ -107,12 +148,12 @@ fn register_font() -> Result<()> {
     if ok {
         Ok(())
     } else {
-        Err(Error::Drawing("the embedded DejaVu Sans font could not be loaded".into()))
+        Err(Error::Font)
     }
 }
 
 /// Draws `title` in a band at the top of `area` and returns the rest.
-pub(crate) fn title_area<DB: DrawingBackend>(
+pub(crate) fn title_area<DB: DrawingBackend<ErrorType: 'static>>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
 ) -> Result<DrawingArea<DB, Shift>> {
@@ -135,7 +176,7 @@ pub(crate) fn tidy(v: &f64) -> String {
 }
 
 /// Draws the legend of `chart`'s labelled series at `pos`.
-pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+pub(crate) fn legend<'a, DB: DrawingBackend<ErrorType: 'static> + 'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
     font_px: u32,
     pos: SeriesLabelPosition,
@@ -153,16 +194,15 @@ pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTran
 /// Checks that `traj` is a trajectory of `robot` with at least `min` samples.
 pub(crate) fn check_traj(robot: &kinema::Robot, traj: &kinema::traj::JointTrajectory, min: usize) -> Result<()> {
     if traj.dof() != robot.dof() {
-        return Err(Error::Invalid {
-            what: "the trajectory".into(),
-            message: format!("it has {} joints; `{}` has {}", traj.dof(), robot.name(), robot.dof()),
+        return Err(Error::WrongLength {
+            what: "trajectory".into(),
+            got: traj.dof(),
+            expected: robot.dof(),
+            of: format!("joints (as many as `{}` has)", robot.name()),
         });
     }
     if traj.len() < min {
-        return Err(Error::Invalid {
-            what: "the trajectory".into(),
-            message: format!("it has {} samples; at least {min} are needed", traj.len()),
-        });
+        return Err(Error::TooFew { what: "trajectory".into(), got: traj.len(), min, of: "samples".into() });
     }
     Ok(())
 }
@@ -182,17 +222,19 @@ pub(crate) fn color(i: usize) -> RGBColor {
     C[i % C.len()]
 }
 
-pub(crate) fn drawing<E: std::fmt::Debug>(e: E) -> Error {
-    Error::Drawing(format!("{e:?}"))
+pub(crate) fn drawing<E: std::error::Error + Send + Sync + 'static>(e: E) -> Error {
+    Error::Drawing(Box::new(e))
 }
 
 /// Renders `plot` at `size` (width, height in pixels) and returns the bytes
 /// of the file.
 pub fn render(plot: &impl Plot, format: Format, size: (u32, u32)) -> Result<Vec<u8>> {
     if size.0 < 100 || size.1 < 100 || size.0 > 10_000 || size.1 > 10_000 {
-        return Err(Error::Invalid {
-            what: format!("a {}×{} picture", size.0, size.1),
-            message: "width and height must be between 100 and 10000 pixels".into(),
+        let (what, value) = if (100..=10_000).contains(&size.0) { ("height", size.1) } else { ("width", size.0) };
+        return Err(Error::OutOfRange {
+            what: what.into(),
+            value: value.into(),
+            expected: "100 to 10000 pixels".into(),
         });
     }
     register_font()?;

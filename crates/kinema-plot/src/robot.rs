@@ -47,7 +47,7 @@ impl RobotView {
 }
 
 impl Plot for RobotView {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let (w, _) = area.dim_in_pixel();
         let body = crate::title_area(area, &format!("{} at the given configuration", self.name))?;
         let halves = body.split_evenly((1, 2));

@@ -100,7 +100,7 @@ impl Scene {
         (0.5 * (lo + hi), half)
     }
 
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let (w, _) = area.dim_in_pixel();
         let font_px = (w / 45).clamp(10, 16);
         let (c, half) = self.bounds();
@@ -169,7 +169,11 @@ impl Scene {
 }
 
 /// Draws `scenes` side by side under a title.
-fn draw_panels<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, scenes: &[Scene]) -> Result<()> {
+fn draw_panels<DB: DrawingBackend<ErrorType: 'static>>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    scenes: &[Scene],
+) -> Result<()> {
     let body = title_area(area, title)?;
     for (panel, s) in body.split_evenly((1, scenes.len())).iter().zip(scenes) {
         s.draw(panel)?;
@@ -216,7 +220,7 @@ impl Robot3d {
 }
 
 impl Plot for Robot3d {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         draw_panels(area, &self.title, std::slice::from_ref(&self.scene))
     }
 }
@@ -257,7 +261,7 @@ impl ToolPath3d {
 }
 
 impl Plot for ToolPath3d {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         draw_panels(area, &self.title, std::slice::from_ref(&self.scene))
     }
 }
@@ -306,7 +310,7 @@ impl EllipsoidView {
 }
 
 impl Plot for EllipsoidView {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         draw_panels(area, &self.title, &self.scenes)
     }
 }
@@ -330,13 +334,16 @@ impl SelfMotionView {
     /// Errors: a robot without an arm angle (any description of an iiwa-type arm has one), a wrong joint count, too few steps.
     pub fn new(robot: &Robot, q: &[f64], steps: usize) -> Result<Self> {
         if steps < 8 {
-            return Err(Error::Invalid { what: format!("{steps} steps"), message: "at least 8 are needed".into() });
+            return Err(Error::TooFew { what: "self-motion".into(), got: steps, min: 8, of: "steps".into() });
         }
         let family = kinema::ik::family::fit(robot);
         let Some(redundancy) = family.as_deref().and_then(|f| f.redundancy()) else {
-            return Err(Error::Invalid {
-                what: format!("robot `{}`", robot.name()),
-                message: "has no self-motion with a closed form (an arm of the iiwa's structure has one)".into(),
+            return Err(Error::DoesNotFit {
+                what: "robot".into(),
+                reason: format!(
+                    "`{}` has no self-motion with a closed form (an arm of the iiwa's structure has one)",
+                    robot.name()
+                ),
             });
         };
         let samples = kinema::ik::family::self_motion(robot, redundancy, q, steps)?;
@@ -376,7 +383,7 @@ impl SelfMotionView {
 }
 
 impl Plot for SelfMotionView {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let body = title_area(area, &self.title)?;
         let (w, _) = body.dim_in_pixel();
         let (left, right) = body.split_horizontally(w / 2);

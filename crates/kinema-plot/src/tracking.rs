@@ -30,11 +30,11 @@ impl TrackingPlot {
     /// Errors: a desired path of fewer than two distinct points, no measured
     /// run, an empty run, non-finite coordinates.
     pub fn new(desired: Vec<Vector3<f64>>, measured: Vec<Vec<Vector3<f64>>>) -> Result<Self> {
-        if measured.is_empty() || measured.iter().any(|m| m.is_empty()) {
-            return Err(Error::Invalid {
-                what: "the measured paths".into(),
-                message: "at least one run with at least one point is needed".into(),
-            });
+        if measured.is_empty() {
+            return Err(Error::TooFew { what: "measured paths".into(), got: 0, min: 1, of: "runs".into() });
+        }
+        if let Some(i) = measured.iter().position(|m| m.is_empty()) {
+            return Err(Error::TooFew { what: format!("measured run {}", i + 1), got: 0, min: 1, of: "points".into() });
         }
         let summary = tracking_error(&desired, &measured)?;
         let run_means = summary.run_means.clone();
@@ -69,7 +69,7 @@ impl TrackingPlot {
 }
 
 impl Plot for TrackingPlot {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let (mean, sd) = self.mean_error();
         let title =
             format!("tracking error: {:.2} ± {:.2} mm over {} run(s)", mean * 1e3, sd * 1e3, self.measured.len());

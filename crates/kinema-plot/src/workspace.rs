@@ -66,10 +66,14 @@ impl WorkspaceCloud {
     /// of samples done so far (every 10 000 and at the end). Errors: no
     /// samples, a grid under 10 or over 1000 cells.
     pub fn sample(robot: &Robot, opts: &WorkspaceOptions, mut progress: impl FnMut(usize)) -> Result<Self> {
-        if opts.samples == 0 || !(10..=1000).contains(&opts.grid) {
-            return Err(Error::Invalid {
-                what: format!("a workspace of {} samples on a {}-cell grid", opts.samples, opts.grid),
-                message: "at least one sample and a grid of 10 to 1000 cells are needed".into(),
+        if opts.samples == 0 {
+            return Err(Error::TooFew { what: "workspace".into(), got: 0, min: 1, of: "samples".into() });
+        }
+        if !(10..=1000).contains(&opts.grid) {
+            return Err(Error::OutOfRange {
+                what: "grid".into(),
+                value: opts.grid as f64,
+                expected: "10 to 1000 cells".into(),
             });
         }
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(opts.seed);
@@ -210,7 +214,7 @@ fn window(pts: &[(f64, f64)], aspect: f64) -> ((f64, f64), (f64, f64)) {
 }
 
 impl Plot for WorkspaceCloud {
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    fn draw<DB: DrawingBackend<ErrorType: 'static>>(&self, area: &DrawingArea<DB, Shift>) -> Result<()> {
         let title = format!("{}: workspace of the tool ({} samples)", self.name, self.points.len());
         let body = title_area(area, &title)?;
         let (w, _) = body.dim_in_pixel();

@@ -3,7 +3,7 @@
 
 use kinema::traj::JointTrajectory;
 use kinema::Robot;
-use kinema_plot::{render, Format, JointCurves, RobotView};
+use kinema_plot::{render, Error, Format, JointCurves, RobotView};
 
 /// Decodes a PNG to (width, height, RGB bytes).
 fn decode(png: &[u8]) -> (u32, u32, Vec<u8>) {
@@ -55,13 +55,19 @@ fn bad_input_is_an_error() {
     assert!(RobotView::new(&robot, &[0.0; 5]).is_err());
     assert!(RobotView::new(&robot, &[f64::NAN; 6]).is_err());
     let view = RobotView::new(&robot, robot.home()).unwrap();
-    assert!(render(&view, Format::Png, (10, 10)).is_err());
-    assert!(render(&view, Format::Svg, (100_000, 500)).is_err());
+    let e = render(&view, Format::Png, (10, 10)).unwrap_err();
+    assert!(matches!(&e, Error::OutOfRange { what, value, .. } if what == "width" && *value == 10.0), "{e:?}");
+    let e = render(&view, Format::Svg, (500, 100_000)).unwrap_err();
+    assert!(matches!(&e, Error::OutOfRange { what, value, .. } if what == "height" && *value == 1e5), "{e:?}");
     let mut one = JointTrajectory::new(6);
     one.push(0.0, &[0.0; 6], &[0.0; 6], &[0.0; 6]).unwrap();
-    assert!(JointCurves::new(&robot, &one).unwrap_err().to_string().contains("at least 2 are needed"));
+    let e = JointCurves::new(&robot, &one).unwrap_err();
+    assert!(matches!(&e, Error::TooFew { got: 1, min: 2, .. }), "{e:?}");
+    assert!(e.to_string().contains("at least 2 needed"), "{e}");
     let seven = JointTrajectory::new(7);
-    assert!(JointCurves::new(&robot, &seven).unwrap_err().to_string().contains("7 joints"));
+    let e = JointCurves::new(&robot, &seven).unwrap_err();
+    assert!(matches!(&e, Error::WrongLength { got: 7, expected: 6, .. }), "{e:?}");
+    assert!(e.to_string().contains("7 joints"), "{e}");
     assert_eq!(Format::from_path(std::path::Path::new("a.PNG")), Some(Format::Png));
     assert_eq!(Format::from_path(std::path::Path::new("a.pdf")), None);
 }
@@ -93,8 +99,10 @@ fn three_d_views_render_with_their_labels() {
     let sm = kinema_plot::SelfMotionView::new(&iiwa, &q, 72).unwrap();
     let svg = both(&sm, (1200, 600));
     assert!(svg.contains("arm angle ψ") && svg.contains("7 A7"));
-    assert!(kinema_plot::SelfMotionView::new(&iiwa, &q, 3).is_err());
-    assert!(kinema_plot::SelfMotionView::new(&Robot::builtin("puma560").unwrap(), &[0.0; 6], 36).is_err());
+    let e = kinema_plot::SelfMotionView::new(&iiwa, &q, 3).unwrap_err();
+    assert!(matches!(&e, Error::TooFew { got: 3, min: 8, .. }), "{e:?}");
+    let e = kinema_plot::SelfMotionView::new(&Robot::builtin("puma560").unwrap(), &[0.0; 6], 36).unwrap_err();
+    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "robot"), "{e:?}");
 }
 
 #[test]
@@ -151,7 +159,11 @@ fn workspace_points_are_reachable_and_the_plot_shows_both_panels() {
     let cloud = kinema_plot::WorkspaceCloud::sample(&rail, &opts, |_| {}).unwrap();
     assert!(both(&cloud, (1000, 500)).contains("side view (x–z)"));
     let bad = kinema_plot::WorkspaceOptions { samples: 0, ..Default::default() };
-    assert!(kinema_plot::WorkspaceCloud::sample(&robot, &bad, |_| {}).is_err());
+    let e = kinema_plot::WorkspaceCloud::sample(&robot, &bad, |_| {}).unwrap_err();
+    assert!(matches!(&e, Error::TooFew { got: 0, min: 1, .. }), "{e:?}");
+    let bad = kinema_plot::WorkspaceOptions { grid: 5, ..Default::default() };
+    let e = kinema_plot::WorkspaceCloud::sample(&robot, &bad, |_| {}).unwrap_err();
+    assert!(matches!(&e, Error::OutOfRange { what, value, .. } if what == "grid" && *value == 5.0), "{e:?}");
 }
 
 #[test]
@@ -216,6 +228,9 @@ fn tracking_error_of_a_square_offset_by_known_distances() {
     assert!((mean - 0.002).abs() < 1e-12 && (sd - 0.002 / 2f64.sqrt()).abs() < 1e-12);
     let svg = both(&plot, (1200, 550));
     assert!(svg.contains("2.00 ± 1.41 mm") && svg.contains("run 2: 3.00 mm"));
-    assert!(kinema_plot::TrackingPlot::new(desired.clone(), vec![]).is_err());
+    let e = kinema_plot::TrackingPlot::new(desired.clone(), vec![]).unwrap_err();
+    assert!(matches!(&e, Error::TooFew { got: 0, min: 1, .. }), "{e:?}");
+    let e = kinema_plot::TrackingPlot::new(desired.clone(), vec![run(0.001), vec![]]).unwrap_err();
+    assert!(matches!(&e, Error::TooFew { what, .. } if what == "measured run 2"), "{e:?}");
     assert!(kinema_plot::TrackingPlot::new(vec![desired[0]], vec![run(0.0)]).is_err());
 }

@@ -177,7 +177,7 @@ impl Client {
             .flow_control(serialport::FlowControl::None)
             .timeout(DEFAULT_REPLY_TIMEOUT)
             .open()
-            .map_err(|e| Error::Io { message: format!("cannot open serial port {path}: {e}") })?;
+            .map_err(|e| Error::io(format!("cannot open serial port {path}"), e.into()))?;
         Ok(Client::new(Box::new(port)))
     }
 
@@ -185,7 +185,7 @@ impl Client {
     /// giving up after `timeout`.
     pub fn connect_tcp(addr: &str, timeout: Duration) -> Result<Client> {
         let addrs: Vec<_> =
-            addr.to_socket_addrs().map_err(|e| Error::Io { message: format!("cannot resolve {addr}: {e}") })?.collect();
+            addr.to_socket_addrs().map_err(|e| Error::io(format!("cannot resolve {addr}"), e))?.collect();
         let mut last = None;
         for a in addrs {
             match TcpStream::connect_timeout(&a, timeout) {
@@ -196,12 +196,9 @@ impl Client {
                 Err(e) => last = Some(e),
             }
         }
-        Err(Error::Io {
-            message: match last {
-                Some(e) => format!("cannot connect to {addr}: {e}"),
-                None => format!("{addr} resolves to no address"),
-            },
-        })
+        // No address at all is a failure of the lookup, so it gets the OS's kind for that.
+        let e = last.unwrap_or_else(|| io::Error::new(io::ErrorKind::NotFound, "the name resolves to no address"));
+        Err(Error::io(format!("cannot connect to {addr}"), e))
     }
 
     /// The failure that blocks motion commands, if any.
@@ -220,7 +217,11 @@ impl Client {
     pub fn command(&mut self, line: &str) -> Result<Reply> {
         let line = line.trim();
         if line.is_empty() || !line.bytes().all(|b| (0x20..0x7f).contains(&b)) {
-            return Err(Error::invalid("command", format!("{line:?} must be one non-empty line of printable ASCII")));
+            return Err(Error::Malformed {
+                what: "command".into(),
+                text: line.into(),
+                expected: "a command must be one non-empty line of printable ASCII".into(),
+            });
         }
         let keyword = line.split_whitespace().next().unwrap_or("").to_ascii_uppercase();
         if MOTION.contains(&keyword.as_str()) {
@@ -445,7 +446,7 @@ impl Client {
     /// `SPEED n`, n = 1…100 \[% of the maximum speed\].
     pub fn speed(&mut self, percent: u32) -> Result<()> {
         if !(1..=100).contains(&percent) {
-            return Err(Error::invalid("speed", format!("{percent}; ACL speeds are 1…100 (%)")));
+            return Err(Error::out_of_range("speed", percent.into(), "1…100 (% of the maximum speed)"));
         }
         self.done(&format!("SPEED {percent}"))
     }
@@ -460,7 +461,7 @@ impl Client {
     pub fn dimp(&mut self, vector: &str, len: usize) -> Result<()> {
         check_name(vector, false)?;
         if len == 0 {
-            return Err(Error::invalid("vector length", "0; a vector needs at least one position"));
+            return Err(Error::too_few("vector length", 0, 1, "positions"));
         }
         self.done(&format!("DIMP {vector}[{len}]"))
     }
@@ -475,7 +476,7 @@ impl Client {
     pub fn setpv(&mut self, position: &str, axis: usize, counts: i64) -> Result<()> {
         check_name(position, true)?;
         if !(1..=5).contains(&axis) {
-            return Err(Error::invalid("axis", format!("{axis}; the Scorbot's axes are 1…5")));
+            return Err(Error::out_of_range("axis", axis as f64, "1…5 (the Scorbot's axes)"));
         }
         self.done(&format!("SETPV {position} {axis} {counts}"))
     }
@@ -527,7 +528,10 @@ impl Client {
     pub fn moves(&mut self, vector: &str, first: usize, last: usize, time: Option<u32>) -> Result<()> {
         check_name(vector, false)?;
         if first == 0 || last < first {
-            return Err(Error::invalid("vector range", format!("{first}…{last}; need 1 ≤ first ≤ last")));
+            return Err(Error::DoesNotFit {
+                what: "vector range".into(),
+                reason: format!("{first}…{last}; need 1 ≤ first ≤ last"),
+            });
         }
         self.done(&with_time(format!("MOVES {vector} {first} {last}"), time))
     }
@@ -589,13 +593,14 @@ fn check_name(name: &str, indexed: bool) -> Result<()> {
     if ok_base && ok_index {
         Ok(())
     } else {
-        Err(Error::invalid(
-            "position name",
-            format!(
-                "`{name}`; names are a letter then letters, digits or _ (at most 16){}",
+        Err(Error::Malformed {
+            what: "position name".into(),
+            text: name.into(),
+            expected: format!(
+                "names are a letter then letters, digits or _ (at most 16){}",
                 if indexed { ", optionally indexed as NAME[n] with n ≥ 1" } else { "" }
             ),
-        ))
+        })
     }
 }
 
@@ -649,7 +654,7 @@ fn io_error(e: io::Error, doing: &str) -> Error {
         | io::ErrorKind::UnexpectedEof => Error::Disconnected { during: doing.into() },
         // A pseudo-terminal whose other side closed reads EIO.
         _ if e.raw_os_error() == Some(5) => Error::Disconnected { during: doing.into() },
-        _ => Error::Io { message: format!("{doing}: {e}") },
+        _ => Error::io(format!("controller link: {doing}"), e),
     }
 }
 

@@ -290,9 +290,11 @@ const MIN_COUNT_SPREAD: f64 = 2.0;
 /// uncertainties are computed.
 ///
 /// Errors:
-/// * [`Error::InvalidArgument`]: a robot without the Scorbot structure (five
-///   revolute standard-DH joints, tool on the roll axis); a sample with a
-///   non-finite value; invalid initial constants or options.
+/// * [`Error::NeedsScorbot`]: a robot without the Scorbot structure (five
+///   revolute standard-DH joints, tool on the roll axis).
+/// * [`Error::NotFinite`]: a sample with a non-finite value.
+/// * [`Error::OutOfRange`], [`Error::NotFinite`]: invalid initial constants
+///   or options.
 /// * [`Error::Calibration`]: fewer samples than needed (3N must exceed the
 ///   number of parameters); a motor whose counts do not vary (its cg_i and
 ///   h_i cannot be separated); ce4 an affine function of ce5 (no independent
@@ -437,13 +439,13 @@ pub fn calibrate(robot: &Robot, samples: &[Sample], options: &CalibrationOptions
 
 fn check_options(o: &CalibrationOptions) -> Result<()> {
     if o.max_iterations == 0 {
-        return Err(Error::invalid("max_iterations", "0; at least one iteration is needed"));
+        return Err(Error::out_of_range("max_iterations", 0.0, "at least one iteration"));
     }
     if !(o.tolerance.is_finite() && o.tolerance > 0.0) {
-        return Err(Error::invalid("tolerance", format!("{} must be positive and finite", o.tolerance)));
+        return Err(Error::out_of_range("tolerance", o.tolerance, "a positive, finite number"));
     }
     if o.max_condition.is_nan() || o.max_condition <= 1.0 {
-        return Err(Error::invalid("max_condition", format!("{} must be greater than 1", o.max_condition)));
+        return Err(Error::out_of_range("max_condition", o.max_condition, "a number greater than 1"));
     }
     Ok(())
 }
@@ -451,13 +453,10 @@ fn check_options(o: &CalibrationOptions) -> Result<()> {
 fn check_samples(samples: &[Sample], p: usize, initial: &Constants) -> Result<()> {
     for (k, s) in samples.iter().enumerate() {
         if let Some(i) = s.counts.iter().position(|v| !v.is_finite()) {
-            return Err(Error::invalid("samples", format!("sample {}: count {} is {}", k + 1, i + 1, s.counts[i])));
+            return Err(Error::not_finite(format!("sample {}, count {}", k + 1, i + 1), s.counts[i]));
         }
-        if !s.position.iter().all(|v| v.is_finite()) {
-            return Err(Error::invalid(
-                "samples",
-                format!("sample {}: position {:?} is not finite", k + 1, s.position.as_slice()),
-            ));
+        if let Some((i, v)) = s.position.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::not_finite(format!("sample {}, position {}", k + 1, ["x", "y", "z"][i]), *v));
         }
     }
     let need = p / 3 + 1;
@@ -569,7 +568,7 @@ struct Model<'a> {
 impl<'a> Model<'a> {
     fn new(robot: &'a Robot, options: &CalibrationOptions) -> Result<Self> {
         kinema::ik::scorbot::ScorbotIk::new(robot)
-            .map_err(|e| Error::invalid("robot", format!("the calibration model needs the Scorbot structure: {e}")))?;
+            .map_err(|e| Error::NeedsScorbot { needed_by: "the calibration model".into(), source: e })?;
         let c0 = &options.initial;
         c0.validate()?;
         let (cg, h) = (c0.counts_per_degree, c0.home_offsets);
@@ -972,16 +971,24 @@ mod tests {
         let mut nan = few.clone();
         nan.extend(simulate(&robot, &t, 10, 0.0, 4));
         nan[5].position.y = f64::NAN;
-        assert!(err(&nan, &opts).to_string().contains("sample 6"));
+        let e = err(&nan, &opts);
+        assert!(matches!(&e, Error::NotFinite { what, .. } if what == "sample 6, position y"), "{e:?}");
         let good = simulate(&robot, &t, 20, 0.0, 5);
         let bad_opts = CalibrationOptions { max_iterations: 0, ..opts.clone() };
-        assert!(err(&good, &bad_opts).to_string().contains("max_iterations"));
+        let e = err(&good, &bad_opts);
+        assert!(
+            matches!(&e, Error::OutOfRange { what, value, .. } if what == "max_iterations" && *value == 0.0),
+            "{e:?}"
+        );
         let mut bad_initial = opts.clone();
         bad_initial.initial.counts_per_degree[2] = 0.0;
-        assert!(err(&good, &bad_initial).to_string().contains("counts_per_degree[3]"));
+        let e = err(&good, &bad_initial);
+        assert!(matches!(&e, Error::OutOfRange { what, .. } if what == "counts_per_degree[3]"), "{e:?}");
         let five = Robot::builtin("scara5");
         if let Ok(other) = five {
-            assert!(calibrate(&other, &good, &opts).unwrap_err().to_string().contains("Scorbot structure"));
+            let e = calibrate(&other, &good, &opts).unwrap_err();
+            assert!(matches!(&e, Error::NeedsScorbot { .. }), "{e:?}");
+            assert!(e.to_string().contains("Scorbot structure"), "{e}");
         }
         let one_iteration = CalibrationOptions { max_iterations: 1, ..opts.clone() };
         let e = err(&simulate(&robot, &t, 30, 0.001, 6), &one_iteration);
@@ -996,6 +1003,9 @@ mod tests {
         assert!(e.starts_with("s.csv:1") && e.contains("`c5`"), "{e}");
         let e = parse_samples_csv("c1,c2,c3,c4,c5,x,y,z\n1,2,3,4,5,0,zero,0\n", "s.csv").unwrap_err().to_string();
         assert!(e.starts_with("s.csv:2") && e.contains("`zero`"), "{e}");
-        assert!(read_samples_csv(Path::new("/nonexistent/s.csv")).is_err());
+        let e = read_samples_csv(Path::new("/nonexistent/s.csv")).unwrap_err();
+        let io =
+            std::error::Error::source(&e).and_then(|s| s.source()).and_then(|s| s.downcast_ref::<std::io::Error>());
+        assert_eq!(io.map(|e| e.kind()), Some(std::io::ErrorKind::NotFound), "{e:?}");
     }
 }

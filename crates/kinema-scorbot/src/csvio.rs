@@ -19,18 +19,19 @@ pub(crate) struct Row {
 /// Errors name the file, the line and the offending text.
 pub(crate) fn read_columns(path: &Path, required: &[&str], optional: &[&str]) -> Result<Vec<Row>> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::File { path: name.clone(), message: e.to_string() })?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(format!("cannot read `{name}`"), e))?;
     parse_columns(&text, &name, required, optional)
 }
 
 /// [`read_columns`] on text; `origin` names it in errors.
 pub(crate) fn parse_columns(text: &str, origin: &str, required: &[&str], optional: &[&str]) -> Result<Vec<Row>> {
-    let err = |line: usize, message: String| Error::File { path: format!("{origin}:{line}"), message };
+    let err = |line: usize, message: String| Error::Csv { path: origin.into(), line: Some(line), message };
     let mut lines =
         text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())).filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
     let Some((hline, header)) = lines.next() else {
-        return Err(Error::File {
+        return Err(Error::Csv {
             path: origin.into(),
+            line: None,
             message: format!("it is empty; expected a header with columns {}", required.join(",")),
         });
     };
@@ -61,7 +62,7 @@ pub(crate) fn parse_columns(text: &str, origin: &str, required: &[&str], optiona
         rows.push(Row { req, opt });
     }
     if rows.is_empty() {
-        return Err(Error::File { path: origin.into(), message: "it has a header but no data rows".into() });
+        return Err(Error::Csv { path: origin.into(), line: None, message: "it has a header but no data rows".into() });
     }
     Ok(rows)
 }
@@ -77,12 +78,14 @@ mod tests {
         assert_eq!(r[1].req, [4.0, 5.0, 6.0]);
         assert_eq!(r[0].opt, [None]);
         let e = parse_columns("x,y\n1,2\n", "m.csv", &["x", "y", "z"], &[]).unwrap_err();
+        assert!(matches!(&e, Error::Csv { path, line: Some(1), .. } if path == "m.csv"), "{e:?}");
         assert!(e.to_string().starts_with("m.csv:1:") && e.to_string().contains("`z`"), "{e}");
         let e = parse_columns("x,y,z\n1,2,3\n1,nan,3\n", "m.csv", &["x", "y", "z"], &[]).unwrap_err();
         assert!(e.to_string().starts_with("m.csv:3:") && e.to_string().contains("`nan`"), "{e}");
         let e = parse_columns("x,y,z\n1,2\n", "m.csv", &["x", "y", "z"], &[]).unwrap_err();
         assert!(e.to_string().contains("2 values"), "{e}");
         assert!(parse_columns("", "m.csv", &["x"], &[]).is_err());
-        assert!(parse_columns("x\n", "m.csv", &["x"], &[]).unwrap_err().to_string().contains("no data rows"));
+        let e = parse_columns("x\n", "m.csv", &["x"], &[]).unwrap_err();
+        assert!(matches!(&e, Error::Csv { line: None, .. }) && e.to_string().contains("no data rows"), "{e:?}");
     }
 }

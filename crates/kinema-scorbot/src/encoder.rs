@@ -65,7 +65,12 @@ pub const MAX_COUNTS: f64 = 2_147_483_647.0;
 fn check_count_range(what: &str, counts: &[f64; MOTORS]) -> Result<()> {
     match counts.iter().position(|c| c.abs() > MAX_COUNTS) {
         Some(i) => {
-            Err(Error::invalid(what, format!("motor {} at {} counts is beyond ±{MAX_COUNTS} counts", i + 1, counts[i])))
+            let of = if what == "counts" { String::new() } else { format!(" for the {what}") };
+            Err(Error::out_of_range(
+                &format!("motor {} counts{of}", i + 1),
+                counts[i],
+                format!("a count within ±{MAX_COUNTS}"),
+            ))
         }
         None => Ok(()),
     }
@@ -203,14 +208,12 @@ impl Constants {
                     };
                     Some((c, h))
                 };
-                parse().ok_or_else(|| {
-                    Error::invalid(
-                        "constants",
-                        format!(
-                            "`{other}` is not a preset; use factory, calibrated, or CPD/HOME with \
-                             CPD factory|calibrated and HOME factory|measured (or a .toml file)"
-                        ),
-                    )
+                parse().ok_or_else(|| Error::UnknownName {
+                    what: "constants".into(),
+                    name: other.into(),
+                    known: "the presets factory, calibrated, or CPD/HOME with CPD factory|calibrated and \
+                                HOME factory|measured (or a .toml file)"
+                        .into(),
                 })?
             }
         };
@@ -220,9 +223,8 @@ impl Constants {
     /// Parses a constants file's text (see the type's documentation); `origin`
     /// names it in errors.
     pub fn from_toml(text: &str, origin: &str) -> Result<Constants> {
-        let c: Constants = toml::from_str(text)
-            .map_err(|e| Error::File { path: origin.into(), message: e.to_string().trim_end().to_string() })?;
-        c.validate().map_err(|e| Error::File { path: origin.into(), message: e.to_string() })?;
+        let c: Constants = toml::from_str(text).map_err(|e| toml_error(text, origin, &e))?;
+        c.validate().map_err(|e| Error::InFile { path: origin.into(), source: Box::new(e) })?;
         Ok(c)
     }
 
@@ -235,8 +237,8 @@ impl Constants {
 
     /// Reads a constants file (see [`Constants::from_toml`]).
     pub fn from_file(path: &Path) -> Result<Constants> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::File { path: path.display().to_string(), message: e.to_string() })?;
+        let text =
+            std::fs::read_to_string(path).map_err(|e| Error::io(format!("cannot read `{}`", path.display()), e))?;
         Constants::from_toml(&text, &path.display().to_string())
     }
 
@@ -254,27 +256,25 @@ impl Constants {
     pub fn validate(&self) -> Result<()> {
         for i in 0..MOTORS {
             let cg = self.counts_per_degree[i];
-            if !cg.is_finite() || cg.abs() < 1e-9 {
-                return Err(Error::invalid(
-                    "constants",
-                    format!("counts_per_degree[{}] = {cg}; it must be finite and nonzero", i + 1),
+            if !cg.is_finite() {
+                return Err(Error::not_finite(format!("counts_per_degree[{}]", i + 1), cg));
+            }
+            if cg.abs() < 1e-9 {
+                return Err(Error::out_of_range(
+                    &format!("counts_per_degree[{}]", i + 1),
+                    cg,
+                    "a nonzero number of counts per degree",
                 ));
             }
             if !self.home_offsets[i].is_finite() {
-                return Err(Error::invalid(
-                    "constants",
-                    format!("home_offsets[{}] = {}; it must be finite", i + 1, self.home_offsets[i]),
-                ));
+                return Err(Error::not_finite(format!("home_offsets[{}]", i + 1), self.home_offsets[i]));
             }
             for (what, s) in [
                 ("counts_per_degree_sigma", self.counts_per_degree_sigma[i]),
                 ("home_offsets_sigma", self.home_offsets_sigma[i]),
             ] {
                 if !(s.is_finite() && s >= 0.0) {
-                    return Err(Error::invalid(
-                        "constants",
-                        format!("{what}[{}] = {s}; it must be finite and ≥ 0", i + 1),
-                    ));
+                    return Err(Error::out_of_range(&format!("{what}[{}]", i + 1), s, "a finite number ≥ 0"));
                 }
             }
         }
@@ -328,10 +328,14 @@ impl Constants {
     /// ```
     pub fn tool_uncertainty(&self, robot: &Robot, q: &[f64]) -> Result<ToolUncertainty> {
         if robot.dof() != MOTORS {
-            return Err(Error::invalid(
-                "robot",
-                format!("`{}` has {} joints; the encoder model is for the 5-joint Scorbot", robot.name(), robot.dof()),
-            ));
+            return Err(Error::DoesNotFit {
+                what: "robot".into(),
+                reason: format!(
+                    "`{}` has {} joints; the encoder model is for the 5-joint Scorbot",
+                    robot.name(),
+                    robot.dof()
+                ),
+            });
         }
         let counts = self.counts(q)?;
         let jac = robot.jacobian(q, Frame::Base)?;
@@ -372,12 +376,27 @@ pub fn joint_angles(u: &[f64; MOTORS]) -> [f64; MOTORS] {
     [u[0], u[1], -u[1] - u[2], t234 + u[2], 0.5 * (u[3] + u[4])]
 }
 
+/// An [`Error::Toml`] for a parse error of `text`, with the 1-based line
+/// and column of where it went wrong (1, 1 when the parser does not say).
+fn toml_error(text: &str, origin: &str, e: &toml::de::Error) -> Error {
+    let at = e.span().map_or(0, |s| s.start).min(text.len());
+    let before = text.get(..at).unwrap_or("");
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+    Error::Toml { path: origin.into(), line, column, message: e.message().trim_end().to_string() }
+}
+
 fn check_five(what: &str, v: &[f64]) -> Result<[f64; MOTORS]> {
     if v.len() != MOTORS {
-        return Err(Error::invalid(what, format!("{} values given; the Scorbot has {MOTORS} motors", v.len())));
+        return Err(Error::WrongLength {
+            what: what.into(),
+            got: v.len(),
+            expected: MOTORS,
+            of: "one per motor of the Scorbot".into(),
+        });
     }
     if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(Error::invalid(what, format!("value {} is {}; all must be finite", i + 1, v[i])));
+        return Err(Error::not_finite(format!("{what}[{}]", i + 1), v[i]));
     }
     Ok(std::array::from_fn(|i| v[i]))
 }
@@ -480,21 +499,44 @@ mod tests {
     #[test]
     fn bad_inputs_and_files_are_refused_with_reasons() {
         let c = Constants::named("factory").unwrap();
-        assert!(c.counts(&[0.0; 4]).unwrap_err().to_string().contains("4 values given"));
-        assert!(c.angles(&[0.0, f64::NAN, 0.0, 0.0, 0.0]).unwrap_err().to_string().contains("value 2 is NaN"));
+        let e = c.counts(&[0.0; 4]).unwrap_err();
+        assert!(matches!(&e, Error::WrongLength { what, got: 4, expected: 5, .. } if what == "joint angles"), "{e:?}");
+        assert!(e.to_string().contains("4 values"), "{e}");
+        let e = c.angles(&[0.0, f64::NAN, 0.0, 0.0, 0.0]).unwrap_err();
+        assert!(matches!(&e, Error::NotFinite { what, value } if what == "counts[2]" && value.is_nan()), "{e:?}");
         // `scorbot angles --counts 1e308,…` used to be accepted.
-        let e = c.angles(&[1e308, 0.0, 0.0, 0.0, 0.0]).unwrap_err().to_string();
-        assert!(e.contains("motor 1") && e.contains("beyond"), "{e}");
+        let e = c.angles(&[1e308, 0.0, 0.0, 0.0, 0.0]).unwrap_err();
+        assert!(
+            matches!(&e, Error::OutOfRange { what, value, .. } if what == "motor 1 counts" && *value == 1e308),
+            "{e:?}"
+        );
         assert!(c.angles(&[MAX_COUNTS, -MAX_COUNTS, 0.0, 0.0, 0.0]).is_ok());
-        assert!(c.counts_rounded(&[1e12, 0.0, 0.0, 0.0, 0.0]).unwrap_err().to_string().contains("beyond"));
-        assert!(Constants::named("fabrica").unwrap_err().to_string().contains("not a preset"));
+        let e = c.counts_rounded(&[1e12, 0.0, 0.0, 0.0, 0.0]).unwrap_err();
+        assert!(matches!(&e, Error::OutOfRange { what, .. } if what == "motor 1 counts for the joint angles"), "{e:?}");
+        let e = Constants::named("fabrica").unwrap_err();
+        assert!(
+            matches!(&e, Error::UnknownName { what, name, .. } if what == "constants" && name == "fabrica"),
+            "{e:?}"
+        );
         let e =
             Constants::from_toml("counts_per_degree = [1,2,3,4,0]\nhome_offsets=[0,0,0,0,0]", "x.toml").unwrap_err();
-        assert!(e.to_string().contains("counts_per_degree[5]"), "{e}");
+        assert!(
+            matches!(&e, Error::InFile { path, source } if path == "x.toml"
+                && matches!(&**source, Error::OutOfRange { what, value, .. } if what == "counts_per_degree[5]" && *value == 0.0)),
+            "{e:?}"
+        );
         let e = Constants::from_toml("counts_per_degree = [1,2,3]\nhome_offsets=[0,0,0,0,0]", "x.toml").unwrap_err();
-        assert!(e.to_string().starts_with("x.toml:"), "{e}");
+        assert!(matches!(&e, Error::Toml { path, line: 1, column: 21.., .. } if path == "x.toml"), "{e:?}");
+        assert!(e.to_string().starts_with("x.toml:1:"), "{e}");
         let e = Constants::from_toml("counts_per_degre = [1,2,3,4,5]\nhome_offsets=[0,0,0,0,0]", "x.toml").unwrap_err();
         assert!(e.to_string().contains("counts_per_degre"), "{e}");
+        let e = Constants::from_toml("# c\n\ncounts_per_degree = [1,2,3,4,5]\nhome_offsets = [0,0,x]", "x.toml")
+            .unwrap_err();
+        assert!(matches!(&e, Error::Toml { line: 4, column: 21, .. }), "{e:?}");
+        let e = Constants::from_file(Path::new("/nonexistent/c.toml")).unwrap_err();
+        let io =
+            std::error::Error::source(&e).and_then(|s| s.source()).and_then(|s| s.downcast_ref::<std::io::Error>());
+        assert_eq!(io.map(|e| e.kind()), Some(std::io::ErrorKind::NotFound), "{e:?}");
         let ok = Constants::from_toml(&c.to_toml(), "y").unwrap();
         assert_eq!(ok, c);
     }

@@ -100,7 +100,7 @@ impl FromStr for Plane {
             "xy" | "yx" => Ok(Plane::Xy),
             "xz" | "zx" => Ok(Plane::Xz),
             "yz" | "zy" => Ok(Plane::Yz),
-            _ => Err(Error::invalid("plane", format!("`{s}`; expected xy, xz or yz"))),
+            _ => Err(Error::UnknownName { what: "plane".into(), name: s.into(), known: "xy, xz, yz".into() }),
         }
     }
 }
@@ -125,10 +125,12 @@ impl FromStr for Plane {
 /// ```
 pub fn square(plane: Plane, center: Vector3<f64>, side: f64, pitch: f64, roll: f64) -> Result<Vec<PathPoint>> {
     if !(side.is_finite() && side > 0.0) {
-        return Err(Error::invalid("side", format!("{side} m; it must be finite and positive")));
+        return Err(Error::out_of_range("side", side, "a finite, positive length [m]"));
     }
-    if !(center.iter().all(|v| v.is_finite()) && pitch.is_finite() && roll.is_finite()) {
-        return Err(Error::invalid("square", "the centre, pitch and roll must be finite"));
+    let values =
+        [("centre x", center.x), ("centre y", center.y), ("centre z", center.z), ("pitch", pitch), ("roll", roll)];
+    if let Some((what, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(Error::not_finite(*what, *v));
     }
     let h = side / 2.0;
     let (a, b) = plane.axes();
@@ -234,11 +236,8 @@ struct Server {
 impl Server {
     fn start(config: SimConfig) -> Result<Server> {
         let listener = std::net::TcpListener::bind("127.0.0.1:0")
-            .map_err(|e| Error::Io { message: format!("simulator: cannot listen on 127.0.0.1: {e}") })?;
-        let addr = listener
-            .local_addr()
-            .map_err(|e| Error::Io { message: format!("simulator: no local address: {e}") })?
-            .to_string();
+            .map_err(|e| Error::io("simulator: cannot listen on 127.0.0.1", e))?;
+        let addr = listener.local_addr().map_err(|e| Error::io("simulator: no local address", e))?.to_string();
         let stop = Arc::new(AtomicBool::new(false));
         let s = stop.clone();
         let thread = std::thread::spawn(move || sim::serve_tcp(listener, config, s));
@@ -250,7 +249,7 @@ impl Server {
         self.stop.store(true, Ordering::SeqCst);
         match self.thread.take().map(|t| t.join()) {
             Some(Ok(r)) => r,
-            Some(Err(_)) => Err(Error::Io { message: "simulator: its thread panicked".into() }),
+            Some(Err(_)) => Err(Error::SimulatorPanicked),
             None => Ok(()),
         }
     }
@@ -276,13 +275,13 @@ impl Drop for Server {
 /// simulator or the client.
 pub fn run(robot: &Robot, path: &[PathPoint], options: &ExperimentOptions) -> Result<Experiment> {
     if options.models.is_empty() {
-        return Err(Error::invalid("models", "at least one model is needed"));
+        return Err(Error::too_few("models", 0, 1, "models"));
     }
     if options.runs == 0 || options.runs > 1000 {
-        return Err(Error::invalid("runs", format!("{}; it must be 1 to 1000", options.runs)));
+        return Err(Error::out_of_range("runs", options.runs as f64, "1 to 1000"));
     }
     if !(options.time_scale.is_finite() && options.time_scale > 0.0 && options.time_scale <= 1.0) {
-        return Err(Error::invalid("time scale", format!("{}; it must be > 0 and ≤ 1", options.time_scale)));
+        return Err(Error::out_of_range("time scale", options.time_scale, "a number > 0 and ≤ 1"));
     }
     let desired: Vec<Vector3<f64>> = follow::resample(path, options.max_step)?.iter().map(|p| p.position).collect();
     let plan_options = PlanOptions { max_step: options.max_step, q0: None };
@@ -291,14 +290,14 @@ pub fn run(robot: &Robot, path: &[PathPoint], options: &ExperimentOptions) -> Re
         .iter()
         .map(|m| {
             follow::plan(robot, &m.constants, path, &plan_options)
-                .map_err(|e| Error::invalid("path", format!("model `{}`: {e}", m.label)))
+                .map_err(|e| Error::ForModel { label: m.label.clone(), source: Box::new(e) })
         })
         .collect::<Result<Vec<_>>>()?;
 
     let dir = tempfile::Builder::new()
         .prefix("kinema-scorbot-experiment-")
         .tempdir()
-        .map_err(|e| Error::Io { message: format!("cannot create a temporary directory: {e}") })?;
+        .map_err(|e| Error::io("cannot create a temporary directory", e))?;
     let record = dir.path().join("record.csv");
     let server = Server::start(SimConfig {
         constants: options.controller.clone(),
@@ -334,8 +333,7 @@ pub fn run(robot: &Robot, path: &[PathPoint], options: &ExperimentOptions) -> Re
 
 /// The rows recorded so far.
 fn recorded(path: &std::path::Path) -> Result<Vec<Vector3<f64>>> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::File { path: path.display().to_string(), message: e.to_string() })?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(format!("cannot read `{}`", path.display()), e))?;
     metrics::parse_points_csv(&text, &path.display().to_string())
 }
 

@@ -86,23 +86,27 @@ pub struct FollowPlan {
 /// path, a non-finite value, `max_step` not positive, or more than 10⁶ points.
 pub fn resample(path: &[PathPoint], max_step: f64) -> Result<Vec<PathPoint>> {
     if path.is_empty() {
-        return Err(Error::invalid("path", "it has no points"));
+        return Err(Error::too_few("path", 0, 1, "points"));
     }
     if !(max_step.is_finite() && max_step > 0.0) {
-        return Err(Error::invalid("max step", format!("{max_step} m; it must be positive")));
+        return Err(Error::out_of_range("max step", max_step, "a positive step [m]"));
     }
-    if let Some(i) = path
-        .iter()
-        .position(|p| !(p.position.iter().all(|v| v.is_finite()) && p.pitch.is_finite() && p.roll.is_finite()))
-    {
-        return Err(Error::invalid("path", format!("point {} has a non-finite value: {:?}", i + 1, path[i])));
+    for (i, p) in path.iter().enumerate() {
+        let values =
+            [("x", p.position.x), ("y", p.position.y), ("z", p.position.z), ("pitch", p.pitch), ("roll", p.roll)];
+        if let Some((name, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::not_finite(format!("point {} of the path, {name}", i + 1), *v));
+        }
     }
     let mut out = vec![path[0]];
     for w in path.windows(2) {
         let (a, b) = (w[0], w[1]);
         let parts = ((b.position - a.position).norm() / max_step).ceil().max(1.0);
         if out.len() as f64 + parts > 1e6 {
-            return Err(Error::invalid("path", format!("resampling at {max_step} m gives more than 10⁶ points")));
+            return Err(Error::Infeasible {
+                what: "max step".into(),
+                reason: format!("resampling at {max_step} m gives more than 10⁶ points"),
+            });
         }
         let parts = parts as usize;
         for k in 1..=parts {
@@ -133,20 +137,11 @@ pub fn plan(robot: &Robot, constants: &Constants, path: &[PathPoint], options: &
     let mut counts = Vec::with_capacity(points.len());
     let mut prev: Option<[f64; MOTORS]> = options.q0.as_ref().map(|v| std::array::from_fn(|i| v[i]));
     for (k, p) in points.iter().enumerate() {
-        let where_ = || {
-            format!(
-                "point {} of the resampled path (x {:.4}, y {:.4}, z {:.4} m, pitch {:.2}°, roll {:.2}°)",
-                k + 1,
-                p.position.x,
-                p.position.y,
-                p.position.z,
-                p.pitch.to_degrees(),
-                p.roll.to_degrees()
-            )
-        };
+        // Errors here name the point, so the caller can find it in the path.
+        let at = |e: Error| Error::AtPathPoint { point: k + 1, at: *p, source: Box::new(e) };
         let cands = ik
             .xyz_pitch_roll_candidates([p.position.x, p.position.y, p.position.z], p.pitch, p.roll)
-            .map_err(|e| Error::invalid("path", format!("{}: {e}", where_())))?;
+            .map_err(|e| at(e.into()))?;
         let mut best: Option<([f64; MOTORS], String, f64)> = None;
         let mut outside = Vec::new();
         for (cq, label) in cands.iter() {
@@ -170,10 +165,7 @@ pub fn plan(robot: &Robot, constants: &Constants, path: &[PathPoint], options: &
             }
         }
         let Some((cq, label, _)) = best else {
-            return Err(Error::invalid(
-                "path",
-                format!("{}: every solution leaves the joint limits: {}", where_(), outside.join("; ")),
-            ));
+            return Err(at(Error::OutsideLimits { outside }));
         };
         counts.push(constants.counts_rounded(&cq)?);
         q.push(cq);
@@ -212,7 +204,7 @@ pub fn execute(
 ) -> Result<()> {
     let n = plan.counts.len();
     if n == 0 {
-        return Err(Error::invalid("plan", "it has no points"));
+        return Err(Error::too_few("plan", 0, 1, "points"));
     }
     match mode {
         SendMode::Vector => {
@@ -343,11 +335,20 @@ mod tests {
         let e = plan(&robot, &c, &[pt(0.3, 0.0, 0.3), pt(1.5, 0.0, 0.3)], &PlanOptions::default()).unwrap_err();
         let text = e.to_string();
         assert!(text.contains("point ") && text.contains("x 0.3"), "{text}");
+        assert!(
+            matches!(&e, Error::AtPathPoint { point: 1.., source, .. } if matches!(**source, Error::Kinematics(_) | Error::OutsideLimits { .. })),
+            "{e:?}"
+        );
         let e = plan(&robot, &c, &[pt(0.3, 0.0, f64::NAN)], &PlanOptions::default()).unwrap_err();
-        assert!(e.to_string().contains("non-finite"), "{e}");
-        assert!(plan(&robot, &c, &[], &PlanOptions::default()).is_err());
+        assert!(
+            matches!(&e, Error::NotFinite { what, value } if what == "point 1 of the path, z" && value.is_nan()),
+            "{e:?}"
+        );
+        let e = plan(&robot, &c, &[], &PlanOptions::default()).unwrap_err();
+        assert!(matches!(&e, Error::TooFew { got: 0, min: 1, .. }), "{e:?}");
         let opts = PlanOptions { max_step: 0.0, q0: None };
-        assert!(plan(&robot, &c, &[pt(0.3, 0.0, 0.3)], &opts).is_err());
+        let e = plan(&robot, &c, &[pt(0.3, 0.0, 0.3)], &opts).unwrap_err();
+        assert!(matches!(&e, Error::OutOfRange { what, value, .. } if what == "max step" && *value == 0.0), "{e:?}");
         let opts = PlanOptions { max_step: 0.01, q0: Some(vec![0.0; 3]) };
         assert!(plan(&robot, &c, &[pt(0.3, 0.0, 0.3)], &opts).is_err());
     }

@@ -135,10 +135,11 @@ pub struct TrackingReport {
 /// `desired` \[m\]. See the module documentation for the definitions and the
 /// choices made.
 ///
-/// Errors ([`Error::InvalidArgument`]): a desired path of fewer than two
-/// points or of zero length; no run; a run of fewer than two points; a
-/// non-finite coordinate (named by run and point); fewer than two
-/// evaluation points; a non-positive or non-finite `max_crossing_distance`.
+/// Errors: a desired path of fewer than two points, no run, a run of fewer
+/// than two points ([`Error::TooFew`]); a desired path of zero length
+/// ([`Error::Infeasible`]); a non-finite coordinate, named by run and point
+/// ([`Error::NotFinite`]); fewer than two evaluation points, a non-positive
+/// or non-finite `max_crossing_distance` ([`Error::OutOfRange`]).
 ///
 /// # Examples
 /// ```
@@ -159,25 +160,17 @@ pub struct TrackingReport {
 pub fn track(desired: &[Vector3<f64>], runs: &[Vec<Vector3<f64>>], options: &TrackOptions) -> Result<TrackingReport> {
     check_polyline("desired path", desired)?;
     if runs.is_empty() {
-        return Err(Error::invalid("runs", "no measured run was given; at least one is needed"));
+        return Err(Error::too_few("runs", 0, 1, "measured runs"));
     }
     for (i, run) in runs.iter().enumerate() {
         if run.len() < 2 {
-            return Err(Error::invalid(
-                "runs",
-                format!("run {} has {} point(s); at least two are needed", i + 1, run.len()),
-            ));
+            return Err(Error::too_few(format!("run {}", i + 1), run.len(), 2, "points"));
         }
-        if let Some(k) = run.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-            return Err(Error::invalid(
-                "runs",
-                format!("run {}, point {} is not finite: {:?}", i + 1, k + 1, run[k].as_slice()),
-            ));
-        }
+        check_finite(&format!("run {}", i + 1), run)?;
     }
     if let Some(d) = options.max_crossing_distance {
         if !(d.is_finite() && d > 0.0) {
-            return Err(Error::invalid("max_crossing_distance", format!("{d} m must be positive and finite")));
+            return Err(Error::out_of_range("max_crossing_distance", d, "a positive, finite distance [m]"));
         }
     }
     let tracking = kinema::traj::tracking_error(desired, runs)?;
@@ -238,13 +231,21 @@ fn scatter(attained: &[Vector3<f64>], commanded: &Vector3<f64>) -> (f64, Option<
 
 fn check_polyline(what: &str, path: &[Vector3<f64>]) -> Result<()> {
     if path.len() < 2 {
-        return Err(Error::invalid(what, format!("it has {} point(s); at least two are needed", path.len())));
+        return Err(Error::too_few(what, path.len(), 2, "points"));
     }
-    if let Some(k) = path.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-        return Err(Error::invalid(what, format!("point {} is not finite: {:?}", k + 1, path[k].as_slice())));
-    }
+    check_finite(what, path)?;
     if path.windows(2).all(|w| w[0] == w[1]) {
-        return Err(Error::invalid(what, "all its points coincide (zero length)"));
+        return Err(Error::Infeasible { what: what.into(), reason: "all its points coincide (zero length)".into() });
+    }
+    Ok(())
+}
+
+/// The first non-finite coordinate of `path`, named by point and axis.
+fn check_finite(what: &str, path: &[Vector3<f64>]) -> Result<()> {
+    for (k, p) in path.iter().enumerate() {
+        if let Some(a) = (0..3).find(|&a| !p[a].is_finite()) {
+            return Err(Error::not_finite(format!("{what}, point {}, {}", k + 1, ["x", "y", "z"][a]), p[a]));
+        }
     }
     Ok(())
 }
@@ -302,13 +303,10 @@ fn evaluation_points(desired: &[Vector3<f64>], evaluation: Evaluation) -> Result
             .collect()),
         Evaluation::Resampled(m) => {
             if m < 2 {
-                return Err(Error::invalid(
-                    "evaluation points",
-                    format!("{m} requested; at least two (both ends of the path) are needed"),
-                ));
+                return Err(Error::out_of_range("evaluation points", m as f64, "at least two (both ends of the path)"));
             }
             if m > 10_000_000 {
-                return Err(Error::invalid("evaluation points", format!("{m} requested; at most 10⁷ are supported")));
+                return Err(Error::out_of_range("evaluation points", m as f64, "at most 10⁷"));
             }
             // Arc length at each vertex.
             let mut cum = Vec::with_capacity(desired.len());
@@ -397,9 +395,10 @@ fn plane_crossing(run: &[Vector3<f64>], p: &Vector3<f64>, n: &Vector3<f64>) -> O
 /// `z` (in any order, case-insensitive; other columns are ignored), one point
 /// per row, in metres. Blank lines and lines starting with `#` are skipped.
 ///
-/// Errors ([`Error::File`], naming the file, the line and the offending text):
-/// the file cannot be read, a column is missing, a row is short, a value is
-/// not a number or not finite, fewer than two points.
+/// Errors: the file cannot be read ([`Error::Io`]); a column is missing, a
+/// row is short, a value is not a number or not finite ([`Error::Csv`],
+/// naming the file, the line and the offending text); fewer than two points
+/// ([`Error::InFile`]).
 ///
 /// # Examples
 /// ```
@@ -423,9 +422,9 @@ pub fn parse_points_csv(text: &str, origin: &str) -> Result<Vec<Vector3<f64>>> {
 
 fn points(rows: Vec<csvio::Row>, origin: &str) -> Result<Vec<Vector3<f64>>> {
     if rows.len() < 2 {
-        return Err(Error::File {
+        return Err(Error::InFile {
             path: origin.into(),
-            message: format!("{} point(s); a path needs at least two", rows.len()),
+            source: Box::new(Error::too_few("path", rows.len(), 2, "points")),
         });
     }
     Ok(rows.iter().map(|r| Vector3::new(r.req[0], r.req[1], r.req[2])).collect())
@@ -575,19 +574,34 @@ mod tests {
     fn bad_input_is_refused_with_reasons() {
         let d = line(3);
         let o = TrackOptions::default();
-        let msg = |r: Result<TrackingReport>| r.unwrap_err().to_string();
-        assert!(msg(track(&d[..1], std::slice::from_ref(&d), &o)).contains("at least two"));
-        assert!(msg(track(&[d[0], d[0]], std::slice::from_ref(&d), &o)).contains("zero length"));
-        assert!(msg(track(&d, &[], &o)).contains("no measured run"));
-        assert!(msg(track(&d, &[d.clone(), vec![d[0]]], &o)).contains("run 2 has 1 point"));
+        let err = |r: Result<TrackingReport>| r.unwrap_err();
+        let e = err(track(&d[..1], std::slice::from_ref(&d), &o));
+        assert!(matches!(&e, Error::TooFew { what, got: 1, min: 2, .. } if what == "desired path"), "{e:?}");
+        assert!(e.to_string().contains("at least 2"), "{e}");
+        let e = err(track(&[d[0], d[0]], std::slice::from_ref(&d), &o));
+        assert!(matches!(&e, Error::Infeasible { .. }) && e.to_string().contains("zero length"), "{e:?}");
+        let e = err(track(&d, &[], &o));
+        assert!(matches!(&e, Error::TooFew { what, got: 0, min: 1, .. } if what == "runs"), "{e:?}");
+        let e = err(track(&d, &[d.clone(), vec![d[0]]], &o));
+        assert!(matches!(&e, Error::TooFew { what, got: 1, min: 2, .. } if what == "run 2"), "{e:?}");
         let mut bad = d.clone();
         bad[2].y = f64::NAN;
-        assert!(msg(track(&d, &[bad.clone()], &o)).contains("run 1, point 3 is not finite"));
-        assert!(msg(track(&bad, std::slice::from_ref(&d), &o)).contains("point 3 is not finite"));
+        let e = err(track(&d, &[bad.clone()], &o));
+        assert!(
+            matches!(&e, Error::NotFinite { what, value } if what == "run 1, point 3, y" && value.is_nan()),
+            "{e:?}"
+        );
+        let e = err(track(&bad, std::slice::from_ref(&d), &o));
+        assert!(matches!(&e, Error::NotFinite { what, .. } if what == "desired path, point 3, y"), "{e:?}");
         let e = TrackOptions { evaluation: Evaluation::Resampled(1), ..o };
-        assert!(msg(track(&d, std::slice::from_ref(&d), &e)).contains("at least two"));
+        let e = err(track(&d, std::slice::from_ref(&d), &e));
+        assert!(
+            matches!(&e, Error::OutOfRange { what, value, .. } if what == "evaluation points" && *value == 1.0),
+            "{e:?}"
+        );
         let e = TrackOptions { max_crossing_distance: Some(f64::NAN), ..o };
-        assert!(msg(track(&d, std::slice::from_ref(&d), &e)).contains("max_crossing_distance"));
+        let e = err(track(&d, std::slice::from_ref(&d), &e));
+        assert!(matches!(&e, Error::OutOfRange { what, .. } if what == "max_crossing_distance"), "{e:?}");
         // A run standing still is fine (its points are its crossings' fallback).
         let still = vec![Vector3::new(0.1, 0.002, 0.0); 3];
         let r = track(&d, &[still], &o).unwrap();
@@ -607,11 +621,15 @@ mod tests {
         assert!(s.starts_with("m.csv:3") && s.contains("`NaN` is not a finite number"), "{s}");
         let s = e("x,y,z\n1,2,3\n1,2\n");
         assert!(s.starts_with("m.csv:3") && s.contains("`z`"), "{s}");
-        let s = e("x,y,z\n1,2,3\n");
-        assert!(s.contains("1 point(s); a path needs at least two"), "{s}");
+        let few = parse_points_csv("x,y,z\n1,2,3\n", "m.csv").unwrap_err();
+        assert!(
+            matches!(&few, Error::InFile { path, source } if path == "m.csv"
+                && matches!(**source, Error::TooFew { got: 1, min: 2, .. })),
+            "{few:?}"
+        );
         assert!(e("").starts_with("m.csv"));
         let s = read_points_csv(Path::new("/nonexistent/k.csv")).unwrap_err().to_string();
-        assert!(s.starts_with("/nonexistent/k.csv"), "{s}");
+        assert!(s.contains("/nonexistent/k.csv"), "{s}");
         let dir = std::env::temp_dir().join(format!("kinema-metrics-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let f = dir.join("p.csv");

@@ -464,13 +464,19 @@ fn cap_samples(duration: f64, dt: f64) -> Result<()> {
 
 /// Parses a JSON body, naming the endpoint and the expected shape on failure.
 fn parse<T: DeserializeOwned>(body: &[u8], endpoint: &str, shape: &str) -> Result<T> {
-    let text = std::str::from_utf8(body).map_err(|e| {
-        bad(format!("{endpoint}: the body is not UTF-8 text (byte {}); expected JSON {shape}", e.valid_up_to()))
+    let text = std::str::from_utf8(body).map_err(|e| Error::NotUtf8 {
+        endpoint: endpoint.into(),
+        shape: shape.into(),
+        source: e,
     })?;
     if text.trim().is_empty() {
         return Err(bad(format!("{endpoint}: the body is empty; expected JSON {shape}")));
     }
-    serde_json::from_str(text).map_err(|e| bad(format!("{endpoint}: {e}; expected JSON {shape}")))
+    serde_json::from_str(text).map_err(|e| Error::Json {
+        endpoint: endpoint.into(),
+        shape: shape.into(),
+        source: e.into(),
+    })
 }
 
 /// A body with a robot and joint values.
@@ -696,5 +702,27 @@ mod tests {
             let v: Value = serde_json::from_slice(&r.body).unwrap();
             assert!(v["error"].is_string());
         }
+    }
+
+    #[test]
+    fn malformed_bodies_keep_the_parser_error() {
+        let e = parse::<Value>(b"{\"q\": [0, 0.5", "/api/fk", "{q}").unwrap_err();
+        match &e {
+            Error::Json { endpoint, shape, source } => {
+                assert_eq!((endpoint.as_str(), shape.as_str()), ("/api/fk", "{q}"));
+                assert!(source.0.is_eof() && source.0.line() == 1, "{source:?}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let inner = std::error::Error::source(&e).and_then(|s| s.source());
+        assert!(inner.is_some_and(|s| s.downcast_ref::<serde_json::Error>().is_some()), "{e:?}");
+        assert_eq!(e.status(), 400);
+        assert!(
+            e.to_string().starts_with("/api/fk: EOF while parsing") && e.to_string().ends_with("; expected JSON {q}")
+        );
+        let e = parse::<Value>(b"{\"q\": \xff}", "/api/fk", "{q}").unwrap_err();
+        assert!(matches!(&e, Error::NotUtf8 { source, .. } if source.valid_up_to() == 6), "{e:?}");
+        assert_eq!(e.status(), 400);
+        assert_eq!(e.to_string(), "/api/fk: the body is not UTF-8 text (byte 6); expected JSON {q}");
     }
 }

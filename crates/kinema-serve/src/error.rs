@@ -7,15 +7,49 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Error {
     /// The address cannot be bound (in use, not local, …).
-    #[error("cannot listen on {addr}: {message}")]
+    #[error("cannot listen on {addr}: {source}")]
     Bind {
         /// The address as given.
         addr: String,
-        /// The operating system's message.
-        message: String,
+        /// The operating system's error.
+        source: kinema::IoError,
     },
-    /// A request body that is not what the endpoint expects (not UTF-8, not
-    /// JSON, missing or mistyped fields).
+    /// The server's runtime cannot be started (no threads, no I/O driver).
+    #[error("cannot start the runtime: {source}")]
+    Runtime {
+        /// The operating system's error.
+        source: kinema::IoError,
+    },
+    /// A request body that is not UTF-8 text.
+    #[error("{endpoint}: the body is not UTF-8 text (byte {}); expected JSON {shape}", source.valid_up_to())]
+    NotUtf8 {
+        /// The endpoint (e.g. `/api/fk`).
+        endpoint: String,
+        /// The JSON the endpoint expects.
+        shape: String,
+        /// Where the text stops being UTF-8.
+        source: std::str::Utf8Error,
+    },
+    /// A request body that is not JSON of the endpoint's shape (malformed,
+    /// missing or mistyped fields).
+    #[error("{endpoint}: {source}; expected JSON {shape}")]
+    Json {
+        /// The endpoint (e.g. `/api/fk`).
+        endpoint: String,
+        /// The JSON the endpoint expects.
+        shape: String,
+        /// The parser's error, with its line and column.
+        source: JsonError,
+    },
+    /// A request body that broke off while being read (the connection
+    /// failed); the transport's error is kept inside the `std::io::Error`.
+    #[error("the body is broken: {source}")]
+    BodyBroken {
+        /// The transport's error.
+        source: kinema::IoError,
+    },
+    /// A request body whose values are not what the endpoint accepts (an
+    /// unknown solver or profile, a field combination it does not take).
     #[error("{message}")]
     BadRequest {
         /// What is wrong and what was expected.
@@ -116,7 +150,7 @@ impl Error {
     /// which never answers a request).
     pub fn status(&self) -> u16 {
         match self {
-            Error::BadRequest { .. } => 400,
+            Error::BadRequest { .. } | Error::NotUtf8 { .. } | Error::Json { .. } | Error::BodyBroken { .. } => 400,
             Error::NotFound { .. } => 404,
             Error::UnknownRobot { in_path: true, .. } => 404,
             Error::UnknownRobot { in_path: false, .. } => 422,
@@ -125,8 +159,41 @@ impl Error {
             Error::BodyTimeout { .. } => 408,
             Error::Unprocessable { .. } | Error::Core(_) | Error::Program { .. } | Error::RunBudget { .. } => 422,
             Error::Busy { .. } | Error::ShuttingDown => 503,
-            Error::Bind { .. } | Error::Internal { .. } => 500,
+            Error::Bind { .. } | Error::Runtime { .. } | Error::Internal { .. } => 500,
         }
+    }
+}
+
+/// A JSON parse error, shared so that [`Error`] stays `Clone`; two compare
+/// equal when their category, position and message do.
+#[derive(Debug, Clone)]
+pub struct JsonError(pub std::sync::Arc<serde_json::Error>);
+
+impl From<serde_json::Error> for JsonError {
+    fn from(e: serde_json::Error) -> Self {
+        JsonError(std::sync::Arc::new(e))
+    }
+}
+
+impl PartialEq for JsonError {
+    fn eq(&self, other: &Self) -> bool {
+        let (a, b) = (&self.0, &other.0);
+        a.classify() == b.classify()
+            && a.line() == b.line()
+            && a.column() == b.column()
+            && a.to_string() == b.to_string()
+    }
+}
+
+impl std::fmt::Display for JsonError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for JsonError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(self.0.as_ref())
     }
 }
 

@@ -91,6 +91,6 @@ pub mod json;
 mod server;
 
 pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
-pub use error::{Error, Result};
+pub use error::{Error, JsonError, Result};
 #[cfg(feature = "server")]
 pub use server::{Limits, Running, Server};

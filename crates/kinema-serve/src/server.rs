@@ -138,15 +138,15 @@ impl Server {
     /// come from a file). Nothing is served until [`Server::run`] or
     /// [`Server::spawn`].
     pub fn bind(addr: impl ToSocketAddrs, default_robot: Option<Robot>) -> Result<Server> {
-        let shown = |e: &dyn std::fmt::Display| e.to_string();
         let addrs: Vec<SocketAddr> = addr
             .to_socket_addrs()
-            .map_err(|e| Error::Bind { addr: "the given address".into(), message: shown(&e) })?
+            .map_err(|e| Error::Bind { addr: "the given address".into(), source: e.into() })?
             .collect();
         let listed = || addrs.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ");
-        let listener = TcpListener::bind(&addrs[..]).map_err(|e| Error::Bind { addr: listed(), message: shown(&e) })?;
-        let local = listener.local_addr().map_err(|e| Error::Bind { addr: listed(), message: shown(&e) })?;
-        listener.set_nonblocking(true).map_err(|e| Error::Bind { addr: listed(), message: shown(&e) })?;
+        let bind_error = |e: std::io::Error| Error::Bind { addr: listed(), source: e.into() };
+        let listener = TcpListener::bind(&addrs[..]).map_err(bind_error)?;
+        let local = listener.local_addr().map_err(bind_error)?;
+        listener.set_nonblocking(true).map_err(bind_error)?;
         let cpus = std::thread::available_parallelism().map_or(2, usize::from);
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(cpus.max(2))
@@ -154,7 +154,7 @@ impl Server {
             .enable_io()
             .enable_time()
             .build()
-            .map_err(|e| Error::Bind { addr: listed(), message: format!("cannot start the runtime: {e}") })?;
+            .map_err(|e| Error::Runtime { source: e.into() })?;
         Ok(Server {
             listener,
             runtime,
@@ -528,8 +528,7 @@ async fn read_body(headers: &HeaderMap, body: &mut Body, timeout: Duration) -> R
     let mut bytes = Vec::with_capacity(announced.map_or(0, |n| n as usize));
     let read = async {
         while let Some(frame) = body.frame().await {
-            let frame =
-                frame.map_err(|e| closing(&Error::BadRequest { message: format!("the body is broken: {e}") }))?;
+            let frame = frame.map_err(|e| closing(&Error::BodyBroken { source: std::io::Error::other(e).into() }))?;
             if let Ok(data) = frame.into_data() {
                 if bytes.len() + data.len() > MAX_BODY {
                     let size = (bytes.len() + data.len()) as u64;

@@ -741,3 +741,20 @@ fn extreme_limits_and_acceleration_steps_are_refused() {
     );
     assert_eq!(a.status, 200, "{}", a.json);
 }
+
+#[test]
+fn an_address_in_use_keeps_the_os_error() {
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = taken.local_addr().unwrap();
+    let e = match Server::bind(addr, None) {
+        Err(e) => e,
+        Ok(_) => panic!("bound {addr} twice"),
+    };
+    assert!(matches!(&e, kinema_serve::Error::Bind { addr: a, .. } if *a == addr.to_string()), "{e:?}");
+    assert_eq!(e.status(), 500);
+    let io = std::error::Error::source(&e)
+        .and_then(|s| s.source())
+        .and_then(|s| s.downcast_ref::<std::io::Error>())
+        .map(|io| io.kind());
+    assert_eq!(io, Some(std::io::ErrorKind::AddrInUse), "{e:?}");
+}

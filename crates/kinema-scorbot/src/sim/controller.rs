@@ -257,20 +257,22 @@ impl Controller {
         config.constants.validate()?;
         config.true_constants.validate()?;
         if !(config.time_scale.is_finite() && config.time_scale > 0.0 && config.time_scale <= MAX_TIME_SCALE) {
-            return Err(Error::invalid(
+            return Err(Error::out_of_range(
                 "time scale",
-                format!("{}; it must be finite, > 0 and ≤ {MAX_TIME_SCALE}", config.time_scale),
+                config.time_scale,
+                format!("a finite number > 0 and ≤ {MAX_TIME_SCALE}"),
             ));
         }
         if !(config.noise.is_finite() && config.noise >= 0.0) {
-            return Err(Error::invalid("noise", format!("{} m; it must be finite and ≥ 0", config.noise)));
+            return Err(Error::out_of_range("noise", config.noise, "a finite distance ≥ 0 [m]"));
         }
         for f in &config.faults {
             if !COMMANDS.contains(&f.command.as_str()) || f.nth == 0 {
-                return Err(Error::invalid(
-                    "fault",
-                    format!("`{f}`: the command must be one of {} (uppercase) and nth ≥ 1", COMMANDS.join(", ")),
-                ));
+                return Err(Error::Malformed {
+                    what: "fault".into(),
+                    text: f.to_string(),
+                    expected: format!("the command must be one of {} (uppercase) and nth ≥ 1", COMMANDS.join(", ")),
+                });
             }
         }
         let robot = Robot::builtin("scorbot-er-v-plus")?;
@@ -1148,10 +1150,7 @@ impl Controller {
             if !self.record_full {
                 self.record_full = true;
                 let path = self.record.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
-                self.record_error = Some(Error::File {
-                    path,
-                    message: format!("{MAX_SAMPLES} samples recorded; later motions are not recorded"),
-                });
+                self.record_error = Some(Error::RecordFull { path, max: MAX_SAMPLES });
             }
             return;
         }
@@ -1181,7 +1180,7 @@ impl Controller {
         let Some(path) = &self.record else { return };
         if let Err(e) = write_atomically(path, b"x,y,z\n") {
             if self.record_error.is_none() {
-                self.record_error = Some(Error::File { path: path.display().to_string(), message: e.to_string() });
+                self.record_error = Some(Error::Record { path: path.display().to_string(), source: e.into() });
             }
         }
     }
@@ -1199,7 +1198,7 @@ impl Controller {
             .and_then(|mut f| std::io::Write::write_all(&mut f, text.as_bytes()));
         if let Err(e) = result {
             if self.record_error.is_none() {
-                self.record_error = Some(Error::File { path: path.display().to_string(), message: e.to_string() });
+                self.record_error = Some(Error::Record { path: path.display().to_string(), source: e.into() });
             }
         }
     }

@@ -190,7 +190,11 @@ impl FromStr for Fault {
     type Err = Error;
 
     fn from_str(s: &str) -> Result<Fault, Error> {
-        let bad = |why: String| Error::invalid("fault", format!("`{s}`: {why}; the accepted forms are {FAULT_FORMS}"));
+        let bad = |why: String| Error::Malformed {
+            what: "fault".into(),
+            text: s.into(),
+            expected: format!("{why}; the accepted forms are {FAULT_FORMS}"),
+        };
         let text = s.trim();
         let (kind_text, rest) = text.split_once('@').ok_or_else(|| bad("no `@` before the command".into()))?;
         let (command, nth) = match rest.split_once('#') {

@@ -17,7 +17,7 @@ const MIN_WAIT: Duration = Duration::from_millis(1);
 const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
 
 fn io_error(doing: &str, e: io::Error) -> Error {
-    Error::Io { message: format!("simulator: {doing}: {e}") }
+    Error::io(format!("simulator: {doing}"), e)
 }
 
 fn is_timeout(e: &io::Error) -> bool {
@@ -177,9 +177,10 @@ impl PtySim {
     pub fn open(config: SimConfig) -> Result<PtySim> {
         let controller = Controller::new(config)?;
         let (master, slave) = serialport::TTYPort::pair()
-            .map_err(|e| Error::Io { message: format!("simulator: cannot open a pseudo-terminal pair: {e}") })?;
-        let path = serialport::SerialPort::name(&slave)
-            .ok_or_else(|| Error::Io { message: "simulator: the pseudo-terminal has no path".into() })?;
+            .map_err(|e| Error::io("simulator: cannot open a pseudo-terminal pair", e.into()))?;
+        let path = serialport::SerialPort::name(&slave).ok_or_else(|| {
+            Error::io("simulator", io::Error::new(io::ErrorKind::NotFound, "the pseudo-terminal has no path"))
+        })?;
         Ok(PtySim { controller, master, _slave: slave, path })
     }
 
@@ -204,7 +205,7 @@ impl PtySim {
             let now = epoch.elapsed();
             self.master
                 .set_timeout(read_wait(ctl, now))
-                .map_err(|e| Error::Io { message: format!("simulator: setting the pty timeout: {e}") })?;
+                .map_err(|e| Error::io("simulator: setting the pty timeout", e.into()))?;
             match self.master.read(&mut buf) {
                 Ok(0) => std::thread::sleep(MIN_WAIT),
                 Ok(n) => ctl.feed(epoch.elapsed(), &buf[..n]),
