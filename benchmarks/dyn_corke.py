@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ik_peers import REPO, Description, fmt, rtb_model  # noqa: E402
+from ik_peers import REPO, Description, exit_if_failed, fmt, rtb_model  # noqa: E402
 
 import kinema  # noqa: E402
 
@@ -135,11 +135,7 @@ def main():
     for name, n, conv, call, da, dr, mag, ok in rows:
         print(f"| {name} | {n} | {conv} | `{call}` | {fmt(da)} | {fmt(dr)} | {mag:.3g} | {'yes' if ok else 'NO'} |")
     print()
-    if failures:
-        print("FAILED:")
-        for f in failures:
-            print(f"- {f}")
-        sys.exit(1)
+    exit_if_failed(failures)
     print(f"PASSED: kinema's rne, inertia, coriolis, gravload and accel equal the toolbox's within {args.bound:.0e} "
           f"(relative) on {len(rows) // len(CALLS)} robots")
 

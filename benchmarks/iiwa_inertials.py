@@ -33,6 +33,9 @@ import pinocchio as pin
 
 import kinema
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ik_peers import exit_if_failed, fmt  # noqa: E402
+
 try:
     import tomllib
 except ImportError:  # Python < 3.11
@@ -188,21 +191,13 @@ def main():
 
     print(f"\nworst |Δ| between the moved Drake values and the TOML: com {fmt(worst_com)} mm, inertia "
           f"{fmt(worst_inertia)} kg·mm²")
-    if failures:
-        print("FAILED:")
-        for f in failures:
-            print(f"- {f}")
-        sys.exit(1)
+    exit_if_failed(failures)
     print(f"PASSED: the built-in's dynamics equal Pinocchio's on Drake's iiwa 14 within {args.bound:.0e} (relative)")
 
 
 def sym(m):
     """crba fills the upper triangle only."""
     return np.triu(m) + np.triu(m, 1).T
-
-
-def fmt(x):
-    return f"{x:.1e}" if x else "0"
 
 
 if __name__ == "__main__":

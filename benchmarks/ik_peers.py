@@ -164,6 +164,15 @@ def fmt(x):
     return f"{x:.1e}" if x else "0"
 
 
+def exit_if_failed(failures):
+    """Lists the failures and exits 1, so CI fails; returns when there are none."""
+    if failures:
+        print("FAILED:")
+        for f in failures:
+            print(f"- {f}")
+        sys.exit(1)
+
+
 def median_time_per_call(rows, targets, repeats):
     """rows: {label: f(T)}; each pass times every row over all targets in turn (interleaved),
     gc off. Returns {label: (median, min) of the per-pass mean seconds per call}."""
@@ -888,11 +897,7 @@ def main():
         for s in notes:
             print(f"- {s}")
     print()
-    if failures:
-        print("FAILED:")
-        for f in failures:
-            print(f"- {f}")
-        sys.exit(1)
+    exit_if_failed(failures)
     print("PASSED: every FK/Jacobian difference within 1e-12 and no wrong IK solution"
           + (f" ({len(notes)} note(s) on what was skipped or read differently, above)" if notes else ""))
 
