@@ -10,6 +10,7 @@ use kinema::traj::waypoints::{skip_unreachable, SkippedPoint};
 use kinema::traj::{
     check, expression_trajectory, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr,
     JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, SelfMotion, TimeLaw,
+    Waypoint,
 };
 use kinema::{Frame, Pose, Robot, RpyConvention};
 use serde_json::json;
@@ -547,11 +548,16 @@ fn emit(
 
 /// x,y,z,roll,pitch,yaw → a pose.
 fn pose_arg(text: &str, conv: RpyConvention, what: &str) -> Result<Pose> {
+    Ok(*waypoint_arg(text, conv, what)?.pose())
+}
+
+/// A pose written as x,y,z,roll,pitch,yaw, keeping the triple for `--orientation rpy`.
+fn waypoint_arg(text: &str, conv: RpyConvention, what: &str) -> Result<Waypoint> {
     let v = numbers(text, what)?;
     if v.len() != 6 {
         bail!("--{what}: {} values given; expected x,y,z,roll,pitch,yaw (m, rad)", v.len());
     }
-    Ok(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
+    Ok(Waypoint::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
 }
 
 fn numbers(text: &str, what: &str) -> Result<Vec<f64>> {
@@ -627,19 +633,25 @@ fn lin(a: LinArgs) -> Result<()> {
         OrientationArg::Slerp => Orientation::Slerp,
         OrientationArg::Rpy => Orientation::Rpy(conv),
     };
-    let mut poses = Vec::new();
+    let mut points = Vec::new();
     for v in &a.via {
-        poses.push(pose_arg(v, conv, "via")?);
+        points.push(waypoint_arg(v, conv, "via")?);
     }
-    poses.push(pose_arg(&a.to, conv, "to")?);
+    points.push(waypoint_arg(&a.to, conv, "to")?);
     // Seed 003 Fig. 9: waypoints out of reach are left out when asked.
     let skipped = if a.skip_unreachable {
-        let (kept, skipped) = skip_unreachable(&robot, &poses)?;
+        let poses: Vec<Pose> = points.iter().map(|p| *p.pose()).collect();
+        let (_, skipped) = skip_unreachable(&robot, &poses)?;
         for p in &skipped {
             let which = if p.index + 1 == poses.len() { "--to".to_string() } else { format!("--via #{}", p.index + 1) };
             eprintln!("skipped {which}: {}", p.reason);
         }
-        poses = kept;
+        points = points
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| skipped.iter().all(|p| p.index != *i))
+            .map(|(_, p)| p)
+            .collect();
         skipped
     } else {
         Vec::new()
@@ -658,21 +670,7 @@ fn lin(a: LinArgs) -> Result<()> {
             b.parse().with_context(|| format!("--blend `{b}`: expected decel, none, seconds or metres (0.05m)"))?,
         ),
     };
-    cart_motion(
-        &robot,
-        &a.cart,
-        |start| {
-            let mut segs = Vec::new();
-            let mut from = start;
-            for p in &poses {
-                segs.push(Segment::lin(&from, p, orientation)?);
-                from = *p;
-            }
-            Ok(segs)
-        },
-        blend,
-        &skipped,
-    )
+    cart_motion(&robot, &a.cart, |start| Ok(Segment::lin_chain(&start, &points, orientation)?), blend, &skipped)
 }
 
 fn circ(a: CircArgs) -> Result<()> {

@@ -769,6 +769,32 @@ fn traj_lin_circ_expr_and_check_from_the_command_line() {
     let e = fails(&["traj", "check", "-r", "lbr-iiwa-14-r820", bare.to_str().unwrap()]);
     assert!(e.contains("line 2") && e.contains("q3") && e.contains("zero"), "{e}");
 
+    // Seed 004 eq. 40: the printed roll-pitch-yaw triples interpolated as
+    // written, under every self-motion policy, within Cuadro I.
+    for policy in ["hold", "manipulability", "track", "avoid-limits"] {
+        let v = json(&[
+            "traj",
+            "lin",
+            "-r",
+            "lbr-iiwa-14-r820",
+            &from,
+            "--to",
+            "0.6,-0.6,0.3,0,1.5708,0",
+            "--rpy",
+            "xyz",
+            "--orientation",
+            "rpy",
+            "--q3",
+            policy,
+            "--vmax",
+            "0.2",
+            "--amax",
+            "0.5",
+            "--json",
+        ]);
+        assert!((v["duration"].as_f64().unwrap() - 3.260063).abs() < 1e-6, "{policy}: {}", v["duration"]);
+    }
+
     // Resampled so that consecutive tool positions are at most 1 cm apart (seed 000).
     let v = json(&[
         "traj",

@@ -26,7 +26,7 @@ use kinema::nalgebra::{Matrix4, Vector3};
 use kinema::traj::{
     check, expression_trajectory, sample_times, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion,
     CheckOptions, CheckReport, Expr, JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions,
-    Segment, SelfMotion, TimeLaw,
+    Segment, SelfMotion, TimeLaw, Waypoint,
 };
 use kinema::{Error, Frame, Pose, Robot, RpyConvention};
 use kinema_lang::{PlannedMotion, Severity};
@@ -767,26 +767,42 @@ fn pose_from_xyz_rpy(v: &[f64], what: &str, conv: RpyConvention) -> PyResult<Pos
 /// A pose argument: a 4×4 homogeneous transform, or 6 numbers x, y, z, roll,
 /// pitch, yaw (roll-pitch-yaw convention `conv`).
 fn pose_arg(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Pose> {
+    Ok(*waypoint_arg(obj, what, conv)?.pose())
+}
+
+/// A pose argument that keeps a roll-pitch-yaw triple as written, for LIN
+/// with `orientation="rpy"` (seed 004 eq. 40).
+fn waypoint_arg(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Waypoint> {
     let t = f64_array(obj, what)?;
     if t.shape() == [6] {
-        return pose_from_xyz_rpy(t.as_slice()?, what, conv);
+        return waypoint_from_xyz_rpy(t.as_slice()?, what, conv);
     }
     check_shape(&t, what, &[Some(4), Some(4)], POSE_SHAPES)?;
-    pose_from_rows(t.as_slice()?, what)
+    Ok(Waypoint::from(pose_from_rows(t.as_slice()?, what)?))
+}
+
+fn waypoint_from_xyz_rpy(v: &[f64], what: &str, conv: RpyConvention) -> PyResult<Waypoint> {
+    pose_from_xyz_rpy(v, what, conv)?;
+    Ok(Waypoint::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
 }
 
 /// Several poses: a (V, 4, 4) array or a list of 4×4 arrays, a (V, 6) array
 /// or a list of x, y, z, roll, pitch, yaw rows; one pose (4×4 or 6 numbers)
 /// is a list of one.
 fn pose_list(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Vec<Pose>> {
+    Ok(waypoint_list(obj, what, conv)?.iter().map(|w| *w.pose()).collect())
+}
+
+/// [`pose_list`], keeping roll-pitch-yaw triples as written.
+fn waypoint_list(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Vec<Waypoint>> {
     let t = f64_array(obj, what)?;
     match t.shape() {
-        [6] | [4, 4] => Ok(vec![pose_arg(obj, what, conv)?]),
+        [6] | [4, 4] => Ok(vec![waypoint_arg(obj, what, conv)?]),
         [_, 6] => t
             .as_slice()?
             .chunks_exact(6)
             .enumerate()
-            .map(|(i, row)| pose_from_xyz_rpy(row, &format!("{what}[{i}]"), conv))
+            .map(|(i, row)| waypoint_from_xyz_rpy(row, &format!("{what}[{i}]"), conv))
             .collect(),
         _ => {
             check_shape(
@@ -798,7 +814,7 @@ fn pose_list(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResul
             t.as_slice()?
                 .chunks_exact(16)
                 .enumerate()
-                .map(|(i, rows)| pose_from_rows(rows, &format!("{what}[{i}]")))
+                .map(|(i, rows)| Ok(Waypoint::from(pose_from_rows(rows, &format!("{what}[{i}]"))?)))
                 .collect()
         }
     }
@@ -1789,16 +1805,18 @@ impl PyRobot {
     ) -> PyResult<PyJointTrajectory> {
         let q0 = self.joint_vector(q0, "q0")?;
         let conv = parse_rpy(rpy)?;
-        let mut poses = match via {
-            Some(v) if !v.is_none() => pose_list(v, "via", conv)?,
+        let mut points = match via {
+            Some(v) if !v.is_none() => waypoint_list(v, "via", conv)?,
             _ => Vec::new(),
         };
-        poses.push(pose_arg(T, "T", conv)?);
+        points.push(waypoint_arg(T, "T", conv)?);
         // Seed 003 Fig. 9, as `kinema traj lin --skip-unreachable`.
         let skipped: Vec<usize> = if skip_unreachable {
-            let (kept, skipped) = kinema::traj::waypoints::skip_unreachable(&self.robot, &poses).map_err(to_py)?;
-            poses = kept;
-            skipped.iter().map(|p| p.index).collect()
+            let poses: Vec<Pose> = points.iter().map(|p| *p.pose()).collect();
+            let (_, skipped) = kinema::traj::waypoints::skip_unreachable(&self.robot, &poses).map_err(to_py)?;
+            let skipped: Vec<usize> = skipped.iter().map(|p| p.index).collect();
+            points = points.into_iter().enumerate().filter(|(i, _)| !skipped.contains(i)).map(|(_, p)| p).collect();
+            skipped
         } else {
             Vec::new()
         };
@@ -1820,15 +1838,8 @@ impl PyRobot {
             max_angle,
             min_manip,
         )?;
-        let mut traj = self.cartesian(py, q0, opts, blend, move |start| {
-            let mut segments = Vec::with_capacity(poses.len());
-            let mut from = start;
-            for p in &poses {
-                segments.push(Segment::lin(&from, p, orientation)?);
-                from = *p;
-            }
-            Ok(segments)
-        })?;
+        let mut traj =
+            self.cartesian(py, q0, opts, blend, move |start| Segment::lin_chain(&start, &points, orientation))?;
         traj.skipped = skipped;
         Ok(traj)
     }

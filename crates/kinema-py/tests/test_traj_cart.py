@@ -189,6 +189,12 @@ def test_lin_and_circ_equal_the_cli(iiwa):
     rows = np.array(out["rows"])
     assert rows.shape[0] == len(tr) and out["duration"] == tr.duration and out["segment_starts"] == tr.segment_starts
     assert np.abs(rows[:, 0] - tr.t).max() < 1e-15 and np.abs(rows[:, 1:8] - tr.q).max() < 1e-12
+    # Seed 004 eq. 40: the written roll-pitch-yaw triples are interpolated on both doors.
+    out = cli_json(["traj", "lin", *common, "--to", text, "--orientation", "rpy"])
+    tr = r.lin(q0, goal, 0.01, vmax=0.2, amax=0.5, orientation="rpy", rpy="xyz")
+    rows = np.array(out["rows"])
+    assert rows.shape[0] == len(tr) and abs(tr.duration - 3.260063) < 1e-6
+    assert np.abs(rows[:, 1:8] - tr.q).max() < 1e-12
     out = cli_json(["traj", "circ", *common, "--to", text, "--aux", "0.7,-0.5,0.6"])
     tr = r.circ(q0, [0.7, -0.5, 0.6], goal, 0.01, vmax=0.2, amax=0.5, rpy="xyz")
     rows = np.array(out["rows"])

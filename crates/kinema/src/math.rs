@@ -256,6 +256,63 @@ pub fn rot_to_rpy(r: &Matrix3<f64>, conv: RpyConvention) -> [f64; 3] {
     }
 }
 
+/// The roll-pitch-yaw triple of `r` nearest to `near` \[rad\].
+///
+/// A rotation has many triples: each angle may move by 2π, (a, b, c) equals
+/// (a + π, π − b, c + π), and where the middle angle is ±π/2 only a sum or a
+/// difference of the outer two is fixed. [`rot_to_rpy`] returns one of them;
+/// interpolating between triples (seed 004 eq. 40) needs the one nearest to
+/// the other end's, or the tool turns the long way round.
+///
+/// # Examples
+/// ```
+/// use kinema::math::{rot_to_rpy, rot_to_rpy_near, rpy_to_rot, RpyConvention};
+/// // Seed 004's end orientation: pitch 1.5708 is 3.7e-6 rad past π/2.
+/// let r = rpy_to_rot([0.0, 1.5708, 0.0], RpyConvention::Xyz);
+/// assert!((rot_to_rpy(&r, RpyConvention::Xyz)[0].abs() - std::f64::consts::PI).abs() < 1e-6);
+/// let near = rot_to_rpy_near(&r, RpyConvention::Xyz, [-0.66, 1.46, 1.21]);
+/// assert!((near[0]).abs() < 1e-9 && (near[1] - 1.5708).abs() < 1e-9 && near[2].abs() < 1e-9);
+/// ```
+pub fn rot_to_rpy_near(r: &Matrix3<f64>, conv: RpyConvention, near: [f64; 3]) -> [f64; 3] {
+    let [a, b, c] = rot_to_rpy(r, conv);
+    let pi = std::f64::consts::PI;
+    let mut candidates = vec![[a, b, c], [a + pi, pi - b, c + pi]];
+    if b.cos().abs() < 1e-9 {
+        // At the representation singularity only a + c (or a − c) is fixed:
+        // c moves by σ per unit of a (Ry(±π/2) turns z onto ±x, or x onto ∓z).
+        // Split the reference's gap between the two angles equally.
+        let sigma = match conv {
+            RpyConvention::Xyz => -b.sin().signum(),
+            RpyConvention::Zyx => b.sin().signum(),
+        };
+        let c0 = last_angle(r, near[0], b, conv);
+        let gap = (c0 - near[2] + pi).rem_euclid(2.0 * pi) - pi;
+        let first = near[0] - sigma * gap / 2.0;
+        candidates.push([first, b, last_angle(r, first, b, conv)]);
+    }
+    let unwrap = |t: [f64; 3]| -> [f64; 3] {
+        let mut u = t;
+        for (x, n) in u.iter_mut().zip(near) {
+            *x += (2.0 * pi) * ((n - *x) / (2.0 * pi)).round();
+        }
+        u
+    };
+    let gap = |t: &[f64; 3]| t.iter().zip(near).map(|(x, n)| (x - n) * (x - n)).sum::<f64>();
+    candidates.into_iter().map(unwrap).min_by(|x, y| gap(x).total_cmp(&gap(y))).unwrap_or([a, b, c])
+}
+
+/// The last angle of a triple whose first two are `first` and `middle`:
+/// the angle of the rotation about z left once those two are taken out of `r`.
+fn last_angle(r: &Matrix3<f64>, first: f64, middle: f64, conv: RpyConvention) -> f64 {
+    let rz = match conv {
+        // R = Rz(yaw)·Ry(pitch)·Rx(roll), the triple being [roll, pitch, yaw].
+        RpyConvention::Zyx => r * rot_x(first).transpose() * rot_y(middle).transpose(),
+        // R = Rx(a)·Ry(b)·Rz(c).
+        RpyConvention::Xyz => rot_y(middle).transpose() * rot_x(first).transpose() * r,
+    };
+    rz[(1, 0)].atan2(rz[(0, 0)])
+}
+
 /// Axis-angle vector (axis × angle, angle in \[0, π\]) of a rotation matrix.
 ///
 /// Closed form (no iteration): with v = (r21 − r12, r02 − r20, r10 − r01) =
@@ -762,6 +819,38 @@ mod tests {
                 for k in 0..3 {
                     assert!((back[k] - t[k]).abs() < 1e-9, "{conv:?} {t:?} {back:?}");
                 }
+            }
+        }
+    }
+
+    /// The triple nearest a reference: exact for the rotation, the true
+    /// triple back where it is the only near one, and never farther than
+    /// the true triple near the representation singularity.
+    #[test]
+    fn rpy_near_is_exact_and_no_farther_than_the_true_triple() {
+        let mut rng = ChaCha8Rng::seed_from_u64(40);
+        let gap = |t: [f64; 3], n: [f64; 3]| t.iter().zip(n).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+        for i in 0..20_000 {
+            let conv = if i % 2 == 0 { RpyConvention::Xyz } else { RpyConvention::Zyx };
+            let pitch = match i % 4 {
+                // Away from the singularity, where the true triple is the only near one.
+                0 | 1 => {
+                    let b: f64 = rng.random_range(-1.2..1.2);
+                    b + if rng.random_bool(0.5) { std::f64::consts::PI } else { 0.0 }
+                }
+                // Within 1e-5 of it, and on it.
+                2 => std::f64::consts::FRAC_PI_2.copysign(rng.random_range(-1.0..1.0)) + rng.random_range(-1e-5..1e-5),
+                _ => std::f64::consts::FRAC_PI_2.copysign(rng.random_range(-1.0..1.0)),
+            };
+            let truth = [rng.random_range(-9.0..9.0), pitch, rng.random_range(-9.0..9.0)];
+            let near = truth.map(|x| x + rng.random_range(-0.4..0.4));
+            let r = rpy_to_rot(truth, conv);
+            let got = rot_to_rpy_near(&r, conv, near);
+            assert!((rpy_to_rot(got, conv) - r).amax() < 1e-12, "{conv:?} {truth:?}: {got:?} is another rotation");
+            if i % 4 < 2 {
+                assert!(gap(got, truth) < 1e-18, "{conv:?} {truth:?} near {near:?}: got {got:?}");
+            } else {
+                assert!(gap(got, near) <= gap(truth, near) + 1e-12, "{conv:?} {truth:?} near {near:?}: got {got:?}");
             }
         }
     }

@@ -11,7 +11,7 @@ use kinema::nalgebra::Vector3;
 use kinema::traj::self_motion::PARAMETER_ACCELERATION;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile,
-    Segment, SelfMotion, ViolationKind,
+    Segment, SelfMotion, ViolationKind, Waypoint,
 };
 use kinema::{Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
@@ -223,28 +223,47 @@ fn rotation_path(m: &CartesianMotion) -> f64 {
 }
 
 /// The seed's LIN with eq. 40's roll-pitch-yaw interpolation in its own
-/// convention (Rx·Ry·Rz) passes near pitch = 90°, where interpolating the
-/// angles spins the tool by 6.8 rad for a net turn of 0.56 rad: more than
-/// joints 5 and 7 can absorb, so every self-motion policy ends in a wrist
-/// flip that the check reports. Interpolating the same two poses' ZYX
-/// angles turns the tool by 0.76 rad, and with q3 held (the default) the
-/// path stays within Cuadro I from every branch at q3 = 0.
+/// convention (Rx·Ry·Rz), the triples interpolated as printed. The end pitch
+/// 1.5708 lies 3.7e-6 rad past π/2; reading the triple back from the matrix
+/// gives (±π, 1.5707927, ±π), and interpolating towards that one turned the
+/// tool 6.8 rad. As printed, the tool turns 0.566 rad (net 0.563), and with
+/// q3 held (the default) the 3.05 s motion stays below 40 % of Cuadro I from
+/// every branch at q3 = 0. Built from poses alone, the start's triple is
+/// read nearest the end's and the path is the same.
 #[test]
-fn seed_rpy_lin_spins_past_the_wrist_and_zyx_angles_run_by_default() {
+fn seed_rpy_lin_runs_by_default_from_every_branch() {
     let robot = iiwa();
-    let (corke, a) = seed_lin(Orientation::Rpy(RpyConvention::Xyz));
-    let turn = rotation_path(&corke);
-    assert!(turn > 6.5 && turn < 7.0, "{turn}");
+    let conv = RpyConvention::Xyz;
+    let from = Waypoint::from_xyz_rpy([0.7373, -0.3271, 0.7325], [-0.6595, 1.4584, 1.2113], conv);
+    let to = Waypoint::from_xyz_rpy([0.6, -0.6, 0.3], [0.0, 1.5708, 0.0], conv);
+    let seg = Segment::lin_between(&from, &to, Orientation::Rpy(conv)).unwrap();
+    let m = CartesianMotion::new(vec![seg], Profile::Trapezoid, &limits(), Blend::None).unwrap();
+    let turn = rotation_path(&m);
+    assert!((turn - 0.566).abs() < 0.002, "the tool turns {turn} rad");
+    let net = rot_to_axis_angle(&(to.pose().rot * from.pose().rot.transpose())).norm();
+    assert!((net - 0.563).abs() < 0.001, "net turn {net}");
+    assert!((m.duration() - 3.05).abs() < 0.01, "{}", m.duration());
+    let (from_poses, a) = seed_lin(Orientation::Rpy(conv));
+    for k in 0..=100 {
+        let t = m.duration() * k as f64 / 100.0;
+        let (p, q) = (m.at(t).pose, from_poses.at(t).pose);
+        assert!((p.pos - q.pos).norm() < 1e-12 && (p.rot - q.rot).amax() < 1e-9, "the paths part at t = {t}");
+    }
     let ik = IiwaIk::new(&robot).unwrap();
     let starts: Vec<Vec<f64>> =
         ik.solve_q3(&a, 0.0).unwrap().into_iter().filter(|s| s.within_limits()).map(|s| s.q).collect();
     assert_eq!(starts.len(), 6);
-    for policy in [SelfMotion::Auto, SelfMotion::Manipulability, SelfMotion::AvoidLimits] {
-        if let Ok(traj) = to_joints(&robot, &corke, &starts[0], 0.01, JointMethod::Ik(policy.clone())) {
-            let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
-            assert!(!report.violations.is_empty(), "{policy}: the wrist flip went unreported");
-        }
+    for q0 in &starts {
+        let traj = to_joints(&robot, &m, q0, 0.01, JointMethod::default()).unwrap();
+        let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+        assert!(report.violations.is_empty(), "{}", report.violations[0]);
+        assert_on_path(&robot, &m, &traj);
+        assert!((0..traj.len()).all(|k| traj.q(k)[2].abs() < 1e-12), "q3 was not held at 0");
+        let peak =
+            report.peak_vel.iter().zip(robot.joints()).map(|(v, j)| v / j.limits.vel.unwrap()).fold(0.0, f64::max);
+        assert!(peak < 0.4, "peak joint speed {peak:.3} of its limit");
     }
+    // The same two poses with ZYX angles turn the tool by 0.76 rad.
     let (zyx, _) = seed_lin(Orientation::Rpy(RpyConvention::Zyx));
     assert!(rotation_path(&zyx) < 0.8);
     for q0 in &starts {
@@ -252,9 +271,32 @@ fn seed_rpy_lin_spins_past_the_wrist_and_zyx_angles_run_by_default() {
         let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
         assert!(report.violations.is_empty(), "{}", report.violations[0]);
         assert_on_path(&robot, &zyx, &traj);
-        let peak =
-            report.peak_vel.iter().zip(robot.joints()).map(|(v, j)| v / j.limits.vel.unwrap()).fold(0.0, f64::max);
-        assert!(peak < 0.3, "peak joint speed {peak:.3} of its limit");
+    }
+}
+
+/// Eq. 40 between a pose read from joints and a written triple never turns
+/// the tool much farther than SLERP does between the same two poses: the
+/// start's triple is the one nearest the end's (seeded poses, both
+/// conventions, pitches near and on ±π/2 included).
+#[test]
+fn rpy_lin_from_a_pose_takes_the_near_triple() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x40);
+    for i in 0..400 {
+        let conv = if i % 2 == 0 { RpyConvention::Xyz } else { RpyConvention::Zyx };
+        let mut rpy = |pitch: f64| [rng.random_range(-3.0..3.0), pitch, rng.random_range(-3.0..3.0)];
+        let near_pole = std::f64::consts::FRAC_PI_2 + [0.0, 3.7e-6, -1e-9, 0.2][i % 4];
+        let end = rpy(if i % 8 < 4 { near_pole } else { -near_pole });
+        let start = end.map(|x| x + 0.3);
+        let a = Pose::from_xyz_rpy([0.5, 0.0, 0.5], start, conv);
+        let b = Waypoint::from_xyz_rpy([0.5, 0.1, 0.4], end, conv);
+        let seg = Segment::lin_between(&Waypoint::from(a), &b, Orientation::Rpy(conv)).unwrap();
+        let m = CartesianMotion::new(vec![seg], Profile::Trapezoid, &limits(), Blend::None).unwrap();
+        // The written start triple is 0.3 rad from the end's in each angle:
+        // the nearest one cannot turn the tool more than 3 × 0.3 rad.
+        let turn = rotation_path(&m);
+        assert!(turn < 0.9 + 1e-6, "{conv:?} {end:?}: the tool turns {turn} rad");
+        assert!((m.at(m.duration()).pose.rot - b.pose().rot).amax() < 1e-12);
+        assert!((m.at(0.0).pose.rot - a.rot).amax() < 1e-12);
     }
 }
 

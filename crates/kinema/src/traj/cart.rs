@@ -29,7 +29,9 @@ use nalgebra::{Matrix3, Vector3};
 use super::law::{MotionLimits, Profile, TimeLaw};
 use super::MAX_SAMPLES;
 use crate::error::{Error, Result};
-use crate::math::{axis_angle_to_rot, rot_to_axis_angle, rot_x, rot_y, rot_z, rpy_to_rot, Pose, RpyConvention};
+use crate::math::{
+    axis_angle_to_rot, rot_to_axis_angle, rot_to_rpy_near, rot_x, rot_y, rot_z, rpy_to_rot, Pose, RpyConvention,
+};
 
 /// How a LIN segment interpolates orientation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -41,6 +43,42 @@ pub enum Orientation {
     /// Linear interpolation of roll-pitch-yaw angles in the given convention
     /// (seed 004 eq. 40).
     Rpy(RpyConvention),
+}
+
+/// A point a LIN motion goes to: its pose, and the roll-pitch-yaw triple it
+/// was written as, if it was written as one.
+///
+/// Seed 004 eq. 40 interpolates the triples as written. A triple read back
+/// from the rotation matrix may be another triple of the same rotation (a
+/// pitch past π/2 comes back mirrored, roll and yaw turned by π), and
+/// interpolating towards that one turns the tool the long way round.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Waypoint {
+    pose: Pose,
+    rpy: Option<([f64; 3], RpyConvention)>,
+}
+
+impl Waypoint {
+    /// A waypoint written as a position \[m\] and a roll-pitch-yaw triple \[rad\].
+    pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3], conv: RpyConvention) -> Waypoint {
+        Waypoint { pose: Pose::from_xyz_rpy(xyz, rpy, conv), rpy: Some((rpy, conv)) }
+    }
+
+    /// The pose.
+    pub fn pose(&self) -> &Pose {
+        &self.pose
+    }
+
+    /// The triple it was written as in `conv`, if it was.
+    fn written_rpy(&self, conv: RpyConvention) -> Option<[f64; 3]> {
+        self.rpy.filter(|(_, c)| *c == conv).map(|(t, _)| t)
+    }
+}
+
+impl From<Pose> for Waypoint {
+    fn from(pose: Pose) -> Waypoint {
+        Waypoint { pose, rpy: None }
+    }
 }
 
 /// Cartesian limits of a motion.
@@ -119,22 +157,53 @@ fn finite_pose(what: &str, p: &Pose) -> Result<()> {
 
 impl Segment {
     /// A straight line from `from` to `to` (seed 004 §VIII-C1, eq. 39–40).
+    /// With [`Orientation::Rpy`] the end triple is read from `to`'s rotation
+    /// and the start's is the one nearest it; [`Segment::lin_between`] keeps
+    /// triples the user wrote.
     pub fn lin(from: &Pose, to: &Pose, orientation: Orientation) -> Result<Segment> {
-        finite_pose("from", from)?;
-        finite_pose("to", to)?;
-        Ok(Segment { path: Path::Line { p0: from.pos, p1: to.pos }, rot: Self::rot(from, to, orientation) })
+        Segment::lin_between(&Waypoint::from(*from), &Waypoint::from(*to), orientation)
     }
 
-    fn rot(from: &Pose, to: &Pose, orientation: Orientation) -> Rot {
+    /// A straight line between two waypoints. With [`Orientation::Rpy`] the
+    /// triples are those the waypoints were written as (seed 004 eq. 40:
+    /// Φ(t) = Φ_ini + s(t)·(Φ_obj − Φ_ini)); an end given only as a pose gets
+    /// the triple of its rotation nearest the other end's.
+    pub fn lin_between(from: &Waypoint, to: &Waypoint, orientation: Orientation) -> Result<Segment> {
+        finite_pose("from", &from.pose)?;
+        finite_pose("to", &to.pose)?;
+        Ok(Segment { path: Path::Line { p0: from.pose.pos, p1: to.pose.pos }, rot: Self::rot(from, to, orientation) })
+    }
+
+    /// LIN segments from `start` through each of `points` in turn.
+    pub fn lin_chain(start: &Pose, points: &[Waypoint], orientation: Orientation) -> Result<Vec<Segment>> {
+        let mut from = Waypoint::from(*start);
+        let mut segments = Vec::with_capacity(points.len());
+        for to in points {
+            segments.push(Segment::lin_between(&from, to, orientation)?);
+            from = *to;
+        }
+        Ok(segments)
+    }
+
+    fn rot(from: &Waypoint, to: &Waypoint, orientation: Orientation) -> Rot {
+        let (r0, r1) = (&from.pose.rot, &to.pose.rot);
         match orientation {
             Orientation::Slerp => {
-                let w = rot_to_axis_angle(&(to.rot * from.rot.transpose()));
+                let w = rot_to_axis_angle(&(r1 * r0.transpose()));
                 let angle = w.norm();
                 let axis = if angle > 0.0 { w / angle } else { Vector3::z() };
-                Rot::Slerp { r0: from.rot, axis, angle }
+                Rot::Slerp { r0: *r0, axis, angle }
             }
             Orientation::Rpy(conv) => {
-                let (a, b) = (from.rpy(conv), to.rpy(conv));
+                let (a, b) = match (from.written_rpy(conv), to.written_rpy(conv)) {
+                    (Some(a), Some(b)) => (a, b),
+                    (Some(a), None) => (a, rot_to_rpy_near(r1, conv, a)),
+                    (None, Some(b)) => (rot_to_rpy_near(r0, conv, b), b),
+                    (None, None) => {
+                        let b = to.pose.rpy(conv);
+                        (rot_to_rpy_near(r0, conv, b), b)
+                    }
+                };
                 Rot::Rpy { conv, phi0: a, dphi: [b[0] - a[0], b[1] - a[1], b[2] - a[2]] }
             }
         }
@@ -179,7 +248,10 @@ impl Segment {
         };
         // With the normal of (ab × ac), the arc a → b → c turns positively about it.
         let phi = angle_of(&c);
-        Ok(Segment { path: Path::Arc { c: centre, e1, e2, r, phi }, rot: Self::rot(from, to, Orientation::Slerp) })
+        Ok(Segment {
+            path: Path::Arc { c: centre, e1, e2, r, phi },
+            rot: Self::rot(&(*from).into(), &(*to).into(), Orientation::Slerp),
+        })
     }
 
     /// Seed 004 §VIII-D: an arc about the z axis of the frame `centre`,
@@ -210,7 +282,10 @@ impl Segment {
         let z = centre.rot.column(2).into_owned();
         let (e2, phi) = if angle >= 0.0 { (z.cross(&e1), angle) } else { (-z.cross(&e1), -angle) };
         let p = Pose::new(*rot, *start);
-        Ok(Segment { path: Path::Arc { c: centre.pos, e1, e2, r, phi }, rot: Self::rot(&p, &p, Orientation::Slerp) })
+        Ok(Segment {
+            path: Path::Arc { c: centre.pos, e1, e2, r, phi },
+            rot: Self::rot(&p.into(), &p.into(), Orientation::Slerp),
+        })
     }
 
     /// Path length \[m\] and rotation "length": the angle \[rad\] for SLERP, the

@@ -34,7 +34,7 @@ pub mod track;
 pub mod waypoints;
 
 pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
-pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment};
+pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment, Waypoint};
 pub use cell::{Cell, CellMember, CellReport};
 pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
 pub use expr::{expression_trajectory, Expr};
