@@ -1754,10 +1754,12 @@ impl<'a> Compiler<'a> {
             }
             let span = self.motion_spans.get(k).cloned().unwrap_or(0..0);
             let joint = v.joint.map(|j| format!(" ({})", self.robot.joints()[j].name)).unwrap_or_default();
-            self.err(
-                Diagnostic::error(span, format!("limit violated{joint}: {v}"))
-                    .with_hint("slow the motion down (SPEED, VEL, ACC or a longer IN/time) or move the target"),
-            );
+            let (what, hint) = if kind == traj::ViolationKind::BranchJump {
+                ("the joints jump", "the inverse kinematics changed branch between two samples: start the motion from a configuration on its branch, or add a via point")
+            } else {
+                ("limit violated", "slow the motion down (SPEED, VEL, ACC or a longer IN/time) or move the target")
+            };
+            self.err(Diagnostic::error(span, format!("{what}{joint}: {v}")).with_hint(hint));
         }
     }
 }

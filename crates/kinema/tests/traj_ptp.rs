@@ -8,6 +8,8 @@ use kinema::{Error, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+mod common;
+
 /// Seed 004 §VIII-B: q_obj of the PTP example.
 const SEED_Q_OBJ: [f64; 7] = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876];
 
@@ -362,4 +364,113 @@ fn singular_passages_are_warnings_one_per_passage() {
     // Away from it, nothing.
     let calm = Ptp::new(&robot, &from, &[0.3, 0.6, 0.1, -0.8, 0.3, 0.8, 0.0], &opts(Profile::Quintic)).unwrap();
     assert!(check(&robot, &calm.sample(&robot, 0.01).unwrap(), &c).unwrap().warnings.is_empty());
+}
+
+/// `robot` with its rate limits removed, so that only the limit-free checks apply.
+fn without_rate_limits(robot: &Robot) -> Robot {
+    let joints = robot
+        .joints()
+        .iter()
+        .map(|j| {
+            let mut j = j.clone();
+            (j.limits.vel, j.limits.acc, j.limits.jerk) = (None, None, None);
+            j
+        })
+        .collect();
+    Robot::new(robot.to_builder().joints(joints).build().unwrap())
+}
+
+/// A switch of IK branch in mid-path is a branch jump, with no rate limit
+/// to break: on every built-in with a closed form, seeded short paths
+/// sampled every 10 ms follow one branch and then switch to another at one
+/// sample. The path on one branch passes; the switched one is reported at
+/// the switch, and only there.
+#[test]
+fn a_switch_of_ik_branch_is_a_branch_jump_without_limits() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0xB4A);
+    let (mut switches, mut robots) = (0, 0);
+    for robot in Robot::builtins().unwrap() {
+        let Some(solver) = kinema::ik::analytic_solver(&robot) else { continue };
+        let robot = without_rate_limits(&robot);
+        robots += 1;
+        for _ in 0..60 {
+            let q0: Vec<f64> = robot
+                .joints()
+                .iter()
+                .map(|j| {
+                    let (lo, hi) = (j.limits.min.max(-3.0), j.limits.max.min(3.0));
+                    lo + (hi - lo) * rng.random_range(0.15..0.85)
+                })
+                .collect();
+            // 50 samples while the configuration moves 0.5 mrad per joint per sample.
+            let dq: Vec<f64> = (0..q0.len()).map(|_| rng.random_range(-5e-4..5e-4)).collect();
+            let path: Vec<Vec<f64>> =
+                (0..50).map(|k| q0.iter().zip(&dq).map(|(q, d)| q + d * k as f64).collect()).collect();
+            let times: Vec<f64> = (0..50).map(|k| k as f64 * 0.01).collect();
+            let flat: Vec<f64> = path.iter().flatten().copied().collect();
+            let smooth = JointTrajectory::from_positions(robot.dof(), times.clone(), flat).unwrap();
+            let report = check(&robot, &smooth, &CheckOptions::default()).unwrap();
+            assert!(report.violations.is_empty(), "{}: {}", robot.name(), report.violations[0]);
+            // From sample 25 on, the branch of sample 25's pose farthest from the path.
+            let pose = robot.fk(&path[25]).unwrap().world_from_tool;
+            let Ok(solutions) = solver.solve(&pose) else { continue };
+            let far = solutions
+                .iter()
+                .filter(|s| s.position_error < 1e-9 && s.orientation_error < 1e-9)
+                .map(|s| s.q.clone())
+                .max_by(|a, b| distance(a, &path[25]).total_cmp(&distance(b, &path[25])));
+            let Some(other) = far.filter(|q| distance(q, &path[25]) > 0.5) else { continue };
+            let mut flat: Vec<f64> = path[..25].iter().flatten().copied().collect();
+            for k in 25..50 {
+                flat.extend(other.iter().zip(&dq).map(|(q, d)| q + d * (k - 25) as f64));
+            }
+            let switched = JointTrajectory::from_positions(robot.dof(), times, flat).unwrap();
+            let report = check(&robot, &switched, &CheckOptions::default()).unwrap();
+            let jumps: Vec<_> = report.violations.iter().filter(|v| v.kind == ViolationKind::BranchJump).collect();
+            assert!(
+                jumps.len() == 1 && jumps[0].sample == 25,
+                "{}: {:?} from {:?} to {other:?}",
+                robot.name(),
+                report.violations,
+                path[25]
+            );
+            assert!(jumps[0].to_string().contains("a branch jump"), "{}", jumps[0]);
+            switches += 1;
+        }
+    }
+    assert!(robots >= 5 && switches >= 150, "{switches} switches on {robots} robots");
+}
+
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum()
+}
+
+/// Smooth motions are not branch jumps: on random arms of every joint kind,
+/// seeded joint curves at up to 2 rad/s (0.5 m/s prismatic) sampled every
+/// 10 ms pass with no rate limit, and so do the same curves sampled every
+/// 50 ms.
+#[test]
+fn smooth_motions_on_random_arms_are_not_branch_jumps() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5A0);
+    for case in 0..1500 {
+        let n = rng.random_range(2..=7);
+        let robot = common::arms::random_arm(&mut rng, n, None);
+        let q0 = common::arms::random_q(&mut rng, n);
+        let amp: Vec<f64> = (0..n).map(|_| rng.random_range(0.0..1.0)).collect();
+        let freq: Vec<f64> = (0..n).map(|_| rng.random_range(0.2..2.0)).collect();
+        let dt = if case % 2 == 0 { 0.01 } else { 0.05 };
+        let times: Vec<f64> = (0..=(2.0 / dt) as usize).map(|k| k as f64 * dt).collect();
+        let mut flat = Vec::with_capacity(times.len() * n);
+        for &t in &times {
+            for (i, joint) in robot.joints().iter().enumerate() {
+                let scale = if joint.kind == kinema::JointType::Prismatic { 0.25 } else { 1.0 };
+                flat.push(q0[i] + scale * amp[i] * (freq[i] * t).sin());
+            }
+        }
+        let traj = JointTrajectory::from_positions(n, times, flat).unwrap();
+        let opts = CheckOptions { vel: Some(vec![f64::INFINITY]), ..CheckOptions::default() };
+        let report = check(&robot, &traj, &opts).unwrap();
+        let jumps: Vec<_> = report.violations.iter().filter(|v| v.kind == ViolationKind::BranchJump).collect();
+        assert!(jumps.is_empty(), "case {case}: {}", jumps[0]);
+    }
 }

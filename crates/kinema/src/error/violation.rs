@@ -19,6 +19,10 @@ pub enum ViolationKind {
     /// A joint moving between two samples farther than its velocity limit
     /// allows (a branch flip or a gap in the data).
     Jump,
+    /// Between two samples the joints move far while the tool barely does
+    /// (a change of inverse-kinematics branch or of a redundant arm's
+    /// self-motion in one sample), whatever the limits.
+    BranchJump,
     /// Manipulability below the threshold (close to a singularity).
     NearSingular,
     /// A joint jerk above its limit.
@@ -39,16 +43,17 @@ impl ViolationKind {
             ViolationKind::Position => 1,
             ViolationKind::Velocity => 2,
             ViolationKind::Jump => 3,
-            ViolationKind::Acceleration => 4,
-            ViolationKind::Inconsistent => 5,
-            ViolationKind::Jerk => 6,
-            ViolationKind::NearSingular => 7,
-            ViolationKind::Singular => 8,
+            ViolationKind::BranchJump => 4,
+            ViolationKind::Acceleration => 5,
+            ViolationKind::Inconsistent => 6,
+            ViolationKind::Jerk => 7,
+            ViolationKind::NearSingular => 8,
+            ViolationKind::Singular => 9,
         }
     }
 
     /// The lower-case name (`malformed`, `position`, `velocity`,
-    /// `acceleration`, `jump`, `nearsingular`, `jerk`, `inconsistent`,
+    /// `acceleration`, `jump`, `branch`, `nearsingular`, `jerk`, `inconsistent`,
     /// `singular`), as `kinema traj check --json` prints it.
     pub fn name(self) -> &'static str {
         match self {
@@ -57,6 +62,7 @@ impl ViolationKind {
             ViolationKind::Velocity => "velocity",
             ViolationKind::Acceleration => "acceleration",
             ViolationKind::Jump => "jump",
+            ViolationKind::BranchJump => "branch",
             ViolationKind::NearSingular => "nearsingular",
             ViolationKind::Jerk => "jerk",
             ViolationKind::Inconsistent => "inconsistent",
@@ -98,6 +104,12 @@ impl fmt::Display for Violation {
             ViolationKind::Jump => write!(
                 f,
                 "joint {j} jumps by {:.6} since the previous sample, more than its velocity limit allows ({:.6}); a branch flip?",
+                self.value, self.limit
+            ),
+            ViolationKind::BranchJump => write!(
+                f,
+                "a branch jump (joint {j} moves most): the joints move {:.6} rad in all since the previous sample, \
+                 over 100 times the tool's step ({:.3e}: its distance over the arm's length plus its turn)",
                 self.value, self.limit
             ),
             ViolationKind::NearSingular => {

@@ -1,5 +1,6 @@
 //! The check every generated trajectory goes through, and `kinema traj
-//! check` runs on a CSV: limits on q, q̇, q̈ and q⃛, jumps, derivative
+//! check` runs on a CSV: limits on q, q̇, q̈ and q⃛, jumps (with or without
+//! limits: `branch_jump.rs`), derivative
 //! columns that q itself contradicts, and singular passages.
 //!
 //! The derivative checks need no model of how the samples were made: over a
@@ -86,8 +87,8 @@ pub struct CheckReport {
     /// (time, value) of the smallest manipulability, when asked for.
     pub min_manipulability: Option<(f64, f64)>,
     /// Everything that is wrong, in sample order (then joint, then kind:
-    /// malformed, position, velocity, jump, acceleration, inconsistent, jerk,
-    /// near-singular), one per sample, joint and kind.
+    /// malformed, position, velocity, jump, branch jump, acceleration,
+    /// inconsistent, jerk, near-singular), one per sample, joint and kind.
     pub violations: Vec<Violation>,
     /// What deserves a look but breaks no limit (singular passages: one per
     /// passage, at its most singular sample).
@@ -113,7 +114,10 @@ impl CheckReport {
 /// and jerk limits (the robot's, or those of `opts`) on the given q̇, q̈ and
 /// on what q itself implies (see the module documentation); jumps between
 /// consecutive samples larger than the velocity limit allows over their time
-/// step; non-finite values or non-increasing times; with
+/// step; branch jumps, limits or not: steps in which the joints move far
+/// while the tool barely moves (see `branch_jump.rs`; not repeated where a
+/// joint already jumps past its velocity limit); non-finite values or
+/// non-increasing times; with
 /// `opts.min_manipulability`, closeness to singularities (Yoshikawa's
 /// measure on `opts.manipulability_axes`); with `opts.singular_warning`,
 /// singular passages as warnings. A joint without a limit is not checked
@@ -189,6 +193,9 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
             }
         }
     }
+    let jumped: std::collections::HashSet<usize> =
+        report.violations.iter().filter(|v| v.kind == ViolationKind::Jump).map(|v| v.sample).collect();
+    report.violations.extend(super::branch_jump::branch_jumps(robot, traj, |k| jumped.contains(&k))?);
     let resolution = Resolution { value: opts.value_resolution, time: opts.time_resolution };
     check_steps(traj, &acc, &jerk, opts.tolerance, resolution, &mut report);
     if let Some(th) = opts.singular_warning {

@@ -23,6 +23,7 @@
 //! ```
 
 pub mod boundary;
+mod branch_jump;
 pub mod cart;
 pub mod cell;
 mod check;
