@@ -7,6 +7,8 @@ use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+mod common;
+
 /// FK of random within-limit configurations → IK → the pose is reached within
 /// tolerance, within limits, for (almost) every target.
 #[test]
@@ -91,8 +93,11 @@ fn unreachable_target_is_an_error_not_a_wrong_success() {
     };
     // The arm reaches at most ~1.3 m from its base; the best residual says how far off it stayed.
     assert!(*position_error > 1.0, "{e}");
-    assert_eq!(*restarts, 5);
-    assert!(e.to_string().contains("no solution found"), "{e}");
+    // The budget is 100 iterations for each of 6 starts; stalled starts leave
+    // the rest of it to more restarts, and the error says what was spent.
+    let Unreachable::NoConvergence { iterations, .. } = reason_of(&e) else { unreachable!() };
+    assert!((600..700).contains(&iterations) && *restarts >= 5, "{e}");
+    assert!(e.to_string().contains(&format!("{iterations} iterations over {restarts} restarts")), "{e}");
 }
 
 #[test]
@@ -191,5 +196,43 @@ fn every_damping_rule_solves_urdf_robots_too() {
             let s = &solver.solve(&target).unwrap()[0];
             assert!(s.position_error < 1e-6 && s.orientation_error < 1e-6 && s.within_limits(), "{damping:?}");
         }
+    }
+}
+
+fn reason_of(e: &Error) -> Unreachable {
+    match e {
+        Error::Unreachable { reason, .. } => reason.clone(),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Reachable targets are found within the budget: FK of seeded
+/// configurations within the limits of random general 6R arms and of
+/// 7-joint arms with prismatic joints. With a fixed count of 100 restarts,
+/// starts that stalled after ten iterations left most of the budget unspent
+/// and 5 of the 6R targets and 4 of the others were refused.
+#[test]
+fn reachable_targets_are_found_within_the_budget() {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    for (n, prismatic, allowed) in [(6, false, 0), (7, true, 2)] {
+        let mut refused = Vec::new();
+        for case in 0..1000 {
+            let robot = loop {
+                let r = common::arms::random_arm(&mut rng, n, None);
+                if r.joints().iter().any(|j| j.kind == kinema::JointType::Prismatic) == prismatic {
+                    break r;
+                }
+            };
+            let q: Vec<f64> = robot
+                .joints()
+                .iter()
+                .map(|j| rng.random_range(j.limits.min.max(-3.0)..j.limits.max.min(3.0)))
+                .collect();
+            let target = robot.fk(&q).unwrap().world_from_tool;
+            if let Err(e) = NumericIk::new(&robot).solve(&target) {
+                refused.push(format!("case {case}: {e}"));
+            }
+        }
+        assert!(refused.len() <= allowed, "{n} joints: {} refused: {refused:?}", refused.len());
     }
 }

@@ -95,6 +95,8 @@ pub enum Unreachable {
         orientation_error: f64,
         /// Restarts tried.
         restarts: usize,
+        /// Iterations spent, all starts together (the budget, or nearly).
+        iterations: usize,
     },
 }
 
@@ -125,9 +127,10 @@ impl fmt::Display for Unreachable {
                 }
                 Ok(())
             }
-            Unreachable::NoConvergence { position_error, orientation_error, restarts } => write!(
+            Unreachable::NoConvergence { position_error, orientation_error, restarts, iterations } => write!(
                 f,
-                "no solution found after {restarts} restarts (best residual {position_error:.3e} m, {orientation_error:.3e} rad)"
+                "no solution found with the budget spent: {iterations} iterations over {restarts} restarts \
+                 (best residual {position_error:.3e} m, {orientation_error:.3e} rad)"
             ),
         }
     }

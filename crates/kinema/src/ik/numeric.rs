@@ -55,7 +55,10 @@ pub struct NumericOptions {
     pub tol_orientation: f64,
     /// Iterations per start.
     pub max_iterations: usize,
-    /// Restarts after the first start.
+    /// Restarts after the first start, as a budget: a solve may spend
+    /// `max_iterations × (max_restarts + 1)` iterations in all, and restarts
+    /// (past this count if starts stall early) until a start converges or
+    /// the budget is spent.
     pub max_restarts: usize,
     /// Seed of the restarts' random configurations.
     pub seed: u64,
@@ -164,7 +167,10 @@ impl NumericIk {
         let mut rng = ChaCha8Rng::seed_from_u64(self.opts.seed);
         let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let mut best_q = ws.q.clone();
-        for restart in 0..=self.opts.max_restarts {
+        let budget = self.iteration_budget();
+        let mut spent = 0;
+        let mut restart = 0;
+        while spent < budget {
             if restart > 0 {
                 r.random_q_into(&mut rng, &mut ws.q);
             } else if self.opts.enforce_limits {
@@ -181,16 +187,27 @@ impl NumericIk {
                 s.numeric = Some(NumericInfo { iterations, restarts: restart, stop });
                 return Ok(s);
             }
+            // A stalled start costs at least one iteration of the budget.
+            spent += iterations.max(1);
+            restart += 1;
         }
         Err(Error::Unreachable {
             solver: "numeric".into(),
             reason: Unreachable::NoConvergence {
                 position_error: best.1,
                 orientation_error: best.2,
-                restarts: self.opts.max_restarts,
+                restarts: restart.saturating_sub(1),
+                iterations: spent,
             },
             closest: Some(Box::new(Closest { q: best_q, position_error: best.1, orientation_error: best.2 })),
         })
+    }
+
+    /// The iterations one solve may spend in all: a full run of
+    /// `max_iterations` for the first start and for each of `max_restarts`.
+    /// Starts that stall early leave the rest to more restarts.
+    fn iteration_budget(&self) -> usize {
+        self.opts.max_iterations.saturating_mul(self.opts.max_restarts.saturating_add(1))
     }
 
     /// One start: iterates from `ws.q`, leaves the result in `ws.q`.
