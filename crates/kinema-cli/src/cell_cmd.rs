@@ -398,10 +398,10 @@ fn check_options() -> CheckOptions {
 /// A built-in name, else a description path relative to the cell file's folder.
 fn load_robot(spec: &str, tip: Option<&str>, dir: &Path) -> Result<Robot> {
     if kinema::builtin_source(spec).is_some() {
-        return Ok(Robot::load(spec, tip)?);
+        return crate::load_robot(spec, tip);
     }
     let path = dir.join(spec);
-    Ok(Robot::load(&path.to_string_lossy(), tip)?)
+    crate::load_robot(&path.to_string_lossy(), tip)
 }
 
 /// Compiles and runs a program on the robot as placed in the cell (its

@@ -157,8 +157,17 @@ struct RobotArg {
 
 impl RobotArg {
     fn load(&self) -> Result<Robot> {
-        Ok(Robot::load(&self.robot, self.tip.as_deref())?)
+        load_robot(&self.robot, self.tip.as_deref())
     }
+}
+
+/// [`Robot::load`], with what the loader left out or chose printed on stderr.
+pub(crate) fn load_robot(spec: &str, tip: Option<&str>) -> Result<Robot> {
+    let robot = Robot::load(spec, tip)?;
+    for w in &robot.metadata().warnings {
+        eprintln!("warning: {spec}: {w}");
+    }
+    Ok(robot)
 }
 
 #[derive(Args)]

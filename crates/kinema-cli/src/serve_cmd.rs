@@ -4,7 +4,6 @@ use std::io::Write;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use kinema::Robot;
 
 #[derive(Args)]
 pub struct ServeArgs {
@@ -21,7 +20,7 @@ pub struct ServeArgs {
 }
 
 pub(crate) fn run(a: ServeArgs) -> Result<()> {
-    let robot = Robot::load(&a.robot, a.tip.as_deref())?;
+    let robot = crate::load_robot(&a.robot, a.tip.as_deref())?;
     let server = kinema_serve::Server::bind(("127.0.0.1", a.port), Some(robot))
         .with_context(|| format!("cannot start the viewer on port {}", a.port))?;
     let mut out = std::io::stdout().lock();

@@ -159,6 +159,26 @@ fn fk_from_files_and_urdf_tip() {
     assert!(tip.ok, "{}", tip.stderr);
 }
 
+/// Issue 34, items 11 and 12: a ROS-Industrial-style URDF loads without
+/// `--tip`; a non-physical inertial off the chain is a warning on stderr, on
+/// the chain an error.
+#[test]
+fn urdf_from_the_wild_tip_and_warnings() {
+    let r = kinema(&["fk", "--robot", &data("ros-industrial.urdf"), "--q", "0,0,0", "--json"]);
+    assert!(r.ok && r.stderr.is_empty(), "{}", r.stderr);
+    let t = matrix(&serde_json::from_str::<Value>(&r.stdout).unwrap()["T"]);
+    assert!((t[0][3] - 0.9).abs() < 1e-12 && (t[2][3] - 0.4).abs() < 1e-12, "{t:?}");
+
+    let r = kinema(&["info", "--robot", &data("off-chain-inertia.urdf"), "--tip", "r_tool"]);
+    assert!(r.ok, "{}", r.stderr);
+    let warnings: Vec<&str> = r.stderr.lines().filter(|l| l.starts_with("warning: ")).collect();
+    assert_eq!(warnings.len(), 2, "{}", r.stderr);
+    assert!(warnings.iter().any(|w| w.contains("`sensor_mount` (off the chain")), "{}", r.stderr);
+    assert!(!r.stdout.contains("warning"), "warnings go to stderr: {}", r.stdout);
+    let e = fails(&["info", "--robot", &data("off-chain-inertia.urdf"), "--tip", "l_tool"]);
+    assert!(e.contains("`l_arm` (on the chain)"), "{e}");
+}
+
 #[test]
 fn fk_batch_file_round_trip_and_atomic_failure() {
     let dir = tempdir("batch");

@@ -70,7 +70,7 @@ fn to_py(e: Error) -> PyErr {
         | Error::WrongLength { .. }
         | Error::NotFinite { .. }
         | Error::RpySingularity { .. } => InvalidInput::new_err(message),
-        Error::Description { .. } | Error::Urdf { .. } | Error::InvalidModel { .. } => {
+        Error::Description { .. } | Error::Urdf { .. } | Error::MimicJoint { .. } | Error::InvalidModel { .. } => {
             DescriptionError::new_err(message)
         }
         Error::Io { .. } | Error::FileTooLarge { .. } => RobotFileError::new_err(message),

@@ -322,7 +322,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
             v.iter().zip(&joints).map(|(x, j)| x * if j.kind == JointType::Prismatic { len } else { ang }).collect();
         poses.push(NamedPose { name: name.clone(), q });
     }
-    let meta = Metadata { manufacturer: f.manufacturer, source: f.source, notes: f.notes };
+    let meta = Metadata { manufacturer: f.manufacturer, source: f.source, notes: f.notes, warnings: Vec::new() };
     let to_desc = |e| match e {
         Error::InvalidModel { message, .. } => ctx.err(0..0, "(model)", message),
         other => other,

@@ -285,6 +285,11 @@ pub struct Metadata {
     pub source: String,
     /// Free text: corrections of the source, mapping of limits, …
     pub notes: String,
+    /// What the loader left out or chose on its own, one sentence each (a
+    /// URDF link off the chain whose `<inertial>` is not physical, a tip
+    /// picked among leaves that share their joints). The library never prints
+    /// them; doors show them (the CLI on stderr).
+    pub warnings: Vec<String>,
 }
 
 /// A robot arm's description: joints, link geometry, limits, base and tool

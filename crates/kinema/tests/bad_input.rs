@@ -281,21 +281,151 @@ fn urdf_valid_fixture_is_valid() {
 
 #[test]
 fn urdf_not_xml() {
-    for text in [
-        "",
-        "this is not xml",
-        "name = \"toml\"\n",
-        "<robot name=\"r\">",
-        "<?xml version=\"1.0\"?><robot><link></robot>",
-    ] {
+    for text in ["", "this is not xml", "name = \"toml\"\n", "<robot name=\"r\">"] {
         let m = urdf_err(text, None);
         assert!(!m.is_empty(), "{text:?}");
     }
+    // XML that is not well formed: the line and column of the markup at fault.
+    let e =
+        Robot::from_urdf_str("<?xml version=\"1.0\"?>\n<robot>\n  <link>\n</robot>\n", "bad.urdf", None).unwrap_err();
+    let Error::Description { line: 4, column: 1, field, message, .. } = &e else { panic!("{e:?}") };
+    assert_eq!(field, "XML");
+    assert!(message.contains("not well-formed") && message.contains("</link>"), "{message}");
     let m = urdf_err("this is not xml", None);
     assert!(m.contains("not a readable URDF"), "{m}");
     // Valid XML with no joints.
     let m = urdf_err(&format!("{GOOD_URDF_HEAD}</robot>"), None);
     assert!(m.contains("no <joint>"), "{m}");
+}
+
+/// The `<joint>` of `joint_xml` as the second joint after `GOOD_URDF_HEAD`
+/// and one other joint_xml starts on this line, column 3.
+const SECOND_JOINT_LINE: usize = 13;
+
+/// iCub (issue 34, item 12): an empty `<texture/>` (urdf-rs wants a filename)
+/// does not matter, since visuals, collisions and materials are not read; an
+/// element urdf-rs cannot read is named with its line.
+#[test]
+fn urdf_unread_elements_are_skipped_and_unreadable_ones_located() {
+    let visual = r#"<link name="l2">
+    <visual>
+      <geometry><mesh/></geometry>
+      <material name="material.metal">
+        <texture />
+        <color rgba="0 0 0 1" />
+      </material>
+    </visual>
+    <collision><geometry><box/></geometry></collision>
+  </link>
+  <material name="top"><texture/></material>
+"#;
+    let text = format!(
+        "{}{}{}</robot>",
+        GOOD_URDF_HEAD.replace("<link name=\"l2\"/>\n", visual),
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT)
+    );
+    let r = Robot::from_urdf_str(&text, "icub-like.urdf", None).unwrap();
+    assert_eq!(r.dof(), 2);
+
+    // A <limit> without its required `velocity`: urdf-rs says "missing field"; kinema says where.
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", r#"<limit lower="-1" upper="1" effort="1"/>"#)
+    );
+    let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
+    let Error::Description { file, line, column, field, message } = &e else { panic!("{e:?}") };
+    assert_eq!((file.as_str(), *line, *column), ("bad.urdf", SECOND_JOINT_LINE, 3));
+    assert_eq!(field, "<joint name=\"j2\">");
+    assert!(message.contains("velocity") && message.contains("<joint>"), "{message}");
+    assert!(e.to_string().starts_with(&format!("bad.urdf:{SECOND_JOINT_LINE}:3: `<joint name=\"j2\">`: ")), "{e}");
+    // A link whose mass is not a number.
+    let text = format!(
+        "{}{}{}</robot>",
+        GOOD_URDF_HEAD
+            .replace("<link name=\"l1\"/>", "<link name=\"l1\"><inertial><mass value=\"heavy\"/></inertial></link>"),
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT)
+    );
+    let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
+    let Error::Description { line: 4, column: 3, field, .. } = &e else { panic!("{e:?}") };
+    assert_eq!(field, "<link name=\"l1\">");
+}
+
+/// Issue 34, item 12: URDF requires <limit> on revolute and prismatic joints;
+/// without one urdf-rs gives [0, 0], a locked joint. On the chain that is an
+/// error naming the joint; a continuous joint needs none.
+#[test]
+fn urdf_joint_without_limit_is_refused() {
+    for kind in ["revolute", "prismatic"] {
+        let text = format!(
+            "{GOOD_URDF_HEAD}{}{}</robot>",
+            joint_xml("j1", "revolute", "base", "l1", LIMIT),
+            joint_xml("j2", kind, "l1", "l2", "")
+        );
+        let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
+        let Error::Description { line, column: 3, field, message, .. } = &e else { panic!("{e:?}") };
+        assert_eq!(*line, SECOND_JOINT_LINE);
+        assert_eq!(field, "<joint name=\"j2\">");
+        assert!(message.contains(&format!("a {kind} joint needs a <limit")) && message.contains("[0, 0]"), "{message}");
+        assert_eq!(message.contains("continuous"), kind == "revolute", "{message}");
+    }
+    let text = format!(
+        "{GOOD_URDF_HEAD}  <link name=\"l3\"/>\n{}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "continuous", "l1", "l2", ""),
+        joint_xml("j3", "revolute", "base", "l3", "")
+    );
+    // Continuous needs no <limit>; the limitless j3 is off the chain to l2.
+    let r = Robot::from_urdf_str(&text, "ok.urdf", Some("l2")).unwrap();
+    assert_eq!(r.joints()[1].limits.max, f64::INFINITY);
+    let e = Robot::from_urdf_str(&text, "bad.urdf", Some("l3")).unwrap_err();
+    assert!(matches!(&e, Error::Description { field, .. } if field == "<joint name=\"j3\">"), "{e:?}");
+}
+
+/// Issue 34, item 12: a `<mimic>` joint on the chain is refused with a typed
+/// error naming it and the joint it follows; off the chain it does not matter.
+#[test]
+fn urdf_mimic_joint_on_the_chain_is_refused() {
+    let mimic = format!("{LIMIT}\n    <mimic joint=\"j1\" multiplier=\"2\" offset=\"0.5\"/>");
+    let text = format!(
+        "{GOOD_URDF_HEAD}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", &mimic)
+    );
+    let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
+    assert_eq!(
+        e,
+        Error::MimicJoint {
+            file: "bad.urdf".into(),
+            line: SECOND_JOINT_LINE,
+            joint: "j2".into(),
+            follows: "j1".into(),
+            multiplier: 2.0,
+            offset: 0.5
+        }
+    );
+    let m = e.to_string();
+    assert!(m.starts_with(&format!("bad.urdf:{SECOND_JOINT_LINE}: joint `j2` on the chain mimics joint `j1`")), "{m}");
+    assert!(m.contains("--tip"), "{m}");
+    // Defaults: multiplier 1, offset 0.
+    let text = text.replace(" multiplier=\"2\" offset=\"0.5\"", "");
+    let Error::MimicJoint { multiplier, offset, .. } = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err()
+    else {
+        panic!()
+    };
+    assert_eq!((multiplier, offset), (1.0, 0.0));
+    // Off the chain (a gripper finger beside the tip): the chain loads.
+    let text = format!(
+        "{GOOD_URDF_HEAD}  <link name=\"l3\"/>\n{}{}{}</robot>",
+        joint_xml("j1", "revolute", "base", "l1", LIMIT),
+        joint_xml("j2", "revolute", "l1", "l2", LIMIT),
+        joint_xml("j3", "revolute", "l1", "l3", &mimic.replace("j1", "j2"))
+    );
+    assert_eq!(Robot::from_urdf_str(&text, "ok.urdf", Some("l2")).unwrap().dof(), 2);
+    let e = Robot::from_urdf_str(&text, "bad.urdf", Some("l3")).unwrap_err();
+    assert!(matches!(&e, Error::MimicJoint { joint, follows, .. } if joint == "j3" && follows == "j2"), "{e:?}");
 }
 
 #[test]
@@ -778,14 +908,17 @@ fn random_urdf_never_panics() {
     let sources = [
         std::fs::read_to_string(data("iiwa14.urdf")).unwrap(),
         std::fs::read_to_string(data("two-leaves.urdf")).unwrap(),
+        std::fs::read_to_string(data("ros-industrial.urdf")).unwrap(),
+        std::fs::read_to_string(data("off-chain-inertia.urdf")).unwrap(),
     ];
     let mut rng = ChaCha8Rng::seed_from_u64(0x0df);
     let (mut ok, mut err) = (0, 0);
     for case in 0..2500 {
-        let text = if case % 5 == 0 { random_text(&mut rng) } else { mutate(&sources[case % 2], &mut rng) };
-        let tip = match rng.random_range(0..4) {
+        let text = if case % 5 == 0 { random_text(&mut rng) } else { mutate(&sources[case % sources.len()], &mut rng) };
+        let tip = match rng.random_range(0..5) {
             0 => Some("leaf_a"),
             1 => Some("link_3"),
+            2 => Some("r_tool"),
             _ => None,
         };
         match Robot::from_urdf_str(&text, "fuzz.urdf", tip) {

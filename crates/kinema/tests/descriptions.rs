@@ -208,6 +208,97 @@ fn urdf_tip_selects_the_chain() {
     assert!(e.to_string().contains("no moving joint"), "{e}");
 }
 
+/// ROS-Industrial's shape (issue 34, item 11): a fixed `base` frame off
+/// `base_link` is a second leaf, but the only one reached through moving
+/// joints is tool0, so no tip is needed. Leaves that share their joints end
+/// the chain at their common link, with a warning; leaves on different joints
+/// still need `--tip`.
+#[test]
+fn urdf_ros_industrial_base_frame_needs_no_tip() {
+    let text = std::fs::read_to_string(data("ros-industrial.urdf")).unwrap();
+    let r = Robot::from_urdf_str(&text, "rosi.urdf", None).unwrap();
+    assert_eq!(r, Robot::from_urdf_str(&text, "rosi.urdf", Some("tool0")).unwrap());
+    assert_eq!(r.dof(), 3);
+    assert!(r.metadata().source.ends_with("chain base_link → tool0"), "{}", r.metadata().source);
+    assert!(r.metadata().warnings.is_empty(), "{:?}", r.metadata().warnings);
+    // The `base` frame (rotated, raised) is not on the chain: the base stays the identity.
+    assert_same_pose(r.base(), &Pose::IDENTITY, 1e-15, "base");
+    // At q = 0 tool0 is 0.1 + 0.5 + 0.3 m out at 0.4 m, turned by Ry(π/2); axis 1 points down.
+    let fk = r.fk(&[0.0; 3]).unwrap().world_from_tool;
+    assert_same_pose(&fk, &Pose::new(rot_y(PI / 2.0), Vector3::new(0.9, 0.0, 0.4)), 1e-12, "tool0 at 0");
+    let fk = r.fk(&[0.5, 0.0, 0.0]).unwrap().world_from_tool;
+    assert_same_pose(
+        &fk,
+        &Pose::new(rot_z(-0.5) * rot_y(PI / 2.0), rot_z(-0.5) * Vector3::new(0.9, 0.0, 0.4)),
+        1e-12,
+        "q1",
+    );
+    assert!(Robot::from_file(data("ros-industrial.urdf"), None).is_ok());
+
+    // A camera frame on link_3 beside the flange: same joints, so the chain ends at link_3.
+    let camera = r#"<link name="camera"/>
+  <joint name="camera_joint" type="fixed">
+    <parent link="link_3"/>
+    <child link="camera"/>
+    <origin rpy="0 0 0" xyz="0.1 0 0.1"/>
+  </joint>
+</robot>"#;
+    let two = text.replace("</robot>", camera);
+    let r = Robot::from_urdf_str(&two, "rosi.urdf", None).unwrap();
+    assert_eq!(r.dof(), 3);
+    assert!(r.metadata().source.ends_with("chain base_link → link_3"), "{}", r.metadata().source);
+    let [w] = r.metadata().warnings.as_slice() else { panic!("{:?}", r.metadata().warnings) };
+    assert!(w.contains("tool0, camera") && w.contains("`link_3`") && w.contains("--tip"), "{w}");
+    assert_same_pose(
+        &r.fk(&[0.0; 3]).unwrap().world_from_tool,
+        &Pose::new(Matrix3::identity(), Vector3::new(0.6, 0.0, 0.4)),
+        1e-12,
+        "link_3",
+    );
+    // Either leaf can still be chosen.
+    assert_eq!(Robot::from_urdf_str(&two, "rosi.urdf", Some("camera")).unwrap().dof(), 3);
+
+    // A second arm off link_1: the choice changes the joints, so a tip is needed.
+    let branch = r#"<link name="arm_b"/>
+  <joint name="joint_b" type="continuous">
+    <parent link="link_1"/>
+    <child link="arm_b"/>
+    <axis xyz="1 0 0"/>
+  </joint>
+</robot>"#;
+    let e = Robot::from_urdf_str(&text.replace("</robot>", branch), "rosi.urdf", None).unwrap_err();
+    let kinema::Error::Urdf { message, .. } = &e else { panic!("{e:?}") };
+    assert!(message.contains("2 leaf links reached through different moving joints (tool0, arm_b)"), "{message}");
+    assert!(message.contains("--tip"), "{message}");
+}
+
+/// PR2's and Romeo's shape (issue 34, item 12): a link off the chain with a
+/// non-physical inertia is left out of the body that carries it, with a
+/// warning; on the chain it is an error.
+#[test]
+fn urdf_bad_inertial_off_the_chain_is_a_warning() {
+    let r = Robot::from_file(data("off-chain-inertia.urdf"), Some("r_tool")).unwrap();
+    assert_eq!(r.joint_types(), "PR");
+    let w = &r.metadata().warnings;
+    assert_eq!(w.len(), 2, "{w:?}");
+    for link in ["`l_arm`", "`sensor_mount`"] {
+        let w = w.iter().find(|w| w.contains(link)).unwrap_or_else(|| panic!("{link}: {w:?}"));
+        assert!(w.contains("off the chain") && w.contains("triangle inequality") && w.contains("left out"), "{w}");
+    }
+    // The torso's body is the torso alone (l_arm and the mount left out); the arm is its own link.
+    let inertials: Vec<_> = r.inertials().iter().map(|i| i.unwrap()).collect();
+    assert_eq!(inertials[0].mass, 10.0);
+    assert!((inertials[0].com - Vector3::new(0.0, 0.0, 0.2)).norm() < 1e-15);
+    assert_eq!(inertials[1].mass, 2.0);
+    // The dynamics run on what is left.
+    assert!(kinema::dynamics::gravity_torques(&r, &[0.1, 0.2], &Vector3::new(0.0, 0.0, -9.81)).is_ok());
+
+    // l_arm is on the chain to l_tool: refused, naming it.
+    let e = Robot::from_file(data("off-chain-inertia.urdf"), Some("l_tool")).unwrap_err();
+    let kinema::Error::Urdf { message, .. } = &e else { panic!("{e:?}") };
+    assert!(message.contains("`l_arm` (on the chain)") && message.contains("triangle inequality"), "{message}");
+}
+
 /// Every file in `robots/` is a built-in robot, and every built-in robot is
 /// sane: its name is its file stem, `home` exists and is within limits, every
 /// named pose has one value per joint.

@@ -53,7 +53,8 @@ pub enum Error {
         /// Comma-separated list of the robot's poses.
         known: String,
     },
-    /// A robot description file (TOML) that is malformed or inconsistent.
+    /// A robot description file (TOML, or a URDF element) that is malformed
+    /// or inconsistent.
     #[error("{file}:{line}:{column}: `{field}`: {message}")]
     Description {
         /// File name (or `<string>`).
@@ -62,7 +63,8 @@ pub enum Error {
         line: usize,
         /// 1-based column.
         column: usize,
-        /// Path of the offending field, e.g. `joint[2].min`.
+        /// Path of the offending field, e.g. `joint[2].min`, or the URDF
+        /// element, e.g. `<joint name="j2">`.
         field: String,
         /// What is wrong and what is expected.
         message: String,
@@ -74,6 +76,28 @@ pub enum Error {
         file: String,
         /// What is wrong and what is expected.
         message: String,
+    },
+    /// A URDF chain with a joint that follows another (`<mimic>`): kinema
+    /// models independent joints only, and will not move a coupled joint as
+    /// if it were free.
+    #[error(
+        "{file}:{line}: joint `{joint}` on the chain mimics joint `{follows}` (q = {multiplier}·q[{follows}] + {offset}); \
+         kinema models independent joints only: choose a tip whose chain has no <mimic> joint (--tip LINK), \
+         or remove the <mimic> element to move `{joint}` on its own"
+    )]
+    MimicJoint {
+        /// File name (or `<string>`).
+        file: String,
+        /// 1-based line of the `<joint>` element.
+        line: usize,
+        /// The joint with the `<mimic>` element.
+        joint: String,
+        /// The joint it follows.
+        follows: String,
+        /// Its `multiplier` (1 when not given).
+        multiplier: f64,
+        /// Its `offset` \[rad or m\] (0 when not given).
+        offset: f64,
     },
     /// A file that cannot be read.
     #[error("cannot read `{path}`: {source}")]
