@@ -276,7 +276,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
-    let IkAnswer { solver: name, solutions, discarded, tolerance } = answer;
+    let IkAnswer { solver: name, solutions, discarded, tolerance, folded } = answer;
     let chosen: Vec<Solution> = if a.all {
         solutions
     } else {
@@ -301,11 +301,15 @@ pub fn ik(a: IkArgs) -> Result<()> {
             "robot": robot.name(), "solver": name, "solutions": list,
             "tolerance": {"position": tolerance.position, "orientation": tolerance.orientation},
             "discarded": {"count": dropped.len(), "reason": DISCARD_REASON, "candidates": dropped},
+            "folded": folded,
         }));
     }
     println!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len());
     if !discarded.is_empty() {
         println!("  ({} candidate(s) discarded: {DISCARD_REASON}, {tolerance})", discarded.len());
+    }
+    if folded > 0 && a.all {
+        println!("  ({folded} more copies within limits, joints turned by whole turns, not listed)");
     }
     for s in chosen {
         let unit = if a.deg { "deg/m" } else { "rad/m" };

@@ -582,6 +582,10 @@ fn unreachable_and_invalid_targets() {
             Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, boundary }, .. }) => {
                 assert!(by > 1.0 && boundary.contains(what), "{}: {by} {boundary}", robot.name())
             }
+            // The general arm's search measures no distance: no figure.
+            Err(Error::Unreachable { reason: Unreachable::NotReached { detail }, .. }) => {
+                assert!(detail.contains(what), "{}: {detail}", robot.name())
+            }
             other => panic!("{}: expected OutsideReach, got {other:?}", robot.name()),
         }
     }
@@ -591,10 +595,11 @@ fn unreachable_and_invalid_targets() {
     let mut bad = Pose::translation(0.5, 0.1, 0.5);
     bad.rot[(0, 0)] = 2.0;
     assert!(matches!(ik.solve(&bad), Err(Error::OutOfRange { .. })));
-    // Huge but finite targets: an error, never a panic or NaN.
+    // Huge but finite targets: an error, never a panic or NaN (past 1e100 m, without a figure).
     for s in [1e10, 1e200, f64::MAX] {
         match ik.solve(&Pose::translation(s, -s, s)) {
             Err(Error::Unreachable { reason: Unreachable::OutsideReach { by, .. }, .. }) => assert!(by > 1e9, "{by}"),
+            Err(Error::Unreachable { reason: Unreachable::NotReached { .. }, .. }) if s > 1e100 => {}
             other => panic!("expected OutsideReach, got {other:?}"),
         }
     }
@@ -625,6 +630,7 @@ fn random_poses_never_panic_or_nan() {
                     unreachable += 1;
                     assert!(by.is_finite() && by >= 0.0);
                 }
+                Err(Error::Unreachable { reason: Unreachable::NotReached { .. }, .. }) => unreachable += 1,
                 Err(e) => panic!("{e}"),
             }
         }

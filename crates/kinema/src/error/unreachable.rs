@@ -60,6 +60,12 @@ pub enum Unreachable {
         /// Which region (e.g. "cylinder of radius 0.15 m around axis 1 …").
         region: String,
     },
+    /// No configuration reaches the target, found by a test or a search that
+    /// measures no distance to the workspace (so none is quoted).
+    NotReached {
+        /// What was searched or why (e.g. "the search over q4 finds no configuration of the arm that meets it").
+        detail: String,
+    },
     /// The orientation asked for is not one this arm can take at that position.
     Orientation {
         /// The smallest orientation error achievable \[rad\].
@@ -103,8 +109,16 @@ pub enum Unreachable {
 impl fmt::Display for Unreachable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Unreachable::OutsideReach { by, boundary } => write!(f, "the position is {by:.6} m outside the {boundary}"),
-            Unreachable::InsideExcluded { by, region } => write!(f, "the position is {by:.6} m inside the {region}"),
+            // A figure only where it is a distance: never ∞, NaN or negative.
+            Unreachable::OutsideReach { by, boundary } if *by >= 0.0 && by.is_finite() => {
+                write!(f, "the position is {by:.6} m outside the {boundary}")
+            }
+            Unreachable::OutsideReach { boundary, .. } => write!(f, "the position is outside the {boundary}"),
+            Unreachable::InsideExcluded { by, region } if *by >= 0.0 && by.is_finite() => {
+                write!(f, "the position is {by:.6} m inside the {region}")
+            }
+            Unreachable::InsideExcluded { region, .. } => write!(f, "the position is inside the {region}"),
+            Unreachable::NotReached { detail } => write!(f, "no configuration reaches the target: {detail}"),
             Unreachable::Orientation { angle, detail } => {
                 write!(f, "the orientation is not achievable: off by at least {angle:.6} rad ({detail})")
             }

@@ -119,7 +119,15 @@ pub struct IkAnswer {
     pub discarded: Vec<Discarded>,
     /// The tolerance applied.
     pub tolerance: Tolerance,
+    /// Within-limit copies of the solutions (a joint turned by whole turns,
+    /// see [`unfold_turns`]) left out of `solutions` because a solution had
+    /// more than [`MAX_COPIES`]; 0 when every copy is listed.
+    pub folded: usize,
 }
+
+/// The most within-limit copies [`unfold_turns`] lists for one solution;
+/// past it, only the copy nearest the reference is kept.
+pub const MAX_COPIES: usize = 64;
 
 /// Measures every candidate of `solver` by FK against `target` (`fitted`:
 /// the robot's family, if one fits, which measures its typed targets), keeps those
@@ -140,6 +148,10 @@ pub fn sort_out(
     let mut discarded = Vec::new();
     let mut closest: Option<(f64, Closest)> = None;
     for mut s in candidates {
+        // A joint a closed form recovers on its limit can land a rounding past it.
+        if s.q.len() == robot.dof() {
+            super::settle_on_limits(robot, &mut s.q);
+        }
         let fk = robot.fk(&s.q)?;
         let r = residual_with(robot, fitted, target, mask, &fk.world_from_tool)?;
         (s.position_error, s.orientation_error) = (r.position, r.orientation);
@@ -170,7 +182,93 @@ pub fn sort_out(
             closest: closest.map(Box::new),
         });
     }
-    Ok(IkAnswer { solver, solutions, discarded, tolerance: tol })
+    Ok(IkAnswer { solver, solutions, discarded, tolerance: tol, folded: 0 })
+}
+
+/// Replaces every solution of `answer` by its copies within the joint limits:
+/// a solver returns each revolute angle once (most in (−π, π]), but a joint
+/// whose range exceeds a turn (±350° wrists, ±360°) reaches the same pose at
+/// `q + k·2π` too, and the solution nearest a previous configuration may be
+/// such a copy. A solution within limits becomes every combination of its
+/// joints' within-limit copies (the one nearest the solver's values first),
+/// up to [`MAX_COPIES`], past which only the combination nearest `q0` (else
+/// the solver's values) is kept and the rest counted in
+/// [`IkAnswer::folded`]. A solution outside the limits keeps one copy, each
+/// joint nearest `q0` within its limits where it can be. A continuous joint
+/// takes the copy nearest `q0`. Each new copy is measured by FK as
+/// [`sort_out`] measures candidates (`fitted` as there).
+pub fn unfold_turns(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    target: &IkTarget,
+    mask: Option<[bool; 6]>,
+    answer: &mut IkAnswer,
+    q0: Option<&[f64]>,
+) -> Result<()> {
+    let n = robot.dof();
+    let q0 = q0.filter(|q0| q0.len() == n);
+    let mut out = Vec::with_capacity(answer.solutions.len());
+    let mut per_joint: Vec<Vec<f64>> = vec![Vec::new(); n];
+    for s in std::mem::take(&mut answer.solutions) {
+        if s.q.len() != n {
+            out.push(s);
+            continue;
+        }
+        for (i, j) in robot.joints().iter().enumerate() {
+            let reference = q0.map_or(s.q[i], |q0| q0[i]);
+            super::turn_copies(j, s.q[i], reference, &mut per_joint[i]);
+        }
+        let count = per_joint.iter().try_fold(1usize, |acc, c| acc.checked_mul(c.len()));
+        let nearest = |i: usize, c: &[f64]| {
+            let r = q0.map_or(s.q[i], |q0| q0[i]);
+            c.iter().copied().min_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs())).unwrap_or(s.q[i])
+        };
+        let combos: Vec<Vec<f64>> = match count {
+            Some(c) if c > 0 && c <= MAX_COPIES => {
+                let mut combos = vec![Vec::with_capacity(n)];
+                for copies in &per_joint {
+                    combos = combos
+                        .into_iter()
+                        .flat_map(|prefix| {
+                            copies.iter().map(move |&v| {
+                                let mut q = prefix.clone();
+                                q.push(v);
+                                q
+                            })
+                        })
+                        .collect();
+                }
+                combos
+            }
+            other => {
+                match other {
+                    Some(0) => {}
+                    Some(c) => answer.folded = answer.folded.saturating_add(c - 1),
+                    None => answer.folded = usize::MAX,
+                }
+                vec![(0..n).map(|i| nearest(i, &per_joint[i])).collect()]
+            }
+        };
+        for q in combos {
+            if q == s.q {
+                out.push(s.clone());
+                continue;
+            }
+            let fk = robot.fk(&q)?;
+            let r = residual_with(robot, fitted, target, mask, &fk.world_from_tool)?;
+            if r.meets(&answer.tolerance) {
+                out.push(Solution {
+                    q,
+                    out_of_limits: fk.out_of_limits,
+                    position_error: r.position,
+                    orientation_error: r.orientation,
+                    ..s.clone()
+                });
+            }
+        }
+    }
+    answer.solutions = out;
+    Ok(())
 }
 
 #[cfg(test)]

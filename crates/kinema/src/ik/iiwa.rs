@@ -1096,14 +1096,21 @@ impl IiwaIk {
         let mut last_err = None;
         let mut rejected = Vec::new();
         let solve = |q3: f64| self.solve_q3_branches(&t, q3, q_prev[0], continuing.then_some(q_prev));
-        // The solution within limits nearest to q_prev.
+        // The solution within limits nearest to q_prev, each taken by whole
+        // turns to its copy within limits nearest q_prev (joints with more
+        // than a turn of range) and onto a limit it passes by rounding.
         let nearest = |sols: &Candidates<7, 8>| -> Option<[f64; 7]> {
             sols.qs()
                 .iter()
-                .filter(|q| self.robot.limit_flags(&q[..]).is_empty())
-                .map(|q| (joint_distance(&self.robot, q, q_prev), q))
+                .map(|q| {
+                    let mut q = *q;
+                    let outside = super::nearest_turns(&self.robot, &mut q, q_prev);
+                    (outside, q)
+                })
+                .filter(|(outside, _)| outside.is_empty())
+                .map(|(_, q)| (joint_distance(&self.robot, &q, q_prev), q))
                 .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(_, q)| *q)
+                .map(|(_, q)| q)
         };
         for (k, q3) in choice.grid(lim.min, lim.max) {
             match solve(q3) {

@@ -196,6 +196,88 @@ pub(crate) fn limit_margin(robot: &Robot, q: &[f64]) -> f64 {
     robot.joints().iter().zip(q).map(margin).fold(f64::INFINITY, f64::min)
 }
 
+/// How far past a joint limit \[rad or m\] a solver's value may lie and still
+/// count as on the limit. The closed forms recover a joint that sits exactly
+/// on its limit 1e-16 to 3e-14 rad past it (rounding in atan2 and the
+/// subproblems); 1e-9 is four orders of magnitude above that and moves the
+/// tool by at most 1e-9 × its distance from the joint axis (≈ 3e-9 m on a 3 m
+/// arm), far inside the contract's default 1e-6 m / 1e-6 rad.
+pub const LIMIT_TOL: f64 = 1e-9;
+
+/// Moves every value of `q` that lies at most [`LIMIT_TOL`] past one of its
+/// joint's limits onto that limit, and returns the joints still outside. Every
+/// IK answer goes through it (the contract, path following), so a solution
+/// with a joint on its limit is accepted and reported strictly within limits.
+pub fn settle_on_limits(robot: &Robot, q: &mut [f64]) -> JointSet {
+    for (v, j) in q.iter_mut().zip(robot.joints()) {
+        let l = &j.limits;
+        if *v < l.min && *v >= l.min - LIMIT_TOL {
+            *v = l.min;
+        } else if *v > l.max && *v <= l.max + LIMIT_TOL {
+            *v = l.max;
+        }
+    }
+    robot.limit_flags(q)
+}
+
+/// The values `v + k·2π` of revolute joint `j` within its limits (up to
+/// [`LIMIT_TOL`] past one, moved onto it), the one nearest `v` first, into
+/// `out` (cleared first); empty when no turn of `v` is within the limits. A
+/// joint unbounded on a side has no finite list: it gets the one copy nearest
+/// `reference` that is within limits (for a continuous joint, the copy
+/// nearest `reference`).
+pub(crate) fn turn_copies(j: &crate::model::Joint, v: f64, reference: f64, out: &mut Vec<f64>) {
+    use std::f64::consts::TAU;
+    out.clear();
+    let l = &j.limits;
+    if j.kind != crate::JointType::Revolute || !v.is_finite() {
+        if v >= l.min - LIMIT_TOL && v <= l.max + LIMIT_TOL {
+            out.push(v.clamp(l.min, l.max));
+        }
+        return;
+    }
+    let (lo, hi) = (l.min - LIMIT_TOL, l.max + LIMIT_TOL);
+    if !(l.min.is_finite() && l.max.is_finite()) {
+        let reference = if reference.is_finite() { reference } else { v };
+        let mut c = v + ((reference - v) / TAU).round() * TAU;
+        if c < lo {
+            c += ((lo - c) / TAU).ceil() * TAU;
+        } else if c > hi {
+            c -= ((c - hi) / TAU).ceil() * TAU;
+        }
+        if c >= lo && c <= hi {
+            out.push(c.clamp(l.min, l.max));
+        }
+        return;
+    }
+    let (k_lo, k_hi) = (((lo - v) / TAU).ceil(), ((hi - v) / TAU).floor());
+    // A range of more than a few thousand turns is not a joint range; keep the list bounded.
+    if !(k_hi - k_lo < 4096.0) {
+        return;
+    }
+    let mut k = k_lo;
+    while k <= k_hi {
+        out.push((v + k * TAU).clamp(l.min, l.max));
+        k += 1.0;
+    }
+    out.sort_by(|a, b| (a - v).abs().total_cmp(&(b - v).abs()));
+}
+
+/// Shifts each revolute joint of `q` by whole turns to the copy within its
+/// limits nearest `reference` (see [`turn_copies`]); a joint with no copy
+/// within its limits is left as it is. Then [`settle_on_limits`]: returns the
+/// joints still outside.
+pub(crate) fn nearest_turns(robot: &Robot, q: &mut [f64], reference: &[f64]) -> JointSet {
+    let mut copies = Vec::new();
+    for ((v, j), r) in q.iter_mut().zip(robot.joints()).zip(reference) {
+        turn_copies(j, *v, *r, &mut copies);
+        if let Some(c) = copies.iter().copied().min_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs())) {
+            *v = c;
+        }
+    }
+    settle_on_limits(robot, q)
+}
+
 /// `a` wrapped to (−π, π].
 #[inline]
 pub fn wrap_angle(a: f64) -> f64 {
@@ -280,8 +362,14 @@ impl CandidateSet {
     }
 
     /// Index of the candidate within `robot`'s limits nearest to `q_prev`
-    /// ([`joint_distance`]); `None` if none is within limits.
-    pub fn nearest_within_limits(&self, robot: &Robot, q_prev: &[f64]) -> Option<usize> {
+    /// ([`joint_distance`]); `None` if none is within limits. Each candidate
+    /// is first moved by whole turns to its copy within limits nearest
+    /// `q_prev`, and onto a limit it passes by at most [`LIMIT_TOL`].
+    pub fn nearest_within_limits(&mut self, robot: &Robot, q_prev: &[f64]) -> Option<usize> {
+        let dof = self.dof;
+        for q in self.q.chunks_exact_mut(dof.max(1)) {
+            nearest_turns(robot, q, q_prev);
+        }
         (0..self.len())
             .filter(|&i| robot.limit_flags(self.q(i)).is_empty())
             .map(|i| (i, joint_distance(robot, self.q(i), q_prev)))

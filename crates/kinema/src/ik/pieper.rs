@@ -465,8 +465,26 @@ impl PieperIk {
             }
         }
         if out.is_empty() {
-            let (by, boundary) = worst.unwrap_or((0.0, "reachable region".into()));
-            return Err(Unreachable::OutsideReach { by, boundary });
+            // The miss in the arm plane is not the distance to the workspace (the
+            // plane turns with θ1), so it is not quoted. With |sin α1| = 1 every
+            // wrist centre lies within |a1| + hypot(dmax, ℓ) of the point of axis 1
+            // at height d1: the distance outside that sphere is a true distance.
+            let sphere = (l1.sa.abs() - 1.0).abs() <= AXIS_TOL;
+            let radius = l1.a.abs() + dmax.fast_hypot(ell);
+            let outside = rho.fast_hypot(p.z - l1.d) - radius;
+            return Err(match worst {
+                Some(_) if sphere && outside > BOUNDARY_TOL * (1.0 + radius) => Unreachable::OutsideReach {
+                    by: outside,
+                    boundary: format!(
+                        "outer reach of the arm (the sphere of radius {radius:.4} m around axis 1 at the shoulder's \
+                         height that holds every wrist centre)"
+                    ),
+                },
+                Some((_, boundary)) => {
+                    Unreachable::NotReached { detail: format!("the wrist centre is outside the {boundary}") }
+                }
+                None => Unreachable::NotReached { detail: "the arm has no solution for the wrist centre".into() },
+            });
         }
         // Order: elbow-up before elbow-down within each shoulder branch.
         out.sort_by_key(|(_, l)| (l.starts_with("shoulder-left"), l.ends_with("elbow-down")));
@@ -520,7 +538,6 @@ impl PieperIk {
         let phi3 = b.fast_atan2(a);
         let delta = cosd.acos();
         let mut out = Vec::with_capacity(4);
-        let mut worst: Option<f64> = None;
         for (e, t3) in [(1, phi3 + delta), (2, phi3 - delta)] {
             let g = g_of(t3);
             let h = g.x.fast_hypot(g.y);
@@ -537,9 +554,6 @@ impl PieperIk {
                 if x.is_nan() || x.abs() > 1.0 {
                     let over = val.abs() - h;
                     if over > BOUNDARY_TOL * (1.0 + h + val.abs()) {
-                        if worst.is_none_or(|w| over < w) {
-                            worst = Some(over);
-                        }
                         continue;
                     }
                     x = x.clamp(-1.0, 1.0);
@@ -561,9 +575,12 @@ impl PieperIk {
             }
         }
         if out.is_empty() {
-            return Err(Unreachable::OutsideReach {
-                by: worst.unwrap_or(0.0),
-                boundary: "region the wrist centre can reach at the required distance from the shoulder".into(),
+            // How far |val| exceeds h is a mismatch of the arm equation (in m² / m
+            // for the parallel shoulder), not a distance: no figure.
+            return Err(Unreachable::NotReached {
+                detail: "the wrist centre is outside the region it can reach at the required distance from the \
+                         shoulder"
+                    .into(),
             });
         }
         Ok(out)
@@ -654,16 +671,11 @@ impl PieperIk {
             }
         }
         if out.is_empty() {
-            // Distance-like measure of the mismatch: min over θ3 of |√(P² + Q²) − H|.
-            let by = (0..N)
-                .map(|i| {
-                    let (g, pp, qq, _) = pq(-PI + i as f64 * step);
-                    (pp.fast_hypot(qq) - g.x.fast_hypot(g.y)).abs()
-                })
-                .fold(f64::INFINITY, f64::min);
-            return Err(Unreachable::OutsideReach {
-                by,
-                boundary: "region the wrist centre can reach (general Pieper arm; `by` is the smallest mismatch over θ3 in the arm equations, not a Euclidean distance)".into(),
+            // The arm equations' mismatch over θ3 is in m², not a distance: no figure.
+            return Err(Unreachable::NotReached {
+                detail: "the wrist centre is outside the region the arm reaches (general Pieper arm: a search over \
+                         θ3 finds no solution of the arm equations)"
+                    .into(),
             });
         }
         Ok(out)
@@ -819,10 +831,9 @@ impl IkSolver for PieperIk {
         let t06 = self.dh0_from_flange(target);
         let p = t06.transform_point(&self.wc_in_flange);
         if !p.iter().all(|v| v.is_finite()) || p.norm() > 1e100 {
-            let by = p.norm();
-            return Err(unreachable(Unreachable::OutsideReach {
-                by: if by.is_finite() { by } else { f64::INFINITY },
-                boundary: "reach of the arm (the target is absurdly far away)".into(),
+            return Err(unreachable(Unreachable::NotReached {
+                detail: "the target is absurdly far away (over 1e100 m, or not finite once the tool is stripped)"
+                    .into(),
             }));
         }
         let arms = self.solve_arm(&p).map_err(unreachable)?;
@@ -844,9 +855,8 @@ impl IkSolver for PieperIk {
             }
         }
         if out.is_empty() {
-            return Err(unreachable(Unreachable::OutsideReach {
-                by: 0.0,
-                boundary: "reach of the arm (no finite solution)".into(),
+            return Err(unreachable(Unreachable::NotReached {
+                detail: "the closed form gives no finite joint values for it".into(),
             }));
         }
         Ok(())

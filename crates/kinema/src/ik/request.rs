@@ -140,7 +140,8 @@ impl IkRequest<'_> {
 /// let q = [0.1, -0.5, 0.4, 0.3, 0.6, -0.2];
 /// let target = robot.fk(&q)?.world_from_tool;
 /// let (name, all) = solve_request(&robot, &target, &IkRequest { all: true, ..Default::default() })?;
-/// assert_eq!((name, all.len()), ("pieper", 8));
+/// // The 8 branches, and the copies of joints 4 and 6 (±266°) turned by 2π that are within limits.
+/// assert!(name == "pieper" && all.len() >= 8);
 /// let one = pick_one(&robot, name, all, Some(&q))?;
 /// assert!(one.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-9));
 /// # Ok::<(), kinema::Error>(())
@@ -339,7 +340,24 @@ pub fn solve_target_with(
         other => other?,
     };
     let (name, candidates) = proposed;
-    contract::sort_out(robot, fitted, target, mask, request.tolerance, name, candidates)
+    measure(robot, fitted, target, mask, request, name, candidates)
+}
+
+/// The contract on `candidates` ([`contract::sort_out`]), then every
+/// solution's copies within the joint limits ([`contract::unfold_turns`]),
+/// so that [`pick_one`] sees the one nearest `request.q0`.
+fn measure(
+    robot: &Robot,
+    fitted: Option<&dyn Family>,
+    target: &IkTarget,
+    mask: Option<[bool; 6]>,
+    request: &IkRequest,
+    name: &'static str,
+    candidates: Vec<Solution>,
+) -> Result<IkAnswer> {
+    let mut answer = contract::sort_out(robot, fitted, target, mask, request.tolerance, name, candidates)?;
+    contract::unfold_turns(robot, fitted, target, mask, &mut answer, request.q0)?;
+    Ok(answer)
 }
 
 /// The combinations [`solve_target`] refuses before solving.
@@ -427,7 +445,11 @@ fn closest_by_numeric(
     solver: String,
     reason: Unreachable,
 ) -> Result<IkAnswer> {
-    let refusal = |closest| Err(Error::Unreachable { solver: solver.clone(), reason: reason.clone(), closest });
+    // A "closest" configuration whose miss is not finite (an absurdly far target) is no help.
+    let refusal = |closest: Option<Box<Closest>>| {
+        let closest = closest.filter(|c| c.position_error.is_finite() && c.orientation_error.is_finite());
+        Err(Error::Unreachable { solver: solver.clone(), reason: reason.clone(), closest })
+    };
     let pose = match target {
         IkTarget::Pose(pose) => *pose,
         IkTarget::Position(p) => position_pose(robot, *p)?,
@@ -441,7 +463,7 @@ fn closest_by_numeric(
     let numeric = NumericIk::with_options(robot, opts)?;
     match numeric.solve_from(&pose, request.q0.unwrap_or(robot.home())) {
         Ok(s) if request.solver == SolverChoice::Auto => {
-            contract::sort_out(robot, None, target, mask, request.tolerance, "numeric", vec![s])
+            measure(robot, None, target, mask, request, "numeric", vec![s])
         }
         Ok(s) => refusal(Some(Box::new(Closest::of(&s)))),
         Err(Error::Unreachable { closest, .. }) => refusal(closest),
@@ -554,10 +576,14 @@ mod tests {
             let target = IkTarget::PositionPitchRoll { position: p, pitch, roll };
             let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
             assert_eq!(name, "scorbot");
-            // The solver's candidates, each kept (the residuals are the contract's own measure).
+            // The solver's candidates, each kept (the residuals are the contract's own measure),
+            // with their copies within limits (q5 has ±570°): the same modulo 2π.
             let proposed = ScorbotIk::new(&robot).unwrap().solve_xyz_pitch_roll(p, pitch, roll).unwrap();
-            let qs = |v: &[Solution]| v.iter().map(|s| (s.q.clone(), s.branch.clone())).collect::<Vec<_>>();
-            assert_eq!(qs(&sols), qs(&proposed));
+            let same = |a: &Solution, b: &Solution| {
+                a.branch == b.branch && a.q.iter().zip(&b.q).all(|(x, y)| wrap_angle(x - y).abs() < 1e-12)
+            };
+            assert!(proposed.iter().all(|p| sols.iter().any(|s| s.q == p.q && s.branch == p.branch)));
+            assert!(sols.iter().all(|s| proposed.iter().any(|p| same(s, p))));
             for s in &sols {
                 let fk = robot.fk(&s.q).unwrap().world_from_tool;
                 assert!((fk.pos - Vector3::from(p)).norm() < 1e-9, "{s:?}");
@@ -606,7 +632,11 @@ mod tests {
             match solve_target(&robot, &target, &request) {
                 Ok(IkAnswer { solver: name, solutions: sols, .. }) => {
                     assert_eq!(name, "scara");
-                    assert_eq!(sols, vec![zone.unwrap()]);
+                    // The zone rule's solution first, then its copies within limits (q5 has ±360°).
+                    assert_eq!(sols[0], zone.unwrap());
+                    assert!(sols
+                        .iter()
+                        .all(|s| s.q[..4] == sols[0].q[..4] && wrap_angle(s.q[4] - sols[0].q[4]).abs() < 1e-12));
                     let s = &sols[0];
                     let fk = robot.fk(&s.q).unwrap().world_from_tool;
                     assert!((fk.pos - Vector3::from(p)).norm() < 1e-9);

@@ -322,8 +322,10 @@ impl RommelIk {
                         .into(),
                 }
             } else {
-                let (by, boundary) =
-                    miss_pos.into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).unwrap_or((0.0, "reachable region".into()));
+                let (by, boundary) = miss_pos
+                    .into_iter()
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .unwrap_or((f64::NAN, "reachable region".into()));
                 Unreachable::OutsideReach { by, boundary }
             };
             return Err(Error::Unreachable { solver: NAME.into(), reason, closest: None });

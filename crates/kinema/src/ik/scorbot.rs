@@ -348,7 +348,8 @@ impl ScorbotIk {
                     ),
                 )
             })
-            .unwrap_or((0.0, "reachable annulus (no branch evaluated)".into()));
+            .unwrap_or((f64::NAN, "reachable annulus (no branch evaluated)".into()));
+        // A NaN figure is not quoted (see `Unreachable`'s Display).
         Error::Unreachable { solver: NAME.into(), reason: Unreachable::OutsideReach { by, boundary }, closest: None }
     }
 

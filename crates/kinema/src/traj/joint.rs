@@ -202,26 +202,6 @@ fn predict(qs: &[f64], times: &[f64], k: usize, n: usize, q: &mut [f64]) {
     }
 }
 
-/// Shifts revolute joints of `q` by whole turns towards `prev` where the
-/// shifted value is still within the joint's limits (a closed form returns
-/// one representative of each angle; a joint with more than a turn of range
-/// continues through ±π instead of jumping).
-fn unwind(robot: &Robot, q: &mut [f64], prev: &[f64]) {
-    use std::f64::consts::{PI, TAU};
-    for ((j, qi), p) in robot.joints().iter().zip(q.iter_mut()).zip(prev) {
-        if j.kind != crate::JointType::Revolute {
-            continue;
-        }
-        let (lo, hi) = (j.limits.min, j.limits.max);
-        while *qi - p > PI && *qi - TAU >= lo {
-            *qi -= TAU;
-        }
-        while p - *qi > PI && *qi + TAU <= hi {
-            *qi += TAU;
-        }
-    }
-}
-
 fn by_ik(
     robot: &Robot,
     motion: &CartesianMotion,
@@ -318,7 +298,7 @@ fn generic_path(
         let prev = &qs[(k - 1) * n..k * n];
         if tracking {
             predict(&qs, times, k, n, &mut q);
-            if newton_track(robot, &target, &mut q, &mut jac)? && robot.limit_flags(&q).is_empty() {
+            if newton_track(robot, &target, &mut q, &mut jac)? && ik::settle_on_limits(robot, &mut q).is_empty() {
                 qs.extend_from_slice(&q);
                 continue;
             }
@@ -333,8 +313,8 @@ fn generic_path(
             for i in 0..set.len() {
                 let at = cands.len();
                 cands.extend_from_slice(set.q(i));
-                unwind(robot, &mut cands[at..], prev);
-                if robot.limit_flags(&cands[at..]).is_empty() {
+                // (A value past a limit by rounding is moved onto it.)
+                if ik::nearest_turns(robot, &mut cands[at..], prev).is_empty() {
                     order.push((ik::joint_distance(robot, &cands[at..], prev), at));
                 }
             }

@@ -380,10 +380,9 @@ impl GeneralIk {
             }
         }
         if out.is_empty() {
-            return Err(Unreachable::OutsideReach {
-                by: best,
-                boundary: "region reached by the arm (`by` is the smallest alignment error of axis 6 over the (q1, q2) grid, not a distance)"
-                    .into(),
+            // The smallest alignment error of axis 6 over the grid is not a distance: no figure.
+            return Err(Unreachable::NotReached {
+                detail: "a search over (q1, q2) finds no configuration of the arm that meets it".into(),
             });
         }
         Ok(())

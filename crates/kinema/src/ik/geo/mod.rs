@@ -161,10 +161,8 @@ fn reject<T>(solver: &str, robot: &Robot, reason: String) -> Result<T> {
 /// stripped) cannot be reached; saying so early keeps overflow out of the
 /// subproblems.
 fn too_far(point: &Vector3<f64>) -> Option<Unreachable> {
-    let by = point.norm();
-    (!(by <= 1e100)).then(|| Unreachable::OutsideReach {
-        by: if by.is_finite() { by } else { f64::INFINITY },
-        boundary: "reach of the arm (the target is absurdly far away)".into(),
+    (!(point.norm() <= 1e100)).then(|| Unreachable::NotReached {
+        detail: "the target is absurdly far away (over 1e100 m, or not finite once the tool is stripped)".into(),
     })
 }
 

@@ -140,9 +140,9 @@ impl ThreeParallelSearchIk {
                     boundary: "cylinder around axis 1 that axis 5 cannot enter, for every q6".into(),
                 });
             }
-            return Err(Unreachable::OutsideReach {
-                by: seen.best,
-                boundary: "region reached by the arm (`by` is the smallest mismatch of the searched residual over q6, not a distance)".into(),
+            // The smallest residual of the search is not a distance: no figure.
+            return Err(Unreachable::NotReached {
+                detail: "a search over q6 finds no configuration of the arm that meets it".into(),
             });
         }
         Ok(())

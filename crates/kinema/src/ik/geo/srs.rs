@@ -487,7 +487,14 @@ impl SrsIk {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn solve_searching(&self, target: &Pose, prefer_q3: f64) -> Result<Vec<Solution>> {
-        let first = match self.solve_q3(target, prefer_q3) {
+        // A joint the closed form recovers on its limit may land a rounding past it.
+        let settled = self.solve_q3(target, prefer_q3).map(|mut sols| {
+            for s in &mut sols {
+                s.out_of_limits = crate::ik::settle_on_limits(self.robot(), &mut s.q);
+            }
+            sols
+        });
+        let first = match settled {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect());
             }

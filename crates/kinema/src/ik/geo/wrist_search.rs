@@ -161,14 +161,15 @@ impl TwoIntersectingSearchIk {
             }
         });
         if out.is_empty() {
+            if seen.any_defined {
+                // The smallest residual of the search is not a distance: no figure.
+                return Err(Unreachable::NotReached {
+                    detail: "a search over q4 finds no configuration of the arm that meets it".into(),
+                });
+            }
             return Err(Unreachable::OutsideReach {
-                by: if seen.any_defined { seen.best } else { seen.min_miss },
-                boundary: if seen.any_defined {
-                    "region reached by the arm (`by` is the smallest mismatch of the searched residual over q4, not a distance)"
-                } else {
-                    "region the point where axes 5 and 6 meet reaches, for every q4"
-                }
-                .into(),
+                by: seen.min_miss,
+                boundary: "region the point where axes 5 and 6 meet reaches, for every q4".into(),
             });
         }
         Ok(())
