@@ -681,15 +681,27 @@ fn traj_ptp_writes_a_checked_csv_or_nothing() {
     let mid = &rows[rows.len() / 2];
     let p = robot.fk(&mid[1..8]).unwrap().world_from_tool.pos;
     assert!((p.x - mid[22]).abs() < 1e-9 && (p.z - mid[24]).abs() < 1e-9);
-    // Missing acceleration limits: an error naming the flag, and no file.
+    // A non-positive acceleration limit: an error naming the flag, and no file.
     let bad = dir.join("bad.csv");
-    let e =
-        fails(&["traj", "ptp", "-r", "lbr-iiwa-14-r820", "--from", "home", "--to", to, "--out", bad.to_str().unwrap()]);
+    let e = fails(&[
+        "traj",
+        "ptp",
+        "-r",
+        "lbr-iiwa-14-r820",
+        "--from",
+        "home",
+        "--to",
+        to,
+        "--amax",
+        "0",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
     assert!(e.contains("amax"), "{e}");
     assert!(!bad.exists());
     assert!(std::fs::read_dir(&dir).unwrap().all(|f| !f.unwrap().file_name().to_string_lossy().contains("kinema-tmp")));
     let v = json(&[
-        "traj", "ptp", "-r", "puma560", "--from", "home", "--to", "qr", "--vmax", "2", "--amax", "3", "--json", "--dt",
+        "traj", "ptp", "-r", "puma560", "--from", "home", "--to", "qr", "--vmax", "1", "--amax", "3", "--json", "--dt",
         "0.1",
     ]);
     assert!(
@@ -857,10 +869,17 @@ fn traj_lin_circ_expr_and_check_from_the_command_line() {
         "2",
         "--dt",
         "0.5",
+        "--vmax",
+        "20",
+        "--amax",
+        "400",
         "--json",
     ]);
     let rows = v["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 5);
+    // Against ROMMEL's own (estimated) limits the seed's curve is too fast.
+    let e = fails(&["traj", "expr", "-r", "rommel", "--joint", "1", "0.5*sin(4*pi*t^2/2)", "--duration", "2"]);
+    assert!(e.contains("joint 1") && e.contains("exceeds its limit"), "{e}");
     let q1 = rows[1][1].as_f64().unwrap();
     assert!((q1 - 0.5 * (std::f64::consts::PI / 2.0).sin()).abs() < 1e-12, "{q1}");
     let e = fails(&["traj", "expr", "-r", "rommel", "--joint", "1", "sin(t", "--duration", "1"]);
@@ -1384,9 +1403,9 @@ fn random_misuse_never_panics_and_leaves_no_partial_output() {
         "ik-validate --robot scorbot-er-v-plus --n 50 --json",
         "selfmotion --robot lbr-iiwa-14-r820 --q fig9 --steps 12 --json",
         "traj law --profile scurve --distance 0.5 --vmax 1 --amax 2 --jmax 20 --dt 0.1 --json",
-        "traj ptp -r puma560 --from home --to qr --vmax 2 --amax 3 --dt 0.05 --out {out:ptp.csv}",
-        "traj lin -r lbr-iiwa-14-r820 --from fig9 --to 0.5,0.1,0.6,3.1,0.2,0 --vmax 0.2 --amax 0.5 --dt 0.05 --out {out:lin.csv}",
-        "traj expr -r rommel --joint 1 0.1*sin(4*pi*t) --duration 1 --dt 0.05 --out {out:expr.csv}",
+        "traj ptp -r puma560 --from home --to qr --vmax 1 --amax 3 --dt 0.05 --out {out:ptp.csv}",
+        "traj lin -r lbr-iiwa-14-r820 --from fig9 --to 0.1,0.1,0.9,0,-1.3,0 --vmax 0.2 --amax 0.5 --dt 0.05 --out {out:lin.csv}",
+        "traj expr -r rommel --joint 1 0.1*sin(2*pi*t) --duration 1 --dt 0.05 --out {out:expr.csv}",
         "traj check -r lbr-iiwa-14-r820 {traj.csv} --json",
         "run {prog.prg} --robot lbr-iiwa-14-r820 --dt 0.05 --out {out:run.csv}",
         "compile {prog.prg} --robot lbr-iiwa-14-r820 --listing",
