@@ -85,7 +85,7 @@ pub struct IkArgs {
     #[arg(long)]
     deg: bool,
     /// Seed of the numeric solver's restarts.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::seed)]
     seed: u64,
     /// Print JSON.
     #[arg(long)]
@@ -261,14 +261,34 @@ pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest
     })
 }
 
+/// Names the flag of a tolerance the core refused: its message names the
+/// request's field (`tolerance.position`), the command line knows it as
+/// `--tol-position`.
+fn tolerance_flag(e: anyhow::Error) -> anyhow::Error {
+    let flag = match e.downcast_ref::<Error>().map(Error::root) {
+        Some(Error::OutOfRange { what, .. }) if what == "tolerance.position" => "--tol-position",
+        Some(Error::OutOfRange { what, .. }) if what == "tolerance.orientation" => "--tol-orientation",
+        _ => return e,
+    };
+    e.context(flag)
+}
+
 pub fn ik(a: IkArgs) -> Result<()> {
+    // clap's `requires = "input"` on --output is not enforced when a target flag that conflicts with
+    // --input is given, so the batch pair is checked here: a lone --output would be ignored.
+    if a.output.is_some() && a.input.is_none() {
+        return Err(crate::usage_error(
+            "--output needs --input: it is where a batch's answers go (one per line of the --input CSV of \
+             targets); the answer to a single target is printed (add --json and redirect it to keep it)",
+        ));
+    }
     let robot = a.robot.load()?;
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
         return batch::run(&a, &robot, input, output);
     }
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
-    let (result, orientation_free) = solve(&a, &robot, target, q0.as_deref())?;
+    let (result, orientation_free) = solve(&a, &robot, target, q0.as_deref()).map_err(tolerance_flag)?;
     let answer = match result {
         Ok(s) => s,
         Err(Error::Unreachable { solver, reason, closest }) => {
@@ -344,7 +364,7 @@ pub struct ValidateArgs {
     #[arg(long, default_value_t = 1000, value_parser = crate::count(1, crate::MAX_CONFIGURATIONS))]
     n: usize,
     /// Seed of the random configurations.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::seed)]
     seed: u64,
     /// Print JSON.
     #[arg(long)]

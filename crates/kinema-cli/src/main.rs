@@ -266,7 +266,7 @@ struct BenchArgs {
     #[arg(long, default_value_t = 1_000_000, value_parser = count(1000, MAX_CONFIGURATIONS))]
     n: usize,
     /// Seed of the random configurations.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = seed)]
     seed: u64,
     /// Also time numeric inverse kinematics on --ik-n reachable targets (FK of random
     /// within-limit configurations; tolerance 1e-6 m / 1e-6 rad; limits enforced).
@@ -314,8 +314,54 @@ pub(crate) fn count(min: usize, max: usize) -> impl Fn(&str) -> Result<usize, St
     }
 }
 
+/// A parser for a seed flag: a whole number from 0 to 2⁶⁴ − 1, and a message
+/// that says so (`--seed -1` is "not a seed", not an unknown argument).
+pub(crate) fn seed(text: &str) -> Result<u64, String> {
+    text.trim()
+        .parse::<u64>()
+        .map_err(|_| format!("`{text}` is not a seed: a seed is a whole number from 0 to {}", u64::MAX))
+}
+
+/// The command line's grammar, with every option that takes one value taking
+/// the next word as that value even when it starts with `-` (`--dt -0.01`,
+/// `--seed -1`, `--tol-orientation -1e-3`): the value then reaches the
+/// option's parser or the core's validation, which say what is wrong with
+/// it, instead of clap calling `-1` an unexpected argument. (clap's
+/// `allow_negative_numbers` would not do: it does not read `-1e-3` as a number.)
+fn command() -> clap::Command {
+    fn hyphen_values(cmd: clap::Command) -> clap::Command {
+        cmd.mut_args(|a| {
+            if a.is_positional() || !a.get_action().takes_values() {
+                return a;
+            }
+            // An option of one value takes any next word; one of several values
+            // (`--measured a.csv b.csv`) only numbers, so it stops at the next flag.
+            match a.get_num_args() {
+                Some(r) if r.max_values() > 1 => a.allow_negative_numbers(true),
+                _ => a.allow_hyphen_values(true),
+            }
+        })
+        .mut_subcommands(hyphen_values)
+    }
+    hyphen_values(<Cli as clap::CommandFactory>::command())
+}
+
+/// Parses the command line (see [`command`]).
+fn parse(args: impl IntoIterator<Item = std::ffi::OsString>) -> Result<Cli, clap::Error> {
+    let mut cmd = command();
+    let matches = cmd.try_get_matches_from_mut(args)?;
+    <Cli as clap::FromArgMatches>::from_arg_matches(&matches).map_err(|e| e.format(&mut cmd))
+}
+
+/// A usage error found after parsing (exit 64, as clap's own), printed as
+/// clap prints its errors.
+pub(crate) fn usage_error(message: impl std::fmt::Display) -> anyhow::Error {
+    eprintln!("error: {message}\n\nFor more information, try '--help'.");
+    Exit(EXIT_USAGE).into()
+}
+
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    let cli = match parse(std::env::args_os()) {
         Ok(cli) => cli,
         Err(e) => {
             // --help and --version are not errors; clap prints them either way.
@@ -553,6 +599,14 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
 }
 
 fn fk(a: FkArgs) -> Result<()> {
+    // As `kinema ik`: clap does not enforce --output's `requires` when --q (which conflicts with
+    // --input) is given, and a lone --output would be ignored.
+    if a.output.is_some() && a.input.is_none() {
+        return Err(usage_error(
+            "--output needs --input: it is where a batch's poses go (one per line of the --input CSV of \
+             configurations); the pose of a single --q is printed (add --json and redirect it to keep it)",
+        ));
+    }
     let r = a.robot.load()?;
     let conv: RpyConvention = a.rpy.into();
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
@@ -945,4 +999,42 @@ fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<Value> {
         "median_us": times[count / 2], "p99_us": times[(count * 99 / 100).min(count - 1)],
         "mean_iterations": iters as f64 / ok.max(1) as f64, "restarts": restarts,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every option of every sub-command that takes a value takes `-1` and
+    /// `-1e-3` as that value: whatever the error then (a bad value, a missing
+    /// argument), it is never "unexpected argument '-1'" (issue 34).
+    #[test]
+    fn every_option_taking_a_value_takes_a_negative_number() {
+        fn walk(cmd: &clap::Command, path: &mut Vec<String>, checked: &mut usize) {
+            for arg in cmd.get_arguments() {
+                let Some(long) = arg.get_long() else { continue };
+                if arg.is_positional() || !arg.get_action().takes_values() {
+                    continue;
+                }
+                // clap reads only plain numbers as values of a many-valued option.
+                let many = arg.get_num_args().is_some_and(|r| r.max_values() > 1);
+                for value in if many { &["-1"][..] } else { &["-1", "-1e-3"][..] } {
+                    let argv: Vec<String> =
+                        path.iter().cloned().chain([format!("--{long}"), value.to_string()]).collect();
+                    if let Err(e) = parse(argv.iter().map(std::ffi::OsString::from)) {
+                        assert_ne!(e.kind(), clap::error::ErrorKind::UnknownArgument, "{argv:?}: {e}");
+                    }
+                }
+                *checked += 1;
+            }
+            for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
+                path.push(sub.get_name().into());
+                walk(sub, path, checked);
+                path.pop();
+            }
+        }
+        let mut checked = 0;
+        walk(&command(), &mut vec!["kinema".into()], &mut checked);
+        assert!(checked > 100, "only {checked} options");
+    }
 }

@@ -36,7 +36,7 @@ pub enum PlotCmd {
         #[arg(long, default_value_t = 200_000, value_parser = crate::count(1, crate::MAX_CONFIGURATIONS))]
         samples: usize,
         /// Seed of the random configurations.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::seed)]
         seed: u64,
         /// Side panel: r–z section (default when joint 1 is revolute) or the x–z projection.
         #[arg(long, value_enum)]
@@ -95,7 +95,7 @@ pub enum PlotCmd {
         #[arg(long, default_value_t = 1000, value_parser = crate::count(1, crate::MAX_CONFIGURATIONS))]
         cases: usize,
         /// Seed of the random configurations.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::seed)]
         seed: u64,
         #[command(flatten)]
         out: OutArg,

@@ -152,7 +152,7 @@ pub struct SimArgs {
     #[arg(long, default_value_t = 0.0)]
     noise_mm: f64,
     /// Seed of the recording noise.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::seed)]
     seed: u64,
 }
 
@@ -312,7 +312,7 @@ pub struct SquareArgs {
     #[arg(long, default_value_t = 1.0)]
     noise_mm: f64,
     /// Seed of the measurement noise.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = crate::seed)]
     seed: u64,
     /// Largest step between the points sent [m] (seed 000: 1 cm).
     #[arg(long, default_value_t = follow::SEED_MAX_STEP)]

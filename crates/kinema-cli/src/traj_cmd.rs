@@ -172,6 +172,16 @@ pub struct ExprArgs {
     /// Roll-pitch-yaw convention of the pose columns.
     #[arg(long, value_enum, default_value = "zyx")]
     rpy: RpyArg,
+    /// Velocity limits to check instead of the robot's (one value or one per joint): a curve meant for
+    /// a simulation, such as seed 001's, can be faster than the arm.
+    #[arg(long, allow_hyphen_values = true)]
+    vmax: Option<String>,
+    /// Acceleration limits to check instead of the robot's (one value or one per joint).
+    #[arg(long, allow_hyphen_values = true)]
+    amax: Option<String>,
+    /// Jerk limits to check (one value or one per joint; default: the robot's, if it has them).
+    #[arg(long, allow_hyphen_values = true)]
+    jmax: Option<String>,
     /// Write the samples as CSV.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -275,9 +285,10 @@ pub struct PtpArgs {
     /// Joint values (and --vmax/--amax/--jmax of revolute joints) in degrees.
     #[arg(long)]
     deg: bool,
-    /// The shared law's family.
-    #[arg(long, value_enum, default_value = "trapezoid")]
-    profile: ProfileArg,
+    /// The shared law's family [default: trapezoid, or scurve for a robot whose model has jerk limits
+    /// (the Panda), whose controller rejects the trapezoid's steps in acceleration].
+    #[arg(long, value_enum)]
+    profile: Option<ProfileArg>,
     /// Velocity limits: one value or one per joint (default: the robot's).
     #[arg(long, allow_hyphen_values = true)]
     vmax: Option<String>,
@@ -437,7 +448,7 @@ fn ptp(a: PtpArgs) -> Result<()> {
         bail!("--speed {}: the override must be a percentage in (0, 100]", a.speed);
     }
     let opts = PtpOptions {
-        profile: a.profile.into(),
+        profile: a.profile.map_or_else(|| kinema::traj::default_profile(&robot), Into::into),
         vel: limits_arg(&robot, a.vmax.as_deref(), a.deg, "vmax")?,
         acc: limits_arg(&robot, a.amax.as_deref(), a.deg, "amax")?,
         jerk: limits_arg(&robot, a.jmax.as_deref(), a.deg, "jmax")?,
@@ -704,8 +715,14 @@ fn expr(a: ExprArgs) -> Result<()> {
         }
         exprs.push((j - 1, Expr::parse(&pair[1])?));
     }
+    let limits = CheckOptions {
+        vel: limits_arg(&robot, a.vmax.as_deref(), false, "vmax")?,
+        acc: limits_arg(&robot, a.amax.as_deref(), false, "amax")?,
+        jerk: limits_arg(&robot, a.jmax.as_deref(), false, "jmax")?,
+        ..CheckOptions::default()
+    };
     let traj = expression_trajectory(&robot, &q0, &exprs, a.duration, a.dt)?;
-    check(&robot, &traj, &CheckOptions::default())?.into_result()?;
+    check(&robot, &traj, &limits)?.into_result()?;
     let summary = json!({
         "robot": robot.name(),
         "motion": "expression",

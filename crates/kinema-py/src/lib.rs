@@ -1633,7 +1633,9 @@ impl PyRobot {
     /// together), sampled every ``dt`` seconds plus the end time.
     ///
     /// ``profile``: ``"trapezoid"``, ``"scurve"``, ``"cubic"``, ``"quintic"`` or
-    /// ``"linear"``. ``vmax``/``amax``/``jmax``: velocity, acceleration and jerk
+    /// ``"linear"``; ``None`` (the default) is the robot's default profile, the
+    /// trapezoid unless the model has jerk limits (the Panda: ``"scurve"``).
+    /// ``vmax``/``amax``/``jmax``: velocity, acceleration and jerk
     /// limits (one value for every joint or one per joint; default: the robot's). ``speed``: override in
     /// (0, 1] (velocity limits × speed, acceleration × speed², jerk × speed³).
     /// ``duration``: stretch the motion to this many seconds. The sampled
@@ -1653,14 +1655,14 @@ impl PyRobot {
     ///         or boundary values (the message names ``v0``/``a0``/``v1``/``a1``).
     ///     TrajectoryError: the sampled trajectory breaks a limit.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (q0, qf, dt, profile="trapezoid", vmax=None, amax=None, jmax=None, speed=1.0, duration=None, *, v0=None, a0=None, v1=None, a1=None))]
+    #[pyo3(signature = (q0, qf, dt, profile=None, vmax=None, amax=None, jmax=None, speed=1.0, duration=None, *, v0=None, a0=None, v1=None, a1=None))]
     fn ptp(
         &self,
         py: Python<'_>,
         q0: &Bound<'_, PyAny>,
         qf: &Bound<'_, PyAny>,
         #[pyo3(from_py_with = real)] dt: f64,
-        profile: &str,
+        profile: Option<&str>,
         vmax: Option<&Bound<'_, PyAny>>,
         amax: Option<&Bound<'_, PyAny>>,
         jmax: Option<&Bound<'_, PyAny>>,
@@ -1679,8 +1681,12 @@ impl PyRobot {
             v1: limit_values(v1, "v1")?,
             a1: limit_values(a1, "a1")?,
         };
+        let profile = match profile {
+            Some(name) => name.parse::<Profile>().map_err(to_py)?,
+            None => kinema::traj::default_profile(&self.robot),
+        };
         let opts = PtpOptions {
-            profile: profile.parse::<Profile>().map_err(to_py)?,
+            profile,
             vel: limit_values(vmax, "vmax")?,
             acc: limit_values(amax, "amax")?,
             jerk: limit_values(jmax, "jmax")?,
@@ -1907,7 +1913,10 @@ impl PyRobot {
     /// hold their values in ``q0`` (default ``home``); sampled every ``dt``
     /// seconds over [0, ``duration``] plus the end time, velocities and
     /// accelerations from the symbolic derivatives, checked against the
-    /// robot's limits.
+    /// robot's limits, or against ``vmax``/``amax``/``jmax`` where given (one
+    /// value or one per joint, as :meth:`check` takes them): a curve meant
+    /// for a simulation, such as seed 001's θ1 = 3·sin(2πt²), can be faster
+    /// than the arm.
     ///
     /// ``joints``: ``{joint: expression}`` or a list of ``(joint, expression)``
     /// pairs, joints numbered from 1 as in ``--joint 1 "3*sin(4*pi*t^2/2)"``.
@@ -1921,7 +1930,8 @@ impl PyRobot {
     ///         that does not parse (its column in the message) or is not finite
     ///         at some sample, a bad ``q0``, ``duration`` or ``dt``.
     ///     TrajectoryError: the trajectory breaks a limit.
-    #[pyo3(signature = (joints, duration, dt=0.01, q0=None))]
+    #[pyo3(signature = (joints, duration, dt=0.01, q0=None, *, vmax=None, amax=None, jmax=None))]
+    #[allow(clippy::too_many_arguments)]
     fn expr(
         &self,
         py: Python<'_>,
@@ -1929,7 +1939,16 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] duration: f64,
         #[pyo3(from_py_with = real)] dt: f64,
         q0: Option<&Bound<'_, PyAny>>,
+        vmax: Option<&Bound<'_, PyAny>>,
+        amax: Option<&Bound<'_, PyAny>>,
+        jmax: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyJointTrajectory> {
+        let limits = CheckOptions {
+            vel: limit_values(vmax, "vmax")?,
+            acc: limit_values(amax, "amax")?,
+            jerk: limit_values(jmax, "jmax")?,
+            ..CheckOptions::default()
+        };
         let q0 = match q0.filter(|q| !q.is_none()) {
             Some(q) => self.joint_vector(q, "q0")?,
             None => self.robot.home().to_vec(),
@@ -1955,7 +1974,7 @@ impl PyRobot {
         let traj = py
             .allow_threads(move || -> kinema::Result<_> {
                 let traj = expression_trajectory(&robot, &q0, &exprs, duration, dt)?;
-                check(&robot, &traj, &CheckOptions::default())?.into_result()?;
+                check(&robot, &traj, &limits)?.into_result()?;
                 Ok(traj)
             })
             .map_err(to_py)?;

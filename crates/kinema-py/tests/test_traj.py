@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import kinema
-from cli import cli_json, needs_cli
+from cli import ROOT, cli_json, needs_cli
 
 
 @pytest.mark.parametrize("profile", ["trapezoid", "scurve", "cubic", "quintic", "linear"])
@@ -40,7 +40,15 @@ def test_ptp_respects_given_limits(robots):
     assert np.isclose(stretched.duration, 2 * tr.duration)
 
 
-def test_ptp_errors(robots):
+def without_acceleration_limits(name, tmp_path):
+    """A built-in robot, loaded from its file with the `acc` lines left out."""
+    text = (ROOT / "robots" / f"{name}.toml").read_text(encoding="utf-8")
+    path = tmp_path / f"{name}.toml"
+    path.write_text("".join(l + "\n" for l in text.splitlines() if not l.startswith("acc =")), encoding="utf-8")
+    return kinema.Robot.from_file(path)
+
+
+def test_ptp_errors(robots, tmp_path):
     r = robots["lbr-iiwa-14-r820"]
     qf = np.array([0.5, 0.4, -0.3, -1.0, 0.2, 0.6, -0.4])
     with pytest.raises(kinema.InvalidInput, match=r"unknown profile `bogus`"):
@@ -53,8 +61,9 @@ def test_ptp_errors(robots):
         r.ptp(r.home, qf, 0.01, speed=0.0)
     with pytest.raises(kinema.InvalidInput):
         r.ptp(r.home, qf, -1.0)
+    bare = without_acceleration_limits("lbr-iiwa-14-r820", tmp_path)
     with pytest.raises(kinema.InvalidInput, match=r"^joint 1 \(`.+`\): no acceleration limit for its motion in the robot model; give one \(`amax`\)"):
-        r.ptp(r.home, qf, 0.01)
+        bare.ptp(bare.home, qf, 0.01)
     # Velocity limits above the robot's: planned, then rejected by the check.
     with pytest.raises(kinema.TrajectoryError, match=r"^the trajectory is not emitted: \d+ violation"):
         r.ptp(r.home, qf, 0.01, vmax=100.0, amax=100.0)
@@ -70,17 +79,36 @@ def test_extreme_limits_are_refused_on_every_door(robots):
         kinema.time_law("scurve", 1.0, vmax=1.0, amax=1.0, jmax=1e-300)
     with pytest.raises(kinema.InvalidInput, match="overflows"):
         kinema.time_law("trapezoid", 1e308, vmax=0.5, amax=1.0)
-    tr = r.ptp("qz", "qr", 0.01, vmax=1e6, amax=1e6)
-    assert len(tr.t) >= 2 and np.allclose(tr.q[0], r.pose("qz"))
+    # Large but plannable limits: above the PUMA's own, so the check refuses them (the core's
+    # tests check that both ends are kept).
+    with pytest.raises(kinema.TrajectoryError, match="the trajectory is not emitted"):
+        r.ptp("qz", "qr", 0.01, vmax=1e6, amax=1e6)
 
 
-def test_panda_trapezoid_is_refused_for_its_jerk_limits(robots):
+def test_panda_trapezoid_is_refused_for_its_jerk_limits_and_its_default_is_the_scurve(robots):
     r = kinema.Robot.builtin("panda")
     qf = [0.5, -0.3, 0.2, -2.0, 0.1, 1.8, 0.6]
     with pytest.raises(kinema.InvalidInput, match="jerk limit"):
-        r.ptp(r.home, qf, 0.01)
-    tr = r.ptp(r.home, qf, 0.01, profile="scurve")
-    assert np.allclose(tr.q[-1], qf)
+        r.ptp(r.home, qf, 0.01, profile="trapezoid")
+    for tr in [r.ptp(r.home, qf, 0.01, profile="scurve"), r.ptp(r.home, qf, 0.01)]:
+        assert tr.profile == "scurve" and np.allclose(tr.q[-1], qf)
+
+
+def test_every_builtin_plans_a_default_ptp():
+    """Issue 34: ``robot.ptp(q0, q1, dt)`` with every default works on every built-in (from the
+    registry): from ``home`` to seeded random configurations within the limits and to every named
+    pose, the profile the robot's default (trapezoid, or the S-curve where the model has jerk limits)."""
+    rng = np.random.default_rng(34)
+    names = kinema.Robot.builtins()
+    assert len(names) >= 7
+    for name in names:
+        r = kinema.Robot.builtin(name)
+        lo, hi = r.qlim
+        targets = list(r.poses.values()) + [rng.uniform(lo, hi) for _ in range(3)]
+        for qf in targets:
+            tr = r.ptp(r.home, qf, 0.01)
+            assert np.allclose(tr.q[-1], qf, atol=1e-12), name
+            assert tr.profile == ("scurve" if name == "panda" else "trapezoid"), (name, tr.profile)
 
 
 VIA = np.array([0.5, 0.8, 0.2, 1.2, -0.4, -1.0, 0.1])

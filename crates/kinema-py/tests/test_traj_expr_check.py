@@ -29,7 +29,10 @@ def sample_times(duration, dt):
 
 
 def test_seed_001_curve(rommel):
-    tr = rommel.expr({1: "0.5*sin(4*pi*t^2/2)"}, duration=2.0, dt=0.5)
+    # Faster than ROMMEL's (estimated) limits: checked against limits given for it.
+    with pytest.raises(kinema.TrajectoryError, match=r"joint 1 .*exceeds its limit"):
+        rommel.expr({1: "0.5*sin(4*pi*t^2/2)"}, duration=2.0, dt=0.5)
+    tr = rommel.expr({1: "0.5*sin(4*pi*t^2/2)"}, duration=2.0, dt=0.5, vmax=20.0, amax=400.0)
     assert isinstance(tr, kinema.JointTrajectory) and tr.profile == "expression"
     assert len(tr) == 5 and tr.duration == 2.0 and tr.poses is None and tr.phase_times == []
     assert abs(tr.q[1, 0] - 0.5 * np.sin(np.pi / 2)) < 1e-12
@@ -238,8 +241,8 @@ def test_check_errors(iiwa):
 @needs_cli
 def test_expr_and_check_equal_the_cli(rommel, iiwa, tmp_path):
     out = cli_json(["traj", "expr", "-r", "rommel", "--joint", "1", "0.5*sin(4*pi*t^2/2)", "--joint", "3",
-                    "0.2*t", "--duration", "1.3", "--dt", "0.05", "--json"])
-    tr = rommel.expr({1: "0.5*sin(4*pi*t^2/2)", 3: "0.2*t"}, 1.3, dt=0.05)
+                    "0.2*t", "--duration", "1.3", "--dt", "0.05", "--vmax", "20", "--amax", "400", "--json"])
+    tr = rommel.expr({1: "0.5*sin(4*pi*t^2/2)", 3: "0.2*t"}, 1.3, dt=0.05, vmax=20.0, amax=400.0)
     rows = np.array(out["rows"])
     n = 5
     assert np.allclose(rows[:, 0], tr.t, rtol=0, atol=1e-15)

@@ -15,7 +15,7 @@ use kinema::math::{rot_y, rot_z};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, Cell, CheckOptions, JointMethod, Orientation, Profile,
-    Segment,
+    Segment, SelfMotion,
 };
 use kinema::{Pose, Robot};
 
@@ -62,7 +62,9 @@ fn main() -> kinema::Result<()> {
         &CartesianLimits { jerk: Some(2.0), rot_jerk: Some(4.0), ..limits },
         Blend::None,
     )?;
-    let t1 = to_joints(&r1, &m1, &q1, 0.01, JointMethod::default())?;
+    // q3 tracked (least joint motion): held, the turn ends in a wrist flip; seed 004's
+    // rule avoids it but turns the joints faster than their acceleration limits allow.
+    let t1 = to_joints(&r1, &m1, &q1, 0.01, JointMethod::Ik(SelfMotion::Track))?;
 
     // Robot 2: a full circle about the part's axis, 12 cm in front of it, its
     // tool pointing back at the part (along −x).

@@ -967,9 +967,14 @@ fn argument_errors_are_typed() {
     assert!(matches!(&e, Error::TooFew { what, got: 1, min: 2, .. } if what == "path"), "{e:?}");
     assert_eq!(e.to_string(), "`path` has 1 point(s); at least 2 needed");
 
-    // MissingLimit: the iiwa model has no acceleration limits, and a PTP needs them.
+    // MissingLimit: every built-in has acceleration limits, so the iiwa's file
+    // without them; a trapezoid PTP needs them.
     to[1] = 0.5;
-    let e = Ptp::new(&iiwa, iiwa.home(), &to, &PtpOptions::default()).unwrap_err();
+    let text = kinema::builtin_source("lbr-iiwa-14-r820").unwrap();
+    let no_acc: String = text.lines().filter(|l| !l.starts_with("acc =")).map(|l| format!("{l}\n")).collect();
+    let slow = Robot::from_toml_str(&no_acc, "iiwa-no-acc.toml").unwrap();
+    assert!(slow.joints().iter().all(|j| j.limits.acc.is_none() && j.limits.vel.is_some()));
+    let e = Ptp::new(&slow, slow.home(), &to, &PtpOptions::default()).unwrap_err();
     assert!(matches!(&e, Error::ForJoint { joint: 2, .. }), "{e:?}");
     assert!(
         matches!(e.root(), Error::MissingLimit { limit, option, .. } if limit == "acceleration" && option == "amax"),

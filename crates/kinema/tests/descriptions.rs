@@ -364,3 +364,17 @@ fn scara5_home_is_regular_and_qz_singular() {
     assert_eq!(robot.joints()[0].kind, JointType::Prismatic);
     assert_eq!(robot.joints()[3].kind, JointType::Prismatic);
 }
+
+/// Issue 34: every named pose of every built-in robot is within its joint
+/// limits (the Panda's `qz` was all zeros, outside Franka's joint 4 range
+/// [−3.0718, −0.0698] rad).
+#[test]
+fn every_named_pose_of_every_builtin_is_within_its_limits() {
+    for name in builtin_names() {
+        let robot = Robot::builtin(name).unwrap();
+        for p in robot.poses() {
+            let out: Vec<usize> = robot.limit_flags(&p.q).indices().collect();
+            assert!(out.is_empty(), "{name}: pose `{}` {:?} is outside the limits of joints {out:?}", p.name, p.q);
+        }
+    }
+}

@@ -409,16 +409,24 @@ fn seed_continuous_lin_reports_or_avoids_the_wrist_flip() {
     let v = report.violations.iter().find(|v| v.kind == ViolationKind::Velocity).expect("a velocity violation");
     assert!(v.joint.is_some() && v.time > 1.0 && v.time < m.duration());
     // With the elbow turned (q3 = −2.4) and q3 steered by seed 004's rule
-    // the same path stays within Cuadro I; held at −2.4, joint limits stop
-    // it, so the default takes the rule.
+    // the same path stays within Cuadro I's velocities; held at −2.4, joint
+    // limits stop it.
     let q_b = ik.solve_q3(&p0, -2.4).unwrap().into_iter().find(|s| s.within_limits()).unwrap().q;
     let e = to_joints(&robot, &m, &q_b, 0.01, JointMethod::Ik(SelfMotion::Hold)).unwrap_err().to_string();
     assert!(e.contains("joint limit") && e.contains("q3 held at -2.4"), "{e}");
     let rule = to_joints(&robot, &m, &q_b, 0.01, JointMethod::Ik(SelfMotion::Manipulability)).unwrap();
-    assert_eq!(to_joints(&robot, &m, &q_b, 0.01, JointMethod::default()).unwrap(), rule);
-    let traj = rule;
-    let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
+    let cuadro_i = CheckOptions { acc: Some(vec![f64::INFINITY]), ..CheckOptions::default() };
+    let report = check(&robot, &rule, &cuadro_i).unwrap();
     assert!(report.violations.is_empty(), "{}", report.violations[0]);
+    // But the rule's turns of q3 ask joints 3 and 5 for over 100 rad/s², far
+    // beyond the iiwa's (estimated) acceleration limits: the check refuses
+    // the path, and the default, which takes the rule only when it passes,
+    // reports the held path's joint limit.
+    let report = check(&robot, &rule, &CheckOptions::default()).unwrap();
+    let peak = report.peak_acc[2].max(report.peak_acc[4]);
+    assert!(peak > 100.0 && report.violations.iter().any(|v| v.kind == ViolationKind::Acceleration), "{peak}");
+    let e = to_joints(&robot, &m, &q_b, 0.01, JointMethod::default()).unwrap_err().to_string();
+    assert!(e.contains("q3 held at -2.4"), "{e}");
 }
 
 #[test]

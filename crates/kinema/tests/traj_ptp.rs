@@ -17,6 +17,14 @@ fn iiwa() -> Robot {
     Robot::builtin("lbr-iiwa-14-r820").unwrap()
 }
 
+/// The iiwa with Cuadro I's velocity limits but without the (estimated)
+/// acceleration limits of its built-in file.
+fn iiwa_without_acc() -> Robot {
+    let text = kinema::builtin_source("lbr-iiwa-14-r820").unwrap();
+    let text: String = text.lines().filter(|l| !l.starts_with("acc =")).map(|l| format!("{l}\n")).collect();
+    Robot::from_toml_str(&text, "iiwa-no-acc.toml").unwrap()
+}
+
 fn opts(profile: Profile) -> PtpOptions {
     PtpOptions { profile, acc: Some(vec![2.0]), jerk: Some(vec![15.0]), ..PtpOptions::default() }
 }
@@ -29,7 +37,7 @@ fn seed_ptp_example_respects_cuadro_i_and_one_limit_binds() {
         let ptp = Ptp::new(&robot, robot.home(), &SEED_Q_OBJ, &o).unwrap();
         let traj = ptp.sample(&robot, 0.001).unwrap();
         // The linear law starts with a velocity step: no acceleration limit applies to it.
-        let acc = (profile != Profile::Linear).then(|| vec![2.0]);
+        let acc = Some(vec![if profile == Profile::Linear { f64::INFINITY } else { 2.0 }]);
         let report = check(&robot, &traj, &CheckOptions { acc, ..CheckOptions::default() }).unwrap();
         assert!(report.violations.is_empty(), "{profile}: {:?}", report.violations.first());
         // Starts at q_ini, ends exactly at q_obj, all joints together.
@@ -139,9 +147,9 @@ fn speed_override_and_stretching_slow_the_same_path_down() {
 
 #[test]
 fn bad_input_gives_errors_that_name_the_problem() {
-    let robot = iiwa();
+    let robot = iiwa_without_acc();
     let msg = |r: kinema::Result<Ptp>| r.unwrap_err().to_string();
-    // The iiwa model has velocity limits (Cuadro I) but no acceleration limits.
+    // A model with velocity limits (Cuadro I) but no acceleration limits.
     let m = msg(Ptp::new(&robot, robot.home(), &SEED_Q_OBJ, &PtpOptions::default()));
     assert!(m.contains("acceleration") && m.contains("amax") && m.contains("joint 1"), "{m}");
     let m = msg(Ptp::new(&robot, robot.home(), &SEED_Q_OBJ[..6], &opts(Profile::Cubic)));
@@ -189,7 +197,9 @@ fn traj_of(robot: &Robot, times: &[f64], f: impl Fn(f64) -> (Vec<f64>, Vec<f64>,
 
 #[test]
 fn check_reports_each_violation_with_its_time_and_joint() {
-    let robot = iiwa();
+    // Velocity limits only: the branch flip below is then one jump, not also
+    // the accelerations its second difference implies.
+    let robot = iiwa_without_acc();
     let times: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
     let slow = |t: f64| (vec![0.1 * t; 7], vec![0.1; 7], vec![0.0; 7]);
     let ok = traj_of(&robot, &times, slow);
@@ -273,9 +283,9 @@ fn limits_too_large_to_sample_are_refused_not_collapsed_to_the_target() {
     let opts = PtpOptions { vel: Some(vec![1e100]), acc: Some(vec![1e100]), ..PtpOptions::default() };
     let e = Ptp::new(&robot, &from, &to, &opts).unwrap_err().to_string();
     assert!(e.contains("shorter than"), "{e}");
-    // Large but plannable limits keep both ends.
+    // Large but plannable limits keep both ends (unchecked: they are far above the robot's own).
     let opts = PtpOptions { vel: Some(vec![1e6]), acc: Some(vec![1e6]), ..PtpOptions::default() };
-    let traj = Ptp::new(&robot, &from, &to, &opts).unwrap().sample(&robot, 0.01).unwrap();
+    let traj = Ptp::new(&robot, &from, &to, &opts).unwrap().sample_unchecked(0.01).unwrap();
     assert!(traj.len() >= 2);
     assert_eq!(traj.q(0), &from[..]);
     assert_eq!(traj.q(traj.len() - 1), &to[..]);
@@ -472,5 +482,42 @@ fn smooth_motions_on_random_arms_are_not_branch_jumps() {
         let report = check(&robot, &traj, &opts).unwrap();
         let jumps: Vec<_> = report.violations.iter().filter(|v| v.kind == ViolationKind::BranchJump).collect();
         assert!(jumps.is_empty(), "case {case}: {}", jumps[0]);
+    }
+}
+
+/// Issue 34: every built-in robot plans a PTP with the defaults — its own
+/// velocity and acceleration limits and [`PtpOptions::for_robot`]'s profile
+/// (the Panda's S-curve, whose jerk limits refuse the trapezoid) — from
+/// `home` to seeded random configurations within its limits and to each of
+/// its named poses, and the sampled trajectory passes the checks.
+#[test]
+fn every_builtin_plans_a_default_ptp_from_home() {
+    let mut rng = ChaCha8Rng::seed_from_u64(34);
+    for name in kinema::builtin_names() {
+        let robot = Robot::builtin(name).unwrap();
+        let opts = PtpOptions::for_robot(&robot);
+        let has_jerk = robot.joints().iter().any(|j| j.limits.jerk.is_some());
+        assert_eq!(opts.profile == Profile::Trapezoid, !has_jerk, "{name}: {}", opts.profile);
+        for (i, j) in robot.joints().iter().enumerate() {
+            assert!(j.limits.vel.is_some_and(|v| v > 0.0), "{name}: joint {} has no velocity limit", i + 1);
+            assert!(j.limits.acc.is_some_and(|a| a > 0.0), "{name}: joint {} has no acceleration limit", i + 1);
+        }
+        let targets: Vec<(String, Vec<f64>)> = (0..5)
+            .map(|k| (format!("random {k}"), robot.random_q(&mut rng)))
+            .chain(robot.poses().iter().filter(|p| p.name != "home").map(|p| (p.name.clone(), p.q.clone())))
+            .collect();
+        for (what, to) in targets {
+            let ptp = Ptp::new(&robot, robot.home(), &to, &opts)
+                .unwrap_or_else(|e| panic!("{name}: default PTP from home to {what} {to:?}: {e}"));
+            let traj = ptp.sample(&robot, 0.01).unwrap_or_else(|e| panic!("{name}: home to {what}: {e}"));
+            let moves = to.as_slice() != robot.home();
+            assert!(
+                ptp.duration() < 60.0 && (ptp.duration() > 0.0) == moves,
+                "{name}: to {what}: {} s",
+                ptp.duration()
+            );
+            let last = traj.q(traj.len() - 1);
+            assert!(last.iter().zip(&to).all(|(a, b)| (a - b).abs() < 1e-12), "{name}: home to {what}");
+        }
     }
 }

@@ -291,7 +291,7 @@ class Robot:
         q0: JointVector,
         qf: JointVector,
         dt: float,
-        profile: ProfileName = "trapezoid",
+        profile: Optional[ProfileName] = None,
         vmax: Optional[ArrayLike] = None,
         amax: Optional[ArrayLike] = None,
         jmax: Optional[ArrayLike] = None,
@@ -311,8 +311,13 @@ class Robot:
         duration: float,
         dt: float = 0.01,
         q0: Optional[JointVector] = None,
+        *,
+        vmax: Optional[ArrayLike] = None,
+        amax: Optional[ArrayLike] = None,
+        jmax: Optional[ArrayLike] = None,
     ) -> JointTrajectory:
-        """Joints (numbered from 1) following expressions of t, the others at q0 (home); checked.
+        """Joints (numbered from 1) following expressions of t, the others at q0 (home); checked against
+        the robot's limits or vmax/amax/jmax where given.
 
         Raises InvalidInput, TrajectoryError."""
     @overload

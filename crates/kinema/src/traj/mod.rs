@@ -105,8 +105,44 @@ pub struct PtpOptions {
 }
 
 impl Default for PtpOptions {
+    /// The trapezoid and the robot's limits. For a robot whose model has jerk
+    /// limits use [`PtpOptions::for_robot`]: the trapezoid is refused there.
     fn default() -> Self {
         PtpOptions { profile: Profile::Trapezoid, vel: None, acc: None, jerk: None, speed: 1.0, duration: None }
+    }
+}
+
+impl PtpOptions {
+    /// The defaults for `robot`: its limits and [`default_profile`]`(robot)`,
+    /// what `kinema traj ptp` and Python's `Robot.ptp` use when no profile is
+    /// named.
+    ///
+    /// # Examples
+    /// ```
+    /// use kinema::traj::{Profile, Ptp, PtpOptions};
+    /// let panda = kinema::Robot::builtin("panda")?;
+    /// let opts = PtpOptions::for_robot(&panda);
+    /// assert_eq!(opts.profile, Profile::SCurve); // Franka publishes jerk limits
+    /// let ptp = Ptp::new(&panda, panda.home(), &[0.5, -0.3, 0.2, -2.0, 0.1, 1.8, 0.6], &opts)?;
+    /// assert!(ptp.duration() > 0.0);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn for_robot(robot: &Robot) -> PtpOptions {
+        PtpOptions { profile: default_profile(robot), ..PtpOptions::default() }
+    }
+}
+
+/// The time law a point-to-point motion of `robot` gets when none is named:
+/// the trapezoid (seed 004 eq. 32–37) unless the model has jerk limits,
+/// whose controller (the Panda's) rejects the trapezoid's steps in
+/// acceleration — then the S-curve, which respects them, or the quintic
+/// (continuous acceleration, no jerk limit needed) when only some joints have one.
+pub fn default_profile(robot: &Robot) -> Profile {
+    let with_jerk = robot.joints().iter().filter(|j| j.limits.jerk.is_some()).count();
+    match with_jerk {
+        0 => Profile::Trapezoid,
+        n if n == robot.dof() => Profile::SCurve,
+        _ => Profile::Quintic,
     }
 }
 

@@ -110,7 +110,7 @@ impl SelfMotion {
 }
 
 /// Largest change of the parameter's rate \[rad/s²\] the objective-driven
-/// policies ask for when the model gives its joint no acceleration limit:
+/// policies ask for (less where the model's limit on its joint is lower):
 /// the search looks around the constant-rate prediction within ±a·dt² per
 /// decision, so the parameter turns smoothly instead of reversing at full
 /// speed (seed 004's rule alone maximises manipulability greedily and
@@ -227,7 +227,8 @@ pub(crate) fn steered_path(
     let j = family.joint();
     let parameter = family.parameters()[0];
     let vmax = |i: usize| robot.joints()[i].limits.vel.unwrap_or(f64::INFINITY);
-    let amax = robot.joints()[j].limits.acc.unwrap_or(PARAMETER_ACCELERATION);
+    // The smoothness target, or the joint's own acceleration limit where that is lower.
+    let amax = robot.joints()[j].limits.acc.map_or(PARAMETER_ACCELERATION, |a| a.min(PARAMETER_ACCELERATION));
     // One decision: around the parameter's constant-rate prediction first
     // (smooth), else the whole window its velocity limit allows (escaping a
     // joint jump ahead). Returns the configuration and whether it was smooth.
