@@ -1884,7 +1884,8 @@ fn dyn_refuses_bad_input_and_arms_without_mass() {
     assert!(e.contains("has no mass properties") && !e.contains("none.csv"), "{e}");
 }
 
-/// Seed 003 Fig. 9's LIN from `home`: the zone rule puts the first sample on
+/// Seed 003 Fig. 9's LIN from `home`, on the SCARA without its rate limits:
+/// the zone rule puts the first sample on
 /// another rail position and elbow (the rail 0.24 m, the elbow 0.84 rad in
 /// 10 ms while the tool moves 19 µm). It is not emitted, and `traj check`
 /// reports the branch jump even with no velocity limit to break.
@@ -1892,11 +1893,12 @@ fn dyn_refuses_bad_input_and_arms_without_mass() {
 fn a_branch_jump_is_refused_and_reported_without_limits() {
     let dir = tempdir("branch-jump");
     let csv = dir.join("jump.csv");
+    let scara = common::builtin_without_rate_limits(&dir, "scara5");
     let r = kinema(&[
         "traj",
         "lin",
         "-r",
-        "scara5",
+        &scara,
         "--from",
         "home",
         "--to",
@@ -1918,7 +1920,7 @@ fn a_branch_jump_is_refused_and_reported_without_limits() {
          0.02,0.738513068640,-0.085305507695,2.407179723496,0.1,-0.227679113408\n",
     )
     .unwrap();
-    let r = kinema(&["traj", "check", "-r", "scara5", csv.to_str().unwrap(), "--vmax", "1e9", "--json"]);
+    let r = kinema(&["traj", "check", "-r", &scara, csv.to_str().unwrap(), "--json"]);
     assert!(!r.ok, "a branch jump passed the check");
     let v: Value = serde_json::from_str(&r.stdout).unwrap();
     let kinds: Vec<(&str, u64)> = v["violations"]

@@ -208,12 +208,7 @@ fn skip_unreachable_leaves_out_points_outside_the_workspace() {
     // The SCARA without its (estimated) joint velocity and acceleration
     // limits: the path kinks where the zone rule moves the rail to another
     // zone, which those limits refuse; the skipping is what is tested here.
-    let text = kinema::builtin_source("scara5").unwrap();
-    let free: String =
-        text.lines().filter(|l| !l.starts_with("vel =") && !l.starts_with("acc =")).map(|l| format!("{l}\n")).collect();
-    let free_path = dir.path().join("scara5-free.toml");
-    std::fs::write(&free_path, free).unwrap();
-    let free_path = free_path.to_str().unwrap().to_string();
+    let free_path = common::builtin_without_rate_limits(dir.path(), "scara5");
     let lin = |vias: &[&str], out: &std::path::Path, skip: bool| {
         // The zone rule's configuration for `home`'s tool pose (as in
         // docs/seeds.md, Fig. 9): from `home` itself the first sample moves the

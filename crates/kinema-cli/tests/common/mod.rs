@@ -72,3 +72,16 @@ pub fn kinema_in(dir: &std::path::Path, args: &[String], timeout: std::time::Dur
         stderr,
     }
 }
+
+/// A copy of built-in robot `name` without its joint velocity and
+/// acceleration limits, written into `dir`; returns its path. For tests of
+/// what the checks find with no rate limit to break.
+#[allow(dead_code)] // Not every test binary uses it.
+pub fn builtin_without_rate_limits(dir: &std::path::Path, name: &str) -> String {
+    let text = kinema::builtin_source(name).unwrap_or_else(|| panic!("no built-in `{name}`"));
+    let kept: String =
+        text.lines().filter(|l| !l.starts_with("vel =") && !l.starts_with("acc =")).map(|l| format!("{l}\n")).collect();
+    let path = dir.join(format!("{name}-without-rate-limits.toml"));
+    std::fs::write(&path, kept).unwrap();
+    path.to_str().unwrap().to_string()
+}
