@@ -45,7 +45,8 @@ def test_scorbot_pitch_roll(family):
         p = r.fkine(q)[:3, 3]
         pitch, roll = -(q[1] + q[2] + q[3]), q[4]
         sols = r.ik(position=p, pitch=pitch, roll=roll, all=True)
-        assert 1 <= len(sols) <= 4
+        # Up to 4 branches, each with every 2π copy of the wrist roll within its limits.
+        assert 1 <= len({tuple(np.round(wrap(s.q), 9)) for s in sols}) <= 4
         for s in sols:
             assert s.solver == "scorbot" and s.iterations is None
             T = r.fkine(s.q)
@@ -53,7 +54,7 @@ def test_scorbot_pitch_roll(family):
             assert np.isclose(s.position_error, np.linalg.norm(T[:3, 3] - p), atol=1e-12)
             yaw_only = T[:3, :3] @ R_H @ rx(roll).T @ ry(pitch).T
             assert abs(yaw_only[2, 2] - 1.0) < 1e-9, s
-            assert abs(wrap(-(s.q[1] + s.q[2] + s.q[3]) - pitch)) < 1e-9 and s.q[4] == roll
+            assert abs(wrap(-(s.q[1] + s.q[2] + s.q[3]) - pitch)) < 1e-9 and abs(wrap(s.q[4] - roll)) < 1e-12
             lo, hi = r.qlim
             assert s.within_limits == bool(np.all((s.q >= lo) & (s.q <= hi)))
         # The configuration the target came from is among them, and is the one picked near it.
@@ -108,9 +109,11 @@ def test_scara_alpha_zone_rule(family):
         assert abs(wrap(s.q[1] + s.q[2] + s.q[4] - alpha)) < 1e-9
         assert np.abs(F[:3, :3] - rz(alpha)).max() < 1e-9
         assert np.sign(s.q[2]) == np.sign(q[2])
-        # all=True gives the same single solution.
-        (again,) = r.ik(position=p, alpha=alpha, q0=q, all=True)
-        assert np.array_equal(again.q, s.q)
+        # all=True gives the same solution, and the wrist's other 2π copies within its ±360°.
+        again = r.ik(position=p, alpha=alpha, q0=q, all=True)
+        assert any(np.array_equal(a.q, s.q) for a in again)
+        for a in again:
+            assert np.allclose(a.q[:4], s.q[:4], atol=0) and abs(wrap(a.q[4] - s.q[4])) < 1e-12
     # Reachable targets are never refused: off the zone rule's rail the nearest working rail is taken.
     assert reached == 500 and outside == 0, (reached, outside)
 

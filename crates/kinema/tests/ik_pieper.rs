@@ -398,6 +398,133 @@ fn general_pieper_arms() {
     complete_against_numeric(&robot);
 }
 
+/// A seeded general spherical-wrist arm (a1 ≠ 0, skewed α1 and α2): the
+/// random shoulder of [`ArmKind::General`], an orthogonal wrist. Returns it
+/// with its d6.
+fn random_general_arm(rng: &mut ChaCha8Rng, k: usize) -> (Robot, f64) {
+    let mut skew = || {
+        let a: f64 = rng.random_range(20.0..70.0);
+        let a = if rng.random_bool(0.5) { 180.0 - a } else { a };
+        if rng.random_bool(0.5) {
+            -a
+        } else {
+            a
+        }
+    };
+    let (alpha1, alpha2, alpha3) = (skew(), skew(), skew());
+    let wrist = if rng.random_bool(0.5) { 90.0 } else { -90.0 };
+    let mut len = |lo: f64, hi: f64| rng.random_range(lo..hi);
+    let rows = [
+        (len(0.1, 0.4), len(0.05, 0.3), alpha1, 0.0),
+        (len(-0.1, 0.1), len(0.2, 0.5), alpha2, 0.0),
+        (len(-0.1, 0.1), len(0.0, 0.1), alpha3, 0.0),
+        (len(0.2, 0.5), 0.0, wrist, 0.0),
+        (0.0, 0.0, -wrist, 0.0),
+        (len(0.05, 0.15), 0.0, 0.0, 0.0),
+    ];
+    (synthetic(&format!("general-random-{k}"), "standard", rows, ""), rows[5].0)
+}
+
+/// The wrist centre (flange origin d6 back along its z axis; no tool).
+fn wrist_centre(robot: &Robot, q: &[f64], d6: f64) -> kinema::nalgebra::Vector3<f64> {
+    let t = robot.fk(q).unwrap().world_from_tool;
+    let m = t.to_rows();
+    kinema::nalgebra::Vector3::new(m[0][3] - d6 * m[0][2], m[1][3] - d6 * m[1][2], m[2][3] - d6 * m[2][2])
+}
+
+/// det ∂(wrist centre)/∂(q1, q2, q3) by central differences.
+fn arm_jacobian_det(robot: &Robot, q: &[f64], d6: f64) -> f64 {
+    let h = 1e-6;
+    let cols: Vec<_> = (0..3)
+        .map(|i| {
+            let (mut a, mut b) = (q.to_vec(), q.to_vec());
+            a[i] += h;
+            b[i] -= h;
+            (wrist_centre(robot, &a, d6) - wrist_centre(robot, &b, d6)) / (2.0 * h)
+        })
+        .collect();
+    kinema::nalgebra::Matrix3::from_columns(&cols).determinant()
+}
+
+/// Issue 34 item 7: on seeded random general spherical-wrist arms every
+/// solution a numeric multi-start finds (40 random starts, limits not
+/// enforced) is among pieper's, and pieper lists 4 or 8 — at random targets
+/// and at targets 1 mrad in θ3 from the fold of the arm's workspace, where
+/// two roots of the θ3 quartic nearly meet (the case that lost two roots).
+#[test]
+fn general_arms_list_every_solution_a_multi_start_finds() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x347);
+    let opts = NumericOptions {
+        max_restarts: 0,
+        enforce_limits: false,
+        tol_position: 1e-12,
+        tol_orientation: 1e-12,
+        ..Default::default()
+    };
+    let (mut targets, mut near_fold, mut numeric_found) = (0, 0, 0);
+    for k in 0..8 {
+        let (robot, d6) = random_general_arm(&mut rng, k);
+        let ik = PieperIk::new(&robot).unwrap();
+        assert_eq!(ik.arm_kind(), ArmKind::General, "{}", robot.name());
+        let numeric = NumericIk::with_options(&robot, opts.clone()).unwrap();
+        let mut qs: Vec<(Vec<f64>, bool)> = (0..20).map(|_| (robot.random_q(&mut rng), false)).collect();
+        // θ3 on the fold (det of the arm's Jacobian changes sign), then 1 mrad off it.
+        for _ in 0..40 {
+            let mut q = robot.random_q(&mut rng);
+            let det_at = |q: &mut Vec<f64>, t3: f64| {
+                q[2] = t3;
+                arm_jacobian_det(&robot, q, d6)
+            };
+            let (mut lo, mut hi) = (-PI, -PI + 0.05);
+            let mut flo = det_at(&mut q, lo);
+            while hi <= PI && (flo > 0.0) == (det_at(&mut q, hi) > 0.0) {
+                (lo, flo, hi) = (hi, det_at(&mut q, hi), hi + 0.05);
+            }
+            if hi > PI {
+                continue;
+            }
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if (det_at(&mut q, mid) > 0.0) == (flo > 0.0) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            q[2] = lo + if rng.random_bool(0.5) { 1e-3 } else { -1e-3 };
+            qs.push((q, true));
+            if qs.iter().filter(|(_, f)| *f).count() == 8 {
+                break;
+            }
+        }
+        for (q, fold) in qs {
+            let target = robot.fk(&q).unwrap().world_from_tool;
+            let sols = ik.solve(&target).unwrap_or_else(|e| panic!("{}: q = {q:?}: {e}", robot.name()));
+            assert_accurate(&sols, &format!("{} q = {q:?}", robot.name()));
+            assert!(sols.iter().any(|s| same_config(&s.q, &q, 1e-8)), "{}: q = {q:?} not found", robot.name());
+            assert!(sols.len() == 4 || sols.len() == 8, "{}: q = {q:?}: {} solutions", robot.name(), sols.len());
+            for _ in 0..40 {
+                let q0: Vec<f64> = (0..6).map(|_| rng.random_range(-PI..PI)).collect();
+                let Ok(s) = numeric.solve_from(&target, &q0) else { continue };
+                if s.position_error < 1e-10 && s.orientation_error < 1e-10 {
+                    numeric_found += 1;
+                    assert!(
+                        sols.iter().any(|a| same_config(&a.q, &s.q, 1e-6)),
+                        "{}: q = {q:?} (near the fold: {fold}): numeric solution {:?} missing from {:?}",
+                        robot.name(),
+                        s.q,
+                        sols.iter().map(|s| &s.q).collect::<Vec<_>>()
+                    );
+                }
+            }
+            targets += 1;
+            near_fold += usize::from(fold);
+        }
+    }
+    eprintln!("{targets} targets ({near_fold} near the fold), {numeric_found} numeric solutions, all listed");
+    assert!(targets >= 200 && near_fold >= 40 && numeric_found > 2000, "{targets} {near_fold} {numeric_found}");
+}
+
 #[test]
 fn modified_dh_puma() {
     // The PUMA 560 as a modified (Craig) table: row i holds αi−1, ai−1, di.

@@ -26,8 +26,10 @@
 //!      gives θ2 (two roots), and θ1 follows;
 //!    * *general* (a1 ≠ 0 and α1 ≠ 0 mod 180°, not of the first kind, e.g.
 //!      α1 = α2 = 90° with a1 ≠ 0): eliminating θ2 from the two equations
-//!      leaves one equation in θ3 (a quartic in tan(θ3/2), up to 4 roots),
-//!      solved numerically to rounding level; θ2 and θ1 follow in closed form.
+//!      leaves one equation in θ3, of degree 2 in cos θ3 and sin θ3 (a
+//!      quartic in tan(θ3/2), up to 4 roots), whose coefficients five samples
+//!      give exactly; its real roots are found to rounding level, and θ2 and
+//!      θ1 follow in closed form.
 //!
 //!    Degenerate shoulders (axes 1 and 2 coincident, or axes 1, 2, 3 all
 //!    parallel) are rejected by [`PieperIk::new`].
@@ -72,10 +74,11 @@
 
 use std::f64::consts::PI;
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::geo::subproblems::circle_conic;
 use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
@@ -107,9 +110,9 @@ pub enum ArmKind {
     /// α1 ∈ {0, 180°} and a1 ≠ 0: axes 1 and 2 parallel; α2 ≠ 0 mod 180°.
     ParallelShoulder,
     /// Any other arrangement with a1 ≠ 0 and α1 ≠ 0 mod 180° (Pieper's
-    /// general case): θ3 from a degree-4 trigonometric equation, solved
-    /// numerically to rounding level (bracketing on a 720-point grid, then
-    /// bisection; near-double roots by Newton from the grid's local minima).
+    /// general case): θ3 from a trigonometric equation of degree 2, a
+    /// quartic in tan(θ3/2) whose real roots are isolated between the
+    /// roots of its derivatives and refined to rounding level.
     General,
 }
 
@@ -600,62 +603,10 @@ impl PieperIk {
             let qq = (z - l1.ca * g.z) / l1.sa;
             (g, pp, qq, pp * pp + qq * qq - (g.x * g.x + g.y * g.y))
         };
-        let f = |t3: f64| pq(t3).3;
-        const N: usize = 720;
-        let step = 2.0 * PI / N as f64;
-        let samples: Vec<f64> = (0..=N).map(|i| f(-PI + i as f64 * step)).collect();
-        let mut roots: Vec<f64> = Vec::with_capacity(4);
-        for i in 0..N {
-            let (mut lo, mut hi) = (-PI + i as f64 * step, -PI + (i + 1) as f64 * step);
-            let (mut flo, fhi) = (samples[i], samples[i + 1]);
-            if flo == 0.0 {
-                roots.push(lo);
-                continue;
-            }
-            if flo.signum() != fhi.signum() && fhi != 0.0 {
-                for _ in 0..200 {
-                    let mid = 0.5 * (lo + hi);
-                    if mid <= lo || mid >= hi {
-                        break;
-                    }
-                    let fm = f(mid);
-                    if fm == 0.0 {
-                        lo = mid;
-                        hi = mid;
-                        break;
-                    }
-                    if fm.signum() == flo.signum() {
-                        lo = mid;
-                        flo = fm;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                roots.push(if flo.abs() <= f(hi).abs() { lo } else { hi });
-            } else if i > 0 && samples[i].abs() < samples[i - 1].abs() && samples[i].abs() <= fhi.abs() {
-                // A local minimum of |F| without a sign change: a (near-)double root? Newton on F.
-                let mut t = lo;
-                for _ in 0..30 {
-                    let h = 1e-7;
-                    let d = (f(t + h) - f(t - h)) / (2.0 * h);
-                    if d == 0.0 || !d.is_finite() {
-                        break;
-                    }
-                    let nt = t - f(t) / d;
-                    if !nt.is_finite() || (nt - t).abs() > step {
-                        break;
-                    }
-                    t = nt;
-                }
-                let (g, pp, qq, ft) = pq(t);
-                let scale = (pp * pp + qq * qq + g.norm_squared()).max(1e-300);
-                if ft.abs() <= 1e-13 * scale && !roots.iter().any(|r| wrap_angle(r - t).abs() < 1e-9) {
-                    roots.push(t);
-                }
-            }
-        }
+        let mut roots = [0.0; 4];
+        let n = degree_two_trig_roots(|t3| pq(t3).3, &mut roots);
         let mut out = Vec::with_capacity(4);
-        for (e, t3) in roots.into_iter().enumerate() {
+        for (e, &t3) in roots[..n].iter().enumerate() {
             let (g, pp, qq, _) = pq(t3);
             let t2 = if g.x.fast_hypot(g.y) <= AXIS_TOL {
                 self.links[1].offset
@@ -663,18 +614,18 @@ impl PieperIk {
                 qq.fast_atan2(pp) - g.y.fast_atan2(g.x)
             };
             let t1 = theta1(l1, &g, t2, p);
-            // Keep only exact solutions (a bracket may also straddle a pole-free sign change of rounding noise).
+            // Keep only exact solutions (a near-double root may be a rounding artefact of a complex pair).
             let wc = self.arm_point([t1, t2, t3]);
             if (wc - p).norm() <= 1e-9 * (1.0 + p.norm()) {
-                const LABELS: [&str; 8] = ["arm-1", "arm-2", "arm-3", "arm-4", "arm-5", "arm-6", "arm-7", "arm-8"];
-                out.push(([t1, t2, t3], LABELS.get(e).copied().unwrap_or("arm")));
+                const LABELS: [&str; 4] = ["arm-1", "arm-2", "arm-3", "arm-4"];
+                out.push(([t1, t2, t3], LABELS[e]));
             }
         }
         if out.is_empty() {
             // The arm equations' mismatch over θ3 is in m², not a distance: no figure.
             return Err(Unreachable::NotReached {
-                detail: "the wrist centre is outside the region the arm reaches (general Pieper arm: a search over \
-                         θ3 finds no solution of the arm equations)"
+                detail: "the wrist centre is outside the region the arm reaches (general Pieper arm: the arm \
+                         equations' condition on θ3 has no real root)"
                     .into(),
             });
         }
@@ -762,6 +713,45 @@ fn arm_g(links: &[Link; 6], t3: f64) -> Vector3<f64> {
     let f2 = l3.a * s3 - l4.d * l3.sa * c3;
     let f3 = l3.d + l4.d * l3.ca;
     Vector3::new(f1 + l2.a, l2.ca * f2 - l2.sa * f3, l2.sa * f2 + l2.ca * f3 + l2.d)
+}
+
+/// The roots θ \[rad\] in (−π, π], increasing, of `f`, a trigonometric
+/// polynomial of degree 2 (f = a0 + a1·cos θ + b1·sin θ + a2·cos 2θ +
+/// b2·sin 2θ), written to `out`; returns how many. Five equally spaced
+/// samples give the coefficients exactly; as a conic in (cos θ, sin θ) the
+/// equation is a quartic in a tangent half-angle ([`circle_conic`]). Each root
+/// is then refined by Newton's method on `f` itself.
+fn degree_two_trig_roots(f: impl Fn(f64) -> f64, out: &mut [f64; 4]) -> usize {
+    let mut c = [0.0; 5];
+    for k in 0..5 {
+        let t = 2.0 * PI * k as f64 / 5.0;
+        let v = f(t);
+        let ((s1, c1), (s2, c2)) = (t.sin_cos(), (2.0 * t).sin_cos());
+        for (acc, basis) in c.iter_mut().zip([1.0, c1, s1, c2, s2]) {
+            *acc += v * basis;
+        }
+    }
+    let [a0, a1, b1, a2, b2] = [c[0] / 5.0, 0.4 * c[1], 0.4 * c[2], 0.4 * c[3], 0.4 * c[4]];
+    // a2·cos 2θ + b2·sin 2θ = a2·(c² − s²) + 2·b2·c·s.
+    let conic = Matrix2::new(a2, b2, b2, -a2);
+    let n = circle_conic(&conic, &Vector2::new(a1, b1), a0, out);
+    let slope = |t: f64| {
+        let ((s1, c1), (s2, c2)) = (t.sin_cos(), (2.0 * t).sin_cos());
+        -a1 * s1 + b1 * c1 - 2.0 * a2 * s2 + 2.0 * b2 * c2
+    };
+    for t in &mut out[..n] {
+        for _ in 0..2 {
+            let (ft, dt) = (f(*t), slope(*t));
+            let next = *t - ft / dt;
+            if !(next.is_finite() && (next - *t).abs() < 1e-6 && f(next).abs() < ft.abs()) {
+                break;
+            }
+            *t = next;
+        }
+        *t = wrap_angle(*t);
+    }
+    out[..n].sort_by(f64::total_cmp);
+    n
 }
 
 /// θ1 from (px, py) = Rz(θ1)·(w1, w2), (w1, w2) the horizontal part of
