@@ -2,6 +2,9 @@
 //! load them from one URDF, the states and Pinocchio's results written by `pinocchio_bench`, and
 //! a URDF writer for kinema's built-in DH robots so that all three peers read the same model.
 
+#[cfg(feature = "ik-geo")]
+pub mod ikgeo;
+
 use std::fmt::Write as _;
 use std::path::Path;
 

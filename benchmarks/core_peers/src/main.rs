@@ -4,6 +4,9 @@
 //! core-peers urdf BUILTIN OUT.urdf        kinema's built-in robot written as a URDF (tip link `tool`)
 //! core-peers joints URDF TIP              the moving joints from the root to TIP, comma-separated
 //! core-peers check URDF TIP STATES.csv    kinema and k against Pinocchio's results; exit 1 above the bound
+//! core-peers ik-geo-check REPO [N]        (feature ik-geo) kinema's closed forms against IK-Geo's
+//!                                         on the arms of benches/ik_geo.rs; exit 1 if kinema
+//!                                         misses a solution
 //! ```
 
 use std::path::Path;
@@ -12,7 +15,11 @@ use std::process::ExitCode;
 use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into, DynBuffers};
 use kinema::nalgebra::{DMatrix, Vector3};
 use kinema::{Frame, Robot};
+#[cfg(feature = "ik-geo")]
+use kinema_core_peers::ikgeo::{arms, GeoArm};
 use kinema_core_peers::{load, read_states, urdf_of};
+#[cfg(feature = "ik-geo")]
+use rand::SeedableRng;
 
 /// Largest difference accepted: absolute for the pose and the Jacobian, relative to
 /// 1 + the largest magnitude for τ and M.
@@ -89,6 +96,46 @@ fn check(urdf: &Path, tip: &str, states: &Path) -> Result<bool, String> {
     Ok(ok)
 }
 
+/// Same configuration up to whole turns of each joint.
+#[cfg(feature = "ik-geo")]
+fn same_angles(a: &[f64], b: &[f64]) -> bool {
+    a.iter().zip(b).all(|(x, y)| kinema::ik::wrap_angle(x - y).abs() < 1e-6)
+}
+
+/// On `n` targets from seeded configurations within the limits: IK-Geo's exact solutions that
+/// reach the target (FK residual below 1e-9) must all be among kinema's; prints the counts.
+#[cfg(feature = "ik-geo")]
+fn ik_geo_check(arm: &GeoArm, n: usize) -> Result<bool, String> {
+    let solver = kinema::ik::analytic_solver(&arm.robot).ok_or("no closed form in kinema")?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(34);
+    let (mut mine, mut theirs, mut missing) = (0, 0, 0);
+    for _ in 0..n {
+        let q = arm.robot.random_q(&mut rng);
+        let target = arm.robot.fk(&q).map_err(|e| e.to_string())?.world_from_tool;
+        let sols = solver.solve(&target).map_err(|e| e.to_string())?;
+        mine += sols.len();
+        for g in arm.geo_solve(&target) {
+            let reached = arm.robot.fk(&g).map_err(|e| e.to_string())?.world_from_tool;
+            let e = kinema::math::pose_error(&target, &reached);
+            if e.position_norm() > 1e-9 || e.rotation_angle() > 1e-9 {
+                continue;
+            }
+            theirs += 1;
+            if !sols.iter().any(|s| same_angles(&s.q, &g)) {
+                missing += 1;
+                println!("    {}: IK-Geo's {g:?} is not among kinema's {} solutions", arm.name, sols.len());
+            }
+        }
+    }
+    println!(
+        "  {:<18} {} ({}): {n} targets, kinema {mine} solutions, IK-Geo {theirs} exact ones reaching the target, {missing} of them missing from kinema's",
+        arm.name,
+        solver.name(),
+        arm.family
+    );
+    Ok(missing == 0)
+}
+
 fn run(args: &[String]) -> Result<bool, String> {
     match args {
         [cmd, name, out] if cmd == "urdf" => {
@@ -103,7 +150,19 @@ fn run(args: &[String]) -> Result<bool, String> {
             Ok(true)
         }
         [cmd, urdf, tip, states] if cmd == "check" => check(Path::new(urdf), tip, Path::new(states)),
-        _ => Err("usage: core-peers urdf BUILTIN OUT | joints URDF TIP | check URDF TIP STATES.csv".into()),
+        #[cfg(feature = "ik-geo")]
+        [cmd, repo, rest @ ..] if cmd == "ik-geo-check" && rest.len() <= 1 => {
+            let n = rest.first().map_or(Ok(1000), |v| v.parse().map_err(|e| format!("N `{v}`: {e}")))?;
+            let mut ok = true;
+            for arm in arms(Path::new(repo))? {
+                ok &= ik_geo_check(&arm, n)?;
+            }
+            Ok(ok)
+        }
+        _ => Err(
+            "usage: core-peers urdf BUILTIN OUT | joints URDF TIP | check URDF TIP STATES.csv | ik-geo-check REPO [N]"
+                .into(),
+        ),
     }
 }
 

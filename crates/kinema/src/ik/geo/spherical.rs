@@ -28,11 +28,11 @@
 use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel};
-use super::subproblems::{rot, rotate, sp1, sp2, sp3, sp4};
+use super::subproblems::{rotate, rotate_sc, sp1, sp2, sp3, sp4};
 use super::{candidates_with, label, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
-use crate::math::Pose;
+use crate::math::{FastMath, Pose};
 use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
@@ -160,10 +160,12 @@ impl SphericalWristIk {
         let mut arms = [([0.0; 3], 0, 0); 4];
         let n = arm(c, self.shoulder, &self.w, &wt, &mut arms)?;
         let mut worst_wrist = f64::INFINITY;
+        let (gh6, gu6) = (g.rot * h(5), g.rot * self.u6);
         for &(q, si, ei) in &arms[..n] {
-            let r123 = rot(&h(0), q[0]) * rot(&h(1), q[1]) * rot(&h(2), q[2]);
-            let m = r123.transpose() * g.rot;
-            let mh6 = m * h(5);
+            // M = (R₁R₂R₃)ᵀ·R_G on h₆ and u₆: turned back about axes 1, 2, 3.
+            let turns = q.map(|v| (-v).fast_sin_cos());
+            let back = |v: V3| (0..3).fold(v, |v, j| rotate_sc(&h(j), turns[j], &v));
+            let (mh6, mu6) = (back(gh6), back(gu6));
             let mut wrists = [[0.0; 2]; 2];
             let nw;
             if h(3).cross(&mh6).norm() <= WRIST_SING_TOL {
@@ -183,8 +185,8 @@ impl SphericalWristIk {
                 }
             }
             for (wi, &[q4, q5]) in wrists[..nw].iter().enumerate() {
-                let r45 = rot(&h(3), q4) * rot(&h(4), q5);
-                let q6 = sp1(&h(5), &self.u6, &(r45.transpose() * m * self.u6)).first();
+                let r45t_mu6 = rotate(&h(4), -q5, &rotate(&h(3), -q4, &mu6));
+                let q6 = sp1(&h(5), &self.u6, &r45t_mu6).first();
                 c.push(out, [q[0], q[1], q[2], q4, q5, q6], label(si, ei, wi));
             }
         }

@@ -63,7 +63,11 @@ pub fn rot(k: &V3, theta: f64) -> Matrix3<f64> {
 
 /// `rot(k, θ)·p` without forming the matrix.
 pub fn rotate(k: &V3, theta: f64, p: &V3) -> V3 {
-    let (s, c) = theta.fast_sin_cos();
+    rotate_sc(k, theta.fast_sin_cos(), p)
+}
+
+/// [`rotate`] given (sin θ, cos θ), for an angle that turns several vectors.
+pub fn rotate_sc(k: &V3, (s, c): (f64, f64), p: &V3) -> V3 {
     p * c + k.cross(p) * s + k * (k.dot(p) * (1.0 - c))
 }
 

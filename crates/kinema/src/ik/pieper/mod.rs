@@ -74,17 +74,19 @@
 
 use std::f64::consts::PI;
 
-use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::geo::subproblems::circle_conic;
 use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry};
 use crate::robot::Robot;
+
+mod general;
+use general::GeneralShoulder;
 
 /// Tolerance on DH lengths \[m\] and on sines/cosines of twists when deciding
 /// the geometry.
@@ -176,6 +178,8 @@ pub struct PieperIk {
     /// Wrist centre in the flange (link 6) frame \[m\].
     wc_in_flange: Vector3<f64>,
     arm: ArmKind,
+    /// The products of the general shoulder's θ3 condition (used by [`ArmKind::General`]).
+    general: GeneralShoulder,
 }
 
 impl PieperIk {
@@ -317,6 +321,7 @@ impl PieperIk {
             tool_from_flange: robot.tool().inverse(),
             wc_in_flange,
             arm,
+            general: GeneralShoulder::new(&links),
         };
         // Numeric check: the wrist centre must not move with q4…q6.
         let mut rng = ChaCha8Rng::seed_from_u64(0x5049_4550);
@@ -596,18 +601,18 @@ impl PieperIk {
         let [l1, ..] = self.links;
         let z = p.z - l1.d;
         let r2 = p.x * p.x + p.y * p.y + z * z;
-        // P, Q and F = P² + Q² − H² at θ3.
+        // P and Q at θ3 (F = P² + Q² − g_x² − g_y², module general).
         let pq = |t3: f64| {
             let g = arm_g(&self.links, t3);
             let pp = (r2 - g.norm_squared() - l1.a * l1.a) / (2.0 * l1.a);
             let qq = (z - l1.ca * g.z) / l1.sa;
-            (g, pp, qq, pp * pp + qq * qq - (g.x * g.x + g.y * g.y))
+            (g, pp, qq)
         };
         let mut roots = [0.0; 4];
-        let n = degree_two_trig_roots(|t3| pq(t3).3, &mut roots);
+        let n = general::roots(&self.general.condition(r2, z), &mut roots);
         let mut out = Vec::with_capacity(4);
         for (e, &t3) in roots[..n].iter().enumerate() {
-            let (g, pp, qq, _) = pq(t3);
+            let (g, pp, qq) = pq(t3);
             let t2 = if g.x.fast_hypot(g.y) <= AXIS_TOL {
                 self.links[1].offset
             } else {
@@ -713,45 +718,6 @@ fn arm_g(links: &[Link; 6], t3: f64) -> Vector3<f64> {
     let f2 = l3.a * s3 - l4.d * l3.sa * c3;
     let f3 = l3.d + l4.d * l3.ca;
     Vector3::new(f1 + l2.a, l2.ca * f2 - l2.sa * f3, l2.sa * f2 + l2.ca * f3 + l2.d)
-}
-
-/// The roots θ \[rad\] in (−π, π], increasing, of `f`, a trigonometric
-/// polynomial of degree 2 (f = a0 + a1·cos θ + b1·sin θ + a2·cos 2θ +
-/// b2·sin 2θ), written to `out`; returns how many. Five equally spaced
-/// samples give the coefficients exactly; as a conic in (cos θ, sin θ) the
-/// equation is a quartic in a tangent half-angle ([`circle_conic`]). Each root
-/// is then refined by Newton's method on `f` itself.
-fn degree_two_trig_roots(f: impl Fn(f64) -> f64, out: &mut [f64; 4]) -> usize {
-    let mut c = [0.0; 5];
-    for k in 0..5 {
-        let t = 2.0 * PI * k as f64 / 5.0;
-        let v = f(t);
-        let ((s1, c1), (s2, c2)) = (t.sin_cos(), (2.0 * t).sin_cos());
-        for (acc, basis) in c.iter_mut().zip([1.0, c1, s1, c2, s2]) {
-            *acc += v * basis;
-        }
-    }
-    let [a0, a1, b1, a2, b2] = [c[0] / 5.0, 0.4 * c[1], 0.4 * c[2], 0.4 * c[3], 0.4 * c[4]];
-    // a2·cos 2θ + b2·sin 2θ = a2·(c² − s²) + 2·b2·c·s.
-    let conic = Matrix2::new(a2, b2, b2, -a2);
-    let n = circle_conic(&conic, &Vector2::new(a1, b1), a0, out);
-    let slope = |t: f64| {
-        let ((s1, c1), (s2, c2)) = (t.sin_cos(), (2.0 * t).sin_cos());
-        -a1 * s1 + b1 * c1 - 2.0 * a2 * s2 + 2.0 * b2 * c2
-    };
-    for t in &mut out[..n] {
-        for _ in 0..2 {
-            let (ft, dt) = (f(*t), slope(*t));
-            let next = *t - ft / dt;
-            if !(next.is_finite() && (next - *t).abs() < 1e-6 && f(next).abs() < ft.abs()) {
-                break;
-            }
-            *t = next;
-        }
-        *t = wrap_angle(*t);
-    }
-    out[..n].sort_by(f64::total_cmp);
-    n
 }
 
 /// θ1 from (px, py) = Rz(θ1)·(w1, w2), (w1, w2) the horizontal part of
