@@ -198,10 +198,11 @@ fn compare_with_numeric(arms_seed: u64, arm_count: usize, per_arm: usize, starts
                 at_least += 1;
             } else {
                 eprintln!(
-                    "  {}: {} geometric < {} numeric; numeric not found: {missing:.4?}",
+                    "  {}: {} geometric < {} numeric; numeric not found: {missing:.4?}; found {:.4?}",
                     robot.name(),
                     sols.len(),
-                    numeric.len()
+                    numeric.len(),
+                    sols.iter().map(|s| s.q.clone()).collect::<Vec<_>>()
                 );
             }
         }
@@ -209,6 +210,9 @@ fn compare_with_numeric(arms_seed: u64, arm_count: usize, per_arm: usize, starts
     (at_least, targets)
 }
 
+/// Issue 34 item 7: on every target, at least as many solutions as a
+/// 100-start numeric search finds (an odd count, one missed, failed 1 of 200
+/// here before the finer search around the solutions found).
 #[test]
 fn at_least_as_many_solutions_as_a_numeric_multi_start() {
     let (at_least, targets) = compare_with_numeric(0x6e6e, 20, 10, 100);
@@ -216,7 +220,7 @@ fn at_least_as_many_solutions_as_a_numeric_multi_start() {
         "geo-general: ≥ the numeric multi-start's distinct solutions in {at_least} of {targets} targets ({:.2} %)",
         100.0 * at_least as f64 / targets as f64
     );
-    assert!(at_least as f64 >= 0.99 * targets as f64);
+    assert_eq!(at_least, targets);
 }
 
 #[test]

@@ -37,10 +37,16 @@
 //! deduplicated to 1e-6 rad modulo 2π. The work is bounded: GRID²
 //! subproblem-5 solves plus at most MAX_SEEDS refinements.
 //!
-//! Missed: two solutions whose (q₁, q₂) fall within about one grid step on
-//! one branch (near-singular targets, where solutions merge), and zeros on a
-//! branch that exists only between grid points. Labels `general-{1…16}` in
-//! the order found (a general 6R arm has at most 16 solutions).
+//! A 6R arm has an even number of solutions unless two coincide, so an odd
+//! count means one was missed — most often the partner of a solution found
+//! within a grid step or two (near-singular targets, where solutions merge).
+//! Then the seed search runs again on a grid [`FINE`] times finer around
+//! each solution found, until the count is even.
+//!
+//! Missed still: two solutions close together on one branch when both are
+//! missed (the count stays even), and zeros on a branch that exists only
+//! between grid points. Labels `general-{1…16}` in the order found (a
+//! general 6R arm has at most 16 solutions).
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
@@ -60,6 +66,14 @@ pub const GRID: usize = 48;
 
 /// At most this many seeds are polished per solve.
 pub const MAX_SEEDS: usize = 128;
+
+/// Points per grid step of the finer search around the solutions found
+/// when their count is odd, over [`NEAR_STEPS`] grid steps either side:
+/// (2·FINE·NEAR_STEPS + 1)² evaluations of subproblem 5 per solution.
+pub const FINE: usize = 6;
+
+/// Grid steps either side of a solution that the finer search covers.
+pub const NEAR_STEPS: usize = 2;
 
 /// A seed's e may be at most this many times the largest rise of e to a
 /// neighbouring grid point.
@@ -319,35 +333,14 @@ impl GeneralIk {
                 grid.push(self.cell(&gy, &gh, at(i), at(j)));
             }
         }
-        // Seeds: branches no larger than the matching branch (nearest q₃…q₅)
-        // of their four neighbours, and small against how fast e changes
-        // there (at a zero e is about |∇e|·step; a minimum that is not a
-        // zero stands above its neighbours' differences).
+        // Seeds ([`is_seed`]) against the four neighbours on the torus.
         let mut seeds: Vec<(f64, usize, usize, usize)> = Vec::new();
-        let mut best = f64::INFINITY;
         for i in 0..n {
             for j in 0..n {
+                let neighbours =
+                    [(n - 1, 0), (1, 0), (0, n - 1), (0, 1)].map(|(di, dj)| &grid[(i + di) % n * n + (j + dj) % n]);
                 for (b, br) in grid[i * n + j].iter().enumerate() {
-                    if !br[0].is_finite() {
-                        continue;
-                    }
-                    best = best.min(br[0]);
-                    let (mut is_min, mut slope) = (true, 0.0f64);
-                    for (di, dj) in [(n - 1, 0), (1, 0), (0, n - 1), (0, 1)] {
-                        let nb = &grid[(i + di) % n * n + (j + dj) % n];
-                        let matched =
-                            nb.iter().filter(|x| x[0].is_finite()).min_by(|x, y| dist3(x, br).total_cmp(&dist3(y, br)));
-                        match matched {
-                            Some(m) if m[0] < br[0] => {
-                                is_min = false;
-                                break;
-                            }
-                            Some(m) => slope = slope.max(m[0] - br[0]),
-                            // The branch ends next to this point: e may change steeply there.
-                            None => slope = f64::INFINITY,
-                        }
-                    }
-                    if is_min && br[0] <= SLOPE_FACTOR * slope {
+                    if br[0].is_finite() && is_seed(br, neighbours) {
                         seeds.push((br[0], i, j, b));
                     }
                 }
@@ -379,6 +372,12 @@ impl GeneralIk {
                 self.finish(&g, scale, [at(i), at(j)], &raw, out);
             }
         }
+        // A 6R arm has an even number of solutions unless two coincide, so an
+        // odd count means one was missed: most often the partner of a
+        // solution less than a grid step from it (a near-singular target).
+        if out.len() % 2 == 1 {
+            self.search_near_solutions(&g, &gy, &gh, scale, step, out);
+        }
         if out.is_empty() {
             // The smallest alignment error of axis 6 over the grid is not a distance: no figure.
             return Err(Unreachable::NotReached {
@@ -390,6 +389,37 @@ impl GeneralIk {
 }
 
 impl GeneralIk {
+    /// The seed search again around each solution found, on a grid
+    /// [`FINE`] times finer over [`NEAR_STEPS`] grid steps either side of its
+    /// (q₁, q₂), until the count is even (or 16).
+    fn search_near_solutions(&self, g: &Pose, gy: &V3, gh: &V3, scale: f64, step: f64, out: &mut Candidates<6, 16>) {
+        let half = FINE * NEAR_STEPS;
+        let m = 2 * half + 1;
+        let at = |k: usize| (k as f64 - half as f64) * step / FINE as f64;
+        let found: Vec<[f64; 6]> = out.qs().to_vec();
+        for q in found {
+            let cells: Vec<Cell> = (0..m * m).map(|k| self.cell(gy, gh, q[0] + at(k / m), q[1] + at(k % m))).collect();
+            for i in 1..m - 1 {
+                for j in 1..m - 1 {
+                    let neighbours = [(i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)].map(|(a, b)| &cells[a * m + b]);
+                    let (q1, q2) = (q[0] + at(i), q[1] + at(j));
+                    for br in &cells[i * m + j] {
+                        if !(br[0].is_finite() && is_seed(br, neighbours)) {
+                            continue;
+                        }
+                        let (x, refined) = self.refine(gy, gh, q1, q2, *br);
+                        if !self.finish(g, scale, x, &refined, out) {
+                            self.finish(g, scale, [q1, q2], br, out);
+                        }
+                        if out.len() % 2 == 0 || out.len() == 16 {
+                            return;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// The solution from (q₁, q₂) and branch `br`: q₆ by subproblem 1, Newton
     /// on the full pose, the FK check; pushes it if new. Whether it did.
     fn finish(&self, g: &Pose, scale: f64, q12: [f64; 2], br: &[f64; 4], out: &mut Candidates<6, 16>) -> bool {
@@ -419,6 +449,24 @@ impl GeneralIk {
 }
 
 /// Angular distance between the (q₃, q₄, q₅) of two branches.
+/// Whether branch `br` of a grid point seeds a refinement: no larger than
+/// the matching branch (nearest q₃…q₅) of each neighbour, and small against
+/// how fast e changes there (at a zero e is about |∇e|·step; a minimum that
+/// is not a zero stands above its neighbours' differences).
+fn is_seed(br: &[f64; 4], neighbours: [&Cell; 4]) -> bool {
+    let mut slope = 0.0f64;
+    for nb in neighbours {
+        let matched = nb.iter().filter(|x| x[0].is_finite()).min_by(|x, y| dist3(x, br).total_cmp(&dist3(y, br)));
+        match matched {
+            Some(m) if m[0] < br[0] => return false,
+            Some(m) => slope = slope.max(m[0] - br[0]),
+            // The branch ends next to this point: e may change steeply there.
+            None => slope = f64::INFINITY,
+        }
+    }
+    br[0] <= SLOPE_FACTOR * slope
+}
+
 fn dist3(a: &[f64; 4], b: &[f64; 4]) -> f64 {
     (1..4).map(|k| wrap_angle(a[k] - b[k]).abs()).sum()
 }
