@@ -20,6 +20,7 @@
 //!
 //! Numbers are SI (m, rad, s); a string gives a unit: `"100mm"`, `"180deg"`.
 
+use crate::stdout::outln;
 use std::collections::HashSet;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -514,36 +515,36 @@ fn summary(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Appro
     })
 }
 
-fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) {
+fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> Result<()> {
     let duration = report.times.last().copied().unwrap_or(0.0);
-    println!(
+    outln!(
         "{}: {} robot(s), {duration:.4} s, {} samples every {} s",
         a.file.display(),
         cell.members.len(),
         report.times.len(),
         cell.dt
-    );
+    )?;
     for (m, member) in cell.members.iter().enumerate() {
         let from = match &member.motion {
             Motion::Trajectory(p) | Motion::Program(p) => p.display().to_string(),
         };
         let end = report.ends[m];
         let holds = if end < duration { ", then holds its last configuration" } else { "" };
-        println!(
+        outln!(
             "  {} ({}, {from}): ends at {end:.4} s{holds}; {} violation(s), {} warning(s)",
             member.name,
             member.spec,
             member.check.violations.len(),
             member.check.warnings.len()
-        );
+        )?;
         for v in member.check.violations.iter().take(20) {
-            println!("    {v}");
+            outln!("    {v}")?;
         }
         if member.check.violations.len() > 20 {
-            println!("    … and {} more", member.check.violations.len() - 20);
+            outln!("    … and {} more", member.check.violations.len() - 20)?;
         }
         for w in member.check.warnings.iter().take(20) {
-            println!("    warning: {w}");
+            outln!("    warning: {w}")?;
         }
     }
     for ap in approaches {
@@ -561,8 +562,9 @@ fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Ap
                 line += &format!("; closer than {min} m during {}", list.join(", "));
             }
         }
-        println!("{line}");
+        outln!("{line}")?;
     }
+    Ok(())
 }
 
 pub fn run(a: CellArgs) -> Result<()> {
@@ -600,7 +602,7 @@ pub fn run(a: CellArgs) -> Result<()> {
     if a.json {
         print_json(&summary(&a, &loaded, &report, &approaches))?;
     } else if !a.out.as_deref().is_some_and(crate::output::is_stdout) {
-        print_text(&a, &loaded, &report, &approaches);
+        print_text(&a, &loaded, &report, &approaches)?;
     }
     let violations = loaded.members.iter().filter(|m| !m.check.violations.is_empty()).count();
     if violations > 0 {

@@ -1,6 +1,7 @@
 //! `kinema dyn`: the joint torques along a trajectory CSV by inverse dynamics
 //! (`kinema::dynamics::rnea`), checked against the robot's motor limits.
 
+use crate::stdout::outln;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
@@ -135,7 +136,7 @@ pub fn run(a: DynArgs) -> Result<()> {
     }
     if let Some(path) = out {
         eprintln!("wrote {} samples of {n} torques to {}", rows.len(), path.display());
-        println!("{}", report.join("\n"));
+        outln!("{}", report.join("\n"))?;
     } else {
         eprintln!("{}", report.join("\n"));
     }

@@ -1,5 +1,6 @@
 //! `kinema ik`: inverse kinematics from the command line.
 
+use crate::stdout::outln;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use kinema::ik::{Closest, IkAnswer, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
@@ -324,12 +325,12 @@ pub fn ik(a: IkArgs) -> Result<()> {
             "folded": folded,
         }));
     }
-    println!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len());
+    outln!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len())?;
     if !discarded.is_empty() {
-        println!("  ({} candidate(s) discarded: {DISCARD_REASON}, {tolerance})", discarded.len());
+        outln!("  ({} candidate(s) discarded: {DISCARD_REASON}, {tolerance})", discarded.len())?;
     }
     if folded > 0 && a.all {
-        println!("  ({folded} more copies within limits, joints turned by whole turns, not listed)");
+        outln!("  ({folded} more copies within limits, joints turned by whole turns, not listed)")?;
     }
     for s in chosen {
         let unit = if a.deg { "deg/m" } else { "rad/m" };
@@ -340,10 +341,10 @@ pub fn ik(a: IkArgs) -> Result<()> {
                     format!("{:.6}", if a.deg && j.kind == kinema::JointType::Revolute { v.to_degrees() } else { *v })
                 })
                 .collect();
-        println!("  [{}] ({unit})  branch {}", q.join(", "), s.branch);
+        outln!("  [{}] ({unit})  branch {}", q.join(", "), s.branch)?;
         let orientation =
             if orientation_free { "orientation free".to_string() } else { format!("{:.3e} rad", s.orientation_error) };
-        println!(
+        outln!(
             "    residual {:.3e} m, {orientation}; {}{}",
             s.position_error,
             if s.within_limits() { "within limits" } else { "OUTSIDE joint limits" },
@@ -351,7 +352,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
                 "; {} iterations, {} restarts, {}",
                 n.iterations, n.restarts, n.stop
             ))
-        );
+        )?;
     }
     Ok(())
 }
@@ -398,22 +399,22 @@ pub fn validate(a: ValidateArgs) -> Result<()> {
     if a.json {
         return print_json(&v);
     }
-    println!("robot {}  solver {}  {} cases (seed {})", robot.name(), v["solver"], a.n, a.seed);
-    println!(
+    outln!("robot {}  solver {}  {} cases (seed {})", robot.name(), v["solver"], a.n, a.seed)?;
+    outln!(
         "max |Δq| {:.3e}, mean {:.3e}, recovered {:.2} %",
         v["max_error"].as_f64().unwrap_or(f64::NAN),
         v["mean_error"].as_f64().unwrap_or(f64::NAN),
         v["recovered_fraction"].as_f64().unwrap_or(0.0) * 100.0
-    );
+    )?;
     if let (Some(ratio), Some(wc), Some(n)) = (
         v["max_error_over_limit"].as_f64(),
         v["max_error_well_conditioned"].as_f64(),
         v["well_conditioned_cases"].as_u64(),
     ) {
-        println!(
+        outln!(
             "max |Δq| over the {n} well-conditioned cases (target rounding moves the solution ≤ 1e-13) {wc:.3e}; \
              worst error / rounding limit {ratio:.2}"
-        );
+        )?;
     }
     Ok(())
 }
@@ -458,9 +459,9 @@ pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
             .collect();
         return print_json(&json!({"robot": robot.name(), "samples": list}));
     }
-    println!("robot {}: {} samples of the self-motion through q", robot.name(), samples.len());
+    outln!("robot {}: {} samples of the self-motion through q", robot.name(), samples.len())?;
     for m in &samples {
-        println!(
+        outln!(
             "  ψ {:>8.4}  q3 {:>8.4}  elbow [{:.4}, {:.4}, {:.4}]  {}",
             m.psi,
             m.q3,
@@ -468,7 +469,7 @@ pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
             m.elbow.y,
             m.elbow.z,
             if m.within_limits { "within limits" } else { "outside limits" }
-        );
+        )?;
     }
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! `kinema check | run | compile PROGRAM`: the robot programming language.
 
+use crate::stdout::{out, outln};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -103,7 +104,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
 
 pub fn check(a: ProgramArgs) -> Result<()> {
     let (plan, name) = build(&a)?;
-    println!("{name}: ok on `{}` — {} motion(s), {:.4} s", plan.robot.name(), plan.motions.len(), plan.duration());
+    outln!("{name}: ok on `{}` — {} motion(s), {:.4} s", plan.robot.name(), plan.motions.len(), plan.duration())?;
     Ok(())
 }
 
@@ -162,10 +163,10 @@ pub fn compile(a: CompileArgs) -> Result<()> {
         return print_json(&s);
     }
     if a.listing {
-        println!("# {name}");
-        print!("{}", plan.listing());
+        outln!("# {name}")?;
+        out!("{}", plan.listing())?;
     } else {
-        println!("{name}: {} motion(s), {:.4} s (use --listing for the plan)", plan.motions.len(), plan.duration());
+        outln!("{name}: {} motion(s), {:.4} s (use --listing for the plan)", plan.motions.len(), plan.duration())?;
     }
     Ok(())
 }

@@ -1,6 +1,6 @@
 //! The `kinema` command: parse arguments, call the library, print.
 
-use std::io::Write;
+use crate::stdout::outln;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -27,6 +27,7 @@ mod plot_cmd;
 mod scorbot_cmd;
 #[cfg(feature = "serve")]
 mod serve_cmd;
+mod stdout;
 mod traj_cmd;
 
 /// An error that only sets the exit code (its message was already printed).
@@ -364,10 +365,16 @@ fn main() -> ExitCode {
     let cli = match parse(std::env::args_os()) {
         Ok(cli) => cli,
         Err(e) => {
-            // --help and --version are not errors; clap prints them either way.
-            let code = if e.use_stderr() { EXIT_USAGE } else { 0 };
-            let _ = e.print();
-            return ExitCode::from(code);
+            // --help and --version are not errors, unless they cannot be written.
+            let printed = e.print();
+            if !e.use_stderr() {
+                if let Err(io) = printed {
+                    eprintln!("error: cannot write to standard output: {io}");
+                    return ExitCode::FAILURE;
+                }
+                return ExitCode::SUCCESS;
+            }
+            return ExitCode::from(EXIT_USAGE);
         }
     };
     if !talks_to_peers(&cli.cmd) {
@@ -458,10 +465,8 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn print_json(v: &Value) -> Result<()> {
-    let mut out = std::io::stdout().lock();
-    serde_json::to_writer_pretty(&mut out, v)?;
-    writeln!(out)?;
-    Ok(())
+    let text = serde_json::to_string_pretty(v)?;
+    outln!("{text}")
 }
 
 fn robots(as_json: bool) -> Result<()> {
@@ -481,9 +486,9 @@ fn robots(as_json: bool) -> Result<()> {
             .collect();
         return print_json(&Value::Array(list));
     }
-    println!("{:<20} {:>3}  {:<8} source", "name", "dof", "joints");
+    outln!("{:<20} {:>3}  {:<8} source", "name", "dof", "joints")?;
     for r in &all {
-        println!("{:<20} {:>3}  {:<8} {}", r.name(), r.dof(), r.joint_types(), r.metadata().source);
+        outln!("{:<20} {:>3}  {:<8} {}", r.name(), r.dof(), r.joint_types(), r.metadata().source)?;
     }
     Ok(())
 }
@@ -502,22 +507,27 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
         return print_json(&kinema_serve::json::robot_info(r));
     }
     let m = r.metadata();
-    println!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.geometry_kind());
+    outln!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.geometry_kind())?;
     if !m.manufacturer.is_empty() {
-        println!("manufacturer: {}", m.manufacturer);
+        outln!("manufacturer: {}", m.manufacturer)?;
     }
-    println!("source: {}", m.source);
-    println!("\nlengths in m, angles in deg; revolute θ = q + offset, prismatic d = q + offset");
+    outln!("source: {}", m.source)?;
+    outln!("\nlengths in m, angles in deg; revolute θ = q + offset, prismatic d = q + offset")?;
     match r.geometry_kind() {
         kinema::GeometryKind::General => {
-            println!(
+            outln!(
                 "{:>2} {:<16} {:>4} {:>28} {:>26} {:>22}",
-                "i", "joint", "type", "origin xyz", "origin rpy", "axis"
-            );
+                "i",
+                "joint",
+                "type",
+                "origin xyz",
+                "origin rpy",
+                "axis"
+            )?;
             for (i, j) in r.joints().iter().enumerate() {
                 if let LinkGeometry::General { origin, axis } = j.geometry {
                     let rpy = origin.rpy(RpyConvention::Zyx).map(f64::to_degrees);
-                    println!(
+                    outln!(
                         "{:>2} {:<16} {:>4} {:>8.4} {:>8.4} {:>8.4}  {:>8.2} {:>8.2} {:>8.2}  {:>6.3} {:>6.3} {:>6.3}",
                         i + 1,
                         j.name,
@@ -531,24 +541,31 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
                         axis.x,
                         axis.y,
                         axis.z
-                    );
+                    )?;
                 }
             }
         }
         _ => {
             let modified = r.geometry_kind() == kinema::GeometryKind::Modified;
             let (al, aa) = if modified { ("α(i-1)", "a(i-1)") } else { ("α", "a") };
-            println!(
+            outln!(
                 "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9} {:>9} {:>9}",
-                "i", "joint", "type", "θ", "d", aa, al, "offset"
-            );
+                "i",
+                "joint",
+                "type",
+                "θ",
+                "d",
+                aa,
+                al,
+                "offset"
+            )?;
             for (i, j) in r.joints().iter().enumerate() {
                 if let LinkGeometry::Dh { d, a, alpha, theta, .. } = j.geometry {
                     let (th, dd) = match j.kind {
                         JointType::Revolute => (format!("q{}", i + 1), format!("{d:.4}")),
                         JointType::Prismatic => (format!("{:.2}", theta.to_degrees()), format!("q{}", i + 1)),
                     };
-                    println!(
+                    outln!(
                         "{:>2} {:<16} {:>4} {:>9} {:>9} {:>9.4} {:>9.2} {:>9.4}",
                         i + 1,
                         j.name,
@@ -558,15 +575,15 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
                         a,
                         alpha.to_degrees(),
                         shown(j.kind, j.offset)
-                    );
+                    )?;
                 }
             }
         }
     }
-    println!("\nlimits (deg or m, per s …; effort in N·m or N)");
+    outln!("\nlimits (deg or m, per s …; effort in N·m or N)")?;
     for (i, j) in r.joints().iter().enumerate() {
         let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", shown(j.kind, v)));
-        println!(
+        outln!(
             "{:>2} {:<16} [{:>10.4}, {:>10.4}]  vel {}  acc {}  jerk {}  effort {}",
             i + 1,
             j.name,
@@ -576,24 +593,29 @@ fn info(r: &Robot, as_json: bool) -> Result<()> {
             opt(j.limits.acc),
             opt(j.limits.jerk),
             j.limits.effort.map_or("-".to_string(), |v| format!("{v}"))
-        );
+        )?;
     }
     for (name, p) in [("base", r.base()), ("tool", r.tool())] {
         if *p != Pose::IDENTITY {
             let rpy = p.rpy(RpyConvention::Zyx).map(f64::to_degrees);
-            println!(
+            outln!(
                 "{name}: xyz = [{:.4}, {:.4}, {:.4}] m, rpy (zyx) = [{:.3}, {:.3}, {:.3}] deg",
-                p.pos.x, p.pos.y, p.pos.z, rpy[0], rpy[1], rpy[2]
-            );
+                p.pos.x,
+                p.pos.y,
+                p.pos.z,
+                rpy[0],
+                rpy[1],
+                rpy[2]
+            )?;
         }
     }
-    println!("\nnamed poses (deg or m)");
+    outln!("\nnamed poses (deg or m)")?;
     for p in r.poses() {
         let vals: Vec<String> = p.q.iter().zip(r.joints()).map(|(v, j)| format!("{:.4}", shown(j.kind, *v))).collect();
-        println!("  {:<14} [{}]", p.name, vals.join(", "));
+        outln!("  {:<14} [{}]", p.name, vals.join(", "))?;
     }
     if !m.notes.trim().is_empty() {
-        println!("\nnotes:\n{}", m.notes.trim());
+        outln!("\nnotes:\n{}", m.notes.trim())?;
     }
     Ok(())
 }
@@ -623,19 +645,15 @@ fn fk(a: FkArgs) -> Result<()> {
         v["out_of_limits"] = kinema_serve::json::out_of_limits(&r, &fk);
         return print_json(&v);
     }
-    println!(
-        "robot {}  q = [{}] (rad/m)",
-        r.name(),
-        q.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", ")
-    );
-    println!("T (base_from_tool):");
+    outln!("robot {}  q = [{}] (rad/m)", r.name(), q.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", "))?;
+    outln!("T (base_from_tool):")?;
     for row in p.to_rows() {
-        println!("  [{:>10.6} {:>10.6} {:>10.6} {:>10.6}]", row[0], row[1], row[2], row[3]);
+        outln!("  [{:>10.6} {:>10.6} {:>10.6} {:>10.6}]", row[0], row[1], row[2], row[3])?;
     }
     let rpy = p.rpy(conv);
     let qq = p.quaternion();
-    println!("position  [m]   x = {:.6}  y = {:.6}  z = {:.6}", p.pos.x, p.pos.y, p.pos.z);
-    println!(
+    outln!("position  [m]   x = {:.6}  y = {:.6}  z = {:.6}", p.pos.x, p.pos.y, p.pos.z)?;
+    outln!(
         "rpy ({})  [deg] {:.4}, {:.4}, {:.4}   [rad] {:.6}, {:.6}, {:.6}",
         kinema_serve::json::conv_name(conv),
         rpy[0].to_degrees(),
@@ -644,14 +662,14 @@ fn fk(a: FkArgs) -> Result<()> {
         rpy[0],
         rpy[1],
         rpy[2]
-    );
-    println!("quaternion (w, x, y, z) {:.6}, {:.6}, {:.6}, {:.6}", qq.w, qq.i, qq.j, qq.k);
+    )?;
+    outln!("quaternion (w, x, y, z) {:.6}, {:.6}, {:.6}, {:.6}", qq.w, qq.i, qq.j, qq.k)?;
     if fk.within_limits() {
-        println!("all joints within limits");
+        outln!("all joints within limits")?;
     } else {
         for i in fk.out_of_limits.indices() {
             let j = &r.joints()[i];
-            println!(
+            outln!(
                 "warning: joint {} ({}) = {:.4} is outside its limits [{:.4}, {:.4}] ({})",
                 i + 1,
                 j.name,
@@ -659,7 +677,7 @@ fn fk(a: FkArgs) -> Result<()> {
                 shown(j.kind, j.limits.min),
                 shown(j.kind, j.limits.max),
                 if j.kind == JointType::Revolute { "deg" } else { "m" }
-            );
+            )?;
         }
     }
     Ok(())
@@ -791,10 +809,10 @@ fn jacobian(a: JacobianArgs) -> Result<()> {
         None => ["vx", "vy", "vz", "ωx", "ωy", "ωz"],
     };
     let width = labels.iter().map(|l| l.chars().count()).max().unwrap_or(2);
-    println!("robot {}  Jacobian: {kind}, rows {}", r.name(), labels.join(" "));
+    outln!("robot {}  Jacobian: {kind}, rows {}", r.name(), labels.join(" "))?;
     for (row, label) in labels.iter().enumerate() {
         let vals: Vec<String> = j.row(row).iter().map(|v| format!("{v:>10.6}")).collect();
-        println!("  {label:<width$} [{}]", vals.join(" "));
+        outln!("  {label:<width$} [{}]", vals.join(" "))?;
     }
     Ok(())
 }
@@ -844,45 +862,44 @@ fn manip(a: ManipArgs) -> Result<()> {
             "manipulability_along": along,
         }));
     }
-    println!("robot {}", r.name());
-    println!("yoshikawa               {:.6e}", rep.yoshikawa);
-    println!("yoshikawa (translation) {:.6e}", rep.yoshikawa_translation);
-    println!("yoshikawa (rotation)    {:.6e}", rep.yoshikawa_rotation);
-    println!(
+    outln!("robot {}", r.name())?;
+    outln!("yoshikawa               {:.6e}", rep.yoshikawa)?;
+    outln!("yoshikawa (translation) {:.6e}", rep.yoshikawa_translation)?;
+    outln!("yoshikawa (rotation)    {:.6e}", rep.yoshikawa_rotation)?;
+    outln!(
         "condition number        {}",
         if rep.condition.is_finite() { format!("{:.6e}", rep.condition) } else { "inf (singular)".into() }
-    );
-    println!("rank                    {} of {} (tolerance {:.3e})", rep.rank, r.dof().min(6), rep.rank_tolerance);
-    println!(
+    )?;
+    outln!("rank                    {} of {} (tolerance {:.3e})", rep.rank, r.dof().min(6), rep.rank_tolerance)?;
+    outln!(
         "singular values         [{}]",
         rep.singular_values.iter().map(|v| format!("{v:.6e}")).collect::<Vec<_>>().join(", ")
-    );
+    )?;
     for d in &rep.singular_directions {
-        println!(
+        outln!(
             "  lost task direction   [vx vy vz ωx ωy ωz] = [{}]",
             d.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", ")
-        );
+        )?;
     }
-    println!(
-        "translational ellipsoid radii [{:.6}, {:.6}, {:.6}] m/s per rad/s",
-        et.radii[0], et.radii[1], et.radii[2]
-    );
-    println!(
+    outln!("translational ellipsoid radii [{:.6}, {:.6}, {:.6}] m/s per rad/s", et.radii[0], et.radii[1], et.radii[2])?;
+    outln!(
         "rotational ellipsoid radii    [{:.6}, {:.6}, {:.6}] rad/s per rad/s",
-        er.radii[0], er.radii[1], er.radii[2]
-    );
+        er.radii[0],
+        er.radii[1],
+        er.radii[2]
+    )?;
     if let Some(m) = along {
-        println!("manipulability along direction {:.6}", m);
+        outln!("manipulability along direction {:.6}", m)?;
     }
     if rep.dependent_joints.is_empty() {
-        println!("no linearly dependent joints");
+        outln!("no linearly dependent joints")?;
     }
     for d in &rep.dependent_joints {
         if d.on.is_empty() {
-            println!("joint {} does not move the tool at this configuration", d.joint + 1);
+            outln!("joint {} does not move the tool at this configuration", d.joint + 1)?;
         } else {
             let terms: Vec<String> = d.on.iter().map(|(k, c)| format!("{c:+.4}·q{}", k + 1)).collect();
-            println!("q{} depends on: {}", d.joint + 1, terms.join(" "));
+            outln!("q{} depends on: {}", d.joint + 1, terms.join(" "))?;
         }
     }
     Ok(())
@@ -943,21 +960,16 @@ fn bench(a: BenchArgs) -> Result<()> {
         }
         return print_json(&v);
     }
-    println!("robot {} ({} DOF), {} random configurations, seed {}", r.name(), n, a.n, a.seed);
-    println!("fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})", pct(&fk, 0.5), pct(&fk, 0.1), pct(&fk, 0.9));
-    println!(
-        "jacobian  median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})",
-        pct(&jac, 0.5),
-        pct(&jac, 0.1),
-        pct(&jac, 0.9)
-    );
-    println!("fk batch         {:>8.1} ns/config on {} threads", batch_ns, rayon::current_num_threads());
+    outln!("robot {} ({} DOF), {} random configurations, seed {}", r.name(), n, a.n, a.seed)?;
+    outln!("fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})", pct(&fk, 0.5), pct(&fk, 0.1), pct(&fk, 0.9))?;
+    outln!("jacobian  median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})", pct(&jac, 0.5), pct(&jac, 0.1), pct(&jac, 0.9))?;
+    outln!("fk batch         {:>8.1} ns/config on {} threads", batch_ns, rayon::current_num_threads())?;
     if let Some(ik) = ik {
-        println!(
+        outln!(
             "numeric ik       {} targets: success {:.3} %, mean {:.1} µs, median {:.1} µs, mean {:.1} iterations, {} restarts in all",
             ik["targets"], ik["success_rate"].as_f64().unwrap_or(0.0) * 100.0, ik["mean_us"].as_f64().unwrap_or(0.0),
             ik["median_us"].as_f64().unwrap_or(0.0), ik["mean_iterations"].as_f64().unwrap_or(0.0), ik["restarts"]
-        );
+        )?;
     }
     Ok(())
 }

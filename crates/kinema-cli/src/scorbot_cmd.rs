@@ -2,6 +2,7 @@
 //! §IV-B) — encoder counts, the controller simulator, a client for the real
 //! controller, tracking metrics and calibration.
 
+use crate::stdout::outln;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -391,22 +392,22 @@ fn counts(a: CountsArgs) -> Result<()> {
             "out_of_limits": outside,
         }));
     }
-    println!("constants: {}", c.name);
-    println!("counts    {}", counts.map(|v| v.to_string()).join("  "));
-    println!("tool      x {:.2}  y {:.2}  z {:.2} mm", p.x * 1e3, p.y * 1e3, p.z * 1e3);
+    outln!("constants: {}", c.name)?;
+    outln!("counts    {}", counts.map(|v| v.to_string()).join("  "))?;
+    outln!("tool      x {:.2}  y {:.2}  z {:.2} mm", p.x * 1e3, p.y * 1e3, p.z * 1e3)?;
     if u.radius > 0.0 {
-        println!(
+        outln!(
             "tool 1σ   x {:.2}  y {:.2}  z {:.2} mm  (radius {:.2} mm, from the constants' ± columns)",
             u.sigma[0] * 1e3,
             u.sigma[1] * 1e3,
             u.sigma[2] * 1e3,
             u.radius * 1e3
-        );
+        )?;
     } else {
-        println!("tool 1σ   not known (these constants have no uncertainties)");
+        outln!("tool 1σ   not known (these constants have no uncertainties)")?;
     }
     for o in outside {
-        println!("warning: {o}");
+        outln!("warning: {o}")?;
     }
     Ok(())
 }
@@ -429,15 +430,15 @@ fn angles(a: AnglesArgs) -> Result<()> {
             "out_of_limits": outside,
         }));
     }
-    println!("constants: {}", c.name);
-    println!(
+    outln!("constants: {}", c.name)?;
+    outln!(
         "q         {}  {}",
         shown.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join("  "),
         if a.deg { "deg" } else { "rad" }
-    );
-    println!("tool      x {:.2}  y {:.2}  z {:.2} mm", p.x * 1e3, p.y * 1e3, p.z * 1e3);
+    )?;
+    outln!("tool      x {:.2}  y {:.2}  z {:.2} mm", p.x * 1e3, p.y * 1e3, p.z * 1e3)?;
     for o in outside {
-        println!("warning: {o}");
+        outln!("warning: {o}")?;
     }
     Ok(())
 }
@@ -466,12 +467,12 @@ fn sim_run(a: SimArgs) -> Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     if let Some(addr) = a.tcp {
         let listener = std::net::TcpListener::bind(&addr).with_context(|| format!("cannot listen on {addr}"))?;
-        println!("kinema scorbot sim: tcp {}", listener.local_addr()?);
+        outln!("kinema scorbot sim: tcp {}", listener.local_addr()?)?;
         eprintln!("simulated Controller-A (ACL, Scorbot-ER V Plus); Ctrl-C to stop");
         sim::serve_tcp(listener, config, stop)?;
     } else {
         let pty = sim::PtySim::open(config)?;
-        println!("kinema scorbot sim: pty {}", pty.path());
+        outln!("kinema scorbot sim: pty {}", pty.path())?;
         eprintln!("simulated Controller-A (ACL, Scorbot-ER V Plus); Ctrl-C to stop");
         pty.run(stop)?;
     }
@@ -578,18 +579,18 @@ fn connect(a: ConnectArgs) -> Result<()> {
                     "controller_cartesian": r.cartesian,
                 }));
             }
-            println!("counts    {}", r.counts.map(|v| v.to_string()).join("  "));
-            println!("q         {} deg", q.map(|v| format!("{:.3}", v.to_degrees())).join("  "));
-            println!("tool      x {:.2}  y {:.2}  z {:.2} mm (this model)", p.x * 1e3, p.y * 1e3, p.z * 1e3);
+            outln!("counts    {}", r.counts.map(|v| v.to_string()).join("  "))?;
+            outln!("q         {} deg", q.map(|v| format!("{:.3}", v.to_degrees())).join("  "))?;
+            outln!("tool      x {:.2}  y {:.2}  z {:.2} mm (this model)", p.x * 1e3, p.y * 1e3, p.z * 1e3)?;
             if let Some(x) = r.cartesian {
-                println!(
+                outln!(
                     "controller X {:.1}  Y {:.1}  Z {:.1} mm  P {:.1}  R {:.1} deg",
                     x[0] as f64 / 10.0,
                     x[1] as f64 / 10.0,
                     x[2] as f64 / 10.0,
                     x[3] as f64 / 10.0,
                     x[4] as f64 / 10.0
-                );
+                )?;
             }
         }
     }
@@ -605,22 +606,22 @@ fn track(a: TrackArgs) -> Result<()> {
     }
     let mm = |v: f64| format!("{:.3} mm", v * 1e3);
     let opt = |v: Option<f64>| v.map_or("— (needs two or more runs)".to_string(), mm);
-    println!("{} measured run(s) against a desired path, {} evaluation points", r.runs, r.points);
-    println!(
+    outln!("{} measured run(s) against a desired path, {} evaluation points", r.runs, r.points)?;
+    outln!(
         "mean error (seed 000)   {} ± {}   runs: {}",
         mm(r.mean_error),
         mm(r.mean_error_spread),
         r.run_mean_errors.iter().map(|v| mm(*v)).collect::<Vec<_>>().join(", ")
-    );
-    println!("ISO 9283 AT_p            {}", mm(r.at_p));
-    println!("ISO 9283 RT_p            {}", opt(r.rt_p));
-    println!("ISO 9283 AP_p (end pose) {}", mm(r.ap_p));
-    println!("ISO 9283 RP_p (end pose) {}", opt(r.rp_p));
+    )?;
+    outln!("ISO 9283 AT_p            {}", mm(r.at_p))?;
+    outln!("ISO 9283 RT_p            {}", opt(r.rt_p))?;
+    outln!("ISO 9283 AP_p (end pose) {}", mm(r.ap_p))?;
+    outln!("ISO 9283 RP_p (end pose) {}", opt(r.rp_p))?;
     if r.fallback_points > 0 {
-        println!(
+        outln!(
             "note: at {} evaluation point(s) a run did not cross the normal plane nearby; its nearest point was used",
             r.fallback_points
-        );
+        )?;
     }
     Ok(())
 }
@@ -647,17 +648,17 @@ fn calibrate(a: CalibrateArgs) -> Result<()> {
     if a.json {
         return print_json(&serde_json::to_value(&c)?);
     }
-    println!(
+    outln!(
         "{} samples, {} iterations, rms residual {:.3} mm, max {:.3} mm, condition {:.1}",
         c.samples,
         c.iterations,
         c.rms_residual * 1e3,
         c.max_residual * 1e3,
         c.condition_number
-    );
-    println!("{:<12} {:>14} {:>12} {:>14}  unit", "parameter", "estimate", "1σ", "initial");
+    )?;
+    outln!("{:<12} {:>14} {:>12} {:>14}  unit", "parameter", "estimate", "1σ", "initial")?;
     for p in &c.parameters {
-        println!("{:<12} {:>14.4} {:>12.4} {:>14.4}  {}", p.name, p.value, p.sigma, p.initial, p.unit);
+        outln!("{:<12} {:>14.4} {:>12.4} {:>14.4}  {}", p.name, p.value, p.sigma, p.initial, p.unit)?;
     }
     Ok(())
 }
@@ -764,24 +765,29 @@ fn square(a: SquareArgs) -> Result<()> {
             })).collect::<Vec<_>>(),
         }));
     }
-    println!(
+    outln!(
         "seed 000 Fig. 6 on the controller simulator: {what}, {} points ≤ {:.0} mm apart",
         e.desired.len(),
         a.max_step * 1e3
-    );
-    println!("the arm moves by `{}`; controller constants `{}`", options.truth.name, options.controller.name);
-    println!(
+    )?;
+    outln!("the arm moves by `{}`; controller constants `{}`", options.truth.name, options.controller.name)?;
+    outln!(
         "measured = the simulated tool path every 10 ms + Gaussian noise σ = {:.3} mm per axis (seed {})",
-        a.noise_mm, a.seed
-    );
+        a.noise_mm,
+        a.seed
+    )?;
     let mm = |v: f64| format!("{:.3}", v * 1e3);
-    println!(
+    outln!(
         "{:<14} {:>4}  {:>22}  {:>9}  {:>9}  runs (mean error, mm)",
-        "model", "runs", "mean error ± spread mm", "AT_p mm", "RT_p mm"
-    );
+        "model",
+        "runs",
+        "mean error ± spread mm",
+        "AT_p mm",
+        "RT_p mm"
+    )?;
     for m in &e.models {
         let r = &m.report;
-        println!(
+        outln!(
             "{:<14} {:>4}  {:>22}  {:>9}  {:>9}  {}",
             m.label,
             r.runs,
@@ -789,7 +795,7 @@ fn square(a: SquareArgs) -> Result<()> {
             mm(r.at_p),
             r.rt_p.map_or("—".into(), mm),
             r.run_mean_errors.iter().map(|v| mm(*v)).collect::<Vec<_>>().join(", ")
-        );
+        )?;
     }
     if let Some(dir) = &a.out_dir {
         eprintln!("wrote desired.csv and the runs to {}", dir.display());

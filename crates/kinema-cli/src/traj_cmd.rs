@@ -1,5 +1,6 @@
 //! `kinema traj`: time laws and point-to-point motions from the command line.
 
+use crate::stdout::outln;
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
@@ -407,12 +408,14 @@ fn law(a: LawArgs) -> Result<()> {
     if a.json {
         return print_json(&out);
     }
-    println!("{} law: duration {:.6} s", profile.name(), law.duration());
-    println!("phase times [s]: {:?}", law.phase_times());
-    println!(
+    outln!("{} law: duration {:.6} s", profile.name(), law.duration())?;
+    outln!("phase times [s]: {:?}", law.phase_times())?;
+    outln!(
         "peaks: velocity {}, acceleration {}, jerk {}",
-        out["peak_velocity"], out["peak_acceleration"], out["peak_jerk"]
-    );
+        out["peak_velocity"],
+        out["peak_acceleration"],
+        out["peak_jerk"]
+    )?;
     Ok(())
 }
 
@@ -546,13 +549,16 @@ fn emit(
     }
     if out.is_none() {
         let mut w = csv::Writer::from_writer(std::io::stdout().lock());
-        w.write_record(header(robot.dof(), conv))?;
-        for row in &rows {
-            w.write_record(row.iter().map(|v| format!("{v:.9}")))?;
-        }
-        w.flush()?;
+        let written: Result<()> = (|| {
+            w.write_record(header(robot.dof(), conv))?;
+            for row in &rows {
+                w.write_record(row.iter().map(|v| format!("{v:.9}")))?;
+            }
+            Ok(w.flush()?)
+        })();
+        written.context("cannot write to standard output")?;
     } else {
-        println!("{} on `{}`: {duration:.6} s, {} samples", summary["motion"], robot.name(), rows.len());
+        outln!("{} on `{}`: {duration:.6} s, {} samples", summary["motion"], robot.name(), rows.len())?;
     }
     Ok(())
 }
@@ -749,21 +755,21 @@ fn check_file(a: CheckArgs) -> Result<()> {
     if a.json {
         print_json(&check_json(&report))?;
     } else {
-        println!(
+        outln!(
             "{}: {} samples, {} violation(s), {} warning(s)",
             a.file.display(),
             report.samples,
             report.violations.len(),
             report.warnings.len()
-        );
+        )?;
         for v in report.violations.iter().take(20) {
-            println!("  {v}");
+            outln!("  {v}")?;
         }
         if report.violations.len() > 20 {
-            println!("  … and {} more", report.violations.len() - 20);
+            outln!("  … and {} more", report.violations.len() - 20)?;
         }
         for w in report.warnings.iter().take(20) {
-            println!("  warning: {w}");
+            outln!("  warning: {w}")?;
         }
     }
     if report.violations.is_empty() {

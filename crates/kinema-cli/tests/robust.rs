@@ -112,6 +112,48 @@ fn a_full_device_is_a_write_error_and_stays_a_device() {
     }
 }
 
+/// Issue 35 item 2: with standard output a full device, every plain-text
+/// form (and --help, --version, the CSV and JSON ones) fails with exit code 1
+/// and a message naming standard output — no panic (exit 101).
+#[test]
+#[cfg(unix)]
+fn a_full_standard_output_is_a_write_error_not_a_panic() {
+    let full = Path::new("/dev/full");
+    if !is_char_device(full) {
+        eprintln!("no /dev/full here; skipped");
+        return;
+    }
+    let program = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/programs/scara_pick_place.prg");
+    let cell = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cells/seed004_two_iiwa.toml");
+    let forms: &[&[&str]] = &[
+        &["robots"],
+        &["info", "-r", "puma560"],
+        &["fk", "-r", "puma560", "--q", "home"],
+        &["fk", "-r", "puma560", "--q", "home", "--json"],
+        &["jacobian", "-r", "puma560", "--q", "home"],
+        &["manip", "-r", "puma560", "--q", "home"],
+        &["ik", "-r", "puma560", "--position", "0.5,0.2,0.3"],
+        &["ik", "-r", "puma560", "--position", "0.5,0.2,0.3", "--all"],
+        &["ik-validate", "-r", "puma560", "--n", "10"],
+        &["selfmotion", "-r", "lbr-iiwa-14-r820", "--q", "home"],
+        &["traj", "law", "--profile", "trapezoid", "--distance", "1", "--vmax", "0.5", "--amax", "1"],
+        &["traj", "ptp", "-r", "puma560", "--from", "home", "--to", "qr"],
+        &["check", program, "-r", "scara5"],
+        &["compile", program, "-r", "scara5", "--listing"],
+        &["run", program, "-r", "scara5", "--out", "-"],
+        &["cell", cell],
+        &["dyn", "--help"],
+        &["--version"],
+    ];
+    for args in forms {
+        let o = kinema().args(*args).stdout(std::fs::File::create(full).unwrap()).output().unwrap();
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {e}");
+        assert!(e.contains("standard output") && e.contains("No space left on device"), "{args:?}: {e}");
+        assert!(!e.contains("panicked"), "{args:?}: {e}");
+    }
+}
+
 #[test]
 #[cfg(unix)]
 fn a_linked_output_updates_the_target_and_keeps_the_link() {
