@@ -231,10 +231,8 @@ fn synthetic_round_trips(robot: &Robot, kind: ArmKind, n: usize, min_eight: usiz
     assert!(eight >= min_eight, "{}: only {eight} of {n} poses have 8 solutions", robot.name());
 }
 
-/// Completeness: every solution the numeric solver finds from random starts
-/// (limits not enforced) is one of the analytic ones.
-fn complete_against_numeric(robot: &Robot) {
-    let ik = PieperIk::new(robot).unwrap();
+/// The numeric solver without restarts or limits, converging to 1e-12.
+fn exact_numeric(robot: &Robot) -> NumericIk {
     let opts = NumericOptions {
         max_restarts: 0,
         enforce_limits: false,
@@ -242,28 +240,48 @@ fn complete_against_numeric(robot: &Robot) {
         tol_orientation: 1e-12,
         ..Default::default()
     };
-    let numeric = NumericIk::with_options(robot, opts).unwrap();
+    NumericIk::with_options(robot, opts).unwrap()
+}
+
+/// Runs `numeric` from `starts` random configurations and asserts that
+/// every solution it converges to is among `sols`; returns how many it found.
+fn numeric_solutions_are_listed(
+    numeric: &NumericIk,
+    target: &Pose,
+    sols: &[Solution],
+    starts: usize,
+    rng: &mut ChaCha8Rng,
+    what: &str,
+) -> usize {
+    let mut found = 0;
+    for _ in 0..starts {
+        let q0: Vec<f64> = (0..6).map(|_| rng.random_range(-PI..PI)).collect();
+        let Ok(s) = numeric.solve_from(target, &q0) else { continue };
+        if s.position_error < 1e-10 && s.orientation_error < 1e-10 {
+            found += 1;
+            assert!(
+                sols.iter().any(|a| same_config(&a.q, &s.q, 1e-6)),
+                "{what}: numeric solution {:?} missing from {:?}",
+                s.q,
+                sols.iter().map(|s| &s.q).collect::<Vec<_>>()
+            );
+        }
+    }
+    found
+}
+
+/// Completeness: every solution the numeric solver finds from random starts
+/// (limits not enforced) is one of the analytic ones.
+fn complete_against_numeric(robot: &Robot) {
+    let ik = PieperIk::new(robot).unwrap();
+    let numeric = exact_numeric(robot);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let mut found = 0;
     for _ in 0..8 {
         let q = robot.random_q(&mut rng);
         let target = robot.fk(&q).unwrap().world_from_tool;
         let sols = ik.solve(&target).unwrap();
-        for _ in 0..15 {
-            let q0: Vec<f64> = (0..6).map(|_| rng.random_range(-PI..PI)).collect();
-            if let Ok(s) = numeric.solve_from(&target, &q0) {
-                if s.position_error < 1e-10 && s.orientation_error < 1e-10 {
-                    found += 1;
-                    assert!(
-                        sols.iter().any(|a| same_config(&a.q, &s.q, 1e-6)),
-                        "{}: numeric solution {:?} missing from {:?}",
-                        robot.name(),
-                        s.q,
-                        sols.iter().map(|s| &s.q).collect::<Vec<_>>()
-                    );
-                }
-            }
-        }
+        found += numeric_solutions_are_listed(&numeric, &target, &sols, 15, &mut rng, robot.name());
     }
     assert!(found > 20, "{}: only {found} numeric solutions", robot.name());
 }
@@ -454,19 +472,12 @@ fn arm_jacobian_det(robot: &Robot, q: &[f64], d6: f64) -> f64 {
 #[test]
 fn general_arms_list_every_solution_a_multi_start_finds() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x347);
-    let opts = NumericOptions {
-        max_restarts: 0,
-        enforce_limits: false,
-        tol_position: 1e-12,
-        tol_orientation: 1e-12,
-        ..Default::default()
-    };
     let (mut targets, mut near_fold, mut numeric_found) = (0, 0, 0);
     for k in 0..8 {
         let (robot, d6) = random_general_arm(&mut rng, k);
         let ik = PieperIk::new(&robot).unwrap();
         assert_eq!(ik.arm_kind(), ArmKind::General, "{}", robot.name());
-        let numeric = NumericIk::with_options(&robot, opts.clone()).unwrap();
+        let numeric = exact_numeric(&robot);
         let mut qs: Vec<(Vec<f64>, bool)> = (0..20).map(|_| (robot.random_q(&mut rng), false)).collect();
         // θ3 on the fold (det of the arm's Jacobian changes sign), then 1 mrad off it.
         for _ in 0..40 {
@@ -503,20 +514,8 @@ fn general_arms_list_every_solution_a_multi_start_finds() {
             assert_accurate(&sols, &format!("{} q = {q:?}", robot.name()));
             assert!(sols.iter().any(|s| same_config(&s.q, &q, 1e-8)), "{}: q = {q:?} not found", robot.name());
             assert!(sols.len() == 4 || sols.len() == 8, "{}: q = {q:?}: {} solutions", robot.name(), sols.len());
-            for _ in 0..40 {
-                let q0: Vec<f64> = (0..6).map(|_| rng.random_range(-PI..PI)).collect();
-                let Ok(s) = numeric.solve_from(&target, &q0) else { continue };
-                if s.position_error < 1e-10 && s.orientation_error < 1e-10 {
-                    numeric_found += 1;
-                    assert!(
-                        sols.iter().any(|a| same_config(&a.q, &s.q, 1e-6)),
-                        "{}: q = {q:?} (near the fold: {fold}): numeric solution {:?} missing from {:?}",
-                        robot.name(),
-                        s.q,
-                        sols.iter().map(|s| &s.q).collect::<Vec<_>>()
-                    );
-                }
-            }
+            let what = format!("{}: q = {q:?} (near the fold: {fold})", robot.name());
+            numeric_found += numeric_solutions_are_listed(&numeric, &target, &sols, 40, &mut rng, &what);
             targets += 1;
             near_fold += usize::from(fold);
         }
