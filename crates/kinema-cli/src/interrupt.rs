@@ -11,6 +11,11 @@
 //!   is held, the first signal only raises the flag, so the command unwinds
 //!   and drops its temporary files itself; a second signal exits at once.
 //!
+//! - Once an output has been renamed into place ([`TempFiles::committed`]),
+//!   the first signal only raises the flag: the command's work is done, so
+//!   it finishes and reports success. Before the rename, a signal leaves the
+//!   old file as it was.
+//!
 //! The handler is installed on first use, so that commands which never need
 //! it keep the default behaviour (and a handler of their own, should one
 //! ever be installed first, keeps working: installing here then fails and is
@@ -31,6 +36,9 @@ fn shared_flag() -> &'static Arc<AtomicBool> {
 
 /// How many [`cancellable`] guards are alive.
 static COOPERATIVE: AtomicUsize = AtomicUsize::new(0);
+
+/// Set once an output is in place: from then on the first signal is deferred.
+static COMMITTED: AtomicBool = AtomicBool::new(false);
 
 /// Temporary files to delete on a signal.
 static TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
@@ -58,15 +66,19 @@ fn on_signal() {
     // Holding the lock until the exit: a file being registered or persisted
     // right now is either in the list (and deleted) or already in place.
     let list = temps();
+    if first && COMMITTED.load(Ordering::SeqCst) {
+        return;
+    }
     for path in list.iter() {
         let _ = std::fs::remove_file(path);
     }
     std::process::exit(i32::from(EXIT_INTERRUPTED));
 }
 
-/// Whether a signal has arrived.
+/// Whether a signal has arrived that the command should stop for: not once
+/// its output is in place.
 pub(crate) fn interrupted() -> bool {
-    shared_flag().load(Ordering::SeqCst)
+    shared_flag().load(Ordering::SeqCst) && !COMMITTED.load(Ordering::SeqCst)
 }
 
 /// The flag a signal raises, for libraries that poll one (e.g. a program
@@ -112,5 +124,12 @@ impl TempFiles {
     /// Stops deleting `path` on a signal (it was persisted or removed).
     pub(crate) fn remove(&mut self, path: &Path) {
         self.0.retain(|p| p != path);
+    }
+
+    /// Records that an output has been renamed into place (call while the
+    /// registry is still locked, right after the rename): a first signal
+    /// from now on lets the command finish and report success.
+    pub(crate) fn committed(&mut self) {
+        COMMITTED.store(true, Ordering::SeqCst);
     }
 }

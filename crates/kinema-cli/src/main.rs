@@ -380,6 +380,7 @@ fn main() -> ExitCode {
     if !talks_to_peers(&cli.cmd) {
         quiet_on_closed_pipe();
     }
+    fail_writes_past_the_file_size_limit();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => match e.downcast_ref::<Exit>() {
@@ -429,6 +430,17 @@ fn quiet_on_closed_pipe() {
     // thread exists, touches no memory of this program.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// With a file size limit (`ulimit -f`), a write past it kills the process
+/// with SIGXFSZ by default, leaving its temporary file behind; ignored, the
+/// write fails with EFBIG ("File too large") and the usual cleanup runs.
+fn fail_writes_past_the_file_size_limit() {
+    #[cfg(unix)]
+    // SAFETY: as for SIGPIPE above: a disposition set before other threads exist.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
 }
 

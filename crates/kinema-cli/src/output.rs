@@ -2,6 +2,10 @@
 //! [`write_atomically`].
 //!
 //! - `-` is standard output.
+//! - A name of one of this process's descriptors (`/dev/stdout`,
+//!   `/dev/stderr`, `/dev/fd/N`, `/proc/self/fd/N`, or a link to one) is
+//!   written through a copy of that descriptor: at its offset and with its
+//!   flags, so `>> log` appends and a pipe receives the data.
 //! - A path that exists and is not a regular file (`/dev/null`, a FIFO, a
 //!   terminal) is written in place: no temporary file, no rename, so a device
 //!   node is never replaced by a file.
@@ -12,7 +16,8 @@
 //!   never following a link) that is flushed, synced and renamed over the
 //!   target only when everything succeeded. On an error the temporary file is
 //!   removed and the target is left as it was; on Ctrl-C, SIGTERM or SIGHUP
-//!   it is removed too (see [`crate::interrupt`]).
+//!   before the rename it is removed too (see [`crate::interrupt`]), and
+//!   once the rename has happened the command finishes with success.
 //!
 //! Two runs writing the same output each write their own temporary file; the
 //! last rename wins, and the file then holds the complete output of that run.
@@ -23,7 +28,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
-use crate::interrupt::TempFiles;
+use crate::interrupt::{interrupted, TempFiles, EXIT_INTERRUPTED};
+use crate::Exit;
 
 /// Whether `path` names standard output.
 pub(crate) fn is_stdout(path: &Path) -> bool {
@@ -78,14 +84,22 @@ impl Output {
     }
 }
 
+/// The write error once a signal asked a cooperative command to stop.
+fn stopped() -> io::Result<()> {
+    if interrupted() {
+        return Err(io::Error::other("cancelled (Ctrl-C)"));
+    }
+    Ok(())
+}
+
 impl Write for Output {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        let r = self.inner.write(buf);
+        let r = stopped().and_then(|()| self.inner.write(buf));
         self.note(r)
     }
 
     fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
-        let r = self.inner.write_all(buf);
+        let r = stopped().and_then(|()| self.inner.write_all(buf));
         self.note(r)
     }
 
@@ -105,7 +119,10 @@ pub(crate) fn write_atomically(path: &Path, write: impl FnOnce(&mut Output) -> R
         out.finish().context("cannot write to standard output")?;
         return Ok(());
     }
-    let target = final_target(path)?;
+    let target = match final_target(path)? {
+        Resolved::Path(p) => p,
+        Resolved::Descriptor(fd) => return write_to_descriptor(fd, &format!("`{}`", path.display()), write),
+    };
     let shown = if target == path {
         format!("`{}`", path.display())
     } else {
@@ -124,21 +141,61 @@ pub(crate) fn write_atomically(path: &Path, write: impl FnOnce(&mut Output) -> R
     }
 }
 
-/// Runs the caller's `write`; an error after a failed write names the output.
+/// Runs the caller's `write`; an error after a failed write names the
+/// output, and a signal that stopped it gives exit code 130.
 fn run(out: &mut Output, write: impl FnOnce(&mut Output) -> Result<()>, shown: &str) -> Result<()> {
-    match write(out) {
+    let result = write(out);
+    if interrupted() {
+        return Err(cancelled(shown));
+    }
+    match result {
         Err(e) if out.failed => Err(e.context(format!("cannot write {shown}"))),
         other => other,
     }
 }
 
+/// Exit code 130 after a signal, with a line saying what became of `shown`.
+fn cancelled(shown: &str) -> anyhow::Error {
+    eprintln!("cancelled (Ctrl-C) while writing {shown}; no file was replaced");
+    Exit(EXIT_INTERRUPTED).into()
+}
+
+/// Where an output path leads.
+enum Resolved {
+    /// A file to write (its links followed).
+    Path(PathBuf),
+    /// One of this process's open descriptors.
+    Descriptor(i32),
+}
+
+/// The descriptor `path` names when it is one of this process's own (see the
+/// module documentation); checked on the name, before any link is followed,
+/// because following `/proc/self/fd/1` leads to the file behind it, opened
+/// afresh without the descriptor's offset and append flag (or, for a pipe,
+/// to a name that cannot be opened).
+fn own_descriptor(path: &Path) -> Option<i32> {
+    let name = path.to_str()?;
+    match name {
+        "/dev/stdout" => return Some(1),
+        "/dev/stderr" => return Some(2),
+        _ => {}
+    }
+    let pid = format!("/proc/{}/fd/", std::process::id());
+    let prefixes = ["/dev/fd/", "/proc/self/fd/", "/proc/thread-self/fd/", pid.as_str()];
+    let number = prefixes.iter().find_map(|p| name.strip_prefix(p))?;
+    number.parse().ok()
+}
+
 /// `path` with every symbolic link along its last component followed (the
 /// folders on the way are left to the system); a dangling link gives the
 /// path the link points at, which is then created.
-fn final_target(path: &Path) -> Result<PathBuf> {
+fn final_target(path: &Path) -> Result<Resolved> {
     let mut p = path.to_path_buf();
     // As the kernel's limit on nested links (ELOOP).
     for _ in 0..40 {
+        if let Some(fd) = own_descriptor(&p) {
+            return Ok(Resolved::Descriptor(fd));
+        }
         match std::fs::symlink_metadata(&p) {
             Ok(m) if m.file_type().is_symlink() => {
                 let link = std::fs::read_link(&p).with_context(|| format!("cannot read the link `{}`", p.display()))?;
@@ -147,7 +204,7 @@ fn final_target(path: &Path) -> Result<PathBuf> {
                     None => link,
                 };
             }
-            _ => return Ok(p),
+            _ => return Ok(Resolved::Path(p)),
         }
     }
     bail!("cannot write `{}`: too many levels of symbolic links", path.display())
@@ -157,6 +214,33 @@ fn final_target(path: &Path) -> Result<PathBuf> {
 /// never truncated, never renamed over).
 fn write_in_place(target: &Path, shown: &str, write: impl FnOnce(&mut Output) -> Result<()>) -> Result<()> {
     let file = OpenOptions::new().write(true).open(target).with_context(|| format!("cannot open {shown}"))?;
+    write_to_file(file, shown, write)
+}
+
+/// Descriptor `fd` of this process, through a copy of it (same open file:
+/// same offset, same flags).
+#[cfg(unix)]
+fn write_to_descriptor(fd: i32, shown: &str, write: impl FnOnce(&mut Output) -> Result<()>) -> Result<()> {
+    use std::os::fd::FromRawFd;
+    // SAFETY: dup reads the descriptor table only; it fails with EBADF on a
+    // closed descriptor.
+    let copy = unsafe { libc::dup(fd) };
+    if copy < 0 {
+        let e = io::Error::last_os_error();
+        return Err(e).with_context(|| format!("cannot write {shown}: descriptor {fd} is not open"));
+    }
+    // SAFETY: `copy` is a new descriptor that nothing else owns.
+    let file = unsafe { File::from_raw_fd(copy) };
+    write_to_file(file, shown, write)
+}
+
+#[cfg(not(unix))]
+fn write_to_descriptor(fd: i32, shown: &str, _write: impl FnOnce(&mut Output) -> Result<()>) -> Result<()> {
+    bail!("cannot write {shown}: descriptor {fd} cannot be named on this system")
+}
+
+/// An open file written as it is, flushed (no rename).
+fn write_to_file(file: File, shown: &str, write: impl FnOnce(&mut Output) -> Result<()>) -> Result<()> {
     let mut out = Output::new(Sink::File(file));
     run(&mut out, write, shown)?;
     // Devices and FIFOs cannot be synced (EINVAL); the flush reports what
@@ -232,10 +316,18 @@ fn write_replacing(
         f.as_file().sync_all().with_context(written)?;
     }
     let mut registry = TempFiles::lock();
+    if interrupted() {
+        // The temporary file is removed when `temp` drops, after the lock.
+        drop(registry);
+        return Err(cancelled(shown));
+    }
     let Some(named) = temp.file.take() else { bail!("cannot write {shown}") };
     let from = named.path().to_path_buf();
     let result = named.persist(target);
     registry.remove(&from);
+    if result.is_ok() {
+        registry.committed();
+    }
     drop(registry);
     // On an error the temporary file comes back in the error and is deleted with it.
     result.map_err(|e| e.error).with_context(|| format!("cannot move the result to {shown}"))?;

@@ -435,3 +435,155 @@ fn a_first_csv_line_that_mixes_numbers_and_names_is_an_error() {
     let o = run(&["traj", "check", "-r", "puma560", s(&bad)]);
     assert!(stderr(&o).contains("mixes numbers and names"), "{}", stderr(&o));
 }
+
+/// Issue 35 item 1: an output named by one of the process's own descriptors
+/// is written through that descriptor: `>>` keeps what the file held, a pipe
+/// receives the data, and the file behind it is never replaced.
+#[test]
+#[cfg(unix)]
+fn an_own_descriptor_output_is_written_through_it_in_place() {
+    let dir = tempdir("own-fd");
+    let q = configurations(&dir);
+    let expected = run(&["fk", "-r", "puma560", "--input", s(&q), "--output", "-"]).stdout;
+    assert!(!expected.is_empty());
+    for name in ["/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"] {
+        let log = dir.join("log.txt");
+        std::fs::write(&log, "old line\n").unwrap();
+        let appending = std::fs::OpenOptions::new().append(true).open(&log).unwrap();
+        let o = kinema()
+            .args(["fk", "-r", "puma560", "--input", s(&q), "--output", name])
+            .stdout(appending)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let mut want = b"old line\n".to_vec();
+        want.extend_from_slice(&expected);
+        assert_eq!(std::fs::read(&log).unwrap(), want, "{name} with >> log");
+        // A pipe.
+        let o = run(&["fk", "-r", "puma560", "--input", s(&q), "--output", name]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        assert_eq!(o.stdout, expected, "{name} into a pipe");
+    }
+    // Standard error, appended, through a link to it.
+    let link = dir.join("err-link");
+    std::os::unix::fs::symlink("/dev/stderr", &link).unwrap();
+    let log = dir.join("err.txt");
+    std::fs::write(&log, "kept\n").unwrap();
+    let appending = std::fs::OpenOptions::new().append(true).open(&log).unwrap();
+    let o = kinema()
+        .args(["fk", "-r", "puma560", "--input", s(&q), "--output", s(&link)])
+        .stderr(appending)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.starts_with("kept\n") && text.contains(std::str::from_utf8(&expected).unwrap()), "{text}");
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    // A descriptor that is not open names itself.
+    let o = run(&["fk", "-r", "puma560", "--input", s(&q), "--output", "/dev/fd/57"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("descriptor 57 is not open"), "{}", stderr(&o));
+}
+
+/// Issue 35 item 8: past a file size limit (`ulimit -f`) the write fails
+/// with "File too large", exit code 1, and no temporary file is left.
+#[test]
+#[cfg(unix)]
+fn a_file_size_limit_is_a_write_error_and_leaves_nothing() {
+    use std::fmt::Write;
+    let dir = tempdir("ulimit");
+    let mut text = String::from("q1,q2,q3,q4,q5,q6\n");
+    for i in 0..2000u32 {
+        let v = f64::from(i) * 1e-3;
+        writeln!(text, "{v},{},{},{v},{},0.1", -v, 0.5 - v, v * 0.5).unwrap();
+    }
+    let q = dir.join("q.csv");
+    std::fs::write(&q, text).unwrap();
+    let out = dir.join("out.csv");
+    let script = format!(
+        "ulimit -f 20 && exec '{}' fk -r puma560 --input '{}' --output '{}'",
+        env!("CARGO_BIN_EXE_kinema"),
+        s(&q),
+        s(&out)
+    );
+    let o = Command::new("sh").args(["-c", &script]).stdin(Stdio::null()).output().unwrap();
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{:?}: {e}", o.status);
+    assert!(e.contains("File too large"), "{e}");
+    assert_eq!(names(&dir), ["q.csv"], "a temporary or partial file is left");
+}
+
+/// Issue 35 item 3: Ctrl-C while `kinema cell` writes its samples (the
+/// temporary file exists, the rename has not happened) stops the command with
+/// exit code 130 and leaves the old output as it was.
+#[test]
+#[cfg(unix)]
+fn ctrl_c_while_a_cell_writes_leaves_the_old_output() {
+    let dir = tempdir("sigint-cell");
+    let cell = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cells/seed004_two_iiwa.toml");
+    let out = dir.join("cell.csv");
+    std::fs::write(&out, "old\n").unwrap();
+    let mut child = kinema()
+        .args(["cell", cell, "--dt", "0.0002", "--out", s(&out)])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let temp = |dir: &Path| names(dir).into_iter().any(|n| n.contains("kinema-tmp"));
+    while !temp(&dir) {
+        assert!(child.try_wait().unwrap().is_none(), "kinema ended before its temporary file was seen");
+        assert!(start.elapsed() < Duration::from_secs(120), "no temporary file after 120 s");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "old\n");
+    assert_eq!(names(&dir), ["cell.csv"], "a temporary file is left");
+}
+
+/// Issue 35 item 3, the other side: a signal at any moment of `kinema run`
+/// either leaves the old output (exit 130) or finds the new one in place
+/// and complete (exit 0) — never exit 130 with the file replaced.
+#[test]
+#[cfg(unix)]
+fn ctrl_c_at_any_moment_of_a_run_reports_what_happened_to_the_output() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempdir("sigint-run");
+    let program = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/programs/scara_pick_place.prg");
+    let out = dir.join("run.csv");
+    let args = ["run", program, "-r", "scara5", "--dt", "0.0005", "--out", s(&out)];
+    let full = run(&args);
+    assert!(full.status.success(), "{}", stderr(&full));
+    let complete = std::fs::read(&out).unwrap();
+    let took = full_duration(&args);
+    for k in 0..16u32 {
+        std::fs::write(&out, "old\n").unwrap();
+        let mut child = kinema().args(args).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+        std::thread::sleep(took.mul_f64(f64::from(k) / 12.0));
+        let _ = Command::new("kill").args(["-INT", &child.id().to_string()]).status();
+        let status = child.wait().unwrap();
+        let now = std::fs::read(&out).unwrap();
+        // Before the handler is installed, SIGINT's default ends the process.
+        let stopped = status.code() == Some(130) || status.signal() == Some(libc::SIGINT);
+        match status.code() {
+            _ if stopped => assert_eq!(now, b"old\n", "stopped after the output was replaced (signal at {k}/12)"),
+            Some(0) => assert_eq!(now, complete, "exit 0 with an incomplete output (signal at {k}/12)"),
+            other => panic!("signal at {k}/12: {other:?}"),
+        }
+        assert_eq!(names(&dir), ["run.csv"], "a temporary file is left");
+    }
+}
+
+/// How long `kinema args` takes, the best of three.
+fn full_duration(args: &[&str]) -> Duration {
+    (0..3)
+        .map(|_| {
+            let start = Instant::now();
+            run(args);
+            start.elapsed()
+        })
+        .min()
+        .unwrap()
+}
