@@ -31,8 +31,11 @@
 //!   `Retry-After: 1`.
 //! * A `/api/run` program has [`Limits::run_budget`] ([`RUN_BUDGET`], 10 s)
 //!   from its start → 422 ([`Error::RunBudget`]). Its stop flag is raised when
-//!   its client disconnects, when the request times out and when the server
-//!   shuts down (→ 503), so a program never keeps a slot for nobody.
+//!   its connection breaks (a reset), when the request times out and when the
+//!   server shuts down (→ 503). A client that closes its sending side after
+//!   the request (a FIN) is answered: hyper runs with `half_close`, because
+//!   that FIN cannot be told from one of a client that left; such a program
+//!   then runs within its budget, as for a client that stays.
 //! * [`App::handle`] runs inside `catch_unwind`: a panic is a 500 JSON answer
 //!   and the server goes on.
 //! * Stopping ([`Running::stop`], dropping [`Running`], or the future given to
@@ -331,7 +334,10 @@ async fn serve(listener: TcpListener, app: Arc<App>, limits: Limits, shutdown: i
     http.timer(TokioTimer::new())
         .header_read_timeout(limits.head_timeout)
         .max_header_size(MAX_HEAD)
-        .title_case_headers(true);
+        .title_case_headers(true)
+        // A client that shuts its sending side after the request (`nc -N`,
+        // `shutdown(SHUT_WR)`) still gets its answer.
+        .half_close(true);
     let shared = Arc::new(Shared {
         heavy: Arc::new(Semaphore::new(limits.heavy_concurrency)),
         app,

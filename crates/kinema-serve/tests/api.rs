@@ -758,3 +758,37 @@ fn an_address_in_use_keeps_the_os_error() {
         .map(|io| io.kind());
     assert_eq!(io, Some(std::io::ErrorKind::AddrInUse), "{e:?}");
 }
+
+/// Issue 35 item 7: a client that half-closes its connection right after
+/// the request (shutdown of its sending side) still gets the whole answer,
+/// every time — a heavy request (IK) and a light one, keep-alive or not.
+#[test]
+fn a_half_closed_client_gets_its_answer() {
+    let server = start();
+    let addr = server.local_addr();
+    let q = [0.0, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0];
+    let target = Robot::builtin("lbr-iiwa-14-r820").unwrap().fk(&q).unwrap().world_from_tool;
+    let ik = json!({"T": target.to_rows(), "q3": 0.0}).to_string();
+    let fk = json!({ "q": q }).to_string();
+    for k in 0..60 {
+        let (path, body) = if k % 2 == 0 { ("/api/ik", ik.as_bytes()) } else { ("/api/fk", fk.as_bytes()) };
+        let close = if k % 3 == 0 { "Connection: close\r\n" } else { "" };
+        let req = format!(
+            "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n{close}Content-Length: {}\r\n\r\n",
+            body.len()
+        );
+        let mut s = TcpStream::connect(addr).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        s.write_all(req.as_bytes()).unwrap();
+        s.write_all(body).unwrap();
+        s.shutdown(std::net::Shutdown::Write).unwrap();
+        let mut out = Vec::new();
+        let _ = s.read_to_end(&mut out);
+        let text = String::from_utf8_lossy(&out);
+        assert!(text.starts_with("HTTP/1.1 200"), "request {k} ({path}): {text:?}");
+        let split = out.windows(4).position(|w| w == b"\r\n\r\n").unwrap();
+        let json: Value = serde_json::from_slice(&out[split + 4..]).unwrap();
+        assert!(json.is_object(), "request {k}: {json}");
+    }
+    drop(server);
+}
