@@ -45,8 +45,10 @@ def test_integer_and_mixed_lists(robots):
     assert np.array_equal(r.fkine(ints), r.fkine(np.array(ints, dtype=float)))
     mixed = (0, 0.5, -1, 2.25, True, 3)  # bool: general path (numpy reads it as 1.0)
     assert np.array_equal(r.jacob0(mixed), r.jacob0(np.array([0, 0.5, -1, 2.25, 1, 3], dtype=float)))
-    big = [2**60, 0, 0, 0, 0, 0]  # beyond 2**53: general path, numpy's rounding
-    assert np.array_equal(r.fkine(big), r.fkine(np.asarray(big, dtype=np.float64)))
+    big = [2**60, 0, 0, 0, 0, 0]  # beyond 2**53: general path; beyond 1e9: refused on both paths
+    for q in (big, np.asarray(big, dtype=np.float64)):
+        with pytest.raises(kinema.InvalidInput, match=r"joint 1 .* within ±1e9$"):
+            r.fkine(q)
     assert np.array_equal(r.fkine(np.arange(6)), r.fkine(np.arange(6, dtype=float)))
 
 
@@ -158,7 +160,7 @@ def test_non_finite_q_leaves_out_alone(robots, f, bad):
     q = np.array(r.home, dtype=float)
     q[3] = bad
     out = np.full((4, 4) if f == "fkine" else (6, 7), 7.0)
-    with pytest.raises(kinema.InvalidInput, match=r"^joint 4 \(`A4`\) of robot `lbr-iiwa-14-r820` is (NaN|inf|-inf); joint values must be finite numbers$"):
+    with pytest.raises(kinema.InvalidInput, match=r"^joint 4 \(`A4`\) of robot `lbr-iiwa-14-r820` is (NaN|inf|-inf); joint values must be finite numbers within ±1e9$"):
         getattr(r, f)(q, out=out)
     assert np.all(out == 7.0)
     with pytest.raises(kinema.InvalidInput):

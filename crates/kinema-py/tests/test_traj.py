@@ -79,6 +79,9 @@ def test_extreme_limits_are_refused_on_every_door(robots):
         kinema.time_law("scurve", 1.0, vmax=1.0, amax=1.0, jmax=1e-300)
     with pytest.raises(kinema.InvalidInput, match="overflows"):
         kinema.time_law("trapezoid", 1e308, vmax=0.5, amax=1.0)
+    for profile in ("trapezoid", "scurve"):
+        with pytest.raises(kinema.InvalidInput, match="lost to rounding"):
+            kinema.time_law(profile, 1e308, vmax=1.0, amax=1.0, jmax=1.0)
     # Large but plannable limits: above the PUMA's own, so the check refuses them (the core's
     # tests check that both ends are kept).
     with pytest.raises(kinema.TrajectoryError, match="the trajectory is not emitted"):

@@ -27,7 +27,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::lanes::Avx2Fma;
 use crate::lanes::{Lanes, MASK_FALSE, MASK_TRUE, P4};
 use crate::math::{Pose, SIN_COS_RANGE};
-use crate::model::{DhConvention, Joint, JointType, LinkGeometry};
+use crate::model::{DhConvention, Joint, JointType, LinkGeometry, MAX_MAGNITUDE};
 
 /// A rotation Rx(α) in the form that is cheapest to apply. The common twists
 /// 0, ±90° and 180° are exact swaps and negations of two frame columns (no
@@ -484,13 +484,14 @@ impl Chain {
     }
 
     /// One branch-free pass over joint values of the right length: whether
-    /// all are finite, and the bit set of those outside their limits.
+    /// all are finite and below [`MAX_MAGNITUDE`], and the bit set of those
+    /// outside their limits.
     #[inline(always)]
     pub(crate) fn scan(&self, q: &[f64]) -> (bool, u64) {
         let mut finite = true;
         let mut bits = 0u64;
         for (i, ((&v, &lo), &hi)) in q.iter().zip(&self.min).zip(&self.max).enumerate() {
-            finite &= v.is_finite();
+            finite &= v.abs() < MAX_MAGNITUDE;
             bits |= (((v < lo) | (v > hi)) as u64) << i;
         }
         (finite, bits)
@@ -701,8 +702,8 @@ impl AngleBlock {
         let (q_lo, q_hi) = (V::load_prefix(&q[..split]), V::load_prefix(&q[split..]));
         let lo = V::from_array(quarter(&self.sign, 0)).madd(q_lo, V::from_array(quarter(&self.offset, 0)));
         let hi = V::from_array(quarter(&self.sign, 1)).madd(q_hi, V::from_array(quarter(&self.offset, 1)));
-        let inf = V::splat(f64::INFINITY);
-        let finite = (q_lo.abs().lt_bits(inf) | (q_hi.abs().lt_bits(inf) << 4)) == 0xff;
+        let max = V::splat(MAX_MAGNITUDE);
+        let finite = (q_lo.abs().lt_bits(max) | (q_hi.abs().lt_bits(max) << 4)) == 0xff;
         let below = q_lo.lt_bits(V::from_array(quarter(&self.min, 0)))
             | (q_hi.lt_bits(V::from_array(quarter(&self.min, 1))) << 4);
         let above = q_lo.gt_bits(V::from_array(quarter(&self.max, 0)))

@@ -66,7 +66,7 @@ pub use kin::{Buffers, Fk, Frame};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{
     DhConvention, GeometryKind, Inertial, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, Model,
-    ModelBuilder, NamedPose,
+    ModelBuilder, NamedPose, MAX_MAGNITUDE,
 };
 pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};
 pub use robot::Robot;

@@ -17,6 +17,20 @@ use crate::math::Pose;
 /// Largest number of joints a model may have (limit flags are a `u64` bit set).
 pub const MAX_JOINTS: usize = 64;
 
+/// Joint values \[rad or m\] and lengths in a robot's geometry \[m\] must
+/// lie below this magnitude: it keeps every product kinema forms (Jacobians,
+/// manipulability, mass matrices) finite, and 10⁹ m is farther than the Moon.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+/// The error text for a translation (`what`) whose largest coordinate
+/// `largest` \[m\] is at or beyond [`MAX_MAGNITUDE`].
+fn check_length(what: &str, largest: f64) -> std::result::Result<(), String> {
+    if largest < MAX_MAGNITUDE {
+        return Ok(());
+    }
+    Err(format!("{what} has a coordinate of {largest:e} m; lengths must be below {MAX_MAGNITUDE:e} m"))
+}
+
 /// Revolute or prismatic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -392,6 +406,9 @@ impl ModelBuilder {
         if !base.is_finite() || !tool.is_finite() {
             return Err(invalid("base and tool transforms must be finite".into()));
         }
+        for (what, pose) in [("base", &base), ("tool", &tool)] {
+            check_length(what, pose.pos.amax()).map_err(invalid)?;
+        }
         for (i, j) in joints.iter().enumerate() {
             let l = &j.limits;
             let geometry_finite = match j.geometry {
@@ -400,6 +417,18 @@ impl ModelBuilder {
             };
             if !geometry_finite || !j.offset.is_finite() {
                 return Err(invalid(format!("joint {} (`{}`): geometry and offset must be finite", i + 1, j.name)));
+            }
+            let length = match j.geometry {
+                LinkGeometry::Dh { d, a, .. } => d.abs().max(a.abs()),
+                LinkGeometry::General { origin, .. } => origin.pos.amax(),
+            };
+            let joint = format!("joint {} (`{}`)", i + 1, j.name);
+            check_length(&format!("{joint}: the link's offset"), length).map_err(invalid)?;
+            if j.offset.abs() >= MAX_MAGNITUDE {
+                return Err(invalid(format!(
+                    "{joint}: offset {}; offsets must lie within ±{MAX_MAGNITUDE:e}",
+                    j.offset
+                )));
             }
             if let LinkGeometry::General { axis, .. } = j.geometry {
                 if (axis.norm() - 1.0).abs() > 1e-9 {
@@ -439,8 +468,11 @@ impl ModelBuilder {
             if p.q.len() != joints.len() {
                 return Err(invalid(format!("pose `{}` has {} values, expected {}", p.name, p.q.len(), joints.len())));
             }
-            if let Some(v) = p.q.iter().find(|v| !v.is_finite()) {
-                return Err(invalid(format!("pose `{}` contains {v}; joint values must be finite", p.name)));
+            if let Some(v) = p.q.iter().find(|v| !(v.abs() < MAX_MAGNITUDE)) {
+                return Err(invalid(format!(
+                    "pose `{}` contains {v}; joint values must be finite numbers within ±{MAX_MAGNITUDE:e}",
+                    p.name
+                )));
             }
         }
         let inertials = if inertials.is_empty() { vec![None; joints.len()] } else { inertials };

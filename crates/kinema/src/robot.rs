@@ -104,7 +104,7 @@ impl Robot {
         if q.len() != joints.len() {
             return Error::JointCount { robot: self.name().into(), expected: joints.len(), got: q.len() };
         }
-        let i = q.iter().position(|v| !v.is_finite()).unwrap_or(0);
+        let i = q.iter().position(|v| !(v.abs() < crate::MAX_MAGNITUDE)).unwrap_or(0);
         Error::NonFinite { robot: self.name().into(), joint: i + 1, name: joints[i].name.clone(), value: q[i] }
     }
 

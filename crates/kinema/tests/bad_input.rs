@@ -1015,3 +1015,77 @@ fn argument_errors_are_typed() {
     assert!(matches!(&e, Error::Syntax { what, column: 6, .. } if what == "expression"), "{e:?}");
     assert_eq!(e.to_string(), "invalid `expression`: `sin(t`, column 6: expected `,` or `)`\n  sin(t\n       ^");
 }
+
+/// Issue 35 item 6: lengths and joint values beyond 1e9 are refused, naming
+/// them, so that no product kinema forms overflows.
+#[test]
+fn absurd_lengths_and_joint_values_are_refused_by_name() {
+    let far = joint_xml("j2", "revolute", "l1", "l2", LIMIT).replace("0 0 0.1", "0 0 1e308");
+    let text = format!("{GOOD_URDF_HEAD}{}{far}</robot>", joint_xml("j1", "revolute", "base", "l1", LIMIT));
+    let e = Robot::from_urdf_str(&text, "far.urdf", None).unwrap_err().to_string();
+    assert!(e.contains("j2") && e.contains("1e308") && e.contains("below 1e9 m"), "{e}");
+    let puma = Robot::builtin("puma560").unwrap();
+    let e = puma.with_base(Pose::translation(0.0, 1e308, 0.0)).unwrap_err().to_string();
+    assert!(e.contains("base") && e.contains("below 1e9 m"), "{e}");
+    assert!(puma.with_base(Pose::translation(0.0, 1e8, 0.0)).is_ok());
+    let e = puma.fk(&[0.0, 0.0, 0.0, 0.0, 0.0, 2e9]).unwrap_err().to_string();
+    assert!(e.contains("joint 6") && e.contains("within ±1e9"), "{e}");
+    let mut b = Buffers::new(&puma);
+    assert!(b.jacobian(&puma, &[1e9, 0.0, 0.0, 0.0, 0.0, 0.0], Frame::Base).is_err());
+}
+
+/// Issue 35 item 6: over seeded inputs of every magnitude up to 1e300, each
+/// dynamics function either answers with finite numbers or fails naming
+/// the result that overflowed and the inputs; FK, Jacobians and
+/// manipulability stay finite for every accepted input.
+#[test]
+fn every_numeric_answer_is_finite_or_an_error() {
+    use kinema::analysis::{yoshikawa, Axes};
+    use kinema::dynamics;
+    use kinema::nalgebra::Vector3;
+    let mut rng = ChaCha8Rng::seed_from_u64(356);
+    let (mut answered, mut refused) = (0, 0);
+    for name in ["puma560", "lbr-iiwa-14-r820", "scara5", "panda"] {
+        let robot = Robot::builtin(name).unwrap();
+        let n = robot.dof();
+        for _ in 0..1500 {
+            let huge = |rng: &mut ChaCha8Rng| {
+                let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                sign * 10f64.powf(rng.random_range(-3.0..300.0))
+            };
+            let q: Vec<f64> = (0..n).map(|_| huge(&mut rng).clamp(-9.9e8, 9.9e8)).collect();
+            let qd: Vec<f64> = (0..n).map(|_| huge(&mut rng)).collect();
+            let qdd: Vec<f64> = (0..n).map(|_| huge(&mut rng)).collect();
+            let g = Vector3::new(huge(&mut rng), huge(&mut rng), huge(&mut rng));
+            let fk = robot.fk(&q).unwrap();
+            let p = fk.world_from_tool.pos;
+            assert!(p.iter().all(|v| v.is_finite()), "{name} fk {q:?}");
+            let j = robot.jacobian(&q, Frame::Base).unwrap();
+            assert!(j.iter().all(|v| v.is_finite()) && yoshikawa(&j, Axes::All).unwrap().is_finite());
+            if robot.inertials().iter().any(Option::is_none) {
+                continue;
+            }
+            let results = [
+                dynamics::rnea(&robot, &q, &qd, &qdd, &g),
+                dynamics::forward_dynamics(&robot, &q, &qd, &qdd, &g),
+                dynamics::coriolis_matrix(&robot, &q, &qd).map(|m| m.as_slice().to_vec()),
+                dynamics::mass_matrix(&robot, &q).map(|m| m.as_slice().to_vec()),
+            ];
+            for r in results {
+                match r {
+                    Ok(v) => {
+                        assert!(v.iter().all(|x| x.is_finite()), "{name}: {v:?}");
+                        answered += 1;
+                    }
+                    Err(e @ Error::Overflow { .. }) => {
+                        let text = e.to_string();
+                        assert!(text.contains("too large") && text.contains("joint"), "{text}");
+                        refused += 1;
+                    }
+                    Err(e) => panic!("{name}: unexpected {e}"),
+                }
+            }
+        }
+    }
+    assert!(answered > 1000 && refused > 1000, "answered {answered}, refused {refused}");
+}

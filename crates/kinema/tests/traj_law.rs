@@ -475,6 +475,14 @@ fn limits_that_overflow_or_vanish_the_duration_are_named() {
     assert!(e.contains("overflows"), "{e}");
     let e = err(Profile::Trapezoid, 1e308, MotionLimits::new(0.5, 1.0));
     assert!(e.contains("overflows"), "{e}");
+    // Issue 35 item 6: at 1 m/s the duration is a finite 1e308 s, but the
+    // 1 s acceleration phases vanish in it.
+    let e = err(Profile::Trapezoid, 1e308, MotionLimits::new(1.0, 1.0));
+    assert!(e.contains("lost to rounding"), "{e}");
+    let e = err(Profile::SCurve, 1e308, MotionLimits::with_jerk(1.0, 1.0, 1.0));
+    assert!(e.contains("lost to rounding"), "{e}");
+    // A long but sound motion is still planned: 1e9 m at 1 m/s.
+    assert!(TimeLaw::from_limits(Profile::SCurve, 1e9, &MotionLimits::with_jerk(1.0, 1.0, 1.0)).is_ok());
     let e = err(Profile::Trapezoid, 1.0, MotionLimits::new(1e100, 1e100));
     assert!(e.contains("shorter than"), "{e}");
     let e = TimeLaw::from_duration(Profile::Cubic, 1e-12).unwrap_err().to_string();

@@ -233,12 +233,14 @@ pub fn rnea_into(
         carried.lin += buf.wrench[i].lin;
         tau[i] = buf.subspace[i].dot(&carried);
     }
-    Ok(())
+    let torque = |i: usize| format!("the torque of joint {}", i + 1);
+    super::finite_result(robot, tau, torque, &[("q̇", qd), ("q̈", qdd)], Some(gravity))
 }
 
 /// The mass matrix as [`mass_matrix`](super::mass_matrix) (same units and
 /// errors), written into `m` (must be dof × dof; both triangles are filled)
-/// without allocating. On an error `m` is left as it was.
+/// without allocating. On an input error `m` is left as it was (an
+/// overflow, [`Error::Overflow`], leaves the values that are not finite).
 ///
 /// # Examples
 /// ```
@@ -278,7 +280,7 @@ pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut 
             m[(j, i)] = mij;
         }
     }
-    Ok(())
+    super::finite_result(robot, m.as_slice(), super::matrix_entry("M", n), &[], None)
 }
 
 fn check_len(robot: &Robot, what: &str, len: usize, n: usize) -> Result<()> {

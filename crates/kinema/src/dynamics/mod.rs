@@ -151,6 +151,37 @@ fn check_rates(robot: &Robot, what: &str, v: &[f64]) -> Result<()> {
     Ok(())
 }
 
+/// Ok if every value of a result is finite; else [`Error::Overflow`] naming
+/// the first value that is not (`name` of its index) and the largest inputs:
+/// per joint vector `rates` its largest entry, `gravity`, the heaviest link.
+pub(crate) fn finite_result(
+    robot: &Robot,
+    values: &[f64],
+    name: impl Fn(usize) -> String,
+    rates: &[(&str, &[f64])],
+    gravity: Option<&Vector3<f64>>,
+) -> Result<()> {
+    let Some(k) = values.iter().position(|v| !v.is_finite()) else { return Ok(()) };
+    let mut inputs: Vec<String> = rates
+        .iter()
+        .filter_map(|(what, v)| {
+            let (i, x) = v.iter().enumerate().max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+            Some(format!("largest |{what}| {:e} at joint {}", x.abs(), i + 1))
+        })
+        .collect();
+    if let Some(g) = gravity {
+        inputs.push(format!("|gravity| {:e} m/s²", g.norm()));
+    }
+    let mass = robot.inertials().iter().flatten().map(|b| b.mass).fold(0.0, f64::max);
+    inputs.push(format!("heaviest link {mass:e} kg"));
+    Err(Error::Overflow { what: name(k), value: values[k], inputs: inputs.join(", ") })
+}
+
+/// The name of entry `k` (column-major) of an n × n matrix `m`.
+pub(crate) fn matrix_entry(m: &str, n: usize) -> impl Fn(usize) -> String + '_ {
+    move |k| format!("{m}({}, {})", k % n + 1, k / n + 1)
+}
+
 fn check_gravity(gravity: &Vector3<f64>) -> Result<()> {
     match gravity.iter().position(|g| !g.is_finite()) {
         None => Ok(()),
@@ -202,6 +233,8 @@ pub fn rnea(robot: &Robot, q: &[f64], qd: &[f64], qdd: &[f64], gravity: &Vector3
         carried += f[i];
         tau[i] = k.s[i].dot(&carried);
     }
+    let torque = |i: usize| format!("the torque of joint {}", i + 1);
+    finite_result(robot, &tau, torque, &[("q̇", qd), ("q̈", qdd)], Some(gravity))?;
     Ok(tau)
 }
 
@@ -237,7 +270,9 @@ pub fn coriolis(robot: &Robot, q: &[f64], qd: &[f64]) -> Result<Vec<f64>> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn coriolis_matrix(robot: &Robot, q: &[f64], qd: &[f64]) -> Result<DMatrix<f64>> {
-    coriolis::coriolis_matrix(robot, q, qd)
+    let c = coriolis::coriolis_matrix(robot, q, qd)?;
+    finite_result(robot, c.as_slice(), matrix_entry("C", robot.dof()), &[("q̇", qd)], None)?;
+    Ok(c)
 }
 
 /// The joint-space mass matrix M(q) (dof × dof, symmetric positive definite
@@ -268,6 +303,7 @@ pub fn mass_matrix(robot: &Robot, q: &[f64]) -> Result<DMatrix<f64>> {
             m[(j, i)] = m[(i, j)];
         }
     }
+    finite_result(robot, m.as_slice(), matrix_entry("M", n), &[], None)?;
     Ok(m)
 }
 
@@ -290,5 +326,8 @@ pub fn mass_matrix(robot: &Robot, q: &[f64]) -> Result<DMatrix<f64>> {
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn forward_dynamics(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &Vector3<f64>) -> Result<Vec<f64>> {
-    aba::aba(robot, q, qd, tau, gravity)
+    let qdd = aba::aba(robot, q, qd, tau, gravity)?;
+    let acceleration = |i: usize| format!("the acceleration of joint {}", i + 1);
+    finite_result(robot, &qdd, acceleration, &[("q̇", qd), ("τ", tau)], Some(gravity))?;
+    Ok(qdd)
 }

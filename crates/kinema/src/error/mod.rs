@@ -21,8 +21,8 @@ pub enum Error {
         /// Number of values given.
         got: usize,
     },
-    /// A joint value that is NaN or infinite.
-    #[error("joint {joint} (`{name}`) of robot `{robot}` is {value}; joint values must be finite numbers")]
+    /// A joint value that is NaN, infinite, or beyond ±[`crate::MAX_MAGNITUDE`].
+    #[error("joint {joint} (`{name}`) of robot `{robot}` is {value}; joint values must be finite numbers within ±1e9")]
     NonFinite {
         /// Robot name.
         robot: String,
@@ -211,6 +211,17 @@ pub enum Error {
         what: String,
         /// The offending value.
         value: f64,
+    },
+    /// A result that is not finite although every input is: the inputs are
+    /// too large for one.
+    #[error("{what} is {value}: the inputs are too large for a finite result ({inputs})")]
+    Overflow {
+        /// Which result (e.g. `torque of joint 2`).
+        what: String,
+        /// The value it came out as.
+        value: f64,
+        /// The largest inputs, named.
+        inputs: String,
     },
     /// Something wrong with one joint's part of a request.
     #[error("joint {joint} (`{name}`): {source}")]

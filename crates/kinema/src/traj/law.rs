@@ -194,6 +194,10 @@ fn infeasible(what: &str, reason: String) -> Error {
 /// with nine decimals, so a shorter motion would end at its own start time.
 pub const MIN_DURATION: f64 = 1e-9;
 
+/// The shortest phase of a law, relative to its duration: at 1e-12 a phase
+/// boundary is still known to 2·10⁻⁴ of the phase.
+const PHASE_RESOLUTION: f64 = 1e-12;
+
 fn check_duration(duration: f64) -> Result<()> {
     if !duration.is_finite() {
         return Err(Error::Infeasible {
@@ -295,6 +299,22 @@ impl TimeLaw {
     /// refused rather than returned.
     fn checked_against(self, distance: f64, limits: &MotionLimits) -> Result<TimeLaw> {
         check_duration(self.duration)?;
+        // A phase this much shorter than the motion keeps too few digits of
+        // its own once added to the others' times (at 1e308 m it vanishes).
+        // Below MIN_DURATION a phase is the rounding residue of one that is
+        // zero (a cruise of 5e-17 s) and changes nothing.
+        let lost =
+            self.phase_times().iter().copied().find(|&t| t >= MIN_DURATION && t < self.duration * PHASE_RESOLUTION);
+        if let Some(t) = lost {
+            return Err(infeasible(
+                "distance",
+                format!(
+                    "these limits are too extreme: a phase of {t:e} s in a motion of {:e} s is lost to rounding \
+                     (phases must last at least {PHASE_RESOLUTION:e} of the motion)",
+                    self.duration
+                ),
+            ));
+        }
         let peaks = self.peaks();
         let mut reached = vec![("velocity", "vmax", distance * peaks.sd, limits.vel)];
         if self.profile != Profile::Linear {
