@@ -619,3 +619,66 @@ fn the_tools_real_acceleration_and_angular_speed_stay_within_the_limits() {
         }
     }
 }
+
+/// `at` composes only the segments running at t onto the pose the finished
+/// ones reached: the same states as composing every segment (the reference),
+/// over seeded blended chains of lines and arcs, times before, inside and
+/// after the motion.
+#[test]
+fn the_state_from_running_segments_equals_the_state_from_all() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4_035);
+    let lim = limits();
+    for case in 0..60 {
+        let n = rng.random_range(1..12);
+        let pts: Vec<Pose> = (0..=n).map(|_| random_pose(&mut rng)).collect();
+        let segs: Vec<Segment> = pts
+            .windows(2)
+            .map(|w| {
+                Segment::lin(&w[0], &w[1], [Orientation::Slerp, Orientation::Rpy(RpyConvention::Zyx)][case % 2])
+                    .unwrap()
+            })
+            .collect();
+        let blend = [Blend::Deceleration, Blend::Time(0.3), Blend::Distance(0.05), Blend::None][case % 4];
+        let profile = [Profile::SCurve, Profile::Trapezoid, Profile::Quintic][case / 4 % 3];
+        let m = CartesianMotion::new(segs, profile, &lim, blend).unwrap();
+        let m = if case % 5 == 0 { m.stretched_to(m.duration() * 1.7).unwrap() } else { m };
+        for _ in 0..400 {
+            let t = rng.random_range(-0.1..m.duration() + 0.1);
+            let (fast, plain) = (m.at(t), m.at_reference(t));
+            let close = |a: &Vector3<f64>, b: &Vector3<f64>| (a - b).norm() <= 1e-12 * (1.0 + b.norm());
+            assert!(close(&fast.pose.pos, &plain.pose.pos), "case {case} t={t}");
+            assert!((fast.pose.rot - plain.pose.rot).amax() <= 1e-12, "case {case} t={t}");
+            for (a, b) in
+                [(fast.vel, plain.vel), (fast.acc, plain.acc), (fast.omega, plain.omega), (fast.alpha, plain.alpha)]
+            {
+                assert!(close(&a, &b), "case {case} t={t}: {a:?} vs {b:?}");
+            }
+        }
+    }
+}
+
+/// Issue 35 item 4: evaluating a chain of 4000 segments costs about what a
+/// chain of 4 does (it used to cost 1000 times more: every segment was
+/// composed at every t, so a program's blended loop grew quadratically).
+#[test]
+fn a_long_chain_costs_no_more_per_sample_than_a_short_one() {
+    let lim = limits();
+    let chain = |n: usize| {
+        let pts: Vec<Pose> =
+            (0..=n).map(|k| Pose::translation(0.5, if k % 2 == 0 { 0.0 } else { 0.01 }, 0.4)).collect();
+        let segs = pts.windows(2).map(|w| Segment::lin(&w[0], &w[1], Orientation::Slerp).unwrap()).collect();
+        CartesianMotion::new(segs, Profile::Trapezoid, &lim, Blend::None).unwrap()
+    };
+    let per_sample = |m: &CartesianMotion| {
+        let start = std::time::Instant::now();
+        let mut sum = 0.0;
+        for k in 0..20_000 {
+            sum += m.at(m.duration() * f64::from(k) / 20_000.0).pose.pos.y;
+        }
+        assert!(sum.is_finite());
+        start.elapsed()
+    };
+    let (short, long) = (chain(4), chain(4000));
+    let (a, b) = (per_sample(&short).min(per_sample(&short)), per_sample(&long).min(per_sample(&long)));
+    assert!(b < a * 20, "4 segments: {a:?}, 4000 segments: {b:?} per 20 000 samples");
+}

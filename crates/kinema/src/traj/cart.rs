@@ -433,8 +433,7 @@ fn segment_law(
     // A line or an arc with SLERP meets the limits by construction; RPY's
     // angular acceleration has terms the tangential limits do not see.
     if matches!(seg.rot, Rot::Rpy { .. }) {
-        let alone =
-            CartesianMotion { segments: vec![*seg], laws: vec![law], starts: vec![0.0], duration: law.duration() };
+        let alone = CartesianMotion::assemble(vec![*seg], vec![law], vec![0.0], law.duration());
         let k = alone.peak_ratio(limits, 0.0, law.duration());
         if k > 1.0 {
             law = law.stretched_to(law.duration() * k * (1.0 + 1e-12))?;
@@ -494,15 +493,67 @@ pub struct CartesianMotion {
     laws: Vec<TimeLaw>,
     starts: Vec<f64>,
     duration: f64,
+    finished: Finished,
+}
+
+/// The pose after the first k segments have all run to their end, for every
+/// k, so that [`CartesianMotion::at`] composes only the segments running at
+/// `t` and costs the same on a chain of two segments or of thousands.
+#[derive(Debug, Clone, PartialEq)]
+struct Finished {
+    /// `by[k]`: when segments 0..=k have all ended \[s\] (non-decreasing).
+    by: Vec<f64>,
+    /// `poses[k]`: the pose once segments 0..k have ended (`poses[0]` is the start).
+    poses: Vec<Pose>,
+}
+
+impl Finished {
+    fn new(segments: &[Segment], laws: &[TimeLaw], starts: &[f64]) -> Finished {
+        let mut by = Vec::with_capacity(segments.len());
+        let mut poses = Vec::with_capacity(segments.len() + 1);
+        let first = segments[0].start();
+        let (mut p, mut r) = (first.pos, first.rot);
+        poses.push(first);
+        let mut latest = f64::NEG_INFINITY;
+        for ((seg, law), start) in segments.iter().zip(laws).zip(starts) {
+            latest = latest.max(start + law.duration());
+            by.push(latest);
+            // As `at_reference` adds a segment at its end: the same operations in
+            // the same order, so that both give the same bits.
+            p += seg.point(1.0, 0.0, 0.0).0 - seg.point(0.0, 0.0, 0.0).0;
+            r = seg.increment(1.0, 0.0, 0.0).0 * r;
+            poses.push(Pose::new(r, p));
+        }
+        Finished { by, poses }
+    }
 }
 
 impl CartesianMotion {
+    /// The motion of `segments` timed by `laws` from `starts`, lasting `duration`.
+    fn assemble(segments: Vec<Segment>, laws: Vec<TimeLaw>, starts: Vec<f64>, duration: f64) -> CartesianMotion {
+        let finished = Finished::new(&segments, &laws, &starts);
+        CartesianMotion { segments, laws, starts, duration, finished }
+    }
+
     /// Times `segments` (each must start where the previous ends, within
     /// 1e-9 m and 1e-9 rad) with laws of `profile` under `limits`, joined as
     /// `blend` says.
     ///
     /// Errors: no segment; segments that do not join; invalid limits.
     pub fn new(segments: Vec<Segment>, profile: Profile, limits: &CartesianLimits, blend: Blend) -> Result<Self> {
+        Self::new_until(segments, profile, limits, blend, &|| false)
+    }
+
+    /// [`CartesianMotion::new`] that looks at `stop` between segments and
+    /// returns [`Error::Cancelled`] once it says so: a chain of thousands of
+    /// blended segments takes seconds to time.
+    pub fn new_until(
+        segments: Vec<Segment>,
+        profile: Profile,
+        limits: &CartesianLimits,
+        blend: Blend,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<Self> {
         if segments.is_empty() {
             return Err(Error::TooFew { what: "segments".into(), got: 0, min: 1, of: "segments".into() });
         }
@@ -544,6 +595,9 @@ impl CartesianMotion {
         let mut starts = vec![0.0];
         let mut overlaps = Vec::with_capacity(segments.len().saturating_sub(1));
         for i in 1..segments.len() {
+            if stop() {
+                return Err(Error::Cancelled);
+            }
             let (prev, next) = (&laws[i - 1], &laws[i]);
             let requested = match blend {
                 Blend::None => 0.0,
@@ -572,11 +626,13 @@ impl CartesianMotion {
             .min(0.5 * prev.duration())
             .min(0.5 * next.duration());
             // The two segments alone, the second starting `o` before the first ends.
-            let pair = |o: f64| CartesianMotion {
-                segments: vec![segments[i - 1], segments[i]],
-                laws: vec![*prev, *next],
-                starts: vec![0.0, prev.duration() - o],
-                duration: prev.duration() + next.duration() - o,
+            let pair = |o: f64| {
+                CartesianMotion::assemble(
+                    vec![segments[i - 1], segments[i]],
+                    vec![*prev, *next],
+                    vec![0.0, prev.duration() - o],
+                    prev.duration() + next.duration() - o,
+                )
             };
             let fits = |o: f64| {
                 let p = pair(o);
@@ -601,7 +657,7 @@ impl CartesianMotion {
             starts.push(starts[i - 1] + prev.duration() - overlap);
         }
         let duration = starts.iter().zip(&laws).map(|(s, l)| s + l.duration()).fold(0.0, f64::max);
-        Ok(CartesianMotion { segments, laws, starts, duration })
+        Ok(CartesianMotion::assemble(segments, laws, starts, duration))
     }
 
     /// The largest ratio of a velocity to its limit, or of an acceleration to
@@ -667,12 +723,12 @@ impl CartesianMotion {
             return Ok(self.clone());
         }
         let k = duration / self.duration;
-        Ok(CartesianMotion {
-            segments: self.segments.clone(),
-            laws: self.laws.iter().map(|l| l.stretched_to(l.duration() * k)).collect::<Result<_>>()?,
-            starts: self.starts.iter().map(|s| s * k).collect(),
+        Ok(CartesianMotion::assemble(
+            self.segments.clone(),
+            self.laws.iter().map(|l| l.stretched_to(l.duration() * k)).collect::<Result<_>>()?,
+            self.starts.iter().map(|s| s * k).collect(),
             duration,
-        })
+        ))
     }
 
     /// Duration \[s\].
@@ -698,10 +754,27 @@ impl CartesianMotion {
 
     /// Pose, velocity and acceleration at time `t` \[s\] (clamped to the motion).
     pub fn at(&self, t: f64) -> CartesianState {
-        let first = self.segments[0].start();
-        let (mut p, mut v, mut a) = (first.pos, Vector3::zeros(), Vector3::zeros());
-        let (mut r, mut w, mut al) = (first.rot, Vector3::zeros(), Vector3::zeros());
-        for ((seg, law), start) in self.segments.iter().zip(&self.laws).zip(&self.starts) {
+        // Segments 0..done have ended by t, segments from `started` on not
+        // begun: only those between move (one, or two in a blend).
+        let done = self.finished.by.partition_point(|&end| end <= t);
+        let started = done + self.starts[done..].partition_point(|&start| start <= t);
+        self.compose(&self.finished.poses[done], done..started, t)
+    }
+
+    /// [`CartesianMotion::at`] the plain way, every segment composed at `t`:
+    /// the reference the fast path is tested against.
+    #[doc(hidden)]
+    pub fn at_reference(&self, t: f64) -> CartesianState {
+        self.compose(&self.segments[0].start(), 0..self.segments.len(), t)
+    }
+
+    /// The state at `t` of segments `range` composed onto `from`, the pose
+    /// the segments before them have reached.
+    fn compose(&self, from: &Pose, range: std::ops::Range<usize>, t: f64) -> CartesianState {
+        let (mut p, mut v, mut a) = (from.pos, Vector3::zeros(), Vector3::zeros());
+        let (mut r, mut w, mut al) = (from.rot, Vector3::zeros(), Vector3::zeros());
+        let running = self.segments[range.clone()].iter().zip(&self.laws[range.clone()]).zip(&self.starts[range]);
+        for ((seg, law), start) in running {
             let s = law.at(t - start);
             let (pp, pv, pa) = seg.point(s.s, s.sd, s.sdd);
             p += pp - seg.point(0.0, 0.0, 0.0).0;
