@@ -24,7 +24,6 @@ use crate::stdout::outln;
 use std::collections::HashSet;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -72,10 +71,10 @@ pub struct CellArgs {
     /// are sampled at it too.
     #[arg(long)]
     dt: Option<f64>,
-    /// Stop the programs after this many seconds in all, wall clock; no limit by default.
+    /// Stop the programs after this many seconds in all, wall clock; `inf` for no limit.
     /// Ctrl-C stops them at any time.
-    #[arg(long, value_name = "SECONDS")]
-    time_limit: Option<f64>,
+    #[arg(long, value_name = "SECONDS", default_value_t = crate::lang_cmd::DEFAULT_TIME_LIMIT)]
+    time_limit: f64,
 }
 
 fn length_arg(text: &str) -> Result<f64, String> {
@@ -291,12 +290,7 @@ fn load(a: &CellArgs) -> Result<Loaded> {
         return Err(src.err(0..0, "robot", "no [[robot]] tables: a cell needs at least one robot"));
     }
 
-    let mut stop = match a.time_limit {
-        Some(s) if s.is_finite() && s >= 0.0 => Stop::after(Duration::from_secs_f64(s)),
-        Some(s) => bail!("--time-limit must be a number of seconds ≥ 0, not {s}"),
-        None => Stop::never(),
-    };
-    stop = stop.with_flag(crate::interrupt::flag());
+    let stop = crate::lang_cmd::program_stop(a.time_limit)?;
     let mut names = HashSet::new();
     let mut members = Vec::with_capacity(parsed.robot.len());
     for (i, spanned) in parsed.robot.iter().enumerate() {
@@ -421,6 +415,7 @@ fn run_program(path: &Path, robot: &Robot, dt: f64, start: Option<Vec<f64>>, sto
         Err(diags) => {
             eprint!("{}", render_all(&diags, &name, &src));
             check_interrupted()?;
+            crate::lang_cmd::note_time_limit(&diags);
             bail!("the program `{name}` does not run (the errors are above)")
         }
     }

@@ -25,13 +25,34 @@ pub struct ProgramArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub(crate) start: Option<String>,
     /// Stop the program after this many seconds, wall clock (an error at the statement or
-    /// loop pass reached); no limit by default. Ctrl-C stops it at any time.
-    #[arg(long, value_name = "SECONDS")]
-    pub(crate) time_limit: Option<f64>,
+    /// loop pass reached); `inf` for no limit. Ctrl-C stops it at any time.
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_TIME_LIMIT)]
+    pub(crate) time_limit: f64,
     /// Skip motions to targets out of reach, with a warning each (seed 003 Fig. 9: the
     /// generated trajectory leaves out a point outside the workspace), instead of failing.
     #[arg(long)]
     pub(crate) skip_unreachable: bool,
+}
+
+/// How long a program may compute by default \[s, wall clock\]: a bound on
+/// every run, as the server's 10 s, that a long program lifts with `--time-limit`.
+pub(crate) const DEFAULT_TIME_LIMIT: f64 = 120.0;
+
+/// The stop of a program run: after `limit` seconds (`inf`: never) or on Ctrl-C.
+pub(crate) fn program_stop(limit: f64) -> Result<Stop> {
+    let stop = match limit {
+        s if s == f64::INFINITY => Stop::never(),
+        s if s.is_finite() && s >= 0.0 => Stop::after(Duration::from_secs_f64(s)),
+        s => anyhow::bail!("--time-limit must be a number of seconds ≥ 0 (or `inf` for none), not {s}"),
+    };
+    Ok(stop.with_flag(crate::interrupt::flag()))
+}
+
+/// After a run stopped by its time budget: which option changes it.
+pub(crate) fn note_time_limit(diags: &[kinema_lang::Diagnostic]) {
+    if diags.iter().any(|d| d.message.contains("the time budget of")) {
+        eprintln!("note: --time-limit sets the budget (default {DEFAULT_TIME_LIMIT} s; `inf` for none)");
+    }
 }
 
 /// Whether Ctrl-C was pressed (the error to return then: nothing is written).
@@ -75,15 +96,10 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
         Some(text) => Some(crate::input::parse_q(&robot, text, false)?),
         None => None,
     };
-    let mut stop = match a.time_limit {
-        Some(s) if s.is_finite() && s >= 0.0 => Stop::after(Duration::from_secs_f64(s)),
-        Some(s) => anyhow::bail!("--time-limit must be a number of seconds ≥ 0, not {s}"),
-        None => Stop::never(),
-    };
     // The first Ctrl-C asks the program to stop (it reports where); a second one
     // ends the process at once.
     let _cancellable = crate::interrupt::cancellable();
-    stop = stop.with_flag(crate::interrupt::flag());
+    let stop = program_stop(a.time_limit)?;
     let opts = Options { dt: a.dt, start, stop, skip_unreachable: a.skip_unreachable, ..Options::default() };
     let name = a.program.display().to_string();
     match kinema_lang::compile(&src, &robot, &opts) {
@@ -97,6 +113,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
         Err(diags) => {
             eprint!("{}", render_all(&diags, &name, &src));
             check_interrupted()?;
+            note_time_limit(&diags);
             Err(Exit(1).into())
         }
     }
@@ -131,19 +148,10 @@ pub fn run(a: RunArgs) -> Result<()> {
     let (plan, _) = build(&a.program)?;
     let robot = &plan.robot;
     let conv = RpyConvention::Zyx;
-    let rows = traj_cmd::table(robot, &plan.trajectory, conv)?;
-    // Ctrl-C while the table was computed: still nothing written.
+    // Ctrl-C while the plan was made: still nothing written.
     check_interrupted()?;
-    write_atomically(&a.out, |w| {
-        let mut w = csv::Writer::from_writer(w);
-        w.write_record(traj_cmd::header(robot.dof(), conv))?;
-        for row in &rows {
-            w.write_record(row.iter().map(|v| format!("{v:.12}")))?;
-        }
-        w.flush()?;
-        Ok(())
-    })?;
-    eprintln!("wrote {} samples ({:.4} s) to {}", rows.len(), plan.duration(), a.out.display());
+    write_atomically(&a.out, |w| traj_cmd::write_csv(w, robot, &plan.trajectory, conv, 12))?;
+    eprintln!("wrote {} samples ({:.4} s) to {}", plan.trajectory.len(), plan.duration(), a.out.display());
     if a.json {
         print_json(&summary(&plan)?)?;
     }

@@ -235,7 +235,7 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
                         robot,
                         dt,
                         start: None,
-                        time_limit: None,
+                        time_limit: lang_cmd::DEFAULT_TIME_LIMIT,
                         skip_unreachable: false,
                     })?;
                     (plan.robot, plan.trajectory)

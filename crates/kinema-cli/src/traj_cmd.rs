@@ -525,42 +525,86 @@ fn emit(
 ) -> Result<()> {
     // `--out -` is standard output, as without --out.
     let out = out.filter(|p| !crate::output::is_stdout(p));
-    let rows = table(robot, traj, conv)?;
-    summary["samples"] = json!(rows.len());
+    let samples = traj.len();
+    summary["samples"] = json!(samples);
     let duration = traj.times().last().copied().unwrap_or(0.0);
     if let Some(path) = out {
-        write_atomically(path, |w| {
-            let mut w = csv::Writer::from_writer(w);
-            w.write_record(header(robot.dof(), conv))?;
-            for row in &rows {
-                w.write_record(row.iter().map(|v| format!("{v:.12}")))?;
-            }
-            w.flush()?;
-            Ok(())
-        })?;
-        eprintln!("wrote {} samples ({duration:.4} s) to {}", rows.len(), path.display());
+        write_atomically(path, |w| write_csv(w, robot, traj, conv, 12))?;
+        eprintln!("wrote {samples} samples ({duration:.4} s) to {}", path.display());
     }
     if as_json {
-        if out.is_none() {
-            summary["columns"] = json!(header(robot.dof(), conv));
-            summary["rows"] = json!(rows);
+        if out.is_some() {
+            return print_json(&summary);
         }
-        return print_json(&summary);
+        let with_rows =
+            WithRows { summary: &summary, columns: header(robot.dof(), conv), rows: Rows { robot, traj, conv } };
+        let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+        let written: Result<()> = (|| {
+            serde_json::to_writer_pretty(&mut w, &with_rows)?;
+            std::io::Write::write_all(&mut w, b"\n")?;
+            Ok(std::io::Write::flush(&mut w)?)
+        })();
+        return written.context("cannot write to standard output");
     }
     if out.is_none() {
-        let mut w = csv::Writer::from_writer(std::io::stdout().lock());
-        let written: Result<()> = (|| {
-            w.write_record(header(robot.dof(), conv))?;
-            for row in &rows {
-                w.write_record(row.iter().map(|v| format!("{v:.9}")))?;
-            }
-            Ok(w.flush()?)
-        })();
-        written.context("cannot write to standard output")?;
+        let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+        write_csv(&mut w, robot, traj, conv, 9).context("cannot write to standard output")?;
     } else {
-        outln!("{} on `{}`: {duration:.6} s, {} samples", summary["motion"], robot.name(), rows.len())?;
+        outln!("{} on `{}`: {duration:.6} s, {samples} samples", summary["motion"], robot.name())?;
     }
     Ok(())
+}
+
+/// The CSV of a trajectory ([`header`], then one row per sample with
+/// `decimals`), each row computed as it is written.
+pub(crate) fn write_csv(
+    w: impl std::io::Write,
+    robot: &Robot,
+    traj: &JointTrajectory,
+    conv: RpyConvention,
+    decimals: usize,
+) -> Result<()> {
+    let mut w = csv::Writer::from_writer(w);
+    w.write_record(header(robot.dof(), conv))?;
+    for_each_row(robot, traj, conv, |row| Ok(w.write_record(row.iter().map(|v| format!("{v:.decimals$}")))?))?;
+    w.flush()?;
+    Ok(())
+}
+
+/// A JSON summary with the trajectory's columns and rows, the rows computed
+/// as they are serialised.
+#[derive(serde::Serialize)]
+struct WithRows<'a> {
+    #[serde(flatten)]
+    summary: &'a serde_json::Value,
+    columns: Vec<String>,
+    rows: Rows<'a>,
+}
+
+/// The rows of [`for_each_row`] as a JSON array.
+struct Rows<'a> {
+    robot: &'a Robot,
+    traj: &'a JointTrajectory,
+    conv: RpyConvention,
+}
+
+impl serde::Serialize for Rows<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::{Error, SerializeSeq};
+        let mut seq = s.serialize_seq(Some(self.traj.len()))?;
+        let mut write_error = None;
+        let computed = for_each_row(self.robot, self.traj, self.conv, |row| {
+            seq.serialize_element(row).map_err(|e| {
+                write_error = Some(e);
+                anyhow::anyhow!("the JSON could not be written")
+            })
+        });
+        if let Some(e) = write_error {
+            return Err(e);
+        }
+        computed.map_err(S::Error::custom)?;
+        seq.end()
+    }
 }
 
 /// x,y,z,roll,pitch,yaw → a pose.
@@ -953,15 +997,22 @@ pub fn header(n: usize, conv: RpyConvention) -> Vec<String> {
     h
 }
 
-/// One row per sample: t, q, q̇, q̈, the tool pose and the translational
-/// manipulability (Yoshikawa on the linear-velocity rows, as seed 004 Fig. 30/33).
-pub fn table(robot: &Robot, traj: &JointTrajectory, conv: RpyConvention) -> Result<Vec<Vec<f64>>> {
+/// Hands `each` one row per sample: t, q, q̇, q̈, the tool pose and the
+/// translational manipulability (Yoshikawa on the linear-velocity rows, as
+/// seed 004 Fig. 30/33). Rows are computed one at a time, never held
+/// together: a trajectory at the sample limit would need gigabytes as a table.
+pub fn for_each_row(
+    robot: &Robot,
+    traj: &JointTrajectory,
+    conv: RpyConvention,
+    mut each: impl FnMut(&[f64]) -> Result<()>,
+) -> Result<()> {
     let mut jac = Matrix6xX::zeros(robot.dof());
-    let mut rows = Vec::with_capacity(traj.len());
+    let mut row = Vec::with_capacity(1 + 3 * robot.dof() + 7);
     for k in 0..traj.len() {
         let q = traj.q(k);
         let fk = kinema::kin::jacobian_into(robot, q, Frame::Base, &mut jac)?;
-        let mut row = Vec::with_capacity(1 + 3 * robot.dof() + 7);
+        row.clear();
         row.push(traj.times()[k]);
         row.extend_from_slice(q);
         row.extend_from_slice(traj.qd(k));
@@ -970,7 +1021,7 @@ pub fn table(robot: &Robot, traj: &JointTrajectory, conv: RpyConvention) -> Resu
         row.extend([p.pos.x, p.pos.y, p.pos.z]);
         row.extend(p.rpy(conv));
         row.push(yoshikawa(&jac, Axes::Translation)?);
-        rows.push(row);
+        each(&row)?;
     }
-    Ok(rows)
+    Ok(())
 }

@@ -1017,6 +1017,28 @@ fn language_time_limit_stops_a_long_program_and_writes_nothing() {
     assert!(r.stderr.contains("1 error(s)"), "{}", r.stderr);
     assert!(!out.exists(), "no file when stopped");
     assert!(fails(&["check", prog.to_str().unwrap(), "--robot", "scara5", "--time-limit=-1"]).contains("--time-limit"));
+    assert!(r.stderr.contains("note: --time-limit sets the budget (default 120 s"), "{}", r.stderr);
+}
+
+/// Issue 35 item 4: a loop of blended LIN motions is one chain, timed as one
+/// statement after the loop; the time limit now reaches inside that timing,
+/// and `inf` lifts the (default) limit.
+#[test]
+fn the_time_limit_stops_a_long_blended_chain() {
+    let dir = tempdir("lang-chain-limit");
+    let prog = dir.join("chain.prg");
+    let text = "POS above = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)\nPTP above\nFOR i = 1 TO 3000\n  \
+                LIN REL CART(0mm, 10mm, 0mm) BLEND 2mm\n  LIN REL CART(0mm, -10mm, 0mm) BLEND 2mm\nEND\n";
+    std::fs::write(&prog, text).unwrap();
+    let start = std::time::Instant::now();
+    let r = kinema(&["check", prog.to_str().unwrap(), "--robot", "lbr-iiwa-14-r820", "--time-limit", "0.5"]);
+    assert!(!r.ok);
+    assert!(start.elapsed() < std::time::Duration::from_secs(5), "{:?}", start.elapsed());
+    assert!(r.stderr.contains("stopped here: the time budget of 0.500 s ran out"), "{}", r.stderr);
+    let short = dir.join("short.prg");
+    std::fs::write(&short, "WAIT 1s\n").unwrap();
+    let r = kinema(&["check", short.to_str().unwrap(), "--robot", "scara5", "--time-limit", "inf"]);
+    assert!(r.ok, "{}", r.stderr);
 }
 
 /// Ctrl-C (SIGINT) stops `kinema run` at the statement reached: "cancelled", exit code
@@ -1864,6 +1886,18 @@ fn dyn_refuses_bad_input_and_arms_without_mass() {
     std::fs::write(&csv, "t,q1,q2,q3,q4,q5,q6\n0,0,0,inf,0,0,0\n").unwrap();
     let e = fails(&["dyn", "-r", "puma560", csv.to_str().unwrap()]);
     assert!(e.contains("line 2") && e.contains("inf"), "{e}");
+    // Rates so large the torques overflow (issue 35 item 6: they used to be
+    // written as NaN with "0 effort violation(s)"): an error naming them, no output.
+    std::fs::write(&csv, "t,q1,q2,q3,q4,q5,q6,qd1,qd2,qd3,qd4,qd5,qd6\n0,0,0,0,0,0,0,1e200,1e200,0,0,0,0\n").unwrap();
+    let out = dir.join("tau.csv");
+    let r = puma(&csv, &["-o", out.to_str().unwrap()]);
+    assert_eq!(r.code, Some(1), "{}", r.stderr);
+    assert!(r.stderr.contains("line 2") && r.stderr.contains("too large") && r.stderr.contains("q̇"), "{}", r.stderr);
+    assert!(!out.exists());
+    // A joint value beyond ±1e9.
+    std::fs::write(&csv, "t,q1,q2,q3,q4,q5,q6\n0,0,0,1e12,0,0,0\n").unwrap();
+    let e = fails(&["dyn", "-r", "puma560", csv.to_str().unwrap()]);
+    assert!(e.contains("line 2") && e.contains("within ±1e9"), "{e}");
     // Bad gravity.
     std::fs::write(&csv, "t,q1,q2,q3,q4,q5,q6\n0,0,0,0,0,0,0\n").unwrap();
     assert!(puma(&csv, &["--gravity", "0,-9.81"]).stderr.contains("expected three"));

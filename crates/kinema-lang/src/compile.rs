@@ -1250,8 +1250,18 @@ impl<'a> Compiler<'a> {
             rot_jerk: self.cart.rot_jerk.map(|j| j * k * k * k * ka),
         };
         let profile = if self.profile.rest_to_rest() { self.profile } else { Profile::Trapezoid };
-        let mut motion = match CartesianMotion::new(chain.segments.clone(), profile, &limits, blend) {
+        let stop = &self.opts.stop;
+        let planned =
+            CartesianMotion::new_until(chain.segments.clone(), profile, &limits, blend, &|| stop.reason().is_some());
+        let mut motion = match planned {
             Ok(m) => m,
+            Err(kinema::Error::Cancelled) => {
+                if let Some(why) = self.opts.stop.reason() {
+                    self.err(Diagnostic::error(first, format!("stopped here: {why}")));
+                }
+                self.stopped = true;
+                return;
+            }
             Err(e) => {
                 self.err(Diagnostic::error(first, format!("cannot time this motion: {e}")));
                 return;
@@ -1352,16 +1362,23 @@ impl<'a> Compiler<'a> {
     fn room_for(&mut self, span: crate::lexer::Span, samples: usize) -> bool {
         // The trajectory holds the start already, and a statement's first sample is the
         // present one: `samples` adds samples − 1.
-        if self.traj.len().saturating_add(samples.saturating_sub(1)) <= self.opts.max_samples {
+        let total = self.traj.len().saturating_add(samples.saturating_sub(1));
+        // t, q, q̇ and q̈ per sample, as `JointTrajectory::reserved` counts them.
+        let bytes = total.saturating_mul(8 * (1 + 3 * self.robot.dof()));
+        if total <= self.opts.max_samples && bytes <= traj::MAX_TRAJECTORY_BYTES {
             return true;
         }
-        self.err(Diagnostic::error(
-            span,
+        let message = if total > self.opts.max_samples {
+            format!("the program produces more than {} samples", self.opts.max_samples)
+        } else {
             format!(
-                "the program produces more than {} samples; it is cut here (raise dt or shorten the program)",
-                self.opts.max_samples
-            ),
-        ));
+                "the program's {total} samples of {} joints would take {:.2} GB, above the limit of {:.2} GB",
+                self.robot.dof(),
+                bytes as f64 / 1e9,
+                traj::MAX_TRAJECTORY_BYTES as f64 / 1e9
+            )
+        };
+        self.err(Diagnostic::error(span, format!("{message}; it is cut here (raise dt or shorten the program)")));
         self.stopped = true;
         false
     }
@@ -1384,13 +1401,17 @@ impl<'a> Compiler<'a> {
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
         if t > 0.0 {
             let Some(times) = self.sample_times(s.span.clone(), t) else { return };
-            let mut j = JointTrajectory::with_capacity(self.robot.dof(), times.len());
-            let z = vec![0.0; self.robot.dof()];
-            for &tt in &times {
-                let _ = j.push(tt, &self.q, &z, &z);
-            }
             self.record(s, kind, t0, t0 + t, "hold", "stand still".into());
-            self.append(&j, t0);
+            if !self.room_for(s.span.clone(), times.len()) {
+                return;
+            }
+            // Straight into the trajectory: a copy made first would double
+            // the memory of a long WAIT at the sample limit.
+            let (q, z) = (self.q.clone(), vec![0.0; self.robot.dof()]);
+            for &tt in &times[1..] {
+                // Cannot fail: same joint count, finite values, increasing times.
+                let _ = self.traj.push(t0 + tt, &q, &z, &z);
+            }
         }
     }
 
@@ -1620,7 +1641,13 @@ impl<'a> Compiler<'a> {
         let duration = laws[0].duration();
         let times = self.sample_times(s.span.clone(), duration)?;
         let n = from.len();
-        let mut j = JointTrajectory::with_capacity(n, times.len());
+        let mut j = match JointTrajectory::reserved(n, times.len()) {
+            Ok(j) => j,
+            Err(e) => {
+                self.err(Diagnostic::error(s.span.clone(), e.to_string()));
+                return None;
+            }
+        };
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for &t in &times {
             for i in 0..n {
@@ -1761,9 +1788,12 @@ impl<'a> Compiler<'a> {
             matches!(
                 v.kind,
                 traj::ViolationKind::Acceleration | traj::ViolationKind::Jerk | traj::ViolationKind::Inconsistent
-            ) && v
-                .joint
-                .is_some_and(|j| steps.iter().any(|(a, b, js)| js[j] && v.time >= a - margin && v.time <= b + margin))
+            ) && v.joint.is_some_and(|j| {
+                // Motions follow one another: their steps are in time order, so
+                // only those around v.time are looked at.
+                let from = steps.partition_point(|(_, b, _)| *b + margin < v.time);
+                steps[from..].iter().take_while(|(a, ..)| *a - margin <= v.time).any(|(_, _, js)| js[j])
+            })
         };
         for v in report.violations.into_iter().filter(|v| !stepped(v)) {
             // The first motion with start < t ≤ end (starts and ends never decrease).

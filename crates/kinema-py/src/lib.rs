@@ -10,6 +10,7 @@
 //! are 4×4 row-major (C order); Jacobians are 6×n with rows
 //! \[vx vy vz ωx ωy ωz\]; batches stack along the first axis.
 
+mod batch;
 mod cell;
 mod dynamics;
 mod fast;
@@ -69,6 +70,7 @@ fn to_py(e: Error) -> PyErr {
         | Error::SolverDoesNotFit { .. }
         | Error::WrongLength { .. }
         | Error::NotFinite { .. }
+        | Error::Overflow { .. }
         | Error::RpySingularity { .. } => InvalidInput::new_err(message),
         Error::Description { .. } | Error::Urdf { .. } | Error::MimicJoint { .. } | Error::InvalidModel { .. } => {
             DescriptionError::new_err(message)
@@ -788,12 +790,7 @@ fn waypoint_from_xyz_rpy(v: &[f64], what: &str, conv: RpyConvention) -> PyResult
 
 /// Several poses: a (V, 4, 4) array or a list of 4×4 arrays, a (V, 6) array
 /// or a list of x, y, z, roll, pitch, yaw rows; one pose (4×4 or 6 numbers)
-/// is a list of one.
-fn pose_list(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Vec<Pose>> {
-    Ok(waypoint_list(obj, what, conv)?.iter().map(|w| *w.pose()).collect())
-}
-
-/// [`pose_list`], keeping roll-pitch-yaw triples as written.
+/// is a list of one. Roll-pitch-yaw triples are kept as written.
 fn waypoint_list(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention) -> PyResult<Vec<Waypoint>> {
     let t = f64_array(obj, what)?;
     match t.shape() {
@@ -1577,55 +1574,49 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] tol_orientation: f64,
     ) -> PyResult<IkBatchResult<'py>> {
         let solver = solver_choice(solver)?;
-        let targets: Vec<IkTarget> = match (T.filter(|t| !t.is_none()), position.filter(|p| !p.is_none())) {
-            (Some(t), None) => pose_list(t, "T", parse_rpy(rpy)?)?.into_iter().map(IkTarget::Pose).collect(),
-            (None, Some(p)) => {
-                let a = f64_array(p, "position")?;
-                check_shape(&a, "position", &[None, Some(3)], " (x, y, z each)")?;
-                let points = a.as_slice()?.chunks_exact(3);
-                points
-                    .enumerate()
-                    .map(|(i, v)| finite_point(v, &format!("position[{i}]")).map(IkTarget::Position))
-                    .collect::<PyResult<_>>()?
-            }
+        let targets = match (T.filter(|t| !t.is_none()), position.filter(|p| !p.is_none())) {
+            (Some(t), None) => batch::Targets::poses(f64_array(t, "T")?, parse_rpy(rpy)?)?,
+            (None, Some(p)) => batch::Targets::points(f64_array(p, "position")?)?,
             (Some(_), Some(_)) => return Err(invalid("give `T` or `position`, not both".into())),
             (None, None) => return Err(invalid("give the targets: `T` (V poses) or `position` (V points)".into())),
         };
         let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
-        let robot = Arc::clone(&self.robot);
-        let results = py
-            .allow_threads(move || {
-                let request = IkRequest {
-                    solver,
-                    q0: q0.as_deref(),
-                    mask,
-                    tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
-                    numeric: NumericOptions { seed, ..Default::default() },
-                    ..Default::default()
-                };
-                kinema::ik::solve_batch(&robot, &targets, &request, &|| {}, &|| false)
-            })
-            .map_err(to_py)?;
-        let n = self.robot.dof();
-        let mut q = Vec::with_capacity(results.len() * n);
-        let mut ok = Vec::with_capacity(results.len());
-        let mut reasons = Vec::with_capacity(results.len());
-        for r in &results {
-            match r {
-                Ok((_, s)) => {
-                    q.extend_from_slice(&s.q);
-                    ok.push(true);
-                    reasons.push(String::new());
-                }
-                Err(e) => {
-                    q.extend(std::iter::repeat_n(f64::NAN, n));
-                    ok.push(false);
-                    reasons.push(e.to_string());
+        let request = IkRequest {
+            solver,
+            q0: q0.as_deref(),
+            mask,
+            tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
+            numeric: NumericOptions { seed, ..Default::default() },
+            ..Default::default()
+        };
+        let (count, n) = (targets.len(), self.robot.dof());
+        let mut q = batch::reserve::<f64>(count.saturating_mul(n), "the joint values of the answer")?;
+        let mut ok = batch::reserve::<bool>(count, "the success flags")?;
+        let mut reasons = batch::reserve::<String>(count, "the reasons")?;
+        let robot = &self.robot;
+        for from in (0..count).step_by(batch::CHUNK) {
+            let chunk = targets.read(from, (from + batch::CHUNK).min(count))?;
+            let results = py
+                .allow_threads(|| kinema::ik::solve_batch(robot, &chunk, &request, &|| {}, &|| false))
+                .map_err(to_py)?;
+            for r in results {
+                match r {
+                    Ok((_, s)) => {
+                        q.extend_from_slice(&s.q);
+                        ok.push(true);
+                        reasons.push(String::new());
+                    }
+                    Err(e) => {
+                        q.extend(std::iter::repeat_n(f64::NAN, n));
+                        ok.push(false);
+                        reasons.push(e.to_string());
+                    }
                 }
             }
+            py.check_signals()?;
         }
         let success = Array::from_vec(ok).into_dyn().into_pyarray(py);
-        Ok((to_numpy(py, (results.len(), n), q)?, success, reasons))
+        Ok((to_numpy(py, (count, n), q)?, success, reasons))
     }
 
     /// Point-to-point motion in joint space from ``q0`` to ``qf`` (seed 004

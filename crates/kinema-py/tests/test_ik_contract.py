@@ -89,3 +89,50 @@ def test_ik_batch_rows_are_ik_answers():
         r.ik_batch(T, position=P)
     with pytest.raises(kinema.InvalidInput):
         r.ik_batch(position=P[:, :2])
+
+
+def test_ik_batch_is_solved_a_chunk_at_a_time_with_the_same_answers():
+    """Issue 35 item 5: ik_batch reads and solves 65 536 targets at a time. Across the chunk
+    boundary the answers are those of the halves solved alone, and a bad pose in a later chunk
+    is named by its index in the whole batch."""
+    r = kinema.Robot.builtin("puma560")
+    rng = np.random.default_rng(355)
+    T = r.fkine_batch(random_q(r, rng, 70_000))
+    Q, ok, reasons = r.ik_batch(T)
+    assert Q.shape == (70_000, 6) and ok.all() and len(reasons) == 70_000
+    Qa, _, _ = r.ik_batch(T[:35_000])
+    Qb, _, _ = r.ik_batch(T[35_000:])
+    assert np.array_equal(Q, np.vstack([Qa, Qb]))
+    T[66_000, 0, 0] = np.nan
+    with pytest.raises(kinema.InvalidInput, match=r"T\[66000\]"):
+        r.ik_batch(T)
+    Q6, ok6, _ = r.ik_batch(np.hstack([T[:10, :3, 3], np.zeros((10, 3))]))
+    assert Q6.shape == (10, 6) and ok6.shape == (10,)
+    Q0, ok0, reasons0 = r.ik_batch(np.zeros((0, 6)))
+    assert Q0.shape == (0, 6) and ok0.shape == (0,) and reasons0 == []
+
+
+def test_an_ik_batch_larger_than_memory_raises_memory_error():
+    """Issue 35 item 5: 3·10⁷ targets used to kill the interpreter (an allocation failure
+    aborts Rust). Under an address-space limit 1 GiB above what the input needs, the answer
+    (1.44 GB of joint values) cannot be reserved: MemoryError naming the figure, and the
+    interpreter goes on."""
+    import subprocess
+    import sys
+
+    code = """
+import resource, numpy as np, kinema
+r = kinema.Robot.builtin("puma560")
+p = np.full((30_000_000, 3), 0.5)
+size = int(next(l for l in open("/proc/self/status") if l.startswith("VmSize")).split()[1]) * 1024
+resource.setrlimit(resource.RLIMIT_AS, (size + (1 << 30), resource.getrlimit(resource.RLIMIT_AS)[1]))
+try:
+    r.ik_batch(position=p)
+except MemoryError as e:
+    print("MemoryError:", e)
+print("alive")
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "MemoryError: ik_batch: the joint values of the answer would take 1.44 GB" in done.stdout, done.stdout
+    assert done.stdout.strip().endswith("alive")

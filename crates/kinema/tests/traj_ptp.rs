@@ -521,3 +521,22 @@ fn every_builtin_plans_a_default_ptp_from_home() {
         }
     }
 }
+
+/// Issue 35 item 5: a trajectory is measured before its memory is taken. A
+/// 7-joint PTP sampled into 9 million samples (1.58 GB of t, q, q̇, q̈) is
+/// refused at once naming the figure and dt; one just under 1 GiB is made.
+#[test]
+fn a_trajectory_larger_than_its_memory_limit_is_refused_before_allocating() {
+    let robot = iiwa();
+    let ptp = Ptp::new(&robot, robot.home(), &SEED_Q_OBJ, &opts(Profile::Trapezoid)).unwrap();
+    let dt = ptp.duration() / 9.0e6;
+    let start = std::time::Instant::now();
+    let e = ptp.sample_unchecked(dt).unwrap_err().to_string();
+    assert!(start.elapsed() < std::time::Duration::from_secs(1), "{:?}", start.elapsed());
+    assert!(e.contains("1.58 GB") && e.contains("1.07 GB") && e.contains("dt"), "{e}");
+    let per_sample = 8 * (1 + 3 * 7);
+    let most = kinema::traj::MAX_TRAJECTORY_BYTES / per_sample;
+    assert!(JointTrajectory::reserved(7, most).is_ok());
+    assert!(JointTrajectory::reserved(7, most + 1).is_err());
+    assert!(JointTrajectory::reserved(64, usize::MAX).is_err());
+}

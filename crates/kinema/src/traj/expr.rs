@@ -507,7 +507,7 @@ pub fn expression_trajectory(
         compiled.push((*j, e.clone(), d1, d2));
     }
     let times = sample_times(duration, dt)?;
-    let mut traj = JointTrajectory::with_capacity(n, times.len());
+    let mut traj = JointTrajectory::reserved(n, times.len())?;
     let (mut q, mut qd, mut qdd) = (q0.to_vec(), vec![0.0; n], vec![0.0; n]);
     for t in times {
         for (j, e, d1, d2) in &compiled {

@@ -420,7 +420,7 @@ fn resolved_rate(
     let n = robot.dof();
     let mut jac = Matrix6xX::zeros(n);
     let mut q = q_start.to_vec();
-    let mut traj = JointTrajectory::with_capacity(n, times.len());
+    let mut traj = JointTrajectory::reserved(n, times.len())?;
     let mut rates: Vec<f64> = Vec::with_capacity(times.len() * n);
     let mut qs: Vec<Vec<f64>> = Vec::with_capacity(times.len());
     for (k, &t) in times.iter().enumerate() {

@@ -296,7 +296,7 @@ impl Ptp {
     pub fn sample_unchecked(&self, dt: f64) -> Result<JointTrajectory> {
         let times = sample_times(self.duration(), dt)?;
         let n = self.delta.len();
-        let mut traj = JointTrajectory::with_capacity(n, times.len());
+        let mut traj = JointTrajectory::reserved(n, times.len())?;
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for t in times {
             self.state_into(t, &mut q, &mut qd, &mut qdd);
@@ -531,7 +531,7 @@ impl BoundaryPtp {
             BoundaryPlan::Rest(p) => p.delta.len(),
             BoundaryPlan::Joints { laws, .. } => laws.len(),
         };
-        let mut traj = JointTrajectory::with_capacity(n, times.len());
+        let mut traj = JointTrajectory::reserved(n, times.len())?;
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for t in times {
             self.state_into(t, &mut q, &mut qd, &mut qdd);
@@ -545,6 +545,11 @@ impl BoundaryPtp {
 /// trajectory of that length holds 1.8 GB (t, q, q̇, q̈), its planned poses another
 /// 1.3 GB; more is refused with an error rather than left to exhaust the memory.
 pub const MAX_SAMPLES: usize = 10_000_000;
+
+/// The most memory one sampled trajectory may take (t, q, q̇, q̈ as 8-byte
+/// values): 1 GiB, 6.1 million samples of a 7-joint arm. Checked before the
+/// memory is taken, so that a run within the caps stays within a few GB.
+pub const MAX_TRAJECTORY_BYTES: usize = 1 << 30;
 
 /// 0, dt, 2·dt, … and the end time `duration` itself: `dt` \[s\] must be positive
 /// and give at most [`MAX_SAMPLES`] samples over `duration` \[s\].
@@ -608,7 +613,37 @@ impl JointTrajectory {
         Self::with_capacity(dof, 0)
     }
 
-    /// An empty trajectory with room for `samples` samples.
+    /// An empty trajectory with room for `samples` samples, taken now: an
+    /// error, not an abort, when that is more than [`MAX_TRAJECTORY_BYTES`]
+    /// or more than the system gives.
+    pub fn reserved(dof: usize, samples: usize) -> Result<Self> {
+        let values = samples.saturating_mul(1 + 3 * dof);
+        let bytes = values.saturating_mul(std::mem::size_of::<f64>());
+        let too_many = |why: String| Error::OutOfRange {
+            what: "samples".into(),
+            value: samples as f64,
+            expected: format!(
+                "fewer samples of {dof} joint(s): t, q, q̇ and q̈ of these would take {:.2} GB, {why}; \
+                 a larger time step (dt) gives fewer",
+                bytes as f64 / 1e9
+            ),
+        };
+        if bytes > MAX_TRAJECTORY_BYTES {
+            return Err(too_many(format!("above the limit of {:.2} GB for one trajectory", MAX_TRAJECTORY_BYTES as f64 / 1e9)));
+        }
+        let mut traj = Self::new(dof);
+        let per_joint = samples * dof;
+        let taken = traj.t.try_reserve_exact(samples).and_then(|()| {
+            traj.q.try_reserve_exact(per_joint)?;
+            traj.qd.try_reserve_exact(per_joint)?;
+            traj.qdd.try_reserve_exact(per_joint)
+        });
+        taken.map_err(|_| too_many("more memory than the system gives".into()))?;
+        Ok(traj)
+    }
+
+    /// An empty trajectory with room for `samples` samples (no limit: see
+    /// [`JointTrajectory::reserved`] for a request that may be large).
     pub fn with_capacity(dof: usize, samples: usize) -> Self {
         JointTrajectory {
             dof,
