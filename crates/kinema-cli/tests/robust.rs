@@ -6,6 +6,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+#[path = "../../kinema/tests/common/mutate.rs"]
+mod mutate;
+
 fn kinema() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_kinema"));
     c.stdin(Stdio::null());
@@ -586,4 +589,52 @@ fn full_duration(args: &[&str]) -> Duration {
         })
         .min()
         .unwrap()
+}
+
+/// Issue 35, the fuzz target for CSV inputs: random edits of valid joint,
+/// target and trajectory files, given to `fk`, `ik`, `traj check` and `dyn`.
+/// Every run ends with exit code 0, 1 or 2 (never a panic, 101, or a signal),
+/// an error names its cause, and an accepted `fk` or `dyn` writes no NaN or inf.
+#[test]
+fn random_csv_inputs_end_cleanly_and_give_finite_answers() {
+    use rand::SeedableRng;
+    let dir = tempdir("fuzz-csv");
+    let q = std::fs::read_to_string(configurations(&dir)).unwrap();
+    let traj =
+        run(&["traj", "ptp", "-r", "puma560", "--from", "home", "--to", "0.3,0.2,0.1,0.4,0.5,0.6", "--dt", "0.05"]);
+    assert!(traj.status.success(), "{}", stderr(&traj));
+    let traj = String::from_utf8(traj.stdout).unwrap();
+    let targets = "x,y,z\n0.5,0.2,0.3\n0.4,-0.1,0.5\n";
+    let forms: [(&str, &[&str]); 4] = [
+        (&q, &["fk", "-r", "puma560", "--input", "IN", "--output", "-"]),
+        (targets, &["ik", "-r", "puma560", "--input", "IN", "--output", "-"]),
+        (&traj, &["traj", "check", "-r", "puma560", "IN"]),
+        (&traj, &["dyn", "-r", "puma560", "IN"]),
+    ];
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x35c);
+    let input = dir.join("in.csv");
+    let (mut ok, mut refused) = (0, 0);
+    for case in 0..mutate::fuzz_cases(60) {
+        let (source, args) = &forms[case % forms.len()];
+        let text = if case % 8 == 0 { mutate::random_text(&mut rng) } else { mutate::mutate(source, &mut rng) };
+        std::fs::write(&input, &text).unwrap();
+        let args: Vec<&str> = args.iter().map(|a| if *a == "IN" { s(&input) } else { a }).collect();
+        let o = run_within(&args, Duration::from_secs(60)).unwrap_or_else(|| panic!("{args:?} hangs on {text:?}"));
+        let (e, out) = (stderr(&o), String::from_utf8_lossy(&o.stdout).into_owned());
+        let text: String = text.chars().take(300).collect();
+        assert!(matches!(o.status.code(), Some(0..=2)), "{args:?} on {text:?}: {:?} {e}", o.status);
+        assert!(!e.contains("panicked"), "{args:?} on {text:?}: {e}");
+        if o.status.success() {
+            ok += 1;
+            if matches!(args[0], "fk" | "dyn") {
+                let lower = out.to_ascii_lowercase();
+                assert!(!lower.contains("nan") && !lower.contains("inf"), "{args:?} on {text:?}: {out}");
+            }
+        } else {
+            refused += 1;
+            // An error on stderr, or a check's report (traj check, dyn) on stdout.
+            assert!(!e.trim().is_empty() || !out.trim().is_empty(), "{args:?} on {text:?}: no message");
+        }
+    }
+    assert!(ok >= 4 && refused >= 10, "ok {ok}, refused {refused}");
 }

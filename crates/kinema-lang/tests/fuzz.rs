@@ -6,6 +6,9 @@ use kinema::Robot;
 use kinema_lang::{compile, parse, Options};
 use proptest::prelude::*;
 
+#[path = "../../kinema/tests/common/mutate.rs"]
+mod mutate;
+
 const WORDS: &[&str] = &[
     "POS",
     "PTP",
@@ -77,12 +80,17 @@ fn program_from(idx: &[usize]) -> String {
     s
 }
 
+/// `base` proptest cases, times `KINEMA_FUZZ_SCALE`.
+fn cases(base: u32) -> u32 {
+    u32::try_from(mutate::fuzz_cases(base as usize)).unwrap_or(u32::MAX)
+}
+
 fn small() -> Options {
     Options { dt: 0.05, start: None, max_samples: 20_000, max_steps: 2_000, ..Options::default() }
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: cases(3000), ..ProptestConfig::default() })]
 
     #[test]
     fn parser_survives_random_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
@@ -106,7 +114,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: cases(400), ..ProptestConfig::default() })]
 
     #[test]
     fn compiler_survives_random_token_sequences(idx in proptest::collection::vec(0usize..1000, 0..40), which in 0usize..3) {

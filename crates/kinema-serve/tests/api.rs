@@ -11,6 +11,9 @@ use kinema_serve::{Running, Server, MAX_BODY};
 use rand::SeedableRng;
 use serde_json::{json, Value};
 
+#[path = "../../kinema/tests/common/mutate.rs"]
+mod mutate;
+
 /// One answer: status, raw header block, body parsed as JSON (Null if not JSON).
 struct Answer {
     status: u16,
@@ -791,4 +794,56 @@ fn a_half_closed_client_gets_its_answer() {
         assert!(json.is_object(), "request {k}: {json}");
     }
     drop(server);
+}
+
+/// Issue 35, the fuzz target for server requests: random edits of valid
+/// bodies for every endpoint (numbers made huge or NaN, brackets cut, keys
+/// duplicated…) are answered in-process. No answer is a 500 (a panic or an
+/// internal error), every answer is JSON, and an accepted one holds no
+/// number JSON could not carry (serde_json writes NaN and inf as null).
+#[test]
+fn random_request_bodies_are_answered_never_with_a_500() {
+    use rand::Rng;
+    let app = kinema_serve::App::new(None).unwrap();
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    let from = [0.3, 1.0, 0.4, -0.8, 0.2, 0.9, 0.1];
+    let p = robot.fk(&from).unwrap().world_from_tool;
+    let rpy = p.rpy(kinema::RpyConvention::Zyx);
+    let valid = [
+        ("/api/fk", json!({"robot": "puma560", "q": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6]})),
+        ("/api/ik", json!({"T": p.to_rows(), "q3": 0.4})),
+        ("/api/manip", json!({"q": from})),
+        (
+            "/api/traj",
+            json!({"kind": "ptp", "from": from, "to": [0.0, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0], "jacc": 2.0, "dt": 0.05}),
+        ),
+        (
+            "/api/traj",
+            json!({"kind": "lin", "from": from, "position": [p.pos.x, p.pos.y + 0.1, p.pos.z], "rpy": rpy, "vmax": 0.2, "amax": 1.0}),
+        ),
+        ("/api/run", json!({"robot": "scara5", "program": "HOME 1\nMOVEZ -50, 1\nWAIT 0.5s\n", "dt": 0.05})),
+    ];
+    let sources: Vec<(&str, String)> = valid.iter().map(|(path, body)| (*path, body.to_string())).collect();
+    for (path, body) in &sources {
+        assert_eq!(app.handle("POST", path, body.as_bytes()).status, 200, "{path} {body}");
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x35f);
+    let (mut accepted, mut refused) = (0, 0);
+    for case in 0..mutate::fuzz_cases(1500) {
+        let (path, source) = &sources[case % sources.len()];
+        let body = if case % 10 == 0 { mutate::random_text(&mut rng) } else { mutate::mutate(source, &mut rng) };
+        let body = if rng.random_bool(0.1) { mutate::mutate(&body, &mut rng) } else { body };
+        let reply = app.handle("POST", path, body.as_bytes());
+        assert!((200..500).contains(&reply.status), "{path} {body}: {}", String::from_utf8_lossy(&reply.body));
+        let answer: Value =
+            serde_json::from_slice(&reply.body).unwrap_or_else(|e| panic!("{path} {body}: not JSON: {e}"));
+        if reply.status == 200 {
+            accepted += 1;
+            assert!(!answer.to_string().contains("null") || *path == "/api/ik", "{path} {body}: {answer}");
+        } else {
+            refused += 1;
+            assert!(answer["error"].as_str().is_some_and(|e| !e.is_empty()), "{path} {body}: {answer}");
+        }
+    }
+    assert!(accepted > 100 && refused > 500, "accepted {accepted}, refused {refused}");
 }

@@ -629,7 +629,10 @@ impl JointTrajectory {
             ),
         };
         if bytes > MAX_TRAJECTORY_BYTES {
-            return Err(too_many(format!("above the limit of {:.2} GB for one trajectory", MAX_TRAJECTORY_BYTES as f64 / 1e9)));
+            return Err(too_many(format!(
+                "above the limit of {:.2} GB for one trajectory",
+                MAX_TRAJECTORY_BYTES as f64 / 1e9
+            )));
         }
         let mut traj = Self::new(dof);
         let per_joint = samples * dof;
