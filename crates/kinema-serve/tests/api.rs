@@ -839,7 +839,10 @@ fn random_request_bodies_are_answered_never_with_a_500() {
             serde_json::from_slice(&reply.body).unwrap_or_else(|e| panic!("{path} {body}: not JSON: {e}"));
         if reply.status == 200 {
             accepted += 1;
-            assert!(!answer.to_string().contains("null") || *path == "/api/ik", "{path} {body}: {answer}");
+            // `condition` is null at a singularity (infinite there, as the README says); the
+            // IK answer's `closest` and `branch` may be null.
+            let text = answer.to_string().replace("\"condition\":null", "");
+            assert!(!text.contains("null") || *path == "/api/ik", "{path} {body}: {answer}");
         } else {
             refused += 1;
             assert!(answer["error"].as_str().is_some_and(|e| !e.is_empty()), "{path} {body}: {answer}");
