@@ -12,6 +12,9 @@ use serde_json::Value;
 
 mod common;
 
+#[path = "../../kinema/tests/common/mutate.rs"]
+mod mutate;
+
 use common::kinema;
 
 fn tempdir(tag: &str) -> tempfile::TempDir {
@@ -441,4 +444,46 @@ fn ctrl_c_and_the_time_limit_stop_the_programs_and_write_nothing() {
     assert!(stderr.contains("nothing was written"), "{stderr}");
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(left.len(), 2, "only the cell and its program: {left:?}");
+}
+
+/// Issue 35, the fuzz target for cell files: random edits of a valid cell
+/// (two robots, trajectory files, a base with units). Every run ends with
+/// exit code 0, 1 or 3 (never a panic or a signal) within its time, a
+/// failure says why, and an accepted cell's JSON and CSV hold no NaN or inf.
+#[test]
+fn random_cell_files_end_cleanly_and_give_finite_answers() {
+    use rand::SeedableRng;
+    let dir = tempdir("fuzz");
+    two_ptp_files(dir.path());
+    let valid =
+        "dt = \"20ms\"\nmin_distance = \"50mm\"\n[[robot]]\nname = \"ur\"\nrobot = \"ur5\"\ntrajectory = \"ur5.csv\"\n\
+                 [[robot]]\nname = \"scorbot\"\nrobot = \"scorbot-er-v-plus\"\n\
+                 base = { xyz = [1, \"-200mm\", 0.1], rpy = [0, 0, \"90deg\"] }\ntrajectory = \"scorbot.csv\"\n";
+    let cell = dir.path().join("cell.toml");
+    let args: Vec<String> = ["cell", "cell.toml", "--out", "report.csv", "--json"].map(String::from).to_vec();
+    std::fs::write(&cell, valid).unwrap();
+    let r = common::kinema_in(dir.path(), &args, std::time::Duration::from_secs(60));
+    assert!(r.ok, "the valid cell: {}", r.stderr);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x35ce);
+    let (mut ok, mut refused) = (0, 0);
+    for case in 0..mutate::fuzz_cases(60) {
+        let text = if case % 8 == 0 { mutate::random_text(&mut rng) } else { mutate::mutate(valid, &mut rng) };
+        std::fs::write(&cell, &text).unwrap();
+        let _ = std::fs::remove_file(dir.path().join("report.csv"));
+        let r = common::kinema_in(dir.path(), &args, std::time::Duration::from_secs(60));
+        assert!(matches!(r.code, Some(0 | 1 | 3)), "{text:?}: {:?} {}", r.code, r.stderr);
+        assert!(!r.stderr.contains("panicked"), "{text:?}: {}", r.stderr);
+        if r.ok {
+            ok += 1;
+            let report = std::fs::read_to_string(dir.path().join("report.csv")).unwrap().to_ascii_lowercase();
+            assert!(!report.contains("nan") && !report.contains("inf"), "{text:?}: {report}");
+            // JSON cannot carry NaN (serde_json would write null, as it writes an absent option).
+            let summary: Value = serde_json::from_str(&r.stdout).unwrap_or_else(|e| panic!("{text:?}: {e}"));
+            assert!(summary["robots"].is_array(), "{text:?}: {summary}");
+        } else {
+            refused += 1;
+            assert!(!r.stderr.trim().is_empty(), "{text:?}: no message");
+        }
+    }
+    assert!(ok >= 2 && refused >= 10, "ok {ok}, refused {refused}");
 }
