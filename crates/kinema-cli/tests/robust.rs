@@ -255,6 +255,21 @@ fn a_dash_output_with_a_json_summary_is_refused() {
     assert!(String::from_utf8(o.stdout).unwrap().starts_with("t,q1,"));
 }
 
+/// Sends SIGINT to `child` as soon as its temporary output file appears in
+/// `dir` (within `limit`), so the signal lands while it writes; its exit status.
+#[cfg(unix)]
+fn interrupt_while_writing(mut child: std::process::Child, dir: &Path, limit: Duration) -> std::process::ExitStatus {
+    let start = Instant::now();
+    let temp = |dir: &Path| names(dir).into_iter().any(|n| n.contains("kinema-tmp"));
+    while !temp(dir) {
+        assert!(child.try_wait().unwrap().is_none(), "kinema ended before its temporary file was seen");
+        assert!(start.elapsed() < limit, "no temporary file after {limit:?}");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    child.wait().unwrap()
+}
+
 #[test]
 #[cfg(unix)]
 fn an_interrupted_write_leaves_no_temporary_file() {
@@ -269,22 +284,13 @@ fn an_interrupted_write_leaves_no_temporary_file() {
     let q = dir.join("big.csv");
     std::fs::write(&q, text).unwrap();
     let out = dir.join("out.csv");
-    let mut child = kinema()
+    let child = kinema()
         .args(["fk", "-r", "puma560", "--input", s(&q), "--output", s(&out)])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    let temp = |dir: &Path| names(dir).into_iter().any(|n| n.contains("kinema-tmp"));
-    while !temp(&dir) {
-        assert!(child.try_wait().unwrap().is_none(), "kinema ended before its temporary file was seen");
-        assert!(start.elapsed() < Duration::from_secs(20), "no temporary file after 20 s");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(killed.success());
-    let status = child.wait().unwrap();
+    let status = interrupt_while_writing(child, &dir, Duration::from_secs(20));
     assert_eq!(status.code(), Some(130), "{status:?}");
     assert_eq!(names(&dir), ["big.csv"], "a temporary or partial file is left");
 }
@@ -526,21 +532,13 @@ fn ctrl_c_while_a_cell_writes_leaves_the_old_output() {
     let cell = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cells/seed004_two_iiwa.toml");
     let out = dir.join("cell.csv");
     std::fs::write(&out, "old\n").unwrap();
-    let mut child = kinema()
+    let child = kinema()
         .args(["cell", cell, "--dt", "0.0002", "--out", s(&out)])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    let temp = |dir: &Path| names(dir).into_iter().any(|n| n.contains("kinema-tmp"));
-    while !temp(&dir) {
-        assert!(child.try_wait().unwrap().is_none(), "kinema ended before its temporary file was seen");
-        assert!(start.elapsed() < Duration::from_secs(120), "no temporary file after 120 s");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
-    let status = child.wait().unwrap();
+    let status = interrupt_while_writing(child, &dir, Duration::from_secs(120));
     assert_eq!(status.code(), Some(130), "{status:?}");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old\n");
     assert_eq!(names(&dir), ["cell.csv"], "a temporary file is left");

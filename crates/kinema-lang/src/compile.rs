@@ -1363,8 +1363,7 @@ impl<'a> Compiler<'a> {
         // The trajectory holds the start already, and a statement's first sample is the
         // present one: `samples` adds samples − 1.
         let total = self.traj.len().saturating_add(samples.saturating_sub(1));
-        // t, q, q̇ and q̈ per sample, as `JointTrajectory::reserved` counts them.
-        let bytes = total.saturating_mul(8 * (1 + 3 * self.robot.dof()));
+        let bytes = JointTrajectory::bytes_for(self.robot.dof(), total);
         if total <= self.opts.max_samples && bytes <= traj::MAX_TRAJECTORY_BYTES {
             return true;
         }

@@ -613,12 +613,17 @@ impl JointTrajectory {
         Self::with_capacity(dof, 0)
     }
 
+    /// The memory \[bytes\] `samples` samples of `dof` joints take: t, q, q̇
+    /// and q̈ as 8-byte values (saturating).
+    pub fn bytes_for(dof: usize, samples: usize) -> usize {
+        samples.saturating_mul(1 + 3 * dof).saturating_mul(std::mem::size_of::<f64>())
+    }
+
     /// An empty trajectory with room for `samples` samples, taken now: an
     /// error, not an abort, when that is more than [`MAX_TRAJECTORY_BYTES`]
     /// or more than the system gives.
     pub fn reserved(dof: usize, samples: usize) -> Result<Self> {
-        let values = samples.saturating_mul(1 + 3 * dof);
-        let bytes = values.saturating_mul(std::mem::size_of::<f64>());
+        let bytes = Self::bytes_for(dof, samples);
         let too_many = |why: String| Error::OutOfRange {
             what: "samples".into(),
             value: samples as f64,
