@@ -1,5 +1,5 @@
 """Writes Pinocchio's dynamics at seeded random states to a CSV that the ignored Rust test
-`dynamics_matches_pinocchio` (crates/kinema/tests/dynamics.rs) reads and compares with kinema's.
+`dynamics_matches_pinocchio` (crates/kinema/tests/all/dynamics.rs) reads and compares with kinema's.
 
     python benchmarks/dyn_peers.py OUT.csv [--n N] [--seed S]
 

@@ -3,7 +3,7 @@
 Writes one CSV row per problem: kind, case, dof, then per joint
 p0 v0 a0 pf vf af vmax amax jmax (jmax = inf: second order), then Ruckig's
 result code and duration. kinema reads the file and compares
-(crates/kinema/tests/traj_boundary.rs, `ruckig_durations`, run by
+(crates/kinema/tests/all/traj_boundary.rs, `ruckig_durations`, run by
 benchmarks/run_ruckig.sh). Every state is within the limits and its
 acceleration does not carry the velocity past vmax, so that Ruckig never
 needs its braking pre-phase and both tools solve the same problem.

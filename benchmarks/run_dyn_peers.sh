@@ -19,4 +19,4 @@ pipi "pin==$PIN_VERSION" "example-robot-data==$ERD_VERSION"
 echo "== python benchmarks/dyn_peers.py $*"
 "$py" "$here/dyn_peers.py" "$tmp/pinocchio.csv" "$@"
 cd "$repo" && KINEMA_DYN_PEERS_CSV="$tmp/pinocchio.csv" \
-    cargo test -p kinema --test dynamics -- --ignored dynamics_matches_pinocchio --nocapture
+    cargo test -p kinema --test all -- --ignored dynamics::dynamics_matches_pinocchio --nocapture

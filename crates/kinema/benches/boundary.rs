@@ -7,7 +7,7 @@
 //! cargo bench -p kinema --bench boundary
 //! ```
 //!
-//! Seeded inputs, drawn as in `tests/traj_boundary.rs`: limits v ∈ [0.1, 10],
+//! Seeded inputs, drawn as in `tests/all/traj_boundary.rs`: limits v ∈ [0.1, 10],
 //! a ∈ [0.1, 100], j ∈ [1, 1000] (log-uniform), states within them.
 
 use std::hint::black_box;

@@ -3,7 +3,7 @@
 //!
 //! The functions here ([`fk`], [`jacobian_into`], [`link_frames_into`], …)
 //! do not allocate and do not depend on any earlier call; they run the
-//! compiled chain, and `tests/reference.rs` checks them against the plain
+//! compiled chain, and `tests/all/reference.rs` checks them against the plain
 //! [`crate::reference`] functions. Convenience methods that
 //! allocate ([`Robot::fk`], [`Robot::jacobian`], [`Robot::link_frames`]) sit
 //! on top, and [`Buffers`] bundles reusable output buffers.

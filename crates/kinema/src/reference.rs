@@ -5,7 +5,7 @@
 //! [`Robot::fk`], [`Robot::link_frames`] and [`Robot::jacobian`] run a
 //! compiled, vectorised form of the same chain (the private `chain` and
 //! `lanes` modules, see docs/internals.md, "The hot loops"), and
-//! `crates/kinema/tests/reference.rs` tests them against the functions here on
+//! `crates/kinema/tests/all/reference.rs` tests them against the functions here on
 //! every built-in robot, on random arms of every joint kind and on URDFs.
 //!
 //! Each joint's link transform is the product of its description's factors

@@ -14,7 +14,7 @@ use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 use common::same_angles;
 
 type V3 = Vector3<f64>;

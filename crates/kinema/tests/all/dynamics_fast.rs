@@ -5,7 +5,7 @@
 //! built-in robot, with one set of buffers reused across robots of
 //! different sizes.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

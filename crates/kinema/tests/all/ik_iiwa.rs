@@ -11,7 +11,7 @@ use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 
 const ROBOT: &str = "lbr-iiwa-14-r820";
 

@@ -16,7 +16,7 @@ use kinema::{DhConvention, Error, GeometryKind, Joint, JointType, Limits, LinkGe
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 use common::same_angles;
 
 type V3 = Vector3<f64>;

@@ -7,7 +7,7 @@ use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 
 /// FK of random within-limit configurations → IK → the pose is reached within
 /// tolerance, within limits, for (almost) every target.

@@ -17,7 +17,7 @@ use kinema::{DhConvention, Frame, Joint, JointType, LinkGeometry, Pose, Robot};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 use common::arms::{random_q, random_robot};
 
 const ROBOTS: usize = 3000;

@@ -16,7 +16,7 @@ use kinema::{Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 use common::same_angles;
 
 type V3 = Vector3<f64>;
@@ -224,7 +224,7 @@ fn at_least_as_many_solutions_as_a_numeric_multi_start() {
 }
 
 #[test]
-#[ignore = "heavy sweep: cargo test -p kinema --release --test ik_geo_general -- --ignored --nocapture"]
+#[ignore = "heavy sweep: cargo test -p kinema --release --test all -- --ignored --nocapture ik_geo_general::"]
 fn heavy_sweep() {
     let s = round_trips(&arms(0xbeef, 100), 200, 3);
     eprintln!(

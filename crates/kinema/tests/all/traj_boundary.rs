@@ -295,7 +295,7 @@ fn states_no_law_can_respect_are_refused_naming_the_limit() {
 ///
 /// ```text
 /// bash benchmarks/run_ruckig.sh            # or
-/// KINEMA_RUCKIG_CSV=cases.csv cargo test --release -p kinema --test traj_boundary -- --ignored --nocapture
+/// KINEMA_RUCKIG_CSV=cases.csv cargo test --release -p kinema --test all -- --ignored --nocapture traj_boundary::
 /// ```
 ///
 /// Every law is re-checked against the limits; kinema's duration must be at

@@ -18,7 +18,7 @@ use num_dual::Dual64;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 use common::arms::{every_joint_kind, random_arm, random_q, robot_of};
 
 /// The mixes of random arms: uniform chains of standard or of modified DH

@@ -8,7 +8,7 @@ use kinema::{Error, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 
 /// Seed 004 §VIII-B: q_obj of the PTP example.
 const SEED_Q_OBJ: [f64; 7] = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876];

@@ -8,7 +8,7 @@
 //!   answered with an error;
 //! * **missing**: `all` did not list the configuration the target came from.
 //!
-//! `cargo test -p kinema --test ik_contract -- --nocapture` prints the table
+//! `cargo test -p kinema --test all -- --nocapture ik_contract::` prints the table
 //! that README.md quotes.
 
 use std::collections::BTreeMap;

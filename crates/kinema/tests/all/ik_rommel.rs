@@ -7,7 +7,7 @@ use kinema::{Error, Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 
 fn wrap(a: f64) -> f64 {
     kinema::ik::wrap_angle(a)

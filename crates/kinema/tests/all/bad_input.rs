@@ -10,9 +10,7 @@ use kinema::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-#[path = "common/mutate.rs"]
-mod mutate;
-use mutate::{fuzz_cases, mutate, random_text};
+use crate::mutate::{fuzz_cases, mutate, random_text};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
