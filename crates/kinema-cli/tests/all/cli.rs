@@ -7,7 +7,7 @@ use kinema::{Frame, Robot};
 use rand::SeedableRng;
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::kinema;
 
@@ -1729,7 +1729,7 @@ fn torque_rows(text: &str, n: usize) -> Vec<Vec<f64>> {
 
 /// Two unit links turning about horizontal axes (the base is rolled 90°), 1 kg each at mid-link,
 /// joint 1 with a 5 N·m motor: held out straight it needs 9.81·(0.5 + 1.5) = 19.62 N·m.
-const PENDULUM: &str = include_str!("../../kinema/tests/data/pendulum2.toml");
+const PENDULUM: &str = include_str!("../../../kinema/tests/data/pendulum2.toml");
 
 #[test]
 fn dyn_at_rest_gives_the_gravity_torques() {

@@ -66,7 +66,7 @@ use kinema_scorbot::encoder::Constants;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-mod common;
+use crate::common;
 
 /// The longest a single command may take.
 const TIME_LIMIT: Duration = Duration::from_secs(30);

@@ -6,8 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-#[path = "../../kinema/tests/common/mutate.rs"]
-mod mutate;
+use crate::mutate;
 
 fn kinema() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_kinema"));

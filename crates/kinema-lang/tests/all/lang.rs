@@ -72,7 +72,7 @@ fn scara_loop_duration_and_final_pose_by_hand() {
 #[test]
 fn the_shipped_scara_program_runs_39_s_and_ends_at_home() {
     let r = robot("scara5");
-    let src = include_str!("../../../examples/programs/scara_pick_place.prg");
+    let src = include_str!("../../../../examples/programs/scara_pick_place.prg");
     let plan = ok(src, &r);
     assert!((plan.duration() - 39.0).abs() < 1e-9);
     assert!(plan.final_q().iter().zip(r.home()).all(|(a, b)| (a - b).abs() < 1e-12));
@@ -81,7 +81,7 @@ fn the_shipped_scara_program_runs_39_s_and_ends_at_home() {
 #[test]
 fn the_shipped_iiwa_program_runs_within_limits() {
     let r = robot("lbr-iiwa-14-r820");
-    let src = include_str!("../../../examples/programs/iiwa_draw.prg");
+    let src = include_str!("../../../../examples/programs/iiwa_draw.prg");
     let plan = ok(src, &r);
     assert!(plan.motions.iter().any(|m| m.kind == "CIRC"));
     let report = kinema::traj::check(&r, &plan.trajectory, &Default::default()).unwrap();
@@ -489,7 +489,7 @@ fn golden_listings() {
 #[test]
 fn scorbot_square_by_hand() {
     let r = robot("scorbot-er-v-plus");
-    let plan = ok(include_str!("../../../examples/programs/scorbot_square.prg"), &r);
+    let plan = ok(include_str!("../../../../examples/programs/scorbot_square.prg"), &r);
     assert!((plan.duration() - 49.6).abs() < 1e-9, "{}", plan.duration());
     let (t0, t1) = (plan.motions[1].start, plan.motions[8].end);
     for k in 0..plan.trajectory.len() {
@@ -582,7 +582,7 @@ fn redundancy_chooses_the_self_motion_of_later_lines() {
 #[test]
 fn skip_unreachable_leaves_out_a_point_outside_the_workspace() {
     let r = robot("scara5");
-    let src = include_str!("../../../examples/programs/seed003_fig9_skip.prg");
+    let src = include_str!("../../../../examples/programs/seed003_fig9_skip.prg");
     let (at, message) = one_error(src, &r);
     assert_eq!(at, 4);
     assert!(message.contains("unreachable"), "{message}");

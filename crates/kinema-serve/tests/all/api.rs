@@ -11,8 +11,7 @@ use kinema_serve::{Running, Server, MAX_BODY};
 use rand::SeedableRng;
 use serde_json::{json, Value};
 
-#[path = "../../kinema/tests/common/mutate.rs"]
-mod mutate;
+use crate::mutate;
 
 /// One answer: status, raw header block, body parsed as JSON (Null if not JSON).
 struct Answer {

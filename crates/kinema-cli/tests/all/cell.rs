@@ -10,10 +10,9 @@ use kinema::nalgebra::Vector3;
 use kinema::{Pose, Robot};
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
-#[path = "../../kinema/tests/common/mutate.rs"]
-mod mutate;
+use crate::mutate;
 
 use common::kinema;
 

@@ -6,8 +6,7 @@ use kinema::Robot;
 use kinema_lang::{compile, parse, Options};
 use proptest::prelude::*;
 
-#[path = "../../kinema/tests/common/mutate.rs"]
-mod mutate;
+use crate::mutate;
 
 const WORDS: &[&str] = &[
     "POS",
