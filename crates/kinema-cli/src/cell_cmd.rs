@@ -147,19 +147,12 @@ impl<'de> Deserialize<'de> for Quantity {
     }
 }
 
-#[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "lowercase")]
-enum RpyName {
-    Zyx,
-    Xyz,
-}
-
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CellFile {
     dt: Option<Spanned<Quantity>>,
     min_distance: Option<Spanned<Quantity>>,
-    rpy: Option<RpyName>,
+    rpy: Option<RpyConvention>,
     #[serde(default)]
     robot: Vec<Spanned<MemberSpec>>,
 }
@@ -282,10 +275,7 @@ fn load(a: &CellArgs) -> Result<Loaded> {
         }
         (None, None) => None,
     };
-    let conv = match parsed.rpy.unwrap_or(RpyName::Zyx) {
-        RpyName::Zyx => RpyConvention::Zyx,
-        RpyName::Xyz => RpyConvention::Xyz,
-    };
+    let conv = parsed.rpy.unwrap_or_default();
     if parsed.robot.is_empty() {
         return Err(src.err(0..0, "robot", "no [[robot]] tables: a cell needs at least one robot"));
     }

@@ -2,25 +2,15 @@
 
 use crate::stdout::outln;
 use anyhow::{bail, Context, Result};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use kinema::ik::{Closest, IkAnswer, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
 use kinema::nalgebra::Matrix4;
 use kinema::{Error, Pose, Robot, RpyConvention};
 use serde_json::{json, Value};
 
-use crate::{print_json, Exit, RobotArg, RpyArg};
+use crate::{print_json, Exit, RobotArg};
 
 mod batch;
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SolverArg {
-    /// The robot's analytic solver when it has one, else numeric.
-    Auto,
-    /// The robot's analytic solver (an error if it has none).
-    Analytic,
-    /// Damped least squares with seeded restarts (any robot).
-    Numeric,
-}
 
 #[derive(Args)]
 pub struct IkArgs {
@@ -36,11 +26,11 @@ pub struct IkArgs {
     #[arg(long, allow_hyphen_values = true)]
     position: Option<String>,
     /// Roll-pitch-yaw convention of --pose.
-    #[arg(long, value_enum, default_value = "zyx")]
-    rpy: RpyArg,
+    #[arg(long, default_value = "zyx", value_parser = crate::by_name::<RpyConvention>())]
+    rpy: RpyConvention,
     /// Which solver.
-    #[arg(long, value_enum, default_value = "auto")]
-    solver: SolverArg,
+    #[arg(long, default_value = "auto", value_parser = crate::by_name::<SolverChoice>())]
+    solver: SolverChoice,
     /// Scorbot: pitch β of the tool (seed 000 eq. 13), with --position and --roll.
     #[arg(long, allow_hyphen_values = true, requires_all = ["position", "roll"], conflicts_with_all = ["approach", "alpha"])]
     pitch: Option<f64>,
@@ -121,7 +111,7 @@ fn target(a: &IkArgs) -> Result<IkTarget> {
     }
     if let Some(p) = &a.pose {
         let v = numbers(p, "--pose", 6)?;
-        let conv: RpyConvention = a.rpy.into();
+        let conv = a.rpy;
         return Ok(IkTarget::Pose(Pose::from_xyz_rpy([v[0], v[1], v[2]], [ang(v[3]), ang(v[4]), ang(v[5])], conv)));
     }
     if let Some(p) = &a.position {
@@ -132,15 +122,15 @@ fn target(a: &IkArgs) -> Result<IkTarget> {
 
 /// A solution as JSON; `orientation_free` (a position-only target): no
 /// `orientation_error` (null), as there is no target orientation to measure against.
-fn solution_json(robot: &Robot, s: &Solution, deg: bool, orientation_free: bool) -> Value {
-    let mut v = kinema_serve::json::solution(s);
+fn solution_json(robot: &Robot, s: &Solution, deg: bool, orientation_free: bool) -> Result<Value> {
+    let mut v = serde_json::to_value(kinema_io::SolutionAnswer::new(s))?;
     if orientation_free {
         v["orientation_error"] = Value::Null;
     }
     if deg {
         v["q"] = json!(shown_q(robot, &s.q, true));
     }
-    v
+    Ok(v)
 }
 
 /// Prints an unreachable target (JSON on stdout with --json) and exits with code 2.
@@ -204,7 +194,7 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     // The core refuses these too; checked here first so that the message names the flags.
     let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
-    if typed && a.solver == SolverArg::Numeric {
+    if typed && a.solver == SolverChoice::Numeric {
         bail!("--pitch/--roll, --approach, --alpha, --q3 and --psi select an analytic solver; drop --solver numeric");
     }
     let typed_target = a.pitch.is_some() || a.roll.is_some() || a.approach.is_some() || a.alpha.is_some();
@@ -247,11 +237,7 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
 pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest<'a>> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     Ok(IkRequest {
-        solver: match a.solver {
-            SolverArg::Auto => SolverChoice::Auto,
-            SolverArg::Analytic => SolverChoice::Analytic,
-            SolverArg::Numeric => SolverChoice::Numeric,
-        },
+        solver: a.solver,
         q0,
         all: a.all,
         q3: a.q3.map(ang),
@@ -310,7 +296,8 @@ pub fn ik(a: IkArgs) -> Result<()> {
         }
     };
     if a.json {
-        let list: Vec<Value> = chosen.iter().map(|s| solution_json(&robot, s, a.deg, orientation_free)).collect();
+        let list: Vec<Value> =
+            chosen.iter().map(|s| solution_json(&robot, s, a.deg, orientation_free)).collect::<Result<_>>()?;
         let dropped: Vec<Value> = discarded
             .iter()
             .map(|d| {

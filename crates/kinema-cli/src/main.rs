@@ -6,10 +6,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use clap::{Args, Parser, Subcommand, ValueEnum};
-use kinema::analysis::{self, Axes};
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::{Args, Parser, Subcommand};
 use kinema::nalgebra::Matrix6xX;
-use kinema::{Frame, JointType, LinkGeometry, Pose, Robot, RpyConvention};
+use kinema::{Frame, JointType, LinkGeometry, Named, Pose, Robot, RpyConvention};
+use kinema_io::{FkAnswer, JacobianAnswer, ManipAnswer, RobotInfo, RobotSummary};
 use serde_json::{json, Value};
 
 pub(crate) use output::write_atomically;
@@ -181,21 +182,10 @@ struct QArg {
     deg: bool,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum RpyArg {
-    /// R = Rz(yaw)·Ry(pitch)·Rx(roll) (seed 000 eq. 6; URDF).
-    Zyx,
-    /// R = Rx(a)·Ry(b)·Rz(c) (Corke's arm convention, seed 004).
-    Xyz,
-}
-
-impl From<RpyArg> for RpyConvention {
-    fn from(r: RpyArg) -> Self {
-        match r {
-            RpyArg::Zyx => RpyConvention::Zyx,
-            RpyArg::Xyz => RpyConvention::Xyz,
-        }
-    }
+/// A parser for one of the core's named option types: its names are the
+/// possible values (help, completion) and the core reads them.
+fn by_name<T: Named + Clone + Send + Sync>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::names()).try_map(|s| T::from_name(&s))
 }
 
 #[derive(Args)]
@@ -209,8 +199,8 @@ struct FkArgs {
     #[arg(long)]
     deg: bool,
     /// Roll-pitch-yaw convention of the printed orientation.
-    #[arg(long, value_enum, default_value = "zyx")]
-    rpy: RpyArg,
+    #[arg(long, default_value = "zyx", value_parser = crate::by_name::<RpyConvention>())]
+    rpy: RpyConvention,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -222,12 +212,6 @@ struct FkArgs {
     output: Option<PathBuf>,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum FrameArg {
-    Base,
-    Tool,
-}
-
 #[derive(Args)]
 struct JacobianArgs {
     #[command(flatten)]
@@ -235,11 +219,11 @@ struct JacobianArgs {
     #[command(flatten)]
     q: QArg,
     /// Frame the Jacobian is expressed in.
-    #[arg(long, value_enum, default_value = "base")]
-    frame: FrameArg,
+    #[arg(long, default_value = "base", value_parser = by_name::<Frame>())]
+    frame: Frame,
     /// Analytic Jacobian for roll-pitch-yaw rates (in the given convention) instead of the geometric one.
-    #[arg(long, value_enum, conflicts_with = "frame")]
-    analytic: Option<RpyArg>,
+    #[arg(long, conflicts_with = "frame", value_parser = by_name::<RpyConvention>())]
+    analytic: Option<RpyConvention>,
     /// Print JSON.
     #[arg(long)]
     json: bool,
@@ -476,7 +460,7 @@ fn run(cli: Cli) -> Result<()> {
     }
 }
 
-fn print_json(v: &Value) -> Result<()> {
+fn print_json(v: &impl serde::Serialize) -> Result<()> {
     let text = serde_json::to_string_pretty(v)?;
     outln!("{text}")
 }
@@ -484,19 +468,8 @@ fn print_json(v: &Value) -> Result<()> {
 fn robots(as_json: bool) -> Result<()> {
     let all = Robot::builtins()?;
     if as_json {
-        let list: Vec<Value> = all
-            .iter()
-            .map(|r| {
-                json!({
-                    "name": r.name(),
-                    "dof": r.dof(),
-                    "joint_types": r.joint_types(),
-                    "manufacturer": r.metadata().manufacturer,
-                    "source": r.metadata().source,
-                })
-            })
-            .collect();
-        return print_json(&Value::Array(list));
+        let list: Vec<RobotSummary> = all.iter().map(|r| RobotSummary::new(r, false)).collect();
+        return print_json(&list);
     }
     outln!("{:<20} {:>3}  {:<8} source", "name", "dof", "joints")?;
     for r in &all {
@@ -516,7 +489,7 @@ fn shown(kind: JointType, v: f64) -> f64 {
 fn info(r: &Robot, as_json: bool) -> Result<()> {
     if as_json {
         // The same JSON as the viewer's `GET /api/robots/{name}`.
-        return print_json(&kinema_serve::json::robot_info(r));
+        return print_json(&RobotInfo::new(r));
     }
     let m = r.metadata();
     outln!("{} — {} DOF ({}), {:?} description", r.name(), r.dof(), r.joint_types(), r.geometry_kind())?;
@@ -642,7 +615,7 @@ fn fk(a: FkArgs) -> Result<()> {
         ));
     }
     let r = a.robot.load()?;
-    let conv: RpyConvention = a.rpy.into();
+    let conv = a.rpy;
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
         return fk_batch_file(&r, input, output, a.deg, conv);
     }
@@ -650,12 +623,7 @@ fn fk(a: FkArgs) -> Result<()> {
     let fk = r.fk(&q)?;
     let p = fk.world_from_tool;
     if a.json {
-        let mut v = kinema_serve::json::pose_in(&p, conv);
-        v["robot"] = json!(r.name());
-        v["q"] = json!(q);
-        v["within_limits"] = json!(fk.within_limits());
-        v["out_of_limits"] = kinema_serve::json::out_of_limits(&r, &fk);
-        return print_json(&v);
+        return print_json(&FkAnswer::new(&r, &q, conv)?);
     }
     outln!("robot {}  q = [{}] (rad/m)", r.name(), q.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", "))?;
     outln!("T (base_from_tool):")?;
@@ -667,7 +635,7 @@ fn fk(a: FkArgs) -> Result<()> {
     outln!("position  [m]   x = {:.6}  y = {:.6}  z = {:.6}", p.pos.x, p.pos.y, p.pos.z)?;
     outln!(
         "rpy ({})  [deg] {:.4}, {:.4}, {:.4}   [rad] {:.6}, {:.6}, {:.6}",
-        kinema_serve::json::conv_name(conv),
+        conv,
         rpy[0].to_degrees(),
         rpy[1].to_degrees(),
         rpy[2].to_degrees(),
@@ -793,27 +761,15 @@ pub(crate) fn numeric_rows(path: &Path) -> Result<Vec<(u64, Vec<f64>)>> {
     Ok(rows)
 }
 
-fn matrix_rows(j: &Matrix6xX<f64>) -> Vec<Vec<f64>> {
-    (0..j.nrows()).map(|r| j.row(r).iter().copied().collect()).collect()
-}
-
 fn jacobian(a: JacobianArgs) -> Result<()> {
     let r = a.robot.load()?;
     let q = crate::input::parse_q(&r, &a.q.q, a.q.deg)?;
-    let (j, kind) = match a.analytic {
-        Some(c) => {
-            (r.analytic_jacobian(&q, c.into())?, format!("analytic (rpy {})", kinema_serve::json::conv_name(c.into())))
-        }
-        None => {
-            let frame = match a.frame {
-                FrameArg::Base => Frame::Base,
-                FrameArg::Tool => Frame::Tool,
-            };
-            (r.jacobian(&q, frame)?, format!("geometric, {} frame", if frame == Frame::Base { "base" } else { "tool" }))
-        }
+    let answer = match a.analytic {
+        Some(c) => JacobianAnswer::analytic(&r, &q, c)?,
+        None => JacobianAnswer::geometric(&r, &q, a.frame)?,
     };
     if a.json {
-        return print_json(&json!({ "robot": r.name(), "q": q, "kind": kind, "J": matrix_rows(&j) }));
+        return print_json(&answer);
     }
     // The analytic Jacobian's lower rows are the rates of the roll-pitch-yaw angles, not ω.
     let labels = match a.analytic {
@@ -821,9 +777,9 @@ fn jacobian(a: JacobianArgs) -> Result<()> {
         None => ["vx", "vy", "vz", "ωx", "ωy", "ωz"],
     };
     let width = labels.iter().map(|l| l.chars().count()).max().unwrap_or(2);
-    outln!("robot {}  Jacobian: {kind}, rows {}", r.name(), labels.join(" "))?;
-    for (row, label) in labels.iter().enumerate() {
-        let vals: Vec<String> = j.row(row).iter().map(|v| format!("{v:>10.6}")).collect();
+    outln!("robot {}  Jacobian: {}, rows {}", r.name(), answer.kind, labels.join(" "))?;
+    for (row, label) in answer.matrix.iter().zip(labels) {
+        let vals: Vec<String> = row.iter().map(|v| format!("{v:>10.6}")).collect();
         outln!("  {label:<width$} [{}]", vals.join(" "))?;
     }
     Ok(())
@@ -832,89 +788,60 @@ fn jacobian(a: JacobianArgs) -> Result<()> {
 fn manip(a: ManipArgs) -> Result<()> {
     let r = a.robot.load()?;
     let q = crate::input::parse_q(&r, &a.q.q, a.q.deg)?;
-    let j = r.jacobian(&q, Frame::Base)?;
-    let rep = analysis::report(&j)?;
-    let along = match &a.direction {
-        Some(d) => {
-            let v: Vec<f64> = d
-                .split(',')
-                .map(|s| s.trim().parse::<f64>())
-                .collect::<Result<_, _>>()
-                .with_context(|| format!("--direction `{d}` must be three comma-separated numbers"))?;
-            if v.len() != 3 {
-                bail!("--direction `{d}` must have 3 components, has {}", v.len());
-            }
-            let v = kinema::nalgebra::Vector3::new(v[0], v[1], v[2]);
-            Some(analysis::manipulability_along(&j, Axes::Translation, &v)?)
-        }
-        None => None,
-    };
-    let et = analysis::ellipsoid(&j, Axes::Translation)?;
-    let er = analysis::ellipsoid(&j, Axes::Rotation)?;
-    let deps: Vec<Value> = rep
-        .dependent_joints
-        .iter()
-        .map(|d| json!({"joint": d.joint + 1, "depends_on": d.on.iter().map(|(k, c)| json!({"joint": k + 1, "coefficient": c})).collect::<Vec<_>>() }))
-        .collect();
+    let direction = a.direction.as_deref().map(direction_arg).transpose()?;
+    let m = ManipAnswer::new(&r, &q, direction)?;
     if a.json {
-        let ell = |e: &analysis::Ellipsoid| json!({"radii": [e.radii[0], e.radii[1], e.radii[2]], "axes": (0..3).map(|k| [e.axes[(0, k)], e.axes[(1, k)], e.axes[(2, k)]]).collect::<Vec<_>>()});
-        return print_json(&json!({
-            "robot": r.name(), "q": q,
-            "yoshikawa": rep.yoshikawa,
-            "yoshikawa_translation": rep.yoshikawa_translation,
-            "yoshikawa_rotation": rep.yoshikawa_rotation,
-            "condition": if rep.condition.is_finite() { json!(rep.condition) } else { Value::Null },
-            "rank": rep.rank,
-            "rank_tolerance": rep.rank_tolerance,
-            "singular_values": rep.singular_values,
-            "singular_directions": rep.singular_directions,
-            "dependent_joints": deps,
-            "ellipsoid_translation": ell(&et),
-            "ellipsoid_rotation": ell(&er),
-            "manipulability_along": along,
-        }));
+        return print_json(&m);
     }
     outln!("robot {}", r.name())?;
-    outln!("yoshikawa               {:.6e}", rep.yoshikawa)?;
-    outln!("yoshikawa (translation) {:.6e}", rep.yoshikawa_translation)?;
-    outln!("yoshikawa (rotation)    {:.6e}", rep.yoshikawa_rotation)?;
-    outln!(
-        "condition number        {}",
-        if rep.condition.is_finite() { format!("{:.6e}", rep.condition) } else { "inf (singular)".into() }
-    )?;
-    outln!("rank                    {} of {} (tolerance {:.3e})", rep.rank, r.dof().min(6), rep.rank_tolerance)?;
+    outln!("yoshikawa               {:.6e}", m.yoshikawa)?;
+    outln!("yoshikawa (translation) {:.6e}", m.yoshikawa_translation)?;
+    outln!("yoshikawa (rotation)    {:.6e}", m.yoshikawa_rotation)?;
+    outln!("condition number        {}", m.condition.map_or_else(|| "inf (singular)".into(), |c| format!("{c:.6e}")))?;
+    outln!("rank                    {} of {} (tolerance {:.3e})", m.rank, r.dof().min(6), m.rank_tolerance)?;
     outln!(
         "singular values         [{}]",
-        rep.singular_values.iter().map(|v| format!("{v:.6e}")).collect::<Vec<_>>().join(", ")
+        m.singular_values.iter().map(|v| format!("{v:.6e}")).collect::<Vec<_>>().join(", ")
     )?;
-    for d in &rep.singular_directions {
+    for d in &m.singular_directions {
         outln!(
             "  lost task direction   [vx vy vz ωx ωy ωz] = [{}]",
             d.iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(", ")
         )?;
     }
-    outln!("translational ellipsoid radii [{:.6}, {:.6}, {:.6}] m/s per rad/s", et.radii[0], et.radii[1], et.radii[2])?;
-    outln!(
-        "rotational ellipsoid radii    [{:.6}, {:.6}, {:.6}] rad/s per rad/s",
-        er.radii[0],
-        er.radii[1],
-        er.radii[2]
-    )?;
-    if let Some(m) = along {
-        outln!("manipulability along direction {:.6}", m)?;
+    let [t0, t1, t2] = m.ellipsoid_translation.radii;
+    outln!("translational ellipsoid radii [{t0:.6}, {t1:.6}, {t2:.6}] m/s per rad/s")?;
+    let [r0, r1, r2] = m.ellipsoid_rotation.radii;
+    outln!("rotational ellipsoid radii    [{r0:.6}, {r1:.6}, {r2:.6}] rad/s per rad/s")?;
+    if let Some(along) = m.manipulability_along {
+        outln!("manipulability along direction {:.6}", along)?;
     }
-    if rep.dependent_joints.is_empty() {
+    if m.dependent_joints.is_empty() {
         outln!("no linearly dependent joints")?;
     }
-    for d in &rep.dependent_joints {
-        if d.on.is_empty() {
-            outln!("joint {} does not move the tool at this configuration", d.joint + 1)?;
+    for d in &m.dependent_joints {
+        if d.depends_on.is_empty() {
+            outln!("joint {} does not move the tool at this configuration", d.joint)?;
         } else {
-            let terms: Vec<String> = d.on.iter().map(|(k, c)| format!("{c:+.4}·q{}", k + 1)).collect();
-            outln!("q{} depends on: {}", d.joint + 1, terms.join(" "))?;
+            let terms: Vec<String> =
+                d.depends_on.iter().map(|c| format!("{:+.4}·q{}", c.coefficient, c.joint)).collect();
+            outln!("q{} depends on: {}", d.joint, terms.join(" "))?;
         }
     }
     Ok(())
+}
+
+/// `--direction x,y,z`.
+fn direction_arg(d: &str) -> Result<kinema::nalgebra::Vector3<f64>> {
+    let v: Vec<f64> = d
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--direction `{d}` must be three comma-separated numbers"))?;
+    if v.len() != 3 {
+        bail!("--direction `{d}` must have 3 components, has {}", v.len());
+    }
+    Ok(kinema::nalgebra::Vector3::new(v[0], v[1], v[2]))
 }
 
 fn bench(a: BenchArgs) -> Result<()> {

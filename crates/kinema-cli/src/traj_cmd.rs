@@ -16,7 +16,7 @@ use kinema::traj::{
 use kinema::{Frame, Pose, Robot, RpyConvention};
 use serde_json::json;
 
-use crate::{print_json, write_atomically, RobotArg, RpyArg};
+use crate::{print_json, write_atomically, RobotArg};
 
 #[derive(Subcommand)]
 pub enum TrajCmd {
@@ -42,14 +42,6 @@ pub enum OrientationArg {
     Rpy,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-pub enum MethodArg {
-    /// Inverse kinematics at every sample, nearest branch (iiwa: seed 004's q3 rule).
-    Ik,
-    /// Resolved rate with the damped pseudo-inverse of the Jacobian.
-    Rate,
-}
-
 #[derive(Args)]
 pub struct CartArgs {
     #[command(flatten)]
@@ -61,11 +53,11 @@ pub struct CartArgs {
     #[arg(long)]
     deg: bool,
     /// Roll-pitch-yaw convention of the poses (seed 004 writes xyz: Rx·Ry·Rz).
-    #[arg(long, value_enum, default_value = "zyx")]
-    rpy: RpyArg,
+    #[arg(long, default_value = "zyx", value_parser = crate::by_name::<RpyConvention>())]
+    rpy: RpyConvention,
     /// The time law of each segment.
-    #[arg(long, value_enum, default_value = "trapezoid")]
-    profile: ProfileArg,
+    #[arg(long, default_value = "trapezoid", value_parser = crate::by_name::<Profile>())]
+    profile: Profile,
     /// Tool speed limit [m/s].
     #[arg(long)]
     vmax: f64,
@@ -82,8 +74,8 @@ pub struct CartArgs {
     #[arg(long)]
     rot_amax: Option<f64>,
     /// How Cartesian poses become joint values.
-    #[arg(long, value_enum, default_value = "ik")]
-    method: MethodArg,
+    #[arg(long, default_value = "ik", value_parser = ["ik", "rate"])]
+    method: String,
     /// Self-motion of a redundant arm along the path (the iiwa's joint 3): `hold` the start's q3
     /// (the default where the arm has a closed form), `track` (least joint motion), `manipulability`
     /// (seed 004 §V-E), `avoid-limits`, or a value in rad (deg with --deg) the start must have.
@@ -132,7 +124,7 @@ pub struct LinArgs {
     /// Blending at via points: `decel` (seed 004: start the next segment when the previous decelerates),
     /// `none`, a time in seconds (`0.3`) or a distance (`0.05m`).
     #[arg(long, default_value = "decel")]
-    blend: String,
+    blend: Blend,
     /// Orientation interpolation.
     #[arg(long, value_enum, default_value = "slerp")]
     orientation: OrientationArg,
@@ -171,8 +163,8 @@ pub struct ExprArgs {
     #[arg(long, default_value_t = 0.01)]
     dt: f64,
     /// Roll-pitch-yaw convention of the pose columns.
-    #[arg(long, value_enum, default_value = "zyx")]
-    rpy: RpyArg,
+    #[arg(long, default_value = "zyx", value_parser = crate::by_name::<RpyConvention>())]
+    rpy: RpyConvention,
     /// Velocity limits to check instead of the robot's (one value or one per joint): a curve meant for
     /// a simulation, such as seed 001's, can be faster than the arm.
     #[arg(long, allow_hyphen_values = true)]
@@ -219,37 +211,11 @@ pub struct CheckArgs {
     json: bool,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-pub enum ProfileArg {
-    /// Trapezoidal velocity (seed 004 eq. 32–37).
-    Trapezoid,
-    /// Jerk-limited double-S.
-    Scurve,
-    /// Cubic polynomial.
-    Cubic,
-    /// Quintic polynomial.
-    Quintic,
-    /// Constant velocity.
-    Linear,
-}
-
-impl From<ProfileArg> for Profile {
-    fn from(p: ProfileArg) -> Self {
-        match p {
-            ProfileArg::Trapezoid => Profile::Trapezoid,
-            ProfileArg::Scurve => Profile::SCurve,
-            ProfileArg::Cubic => Profile::Cubic,
-            ProfileArg::Quintic => Profile::Quintic,
-            ProfileArg::Linear => Profile::Linear,
-        }
-    }
-}
-
 #[derive(Args)]
 pub struct LawArgs {
     /// The law's family.
-    #[arg(long, value_enum, default_value = "trapezoid")]
-    profile: ProfileArg,
+    #[arg(long, default_value = "trapezoid", value_parser = crate::by_name::<Profile>())]
+    profile: Profile,
     /// Distance to cover (any unit; the limits use the same one). Default 1 (a normalised law).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     distance: f64,
@@ -288,8 +254,8 @@ pub struct PtpArgs {
     deg: bool,
     /// The shared law's family [default: trapezoid, or scurve for a robot whose model has jerk limits
     /// (the Panda), whose controller rejects the trapezoid's steps in acceleration].
-    #[arg(long, value_enum)]
-    profile: Option<ProfileArg>,
+    #[arg(long, value_parser = crate::by_name::<Profile>())]
+    profile: Option<Profile>,
     /// Velocity limits: one value or one per joint (default: the robot's).
     #[arg(long, allow_hyphen_values = true)]
     vmax: Option<String>,
@@ -324,8 +290,8 @@ pub struct PtpArgs {
     #[arg(long, default_value_t = 0.01)]
     dt: f64,
     /// Roll-pitch-yaw convention of the pose columns.
-    #[arg(long, value_enum, default_value = "zyx")]
-    rpy: RpyArg,
+    #[arg(long, default_value = "zyx", value_parser = crate::by_name::<RpyConvention>())]
+    rpy: RpyConvention,
     /// Write the samples as CSV (t,q…,qd…,qdd…,x,y,z,roll,pitch,yaw,manipulability).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -360,7 +326,7 @@ pub fn traj(cmd: TrajCmd) -> Result<()> {
 }
 
 fn law(a: LawArgs) -> Result<()> {
-    let profile: Profile = a.profile.into();
+    let profile = a.profile;
     let law = match (a.duration, a.vmax, a.amax) {
         (Some(t), _, _) => TimeLaw::from_duration(profile, t)?,
         (None, Some(v), Some(acc)) => {
@@ -451,7 +417,7 @@ fn ptp(a: PtpArgs) -> Result<()> {
         bail!("--speed {}: the override must be a percentage in (0, 100]", a.speed);
     }
     let opts = PtpOptions {
-        profile: a.profile.map_or_else(|| kinema::traj::default_profile(&robot), Into::into),
+        profile: a.profile.unwrap_or_else(|| kinema::traj::default_profile(&robot)),
         vel: limits_arg(&robot, a.vmax.as_deref(), a.deg, "vmax")?,
         acc: limits_arg(&robot, a.amax.as_deref(), a.deg, "amax")?,
         jerk: limits_arg(&robot, a.jmax.as_deref(), a.deg, "jmax")?,
@@ -477,7 +443,7 @@ fn ptp(a: PtpArgs) -> Result<()> {
             "phase_times": plan.rest().map(|p| p.law().phase_times().to_vec()),
             "joint_phase_times": phase_times,
         });
-        return emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary);
+        return emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary);
     }
     let plan = Ptp::new(&robot, &from, &to, &opts)?;
     let traj = plan.sample(&robot, a.dt)?;
@@ -488,7 +454,7 @@ fn ptp(a: PtpArgs) -> Result<()> {
         "duration": plan.duration(),
         "phase_times": plan.law().phase_times(),
     });
-    emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary)
+    emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
 
 /// One boundary value per joint, revolute ones converted from degrees with
@@ -650,7 +616,7 @@ fn cart_motion(
         rot_acc: c.rot_amax.unwrap_or(c.amax),
         rot_jerk: c.jmax,
     };
-    let profile: Profile = c.profile.into();
+    let profile = c.profile;
     let motion = CartesianMotion::new(segments(start)?, profile, &limits, blend)?;
     let scale = if c.deg { std::f64::consts::PI / 180.0 } else { 1.0 };
     let self_motion = match (&c.q3, &c.psi) {
@@ -658,13 +624,10 @@ fn cart_motion(
         (None, Some(text)) => SelfMotion::parse("psi", text, scale).context("--psi")?,
         (None, None) => SelfMotion::Auto,
     };
-    if self_motion != SelfMotion::Auto && matches!(c.method, MethodArg::Rate) {
+    let method = JointMethod::named(&c.method, self_motion.clone())?;
+    if self_motion != SelfMotion::Auto && method == JointMethod::RESOLVED_RATE {
         bail!("--q3/--psi choose the self-motion of --method ik; resolved rate (--method rate) follows the damped pseudo-inverse");
     }
-    let method = match c.method {
-        MethodArg::Ik => JointMethod::Ik(self_motion),
-        MethodArg::Rate => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
-    };
     let traj = match c.max_step {
         Some(step) => to_joints_at(robot, &motion, &q0, &motion.resample_times(step, c.max_angle)?, method.clone())?,
         None => to_joints(robot, &motion, &q0, c.dt, method)?,
@@ -684,12 +647,12 @@ fn cart_motion(
             "reason": p.reason,
         })).collect::<Vec<_>>(),
     });
-    emit(robot, &traj, c.rpy.into(), c.out.as_deref(), c.json, summary)
+    emit(robot, &traj, c.rpy, c.out.as_deref(), c.json, summary)
 }
 
 fn lin(a: LinArgs) -> Result<()> {
     let robot = a.cart.robot.load()?;
-    let conv: RpyConvention = a.cart.rpy.into();
+    let conv = a.cart.rpy;
     let orientation = match a.orientation {
         OrientationArg::Slerp => Orientation::Slerp,
         OrientationArg::Rpy => Orientation::Rpy(conv),
@@ -717,26 +680,13 @@ fn lin(a: LinArgs) -> Result<()> {
     } else {
         Vec::new()
     };
-    let b = a.blend.trim();
-    let blend = match b {
-        "decel" => Blend::Deceleration,
-        "none" => Blend::None,
-        _ if b.ends_with('m') => Blend::Distance(
-            b.trim_end_matches('m')
-                .trim()
-                .parse()
-                .with_context(|| format!("--blend `{b}`: not a distance like 0.05m"))?,
-        ),
-        _ => Blend::Time(
-            b.parse().with_context(|| format!("--blend `{b}`: expected decel, none, seconds or metres (0.05m)"))?,
-        ),
-    };
+    let blend = a.blend;
     cart_motion(&robot, &a.cart, |start| Ok(Segment::lin_chain(&start, &points, orientation)?), blend, &skipped)
 }
 
 fn circ(a: CircArgs) -> Result<()> {
     let robot = a.cart.robot.load()?;
-    let conv: RpyConvention = a.cart.rpy.into();
+    let conv = a.cart.rpy;
     let aux = numbers(&a.aux, "aux")?;
     if aux.len() != 3 {
         bail!("--aux: {} values given; expected x,y,z (m)", aux.len());
@@ -779,7 +729,7 @@ fn expr(a: ExprArgs) -> Result<()> {
         "duration": a.duration,
         "expressions": exprs.iter().map(|(j, e)| json!({"joint": j + 1, "expr": e.text()})).collect::<Vec<_>>(),
     });
-    emit(&robot, &traj, a.rpy.into(), a.out.as_deref(), a.json, summary)
+    emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
 
 fn check_file(a: CheckArgs) -> Result<()> {

@@ -1,14 +1,13 @@
 //! The request handler: routing, the JSON API and the embedded page, as pure
 //! functions of (method, path, body).
 
-use kinema::analysis::{self, Axes};
 use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, SolverChoice};
 use kinema::nalgebra::Matrix4;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
     PtpOptions, Segment, SelfMotion,
 };
-use kinema::{Frame, Pose, Robot, RpyConvention};
+use kinema::{Pose, Robot, RpyConvention};
 use std::time::Duration;
 
 use kinema_lang::{Stop, StopReason};
@@ -17,7 +16,7 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
-use crate::json;
+use kinema_io::{FkAnswer, ManipAnswer, PoseAnswer, RobotInfo, RobotSummary, SolutionAnswer, TrajectoryAnswer};
 
 /// Largest request body accepted \[bytes\] (1 MiB); larger ones get 413.
 pub const MAX_BODY: usize = 1 << 20;
@@ -196,16 +195,13 @@ impl App {
         let is_get = method == "GET" || method == "HEAD";
         if path == "/api/robots" {
             get(is_get)?;
-            return Ok(self
-                .robots
-                .iter()
-                .enumerate()
-                .map(|(i, r)| json::robot_summary(r, i == self.default))
-                .collect());
+            let summaries: Vec<RobotSummary> =
+                self.robots.iter().enumerate().map(|(i, r)| RobotSummary::new(r, i == self.default)).collect();
+            return to_value(summaries);
         }
         if let Some(name) = path.strip_prefix("/api/robots/") {
             get(is_get)?;
-            return Ok(json::robot_info(self.robot_named(name, true)?));
+            return to_value(RobotInfo::new(self.robot_named(name, true)?));
         }
         let post: fn(&App, &[u8], &Stop) -> Result<Value> = match path {
             "/api/fk" => |a, b, _| a.fk(b),
@@ -239,47 +235,25 @@ impl App {
     fn fk(&self, body: &[u8]) -> Result<Value> {
         let req: QReq = parse(body, "/api/fk", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
         let r = self.robot(&req.robot)?;
-        let mut frames = vec![Pose::IDENTITY; r.dof() + 2];
-        let fk = kinema::kin::link_frames_into(r, &req.q, &mut frames)?;
-        Ok(json::fk(r, &req.q, &fk, &frames))
+        to_value(FkAnswer::new(r, &req.q, RpyConvention::Zyx)?)
     }
 
     fn manip(&self, body: &[u8]) -> Result<Value> {
         let req: QReq = parse(body, "/api/manip", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
         let r = self.robot(&req.robot)?;
-        let fk = r.fk(&req.q)?;
-        let j = r.jacobian(&req.q, Frame::Base)?;
-        let rep = analysis::report(&j)?;
-        let p = fk.world_from_tool.pos;
-        let centre = [p.x, p.y, p.z];
-        Ok(json!({
-            "robot": r.name(), "q": req.q,
-            "yoshikawa": rep.yoshikawa,
-            "yoshikawa_translation": rep.yoshikawa_translation,
-            "yoshikawa_rotation": rep.yoshikawa_rotation,
-            "condition": if rep.condition.is_finite() { json!(rep.condition) } else { Value::Null },
-            "rank": rep.rank,
-            "singular_values": rep.singular_values,
-            "ellipsoid_translation": json::ellipsoid(&analysis::ellipsoid(&j, Axes::Translation)?, centre),
-            "ellipsoid_rotation": json::ellipsoid(&analysis::ellipsoid(&j, Axes::Rotation)?, centre),
-        }))
+        to_value(ManipAnswer::new(r, &req.q, None)?)
     }
 
     fn ik(&self, body: &[u8]) -> Result<Value> {
         const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3" or "psi" (arm angle), "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet)"#;
         let req: IkReq = parse(body, "/api/ik", SHAPE)?;
         let r = self.robot(&req.robot)?;
-        let target = req.target().pose(SHAPE)?;
+        let target = req.target().pose("/api/ik", SHAPE)?;
         kinema::ik::check_target(&target)?;
         if let Some(q0) = &req.q0 {
             r.check_q(q0)?;
         }
-        let solver = match req.solver.as_deref().unwrap_or("auto") {
-            "auto" => SolverChoice::Auto,
-            "analytic" => SolverChoice::Analytic,
-            "numeric" => SolverChoice::Numeric,
-            other => return Err(bad(format!("/api/ik: solver `{other}` is not one of auto, analytic, numeric"))),
-        };
+        let solver = named("/api/ik", req.solver.as_deref(), SolverChoice::Auto)?;
         // Every solution (the viewer shows them all, `nearest` marks the one
         // nearest q0); for an iiwa-type arm the closed form at the request's q3
         // or ψ, else at q0's q3.
@@ -322,8 +296,8 @@ impl App {
             "solver": name,
             "q3": q3,
             "psi": req.psi,
-            "target": json::pose(&pose),
-            "solutions": solutions.iter().map(json::solution).collect::<Vec<_>>(),
+            "target": PoseAnswer::new(&pose, RpyConvention::Zyx),
+            "solutions": solutions.iter().map(SolutionAnswer::new).collect::<Vec<_>>(),
             "nearest": nearest,
             "picked": picked,
         }))
@@ -335,13 +309,7 @@ impl App {
         let r = self.robot(&req.robot)?;
         let dt = req.dt.unwrap_or(0.01);
         check_dt(dt)?;
-        let profile = match req.profile.as_deref() {
-            None => Profile::Trapezoid,
-            Some(name) => *Profile::ALL.iter().find(|p| p.name() == name).ok_or_else(|| {
-                let names: Vec<&str> = Profile::ALL.iter().map(|p| p.name()).collect();
-                bad(format!("/api/traj: profile `{name}` is not one of {}", names.join(", ")))
-            })?,
-        };
+        let profile = named("/api/traj", req.profile.as_deref(), Profile::Trapezoid)?;
         r.check_q(&req.from)?;
         let (traj, duration) = match req.kind.as_str() {
             "ptp" => {
@@ -364,7 +332,7 @@ impl App {
                 (plan.sample(r, dt)?, plan.duration())
             }
             "lin" => {
-                let target = req.target().pose(SHAPE)?;
+                let target = req.target().pose("/api/traj", SHAPE)?;
                 kinema::ik::check_target(&target)?;
                 let (vmax, amax) = (req.vmax.unwrap_or(0.25), req.amax.unwrap_or(1.0));
                 for (what, v) in [("vmax", vmax), ("amax", amax)] {
@@ -387,7 +355,7 @@ impl App {
             }
             other => return Err(bad(format!("/api/traj: kind `{other}` is not ptp or lin; expected {SHAPE}"))),
         };
-        let mut v = json::trajectory(&traj);
+        let mut v = to_value(TrajectoryAnswer(&traj))?;
         v["robot"] = json!(r.name());
         v["kind"] = json!(req.kind);
         v["profile"] = json!(profile.name());
@@ -424,7 +392,7 @@ impl App {
                 None => Error::Program { first, rendered },
             }
         })?;
-        let mut v = json::trajectory(&plan.trajectory);
+        let mut v = to_value(TrajectoryAnswer(&plan.trajectory))?;
         v["robot"] = json!(r.name());
         v["motions"] = plan
             .motions
@@ -437,6 +405,18 @@ impl App {
         v["warnings_rendered"] = json!(kinema_lang::render_all(&plan.warnings, FILE, &req.program));
         Ok(v)
     }
+}
+
+/// An option value read by the core from its name (`default` when the request
+/// leaves it out); a wrong name is a bad request to `path`.
+fn named<T: std::str::FromStr<Err = kinema::Error>>(path: &str, name: Option<&str>, default: T) -> Result<T> {
+    name.map_or(Ok(default), |n| n.parse().map_err(|e: kinema::Error| bad(format!("{path}: {e}"))))
+}
+
+/// An answer as a JSON value (to which a handler may add fields).
+fn to_value(answer: impl serde::Serialize) -> Result<Value> {
+    serde_json::to_value(answer)
+        .map_err(|e| Error::Internal { message: format!("an answer could not be written as JSON: {e}") })
 }
 
 fn bad(message: String) -> Error {
@@ -497,7 +477,7 @@ struct Target<'a> {
 }
 
 impl Target<'_> {
-    fn pose(&self, shape: &str) -> Result<Pose> {
+    fn pose(&self, path: &str, shape: &str) -> Result<Pose> {
         match (self.t, self.position, self.rpy) {
             (Some(t), None, None) => {
                 let m = Matrix4::from_fn(|r, c| t[r][c]);
@@ -510,11 +490,7 @@ impl Target<'_> {
                 })
             }
             (None, Some(p), Some(rpy)) => {
-                let conv = match self.rpy_convention.as_deref() {
-                    None | Some("zyx") => RpyConvention::Zyx,
-                    Some("xyz") => RpyConvention::Xyz,
-                    Some(other) => return Err(bad(format!("rpy_convention `{other}` is not zyx or xyz"))),
-                };
+                let conv = named(path, self.rpy_convention.as_deref(), RpyConvention::Zyx)?;
                 Ok(Pose::from_xyz_rpy(*p, *rpy, conv))
             }
             _ => Err(bad(format!("give the target as \"T\" alone or as \"position\" and \"rpy\"; expected {shape}"))),

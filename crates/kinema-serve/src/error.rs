@@ -137,7 +137,8 @@ pub enum Error {
     /// The server is shutting down; a program that was running was stopped (503).
     #[error("the server is shutting down; the request was not finished")]
     ShuttingDown,
-    /// A handler panicked (a bug; the server keeps running).
+    /// A handler panicked or its answer could not be written as JSON (a
+    /// bug; the server keeps running).
     #[error("internal error while handling the request: {message}")]
     Internal {
         /// The panic message.

@@ -84,9 +84,8 @@
 
 mod api;
 mod error;
-pub mod json;
-// The only module that needs axum, hyper and tokio: `kinema-cli` built
-// without its `serve` feature still prints the JSON of `json` and `App`.
+// The only module that needs axum, hyper and tokio: without the `server`
+// feature the crate is the request handler `App`, with no sockets.
 #[cfg(feature = "server")]
 mod server;
 

@@ -55,6 +55,7 @@ pub mod kin;
 mod lanes;
 pub mod math;
 pub mod model;
+mod names;
 pub mod reference;
 mod registry;
 mod robot;
@@ -68,5 +69,6 @@ pub use model::{
     DhConvention, GeometryKind, Inertial, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, Model,
     ModelBuilder, NamedPose, MAX_MAGNITUDE,
 };
+pub use names::Named;
 pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};
 pub use robot::Robot;

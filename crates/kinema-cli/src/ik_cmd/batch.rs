@@ -8,7 +8,7 @@ use std::path::Path;
 use anyhow::{bail, Result};
 use kinema::ik::{IkTarget, Solution};
 use kinema::nalgebra::Matrix4;
-use kinema::{Error, JointType, Pose, Robot, RpyConvention};
+use kinema::{Error, JointType, Pose, Robot};
 
 use super::{request, IkArgs};
 use crate::{numeric_rows, write_atomically, Exit};
@@ -70,7 +70,7 @@ fn reason(e: &Error) -> String {
 /// (x, y, z, roll, pitch, yaw in the convention of --rpy, angles in degrees
 /// with --deg) or 3 (a position) per line.
 fn read_targets(a: &IkArgs, input: &Path) -> Result<Vec<Row>> {
-    let conv: RpyConvention = a.rpy.into();
+    let conv = a.rpy;
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     let mut rows = Vec::new();
     for (line, v) in numeric_rows(input)? {

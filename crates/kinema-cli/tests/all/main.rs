@@ -9,6 +9,8 @@ mod mutate;
 
 mod cell;
 mod cli;
+#[cfg(feature = "serve")]
+mod doors;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
 mod readme;

@@ -39,6 +39,26 @@ pub enum JointMethod {
     },
 }
 
+impl JointMethod {
+    /// Resolved rate with the gains every door uses: damping λ = 0.01 and
+    /// half the pose error fed back per step.
+    pub const RESOLVED_RATE: JointMethod = JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 };
+
+    /// The method named `ik` (with `self_motion`) or `rate` (with
+    /// [`JointMethod::RESOLVED_RATE`]'s gains), as every door writes it.
+    pub fn named(name: &str, self_motion: SelfMotion) -> crate::Result<JointMethod> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "ik" => Ok(JointMethod::Ik(self_motion)),
+            "rate" => Ok(JointMethod::RESOLVED_RATE),
+            _ => Err(crate::Error::UnknownName {
+                what: "method".into(),
+                name: name.trim().into(),
+                known: "ik, rate".into(),
+            }),
+        }
+    }
+}
+
 impl Default for JointMethod {
     /// IK at every sample with the robot's default self-motion policy.
     fn default() -> Self {

@@ -28,9 +28,6 @@
 //! - **linear** — s = t/T (seed 003 for Z and θ): constant velocity; the
 //!   velocity jumps at both ends (unbounded acceleration).
 
-use std::fmt;
-use std::str::FromStr;
-
 use crate::error::{Error, Result};
 
 /// The family of a time law.
@@ -67,23 +64,6 @@ impl Profile {
     /// Whether the law's velocity starts and ends at zero.
     pub fn rest_to_rest(self) -> bool {
         self != Profile::Linear
-    }
-}
-
-impl fmt::Display for Profile {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Profile {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Profile::ALL.into_iter().find(|p| p.name().eq_ignore_ascii_case(s)).ok_or_else(|| Error::UnknownName {
-            what: "profile".into(),
-            name: s.into(),
-            known: Profile::ALL.map(|p| p.name()).join(", "),
-        })
     }
 }
 

@@ -1,0 +1,33 @@
+//! The answers kinema gives, as one set of [`serde::Serialize`] types: what
+//! `kinema … --json` prints, what the HTTP API (`kinema-serve`) returns and
+//! what Python's `to_dict` calls give, field for field, so the three doors
+//! cannot drift apart.
+//!
+//! Each answer's constructor calls the core and reads its values out, so a
+//! door converts and prints and decides nothing.
+//!
+//! ```
+//! use kinema::{Robot, RpyConvention};
+//! use kinema_io::FkAnswer;
+//!
+//! let robot = Robot::builtin("puma560")?;
+//! let answer = FkAnswer::new(&robot, robot.home(), RpyConvention::Zyx)?;
+//! assert_eq!(answer.pose.position, answer.frames.last().unwrap().position);
+//! # Ok::<(), kinema::Error>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod kinematics;
+mod pose;
+mod robot;
+mod solution;
+mod trajectory;
+
+pub use kinematics::{
+    Coefficient, DependentJoint, Ellipsoid, FkAnswer, FrameAnswer, JacobianAnswer, JointAxis, JointRef, ManipAnswer,
+};
+pub use pose::PoseAnswer;
+pub use robot::{JointGeometry, JointInfo, RobotIk, RobotInfo, RobotSummary};
+pub use solution::SolutionAnswer;
+pub use trajectory::TrajectoryAnswer;

@@ -1,0 +1,37 @@
+//! A sampled joint trajectory.
+
+use kinema::traj::JointTrajectory;
+use serde::ser::{Serialize, SerializeSeq, SerializeStruct, Serializer};
+
+/// A sampled trajectory: the times, and per sample the rows `q`, `qd`, `qdd`,
+/// with the number of samples and the duration. Serialised straight from
+/// the trajectory, without copying its samples.
+#[derive(Debug, Clone, Copy)]
+pub struct TrajectoryAnswer<'a>(pub &'a JointTrajectory);
+
+/// One column of rows (`q`, `qd` or `qdd`), written sample by sample.
+struct Rows<'a>(&'a JointTrajectory, fn(&JointTrajectory, usize) -> &[f64]);
+
+impl Serialize for Rows<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut seq = s.serialize_seq(Some(self.0.len()))?;
+        for k in 0..self.0.len() {
+            seq.serialize_element((self.1)(self.0, k))?;
+        }
+        seq.end()
+    }
+}
+
+impl Serialize for TrajectoryAnswer<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let traj = self.0;
+        let mut st = s.serialize_struct("Trajectory", 6)?;
+        st.serialize_field("t", traj.times())?;
+        st.serialize_field("q", &Rows(traj, JointTrajectory::q))?;
+        st.serialize_field("qd", &Rows(traj, JointTrajectory::qd))?;
+        st.serialize_field("qdd", &Rows(traj, JointTrajectory::qdd))?;
+        st.serialize_field("samples", &traj.len())?;
+        st.serialize_field("duration", &traj.times().last().copied().unwrap_or(0.0))?;
+        st.end()
+    }
+}
