@@ -1,4 +1,4 @@
-//! # kinema — kinematics of serial robot arms
+//! # kinema — kinematics, inverse kinematics, trajectories and dynamics of serial robot arms
 //!
 //! The core library of the kinema toolkit:
 //!
@@ -15,6 +15,19 @@
 //! * Spatial math in [`math`]: [`Pose`], roll-pitch-yaw in two named
 //!   conventions ([`RpyConvention`]), quaternions, axis-angle, pose errors.
 //! * Manipulability and singularity analysis in [`analysis`].
+//! * Inverse kinematics in [`ik`]: every closed-form solution where the
+//!   robot's structure admits one (solver families read from the joint axes,
+//!   behind [`ik::IkSolver`]), a numeric solver for any chain, and one request
+//!   layer ([`ik::solve_target`], [`ik::solve_batch`]) that lists a solution
+//!   only if forward kinematics of it meets the target.
+//! * Trajectories in [`traj`]: time laws, synchronised joint-space PTP
+//!   ([`traj::Ptp`]), Cartesian LIN and CIRC with blending, several robots on
+//!   one clock ([`traj::Cell`]), and [`traj::check`], which checks every
+//!   sample against the limits before anything is written.
+//! * Rigid-body dynamics in [`dynamics`]: inverse dynamics
+//!   ([`dynamics::rnea`]), the mass matrix ([`dynamics::mass_matrix`]),
+//!   forward dynamics ([`dynamics::forward_dynamics`]) and allocation-free
+//!   variants.
 //!
 //! Units are SI everywhere: metres, radians, seconds. Jacobian rows are
 //! \[vx vy vz ωx ωy ωz\]. `nalgebra` is re-exported.

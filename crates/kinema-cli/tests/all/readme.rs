@@ -1,8 +1,10 @@
-//! Every `kinema` command in README.md's code blocks runs (issue 25), and
-//! docs/seeds.md's rows print what they quote (issue 34).
+//! Every `kinema` command in the code blocks of README.md and of docs/*.md runs
+//! (issues 25 and 36), docs/seeds.md's rows print what they quote (issue 34), and
+//! every relative link of the Markdown files resolves.
 //!
-//! The rules, so that an example added to the README is run without touching
-//! this file:
+//! The rules, so that an example added to a document is run without touching
+//! this file. They apply to README.md and to every docs/*.md but docs/seeds.md
+//! ([`documents`]), each document on its own:
 //!
 //! - In a block fenced as `sh` (or `bash`, `shell`), every line that starts
 //!   with `kinema` is a command. A line ending in `\` continues on the next
@@ -21,12 +23,14 @@
 //!   lines after it, up to the next `$` line, are what the command prints
 //!   (stdout and stderr), and it exits with 1 if that begins with `error:`,
 //!   else with 0.
-//! - All commands run in README order, in one temporary directory (a command
-//!   may read what an earlier one wrote, e.g. `lin.csv`), each within
-//!   [`TIME_LIMIT`]. Files the README reads but never writes are made by
-//!   [`fixtures`]; the address `127.0.0.1:7777` becomes a free port.
+//! - A document's commands run in its order, in a temporary directory of its
+//!   own (a command may read what an earlier one of the same document wrote,
+//!   e.g. `lin.csv`: keep such commands together), each within
+//!   [`TIME_LIMIT`]. Files the documents read but never write are made by
+//!   [`fixtures`] in every directory; the address `127.0.0.1:7777` becomes a
+//!   free port.
 //! - A command is skipped only if it is listed in [`SKIP`] with the reason;
-//!   an entry that matches no README command is an error.
+//!   an entry that matches no documented command is an error.
 //!
 //!
 //! docs/seeds.md is checked by the same binary
@@ -36,7 +40,7 @@
 //!   command, and runs, unless it contains `…` or `<` (then it names or
 //!   abbreviates a command written out elsewhere). It must exit with 0, or with
 //!   N when the span is followed by `(exit N)`. `\|` is a `|`, and a word with
-//!   `|` lists alternatives, as in README.
+//!   `|` lists alternatives, as in the documents.
 //! - In the columns [`SEEDS_CHECKED_COLUMNS`] (`kinema`, `correction / note`),
 //!   every other backticked span is a quote of what the row's commands print
 //!   (stdout and stderr of all of them together), and must appear there
@@ -45,13 +49,18 @@
 //!   order. Not quotes: options (`--…`), Rust paths (`::`) and file names.
 //! - A row that quotes output must run a command. Rows run in document order in
 //!   one temporary directory (a row may read a file an earlier row wrote),
-//!   with README's [`fixtures`] and [`seeds_fixtures`]; a command is skipped
+//!   with the documents' [`fixtures`] and [`seeds_fixtures`]; a command is skipped
 //!   only if [`SEEDS_SKIP`] lists it with the reason, and an entry that matches
 //!   no command is an error.
 //! - The Summary's counts of rows, and of rows that quote output, per seed,
 //!   are those of the tables ([`seeds_summary`]).
 //!
-//! The Python example in crates/kinema-py/README.md is run by
+//! Links ([`every_relative_link_resolves`]): in README.md, ARCHITECTURE.md,
+//! CHANGELOG.md, docs/*.md, benchmarks/README.md and crates/*/README.md, every
+//! Markdown link `[text](target)` whose target is not a URL or an anchor of the
+//! same file names a file or folder that exists (relative to the linking file).
+//!
+//! The Python code blocks of README.md and docs/*.md are run by
 //! crates/kinema-py/tests/test_readme.py, the Rust examples in
 //! crates/kinema/examples/ by `.ci/run`.
 
@@ -71,24 +80,40 @@ use crate::common;
 /// The longest a single command may take.
 const TIME_LIMIT: Duration = Duration::from_secs(30);
 
-/// Commands not run: (the command as README writes it, continuations joined
+/// Commands not run: (the command as a document writes it, continuations joined
 /// and the comment removed, or its beginning; why).
 const SKIP: &[(&str, &str)] = &[];
 
-/// Programs other than `kinema` that README's `sh` blocks may call.
-const OTHER_PROGRAMS: &[&str] = &["cargo", "bash", "curl"];
+/// Programs other than `kinema` that the documents' `sh` blocks may call (not run
+/// here: `cargo` and `bash` by `.ci/run`, `pip` by crates/kinema-py/ci.sh; `curl`
+/// needs a running server).
+const OTHER_PROGRAMS: &[&str] = &["cargo", "bash", "curl", "pip"];
 
-/// README's TCP address of the Scorbot simulator, replaced by a free port.
+/// The documents' TCP address of the Scorbot simulator, replaced by a free port.
 const SIM_ADDRESS: &str = "127.0.0.1:7777";
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// One command found in README.md.
+/// The documents whose commands run, in order: README.md, then docs/*.md by name but
+/// docs/seeds.md (which has its own rules), as paths relative to the repository.
+fn documents() -> Vec<String> {
+    let mut docs: Vec<String> = std::fs::read_dir(repo().join("docs"))
+        .expect("docs/")
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.ends_with(".md") && name != "seeds.md")
+        .map(|name| format!("docs/{name}"))
+        .collect();
+    docs.sort();
+    docs.insert(0, "README.md".to_string());
+    docs
+}
+
+/// One command found in a document.
 #[derive(Debug, Clone)]
 struct Example {
-    /// README line where it starts (1-based).
+    /// Line of the document where it starts (1-based).
     line: usize,
     /// The command as written (continuations joined, comment removed).
     text: String,
@@ -131,7 +156,7 @@ fn words(line: &str) -> (Vec<String>, String) {
             }
         }
     }
-    assert!(quote.is_none(), "unclosed quote in README command `{line}`");
+    assert!(quote.is_none(), "unclosed quote in the command `{line}`");
     if in_word {
         out.push(word);
     }
@@ -150,8 +175,9 @@ fn expected_exit(comment: &str) -> i32 {
         .unwrap_or(0)
 }
 
-/// Every `kinema` command of README.md's `sh` blocks and `text` transcripts.
-fn examples(readme: &str) -> Vec<Example> {
+/// Every `kinema` command of a document's `sh` blocks and `text` transcripts (`name`
+/// is the document's, for messages).
+fn examples(name: &str, readme: &str) -> Vec<Example> {
     let mut found = Vec::new();
     let mut fence: Option<String> = None;
     let mut block = 0;
@@ -185,7 +211,7 @@ fn examples(readme: &str) -> Vec<Example> {
                 if args[0] != "kinema" {
                     assert!(
                         OTHER_PROGRAMS.contains(&args[0].as_str()),
-                        "README.md:{start}: `{}` is neither a kinema command nor one of {OTHER_PROGRAMS:?}",
+                        "{name}:{start}: `{}` is neither a kinema command nor one of {OTHER_PROGRAMS:?}",
                         args[0]
                     );
                     continue;
@@ -228,7 +254,7 @@ fn examples(readme: &str) -> Vec<Example> {
             _ => {}
         }
     }
-    assert!(fence.is_none(), "README.md ends inside a code block");
+    assert!(fence.is_none(), "{name} ends inside a code block");
     found
 }
 
@@ -255,7 +281,7 @@ fn write(dir: &Path, name: &str, text: &str) {
     std::fs::write(dir.join(name), text).unwrap_or_else(|e| panic!("write fixture {name}: {e}"));
 }
 
-/// Writes the files README's commands read but no README command writes.
+/// Writes the files the documents' commands read but none of them writes.
 fn fixtures(dir: &Path) {
     let repo = repo();
     let copy = |from: PathBuf, to: &str| {
@@ -263,7 +289,7 @@ fn fixtures(dir: &Path) {
     };
     // `fk --robot my_arm.urdf --tip tool0`: any URDF arm with a link tool0.
     copy(repo.join("crates/kinema/tests/data/ur5.urdf"), "my_arm.urdf");
-    // The robot programs and cells, at the paths README gives.
+    // The robot programs and cells, at the paths the documents give.
     for folder in ["examples/programs", "examples/cells"] {
         std::fs::create_dir_all(dir.join(folder)).unwrap();
         for entry in std::fs::read_dir(repo.join(folder)).unwrap() {
@@ -377,32 +403,56 @@ fn stop_background(background: &mut Vec<(Child, String)>, failures: &mut Vec<Str
 }
 
 #[test]
-fn every_readme_command_runs() {
-    let readme = std::fs::read_to_string(repo().join("README.md")).expect("README.md");
-    let found = examples(&readme);
-    assert!(found.len() > 50, "only {} kinema commands found in README.md: is the parser broken?", found.len());
+fn every_documented_command_runs() {
+    let docs: Vec<(String, Vec<Example>)> = documents()
+        .into_iter()
+        .map(|name| {
+            let text = std::fs::read_to_string(repo().join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let found = examples(&name, &text);
+            (name, found)
+        })
+        .collect();
+    let total: usize = docs.iter().map(|(_, found)| found.len()).sum();
+    assert!(total > 50, "only {total} kinema commands found in {:?}: is the parser broken?", documents());
+    assert!(docs[0].1.len() >= 5, "only {} kinema commands in README.md's tour", docs[0].1.len());
     for (skip, _) in SKIP {
-        assert!(found.iter().any(|e| e.text.starts_with(skip)), "SKIP names `{skip}`, which is not in README.md");
+        assert!(
+            docs.iter().flat_map(|(_, found)| found).any(|e| e.text.starts_with(skip)),
+            "SKIP names `{skip}`, which is in no document"
+        );
+    }
+    let mut failures = Vec::new();
+    let start = Instant::now();
+    for (name, found) in &docs {
+        run_document(name, found, &mut failures);
+    }
+    eprintln!("{total} documented commands in {:.1} s", start.elapsed().as_secs_f64());
+    assert!(failures.is_empty(), "{} documented example(s) failed:\n\n{}", failures.len(), failures.join("\n\n"));
+}
+
+/// Runs one document's commands in order, in a temporary directory of its own.
+fn run_document(name: &str, found: &[Example], failures: &mut Vec<String>) {
+    if found.is_empty() {
+        return;
     }
     let dir = tempfile::tempdir().expect("a temporary directory");
     fixtures(dir.path());
     let sim = free_address();
-    let mut failures = Vec::new();
     let mut background: Vec<(Child, String)> = Vec::new();
     let mut block = 0;
     let start = Instant::now();
-    for e in &found {
+    for e in found {
         if e.block != block {
-            stop_background(&mut background, &mut failures);
+            stop_background(&mut background, failures);
             block = e.block;
         }
         if let Some((_, why)) = SKIP.iter().find(|(s, _)| e.text.starts_with(s)) {
-            eprintln!("skipped README.md:{}: {} ({why})", e.line, e.text);
+            eprintln!("skipped {name}:{}: {} ({why})", e.line, e.text);
             continue;
         }
         let args: Vec<String> = e.args.iter().map(|a| a.replace(SIM_ADDRESS, &sim)).collect();
         for args in expand(&args) {
-            let what = format!("README.md:{}: kinema {}", e.line, args.join(" "));
+            let what = format!("{name}:{}: kinema {}", e.line, args.join(" "));
             if e.background {
                 background.push((start_background(dir.path(), &args, &what), what));
                 continue;
@@ -412,12 +462,12 @@ fn every_readme_command_runs() {
             eprintln!("{:6.2} s  {what}", t.elapsed().as_secs_f64());
             let mut problems = Vec::new();
             if r.code != Some(e.exit) {
-                problems.push(format!("exit code {:?}, README expects {}", r.code, e.exit));
+                problems.push(format!("exit code {:?}, {name} expects {}", r.code, e.exit));
             }
             if let Some(expected) = &e.output {
                 let printed: Vec<&str> = r.stdout.lines().chain(r.stderr.lines()).map(str::trim_end).collect();
                 if printed != *expected {
-                    problems.push(format!("printed {printed:#?}\n  README shows {expected:#?}"));
+                    problems.push(format!("printed {printed:#?}\n  {name} shows {expected:#?}"));
                 }
             }
             if args.iter().any(|a| a == "--json") && r.ok {
@@ -430,9 +480,85 @@ fn every_readme_command_runs() {
             }
         }
     }
-    stop_background(&mut background, &mut failures);
-    eprintln!("{} README commands in {:.1} s", found.len(), start.elapsed().as_secs_f64());
-    assert!(failures.is_empty(), "{} README example(s) failed:\n\n{}", failures.len(), failures.join("\n\n"));
+    stop_background(&mut background, failures);
+    eprintln!("{name}: {} commands in {:.1} s", found.len(), start.elapsed().as_secs_f64());
+}
+
+/// The Markdown files whose links are checked, relative to the repository.
+fn linking_files() -> Vec<String> {
+    let mut files: Vec<String> = ["README.md", "ARCHITECTURE.md", "CHANGELOG.md", "benchmarks/README.md"]
+        .iter()
+        .map(|f| f.to_string())
+        .collect();
+    for folder in ["docs", "crates"] {
+        for entry in std::fs::read_dir(repo().join(folder)).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            if folder == "docs" && name.ends_with(".md") {
+                files.push(format!("docs/{name}"));
+            } else if folder == "crates" && path.join("README.md").is_file() {
+                files.push(format!("crates/{name}/README.md"));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The targets of a Markdown text's inline links and images (`[text](target)`), outside code
+/// blocks and code spans, each with its line.
+fn link_targets(text: &str) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    let mut fence = false;
+    for (k, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fence = !fence;
+            continue;
+        }
+        if fence {
+            continue;
+        }
+        // Code spans are not links: keep the text between them.
+        let prose: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = prose.as_str();
+        while let Some(at) = rest.find("](") {
+            let after = &rest[at + 2..];
+            let Some(end) = after.find(')') else { break };
+            let target = after[..end].split_whitespace().next().unwrap_or("").to_string();
+            found.push((k + 1, target));
+            rest = &after[end..];
+        }
+    }
+    found
+}
+
+#[test]
+fn every_relative_link_resolves() {
+    let mut broken = Vec::new();
+    let mut checked = 0;
+    for file in linking_files() {
+        let text = std::fs::read_to_string(repo().join(&file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let base = repo().join(&file).parent().unwrap().to_path_buf();
+        for (line, target) in link_targets(&text) {
+            if target.is_empty() || target.starts_with('#') || target.contains("://") || target.starts_with("mailto:") {
+                continue;
+            }
+            let path = target.split('#').next().unwrap();
+            checked += 1;
+            if !base.join(path).exists() {
+                broken.push(format!("{file}:{line}: `{target}`"));
+            }
+        }
+    }
+    assert!(checked > 20, "only {checked} relative links found: is the parser broken?");
+    assert!(broken.is_empty(), "links to files that do not exist:\n{}", broken.join("\n"));
+}
+
+#[test]
+fn the_link_parser_follows_the_rules() {
+    let text = "see [a](docs/a.md#x) and ![b](b.png) `[c](not/a/link)`\n```\n[d](in/code)\n```\n[e](https://x.org)";
+    let found: Vec<String> = link_targets(text).into_iter().map(|(_, t)| t).collect();
+    assert_eq!(found, ["docs/a.md#x", "b.png", "https://x.org"]);
 }
 
 #[test]
@@ -451,7 +577,7 @@ fn the_parser_follows_the_rules() {
         ```rust\n\
         kinema::Robot::builtin(\"ur5\");\n\
         ```\n";
-    let found = examples(readme);
+    let found = examples("README.md", readme);
     assert_eq!(found.len(), 4, "{found:#?}");
     assert_eq!(found[0].args, ["fk", "--robot", "ur5", "--q", "home"]);
     assert_eq!((found[0].line, found[0].exit, found[0].background), (3, 2, false));
@@ -467,7 +593,7 @@ fn the_parser_follows_the_rules() {
 
 /// Commands of docs/seeds.md not run: (the command as written, or its beginning; why).
 const SEEDS_SKIP: &[(&str, &str)] =
-    &[("kinema serve", "a server: it runs until stopped (README's test starts one and stops it)")];
+    &[("kinema serve", "a server: it runs until stopped (the documents' test starts one and stops it)")];
 
 /// Columns of docs/seeds.md's tables whose backticked spans quote output.
 const SEEDS_CHECKED_COLUMNS: &[&str] = &["kinema", "correction / note"];
@@ -614,7 +740,7 @@ fn quoted_in(quote: &str, printed: &str) -> bool {
     true
 }
 
-/// Files docs/seeds.md's commands read that neither README's fixtures nor an earlier row make.
+/// Files docs/seeds.md's commands read that neither [`fixtures`] nor an earlier row make.
 fn seeds_fixtures(dir: &Path) {
     // Seed 004 eq. 20: the iiwa with d7 = 0, as the row's `sed` makes it.
     let iiwa = std::fs::read_to_string(repo().join("robots/lbr-iiwa-14-r820.toml")).unwrap();
