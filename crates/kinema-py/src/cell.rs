@@ -4,9 +4,20 @@
 //! `traj::check`, and the core's `traj::Cell` for the common clock, the
 //! world tool positions, manipulability and tool distances.
 
-use pyo3::types::PyTuple;
+use std::sync::Arc;
 
-use super::*;
+use kinema::traj::{check, CheckOptions, CheckReport, JointTrajectory};
+use kinema::{Pose, Robot};
+use numpy::{PyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::args::{check_shape, f64_array, opt_real, parse_rpy, pose_arg, real, to_numpy};
+use crate::check::PyCheckReport;
+use crate::errors::{invalid, to_py};
+use crate::program::{run_program, PyPlan};
+use crate::robot::PyRobot;
+use crate::traj::PyJointTrajectory;
 
 /// One robot added to a cell.
 struct Member {
