@@ -185,9 +185,7 @@ const POSE_SHAPES: &str = " (a homogeneous transform) or (6,) (x, y, z, roll, pi
 /// x, y, z \[m\], roll, pitch, yaw \[rad\] in `conv` as a pose (as the CLI
 /// reads `--pose` and `--to`), or the error naming `what`.
 fn pose_from_xyz_rpy(v: &[f64], what: &str, conv: RpyConvention) -> PyResult<Pose> {
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-        return Err(invalid(format!("`{what}` contains {x}; all values must be finite")));
-    }
+    check_finite(v, what)?;
     Ok(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
 }
 
@@ -254,10 +252,16 @@ pub(crate) fn point_arg(obj: &Bound<'_, PyAny>, what: &str, conv: RpyConvention)
 
 /// Three finite numbers, or the error naming `what` (as the CLI words it).
 pub(crate) fn finite_point(v: &[f64], what: &str) -> PyResult<[f64; 3]> {
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-        return Err(invalid(format!("`{what}` contains {x}; all values must be finite")));
-    }
+    check_finite(v, what)?;
     Ok([v[0], v[1], v[2]])
+}
+
+/// Checks that every value of `v` is finite, or the error naming `what` (as the CLI words it).
+fn check_finite(v: &[f64], what: &str) -> PyResult<()> {
+    match v.iter().find(|x| !x.is_finite()) {
+        Some(x) => Err(invalid(format!("`{what}` contains {x}; all values must be finite"))),
+        None => Ok(()),
+    }
 }
 
 /// A 3-vector argument (x, y, z).

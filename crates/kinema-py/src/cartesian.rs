@@ -13,7 +13,7 @@ use pyo3::types::PyString;
 use crate::args::{opt_real, parse_rpy, point_arg, pose_arg, push_pose, real, to_numpy, waypoint_arg, waypoint_list};
 use crate::errors::{invalid, to_py};
 use crate::robot::PyRobot;
-use crate::traj::{traj_arrays, PyJointTrajectory};
+use crate::traj::PyJointTrajectory;
 
 /// The self-motion policy of `lin`/`circ`: `q3=` a policy name or an angle,
 /// `psi=` "hold" or an angle (the CLI's `--q3`/`--psi`).
@@ -143,20 +143,13 @@ impl PyRobot {
                 Ok((motion, traj, poses))
             })
             .map_err(to_py)?;
-        let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
         let laws = motion.laws();
+        let phase_times = if laws.len() == 1 { laws[0].phase_times().to_vec() } else { Vec::new() };
         Ok(PyJointTrajectory {
-            t,
-            q,
-            qd,
-            qdd,
-            duration: motion.duration(),
-            profile: laws[0].profile().name(),
-            phase_times: if laws.len() == 1 { laws[0].phase_times().to_vec() } else { Vec::new() },
             poses: Some(to_numpy(py, (traj.len(), 4, 4), poses)?.unbind()),
             segment_starts: motion.segment_starts().to_vec(),
             blend_times: motion.blend_times(),
-            skipped: Vec::new(),
+            ..PyJointTrajectory::new(py, &traj, motion.duration(), laws[0].profile().name(), phase_times)?
         })
     }
 }

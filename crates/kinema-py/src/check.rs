@@ -3,16 +3,14 @@
 use std::sync::Arc;
 
 use kinema::traj::{check, CheckOptions, CheckReport};
-use numpy::{PyArray1, PyArrayDyn};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::args::{limit_values, opt_real, real};
-use crate::cell;
 use crate::errors::{invalid, to_py};
-use crate::program::PyPlan;
 use crate::robot::PyRobot;
-use crate::traj::PyJointTrajectory;
+use crate::traj::{sampled_arrays, traj_from_arrays};
 
 /// What :meth:`Robot.check` found (``kinema traj check --json``).
 ///
@@ -152,27 +150,12 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] resolution: f64,
         #[pyo3(from_py_with = real)] time_resolution: f64,
     ) -> PyResult<PyCheckReport> {
-        for (what, v) in [("resolution", resolution), ("time_resolution", time_resolution)] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(invalid(format!("`{what}` must be a finite number ≥ 0, not {v}")));
-            }
-        }
+        check_resolutions(resolution, time_resolution)?;
         let [q, qd, qdd] = [q, qd, qdd].map(|a| a.filter(|a| !a.is_none()));
-        let given = |arrays: [&Py<PyArrayDyn<f64>>; 4]| {
-            if q.is_some() || qd.is_some() || qdd.is_some() {
-                return Err(invalid("give a trajectory or the arrays `t`, `q` (`qd`, `qdd`), not both".into()));
-            }
-            Ok(arrays.map(|a| a.bind(py).clone().into_any()))
-        };
-        let arrays = if let Ok(tr) = t.downcast::<PyJointTrajectory>() {
-            let tr = tr.get();
-            Some(given([&tr.t, &tr.q, &tr.qd, &tr.qdd])?)
-        } else if let Ok(plan) = t.downcast::<PyPlan>() {
-            let plan = plan.get();
-            Some(given([&plan.t, &plan.q, &plan.qd, &plan.qdd])?)
-        } else {
-            None
-        };
+        let arrays = sampled_arrays(t);
+        if arrays.is_some() && (q.is_some() || qd.is_some() || qdd.is_some()) {
+            return Err(invalid("give a trajectory or the arrays `t`, `q` (`qd`, `qdd`), not both".into()));
+        }
         let (t, q, qd, qdd) = match &arrays {
             Some([t, q, qd, qdd]) => (t, Some(q), Some(qd), Some(qdd)),
             None => (t, q, qd, qdd),
@@ -180,7 +163,7 @@ impl PyRobot {
         let Some(q) = q else {
             return Err(invalid("`q` is missing: give the joint positions, shape (K, n), with the times `t`".into()));
         };
-        let traj = cell::traj_from_arrays(self.dof(), t, q, qd, qdd)?;
+        let traj = traj_from_arrays(self.dof(), t, q, qd, qdd)?;
         let opts = CheckOptions {
             vel: limit_values(vmax, "vmax")?,
             acc: limit_values(amax, "amax")?,
@@ -195,4 +178,14 @@ impl PyRobot {
         let report = py.allow_threads(move || check(&robot, &traj, &opts)).map_err(to_py)?;
         Ok(PyCheckReport { report })
     }
+}
+
+/// The `resolution` and `time_resolution` of :meth:`Robot.check` and :meth:`Cell.add`: finite and ≥ 0.
+pub(crate) fn check_resolutions(resolution: f64, time_resolution: f64) -> PyResult<()> {
+    for (what, v) in [("resolution", resolution), ("time_resolution", time_resolution)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(invalid(format!("`{what}` must be a finite number ≥ 0, not {v}")));
+        }
+    }
+    Ok(())
 }

@@ -277,7 +277,7 @@ impl PyRobot {
     ) -> PyResult<PyObject> {
         let solver = solver_choice(solver)?;
         let target = ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?;
-        let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
+        let q0 = self.optional_joint_vector(q0, "q0")?;
         let robot = Arc::clone(&self.robot);
         let family = self.family.clone();
         let (name, solutions) = py
@@ -353,7 +353,7 @@ impl PyRobot {
             (Some(_), Some(_)) => return Err(invalid("give `T` or `position`, not both".into())),
             (None, None) => return Err(invalid("give the targets: `T` (V poses) or `position` (V points)".into())),
         };
-        let q0 = q0.filter(|q| !q.is_none()).map(|q| self.joint_vector(q, "q0")).transpose()?;
+        let q0 = self.optional_joint_vector(q0, "q0")?;
         let request = IkRequest {
             solver,
             q0: q0.as_deref(),

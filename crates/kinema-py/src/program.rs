@@ -5,15 +5,14 @@ use std::sync::mpsc::RecvTimeoutError;
 use std::sync::Arc;
 use std::time::Duration;
 
-use kinema::Robot;
 use kinema_lang::{PlannedMotion, Severity};
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::args::real;
-use crate::errors::{invalid, to_py, ProgramError};
-use crate::robot::PyRobot;
+use crate::errors::{invalid, ProgramError};
+use crate::robot::{robot_arg, PyRobot};
 use crate::traj::traj_arrays;
 
 /// A robot program run on a robot model (from :func:`run_program`): the
@@ -134,15 +133,7 @@ pub(crate) fn run_program(
     time_limit: Option<&Bound<'_, PyAny>>,
     skip_unreachable: bool,
 ) -> PyResult<PyPlan> {
-    let robot = match robot.downcast::<PyRobot>() {
-        Ok(r) => Arc::clone(&r.get().robot),
-        Err(_) => {
-            let spec: String = robot
-                .extract()
-                .map_err(|_| invalid("`robot` must be a kinema.Robot, a built-in robot name or a file path".into()))?;
-            Arc::new(Robot::load(&spec, None).map_err(to_py)?)
-        }
-    };
+    let robot = robot_arg(robot)?;
     let start = match start.filter(|s| !s.is_none()) {
         Some(s) => Some(PyRobot::new(Arc::clone(&robot)).joint_vector(s, "start")?),
         None => None,

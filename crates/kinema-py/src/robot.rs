@@ -48,6 +48,15 @@ impl PyRobot {
         Ok(a.as_slice()?.to_vec())
     }
 
+    /// [`PyRobot::joint_vector`] of an argument that may be left out (or None).
+    pub(crate) fn optional_joint_vector(
+        &self,
+        obj: Option<&Bound<'_, PyAny>>,
+        what: &str,
+    ) -> PyResult<Option<Vec<f64>>> {
+        obj.filter(|o| !o.is_none()).map(|o| self.joint_vector(o, what)).transpose()
+    }
+
     /// Calls `f` on a joint vector argument: float64 arrays and lists of numbers
     /// are copied to the stack (`npio::read_joints`), anything else is converted by numpy.
     pub(crate) fn with_q<T>(&self, obj: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> kinema::Result<T>) -> PyResult<T> {
@@ -104,6 +113,20 @@ impl PyRobot {
         let robot = &*self.robot;
         let row = |q: &[f64], o: &mut _| kinema::kin::jacobian_rows_into_uninit(robot, q, frame, o).map(|_| ());
         fast::batch(py, robot, qs, "Q", out, [6, n], row)
+    }
+}
+
+/// A `robot` argument: a :class:`Robot`, or what ``kinema run --robot`` takes
+/// (a built-in name or a .toml/.urdf path).
+pub(crate) fn robot_arg(obj: &Bound<'_, PyAny>) -> PyResult<Arc<Robot>> {
+    match obj.downcast::<PyRobot>() {
+        Ok(r) => Ok(Arc::clone(&r.get().robot)),
+        Err(_) => {
+            let spec: String = obj
+                .extract()
+                .map_err(|_| invalid("`robot` must be a kinema.Robot, a built-in robot name or a file path".into()))?;
+            Ok(Arc::new(Robot::load(&spec, None).map_err(to_py)?))
+        }
     }
 }
 

@@ -7,8 +7,9 @@ use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::args::{limit_values, opt_real, real, to_numpy};
+use crate::args::{check_shape, f64_array, limit_values, opt_real, real, to_numpy};
 use crate::errors::{invalid, to_py};
+use crate::program::PyPlan;
 use crate::robot::PyRobot;
 
 /// A sampled joint trajectory (from :meth:`Robot.ptp`, :meth:`Robot.lin`
@@ -57,6 +58,32 @@ pub(crate) struct PyJointTrajectory {
     pub(crate) skipped: Vec<usize>,
 }
 
+impl PyJointTrajectory {
+    /// The result of a joint-space motion (no planned poses, one segment from 0).
+    pub(crate) fn new(
+        py: Python<'_>,
+        traj: &JointTrajectory,
+        duration: f64,
+        profile: &'static str,
+        phase_times: Vec<f64>,
+    ) -> PyResult<Self> {
+        let [t, q, qd, qdd] = traj_arrays(py, traj)?;
+        Ok(PyJointTrajectory {
+            t,
+            q,
+            qd,
+            qdd,
+            duration,
+            profile,
+            phase_times,
+            poses: None,
+            segment_starts: vec![0.0],
+            blend_times: Vec::new(),
+            skipped: Vec::new(),
+        })
+    }
+}
+
 #[pymethods]
 impl PyJointTrajectory {
     fn __len__(&self, py: Python<'_>) -> usize {
@@ -90,6 +117,43 @@ pub(crate) fn traj_arrays(py: Python<'_>, traj: &JointTrajectory) -> PyResult<Tr
         to_numpy(py, (k, n), qd)?.unbind(),
         to_numpy(py, (k, n), qdd)?.unbind(),
     ])
+}
+
+/// `t`, `q`, `qd`, `qdd` of a :class:`JointTrajectory` or :class:`Plan`; None for anything else.
+pub(crate) fn sampled_arrays<'py>(obj: &Bound<'py, PyAny>) -> Option<[Bound<'py, PyAny>; 4]> {
+    let arrays = if let Ok(tr) = obj.downcast::<PyJointTrajectory>() {
+        let tr = tr.get();
+        [&tr.t, &tr.q, &tr.qd, &tr.qdd]
+    } else if let Ok(plan) = obj.downcast::<PyPlan>() {
+        let plan = plan.get();
+        [&plan.t, &plan.q, &plan.qd, &plan.qdd]
+    } else {
+        return None;
+    };
+    Some(arrays.map(|a| a.bind(obj.py()).clone().into_any()))
+}
+
+/// A trajectory from numpy arrays `t` (K,), `q` (K, n) and, when given, `qd`, `qdd`.
+pub(crate) fn traj_from_arrays(
+    n: usize,
+    t: &Bound<'_, PyAny>,
+    q: &Bound<'_, PyAny>,
+    qd: Option<&Bound<'_, PyAny>>,
+    qdd: Option<&Bound<'_, PyAny>>,
+) -> PyResult<JointTrajectory> {
+    let t = f64_array(t, "t")?;
+    check_shape(&t, "t", &[None], " (one time per sample)")?;
+    let k = t.len();
+    let hint = format!(" (one row of {n} joint values per time in `t`)");
+    let rows = |a: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<f64>> {
+        let a = f64_array(a, what)?;
+        check_shape(&a, what, &[Some(k), Some(n)], &hint)?;
+        Ok(a.as_slice()?.to_vec())
+    };
+    let q = rows(q, "q")?;
+    let qd = qd.map(|a| rows(a, "qd")).transpose()?;
+    let qdd = qdd.map(|a| rows(a, "qdd")).transpose()?;
+    JointTrajectory::from_samples(n, t.as_slice()?.to_vec(), q, qd, qdd).map_err(to_py)
 }
 
 #[pymethods]
@@ -169,20 +233,8 @@ impl PyRobot {
                     Ok((plan, traj))
                 })
                 .map_err(to_py)?;
-            let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
-            return Ok(PyJointTrajectory {
-                t,
-                q,
-                qd,
-                qdd,
-                duration: plan.duration(),
-                profile: name,
-                phase_times: plan.rest().map_or_else(Vec::new, |p| p.law().phase_times().to_vec()),
-                poses: None,
-                segment_starts: vec![0.0],
-                blend_times: Vec::new(),
-                skipped: Vec::new(),
-            });
+            let phase_times = plan.rest().map_or_else(Vec::new, |p| p.law().phase_times().to_vec());
+            return PyJointTrajectory::new(py, &traj, plan.duration(), name, phase_times);
         }
         let (plan, traj) = py
             .allow_threads(move || -> kinema::Result<_> {
@@ -191,20 +243,8 @@ impl PyRobot {
                 Ok((plan, traj))
             })
             .map_err(to_py)?;
-        let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
-        Ok(PyJointTrajectory {
-            t,
-            q,
-            qd,
-            qdd,
-            duration: plan.duration(),
-            profile: plan.law().profile().name(),
-            phase_times: plan.law().phase_times().to_vec(),
-            poses: None,
-            segment_starts: vec![0.0],
-            blend_times: Vec::new(),
-            skipped: Vec::new(),
-        })
+        let law = plan.law();
+        PyJointTrajectory::new(py, &traj, plan.duration(), law.profile().name(), law.phase_times().to_vec())
     }
 
     /// Joint curves from expressions of t (``kinema traj expr``, seed 001
@@ -248,10 +288,7 @@ impl PyRobot {
             jerk: limit_values(jmax, "jmax")?,
             ..CheckOptions::default()
         };
-        let q0 = match q0.filter(|q| !q.is_none()) {
-            Some(q) => self.joint_vector(q, "q0")?,
-            None => self.robot.home().to_vec(),
-        };
+        let q0 = self.optional_joint_vector(q0, "q0")?.unwrap_or_else(|| self.robot.home().to_vec());
         let pairs: Vec<(i64, String)> = match joints.downcast::<PyDict>() {
             Ok(d) => d.items().extract(),
             Err(_) => joints.try_iter().and_then(|it| it.map(|p| p?.extract()).collect()),
@@ -277,19 +314,7 @@ impl PyRobot {
                 Ok(traj)
             })
             .map_err(to_py)?;
-        let [t, q, qd, qdd] = traj_arrays(py, &traj)?;
-        Ok(PyJointTrajectory {
-            t,
-            q,
-            qd,
-            qdd,
-            duration: traj.times().last().copied().unwrap_or(0.0),
-            profile: "expression",
-            phase_times: Vec::new(),
-            poses: None,
-            segment_starts: vec![0.0],
-            blend_times: Vec::new(),
-            skipped: Vec::new(),
-        })
+        let duration = traj.times().last().copied().unwrap_or(0.0);
+        PyJointTrajectory::new(py, &traj, duration, "expression", Vec::new())
     }
 }
