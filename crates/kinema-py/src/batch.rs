@@ -10,7 +10,7 @@ use numpy::{PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 
-use crate::{check_shape, finite_point, pose_from_rows, waypoint_from_xyz_rpy};
+use crate::args::{check_shape, finite_point, pose_from_rows, waypoint_from_xyz_rpy};
 
 /// Targets solved at once: enough for every core, little memory.
 pub(crate) const CHUNK: usize = 1 << 16;

@@ -4,9 +4,20 @@
 //! `traj::check`, and the core's `traj::Cell` for the common clock, the
 //! world tool positions, manipulability and tool distances.
 
-use pyo3::types::PyTuple;
+use std::sync::Arc;
 
-use super::*;
+use kinema::traj::{check, CheckOptions, CheckReport, JointTrajectory};
+use kinema::{Pose, Robot};
+use numpy::{PyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::args::{opt_real, parse_rpy, pose_arg, real, to_numpy};
+use crate::check::{check_resolutions, PyCheckReport};
+use crate::errors::{invalid, to_py};
+use crate::program::run_program;
+use crate::robot::{robot_arg, PyRobot};
+use crate::traj::{sampled_arrays, traj_from_arrays};
 
 /// One robot added to a cell.
 struct Member {
@@ -44,29 +55,6 @@ fn check_options(resolution: f64, time_resolution: f64) -> CheckOptions {
         time_resolution,
         ..CheckOptions::default()
     }
-}
-
-/// A trajectory from numpy arrays `t` (K,), `q` (K, n) and, when given, `qd`, `qdd`.
-pub(crate) fn traj_from_arrays(
-    n: usize,
-    t: &Bound<'_, PyAny>,
-    q: &Bound<'_, PyAny>,
-    qd: Option<&Bound<'_, PyAny>>,
-    qdd: Option<&Bound<'_, PyAny>>,
-) -> PyResult<JointTrajectory> {
-    let t = f64_array(t, "t")?;
-    check_shape(&t, "t", &[None], " (one time per sample)")?;
-    let k = t.len();
-    let hint = format!(" (one row of {n} joint values per time in `t`)");
-    let rows = |a: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<f64>> {
-        let a = f64_array(a, what)?;
-        check_shape(&a, what, &[Some(k), Some(n)], &hint)?;
-        Ok(a.as_slice()?.to_vec())
-    };
-    let q = rows(q, "q")?;
-    let qd = qd.map(|a| rows(a, "qd")).transpose()?;
-    let qdd = qdd.map(|a| rows(a, "qdd")).transpose()?;
-    JointTrajectory::from_samples(n, t.as_slice()?.to_vec(), q, qd, qdd).map_err(to_py)
 }
 
 #[pymethods]
@@ -143,20 +131,8 @@ impl PyCell {
         if slf.members.iter().any(|m| m.name == name) {
             return Err(invalid(format!("`{name}` names two robots of the cell")));
         }
-        for (what, v) in [("resolution", resolution), ("time_resolution", time_resolution)] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(invalid(format!("`{what}` must be a finite number ≥ 0, not {v}")));
-            }
-        }
-        let robot = match robot.downcast::<PyRobot>() {
-            Ok(r) => Arc::clone(&r.get().robot),
-            Err(_) => {
-                let spec: String = robot.extract().map_err(|_| {
-                    invalid("`robot` must be a kinema.Robot, a built-in robot name or a file path".into())
-                })?;
-                Arc::new(Robot::load(&spec, None).map_err(to_py)?)
-            }
-        };
+        check_resolutions(resolution, time_resolution)?;
+        let robot = robot_arg(robot)?;
         let conv = parse_rpy(rpy)?;
         let world_from_robot = match base.filter(|b| !b.is_none()) {
             Some(b) => pose_arg(b, "base", conv)?,
@@ -191,18 +167,11 @@ impl PyCell {
             )?;
             (robot, traj)
         } else if let Some(tr) = trajectory {
-            let arrays = if let Ok(tr) = tr.downcast::<PyJointTrajectory>() {
-                let tr = tr.get();
-                [&tr.t, &tr.q, &tr.qd, &tr.qdd].map(|a| a.clone_ref(py))
-            } else if let Ok(plan) = tr.downcast::<PyPlan>() {
-                let plan = plan.get();
-                [&plan.t, &plan.q, &plan.qd, &plan.qdd].map(|a| a.clone_ref(py))
-            } else {
+            let Some([t, q, qd, qdd]) = sampled_arrays(tr) else {
                 return Err(invalid(format!(
                     "robot `{name}`: `trajectory` must be a JointTrajectory or a Plan; give arrays as `t=` and `q=`"
                 )));
             };
-            let [t, q, qd, qdd] = arrays.map(|a| a.into_bound(py).into_any());
             (placed, traj_from_arrays(n, &t, &q, Some(&qd), Some(&qdd))?)
         } else {
             let (Some(t), Some(q)) = (t, q) else {

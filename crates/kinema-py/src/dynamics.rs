@@ -1,6 +1,6 @@
-//! The arguments and results of the dynamics methods (`rne`, `inertia`,
-//! `gravload`, `accel`): Corke's Robotics Toolbox conventions, with every
-//! number from `kinema::dynamics`.
+//! The dynamics methods of `Robot` (`rne`, `inertia`, `coriolis`, `gravload`,
+//! `accel`), their arguments and results: Corke's Robotics Toolbox
+//! conventions, with every number from `kinema::dynamics`.
 //!
 //! Each joint-space argument is one configuration, shape (n,), or a batch of
 //! N rows, shape (N, n); all of one call have the same shape, and the result
@@ -12,7 +12,9 @@ use numpy::PyUntypedArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
-use crate::{f64_array, invalid, shape_text, to_numpy, to_py};
+use crate::args::{f64_array, shape_text, to_numpy};
+use crate::errors::{invalid, to_py};
+use crate::robot::PyRobot;
 
 /// Corke's default: the acceleration of gravity \[m/s²\] in the world frame,
 /// pointing down its z axis (`roboticstoolbox`'s `Robot.gravity`).
@@ -133,4 +135,95 @@ pub(crate) fn coriolis_matrix_rows(robot: &Robot, q: &[f64], qd: &[f64]) -> kine
 fn row_major(m: &kinema::nalgebra::DMatrix<f64>) -> Vec<f64> {
     let n = m.ncols();
     (0..m.nrows() * n).map(|k| m[(k / n, k % n)]).collect()
+}
+
+#[pymethods]
+impl PyRobot {
+    /// Inverse dynamics (recursive Newton–Euler, Corke's ``rne``): the joint
+    /// torques τ = M(q)·q̈ + C(q, q̇)·q̇ + g(q) [N·m revolute, N prismatic] at
+    /// ``q`` [rad or m] with velocities ``qd`` and accelerations ``qdd``.
+    /// Each argument has shape (n,), or (N, n) for N configurations (all the
+    /// same shape); the result is (n,) or (N, n). ``gravity``: the acceleration
+    /// of gravity in the world frame [m/s²], default ``[0, 0, -9.81]`` (as
+    /// Corke's ``Robot.gravity``; the arm is pulled towards −z).
+    ///
+    /// Raises:
+    ///     InvalidInput: wrong shapes, NaN/inf.
+    ///     KinemaError: a link without mass properties (``[joint.inertial]``
+    ///         in TOML, ``<inertial>`` in URDF).
+    #[pyo3(signature = (q, qd, qdd, gravity=None))]
+    fn rne<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        qdd: &Bound<'py, PyAny>,
+        gravity: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let g = gravity_arg(gravity)?;
+        let rows = Rows::read(&self.robot, &[(q, "q"), (qd, "qd"), (qdd, "qdd")])?;
+        let robot = &*self.robot;
+        rows.map(py, robot, &[robot.dof()], |a| kinema::dynamics::rnea(robot, a[0], a[1], a[2], &g))
+    }
+
+    /// The joint-space inertia (mass) matrix M(q) (Corke's ``inertia``),
+    /// symmetric positive definite, shape (n, n), or (N, n, n) for an (N, n)
+    /// ``q`` [kg·m², kg·m or kg].
+    #[pyo3(signature = (q))]
+    fn inertia<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.dof();
+        let rows = Rows::read(&self.robot, &[(q, "q")])?;
+        let robot = &*self.robot;
+        rows.map(py, robot, &[n, n], |a| mass_matrix_rows(robot, a[0]))
+    }
+
+    /// The Coriolis and centrifugal matrix C(q, q̇) (Corke's ``coriolis``),
+    /// shape (n, n), or (N, n, n) for (N, n) rows: C·q̇ is the velocity part
+    /// of ``rne`` and Ṁ − 2C is skew-symmetric (Pinocchio's factorisation).
+    #[pyo3(signature = (q, qd))]
+    fn coriolis<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.dof();
+        let rows = Rows::read(&self.robot, &[(q, "q"), (qd, "qd")])?;
+        let robot = &*self.robot;
+        rows.map(py, robot, &[n, n], |a| coriolis_matrix_rows(robot, a[0], a[1]))
+    }
+
+    /// The joint torques that hold the arm still against gravity, g(q)
+    /// (Corke's ``gravload``; ``rne(q, 0, 0, gravity)``), shape (n,) or
+    /// (N, n). ``gravity`` as in :meth:`rne`.
+    #[pyo3(signature = (q, gravity=None))]
+    fn gravload<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        gravity: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let g = gravity_arg(gravity)?;
+        let rows = Rows::read(&self.robot, &[(q, "q")])?;
+        let robot = &*self.robot;
+        rows.map(py, robot, &[robot.dof()], |a| kinema::dynamics::gravity_torques(robot, a[0], &g))
+    }
+
+    /// Forward dynamics (Corke's ``accel``): the joint accelerations q̈
+    /// [rad/s² or m/s²] that ``torque`` [N·m or N] gives at ``q`` and ``qd``,
+    /// q̈ = M(q)⁻¹·(τ − C(q, q̇)·q̇ − g(q)). Shapes and ``gravity`` as in :meth:`rne`.
+    #[pyo3(signature = (q, qd, torque, gravity=None))]
+    fn accel<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        qd: &Bound<'py, PyAny>,
+        torque: &Bound<'py, PyAny>,
+        gravity: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let g = gravity_arg(gravity)?;
+        let rows = Rows::read(&self.robot, &[(q, "q"), (qd, "qd"), (torque, "torque")])?;
+        let robot = &*self.robot;
+        rows.map(py, robot, &[robot.dof()], |a| kinema::dynamics::forward_dynamics(robot, a[0], a[1], a[2], &g))
+    }
 }

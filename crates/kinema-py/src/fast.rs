@@ -10,8 +10,9 @@ use numpy::{PyArray3, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
+use crate::args::{check_shape, f64_array};
+use crate::errors::{invalid, to_py};
 use crate::npio::{check_out, elements, Dst};
-use crate::{check_shape, f64_array, invalid};
 
 /// Configurations per parallel task of the batch functions.
 const BATCH_CHUNK: usize = 512;
@@ -47,7 +48,7 @@ pub(crate) fn batch<'py>(
         // element unless it fails, and then the array is dropped unseen.
         let array = unsafe { PyArray3::<f64>::new(py, shape, false) };
         let dst = unsafe { elements(&array) };
-        py.allow_threads(|| run(&qs, dst)).map_err(crate::to_py)?;
+        py.allow_threads(|| run(&qs, dst)).map_err(to_py)?;
         return Ok(array.into_any());
     };
     check_out(out, &shape)?;
@@ -60,7 +61,7 @@ pub(crate) fn batch<'py>(
     // SAFETY: viewing initialised f64 as `MaybeUninit<f64>` and only writing
     // f64 values through it keeps every element initialised.
     let dst = unsafe { std::slice::from_raw_parts_mut(dst.as_mut_ptr().cast::<MaybeUninit<f64>>(), dst.len()) };
-    run(a.as_slice()?, dst).map_err(crate::to_py)?;
+    run(a.as_slice()?, dst).map_err(to_py)?;
     Ok(out.clone())
 }
 

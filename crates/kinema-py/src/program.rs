@@ -1,0 +1,247 @@
+//! The robot language: `run_program` and the `Plan` it returns.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
+use std::sync::Arc;
+use std::time::Duration;
+
+use kinema_lang::{PlannedMotion, Severity};
+use numpy::{PyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::args::real;
+use crate::errors::{invalid, ProgramError};
+use crate::robot::{robot_arg, PyRobot};
+use crate::traj::traj_arrays;
+
+/// A robot program run on a robot model (from :func:`run_program`): the
+/// joint signals ``kinema run`` writes, and the motion plan.
+///
+/// Attributes:
+///     t: sample times, shape (K,) [s].
+///     q, qd, qdd: joint positions, velocities and accelerations, shape
+///         (K, n): the ``t,q…,qd…,qdd…`` columns of ``kinema run``'s CSV.
+///     duration: total duration [s].
+///     motions: one dict per motion, in execution order, with keys
+///         ``line`` (source line, from 1), ``kind`` (``"PTP"``, ``"LIN"``,
+///         ``"WAIT"``, ...), ``start``, ``end`` [s], ``profile`` and ``target``
+///         (as ``kinema compile --json`` prints them).
+///     warnings: the program's warnings, one line each
+///         (``file:line:col: warning: message``).
+///     robot: the robot as it ends the program (with its last ``TOOL``).
+#[pyclass(frozen, name = "Plan", module = "kinema")]
+pub(crate) struct PyPlan {
+    #[pyo3(get)]
+    pub(crate) t: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    pub(crate) q: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    pub(crate) qd: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    pub(crate) qdd: Py<PyArrayDyn<f64>>,
+    #[pyo3(get)]
+    pub(crate) duration: f64,
+    #[pyo3(get)]
+    pub(crate) warnings: Vec<String>,
+    #[pyo3(get)]
+    pub(crate) robot: Py<PyRobot>,
+    pub(crate) plan_motions: Vec<PlannedMotion>,
+    pub(crate) plan_listing: String,
+}
+
+#[pymethods]
+impl PyPlan {
+    #[getter]
+    fn motions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for m in &self.plan_motions {
+            let d = PyDict::new(py);
+            d.set_item("line", m.line)?;
+            d.set_item("kind", &m.kind)?;
+            d.set_item("start", m.start)?;
+            d.set_item("end", m.end)?;
+            d.set_item("profile", &m.profile)?;
+            d.set_item("target", &m.target)?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// The motion plan as text (``kinema compile --listing``): a header, then
+    /// one line per motion with its source line, keyword, start and end
+    /// time, profile and target.
+    fn listing(&self) -> String {
+        self.plan_listing.clone()
+    }
+
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "Plan({} motion(s), {} samples, duration={:.6} s)",
+            self.plan_motions.len(),
+            self.t.bind(py).len(),
+            self.duration
+        )
+    }
+}
+
+/// Compiles and runs the robot program ``text`` (the kinema language,
+/// ``docs/language.md``; seed 003's SCARA statements too) on ``robot``, as
+/// ``kinema run`` does: inverse kinematics for every target, a time law per
+/// motion, samples every ``dt`` seconds, every sample checked against the
+/// limits.
+///
+/// ``robot``: a :class:`Robot`, or what ``kinema run --robot`` takes (a
+/// built-in name or a .toml/.urdf path). ``start``: joint values at the
+/// start (array or pose name; default ``home``). ``filename``: the name the
+/// diagnostics give the program. ``time_limit``: seconds of computing after
+/// which the program is stopped (``None``, the default: no limit); the step
+/// and sample limits of ``docs/language.md`` hold either way.
+/// ``skip_unreachable``: skip motions to targets out of reach with a warning
+/// (seed 003 Fig. 9; ``kinema run --skip-unreachable``) instead of failing.
+///
+/// The program runs on a worker thread with the GIL released; Ctrl-C
+/// (KeyboardInterrupt) stops it within about 50 ms and is raised again here.
+///
+/// Returns a :class:`Plan`.
+///
+/// Raises:
+///     ProgramError: the program does not compile or run (syntax, names,
+///         units, unreachable targets, limit violations, ``time_limit``
+///         reached: "stopped here: the time budget of … s ran out"). The message is the
+///         report ``kinema run`` prints (``file:line:col: error: …``, the
+///         source line underlined, hints); ``.diagnostics`` lists the errors
+///         as ``(line, col, message)``.
+///     InvalidInput, UnknownRobot, DescriptionError, RobotFileError: a bad
+///         ``robot``, ``start`` or ``time_limit``.
+///     KeyboardInterrupt: Ctrl-C while the program ran.
+#[pyfunction]
+#[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>", time_limit=None,
+    skip_unreachable=false))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_program(
+    py: Python<'_>,
+    text: String,
+    robot: &Bound<'_, PyAny>,
+    #[pyo3(from_py_with = real)] dt: f64,
+    start: Option<&Bound<'_, PyAny>>,
+    filename: &str,
+    time_limit: Option<&Bound<'_, PyAny>>,
+    skip_unreachable: bool,
+) -> PyResult<PyPlan> {
+    let robot = robot_arg(robot)?;
+    let start = match start.filter(|s| !s.is_none()) {
+        Some(s) => Some(PyRobot::new(Arc::clone(&robot)).joint_vector(s, "start")?),
+        None => None,
+    };
+    let stop = match time_limit.filter(|t| !t.is_none()) {
+        Some(t) => {
+            let seconds = real(t)?;
+            if !(seconds.is_finite() && seconds >= 0.0) {
+                return Err(invalid(format!("`time_limit` must be a number of seconds ≥ 0, not {seconds}")));
+            }
+            kinema_lang::Stop::after(Duration::from_secs_f64(seconds))
+        }
+        None => kinema_lang::Stop::never(),
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let opts = kinema_lang::Options {
+        dt,
+        start,
+        stop: stop.with_flag(Arc::clone(&cancel)),
+        skip_unreachable,
+        ..kinema_lang::Options::default()
+    };
+    let compiled = run_interruptibly(py, &cancel, {
+        let text = text.clone();
+        move || kinema_lang::compile(&text, &robot, &opts)
+    })?;
+    match compiled {
+        Ok(plan) => {
+            let [t, q, qd, qdd] = traj_arrays(py, &plan.trajectory)?;
+            Ok(PyPlan {
+                t,
+                q,
+                qd,
+                qdd,
+                duration: plan.duration(),
+                warnings: {
+                    let lines = kinema_lang::diag::LineIndex::new(&text);
+                    plan.warnings.iter().map(|d| d.one_line_in(filename, &text, &lines)).collect()
+                },
+                plan_listing: plan.listing(),
+                plan_motions: plan.motions,
+                robot: Py::new(py, PyRobot::new(Arc::new(plan.robot)))?,
+            })
+        }
+        Err(diags) => {
+            let message = kinema_lang::render_all(&diags, filename, &text);
+            let mut errors: Vec<_> = diags.iter().filter(|d| d.severity == Severity::Error).collect();
+            errors.sort_by_key(|d| d.span.start);
+            let lines = kinema_lang::diag::LineIndex::new(&text);
+            let list: Vec<(usize, usize, String)> = errors
+                .iter()
+                .map(|d| {
+                    let (line, col) = lines.line_col(&text, d.span.start);
+                    (line, col, d.message.clone())
+                })
+                .collect();
+            Err(ProgramError::new_err((message.trim_end().to_string(), list)))
+        }
+    }
+}
+
+/// How often a long computation on a worker thread looks for Ctrl-C.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs `work` on a worker thread with the GIL released, looking for Python signals every
+/// [`SIGNAL_POLL`]. On one (KeyboardInterrupt from Ctrl-C, or whatever a handler raises),
+/// raises `cancel`, which `work` must watch, waits for it to finish, and returns the error.
+fn run_interruptibly<T: Send + 'static>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    // The main thread's usual stack: the compiler's recursion is bounded, not small.
+    let worker = std::thread::Builder::new()
+        .name("kinema-run_program".into())
+        .stack_size(8 << 20)
+        .spawn(move || {
+            let _ = tx.send(work());
+        })
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("cannot start a worker thread: {e}")))?;
+    let mut rx = rx;
+    loop {
+        // The receiver goes into the GIL-free closure and comes back (it is Send, not Sync).
+        let (back, received) = py.allow_threads(move || {
+            let r = rx.recv_timeout(SIGNAL_POLL);
+            (rx, r)
+        });
+        rx = back;
+        match received {
+            Ok(out) => {
+                let _ = py.allow_threads(|| worker.join());
+                return Ok(out);
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    cancel.store(true, Ordering::Relaxed);
+                    let _ = py.allow_threads(|| worker.join());
+                    return Err(e);
+                }
+            }
+            // The worker panicked (a bug): say so rather than hang.
+            Err(RecvTimeoutError::Disconnected) => {
+                let _ = py.allow_threads(|| worker.join());
+                return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                    "the program's worker thread stopped without a result",
+                ));
+            }
+        }
+    }
+}
