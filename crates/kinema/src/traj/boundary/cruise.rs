@@ -5,13 +5,15 @@ use super::fastest_third::residual;
 use super::problem::{Limits, Problem};
 use super::profile::Profile;
 use super::roots;
-use super::velocity::fastest_change;
+use super::velocity::{fastest_change, Change};
 
 /// Cruise at v_c (zero acceleration) between the fastest changes to and
 /// from it, lasting exactly `t`; for any order (`j` = None: second order).
 pub(super) fn cruise_at(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<Profile> {
     let (a, b) = match l.jerk {
-        Some(j) => (fastest_change(p.v0, p.a0, vc, 0.0, l, j)?, fastest_change(vc, 0.0, p.vf, p.af, l, j)?),
+        Some(j) => {
+            (fastest_change(p.v0, p.a0, vc, 0.0, l, j)?.profile(), fastest_change(vc, 0.0, p.vf, p.af, l, j)?.profile())
+        }
         None => {
             let ramp = |from: f64, to: f64| {
                 let mut s = Profile::default();
@@ -36,7 +38,7 @@ pub(super) fn cruise_at(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<Prof
 /// the position residual.
 pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profile>) {
     let slack = |vc: f64| -> f64 {
-        let f = |a: Option<Profile>| a.map_or(f64::INFINITY, |s| s.duration());
+        let f = |a: Option<Change>| a.map_or(f64::INFINITY, |s| s.duration());
         match l.jerk {
             Some(j) => t - f(fastest_change(p.v0, p.a0, vc, 0.0, l, j)) - f(fastest_change(vc, 0.0, p.vf, p.af, l, j)),
             None => t - ((vc - p.v0).abs() + (p.vf - vc).abs()) / l.acc,
@@ -97,7 +99,7 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
     let mut rs = Vec::new();
     for (lo, hi) in intervals {
         rs.clear();
-        roots::find(&|vc| residual(p, cruise_at(p, l, t, vc)), lo, hi, roots::GRID, &mut rs);
+        roots::find(l.search, &|vc| residual(p, cruise_at(p, l, t, vc)), lo, hi, roots::GRID, &mut rs);
         out.extend(rs.iter().filter_map(|&vc| cruise_at(p, l, t, vc)));
     }
 }

@@ -25,6 +25,7 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
             else {
                 continue;
             };
+            let (a, b) = (a.profile(), b.profile());
             let pa = a.integrate(p.v0, p.a0).0;
             let pb = b.integrate(l.vel, 0.0).0;
             let cruise = (p.dp - pa - pb) / l.vel;
@@ -39,19 +40,19 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     // No cruise, valley acceleration x ∈ [−a_max, a_f], final ramp +j to a_f.
     let valley = |x: f64, root: bool| -> Option<Profile> {
         let vc = p.vf - (p.af * p.af - x * x) / (2.0 * j);
-        let mut s = rise(p.v0, p.a0, vc, x, l, j, root)?;
+        let mut s = rise(p.v0, p.a0, vc, x, l, j, root)?.profile();
         s.push((p.af - x) / j, j, None);
         Some(s)
     };
     for root in [true, false] {
         xs.clear();
-        roots::find(&|x| residual(p, valley(x, root)), -l.acc, p.af, roots::GRID, &mut xs);
+        roots::find(l.search, &|x| residual(p, valley(x, root)), -l.acc, p.af, roots::GRID, &mut xs);
         out.extend(xs.iter().filter_map(|&x| valley(x, root)));
     }
     // No cruise, valley held at −a_max for x seconds.
     let v7 = p.vf - (p.af * p.af - l.acc * l.acc) / (2.0 * j);
     let held = |x: f64, root: bool| -> Option<Profile> {
-        let mut s = rise(p.v0, p.a0, v7 + l.acc * x, -l.acc, l, j, root)?;
+        let mut s = rise(p.v0, p.a0, v7 + l.acc * x, -l.acc, l, j, root)?.profile();
         s.push(x, 0.0, None);
         s.push((p.af + l.acc) / j, j, None);
         Some(s)
@@ -60,7 +61,7 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     if hmax > 0.0 {
         for root in [true, false] {
             xs.clear();
-            roots::find(&|x| residual(p, held(x, root)), 0.0, hmax, roots::GRID, &mut xs);
+            roots::find(l.search, &|x| residual(p, held(x, root)), 0.0, hmax, roots::GRID, &mut xs);
             out.extend(xs.iter().filter_map(|&x| held(x, root)));
         }
     }

@@ -48,6 +48,7 @@
 
 use self::problem::Limits;
 use self::profile::{Phase, Profile, MAX_SEGMENTS};
+use self::roots::Search;
 use super::law::{MotionLimits, MIN_DURATION};
 use crate::error::{Error, Result};
 
@@ -56,6 +57,7 @@ mod fastest;
 mod fastest_third;
 mod problem;
 mod profile;
+pub mod reference;
 mod roots;
 mod second;
 mod sync;
@@ -129,7 +131,16 @@ impl BoundaryLaw {
     ///
     /// [`TimeLaw::from_limits`]: super::TimeLaw::from_limits
     pub fn fastest(from: BoundaryState, to: BoundaryState, limits: &MotionLimits) -> Result<BoundaryLaw> {
-        let l = Limits::new(limits)?;
+        Self::fastest_by(from, to, limits, Search::Fast)
+    }
+
+    fn fastest_by(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        search: Search,
+    ) -> Result<BoundaryLaw> {
+        let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
         if from == to {
             return Ok(Self::build(from, to, &Profile::default(), l.jerk.is_some()));
@@ -144,7 +155,16 @@ impl BoundaryLaw {
     /// first is [`BoundaryLaw::fastest`]'s; a duration between two listed
     /// ones is feasible either throughout or nowhere.
     pub fn critical_durations(from: BoundaryState, to: BoundaryState, limits: &MotionLimits) -> Result<Vec<f64>> {
-        let l = Limits::new(limits)?;
+        Self::critical_durations_by(from, to, limits, Search::Fast)
+    }
+
+    fn critical_durations_by(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        search: Search,
+    ) -> Result<Vec<f64>> {
+        let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
         let mut d: Vec<f64> = Self::candidates(from, to, &l).iter().map(|c| c.duration).collect();
         d.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs().max(1e-300));
@@ -161,7 +181,17 @@ impl BoundaryLaw {
         limits: &MotionLimits,
         duration: f64,
     ) -> Result<BoundaryLaw> {
-        let l = Limits::new(limits)?;
+        Self::with_duration_by(from, to, limits, duration, Search::Fast)
+    }
+
+    fn with_duration_by(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        duration: f64,
+        search: Search,
+    ) -> Result<BoundaryLaw> {
+        let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
         Self::timed(from, to, &l, duration, &Self::candidates(from, to, &l))
     }

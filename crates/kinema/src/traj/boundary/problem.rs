@@ -1,6 +1,7 @@
 //! The problem of one coordinate, its validated limits, and the symmetries
 //! (mirror image, reversal in time) under which candidates are searched.
 
+use super::roots::Search;
 use super::{infeasible, BoundaryState};
 use crate::error::{Error, Result};
 use crate::traj::law::MotionLimits;
@@ -12,10 +13,12 @@ pub(super) struct Limits {
     pub acc: f64,
     /// `None`: second order.
     pub jerk: Option<f64>,
+    /// How roots are refined (the fast search or the plain reference).
+    pub search: Search,
 }
 
 impl Limits {
-    pub fn new(limits: &MotionLimits) -> Result<Limits> {
+    pub fn new(limits: &MotionLimits, search: Search) -> Result<Limits> {
         for (name, v) in [("vmax", limits.vel), ("amax", limits.acc)] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::OutOfRange {
@@ -34,7 +37,7 @@ impl Limits {
                 });
             }
         }
-        Ok(Limits { vel: limits.vel, acc: limits.acc, jerk: limits.jerk })
+        Ok(Limits { vel: limits.vel, acc: limits.acc, jerk: limits.jerk, search })
     }
 
     /// Refuses states that no law within the limits can start or end at.

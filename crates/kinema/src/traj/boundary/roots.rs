@@ -1,15 +1,26 @@
 //! Roots of a function of one unknown on an interval: sign changes on a
-//! grid, refined by bisection, plus pairs of roots hidden between two grid
-//! points (found at a minimum of |f|).
+//! grid, refined by bisection (reference) or the Illinois variant of
+//! regula falsi (fast), plus pairs of roots hidden between two grid points
+//! (found at a minimum of |f|).
 
 /// Grid intervals for the one-unknown searches.
 pub(super) const GRID: usize = 64;
+
+/// How a bracketed root is refined and when a hidden pair is looked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Search {
+    /// Regula falsi (Illinois), and a pair search only where a parabola
+    /// through three grid values dips towards 0.
+    Fast,
+    /// Plain bisection, and a pair search at every local minimum of |f|.
+    Reference,
+}
 
 /// All roots of `f` on \[lo, hi\]: sign changes on a grid of `n` intervals,
 /// refined by bisection, plus near-tangent roots found where |f| has a local
 /// minimum between grid points. `f` may return NaN where the family has no
 /// profile.
-pub(super) fn find(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize, out: &mut Vec<f64>) {
+pub(super) fn find(search: Search, f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize, out: &mut Vec<f64>) {
     if !(lo.is_finite() && hi.is_finite()) || hi < lo {
         return;
     }
@@ -31,11 +42,17 @@ pub(super) fn find(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize, out: &mut
         }
         let (ya, yb) = (ys[i], ys[i + 1]);
         if ya.is_finite() && yb.is_finite() && ya != 0.0 && yb != 0.0 && (ya < 0.0) != (yb < 0.0) {
-            out.push(bisect(f, xs[i], ya, xs[i + 1]));
+            out.push(match search {
+                Search::Fast => illinois(f, xs[i], ya, xs[i + 1], yb),
+                Search::Reference => bisect(f, xs[i], ya, xs[i + 1]),
+            });
         }
     }
     for i in 1..n {
-        pair_near_minimum(f, [xs[i - 1], xs[i], xs[i + 1]], [ys[i - 1], ys[i], ys[i + 1]], out);
+        let ys = [ys[i - 1], ys[i], ys[i + 1]];
+        if search == Search::Reference || dips(ys) {
+            pair_near_minimum(f, [xs[i - 1], xs[i], xs[i + 1]], ys, out);
+        }
     }
 }
 
@@ -61,6 +78,59 @@ fn bisect(f: &dyn Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64) -> f64 {
         }
     }
     0.5 * (a + b)
+}
+
+/// A root of `f` between `a` and `b` (where f = `fa`, `fb` of opposite
+/// signs) by regula falsi, the retained end's value halved when the same
+/// end is kept twice (Illinois) so that both ends converge. Falls back to
+/// bisection where `f` is NaN.
+fn illinois(f: &dyn Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
+    let mut side = 0;
+    for _ in 0..100 {
+        if !(b - a > 4.0 * f64::EPSILON * a.abs().max(b.abs())) {
+            break;
+        }
+        let mut x = b - fb * (b - a) / (fb - fa);
+        if !(x > a && x < b) {
+            x = 0.5 * (a + b);
+        }
+        let fx = f(x);
+        if fx.is_nan() {
+            return bisect(f, a, fa, b);
+        }
+        if fx == 0.0 {
+            return x;
+        }
+        if (fx < 0.0) == (fa < 0.0) {
+            (a, fa) = (x, fx);
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            (b, fb) = (x, fx);
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    if fa.abs() < fb.abs() {
+        a
+    } else {
+        b
+    }
+}
+
+/// Whether the parabola through three grid values of one sign (the middle
+/// one smallest in size) comes within a quarter of the middle value of 0:
+/// only then can a pair of roots hide between them.
+fn dips([ya, ym, yb]: [f64; 3]) -> bool {
+    let s = ym.signum();
+    let (ya, ym, yb) = (s * ya, s * ym, s * yb);
+    let curv = 0.5 * (ya + yb) - ym;
+    let slope = 0.5 * (yb - ya);
+    !(curv > 0.0) || ym - slope * slope / (4.0 * curv) <= 0.25 * ym
 }
 
 /// A pair of roots inside one grid interval (or a tangent root) shows as a

@@ -2,6 +2,7 @@
 //! which every coordinate has a law, stepping over blocked intervals.
 
 use super::problem::Limits;
+use super::roots::Search;
 use super::{check_min, infeasible, no_profile, BoundaryLaw, BoundaryState};
 use crate::error::{Error, Result};
 use crate::traj::law::MotionLimits;
@@ -20,6 +21,17 @@ pub fn sync_duration(
     limits: &[MotionLimits],
     at_least: f64,
 ) -> Result<(f64, Vec<BoundaryLaw>)> {
+    sync_by(from, to, limits, at_least, Search::Fast)
+}
+
+/// [`sync_duration`] with the given root search.
+pub(super) fn sync_by(
+    from: &[BoundaryState],
+    to: &[BoundaryState],
+    limits: &[MotionLimits],
+    at_least: f64,
+    search: Search,
+) -> Result<(f64, Vec<BoundaryLaw>)> {
     for (what, got) in [("to", to.len()), ("limits", limits.len())] {
         if got != from.len() {
             return Err(Error::WrongLength {
@@ -36,7 +48,7 @@ pub fn sync_duration(
     let mut optimal = Vec::with_capacity(from.len());
     let mut lims = Vec::with_capacity(from.len());
     for i in 0..from.len() {
-        let l = Limits::new(&limits[i])?;
+        let l = Limits::new(&limits[i], search)?;
         l.check_states(&from[i], &to[i])?;
         let laws = BoundaryLaw::candidates(from[i], to[i], &l);
         let law = *laws.first().ok_or_else(|| no_profile(&from[i], &to[i], None))?;

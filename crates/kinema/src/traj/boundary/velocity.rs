@@ -4,10 +4,40 @@
 use super::problem::Limits;
 use super::profile::Profile;
 
+/// A velocity change: jerk `jerk` for `ramp_up`, a hold, then −`jerk` for
+/// `ramp_down`. Kept as three numbers (not a [`Profile`]) because the
+/// searches compare many of them by duration before building one.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Change {
+    ramp_up: f64,
+    hold: f64,
+    ramp_down: f64,
+    jerk: f64,
+}
+
+impl Change {
+    /// Duration, summed as the profile sums its non-empty segments.
+    pub fn duration(&self) -> f64 {
+        [self.ramp_up, self.hold, self.ramp_down].iter().filter(|&&t| t > 0.0).sum()
+    }
+
+    pub fn profile(&self) -> Profile {
+        let mut s = Profile::default();
+        s.push(self.ramp_up, self.jerk, None);
+        s.push(self.hold, 0.0, None);
+        s.push(self.ramp_down, -self.jerk, None);
+        s
+    }
+
+    fn mirrored(self) -> Change {
+        Change { jerk: -self.jerk, ..self }
+    }
+}
+
 /// The velocity change (v0, a0) → (v1, a1) with jerk +j up to a peak
 /// acceleration a_p (held at a_max if it would exceed it), then −j down to
 /// a1. `root` picks a_p = +√K or −√K (both may be valid).
-pub(super) fn rise(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root: bool) -> Option<Profile> {
+pub(super) fn rise(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root: bool) -> Option<Change> {
     let k = j * (v1 - v0) + 0.5 * (a0 * a0 + a1 * a1);
     let hi = a0.max(a1);
     let tol = 1e-12 * l.acc;
@@ -31,21 +61,17 @@ pub(super) fn rise(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root:
             return None;
         }
     }
-    let mut s = Profile::default();
-    s.push((ap - a0) / j, j, None);
-    s.push(hold, 0.0, None);
-    s.push((ap - a1) / j, -j, None);
-    Some(s)
+    Some(Change { ramp_up: (ap - a0) / j, hold, ramp_down: (ap - a1) / j, jerk: j })
 }
 
 /// As [`rise`] with the signs reversed: −j down to a valley, hold at −a_max, +j.
-pub(super) fn fall(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root: bool) -> Option<Profile> {
-    rise(-v0, -a0, -v1, -a1, l, j, root).map(|s| s.mirrored())
+pub(super) fn fall(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root: bool) -> Option<Change> {
+    rise(-v0, -a0, -v1, -a1, l, j, root).map(Change::mirrored)
 }
 
 /// The fastest velocity change (v0, a0) → (v1, a1), ignoring position.
-pub(super) fn fastest_change(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64) -> Option<Profile> {
-    let mut best: Option<Profile> = None;
+pub(super) fn fastest_change(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64) -> Option<Change> {
+    let mut best: Option<Change> = None;
     for root in [true, false] {
         for s in [rise(v0, a0, v1, a1, l, j, root), fall(v0, a0, v1, a1, l, j, root)].into_iter().flatten() {
             if best.is_none_or(|b| s.duration() < b.duration()) {
