@@ -42,11 +42,13 @@ KINEMA_RUCKIG_CSV="$tmp/cases.csv" cargo test --release -p kinema --test all -- 
 
 [ "$timing" = 1 ] || exit 0
 echo "== python benchmarks/ruckig_cases.py --timing 256 --seed 25"
-ruckig_us="$("$tmp/venv/bin/python" "$here/ruckig_cases.py" --timing 256 --seed 25 --out "$tmp/sync7.csv" \
-  | tee /dev/stderr | sed -n 's/.*: \([0-9.]*\) us per problem.*/\1/p')"
+ruckig_line="$("$tmp/venv/bin/python" "$here/ruckig_cases.py" --timing 256 --seed 25 --out "$tmp/sync7.csv")"
+echo "$ruckig_line"
+ruckig_us="$(echo "$ruckig_line" | sed -n 's/.*: \([0-9.]*\) us per problem.*/\1/p')"
 echo "== KINEMA_SYNC7_CSV=... cargo bench -p kinema --bench boundary -- sync-7dof-third/fast"
 kinema_line="$(KINEMA_SYNC7_CSV="$tmp/sync7.csv" cargo bench -p kinema --bench boundary -- \
-  sync-7dof-third/fast 2>/dev/null | grep -A1 'sync-7dof-third/fast' | grep 'time:' | tee /dev/stderr)"
+  sync-7dof-third/fast 2>/dev/null | grep -A1 'sync-7dof-third/fast' | grep 'time:')"
+echo "kinema sync-7dof-third/fast $kinema_line"
 # Criterion prints [low estimate high] with a unit; take the estimate in microseconds.
 kinema_us="$(echo "$kinema_line" | awk '{ v = $4; u = $5; if (u == "ms") v *= 1000; if (u == "ns") v /= 1000; print v }')"
 awk -v k="$kinema_us" -v r="$ruckig_us" \
