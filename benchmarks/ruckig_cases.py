@@ -9,11 +9,18 @@ acceleration does not carry the velocity past vmax, so that Ruckig never
 needs its braking pre-phase and both tools solve the same problem.
 
     python ruckig_cases.py --cases 10000 --seed 25 --out cases.csv
+    python ruckig_cases.py --timing 256 --seed 25 --out sync7.csv
+
+With --timing N it writes N seven-joint jerk-limited problems instead and
+prints Ruckig's planning time per problem: `Ruckig(7).calculate(inp, traj)`
+from Python (the binding calls the C++ directly), the InputParameter filled
+beforehand, the best of 5 passes over all N problems.
 """
 
 import argparse
 import math
 import random
+import time
 
 from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
 
@@ -72,13 +79,44 @@ def solve(joints):
     return "ok", traj.duration
 
 
+def inputs(joints):
+    n = len(joints)
+    inp = InputParameter(n)
+    for name, k in [("current_position", 0), ("current_velocity", 1), ("current_acceleration", 2),
+                    ("target_position", 3), ("target_velocity", 4), ("target_acceleration", 5),
+                    ("max_velocity", 6), ("max_acceleration", 7), ("max_jerk", 8)]:
+        setattr(inp, name, [j[k] for j in joints])
+    return inp
+
+
+def timing(rng, n, out):
+    problems = [[joint(rng, True) for _ in range(7)] for _ in range(n)]
+    with open(out, "w") as f:
+        for case, joints in enumerate(problems):
+            values = ",".join(repr(x) for j in joints for x in j)
+            f.write(f"sync7,{case},7,{values},ok,nan\n")
+    inps = [inputs(j) for j in problems]
+    otg, traj = Ruckig(7), Trajectory(7)
+    best = math.inf
+    for _ in range(5):
+        start = time.perf_counter()
+        for inp in inps:
+            otg.calculate(inp, traj)
+        best = min(best, (time.perf_counter() - start) / n)
+    print(f"ruckig sync-7dof-third: {best * 1e6:.2f} us per problem (best of 5 passes over {n})")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cases", type=int, default=12000)
     ap.add_argument("--seed", type=int, default=25)
     ap.add_argument("--out", required=True)
+    ap.add_argument("--timing", type=int, default=0)
     args = ap.parse_args()
     rng = random.Random(args.seed)
+    if args.timing:
+        timing(rng, args.timing, args.out)
+        return
     kinds = [("third", 1, True), ("second", 1, False), ("sync3", 3, True), ("sync3-second", 3, False)]
     with open(args.out, "w") as f:
         for case in range(args.cases):

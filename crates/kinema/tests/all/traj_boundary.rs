@@ -4,6 +4,7 @@
 //! with the S-curve and trapezoid laws, prescribed durations met exactly,
 //! and synchronisation through blocked intervals.
 
+use kinema::traj::boundary::reference;
 use kinema::traj::{sync_duration, BoundaryLaw, BoundaryState, MotionLimits, Profile, TimeLaw};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -182,6 +183,70 @@ fn prescribed_durations_end_exactly_then_and_blocked_ones_are_refused() {
         assert!(e.contains("the fastest motion between these states") || fastest.duration() == 0.0, "{e}");
     }
     assert!(solved > 2500 && blocked > 5, "{solved} solved, {blocked} blocked");
+}
+
+/// Whether `a` and `b` agree within 1e-9 relative.
+fn same_duration(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+#[test]
+fn the_fast_search_gives_the_reference_durations() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2505);
+    for case in 0..3000 {
+        let jerk = case % 3 != 0;
+        let lim = random_limits(&mut rng, jerk);
+        let p0 = rng.random_range(-3.0..3.0);
+        let d = if rng.random_bool(0.3) { rng.random_range(-0.05..0.05) } else { rng.random_range(-5.0..5.0) };
+        let from = random_state(&mut rng, &lim, p0);
+        let to = random_state(&mut rng, &lim, p0 + d);
+        let what = format!("case {case}: {from:?} → {to:?} {lim:?}");
+        let fast = BoundaryLaw::fastest(from, to, &lim).unwrap();
+        let slow = reference::fastest(from, to, &lim).unwrap();
+        assert!(same_duration(fast.duration(), slow.duration()), "{what}: {} vs {}", fast.duration(), slow.duration());
+        check_law(&fast, &lim, &what);
+        check_law(&slow, &lim, &what);
+        let (cf, cs) = (
+            BoundaryLaw::critical_durations(from, to, &lim).unwrap(),
+            reference::critical_durations(from, to, &lim).unwrap(),
+        );
+        assert!(
+            cf.len() == cs.len() && cf.iter().zip(&cs).all(|(a, b)| same_duration(*a, *b)),
+            "{what}: {cf:?} vs {cs:?}"
+        );
+        let t = fast.duration() * (1.0 + rng.random_range(0.0..2.0)) + rng.random_range(0.0..0.1);
+        match (BoundaryLaw::with_duration(from, to, &lim, t), reference::with_duration(from, to, &lim, t)) {
+            (Ok(a), Ok(b)) => {
+                assert!(same_duration(a.duration(), b.duration()), "{what} at {t}");
+                check_law(&a, &lim, &what);
+            }
+            (Err(_), Err(_)) => {}
+            (a, b) => panic!("{what} at {t}: fast {a:?}, reference {b:?}"),
+        }
+    }
+}
+
+#[test]
+fn fast_and_reference_synchronise_to_the_same_duration() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2506);
+    for case in 0..400 {
+        let jerk = case % 2 == 0;
+        let n = rng.random_range(1..=7);
+        let lims: Vec<MotionLimits> = (0..n).map(|_| random_limits(&mut rng, jerk)).collect();
+        let (mut from, mut to) = (Vec::new(), Vec::new());
+        for l in &lims {
+            let p0 = rng.random_range(-3.0..3.0);
+            from.push(random_state(&mut rng, l, p0));
+            let pf = p0 + rng.random_range(-2.0..2.0);
+            to.push(random_state(&mut rng, l, pf));
+        }
+        let (t, laws) = sync_duration(&from, &to, &lims, 0.0).unwrap();
+        let (tr, _) = reference::sync_duration(&from, &to, &lims, 0.0).unwrap();
+        assert!(same_duration(t, tr), "case {case}: {t} vs {tr}");
+        for (i, law) in laws.iter().enumerate() {
+            check_law(law, &lims[i], &format!("case {case} joint {i}"));
+        }
+    }
 }
 
 #[test]

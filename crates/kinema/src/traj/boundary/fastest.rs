@@ -1,0 +1,34 @@
+//! Step 1: every locally time-optimal law between two states, the
+//! candidates of each frame rebuilt and re-checked. The fastest is the
+//! time-optimal law; the others bound the blocked durations.
+
+use super::fastest_third::fastest_third;
+use super::problem::{Limits, Problem, SYMMETRIES};
+use super::profile::Profile;
+use super::second::fastest_second;
+use super::{BoundaryLaw, BoundaryState};
+
+impl BoundaryLaw {
+    /// Every locally time-optimal law (the candidates that survive the
+    /// re-check), fastest first.
+    pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<BoundaryLaw> {
+        let p = Problem::new(&from, &to);
+        let mut cands = Vec::new();
+        for sym in &SYMMETRIES[..if l.jerk.is_some() { 4 } else { 2 }] {
+            let q = sym.problem(&p);
+            let start = cands.len();
+            match l.jerk {
+                Some(j) => fastest_third(&q, l, j, &mut cands),
+                None => fastest_second(&q, l, &mut cands),
+            }
+            for s in &mut cands[start..] {
+                *s = sym.back(s);
+            }
+        }
+        let mut laws = Self::from_candidates(from, to, l, &cands);
+        if from == to {
+            laws.insert(0, Self::build(from, to, &Profile::default(), l.jerk.is_some()));
+        }
+        laws
+    }
+}

@@ -1,0 +1,316 @@
+//! Time-optimal one-coordinate motions between arbitrary boundary states
+//! (position, velocity, acceleration), the building block of PTP motions
+//! that are chained without stopping.
+//!
+//! A [`BoundaryLaw`] moves one coordinate from a [`BoundaryState`]
+//! (p₀, v₀, a₀) to another (p_f, v_f, a_f) within |v| ≤ v_max, |a| ≤ a_max
+//! and, when a jerk limit is given, |j| ≤ j_max:
+//! - **third order** (jerk limit given): up to seven phases of constant jerk
+//!   +j_max, 0 or −j_max — the structure of Ruckig (Berscheid & Kröger 2021);
+//! - **second order** (no jerk limit): up to three phases of constant
+//!   acceleration ±a_max or 0; the boundary accelerations must then be 0.
+//!
+//! [`BoundaryLaw::fastest`] is the time-optimal law. Its candidates are the
+//! profiles whose acceleration rises, falls and rises again (or the mirror
+//! image), each phase either a jerk ramp or a hold at a limit — +a_max,
+//! −a_max or a cruise at ±v_max. Each family is reduced to one unknown
+//! (the acceleration at the valley, or the length of a hold), whose roots
+//! are isolated on a grid and refined by bisection; every candidate is then
+//! rebuilt from the start state and re-checked (end state within 1e-9
+//! relative, no limit exceeded by more than 1e-9 relative), and the fastest
+//! survivor is returned.
+//!
+//! [`BoundaryLaw::with_duration`] moves between the same states in a given,
+//! longer time (what synchronised PTP needs). Its families hold the velocity
+//! at some v_c (a cruise with zero acceleration between two fastest
+//! velocity changes) or hold the acceleration at some level below a_max;
+//! where none of them has a root, two of their laws lasting that long, one
+//! short of the target position and one past it, are blended (the limits
+//! are convex and the motion is linear in the jerk). A duration can be
+//! infeasible although a shorter one is feasible (a start
+//! velocity towards a close target leaves no profile for some durations:
+//! Ruckig's "blocked intervals"); [`BoundaryLaw::critical_durations`] lists
+//! the durations where feasibility may change, and [`sync_duration`] picks
+//! the smallest duration at which every coordinate has a law.
+//!
+//! The search is laid out as Ruckig lays out its steps: `profile` holds
+//! the segments of constant jerk and their integration, `roots` the
+//! one-unknown root search, `fastest_third` and `second` the time-optimal
+//! families (step 1), `timed_third`, `cruise` and `second` the families of
+//! a prescribed duration (step 2), `sync` the synchronisation of several
+//! coordinates.
+//!
+//! States that no law can respect are refused with an error naming the
+//! limit, rather than braked into the limits as Ruckig does: |v₀| or |v_f|
+//! above v_max, |a₀| or |a_f| above a_max, or an acceleration that carries
+//! the velocity past v_max whatever the jerk (v₀ + a₀|a₀|/(2 j_max) beyond
+//! ±v_max, and the same backwards in time at the end).
+
+use self::problem::Limits;
+use self::profile::{Phase, Profile, MAX_SEGMENTS};
+use self::roots::Search;
+use super::law::{MotionLimits, MIN_DURATION};
+use crate::error::{Error, Result};
+
+mod cruise;
+mod fastest;
+mod fastest_third;
+mod problem;
+mod profile;
+pub mod reference;
+mod roots;
+mod second;
+mod sync;
+mod timed;
+mod timed_third;
+mod velocity;
+
+pub use sync::sync_duration;
+
+/// Position \[unit\], velocity \[unit/s\] and acceleration \[unit/s²\] of one coordinate.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BoundaryState {
+    /// Position.
+    pub p: f64,
+    /// Velocity.
+    pub v: f64,
+    /// Acceleration.
+    pub a: f64,
+}
+
+impl BoundaryState {
+    /// A state at `p` with velocity `v` and acceleration `a`.
+    pub fn new(p: f64, v: f64, a: f64) -> Self {
+        BoundaryState { p, v, a }
+    }
+
+    /// At rest at `p`.
+    pub fn rest(p: f64) -> Self {
+        BoundaryState { p, v: 0.0, a: 0.0 }
+    }
+}
+
+/// A motion of one coordinate between two boundary states: phases of
+/// constant jerk (third order) or constant acceleration (second order).
+///
+/// # Examples
+/// ```
+/// use kinema::traj::{BoundaryLaw, BoundaryState, MotionLimits};
+/// // Arrive at 1 rad still moving at 0.5 rad/s, starting at rest.
+/// let lim = MotionLimits::with_jerk(1.0, 2.0, 10.0);
+/// let law = BoundaryLaw::fastest(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.5, 0.0), &lim)?;
+/// let end = law.at(law.duration());
+/// assert!((end.p - 1.0).abs() < 1e-9 && (end.v - 0.5).abs() < 1e-9);
+/// // The same states in a longer, prescribed time (to synchronise joints).
+/// let slow = BoundaryLaw::with_duration(law.from(), law.to(), &lim, 3.0)?;
+/// assert!((slow.duration() - 3.0).abs() < 1e-12);
+/// # Ok::<(), kinema::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryLaw {
+    from: BoundaryState,
+    to: BoundaryState,
+    phases: [Phase; MAX_SEGMENTS],
+    n: usize,
+    duration: f64,
+    jerk_limited: bool,
+}
+
+impl BoundaryLaw {
+    /// The time-optimal law from `from` to `to` within `limits` (a jerk
+    /// limit makes it third order; without one it is second order and the
+    /// boundary accelerations must be 0). A start equal to the target (also
+    /// a moving one) gives a law of duration 0: it is already there.
+    ///
+    /// Rest to rest, the duration equals [`TimeLaw::from_limits`]'s trapezoid
+    /// or S-curve over the same distance. Errors: a limit that is not a
+    /// positive finite number; a non-finite state; a state no law can
+    /// respect (see the module documentation); a duration below
+    /// [`MIN_DURATION`]; no candidate passing the re-check (not expected: it
+    /// would be a bug, reported rather than returned).
+    ///
+    /// [`TimeLaw::from_limits`]: super::TimeLaw::from_limits
+    pub fn fastest(from: BoundaryState, to: BoundaryState, limits: &MotionLimits) -> Result<BoundaryLaw> {
+        Self::fastest_by(from, to, limits, Search::Fast)
+    }
+
+    fn fastest_by(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        search: Search,
+    ) -> Result<BoundaryLaw> {
+        let l = Limits::new(limits, search)?;
+        l.check_states(&from, &to)?;
+        if from == to {
+            return Ok(Self::build(from, to, &Profile::default(), l.jerk.is_some()));
+        }
+        let law = Self::candidates(from, to, &l).into_iter().next().ok_or_else(|| no_profile(&from, &to, None))?;
+        check_min(law.duration)?;
+        Ok(law)
+    }
+
+    /// The durations at which the set of feasible durations may change:
+    /// the durations of every locally time-optimal law, fastest first. The
+    /// first is [`BoundaryLaw::fastest`]'s; a duration between two listed
+    /// ones is feasible either throughout or nowhere.
+    pub fn critical_durations(from: BoundaryState, to: BoundaryState, limits: &MotionLimits) -> Result<Vec<f64>> {
+        Self::critical_durations_by(from, to, limits, Search::Fast)
+    }
+
+    fn critical_durations_by(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        search: Search,
+    ) -> Result<Vec<f64>> {
+        let l = Limits::new(limits, search)?;
+        l.check_states(&from, &to)?;
+        let mut d: Vec<f64> = Self::candidates(from, to, &l).iter().map(|c| c.duration).collect();
+        d.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs().max(1e-300));
+        Ok(d)
+    }
+
+    /// A law from `from` to `to` within `limits` lasting exactly `duration`
+    /// \[s\] (at least the fastest law's). Errors: as [`BoundaryLaw::fastest`];
+    /// a duration shorter than the fastest; a duration inside a blocked
+    /// interval (no law lasts exactly that long: see the module documentation).
+    pub fn with_duration(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        duration: f64,
+    ) -> Result<BoundaryLaw> {
+        Self::with_duration_by(from, to, limits, duration, Search::Fast)
+    }
+
+    fn with_duration_by(
+        from: BoundaryState,
+        to: BoundaryState,
+        limits: &MotionLimits,
+        duration: f64,
+        search: Search,
+    ) -> Result<BoundaryLaw> {
+        let l = Limits::new(limits, search)?;
+        l.check_states(&from, &to)?;
+        Self::timed(from, to, &l, duration, &Self::candidates(from, to, &l))
+    }
+
+    /// The start state.
+    pub fn from(&self) -> BoundaryState {
+        self.from
+    }
+
+    /// The target state.
+    pub fn to(&self) -> BoundaryState {
+        self.to
+    }
+
+    /// Duration \[s\].
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// Whether the law is jerk-limited (third order).
+    pub fn jerk_limited(&self) -> bool {
+        self.jerk_limited
+    }
+
+    /// Durations of the phases \[s\], in order (zero-length phases left out).
+    pub fn phase_times(&self) -> Vec<f64> {
+        self.phases[..self.n].iter().map(|p| p.dt).collect()
+    }
+
+    /// Jerk of each phase \[unit/s³\] (0 in every phase of a second-order law,
+    /// whose acceleration steps between phases).
+    pub fn phase_jerks(&self) -> Vec<f64> {
+        self.phases[..self.n].iter().map(|p| p.j).collect()
+    }
+
+    /// The state at time `t` \[s\]: the start state before 0; from the
+    /// duration on, the target state (its position advanced by the target
+    /// velocity and acceleration, so that a chained motion continues it).
+    #[inline]
+    pub fn at(&self, t: f64) -> BoundaryState {
+        if !(t > 0.0) {
+            return self.from;
+        }
+        if t >= self.duration || self.n == 0 {
+            return self.to;
+        }
+        let i = self.phases[..self.n].iter().rposition(|p| p.t0 <= t).unwrap_or(0);
+        let u = (t - self.phases[i].t0).clamp(0.0, self.phases[i].dt);
+        self.phases[i].at(u)
+    }
+
+    /// Jerk at time `t` (0 outside the law).
+    pub fn jerk_at(&self, t: f64) -> f64 {
+        if !(t > 0.0) || t >= self.duration || self.n == 0 {
+            return 0.0;
+        }
+        let i = self.phases[..self.n].iter().rposition(|p| p.t0 <= t).unwrap_or(0);
+        self.phases[i].j
+    }
+
+    /// The largest |v|, |a| and |j| over the law, in closed form (velocity
+    /// extrema inside a phase where the acceleration crosses 0). |j| is
+    /// infinite for a second-order law with an acceleration step.
+    pub fn peaks(&self) -> (f64, f64, f64) {
+        let (mut v, mut a, mut j) =
+            (self.from.v.abs().max(self.to.v.abs()), self.from.a.abs().max(self.to.a.abs()), 0.0f64);
+        for pc in &self.phases[..self.n] {
+            let e = pc.at(pc.dt);
+            v = v.max(pc.v.abs()).max(e.v.abs());
+            a = a.max(pc.a.abs()).max(e.a.abs());
+            j = j.max(pc.j.abs());
+            if pc.j != 0.0 {
+                let u = -pc.a / pc.j;
+                if u > 0.0 && u < pc.dt {
+                    v = v.max(pc.at(u).v.abs());
+                }
+            }
+        }
+        if !self.jerk_limited {
+            let mut prev = self.from.a;
+            for pc in &self.phases[..self.n] {
+                if pc.a != prev {
+                    j = f64::INFINITY;
+                }
+                prev = pc.a;
+            }
+            if prev != self.to.a {
+                j = f64::INFINITY;
+            }
+        }
+        (v, a, j)
+    }
+}
+
+/// Refuses a motion shorter than the shortest a motion may last.
+fn check_min(duration: f64) -> Result<()> {
+    if duration > 0.0 && duration < MIN_DURATION {
+        return Err(infeasible(
+            "duration",
+            format!("the motion would last {duration:e} s, shorter than the {MIN_DURATION:e} s a motion may last"),
+        ));
+    }
+    Ok(())
+}
+
+/// The error for states (and a duration) no law connects.
+fn no_profile(from: &BoundaryState, to: &BoundaryState, duration: Option<f64>) -> Error {
+    let when = duration.map_or(String::new(), |t| format!(" lasting exactly {t} s"));
+    infeasible(
+        "duration",
+        format!(
+            "no motion{when} from (p {}, v {}, a {}) to (p {}, v {}, a {}) within the limits \
+             (a blocked duration: a longer one may be feasible)",
+            from.p, from.v, from.a, to.p, to.v, to.a
+        ),
+    )
+}
+
+/// An [`Error::Infeasible`] about `what`.
+fn infeasible(what: &str, reason: String) -> Error {
+    Error::Infeasible { what: what.into(), reason }
+}

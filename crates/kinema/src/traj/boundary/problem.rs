@@ -1,0 +1,172 @@
+//! The problem of one coordinate, its validated limits, and the symmetries
+//! (mirror image, reversal in time) under which candidates are searched.
+
+use super::roots::Search;
+use super::{infeasible, BoundaryState};
+use crate::error::{Error, Result};
+use crate::traj::law::MotionLimits;
+
+/// The limits of one problem, validated: positive and finite.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Limits {
+    pub vel: f64,
+    pub acc: f64,
+    /// `None`: second order.
+    pub jerk: Option<f64>,
+    /// How roots are refined (the fast search or the plain reference).
+    pub search: Search,
+}
+
+impl Limits {
+    pub fn new(limits: &MotionLimits, search: Search) -> Result<Limits> {
+        for (name, v) in [("vmax", limits.vel), ("amax", limits.acc)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::OutOfRange {
+                    what: name.into(),
+                    value: v,
+                    expected: "a positive finite number".into(),
+                });
+            }
+        }
+        if let Some(j) = limits.jerk {
+            if !(j.is_finite() && j > 0.0) {
+                return Err(Error::OutOfRange {
+                    what: "jmax".into(),
+                    value: j,
+                    expected: "a positive finite number".into(),
+                });
+            }
+        }
+        Ok(Limits { vel: limits.vel, acc: limits.acc, jerk: limits.jerk, search })
+    }
+
+    /// Refuses states that no law within the limits can start or end at.
+    pub fn check_states(&self, from: &BoundaryState, to: &BoundaryState) -> Result<()> {
+        for (what, s) in [("start", from), ("target", to)] {
+            for (name, x) in [("position", s.p), ("velocity", s.v), ("acceleration", s.a)] {
+                if !x.is_finite() {
+                    return Err(Error::NotFinite { what: format!("{what} {name}"), value: x });
+                }
+            }
+            if s.v.abs() > self.vel * (1.0 + 1e-12) {
+                return Err(Error::OutOfRange {
+                    what: format!("{what} velocity"),
+                    value: s.v,
+                    expected: format!(
+                        "a velocity within ±{} (vmax); no motion within the limits starts or ends beyond it",
+                        self.vel
+                    ),
+                });
+            }
+            match self.jerk {
+                None if s.a != 0.0 => {
+                    return Err(Error::MissingLimit {
+                        limit: "jerk".into(),
+                        option: "jmax".into(),
+                        needed_by: format!(
+                            "the {what} acceleration {} (without one the acceleration is a step and boundary \
+                             accelerations must be 0)",
+                            s.a
+                        ),
+                    })
+                }
+                None => {}
+                Some(j) => self.check_jerk_limited(what, s, j)?,
+            }
+        }
+        Ok(())
+    }
+
+    fn check_jerk_limited(&self, what: &str, s: &BoundaryState, j: f64) -> Result<()> {
+        if s.a.abs() > self.acc * (1.0 + 1e-12) {
+            return Err(Error::OutOfRange {
+                what: format!("{what} acceleration"),
+                value: s.a,
+                expected: format!("an acceleration within ±{} (amax)", self.acc),
+            });
+        }
+        // The velocity the acceleration carries to, forwards from the start
+        // or backwards from the target, before jerk can undo it.
+        let start = what == "start";
+        let reach = if start { s.v + s.a * s.a.abs() / (2.0 * j) } else { s.v - s.a * s.a.abs() / (2.0 * j) };
+        if reach.abs() > self.vel * (1.0 + 1e-9) {
+            return Err(infeasible(
+                "vmax",
+                format!(
+                    "the {what} state (velocity {}, acceleration {}) reaches a velocity of {reach} \
+                     {} the acceleration can be brought to 0 with jmax {j}, beyond vmax {}",
+                    s.v,
+                    s.a,
+                    if start { "before" } else { "when traced back to where" },
+                    self.vel
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The boundary values of one coordinate relative to its start position,
+/// possibly seen in a mirrored and/or time-reversed frame.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Problem {
+    pub v0: f64,
+    pub a0: f64,
+    pub vf: f64,
+    pub af: f64,
+    /// Displacement p_f − p_0.
+    pub dp: f64,
+}
+
+impl Problem {
+    pub fn new(from: &BoundaryState, to: &BoundaryState) -> Problem {
+        Problem { v0: from.v, a0: from.a, vf: to.v, af: to.a, dp: to.p - from.p }
+    }
+
+    fn mirrored(&self) -> Problem {
+        Problem { v0: -self.v0, a0: -self.a0, vf: -self.vf, af: -self.af, dp: -self.dp }
+    }
+
+    /// q(t) = p(T − t): start and end swap, velocities change sign.
+    fn reversed(&self) -> Problem {
+        Problem { v0: -self.vf, a0: self.af, vf: -self.v0, af: self.a0, dp: -self.dp }
+    }
+}
+
+/// A frame in which candidates are searched: the families are written for
+/// one sign pattern, and the mirror and time reversal give the others.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Symmetry {
+    mirror: bool,
+    reverse: bool,
+}
+
+/// Identity, mirror, reversal in time, both (second-order families need
+/// only the first two).
+pub(super) const SYMMETRIES: [Symmetry; 4] = [
+    Symmetry { mirror: false, reverse: false },
+    Symmetry { mirror: true, reverse: false },
+    Symmetry { mirror: false, reverse: true },
+    Symmetry { mirror: true, reverse: true },
+];
+
+impl Symmetry {
+    pub fn problem(self, p: &Problem) -> Problem {
+        let p = if self.reverse { p.reversed() } else { *p };
+        if self.mirror {
+            p.mirrored()
+        } else {
+            p
+        }
+    }
+
+    /// A profile found for the transformed problem, back in the original frame.
+    pub fn back(self, s: &super::profile::Profile) -> super::profile::Profile {
+        let s = if self.mirror { s.mirrored() } else { *s };
+        if self.reverse {
+            s.reversed()
+        } else {
+            s
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! A profile — a sequence of segments of constant jerk — integrating it,
+//! and building and re-checking the law it makes.
+
+use super::problem::Limits;
+use super::{BoundaryLaw, BoundaryState};
+
+/// The most segments any candidate has (a blend of two seven-segment laws).
+pub(super) const MAX_SEGMENTS: usize = 16;
+
+/// Constant jerk for `dt` seconds; `set_acc` sets the acceleration at the
+/// segment's start (second order: it steps) or `None` keeps it continuous.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct JerkSegment {
+    pub dt: f64,
+    pub jerk: f64,
+    pub set_acc: Option<f64>,
+}
+
+/// A candidate motion as segments, relative to its start state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct Profile {
+    segments: [JerkSegment; MAX_SEGMENTS],
+    len: usize,
+}
+
+impl Profile {
+    /// Appends a segment; zero-length ones are left out.
+    pub fn push(&mut self, dt: f64, jerk: f64, set_acc: Option<f64>) {
+        if dt > 0.0 && self.len < MAX_SEGMENTS {
+            self.segments[self.len] = JerkSegment { dt, jerk, set_acc };
+            self.len += 1;
+        }
+    }
+
+    pub fn extend(&mut self, other: &Profile) {
+        for s in other.segments() {
+            self.push(s.dt, s.jerk, s.set_acc);
+        }
+    }
+
+    pub fn segments(&self) -> &[JerkSegment] {
+        &self.segments[..self.len]
+    }
+
+    pub fn duration(&self) -> f64 {
+        self.segments().iter().map(|s| s.dt).sum()
+    }
+
+    /// The mirror image: every jerk and set acceleration negated.
+    pub fn mirrored(&self) -> Profile {
+        let mut out = *self;
+        for s in &mut out.segments[..out.len] {
+            s.jerk = -s.jerk;
+            s.set_acc = s.set_acc.map(|a| -a);
+        }
+        out
+    }
+
+    /// The same motion run backwards in time: segments reversed, jerk
+    /// negated (only for third-order profiles, whose acceleration is continuous).
+    pub fn reversed(&self) -> Profile {
+        let mut out = Profile::default();
+        for s in self.segments().iter().rev() {
+            out.push(s.dt, -s.jerk, None);
+        }
+        out
+    }
+
+    /// Position, velocity and acceleration at the end, from (0, v, a).
+    pub fn integrate(&self, mut v: f64, mut a: f64) -> (f64, f64, f64) {
+        let mut p = 0.0;
+        for s in self.segments() {
+            if let Some(a0) = s.set_acc {
+                a = a0;
+            }
+            let u = s.dt;
+            p += u * (v + u * (a / 2.0 + u * s.jerk / 6.0));
+            v += u * (a + u * s.jerk / 2.0);
+            a += u * s.jerk;
+        }
+        (p, v, a)
+    }
+
+    /// The jerk at time `t` into the profile (the last segment's after it).
+    pub fn jerk_at(&self, t: f64) -> f64 {
+        let mut end = 0.0;
+        for s in self.segments() {
+            end += s.dt;
+            if t < end {
+                return s.jerk;
+            }
+        }
+        self.segments[self.len.saturating_sub(1)].jerk
+    }
+}
+
+/// One segment of a built law: the state at its start `t0` and its jerk.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct Phase {
+    pub t0: f64,
+    pub dt: f64,
+    pub p: f64,
+    pub v: f64,
+    pub a: f64,
+    pub j: f64,
+}
+
+impl Phase {
+    #[inline]
+    pub fn at(&self, u: f64) -> BoundaryState {
+        BoundaryState {
+            p: self.p + u * (self.v + u * (self.a / 2.0 + u * self.j / 6.0)),
+            v: self.v + u * (self.a + u * self.j / 2.0),
+            a: self.a + u * self.j,
+        }
+    }
+}
+
+impl BoundaryLaw {
+    pub(super) fn build(from: BoundaryState, to: BoundaryState, profile: &Profile, jerk_limited: bool) -> BoundaryLaw {
+        let mut law =
+            BoundaryLaw { from, to, phases: [Phase::default(); MAX_SEGMENTS], n: 0, duration: 0.0, jerk_limited };
+        let mut st = from;
+        let mut t = 0.0;
+        for s in profile.segments() {
+            if let Some(a) = s.set_acc {
+                st.a = a;
+            }
+            let phase = Phase { t0: t, dt: s.dt, p: st.p, v: st.v, a: st.a, j: s.jerk };
+            st = phase.at(s.dt);
+            law.phases[law.n] = phase;
+            law.n += 1;
+            t += s.dt;
+        }
+        law.duration = t;
+        law
+    }
+
+    /// The state reached at the end of the last phase, before it is replaced
+    /// by the exact target (what the re-check compares).
+    pub(super) fn end_state(&self) -> BoundaryState {
+        if self.n == 0 {
+            return self.from;
+        }
+        let last = &self.phases[self.n - 1];
+        last.at(last.dt)
+    }
+
+    /// Whether the law reaches its target and keeps within `l` (1e-9 relative).
+    pub(super) fn valid(&self, l: &Limits) -> bool {
+        self.valid_but_position(l) && self.position_reached()
+    }
+
+    fn position_reached(&self) -> bool {
+        let e = self.end_state();
+        // The motion's own scale (a short motion far from 0 is held to its
+        // size, not to its coordinates), plus the rounding of the coordinates.
+        let (t, f, to) = (self.duration, &self.from, &self.to);
+        let scale_p = (to.p - f.p).abs().max((f.v.abs() + to.v.abs()) * t).max((f.a.abs() + to.a.abs()) * t * t);
+        let tol_p = 1e-9 * scale_p + 8.0 * f64::EPSILON * f.p.abs().max(to.p.abs());
+        (e.p - self.to.p).abs() <= tol_p
+    }
+
+    /// Whether the law ends at the target's velocity and acceleration and keeps within `l`.
+    pub(super) fn valid_but_position(&self, l: &Limits) -> bool {
+        let e = self.end_state();
+        if !((e.v - self.to.v).abs() <= 1e-9 * l.vel) {
+            return false;
+        }
+        if self.jerk_limited && !((e.a - self.to.a).abs() <= 1e-9 * l.acc) {
+            return false;
+        }
+        let (v, a, j) = self.peaks();
+        v <= l.vel * (1.0 + 1e-9)
+            && a <= l.acc * (1.0 + 1e-9)
+            && (!self.jerk_limited || j <= l.jerk.unwrap_or(0.0) * (1.0 + 1e-9))
+    }
+
+    /// The candidates that build into valid laws, fastest first.
+    pub(super) fn from_candidates(
+        from: BoundaryState,
+        to: BoundaryState,
+        l: &Limits,
+        cands: &[Profile],
+    ) -> Vec<BoundaryLaw> {
+        let mut laws: Vec<BoundaryLaw> = cands
+            .iter()
+            .filter(|s| s.segments().iter().all(|g| g.dt.is_finite() && g.dt >= 0.0))
+            .map(|s| Self::build(from, to, s, l.jerk.is_some()))
+            .filter(|law| law.valid(l))
+            .collect();
+        laws.sort_by(|a, b| a.duration.total_cmp(&b.duration));
+        laws
+    }
+}
