@@ -9,7 +9,7 @@ use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntyp
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyComplex, PyDict, PyFloat, PyInt, PyMemoryView, PyString};
 
-use crate::errors::{invalid, KinemaError};
+use crate::errors::{invalid, to_py, KinemaError};
 
 pub(crate) fn shape_text(shape: &[usize]) -> String {
     match shape {
@@ -271,12 +271,9 @@ pub(crate) fn vec3_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 3]>
     finite_point(a.as_slice()?, what)
 }
 
+/// The `rpy` argument, read by the core as every door reads it.
 pub(crate) fn parse_rpy(text: &str) -> PyResult<RpyConvention> {
-    match text {
-        "zyx" => Ok(RpyConvention::Zyx),
-        "xyz" => Ok(RpyConvention::Xyz),
-        other => Err(invalid(format!("invalid `rpy`: `{other}`; use \"zyx\" or \"xyz\""))),
-    }
+    text.parse().map_err(to_py)
 }
 
 /// A limit argument: None, one number (every joint) or one per joint.

@@ -45,14 +45,7 @@ fn parse_blend(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Blend> {
         let seconds = real(obj).map_err(|_| bad(&obj.to_string()))?;
         return Ok(Blend::Time(seconds));
     };
-    let text = text.to_str()?;
-    let b = text.trim();
-    Ok(match b {
-        "decel" => Blend::Deceleration,
-        "none" => Blend::None,
-        _ if b.ends_with('m') => Blend::Distance(b.trim_end_matches('m').trim().parse().map_err(|_| bad(text))?),
-        _ => Blend::Time(b.parse().map_err(|_| bad(text))?),
-    })
+    text.to_str()?.parse().map_err(to_py)
 }
 
 /// The options shared by :meth:`Robot.lin` and :meth:`Robot.circ`.
@@ -80,15 +73,10 @@ impl CartOptions {
         max_angle: f64,
         min_manip: Option<f64>,
     ) -> PyResult<Self> {
-        if self_motion != SelfMotion::Auto && method != "ik" {
+        let method = JointMethod::named(method, self_motion.clone()).map_err(to_py)?;
+        if self_motion != SelfMotion::Auto && method == JointMethod::RESOLVED_RATE {
             return Err(invalid("`q3`/`psi` choose the self-motion of method=\"ik\"".into()));
         }
-        let method = match method {
-            "ik" => JointMethod::Ik(self_motion),
-            // The gains `kinema traj lin --method rate` uses.
-            "rate" => JointMethod::ResolvedRate { damping: 0.01, gain: 0.5 },
-            other => return Err(invalid(format!("invalid `method`: `{other}`; use \"ik\" or \"rate\""))),
-        };
         Ok(CartOptions {
             profile: profile.parse::<Profile>().map_err(to_py)?,
             limits: CartesianLimits {

@@ -50,12 +50,7 @@ type IkBatchResult<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<bo
 
 /// The `solver` argument of the IK functions.
 fn solver_choice(name: &str) -> PyResult<SolverChoice> {
-    match name {
-        "auto" => Ok(SolverChoice::Auto),
-        "analytic" => Ok(SolverChoice::Analytic),
-        "numeric" => Ok(SolverChoice::Numeric),
-        other => Err(invalid(format!("invalid `solver`: `{other}`; use \"auto\", \"analytic\" or \"numeric\""))),
-    }
+    name.parse().map_err(to_py)
 }
 
 /// One inverse-kinematics solution.

@@ -183,7 +183,7 @@ def test_wrong_combinations(robots, family):
         (lambda: puma.ik(position=[0.4, 0.1, 0.2], solver="analytic"), r"no analytic solver"),
         (lambda: puma.ik([0.4, 0.1, 0.2, 0.0, 0.0]), r"`T` must have shape \(4, 4\) .* or \(6,\)"),
         (lambda: puma.ik([0.4, 0.1, 0.2, 0.0, np.inf, 0.0]), r"`T` contains inf; all values must be finite"),
-        (lambda: puma.ik(T, rpy="yxz"), r"invalid `rpy`: `yxz`"),
+        (lambda: puma.ik(T, rpy="yxz"), r"unknown rpy convention `yxz`; expected one of: zyx, xyz"),
         (lambda: sc.ik(position=p, pitch=0.1, roll=0.0, q0=[0.0, 1.0]), r"has 5 joints, but 2 joint values"),
     ]
     for call, message in cases:

@@ -171,7 +171,7 @@ def test_poses_as_six_numbers(iiwa):
         r.lin(q0, GOAL, 0.01, vmax=0.2, amax=0.5, via=np.zeros((2, 5)))
     with pytest.raises(kinema.InvalidInput, match=r"`T` must have shape \(4, 4\) \(a homogeneous transform\) or \(6,\)"):
         r.circ(q0, [0.7, -0.5, 0.6], [0.6, -0.6, 0.3], 0.01, vmax=0.2, amax=0.5)
-    with pytest.raises(kinema.InvalidInput, match=r"invalid `rpy`: `zxy`"):
+    with pytest.raises(kinema.InvalidInput, match=r"unknown rpy convention `zxy`; expected one of: zyx, xyz"):
         r.circ(q0, [0.7, -0.5, 0.6], GOAL, 0.01, vmax=0.2, amax=0.5, rpy="zxy")
 
 
@@ -260,9 +260,9 @@ def test_cartesian_errors(iiwa):
         r.lin([0.0, 0.0], GOAL, 0.01, vmax=0.2, amax=0.5)
     for kwargs, message in [
         (dict(orientation="euler"), "invalid `orientation`: `euler`"),
-        (dict(orientation="rpy", rpy="abc"), "invalid `rpy`: `abc`"),
-        (dict(method="jacobian"), "invalid `method`: `jacobian`"),
-        (dict(blend="soon"), "invalid `blend`: `soon`"),
+        (dict(orientation="rpy", rpy="abc"), "unknown rpy convention `abc`; expected one of: zyx, xyz"),
+        (dict(method="jacobian"), "unknown method `jacobian`; expected one of: ik, rate"),
+        (dict(blend="soon"), "unknown blend `soon`; expected one of: decel, none"),
         (dict(blend=[1]), "invalid `blend`"),
         (dict(profile="scurve"), "jmax"),
         (dict(profile="bogus"), "unknown profile `bogus`"),
