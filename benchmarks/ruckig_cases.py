@@ -6,7 +6,9 @@ result code and duration. kinema reads the file and compares
 (crates/kinema/tests/all/traj_boundary.rs, `ruckig_durations`, run by
 benchmarks/run_ruckig.sh). Every state is within the limits and its
 acceleration does not carry the velocity past vmax, so that Ruckig never
-needs its braking pre-phase and both tools solve the same problem.
+needs its braking pre-phase and both tools solve the same problem —
+except the kinds `brake` and `brake-second`, whose start states lie beyond
+the limits (|v0| up to 3 vmax, |a0| up to 3 amax) so that both brake first.
 
     python ruckig_cases.py --cases 10000 --seed 25 --out cases.csv
     python ruckig_cases.py --timing 256 --seed 25 --out sync7.csv
@@ -50,11 +52,24 @@ def state(rng, p, v_max, a_max, j_max):
     return p, v, a
 
 
-def joint(rng, jerk):
+def beyond(rng, p, v_max, a_max, j_max):
+    """A start state beyond the limits."""
+    v = rng.uniform(-3.0, 3.0) * v_max
+    a = rng.uniform(-3.0, 3.0) * a_max if math.isfinite(j_max) else 0.0
+    if rng.randrange(3) == 0:
+        v = math.copysign(1.01 * v_max + abs(v), v)
+    return p, v, a
+
+
+def joint(rng, jerk, brake=False):
     v_max, a_max, j_max = limits(rng, jerk)
+    if brake and jerk:
+        # At most 2 s to swing the acceleration across its range.
+        j_max = max(j_max, a_max / 2.0)
     p0 = rng.uniform(-3.0, 3.0)
     d = rng.choice([0.0, rng.uniform(-1e-3, 1e-3), rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0)])
-    return state(rng, p0, v_max, a_max, j_max) + state(rng, p0 + d, v_max, a_max, j_max) + (v_max, a_max, j_max)
+    start = (beyond if brake else state)(rng, p0, v_max, a_max, j_max)
+    return start + state(rng, p0 + d, v_max, a_max, j_max) + (v_max, a_max, j_max)
 
 
 def solve(joints):
@@ -117,11 +132,12 @@ def main():
     if args.timing:
         timing(rng, args.timing, args.out)
         return
-    kinds = [("third", 1, True), ("second", 1, False), ("sync3", 3, True), ("sync3-second", 3, False)]
+    kinds = [("third", 1, True, False), ("second", 1, False, False), ("sync3", 3, True, False),
+             ("sync3-second", 3, False, False), ("brake", 1, True, True), ("brake-second", 1, False, True)]
     with open(args.out, "w") as f:
         for case in range(args.cases):
-            kind, dof, jerk = kinds[case % len(kinds)]
-            joints = [joint(rng, jerk) for _ in range(dof)]
+            kind, dof, jerk, brake = kinds[case % len(kinds)]
+            joints = [joint(rng, jerk, brake) for _ in range(dof)]
             code, duration = solve(joints)
             values = ",".join(repr(x) for j in joints for x in j)
             f.write(f"{kind},{case},{dof},{values},{code},{duration!r}\n")

@@ -321,8 +321,9 @@ mod boundary {
         let r = kinema(&[&base[..], &["--profile", "cubic", "--v1", W]].concat());
         assert_eq!(r.code, Some(1));
         assert!(r.stderr.contains("only moves rest to rest"), "{}", r.stderr);
-        let r = kinema(&[&base[..], &["--profile", "scurve", "--v0", "5,0,0,0,0,0,0"]].concat());
-        assert!(r.stderr.contains("`start velocity`: 5; expected a velocity within ±"), "{}", r.stderr);
+        let r = kinema(&[&base[..], &["--profile", "scurve", "--v1", "5,0,0,0,0,0,0"]].concat());
+        assert_eq!(r.code, Some(1));
+        assert!(r.stderr.contains("`target velocity`: 5; expected a velocity within ±"), "{}", r.stderr);
     }
 
     #[test]

@@ -49,11 +49,15 @@ fn random_state(rng: &mut ChaCha8Rng, lim: &MotionLimits, p: f64) -> BoundarySta
     BoundaryState::new(p, v, a)
 }
 
-/// Samples the law finely and checks limits, continuity and the end state.
+/// Samples the law finely and checks limits (past the brake of a start
+/// beyond them), continuity and the end state.
 fn check_law(law: &BoundaryLaw, lim: &MotionLimits, what: &str) {
     let (v, a, j) = law.peaks();
-    assert!(v <= lim.vel * (1.0 + REL), "{what}: |v| {v} > {}", lim.vel);
-    assert!(a <= lim.acc * (1.0 + REL), "{what}: |a| {a} > {}", lim.acc);
+    let braking = law.braking_duration();
+    if braking == 0.0 {
+        assert!(v <= lim.vel * (1.0 + REL), "{what}: |v| {v} > {}", lim.vel);
+        assert!(a <= lim.acc * (1.0 + REL), "{what}: |a| {a} > {}", lim.acc);
+    }
     if let Some(jm) = lim.jerk {
         assert!(j <= jm * (1.0 + REL), "{what}: |j| {j} > {jm}");
     }
@@ -73,11 +77,13 @@ fn check_law(law: &BoundaryLaw, lim: &MotionLimits, what: &str) {
         } else {
             law.at(t)
         };
-        assert!(s.v.abs() <= lim.vel * (1.0 + REL), "{what}: v {} at {t}", s.v);
-        assert!(s.a.abs() <= lim.acc * (1.0 + REL), "{what}: a {} at {t}", s.a);
-        // Position is the integral of velocity (trapezoid rule bound).
         let dt = t_end / n as f64;
-        assert!((s.p - prev.p).abs() <= lim.vel * dt * (1.0 + 1e-6) + 1e-12 * scale, "{what}: jump at {t}");
+        if t > braking + dt {
+            assert!(s.v.abs() <= lim.vel * (1.0 + REL), "{what}: v {} at {t}", s.v);
+            assert!(s.a.abs() <= lim.acc * (1.0 + REL), "{what}: a {} at {t}", s.a);
+            // Position is the integral of velocity (trapezoid rule bound).
+            assert!((s.p - prev.p).abs() <= lim.vel * dt * (1.0 + 1e-6) + 1e-12 * scale, "{what}: jump at {t}");
+        }
         prev = s;
     }
     // The end of the last phase, approached from inside: what is left to go
@@ -317,7 +323,7 @@ fn synchronised_coordinates_all_end_at_the_common_duration() {
 }
 
 #[test]
-fn states_no_law_can_respect_are_refused_naming_the_limit() {
+fn targets_no_law_can_reach_are_refused_naming_the_limit() {
     let lim = MotionLimits::with_jerk(1.0, 2.0, 4.0);
     let refuse = |from: BoundaryState, to: BoundaryState, lim: &MotionLimits| {
         let e = BoundaryLaw::fastest(from, to, lim).unwrap_err();
@@ -329,18 +335,16 @@ fn states_no_law_can_respect_are_refused_naming_the_limit() {
             other => panic!("{other:?}"),
         }
     };
-    let (w, m) = refuse(BoundaryState::new(0.0, 1.5, 0.0), BoundaryState::rest(1.0), &lim);
-    assert_eq!(w, "start velocity");
-    assert!(m.contains("`start velocity`: 1.5; expected a velocity within ±1 (vmax)"), "{m}");
+    let (w, m) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 1.5, 0.0), &lim);
+    assert_eq!(w, "target velocity");
+    assert!(m.contains("`target velocity`: 1.5; expected a velocity within ±1 (vmax)"), "{m}");
     let (w, m) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.0, -3.0), &lim);
     assert_eq!(w, "target acceleration");
     assert!(m.contains("`target acceleration`: -3; expected an acceleration within ±2 (amax)"), "{m}");
-    // 0.8 + 1.5²/(2·4) = 1.08 > 1: the velocity limit is broken whatever the jerk.
-    let (w, m) = refuse(BoundaryState::new(0.0, 0.8, 1.5), BoundaryState::rest(1.0), &lim);
+    // Traced back from the target, 0.8 + 1.5²/(2·4) = 1.08 > 1: no motion within the limits arrives there.
+    let (w, m) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.8, -1.5), &lim);
     assert_eq!(w, "vmax");
     assert!(m.contains("reaches a velocity of 1.08"), "{m}");
-    let (w, _) = refuse(BoundaryState::rest(0.0), BoundaryState::new(1.0, 0.8, -1.5), &lim);
-    assert_eq!(w, "vmax");
     let (w, m) = refuse(BoundaryState::new(0.0, 0.0, 1.0), BoundaryState::rest(1.0), &MotionLimits::new(1.0, 2.0));
     assert_eq!(w, "jmax");
     assert!(m.contains("no jerk limit for the start acceleration 1"), "{m}");
@@ -351,6 +355,79 @@ fn states_no_law_can_respect_are_refused_naming_the_limit() {
     // A state equal to its target is already there, moving or not.
     let s = BoundaryState::new(0.3, 0.5, -0.2);
     assert_eq!(BoundaryLaw::fastest(s, s, &lim).unwrap().duration(), 0.0);
+}
+
+/// A random start beyond the limits: |v| up to 3 v_max, |a| up to 3 a_max
+/// (third order), or both within but the acceleration carrying the velocity
+/// past v_max.
+fn random_start_beyond(rng: &mut ChaCha8Rng, lim: &MotionLimits, p: f64) -> BoundaryState {
+    let v = rng.random_range(-3.0..3.0) * lim.vel;
+    let a = match lim.jerk {
+        Some(_) => rng.random_range(-3.0..3.0) * lim.acc,
+        None => 0.0,
+    };
+    match rng.random_range(0..3) {
+        0 => BoundaryState::new(p, (lim.vel * 1.01 + v.abs()).copysign(v), a),
+        _ => BoundaryState::new(p, v, a),
+    }
+}
+
+#[test]
+fn starts_beyond_the_limits_are_braked_then_keep_them() {
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let (mut braked, mut cases) = (0, 0);
+    for case in 0..3000 {
+        let mut lim = random_limits(&mut rng, case % 4 != 3);
+        // Jerk that needs at most 2 s to swing the acceleration across its
+        // range, so that a brake from 3 a_max stays within a few metres.
+        lim.jerk = lim.jerk.map(|j| j.max(lim.acc / 2.0));
+        let (p0, dp) = (rng.random_range(-3.0..3.0), rng.random_range(-5.0..5.0));
+        let from = random_start_beyond(&mut rng, &lim, p0);
+        let to = random_state(&mut rng, &lim, p0 + dp);
+        let what = format!("case {case}: {from:?} → {to:?} within {lim:?}");
+        let law = BoundaryLaw::fastest(from, to, &lim).unwrap_or_else(|e| panic!("{what}: {e}"));
+        cases += 1;
+        let tb = law.braking_duration();
+        braked += usize::from(tb > 0.0);
+        // From the end of the brake on, the law is the fastest one from the
+        // braked state, which is within the limits (it needs no brake itself).
+        let mid = law.at(tb);
+        // (Second order steps its acceleration: the law proper starts from a = 0.)
+        let mid = if lim.jerk.is_some() { mid } else { BoundaryState { a: 0.0, ..mid } };
+        let rest = BoundaryLaw::fastest(mid, to, &lim).unwrap_or_else(|e| panic!("{what}: after the brake: {e}"));
+        assert_eq!(rest.braking_duration(), 0.0, "{what}: braked to {mid:?}");
+        assert!(
+            (law.duration() - tb - rest.duration()).abs() <= 1e-9 * law.duration().max(1e-9),
+            "{what}: {} ≠ {tb} + {}",
+            law.duration(),
+            rest.duration()
+        );
+        // The brake moves at full jerk and only ever towards the limits: the
+        // state is continuous, and past the brake every limit holds.
+        let n = 300;
+        let mut prev = law.at(0.0);
+        for k in 1..=n {
+            let t = law.duration() * (1.0 - 1e-12) * k as f64 / n as f64;
+            let s = law.at(t);
+            if let Some(j) = lim.jerk {
+                assert!(law.jerk_at(t).abs() <= j * (1.0 + REL), "{what}: jerk at {t}");
+                let dt = law.duration() / n as f64;
+                assert!((s.a - prev.a).abs() <= j * dt * (1.0 + 1e-6) + 1e-12 * lim.acc, "{what}: a jumps at {t}");
+            }
+            if t > tb * (1.0 + 1e-9) {
+                assert!(s.v.abs() <= lim.vel * (1.0 + REL), "{what}: v {} at {t}", s.v);
+                assert!(s.a.abs() <= lim.acc * (1.0 + REL), "{what}: a {} at {t}", s.a);
+            }
+            prev = s;
+        }
+        // A longer prescribed duration brakes the same way and ends then.
+        let longer = law.duration() * 1.5 + 0.1;
+        if let Ok(slow) = BoundaryLaw::with_duration(from, to, &lim, longer) {
+            assert!((slow.duration() - longer).abs() <= 1e-9 * longer, "{what}");
+            assert_eq!(slow.braking_duration(), tb, "{what}");
+        }
+    }
+    assert!(braked * 10 >= cases * 9, "only {braked} of {cases} starts needed a brake");
 }
 
 /// Differential test against Ruckig (not run by default: it needs a network
@@ -548,19 +625,19 @@ mod ptp {
         let m = msg(JointBoundary { a0: v.clone(), ..Default::default() }, opts(Profile::Trapezoid));
         assert!(m.starts_with("joint 1 (`"), "{m}");
         assert!(m.contains("): invalid `a0`: a boundary acceleration needs the jerk-limited scurve"), "{m}");
-        // A state no law can leave is named by its joint, the cause kept typed underneath.
+        // A state no law can arrive at is named by its joint, the cause kept typed underneath.
         let e = BoundaryPtp::new(
             &robot,
             robot.home(),
             &TO,
             &opts(Profile::SCurve),
-            &JointBoundary { v0: Some(vec![5.0; 7]), ..Default::default() },
+            &JointBoundary { v1: Some(vec![5.0; 7]), ..Default::default() },
         )
         .unwrap_err();
         assert!(matches!(&e, Error::ForJoint { joint: 1, .. }), "{e:?}");
-        assert!(matches!(e.root(), Error::OutOfRange { what, value: 5.0, .. } if what == "start velocity"), "{e:?}");
+        assert!(matches!(e.root(), Error::OutOfRange { what, value: 5.0, .. } if what == "target velocity"), "{e:?}");
         let m = e.to_string();
-        assert!(m.starts_with("joint 1 (`") && m.contains("`start velocity`: 5; expected a velocity within ±"), "{m}");
+        assert!(m.starts_with("joint 1 (`") && m.contains("`target velocity`: 5; expected a velocity within ±"), "{m}");
     }
 
     #[test]

@@ -33,25 +33,29 @@
 //! the durations where feasibility may change, and [`sync_duration`] picks
 //! the smallest duration at which every coordinate has a law.
 //!
-//! The search is laid out as Ruckig lays out its steps: `profile` holds
+//! The search is laid out as Ruckig lays out its steps: `brake` the
+//! pre-phase for a start beyond the limits, `profile`
 //! the segments of constant jerk and their integration, `roots` the
 //! one-unknown root search, `fastest_third` and `second` the time-optimal
 //! families (step 1), `timed_third`, `cruise` and `second` the families of
 //! a prescribed duration (step 2), `sync` the synchronisation of several
 //! coordinates.
 //!
-//! States that no law can respect are refused with an error naming the
-//! limit, rather than braked into the limits as Ruckig does: |v₀| or |v_f|
-//! above v_max, |a₀| or |a_f| above a_max, or an acceleration that carries
-//! the velocity past v_max whatever the jerk (v₀ + a₀|a₀|/(2 j_max) beyond
-//! ±v_max, and the same backwards in time at the end).
+//! A start state beyond the limits (|v₀| > v_max, |a₀| > a_max, or an
+//! acceleration that carries the velocity past v_max whatever the jerk:
+//! |v₀ + a₀|a₀|/(2 j_max)| > v_max) is first braked into them at full jerk
+//! (`brake`), as Ruckig does; the law's duration includes the brake. A
+//! target beyond the limits is refused with an error naming the limit: no
+//! motion within them can arrive there.
 
+use self::brake::Brake;
 use self::problem::Limits;
-use self::profile::{Phase, Profile, MAX_SEGMENTS};
+use self::profile::{Phase, MAX_SEGMENTS};
 use self::roots::Search;
 use super::law::{MotionLimits, MIN_DURATION};
 use crate::error::{Error, Result};
 
+mod brake;
 mod cruise;
 mod fastest;
 mod fastest_third;
@@ -113,6 +117,8 @@ pub struct BoundaryLaw {
     phases: [Phase; MAX_SEGMENTS],
     n: usize,
     duration: f64,
+    /// The first `braking` seconds bring a start beyond the limits within them.
+    braking: f64,
     jerk_limited: bool,
 }
 
@@ -142,12 +148,33 @@ impl BoundaryLaw {
     ) -> Result<BoundaryLaw> {
         let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
-        if from == to {
-            return Ok(Self::build(from, to, &Profile::default(), l.jerk.is_some()));
-        }
-        let law = Self::candidates(from, to, &l).into_iter().next().ok_or_else(|| no_profile(&from, &to, None))?;
+        let (brake, optimal) = Self::braked_candidates(from, to, &l);
+        let law = optimal.first().ok_or_else(|| no_profile(&brake.braked, &to, None))?.after(&brake, from);
         check_min(law.duration)?;
         Ok(law)
+    }
+
+    /// The brake of the start state, and every locally time-optimal law
+    /// from the braked state, fastest first.
+    fn braked_candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> (Brake, Vec<BoundaryLaw>) {
+        let brake = Brake::of(&from, l);
+        let optimal = Self::candidates(brake.braked, to, l);
+        (brake, optimal)
+    }
+
+    /// This law (from the braked state) preceded by `brake` from `from`.
+    fn after(&self, brake: &Brake, from: BoundaryState) -> BoundaryLaw {
+        if brake.profile.segments().is_empty() {
+            return *self;
+        }
+        let mut law = Self::build(from, self.to, &brake.profile, self.jerk_limited);
+        for phase in &self.phases[..self.n] {
+            law.phases[law.n] = Phase { t0: phase.t0 + law.duration, ..*phase };
+            law.n += 1;
+        }
+        law.braking = law.duration;
+        law.duration += self.duration;
+        law
     }
 
     /// The durations at which the set of feasible durations may change:
@@ -166,7 +193,8 @@ impl BoundaryLaw {
     ) -> Result<Vec<f64>> {
         let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
-        let mut d: Vec<f64> = Self::candidates(from, to, &l).iter().map(|c| c.duration).collect();
+        let (brake, optimal) = Self::braked_candidates(from, to, &l);
+        let mut d: Vec<f64> = optimal.iter().map(|c| brake.duration() + c.duration).collect();
         d.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * b.abs().max(1e-300));
         Ok(d)
     }
@@ -193,7 +221,35 @@ impl BoundaryLaw {
     ) -> Result<BoundaryLaw> {
         let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
-        Self::timed(from, to, &l, duration, &Self::candidates(from, to, &l))
+        let (brake, optimal) = Self::braked_candidates(from, to, &l);
+        Self::timed_after(&brake, from, to, &l, duration, &optimal)
+    }
+
+    /// A law lasting `duration` \[s\] in all: `brake`, then a law from the
+    /// braked state (`optimal` its locally time-optimal laws).
+    fn timed_after(
+        brake: &Brake,
+        from: BoundaryState,
+        to: BoundaryState,
+        l: &Limits,
+        duration: f64,
+        optimal: &[BoundaryLaw],
+    ) -> Result<BoundaryLaw> {
+        let tb = brake.duration();
+        if let Some(fast) = optimal.first() {
+            if tb > 0.0 && duration < (tb + fast.duration) * (1.0 - 1e-12) {
+                return Err(Error::OutOfRange {
+                    what: "duration".into(),
+                    value: duration,
+                    expected: format!(
+                        "at least {} s, the fastest motion between these states (braking for {tb} s first) [s]",
+                        tb + fast.duration
+                    ),
+                });
+            }
+        }
+        let rest = if tb > 0.0 { (duration - tb).max(optimal.first().map_or(0.0, |c| c.duration)) } else { duration };
+        Ok(Self::timed(brake.braked, to, l, rest, optimal)?.after(brake, from))
     }
 
     /// The start state.
@@ -209,6 +265,13 @@ impl BoundaryLaw {
     /// Duration \[s\].
     pub fn duration(&self) -> f64 {
         self.duration
+    }
+
+    /// How long the law brakes a start state beyond the limits back within
+    /// them \[s\] (0 for a start within them). Only during this first part
+    /// may |v| and |a| exceed the limits; the jerk keeps its limit throughout.
+    pub fn braking_duration(&self) -> f64 {
+        self.braking
     }
 
     /// Whether the law is jerk-limited (third order).

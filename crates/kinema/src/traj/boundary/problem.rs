@@ -40,7 +40,9 @@ impl Limits {
         Ok(Limits { vel: limits.vel, acc: limits.acc, jerk: limits.jerk, search })
     }
 
-    /// Refuses states that no law within the limits can start or end at.
+    /// Refuses states no law can start or end at: non-finite values, an
+    /// acceleration without a jerk limit, and a target beyond the limits (a
+    /// start beyond them is braked: see [`super::brake`]).
     pub fn check_states(&self, from: &BoundaryState, to: &BoundaryState) -> Result<()> {
         for (what, s) in [("start", from), ("target", to)] {
             for (name, x) in [("position", s.p), ("velocity", s.v), ("acceleration", s.a)] {
@@ -48,57 +50,49 @@ impl Limits {
                     return Err(Error::NotFinite { what: format!("{what} {name}"), value: x });
                 }
             }
-            if s.v.abs() > self.vel * (1.0 + 1e-12) {
-                return Err(Error::OutOfRange {
-                    what: format!("{what} velocity"),
-                    value: s.v,
-                    expected: format!(
-                        "a velocity within ±{} (vmax); no motion within the limits starts or ends beyond it",
-                        self.vel
+            if self.jerk.is_none() && s.a != 0.0 {
+                return Err(Error::MissingLimit {
+                    limit: "jerk".into(),
+                    option: "jmax".into(),
+                    needed_by: format!(
+                        "the {what} acceleration {} (without one the acceleration is a step and boundary \
+                         accelerations must be 0)",
+                        s.a
                     ),
                 });
             }
-            match self.jerk {
-                None if s.a != 0.0 => {
-                    return Err(Error::MissingLimit {
-                        limit: "jerk".into(),
-                        option: "jmax".into(),
-                        needed_by: format!(
-                            "the {what} acceleration {} (without one the acceleration is a step and boundary \
-                             accelerations must be 0)",
-                            s.a
-                        ),
-                    })
-                }
-                None => {}
-                Some(j) => self.check_jerk_limited(what, s, j)?,
-            }
         }
-        Ok(())
+        if to.v.abs() > self.vel * (1.0 + 1e-12) {
+            return Err(Error::OutOfRange {
+                what: "target velocity".into(),
+                value: to.v,
+                expected: format!("a velocity within ±{} (vmax); no motion within the limits ends beyond it", self.vel),
+            });
+        }
+        match self.jerk {
+            Some(j) => self.check_target_jerk_limited(to, j),
+            None => Ok(()),
+        }
     }
 
-    fn check_jerk_limited(&self, what: &str, s: &BoundaryState, j: f64) -> Result<()> {
-        if s.a.abs() > self.acc * (1.0 + 1e-12) {
+    /// A target whose acceleration, traced back in time, carries the
+    /// velocity past v_max cannot be arrived at within the limits.
+    fn check_target_jerk_limited(&self, to: &BoundaryState, j: f64) -> Result<()> {
+        if to.a.abs() > self.acc * (1.0 + 1e-12) {
             return Err(Error::OutOfRange {
-                what: format!("{what} acceleration"),
-                value: s.a,
+                what: "target acceleration".into(),
+                value: to.a,
                 expected: format!("an acceleration within ±{} (amax)", self.acc),
             });
         }
-        // The velocity the acceleration carries to, forwards from the start
-        // or backwards from the target, before jerk can undo it.
-        let start = what == "start";
-        let reach = if start { s.v + s.a * s.a.abs() / (2.0 * j) } else { s.v - s.a * s.a.abs() / (2.0 * j) };
+        let reach = to.v - to.a * to.a.abs() / (2.0 * j);
         if reach.abs() > self.vel * (1.0 + 1e-9) {
             return Err(infeasible(
                 "vmax",
                 format!(
-                    "the {what} state (velocity {}, acceleration {}) reaches a velocity of {reach} \
-                     {} the acceleration can be brought to 0 with jmax {j}, beyond vmax {}",
-                    s.v,
-                    s.a,
-                    if start { "before" } else { "when traced back to where" },
-                    self.vel
+                    "the target state (velocity {}, acceleration {}) reaches a velocity of {reach} when traced \
+                     back to where the acceleration can be brought to 0 with jmax {j}, beyond vmax {}",
+                    to.v, to.a, self.vel
                 ),
             ));
         }

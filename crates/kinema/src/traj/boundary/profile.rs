@@ -4,8 +4,9 @@
 use super::problem::Limits;
 use super::{BoundaryLaw, BoundaryState};
 
-/// The most segments any candidate has (a blend of two seven-segment laws).
-pub(super) const MAX_SEGMENTS: usize = 16;
+/// The most segments any law has: a brake of up to four, then a blend of
+/// two seven-segment laws.
+pub(super) const MAX_SEGMENTS: usize = 20;
 
 /// Constant jerk for `dt` seconds; `set_acc` sets the acceleration at the
 /// segment's start (second order: it steps) or `None` keeps it continuous.
@@ -118,8 +119,15 @@ impl Phase {
 
 impl BoundaryLaw {
     pub(super) fn build(from: BoundaryState, to: BoundaryState, profile: &Profile, jerk_limited: bool) -> BoundaryLaw {
-        let mut law =
-            BoundaryLaw { from, to, phases: [Phase::default(); MAX_SEGMENTS], n: 0, duration: 0.0, jerk_limited };
+        let mut law = BoundaryLaw {
+            from,
+            to,
+            phases: [Phase::default(); MAX_SEGMENTS],
+            n: 0,
+            duration: 0.0,
+            braking: 0.0,
+            jerk_limited,
+        };
         let mut st = from;
         let mut t = 0.0;
         for s in profile.segments() {

@@ -50,13 +50,13 @@ pub(super) fn sync_by(
     for i in 0..from.len() {
         let l = Limits::new(&limits[i], search)?;
         l.check_states(&from[i], &to[i])?;
-        let laws = BoundaryLaw::candidates(from[i], to[i], &l);
-        let law = *laws.first().ok_or_else(|| no_profile(&from[i], &to[i], None))?;
+        let (brake, laws) = BoundaryLaw::braked_candidates(from[i], to[i], &l);
+        let law = laws.first().ok_or_else(|| no_profile(&brake.braked, &to[i], None))?.after(&brake, from[i]);
         check_min(law.duration)?;
         t0 = t0.max(law.duration);
         fastest.push(law);
-        critical.extend(laws.iter().map(|c| c.duration));
-        optimal.push(laws);
+        critical.extend(laws.iter().map(|c| brake.duration() + c.duration));
+        optimal.push((brake, laws));
         lims.push(l);
     }
     let mut tries: Vec<f64> = critical.into_iter().filter(|&t| t > t0).collect();
@@ -71,7 +71,8 @@ pub(super) fn sync_by(
                 laws.push(fastest[i]);
                 continue;
             }
-            match BoundaryLaw::timed(from[i], to[i], &lims[i], t, &optimal[i]) {
+            let (brake, optimal_i) = &optimal[i];
+            match BoundaryLaw::timed_after(brake, from[i], to[i], &lims[i], t, optimal_i) {
                 Ok(l) => laws.push(l),
                 Err(e) => {
                     last_err = Some(e);
