@@ -123,14 +123,15 @@ fn the_cli_and_the_server_answer_ptp_and_a_program_alike() {
         }
         assert_eq!(cli, server, "ptp of {name}");
     }
-    let program = "PTP AXIS(0.2, -0.4, 0.3, 0, 0.5, 0)\nWAIT 0.5\nLIN CART(450mm, 100mm, 400mm, 0deg, 180deg, 0deg)\n";
+    let program = "POS a = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)\n\
+                   POS b = CART(550mm, 50mm, 400mm, 0deg, 180deg, 0deg)\nPTP a\nWAIT 0.5\nLIN b\n";
     let file = dir.path().join("move.prg");
     std::fs::write(&file, program).unwrap();
-    let cli = cli_json(&["run", file.to_str().unwrap(), "--robot", "puma560", "--out", csv, "--json"]);
-    let mut server = api(&app, "POST", "/api/run", &json!({"robot": "puma560", "program": program}));
+    let cli = cli_json(&["run", file.to_str().unwrap(), "--robot", "lbr-iiwa-14-r820", "--out", csv, "--json"]);
+    let mut server = api(&app, "POST", "/api/run", &json!({"robot": "lbr-iiwa-14-r820", "program": program}));
     for key in ["t", "q", "qd", "qdd", "warnings_rendered"] {
         assert!(server.as_object_mut().unwrap().remove(key).is_some(), "{key}");
     }
     assert!(cli["motions"].as_array().unwrap().len() == 3, "{cli}");
-    assert_eq!(cli, server, "the program on puma560");
+    assert_eq!(cli, server, "the program on the iiwa");
 }
