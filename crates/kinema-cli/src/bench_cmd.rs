@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use kinema::nalgebra::Matrix6xX;
 use kinema::{Frame, Pose, Robot};
-use serde_json::{json, Value};
+use kinema_io::{BenchAnswer, IkBench};
 
 use crate::stdout::outln;
 use crate::{count, print_json, seed, RobotArg, MAX_CONFIGURATIONS};
@@ -77,16 +77,21 @@ pub fn bench(a: BenchArgs) -> Result<()> {
     let pct = |s: &[f64], p: f64| s[((s.len() - 1) as f64 * p).round() as usize];
     let ik = if a.ik { Some(bench_ik(&r, a.ik_n, a.seed)?) } else { None };
     if a.json {
-        let mut v = json!({
-            "robot": r.name(), "dof": n, "configurations": a.n, "seed": a.seed,
-            "fk_ns": pct(&fk, 0.5), "fk_ns_p10": pct(&fk, 0.1), "fk_ns_p90": pct(&fk, 0.9),
-            "jacobian_ns": pct(&jac, 0.5), "jacobian_ns_p10": pct(&jac, 0.1), "jacobian_ns_p90": pct(&jac, 0.9),
-            "fk_batch_ns_per_config": batch_ns, "threads": rayon::current_num_threads(),
+        return print_json(&BenchAnswer {
+            robot: r.name().to_string(),
+            dof: n,
+            configurations: a.n,
+            seed: a.seed,
+            fk_ns: pct(&fk, 0.5),
+            fk_ns_p10: pct(&fk, 0.1),
+            fk_ns_p90: pct(&fk, 0.9),
+            jacobian_ns: pct(&jac, 0.5),
+            jacobian_ns_p10: pct(&jac, 0.1),
+            jacobian_ns_p90: pct(&jac, 0.9),
+            fk_batch_ns_per_config: batch_ns,
+            threads: rayon::current_num_threads(),
+            ik,
         });
-        if let Some(ik) = &ik {
-            v["ik"] = ik.clone();
-        }
-        return print_json(&v);
     }
     outln!("robot {} ({} DOF), {} random configurations, seed {}", r.name(), n, a.n, a.seed)?;
     outln!("fk        median {:>8.1} ns/call  (p10 {:.1}, p90 {:.1})", pct(&fk, 0.5), pct(&fk, 0.1), pct(&fk, 0.9))?;
@@ -95,8 +100,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
     if let Some(ik) = ik {
         outln!(
             "numeric ik       {} targets: success {:.3} %, mean {:.1} µs, median {:.1} µs, mean {:.1} iterations, {} restarts in all",
-            ik["targets"], ik["success_rate"].as_f64().unwrap_or(0.0) * 100.0, ik["mean_us"].as_f64().unwrap_or(0.0),
-            ik["median_us"].as_f64().unwrap_or(0.0), ik["mean_iterations"].as_f64().unwrap_or(0.0), ik["restarts"]
+            ik.targets, ik.success_rate * 100.0, ik.mean_us, ik.median_us, ik.mean_iterations, ik.restarts
         )?;
     }
     Ok(())
@@ -105,7 +109,7 @@ pub fn bench(a: BenchArgs) -> Result<()> {
 /// Times the numeric IK solver on `count` reachable targets: FK of random
 /// within-limit configurations (seed `seed + 1`), default options (tolerance
 /// 1e-6 m / 1e-6 rad, limits enforced, seeded restarts), started from `home`.
-fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<Value> {
+fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<IkBench> {
     use kinema::ik::{IkSolver, NumericIk};
     use rand::SeedableRng;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed.wrapping_add(1));
@@ -134,9 +138,13 @@ fn bench_ik(r: &Robot, count: usize, seed: u64) -> Result<Value> {
     bar.finish_and_clear();
     let mean = times.iter().sum::<f64>() / count as f64;
     times.sort_by(f64::total_cmp);
-    Ok(json!({
-        "targets": count, "success_rate": ok as f64 / count as f64, "mean_us": mean,
-        "median_us": times[count / 2], "p99_us": times[(count * 99 / 100).min(count - 1)],
-        "mean_iterations": iters as f64 / ok.max(1) as f64, "restarts": restarts,
-    }))
+    Ok(IkBench {
+        targets: count,
+        success_rate: ok as f64 / count as f64,
+        mean_us: mean,
+        median_us: times[count / 2],
+        p99_us: times[(count * 99 / 100).min(count - 1)],
+        mean_iterations: iters as f64 / ok.max(1) as f64,
+        restarts,
+    })
 }

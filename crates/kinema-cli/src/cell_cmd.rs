@@ -30,10 +30,12 @@ use clap::Args;
 use kinema::traj::cell::{placed, Approach};
 use kinema::traj::{check, Cell, CellReport, CheckOptions, CheckReport, JointTrajectory, SINGULAR_WARNING};
 use kinema::{Pose, Robot, RpyConvention};
+use kinema_io::{
+    CellAnswer, CellPair, CellRobot, CheckAnswer, ClosestApproach, ManipRange, Placement, Span, TimedValue,
+};
 use kinema_lang::{render_all, Options, Stop};
 use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
-use serde_json::{json, Value};
 use toml::Spanned;
 
 use crate::input::{read_text_limited, MAX_TEXT_BYTES};
@@ -444,60 +446,57 @@ fn write_csv(out: &Path, members: &[Member], report: &CellReport) -> Result<()> 
     })
 }
 
-fn summary(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> Value {
-    let robots: Vec<Value> = cell
+fn summary(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> CellAnswer {
+    let robots: Vec<CellRobot> = cell
         .members
         .iter()
         .enumerate()
         .map(|(m, member)| {
-            let (kind, path) = match &member.motion {
-                Motion::Trajectory(p) => ("trajectory", p),
-                Motion::Program(p) => ("program", p),
+            let (trajectory, program) = match &member.motion {
+                Motion::Trajectory(p) => (Some(p.display().to_string()), None),
+                Motion::Program(p) => (None, Some(p.display().to_string())),
             };
             let manip = &report.manipulability[m];
-            let at = |k: usize| json!({"t": report.times[k], "value": manip[k]});
+            let at = |k: usize| TimedValue { t: report.times[k], value: manip[k] };
             let kmin = (0..manip.len()).min_by(|x, y| manip[*x].total_cmp(&manip[*y])).unwrap_or(0);
             let kmax = (0..manip.len()).max_by(|x, y| manip[*x].total_cmp(&manip[*y])).unwrap_or(0);
             let b = member.base;
-            json!({
-                "name": member.name,
-                "robot": member.spec,
-                "dof": member.robot.dof(),
-                kind: path.display().to_string(),
-                "base": {"xyz": [b.pos.x, b.pos.y, b.pos.z], "rpy": b.rpy(RpyConvention::Zyx).map(|v| v + 0.0)},
-                "end": report.ends[m],
-                "check": traj_cmd::check_json(&member.check),
-                "manipulability": {"min": at(kmin), "max": at(kmax)},
-            })
+            CellRobot {
+                name: member.name.clone(),
+                robot: member.spec.clone(),
+                dof: member.robot.dof(),
+                trajectory,
+                program,
+                base: Placement { xyz: [b.pos.x, b.pos.y, b.pos.z], rpy: b.rpy(RpyConvention::Zyx).map(|v| v + 0.0) },
+                end: report.ends[m],
+                check: CheckAnswer::new(&member.check),
+                manipulability: ManipRange { min: at(kmin), max: at(kmax) },
+            }
         })
         .collect();
-    let pairs: Vec<Value> = approaches
+    let pairs: Vec<CellPair> = approaches
         .iter()
         .map(|ap| {
             let (i, j) = ap.pair;
-            let mut v = json!({
-                "robots": [cell.members[i].name, cell.members[j].name],
-                "closest": {"t": ap.time, "distance": ap.distance},
-            });
-            if let Some(min) = cell.min_distance {
-                let spans = report.closer_than(i, j, min);
-                v["ok"] = json!(spans.is_empty());
-                v["closer_than_minimum"] = spans.iter().map(|(s, e)| json!({"from": s, "to": e})).collect();
+            let spans = cell.min_distance.map(|min| report.closer_than(i, j, min));
+            CellPair {
+                robots: [cell.members[i].name.clone(), cell.members[j].name.clone()],
+                closest: ClosestApproach { t: ap.time, distance: ap.distance },
+                ok: spans.as_ref().map(Vec::is_empty),
+                closer_than_minimum: spans.map(|s| s.iter().map(|&(from, to)| Span { from, to }).collect()),
             }
-            v
         })
         .collect();
-    json!({
-        "file": a.file.display().to_string(),
-        "duration": report.times.last().copied().unwrap_or(0.0),
-        "dt": cell.dt,
-        "samples": report.times.len(),
-        "min_distance": cell.min_distance,
-        "ok": cell.members.iter().all(|m| m.check.violations.is_empty())
-            && pairs.iter().all(|p| p.get("ok").and_then(Value::as_bool).unwrap_or(true)),
-        "robots": robots,
-        "pairs": pairs,
-    })
+    CellAnswer {
+        file: a.file.display().to_string(),
+        duration: report.times.last().copied().unwrap_or(0.0),
+        dt: cell.dt,
+        samples: report.times.len(),
+        min_distance: cell.min_distance,
+        ok: cell.members.iter().all(|m| m.check.violations.is_empty()) && pairs.iter().all(|p| p.ok.unwrap_or(true)),
+        robots,
+        pairs,
+    }
 }
 
 fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> Result<()> {

@@ -6,7 +6,7 @@ use clap::Args;
 use kinema::ik::{Closest, IkAnswer, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
 use kinema::nalgebra::Matrix4;
 use kinema::{Error, Pose, Robot, RpyConvention};
-use serde_json::{json, Value};
+use kinema_io::{SelfMotionAnswer, UnreachableAnswer, ValidateAnswer};
 
 use crate::{print_json, Exit, RobotArg};
 
@@ -120,31 +120,14 @@ fn target(a: &IkArgs) -> Result<IkTarget> {
     bail!("give a target: --T \"16 numbers\", --pose x,y,z,roll,pitch,yaw or --position x,y,z")
 }
 
-/// A solution as JSON; `orientation_free` (a position-only target): no
-/// `orientation_error` (null), as there is no target orientation to measure against.
-fn solution_json(robot: &Robot, s: &Solution, deg: bool, orientation_free: bool) -> Result<Value> {
-    let mut v = serde_json::to_value(kinema_io::SolutionAnswer::new(s))?;
-    if orientation_free {
-        v["orientation_error"] = Value::Null;
-    }
-    if deg {
-        v["q"] = json!(shown_q(robot, &s.q, true));
-    }
-    Ok(v)
-}
-
 /// Prints an unreachable target (JSON on stdout with --json) and exits with code 2.
 fn unreachable(a: &IkArgs, robot: &Robot, solver: &str, reason: &str, closest: Option<&Closest>) -> Result<()> {
     if a.json {
-        let closest = closest.map(|c| {
-            json!({"q": shown_q(robot, &c.q, a.deg), "position_error": c.position_error,
-                   "orientation_error": c.orientation_error})
-        });
-        print_json(&json!({"error": "unreachable", "solver": solver, "reason": reason, "closest": closest}))?;
+        print_json(&UnreachableAnswer::new(robot, solver, reason, closest, a.deg))?;
     } else {
         eprintln!("error: unreachable target ({solver} solver): {reason}");
         if let Some(c) = closest {
-            let q: Vec<String> = shown_q(robot, &c.q, a.deg).iter().map(|v| format!("{v:.6}")).collect();
+            let q: Vec<String> = kinema_io::shown_q(robot, &c.q, a.deg).iter().map(|v| format!("{v:.6}")).collect();
             eprintln!(
                 "closest configuration found: [{}] (misses by {:.3e} m, {:.3e} rad)",
                 q.join(", "),
@@ -154,14 +137,6 @@ fn unreachable(a: &IkArgs, robot: &Robot, solver: &str, reason: &str, closest: O
         }
     }
     Err(Exit(2).into())
-}
-
-/// Joint values as printed: revolute joints in degrees with --deg.
-fn shown_q(robot: &Robot, q: &[f64], deg: bool) -> Vec<f64> {
-    q.iter()
-        .zip(robot.joints())
-        .map(|(v, j)| if deg && j.kind == kinema::JointType::Revolute { v.to_degrees() } else { *v })
-        .collect()
 }
 
 /// The six 0/1 flags of --mask.
@@ -185,12 +160,9 @@ fn triple(text: &str, what: &str) -> Result<[f64; 3]> {
 
 type Solved = kinema::Result<IkAnswer>;
 
-/// Why a candidate of the solver is not listed.
-const DISCARD_REASON: &str = "forward kinematics misses the target by more than the tolerance";
-
 /// Runs the solver the arguments ask for (the core's `ik::solve_target`);
-/// returns its answer and whether the target leaves the orientation free.
-fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(Solved, bool)> {
+/// returns its answer and the target solved for.
+fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(Solved, IkTarget)> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     // The core refuses these too; checked here first so that the message names the flags.
     let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
@@ -225,10 +197,9 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
         other => other,
     };
     let request = request(a, q0)?;
-    let free = target.orientation_free();
     match kinema::ik::solve_target(robot, &target, &request) {
-        Ok(answer) => Ok((Ok(answer), free)),
-        Err(e @ Error::Unreachable { .. }) => Ok((Err(e), free)),
+        Ok(answer) => Ok((Ok(answer), target)),
+        Err(e @ Error::Unreachable { .. }) => Ok((Err(e), target)),
         Err(e) => Err(e.into()),
     }
 }
@@ -275,7 +246,8 @@ pub fn ik(a: IkArgs) -> Result<()> {
     }
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
-    let (result, orientation_free) = solve(&a, &robot, target, q0.as_deref()).map_err(tolerance_flag)?;
+    let (result, target) = solve(&a, &robot, target, q0.as_deref()).map_err(tolerance_flag)?;
+    let orientation_free = target.orientation_free();
     let answer = match result {
         Ok(s) => s,
         Err(Error::Unreachable { solver, reason, closest }) => {
@@ -283,11 +255,10 @@ pub fn ik(a: IkArgs) -> Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
-    let IkAnswer { solver: name, solutions, discarded, tolerance, folded } = answer;
     let chosen: Vec<Solution> = if a.all {
-        solutions
+        answer.solutions.clone()
     } else {
-        match kinema::ik::pick_one(&robot, name, solutions, q0.as_deref()) {
+        match kinema::ik::pick_one(&robot, answer.solver, answer.solutions.clone(), q0.as_deref()) {
             Ok(s) => vec![s],
             Err(Error::Unreachable { solver, reason, closest }) => {
                 return unreachable(&a, &robot, &solver, &reason.to_string(), closest.as_deref())
@@ -296,25 +267,17 @@ pub fn ik(a: IkArgs) -> Result<()> {
         }
     };
     if a.json {
-        let list: Vec<Value> =
-            chosen.iter().map(|s| solution_json(&robot, s, a.deg, orientation_free)).collect::<Result<_>>()?;
-        let dropped: Vec<Value> = discarded
-            .iter()
-            .map(|d| {
-                json!({"branch": d.branch, "position_error": d.residual.position,
-                       "orientation_error": d.residual.orientation})
-            })
-            .collect();
-        return print_json(&json!({
-            "robot": robot.name(), "solver": name, "solutions": list,
-            "tolerance": {"position": tolerance.position, "orientation": tolerance.orientation},
-            "discarded": {"count": dropped.len(), "reason": DISCARD_REASON, "candidates": dropped},
-            "folded": folded,
-        }));
+        let json = kinema_io::IkAnswer {
+            q3: a.q3.map(|v| if a.deg { v.to_radians() } else { v }),
+            psi: a.psi.map(|v| if a.deg { v.to_radians() } else { v }),
+            ..kinema_io::IkAnswer::new(&robot, &answer, &chosen, &target, a.rpy)
+        };
+        return print_json(&if a.deg { json.in_degrees(&robot) } else { json });
     }
+    let IkAnswer { solver: name, discarded, tolerance, folded, .. } = answer;
     outln!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len())?;
     if !discarded.is_empty() {
-        outln!("  ({} candidate(s) discarded: {DISCARD_REASON}, {tolerance})", discarded.len())?;
+        outln!("  ({} candidate(s) discarded: {}, {tolerance})", discarded.len(), kinema_io::DISCARD_REASON)?;
     }
     if folded > 0 && a.all {
         outln!("  ({folded} more copies within limits, joints turned by whole turns, not listed)")?;
@@ -365,39 +328,47 @@ pub fn validate(a: ValidateArgs) -> Result<()> {
     let robot = a.robot.load()?;
     let v = if let Ok(s) = kinema::ik::iiwa::IiwaIk::new(&robot) {
         let r = s.validate(a.n, a.seed);
-        json!({
-            "robot": robot.name(), "solver": "iiwa (same q3)", "cases": r.cases, "max_error": r.max_error,
-            "mean_error": r.mean_error, "recovered_fraction": r.recovered_fraction,
-            "max_error_over_limit": r.max_error_over_limit,
-            "max_error_well_conditioned": r.max_error_well_conditioned,
-            "well_conditioned_cases": r.well_conditioned_cases,
-        })
+        ValidateAnswer {
+            robot: robot.name().to_string(),
+            solver: "iiwa (same q3)".into(),
+            cases: r.cases,
+            solved: None,
+            max_error: r.max_error,
+            mean_error: r.mean_error,
+            recovered_fraction: r.recovered_fraction,
+            max_position_residual: None,
+            max_error_over_limit: Some(r.max_error_over_limit),
+            max_error_well_conditioned: Some(r.max_error_well_conditioned),
+            well_conditioned_cases: Some(r.well_conditioned_cases),
+        }
     } else {
         let Some(solver) = kinema::ik::analytic_solver(&robot) else {
             bail!("robot `{}` has no analytic solver to validate", robot.name());
         };
         let r = kinema::ik::round_trip(&robot, solver.as_ref(), a.n, a.seed)?;
-        json!({
-            "robot": robot.name(), "solver": solver.name(), "cases": r.cases, "solved": r.solved,
-            "max_error": r.max_error, "mean_error": r.mean_error, "recovered_fraction": r.recovered_fraction,
-            "max_position_residual": r.max_position_residual,
-        })
+        ValidateAnswer {
+            robot: robot.name().to_string(),
+            solver: solver.name().to_string(),
+            cases: r.cases,
+            solved: Some(r.solved),
+            max_error: r.max_error,
+            mean_error: r.mean_error,
+            recovered_fraction: r.recovered_fraction,
+            max_position_residual: Some(r.max_position_residual),
+            max_error_over_limit: None,
+            max_error_well_conditioned: None,
+            well_conditioned_cases: None,
+        }
     };
     if a.json {
         return print_json(&v);
     }
-    outln!("robot {}  solver {}  {} cases (seed {})", robot.name(), v["solver"], a.n, a.seed)?;
-    outln!(
-        "max |Δq| {:.3e}, mean {:.3e}, recovered {:.2} %",
-        v["max_error"].as_f64().unwrap_or(f64::NAN),
-        v["mean_error"].as_f64().unwrap_or(f64::NAN),
-        v["recovered_fraction"].as_f64().unwrap_or(0.0) * 100.0
-    )?;
-    if let (Some(ratio), Some(wc), Some(n)) = (
-        v["max_error_over_limit"].as_f64(),
-        v["max_error_well_conditioned"].as_f64(),
-        v["well_conditioned_cases"].as_u64(),
-    ) {
+    // The solver's name as JSON text, quoted, as this line has always shown it.
+    outln!("robot {}  solver {:?}  {} cases (seed {})", robot.name(), v.solver, a.n, a.seed)?;
+    outln!("max |Δq| {:.3e}, mean {:.3e}, recovered {:.2} %", v.max_error, v.mean_error, v.recovered_fraction * 100.0)?;
+    if let (Some(ratio), Some(wc), Some(n)) =
+        (v.max_error_over_limit, v.max_error_well_conditioned, v.well_conditioned_cases)
+    {
         outln!(
             "max |Δq| over the {n} well-conditioned cases (target rounding moves the solution ≤ 1e-13) {wc:.3e}; \
              worst error / rounding limit {ratio:.2}"
@@ -438,13 +409,7 @@ pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
     let q = crate::input::parse_q(&robot, &a.q, a.deg)?;
     let samples = kinema::ik::family::self_motion(&robot, redundancy, &q, a.steps)?;
     if a.json {
-        let list: Vec<Value> = samples
-            .iter()
-            .map(|m| {
-                json!({"psi": m.psi, "q3": m.q3, "q": m.q, "elbow": [m.elbow.x, m.elbow.y, m.elbow.z], "within_limits": m.within_limits})
-            })
-            .collect();
-        return print_json(&json!({"robot": robot.name(), "samples": list}));
+        return print_json(&SelfMotionAnswer::new(&robot, &samples));
     }
     outln!("robot {}: {} samples of the self-motion through q", robot.name(), samples.len())?;
     for m in &samples {

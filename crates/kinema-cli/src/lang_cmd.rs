@@ -7,8 +7,8 @@ use std::time::Duration;
 use anyhow::Result;
 use clap::Args;
 use kinema::RpyConvention;
+use kinema_io::ProgramAnswer;
 use kinema_lang::{render_all, Options, Plan, Stop};
-use serde_json::json;
 
 use crate::{print_json, traj_cmd, write_atomically, Exit, RobotArg};
 
@@ -88,8 +88,23 @@ pub struct CompileArgs {
     json: bool,
 }
 
+/// A compiled program with the file name and text its diagnostics quote.
+pub(crate) struct Compiled {
+    pub(crate) plan: Plan,
+    pub(crate) name: String,
+    pub(crate) source: String,
+}
+
+impl Compiled {
+    /// The answer of `run --json` and `compile --json` (the server's
+    /// `/api/run` gives the same, with the samples).
+    fn answer(&self) -> Result<ProgramAnswer> {
+        Ok(ProgramAnswer::new(&self.plan, &self.name, &self.source)?)
+    }
+}
+
 /// Reads, compiles, prints the diagnostics; the plan, or exit code 1.
-pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
+pub(crate) fn build(a: &ProgramArgs) -> Result<Compiled> {
     let robot = a.robot.load()?;
     let src = crate::input::read_text_limited(&a.program, crate::input::MAX_TEXT_BYTES, "program")?;
     let start = match &a.start {
@@ -108,7 +123,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
                 eprint!("{}", render_all(&plan.warnings, &name, &src));
             }
             check_interrupted()?;
-            Ok((plan, name))
+            Ok(Compiled { plan, name, source: src })
         }
         Err(diags) => {
             eprint!("{}", render_all(&diags, &name, &src));
@@ -120,32 +135,17 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<(Plan, String)> {
 }
 
 pub fn check(a: ProgramArgs) -> Result<()> {
-    let (plan, name) = build(&a)?;
+    let Compiled { plan, name, .. } = build(&a)?;
     outln!("{name}: ok on `{}` — {} motion(s), {:.4} s", plan.robot.name(), plan.motions.len(), plan.duration())?;
     Ok(())
-}
-
-fn summary(plan: &Plan) -> Result<serde_json::Value> {
-    let q = plan.final_q().to_vec();
-    let pose = plan.robot.fk(&q)?.world_from_tool;
-    Ok(json!({
-        "duration": plan.duration(),
-        "motions": plan.motions.len(),
-        "samples": plan.trajectory.len(),
-        "final_q": q,
-        "final_pose": {
-            "xyz": [pose.pos.x, pose.pos.y, pose.pos.z],
-            "rpy": pose.rpy(RpyConvention::Zyx),
-            "T": pose.to_matrix().row_iter().map(|r| r.iter().copied().collect::<Vec<f64>>()).collect::<Vec<_>>(),
-        },
-    }))
 }
 
 pub fn run(a: RunArgs) -> Result<()> {
     if a.json && crate::output::is_stdout(&a.out) {
         anyhow::bail!("--json with --out -: the JSON summary and the CSV would both go to standard output; write the CSV to a file");
     }
-    let (plan, _) = build(&a.program)?;
+    let built = build(&a.program)?;
+    let plan = &built.plan;
     let robot = &plan.robot;
     let conv = RpyConvention::Zyx;
     // Ctrl-C while the plan was made: still nothing written.
@@ -153,23 +153,17 @@ pub fn run(a: RunArgs) -> Result<()> {
     write_atomically(&a.out, |w| traj_cmd::write_csv(w, robot, &plan.trajectory, conv, 12))?;
     eprintln!("wrote {} samples ({:.4} s) to {}", plan.trajectory.len(), plan.duration(), a.out.display());
     if a.json {
-        print_json(&summary(&plan)?)?;
+        print_json(&built.answer()?)?;
     }
     Ok(())
 }
 
 pub fn compile(a: CompileArgs) -> Result<()> {
-    let (plan, name) = build(&a.program)?;
+    let built = build(&a.program)?;
     if a.json {
-        let motions: Vec<_> = plan
-            .motions
-            .iter()
-            .map(|m| json!({"line": m.line, "kind": m.kind, "start": m.start, "end": m.end, "profile": m.profile, "target": m.target}))
-            .collect();
-        let mut s = summary(&plan)?;
-        s["plan"] = json!(motions);
-        return print_json(&s);
+        return print_json(&built.answer()?);
     }
+    let Compiled { plan, name, .. } = built;
     if a.listing {
         outln!("# {name}")?;
         out!("{}", plan.listing())?;

@@ -230,14 +230,15 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
                     (r, t)
                 }
                 (None, Some(program)) => {
-                    let (plan, _) = lang_cmd::build(&lang_cmd::ProgramArgs {
+                    let plan = lang_cmd::build(&lang_cmd::ProgramArgs {
                         program,
                         robot,
                         dt,
                         start: None,
                         time_limit: lang_cmd::DEFAULT_TIME_LIMIT,
                         skip_unreachable: false,
-                    })?;
+                    })?
+                    .plan;
                     (plan.robot, plan.trajectory)
                 }
                 (None, None) => bail!("give --csv or --program"),

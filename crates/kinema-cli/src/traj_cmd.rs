@@ -14,7 +14,7 @@ use kinema::traj::{
     Waypoint,
 };
 use kinema::{Frame, Pose, Robot, RpyConvention};
-use serde_json::json;
+use kinema_io::{CheckAnswer, JointExpression, LawAnswer, LawSamples, TrajSummary};
 
 use crate::{print_json, write_atomically, RobotArg};
 
@@ -336,41 +336,46 @@ fn law(a: LawArgs) -> Result<()> {
     };
     let peaks = law.peaks();
     let scale = if a.duration.is_some() { 1.0 } else { a.distance };
-    let finite = |v: f64| if v.is_finite() { json!(v * scale) } else { json!(null) };
-    let mut out = json!({
-        "profile": profile.name(),
-        "distance": scale,
-        "duration": law.duration(),
-        "phase_times": law.phase_times(),
-        "peak_velocity": finite(peaks.sd),
-        "peak_acceleration": finite(peaks.sdd),
-        "peak_jerk": finite(peaks.sddd),
-    });
+    let finite = |v: f64| Some(v * scale).filter(|_| v.is_finite());
+    let phases = law.phase_times();
+    let (mut t_acc, mut t_cruise, mut t_dec, mut t_jerk) = (None, None, None, None);
     match profile {
         Profile::Trapezoid => {
-            let p = law.phase_times();
-            out["t_acc"] = json!(p.first().copied().unwrap_or(0.0));
-            out["t_cruise"] = json!(if p.len() == 3 { p[1] } else { 0.0 });
-            out["t_dec"] = json!(p.last().copied().unwrap_or(0.0));
+            t_acc = Some(phases.first().copied().unwrap_or(0.0));
+            t_cruise = Some(if phases.len() == 3 { phases[1] } else { 0.0 });
+            t_dec = Some(phases.last().copied().unwrap_or(0.0));
         }
-        Profile::SCurve => {
-            // Phases: jerk, constant acceleration, jerk, cruise, … (zero-length ones omitted).
-            let tj = law.phase_times().first().copied().unwrap_or(0.0);
-            out["t_jerk"] = json!(tj);
-        }
+        // Phases: jerk, constant acceleration, jerk, cruise, … (zero-length ones omitted).
+        Profile::SCurve => t_jerk = Some(phases.first().copied().unwrap_or(0.0)),
         _ => {}
     }
-    if let Some(dt) = a.dt {
-        let times = kinema::traj::sample_times(law.duration(), dt)?;
-        let samples: Vec<_> = times
-            .iter()
-            .map(|&t| {
-                let s = law.at(t);
-                json!([t, s.s * scale, s.sd * scale, s.sdd * scale, s.sddd * scale])
-            })
-            .collect();
-        out["samples"] = json!({ "columns": ["t", "p", "v", "a", "j"], "rows": samples });
-    }
+    let samples = match a.dt {
+        Some(dt) => {
+            let rows = kinema::traj::sample_times(law.duration(), dt)?
+                .iter()
+                .map(|&t| {
+                    let s = law.at(t);
+                    [t, s.s * scale, s.sd * scale, s.sdd * scale, s.sddd * scale]
+                })
+                .collect();
+            Some(LawSamples { columns: ["t", "p", "v", "a", "j"], rows })
+        }
+        None => None,
+    };
+    let out = LawAnswer {
+        profile: profile.name(),
+        distance: scale,
+        duration: law.duration(),
+        phase_times: phases.to_vec(),
+        peak_velocity: finite(peaks.sd),
+        peak_acceleration: finite(peaks.sdd),
+        peak_jerk: finite(peaks.sddd),
+        t_acc,
+        t_cruise,
+        t_dec,
+        t_jerk,
+        samples,
+    };
     if a.json {
         return print_json(&out);
     }
@@ -378,9 +383,9 @@ fn law(a: LawArgs) -> Result<()> {
     outln!("phase times [s]: {:?}", law.phase_times())?;
     outln!(
         "peaks: velocity {}, acceleration {}, jerk {}",
-        out["peak_velocity"],
-        out["peak_acceleration"],
-        out["peak_jerk"]
+        serde_json::to_string(&out.peak_velocity)?,
+        serde_json::to_string(&out.peak_acceleration)?,
+        serde_json::to_string(&out.peak_jerk)?
     )?;
     Ok(())
 }
@@ -435,25 +440,19 @@ fn ptp(a: PtpArgs) -> Result<()> {
         let plan = kinema::traj::BoundaryPtp::new(&robot, &from, &to, &opts, &boundary)?;
         let traj = plan.sample(&robot, a.dt)?;
         let phase_times: Vec<Vec<f64>> = plan.laws().iter().map(|l| l.phase_times()).collect();
-        let summary = json!({
-            "robot": robot.name(),
-            "motion": "ptp",
-            "profile": opts.profile.name(),
-            "duration": plan.duration(),
-            "phase_times": plan.rest().map(|p| p.law().phase_times().to_vec()),
-            "joint_phase_times": phase_times,
-        });
+        let summary = TrajSummary {
+            phase_times: Some(plan.rest().map(|p| p.law().phase_times().to_vec())),
+            joint_phase_times: Some(phase_times),
+            ..TrajSummary::new(&robot, "ptp", Some(opts.profile.name()), plan.duration(), traj.len())
+        };
         return emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary);
     }
     let plan = Ptp::new(&robot, &from, &to, &opts)?;
     let traj = plan.sample(&robot, a.dt)?;
-    let summary = json!({
-        "robot": robot.name(),
-        "motion": "ptp",
-        "profile": plan.law().profile().name(),
-        "duration": plan.duration(),
-        "phase_times": plan.law().phase_times(),
-    });
+    let summary = TrajSummary {
+        phase_times: Some(Some(plan.law().phase_times().to_vec())),
+        ..TrajSummary::new(&robot, "ptp", Some(plan.law().profile().name()), plan.duration(), traj.len())
+    };
     emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
 
@@ -487,12 +486,11 @@ fn emit(
     conv: RpyConvention,
     out: Option<&std::path::Path>,
     as_json: bool,
-    mut summary: serde_json::Value,
+    summary: TrajSummary,
 ) -> Result<()> {
     // `--out -` is standard output, as without --out.
     let out = out.filter(|p| !crate::output::is_stdout(p));
     let samples = traj.len();
-    summary["samples"] = json!(samples);
     let duration = traj.times().last().copied().unwrap_or(0.0);
     if let Some(path) = out {
         write_atomically(path, |w| write_csv(w, robot, traj, conv, 12))?;
@@ -516,7 +514,7 @@ fn emit(
         let mut w = std::io::BufWriter::new(std::io::stdout().lock());
         write_csv(&mut w, robot, traj, conv, 9).context("cannot write to standard output")?;
     } else {
-        outln!("{} on `{}`: {duration:.6} s, {samples} samples", summary["motion"], robot.name())?;
+        outln!("{:?} on `{}`: {duration:.6} s, {samples} samples", summary.motion, robot.name())?;
     }
     Ok(())
 }
@@ -542,7 +540,7 @@ pub(crate) fn write_csv(
 #[derive(serde::Serialize)]
 struct WithRows<'a> {
     #[serde(flatten)]
-    summary: &'a serde_json::Value,
+    summary: &'a TrajSummary,
     columns: Vec<String>,
     rows: Rows<'a>,
 }
@@ -634,19 +632,7 @@ fn cart_motion(
     };
     let opts = CheckOptions { min_manipulability: c.min_manip, ..CheckOptions::default() };
     check(robot, &traj, &opts)?.into_result()?;
-    let summary = json!({
-        "robot": robot.name(),
-        "motion": "cartesian",
-        "profile": profile.name(),
-        "duration": motion.duration(),
-        "segment_starts": motion.segment_starts(),
-        "blend_times": motion.blend_times(),
-        "skipped": skipped.iter().map(|p| json!({
-            "index": p.index,
-            "position": [p.pose.pos.x, p.pose.pos.y, p.pose.pos.z],
-            "reason": p.reason,
-        })).collect::<Vec<_>>(),
-    });
+    let summary = TrajSummary::cartesian(robot, &motion, profile, traj.len(), skipped);
     emit(robot, &traj, c.rpy, c.out.as_deref(), c.json, summary)
 }
 
@@ -723,12 +709,12 @@ fn expr(a: ExprArgs) -> Result<()> {
     };
     let traj = expression_trajectory(&robot, &q0, &exprs, a.duration, a.dt)?;
     check(&robot, &traj, &limits)?.into_result()?;
-    let summary = json!({
-        "robot": robot.name(),
-        "motion": "expression",
-        "duration": a.duration,
-        "expressions": exprs.iter().map(|(j, e)| json!({"joint": j + 1, "expr": e.text()})).collect::<Vec<_>>(),
-    });
+    let summary = TrajSummary {
+        expressions: Some(
+            exprs.iter().map(|(j, e)| JointExpression { joint: j + 1, expr: e.text().to_string() }).collect(),
+        ),
+        ..TrajSummary::new(&robot, "expression", None, a.duration, traj.len())
+    };
     emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
 
@@ -747,7 +733,7 @@ fn check_file(a: CheckArgs) -> Result<()> {
     };
     let report = check(&robot, &traj, &opts)?;
     if a.json {
-        print_json(&check_json(&report))?;
+        print_json(&CheckAnswer::new(&report))?;
     } else {
         outln!(
             "{}: {} samples, {} violation(s), {} warning(s)",
@@ -771,31 +757,6 @@ fn check_file(a: CheckArgs) -> Result<()> {
     } else {
         Err(crate::Exit(1).into())
     }
-}
-
-/// The JSON of a check report (`kinema traj check --json`, and per robot in `kinema cell --json`).
-pub(crate) fn check_json(report: &kinema::traj::CheckReport) -> serde_json::Value {
-    let listed = |v: &kinema::traj::Violation| {
-        json!({
-            "kind": v.kind.name(),
-            "t": v.time,
-            "sample": v.sample,
-            "joint": v.joint.map(|j| j + 1),
-            "value": v.value,
-            "limit": v.limit,
-            "message": v.to_string(),
-        })
-    };
-    json!({
-        "samples": report.samples,
-        "ok": report.violations.is_empty(),
-        "peak_velocity": report.peak_vel,
-        "peak_acceleration": report.peak_acc,
-        "peak_jerk": report.peak_jerk,
-        "min_manipulability": report.min_manipulability.map(|(t, m)| json!({"t": t, "value": m})),
-        "violations": report.violations.iter().map(listed).collect::<Vec<_>>(),
-        "warnings": report.warnings.iter().map(listed).collect::<Vec<_>>(),
-    })
 }
 
 /// A CSV file read into memory, positioned after its header.

@@ -18,11 +18,29 @@
 
 #![warn(missing_docs)]
 
+mod bench;
+mod cell;
+mod error;
+mod ik;
 mod kinematics;
 mod pose;
+mod program;
 mod robot;
 mod solution;
+mod traj;
 mod trajectory;
+
+pub use bench::{BenchAnswer, IkBench};
+pub use cell::{CellAnswer, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
+pub use error::ErrorAnswer;
+pub use ik::{
+    shown_q, ClosestAnswer, DiscardedAnswer, DiscardedCandidate, IkAnswer, SelfMotionAnswer, SelfMotionPoint,
+    ToleranceAnswer, UnreachableAnswer, ValidateAnswer, DISCARD_REASON,
+};
+pub use program::{MotionAnswer, ProgramAnswer};
+pub use traj::{
+    CheckAnswer, JointExpression, LawAnswer, LawSamples, SkippedPoint, TimedValue, TrajSummary, ViolationAnswer,
+};
 
 pub use kinematics::{
     Coefficient, DependentJoint, Ellipsoid, FkAnswer, FrameAnswer, JacobianAnswer, JointAxis, JointRef, ManipAnswer,

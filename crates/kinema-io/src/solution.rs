@@ -15,8 +15,9 @@ pub struct SolutionAnswer {
     pub within_limits: bool,
     /// |p_target − p(q)| \[m\].
     pub position_error: f64,
-    /// The angle between the target's and the reached rotation \[rad\].
-    pub orientation_error: f64,
+    /// The angle between the target's and the reached rotation \[rad\];
+    /// `null` for a target that leaves the orientation free.
+    pub orientation_error: Option<f64>,
     /// Numeric solutions: iterations of the successful start.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub iterations: Option<usize>,
@@ -36,7 +37,7 @@ impl SolutionAnswer {
             branch: s.branch.to_string(),
             within_limits: s.within_limits(),
             position_error: s.position_error,
-            orientation_error: s.orientation_error,
+            orientation_error: Some(s.orientation_error),
             iterations: s.numeric.map(|n| n.iterations),
             restarts: s.numeric.map(|n| n.restarts),
             stop: s.numeric.map(|n| n.stop.to_string()),

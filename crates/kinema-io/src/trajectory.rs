@@ -3,9 +3,10 @@
 use kinema::traj::JointTrajectory;
 use serde::ser::{Serialize, SerializeSeq, SerializeStruct, Serializer};
 
-/// A sampled trajectory: the times, and per sample the rows `q`, `qd`, `qdd`,
-/// with the number of samples and the duration. Serialised straight from
-/// the trajectory, without copying its samples.
+/// A sampled trajectory's samples: the times `t`, and per sample the rows
+/// `q`, `qd`, `qdd` (flattened into a [`crate::TrajSummary`] or a
+/// [`crate::ProgramAnswer`], which say how many and how long). Serialised
+/// straight from the trajectory, without copying its samples.
 #[derive(Debug, Clone, Copy)]
 pub struct TrajectoryAnswer<'a>(pub &'a JointTrajectory);
 
@@ -25,13 +26,11 @@ impl Serialize for Rows<'_> {
 impl Serialize for TrajectoryAnswer<'_> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let traj = self.0;
-        let mut st = s.serialize_struct("Trajectory", 6)?;
+        let mut st = s.serialize_struct("Trajectory", 4)?;
         st.serialize_field("t", traj.times())?;
         st.serialize_field("q", &Rows(traj, JointTrajectory::q))?;
         st.serialize_field("qd", &Rows(traj, JointTrajectory::qd))?;
         st.serialize_field("qdd", &Rows(traj, JointTrajectory::qdd))?;
-        st.serialize_field("samples", &traj.len())?;
-        st.serialize_field("duration", &traj.times().last().copied().unwrap_or(0.0))?;
         st.end()
     }
 }

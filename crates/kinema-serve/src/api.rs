@@ -13,10 +13,13 @@ use std::time::Duration;
 use kinema_lang::{Stop, StopReason};
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
-use serde_json::{json, Value};
+use serde::Serialize;
+use serde_json::Value;
 
 use crate::error::{Error, Result};
-use kinema_io::{FkAnswer, ManipAnswer, PoseAnswer, RobotInfo, RobotSummary, SolutionAnswer, TrajectoryAnswer};
+use kinema_io::{
+    ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary, TrajectoryAnswer,
+};
 
 /// Largest request body accepted \[bytes\] (1 MiB); larger ones get 413.
 pub const MAX_BODY: usize = 1 << 20;
@@ -71,16 +74,13 @@ impl Reply {
 }
 
 fn error_json(e: &Error) -> (u16, Value) {
-    let mut body = json!({ "error": e.to_string() });
-    match e {
-        Error::Program { rendered, .. } => body["diagnostics"] = json!(rendered),
-        Error::RunBudget { rendered, budget, .. } => {
-            body["diagnostics"] = json!(rendered);
-            body["budget_s"] = json!(budget.as_secs_f64());
-        }
-        _ => {}
-    }
-    (e.status(), body)
+    let (diagnostics, budget_s) = match e {
+        Error::Program { rendered, .. } => (Some(rendered.clone()), None),
+        Error::RunBudget { rendered, budget, .. } => (Some(rendered.clone()), Some(budget.as_secs_f64())),
+        _ => (None, None),
+    };
+    let body = ErrorAnswer { error: e.to_string(), diagnostics, budget_s };
+    (e.status(), serde_json::to_value(body).unwrap_or(Value::Null))
 }
 
 /// The robots a server knows and its request handler.
@@ -267,10 +267,9 @@ impl App {
             tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
         };
-        let pose = target;
-        let target = IkTarget::Pose(pose);
+        let target = IkTarget::Pose(target);
         let answer = solve_target(r, &target, &request)?;
-        let (name, mut solutions) = (answer.solver, answer.solutions);
+        let mut solutions = answer.solutions.clone();
         let redundant = kinema::ik::family::fit(r).is_some_and(|f| f.redundancy().is_some());
         let q3 = req
             .q3
@@ -291,16 +290,14 @@ impl App {
                 }
             });
         let nearest = picked.filter(|_| req.q0.is_some());
-        Ok(json!({
-            "robot": r.name(),
-            "solver": name,
-            "q3": q3,
-            "psi": req.psi,
-            "target": PoseAnswer::new(&pose, RpyConvention::Zyx),
-            "solutions": solutions.iter().map(SolutionAnswer::new).collect::<Vec<_>>(),
-            "nearest": nearest,
-            "picked": picked,
-        }))
+        let ik = IkAnswer {
+            q3,
+            psi: req.psi,
+            nearest,
+            picked,
+            ..IkAnswer::new(r, &answer, &solutions, &target, RpyConvention::Zyx)
+        };
+        to_value(ik)
     }
 
     fn traj(&self, body: &[u8]) -> Result<Value> {
@@ -309,9 +306,11 @@ impl App {
         let r = self.robot(&req.robot)?;
         let dt = req.dt.unwrap_or(0.01);
         check_dt(dt)?;
-        let profile = named("/api/traj", req.profile.as_deref(), Profile::Trapezoid)?;
+        // PTP's default law is the core's choice for the robot, as `kinema traj ptp`'s.
+        let default = if req.kind == "ptp" { kinema::traj::default_profile(r) } else { Profile::Trapezoid };
+        let profile = named("/api/traj", req.profile.as_deref(), default)?;
         r.check_q(&req.from)?;
-        let (traj, duration) = match req.kind.as_str() {
+        let (traj, summary) = match req.kind.as_str() {
             "ptp" => {
                 let to =
                     req.to.as_ref().ok_or_else(|| bad(format!("/api/traj: ptp needs \"to\"; expected {SHAPE}")))?;
@@ -329,7 +328,12 @@ impl App {
                 };
                 let plan = Ptp::new(r, &req.from, to, &opts)?;
                 cap_samples(plan.duration(), dt)?;
-                (plan.sample(r, dt)?, plan.duration())
+                let traj = plan.sample(r, dt)?;
+                let summary = TrajSummary {
+                    phase_times: Some(Some(plan.law().phase_times().to_vec())),
+                    ..TrajSummary::new(r, "ptp", Some(plan.law().profile().name()), plan.duration(), traj.len())
+                };
+                (traj, summary)
             }
             "lin" => {
                 let target = req.target().pose("/api/traj", SHAPE)?;
@@ -351,16 +355,12 @@ impl App {
                 cap_samples(motion.duration(), dt)?;
                 let traj = to_joints(r, &motion, &req.from, dt, JointMethod::Ik(req.self_motion()?))?;
                 check(r, &traj, &CheckOptions::default())?.into_result()?;
-                (traj, motion.duration())
+                let summary = TrajSummary::cartesian(r, &motion, profile, traj.len(), &[]);
+                (traj, summary)
             }
             other => return Err(bad(format!("/api/traj: kind `{other}` is not ptp or lin; expected {SHAPE}"))),
         };
-        let mut v = to_value(TrajectoryAnswer(&traj))?;
-        v["robot"] = json!(r.name());
-        v["kind"] = json!(req.kind);
-        v["profile"] = json!(profile.name());
-        v["duration"] = json!(duration);
-        Ok(v)
+        to_value(TrajAnswer { summary, samples: TrajectoryAnswer(&traj) })
     }
 
     fn run(&self, body: &[u8], stop: &Stop) -> Result<Value> {
@@ -392,19 +392,32 @@ impl App {
                 None => Error::Program { first, rendered },
             }
         })?;
-        let mut v = to_value(TrajectoryAnswer(&plan.trajectory))?;
-        v["robot"] = json!(r.name());
-        v["motions"] = plan
-            .motions
-            .iter()
-            .map(|m| json!({"line": m.line, "kind": m.kind, "start": m.start, "end": m.end, "profile": m.profile, "target": m.target}))
-            .collect();
-        // One line index for all warnings: one_line alone rescans the source per warning.
-        let lines = kinema_lang::diag::LineIndex::new(&req.program);
-        v["warnings"] = plan.warnings.iter().map(|d| json!(d.one_line_in(FILE, &req.program, &lines))).collect();
-        v["warnings_rendered"] = json!(kinema_lang::render_all(&plan.warnings, FILE, &req.program));
-        Ok(v)
+        to_value(RunAnswer {
+            program: ProgramAnswer::new(&plan, FILE, &req.program)?,
+            samples: TrajectoryAnswer(&plan.trajectory),
+            warnings_rendered: kinema_lang::render_all(&plan.warnings, FILE, &req.program),
+        })
     }
+}
+
+/// The answer of `/api/traj`: the summary `kinema traj … --json` prints, and the samples.
+#[derive(Serialize)]
+struct TrajAnswer<'a> {
+    #[serde(flatten)]
+    summary: TrajSummary,
+    #[serde(flatten)]
+    samples: TrajectoryAnswer<'a>,
+}
+
+/// The answer of `/api/run`: what `kinema run --json` prints, the samples
+/// and the warnings rendered with their source lines.
+#[derive(Serialize)]
+struct RunAnswer<'a> {
+    #[serde(flatten)]
+    program: ProgramAnswer,
+    #[serde(flatten)]
+    samples: TrajectoryAnswer<'a>,
+    warnings_rendered: String,
 }
 
 /// An option value read by the core from its name (`default` when the request

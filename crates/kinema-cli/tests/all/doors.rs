@@ -63,3 +63,75 @@ fn the_cli_and_the_server_answer_fk_manip_and_info_alike() {
     }
     assert_eq!(cli_json(&["robots", "--json"]), server);
 }
+
+/// Shortest round-trip text of numbers, comma-separated: the CLI reads back exactly these values.
+fn list(v: &[f64]) -> String {
+    v.iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(",")
+}
+
+#[test]
+fn the_cli_and_the_server_answer_ik_alike() {
+    let app = App::new(None).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(361);
+    // Arms without a self-motion: the server's single answer (`picked`) is one
+    // of the listed solutions, so both doors list the same ones.
+    for name in ["puma560", "ur5", "scorbot-er-v-plus"] {
+        let robot = Robot::builtin(name).unwrap();
+        for _ in 0..2 {
+            let q = random_q(&robot, &mut rng);
+            let pose = robot.fk(&q).unwrap().world_from_tool;
+            let p = [pose.pos.x, pose.pos.y, pose.pos.z];
+            let rpy = pose.rpy(kinema::RpyConvention::Zyx);
+            let text = list(&[p[0], p[1], p[2], rpy[0], rpy[1], rpy[2]]);
+            let cli = cli_json(&["ik", "--robot", name, "--pose", &text, "--all", "--json"]);
+            let mut server = api(&app, "POST", "/api/ik", &json!({"robot": name, "position": p, "rpy": rpy}));
+            // Which solution a single-answer request returns: only the server lists all and marks it.
+            let picked = server.as_object_mut().unwrap().remove("picked").unwrap();
+            assert!(picked.as_u64().unwrap() < server["solutions"].as_array().unwrap().len() as u64);
+            assert_eq!(cli, server, "ik of {name} at {text}");
+        }
+    }
+}
+
+#[test]
+fn the_cli_and_the_server_answer_ptp_and_a_program_alike() {
+    let app = App::new(None).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(362);
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("out.csv");
+    let csv = csv.to_str().unwrap();
+    for name in ["puma560", "panda"] {
+        let robot = Robot::builtin(name).unwrap();
+        let (from, to) = (random_q(&robot, &mut rng), random_q(&robot, &mut rng));
+        let cli = cli_json(&[
+            "traj",
+            "ptp",
+            "--robot",
+            name,
+            "--from",
+            &list(&from),
+            "--to",
+            &list(&to),
+            "--out",
+            csv,
+            "--json",
+        ]);
+        let mut server = api(&app, "POST", "/api/traj", &json!({"robot": name, "kind": "ptp", "from": from, "to": to}));
+        // The server adds the samples themselves; the CLI wrote them to the CSV.
+        for key in ["t", "q", "qd", "qdd"] {
+            assert!(server.as_object_mut().unwrap().remove(key).is_some(), "{key}");
+        }
+        assert_eq!(cli, server, "ptp of {name}");
+    }
+    let program = "POS a = CART(550mm, -150mm, 400mm, 0deg, 180deg, 0deg)\n\
+                   POS b = CART(550mm, 50mm, 400mm, 0deg, 180deg, 0deg)\nPTP a\nWAIT 0.5\nLIN b\n";
+    let file = dir.path().join("move.prg");
+    std::fs::write(&file, program).unwrap();
+    let cli = cli_json(&["run", file.to_str().unwrap(), "--robot", "lbr-iiwa-14-r820", "--out", csv, "--json"]);
+    let mut server = api(&app, "POST", "/api/run", &json!({"robot": "lbr-iiwa-14-r820", "program": program}));
+    for key in ["t", "q", "qd", "qdd", "warnings_rendered"] {
+        assert!(server.as_object_mut().unwrap().remove(key).is_some(), "{key}");
+    }
+    assert!(cli["motions"].as_array().unwrap().len() == 3, "{cli}");
+    assert_eq!(cli, server, "the program on the iiwa");
+}

@@ -16,7 +16,8 @@ use kinema_scorbot::encoder::Constants;
 use kinema_scorbot::follow::{self, PlanOptions, SendMode};
 use kinema_scorbot::sim::{self, Fault, SimConfig};
 use kinema_scorbot::{calib, metrics};
-use serde_json::json;
+mod answers;
+use answers::{AnglesAnswer, CountsAnswer, ExperimentAnswer, ExperimentModel, FollowPlanAnswer, WhereAnswer};
 
 use crate::input::{read_text_limited, MAX_CSV_BYTES, MAX_TEXT_BYTES};
 use crate::print_json;
@@ -381,16 +382,16 @@ fn counts(a: CountsArgs) -> Result<()> {
     let p = robot.fk(&q)?.world_from_tool.pos;
     let outside = limits_text(&robot, &q);
     if a.json {
-        return print_json(&json!({
-            "constants": c.name,
-            "q": q,
-            "counts": counts,
-            "counts_exact": exact,
-            "tool_position": [p.x, p.y, p.z],
-            "tool_sigma": u.sigma,
-            "tool_sigma_radius": u.radius,
-            "out_of_limits": outside,
-        }));
+        return print_json(&CountsAnswer {
+            constants: c.name.clone(),
+            q,
+            counts,
+            counts_exact: exact,
+            tool_position: [p.x, p.y, p.z],
+            tool_sigma: u.sigma,
+            tool_sigma_radius: u.radius,
+            out_of_limits: outside,
+        });
     }
     outln!("constants: {}", c.name)?;
     outln!("counts    {}", counts.map(|v| v.to_string()).join("  "))?;
@@ -421,14 +422,14 @@ fn angles(a: AnglesArgs) -> Result<()> {
     let outside = limits_text(&robot, &q);
     let shown: Vec<f64> = if a.deg { q.iter().map(|v| v.to_degrees()).collect() } else { q.to_vec() };
     if a.json {
-        return print_json(&json!({
-            "constants": c.name,
-            "counts": counts,
-            "q": shown,
-            "unit": if a.deg { "deg" } else { "rad" },
-            "tool_position": [p.x, p.y, p.z],
-            "out_of_limits": outside,
-        }));
+        return print_json(&AnglesAnswer {
+            constants: c.name.clone(),
+            counts,
+            q: shown,
+            unit: if a.deg { "deg" } else { "rad" },
+            tool_position: [p.x, p.y, p.z],
+            out_of_limits: outside,
+        });
     }
     outln!("constants: {}", c.name)?;
     outln!(
@@ -504,11 +505,11 @@ fn connect(a: ConnectArgs) -> Result<()> {
     if let Action::Follow { path, deg, max_step, dry_run: true, .. } = &a.action {
         let points = read_path(path, *deg)?;
         let plan = follow::plan(&robot, &c, &points, &PlanOptions { max_step: *max_step, q0: None })?;
-        return print_json(&json!({
-            "points": plan.points.len(),
-            "counts": plan.counts,
-            "branches": plan.branches,
-        }));
+        return print_json(&FollowPlanAnswer {
+            points: plan.points.len(),
+            counts: plan.counts,
+            branches: plan.branches,
+        });
     }
     let mut arm = match (&a.port, &a.tcp) {
         (Some(p), _) => Client::open_serial(p)?,
@@ -572,12 +573,12 @@ fn connect(a: ConnectArgs) -> Result<()> {
             let q = c.angles(&r.counts.map(|v| v as f64))?;
             let p = robot.fk(&q)?.world_from_tool.pos;
             if json {
-                return print_json(&json!({
-                    "counts": r.counts,
-                    "q": q,
-                    "tool_position": [p.x, p.y, p.z],
-                    "controller_cartesian": r.cartesian,
-                }));
+                return print_json(&WhereAnswer {
+                    counts: r.counts,
+                    q,
+                    tool_position: [p.x, p.y, p.z],
+                    controller_cartesian: r.cartesian,
+                });
             }
             outln!("counts    {}", r.counts.map(|v| v.to_string()).join("  "))?;
             outln!("q         {} deg", q.map(|v| format!("{:.3}", v.to_degrees())).join("  "))?;
@@ -750,20 +751,24 @@ fn square(a: SquareArgs) -> Result<()> {
         }
     }
     if a.json {
-        return print_json(&json!({
-            "path": what,
-            "desired_points": e.desired.len(),
-            "true_constants": options.truth.name,
-            "controller_constants": options.controller.name,
-            "noise": options.noise,
-            "seed": options.seed,
-            "models": e.models.iter().map(|m| json!({
-                "label": m.label,
-                "branch": m.branch,
-                "samples": m.runs.iter().map(Vec::len).collect::<Vec<_>>(),
-                "report": serde_json::to_value(&m.report).unwrap_or_default(),
-            })).collect::<Vec<_>>(),
-        }));
+        return print_json(&ExperimentAnswer {
+            path: what,
+            desired_points: e.desired.len(),
+            true_constants: options.truth.name.clone(),
+            controller_constants: options.controller.name.clone(),
+            noise: options.noise,
+            seed: options.seed,
+            models: e
+                .models
+                .iter()
+                .map(|m| ExperimentModel {
+                    label: &m.label,
+                    branch: &m.branch,
+                    samples: m.runs.iter().map(Vec::len).collect(),
+                    report: &m.report,
+                })
+                .collect(),
+        });
     }
     outln!(
         "seed 000 Fig. 6 on the controller simulator: {what}, {} points ≤ {:.0} mm apart",
