@@ -74,7 +74,7 @@ use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::family::{Choice, Redundancy};
+use super::family::{Choice, Redundancy, SelfMotionParameter};
 use super::{check_target, joint_distance, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
@@ -1309,14 +1309,14 @@ impl super::family::Family for IiwaIk {
 
 /// The self-motion of seed 004: joint 3 (§V-B) or the arm angle ψ (§V-D).
 impl Redundancy for IiwaIk {
-    fn parameters(&self) -> &'static [&'static str] {
-        &["q3", "psi"]
+    fn parameters(&self) -> &'static [SelfMotionParameter] {
+        &[SelfMotionParameter::Q3, SelfMotionParameter::ArmAngle]
     }
 
     /// At ψ: one solution per global configuration that reaches the target
     /// (the first configuration's reason when none does).
-    fn solve_at(&self, target: &Pose, parameter: &str, value: f64) -> Result<Vec<Solution>> {
-        if parameter != "psi" {
+    fn solve_at(&self, target: &Pose, parameter: SelfMotionParameter, value: f64) -> Result<Vec<Solution>> {
+        if parameter == SelfMotionParameter::Q3 {
             return self.solve_q3(target, value);
         }
         let all: Vec<Solution> = (0u8..8).filter_map(|c| self.solve_psi(target, value, c).ok()).collect();
@@ -1347,11 +1347,11 @@ impl Redundancy for IiwaIk {
         2
     }
 
-    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+    fn parameter_of(&self, q: &[f64], parameter: SelfMotionParameter) -> f64 {
         match parameter {
-            "q3" => self.value_of(q),
-            "psi" if q.len() == 7 && q.iter().all(|v| v.is_finite()) => self.psi_of(q),
-            _ => f64::NAN,
+            SelfMotionParameter::Q3 => self.value_of(q),
+            SelfMotionParameter::ArmAngle if q.len() == 7 && q.iter().all(|v| v.is_finite()) => self.psi_of(q),
+            SelfMotionParameter::ArmAngle => f64::NAN,
         }
     }
 
@@ -1359,12 +1359,12 @@ impl Redundancy for IiwaIk {
     fn continue_at(
         &self,
         target: &Pose,
-        parameter: &str,
+        parameter: SelfMotionParameter,
         value: f64,
         prev: &[f64],
         out: &mut super::CandidateSet,
     ) -> Result<()> {
-        if parameter == "q3" {
+        if parameter == SelfMotionParameter::Q3 {
             self.solve_q3_near(target, value, prev)?.write_into(out);
             return Ok(());
         }
