@@ -362,6 +362,7 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
 }
 
 /// One family in the registry.
+#[derive(Clone, Copy)]
 pub struct Entry {
     /// The family's name, as its solver reports it.
     pub name: &'static str,
@@ -371,7 +372,8 @@ pub struct Entry {
     pub fit: fn(&Robot) -> Result<Box<dyn Family>>,
 }
 
-fn boxed<F: Family + 'static>(r: Result<F>) -> Result<Box<dyn Family>> {
+/// A fitted family boxed for [`Entry::fit`].
+pub fn boxed<F: Family + 'static>(r: Result<F>) -> Result<Box<dyn Family>> {
     r.map(|f| Box::new(f) as Box<dyn Family>)
 }
 
@@ -390,7 +392,14 @@ pub const FAMILIES: &[Entry] = &[
 
 /// The first family in [`FAMILIES`] that fits `robot`.
 pub fn fit(robot: &Robot) -> Option<Box<dyn Family>> {
-    FAMILIES.iter().find_map(|e| (e.fit)(robot).ok())
+    fit_in(FAMILIES, robot)
+}
+
+/// The first family of `families` that fits `robot`: [`fit`] over another
+/// registry, e.g. [`FAMILIES`] and families of a caller's own, for
+/// [`solve_target_with`](super::solve_target_with).
+pub fn fit_in(families: &[Entry], robot: &Robot) -> Option<Box<dyn Family>> {
+    families.iter().find_map(|e| (e.fit)(robot).ok())
 }
 
 /// Runs `task` with the family that owns typed targets of `kind`: `fitted`

@@ -24,7 +24,7 @@
 //!
 //! * **q3 fixed** (seed 004 eq. 3–11, [`IiwaIk::solve_q3`]): up to 8
 //!   solutions for a given q3; this is the paper's method, and the
-//!   [`IkSolver`] implementation uses it with q3 = 0 by default
+//!   [`IkSolver`](crate::ik::IkSolver) implementation uses it with q3 = 0 by default
 //!   ([`IiwaIk::with_q3`]).
 //! * **arm angle ψ** (Shimizu et al. 2008; Faria et al. 2018,
 //!   [`IiwaIk::solve_psi`]): the rotation of the shoulder–elbow–wrist plane
@@ -75,7 +75,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::family::{Choice, Redundancy, SelfMotionParameter};
-use super::{check_target, joint_distance, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
+use super::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
 use crate::kin::Frame;
@@ -398,7 +398,7 @@ pub fn config_label(config: u8) -> &'static str {
 impl IiwaIk {
     /// A solver for `robot`, which must be a 7R arm of the iiwa's shape
     /// (see the module documentation); otherwise [`Error::SolverDoesNotFit`]
-    /// says what does not fit. The default q3 of [`IkSolver::solve`] is 0.
+    /// says what does not fit. The default q3 of [`IkSolver::solve`](crate::ik::IkSolver::solve) is 0.
     pub fn new(robot: &Robot) -> Result<Self> {
         const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
         if robot.dof() != 7 {
@@ -461,13 +461,13 @@ impl IiwaIk {
         })
     }
 
-    /// The same solver with another q3 \[rad\] for [`IkSolver::solve`].
+    /// The same solver with another q3 \[rad\] for [`IkSolver::solve`](crate::ik::IkSolver::solve).
     pub fn with_q3(mut self, q3: f64) -> Self {
         self.q3 = q3;
         self
     }
 
-    /// The q3 \[rad\] that [`IkSolver::solve`] uses.
+    /// The q3 \[rad\] that [`IkSolver::solve`](crate::ik::IkSolver::solve) uses.
     pub fn q3(&self) -> f64 {
         self.q3
     }
@@ -1284,18 +1284,16 @@ impl IiwaIk {
     }
 }
 
-impl IkSolver for IiwaIk {
-    fn name(&self) -> &'static str {
-        "iiwa"
+impl super::ClosedForm for IiwaIk {
+    const NAME: &'static str = "iiwa";
+
+    fn robot(&self) -> &Robot {
+        &self.robot
     }
 
-    /// The (up to 8) solutions of [`IiwaIk::solve_q3`] for q3 = [`IiwaIk::q3`]
-    /// (0 unless set with [`IiwaIk::with_q3`]).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        self.solve_q3(target, self.q3)
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    /// The (up to 8) candidates of [`IiwaIk::solve_q3_candidates`] for q3 =
+    /// [`IiwaIk::q3`] (0 unless set with [`IiwaIk::with_q3`]).
+    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         self.solve_q3_candidates(target, self.q3)?.write_into(out);
         Ok(())
     }

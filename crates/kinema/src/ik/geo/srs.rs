@@ -66,7 +66,7 @@ use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
 use crate::error::{Error, Result};
 use crate::ik::family::SelfMotionParameter;
 use crate::ik::iiwa::golden_max;
-use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, ClosedForm, Solution, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -94,7 +94,7 @@ pub const SEARCH_STEPS: usize = 40;
 type Margins = [(f64, [f64; 7]); 8];
 
 /// The geometric solver for SRS arms (see the [module documentation](self)).
-/// Name `geo-srs`. [`IkSolver::solve`] is [`SrsIk::solve_q3`] at q₃ = 0.
+/// Name `geo-srs`. [`IkSolver::solve`](crate::ik::IkSolver::solve) is [`SrsIk::solve_q3`] at q₃ = 0.
 ///
 /// # Examples
 /// ```
@@ -648,17 +648,15 @@ fn frame(x: &V3, y: &V3) -> Matrix3<f64> {
     Matrix3::from_columns(&[*x, y, x.cross(&y)])
 }
 
-impl IkSolver for SrsIk {
-    fn name(&self) -> &'static str {
-        NAME
+impl ClosedForm for SrsIk {
+    const NAME: &'static str = NAME;
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
-    /// [`SrsIk::solve_q3`] at q₃ = 0.
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        self.solve_q3(target, 0.0)
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+    /// [`SrsIk::solve_q3_candidates`] at q₃ = 0.
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
         self.solve_q3_candidates(target, 0.0)?.write_into(out);
         Ok(())
     }
