@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use kinema::analysis::{yoshikawa, Axes};
+use kinema::ik::family::SelfMotionParameter;
 use kinema::nalgebra::Matrix6xX;
 use kinema::traj::waypoints::{skip_unreachable, SkippedPoint};
 use kinema::traj::{
@@ -79,10 +80,10 @@ pub struct CartArgs {
     /// Self-motion of a redundant arm along the path (the iiwa's joint 3): `hold` the start's q3
     /// (the default where the arm has a closed form), `track` (least joint motion), `manipulability`
     /// (seed 004 §V-E), `avoid-limits`, or a value in rad (deg with --deg) the start must have.
-    #[arg(long, allow_hyphen_values = true, conflicts_with = "psi", value_parser = policy_text("q3"))]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "psi", value_parser = policy_text(SelfMotionParameter::Q3))]
     q3: Option<String>,
     /// Hold the arm angle ψ [rad] (deg with --deg) at this value, or `hold` the start's.
-    #[arg(long, allow_hyphen_values = true, value_parser = policy_text("psi"))]
+    #[arg(long, allow_hyphen_values = true, value_parser = policy_text(SelfMotionParameter::ArmAngle))]
     psi: Option<String>,
     /// Sample period [s].
     #[arg(long, default_value_t = 0.01)]
@@ -107,7 +108,7 @@ pub struct CartArgs {
 
 /// A clap parser that accepts what [`SelfMotion::parse`] reads for `parameter`
 /// (so a malformed policy is a usage error, exit 64).
-fn policy_text(parameter: &'static str) -> impl Fn(&str) -> std::result::Result<String, String> + Clone {
+fn policy_text(parameter: SelfMotionParameter) -> impl Fn(&str) -> std::result::Result<String, String> + Clone {
     move |text| SelfMotion::parse(parameter, text, 1.0).map(|_| text.to_string()).map_err(|e| e.to_string())
 }
 
@@ -618,8 +619,8 @@ fn cart_motion(
     let motion = CartesianMotion::new(segments(start)?, profile, &limits, blend)?;
     let scale = if c.deg { std::f64::consts::PI / 180.0 } else { 1.0 };
     let self_motion = match (&c.q3, &c.psi) {
-        (Some(text), _) => SelfMotion::parse("q3", text, scale).context("--q3")?,
-        (None, Some(text)) => SelfMotion::parse("psi", text, scale).context("--psi")?,
+        (Some(text), _) => SelfMotion::parse(SelfMotionParameter::Q3, text, scale).context("--q3")?,
+        (None, Some(text)) => SelfMotion::parse(SelfMotionParameter::ArmAngle, text, scale).context("--psi")?,
         (None, None) => SelfMotion::Auto,
     };
     let method = JointMethod::named(&c.method, self_motion.clone())?;

@@ -2,7 +2,8 @@
 
 use std::collections::BTreeMap;
 
-use kinema::{JointType, LinkGeometry, Robot, RpyConvention};
+use kinema::ik::family::SelfMotionParameter;
+use kinema::{JointType, LinkGeometry, Named, Robot, RpyConvention};
 use serde::Serialize;
 
 use crate::pose::PoseAnswer;
@@ -113,7 +114,8 @@ impl RobotInfo {
     /// What `robot` is.
     pub fn new(robot: &Robot) -> RobotInfo {
         let family = kinema::ik::family::fit(robot);
-        let redundancy = family.as_ref().and_then(|f| f.redundancy()).map_or(&[][..], |r| r.parameters()).to_vec();
+        let parameters = family.as_ref().and_then(|f| f.redundancy()).map_or(&[][..], |r| r.parameters());
+        let redundancy: Vec<&'static str> = parameters.iter().map(|p| p.name()).collect();
         let meta = robot.metadata();
         RobotInfo {
             name: robot.name().to_string(),
@@ -127,7 +129,11 @@ impl RobotInfo {
             tool: PoseAnswer::new(robot.tool(), RpyConvention::Zyx),
             poses: robot.poses().iter().map(|p| (p.name.clone(), p.q.clone())).collect(),
             home: robot.home().to_vec(),
-            ik: RobotIk { analytic: family.as_ref().map(|f| f.name()), q3: redundancy.contains(&"q3"), redundancy },
+            ik: RobotIk {
+                analytic: family.as_ref().map(|f| f.name()),
+                q3: parameters.contains(&SelfMotionParameter::Q3),
+                redundancy,
+            },
         }
     }
 }

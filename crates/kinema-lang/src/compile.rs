@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 use std::rc::Rc;
 
 use kinema::ik;
-use kinema::ik::family::{self, Family, TypedKind};
+use kinema::ik::family::{self, Family, SelfMotionParameter, TypedKind};
 use kinema::ik::IkTarget;
 use kinema::math::{rpy_to_rot, Pose};
 use kinema::nalgebra::Vector3;
@@ -452,7 +452,9 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::Redundancy { mode, value } => match value {
                 None => {
-                    if mode.key.parse::<f64>().is_ok() || SelfMotion::parse("q3", &mode.key, 1.0).is_err() {
+                    if mode.key.parse::<f64>().is_ok()
+                        || SelfMotion::parse(SelfMotionParameter::Q3, &mode.key, 1.0).is_err()
+                    {
                         self.err(
                             Diagnostic::error(mode.span.clone(), format!("unknown self-motion policy `{}`", mode.text))
                                 .with_hint("policies: hold, track, manipulability, avoid-limits, auto; or q3 = 30deg, psi = 0.5rad"),
@@ -460,7 +462,7 @@ impl<'a> Compiler<'a> {
                     }
                 }
                 Some(e) => {
-                    if mode.key != "q3" && mode.key != "psi" {
+                    if mode.key.parse::<SelfMotionParameter>().is_err() {
                         self.err(
                             Diagnostic::error(
                                 mode.span.clone(),
@@ -913,10 +915,15 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::Redundancy { mode, value } => {
                 let policy = match value {
-                    None => SelfMotion::parse("q3", &mode.key, 1.0).ok(),
-                    Some(e) => self
-                        .value(e, Dim::Angle, None)
-                        .map(|v| SelfMotion::Fixed { parameter: mode.key.clone(), value: Some(v) }),
+                    None => SelfMotion::parse(SelfMotionParameter::Q3, &mode.key, 1.0).ok(),
+                    Some(e) => {
+                        let value = self.value(e, Dim::Angle, None);
+                        mode.key
+                            .parse()
+                            .ok()
+                            .zip(value)
+                            .map(|(parameter, v)| SelfMotion::Fixed { parameter, value: Some(v) })
+                    }
                 };
                 if let Some(policy) = policy {
                     self.self_motion = policy;

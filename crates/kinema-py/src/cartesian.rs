@@ -7,6 +7,7 @@ use kinema::traj::{
     Profile, Segment, SelfMotion,
 };
 use kinema::Pose;
+use kinema::ik::family::SelfMotionParameter;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
@@ -21,8 +22,8 @@ fn self_motion_arg<'py>(q3: Option<&Bound<'py, PyAny>>, psi: Option<&Bound<'py, 
     let given = |o: Option<&Bound<'py, PyAny>>| o.filter(|o| !o.is_none()).cloned();
     let (parameter, value) = match (given(q3), given(psi)) {
         (Some(_), Some(_)) => return Err(invalid("give `q3` or `psi`, not both".into())),
-        (Some(v), None) => ("q3", v),
-        (None, Some(v)) => ("psi", v),
+        (Some(v), None) => (SelfMotionParameter::Q3, v),
+        (None, Some(v)) => (SelfMotionParameter::ArmAngle, v),
         (None, None) => return Ok(SelfMotion::Auto),
     };
     if let Ok(text) = value.extract::<String>() {
@@ -32,7 +33,7 @@ fn self_motion_arg<'py>(q3: Option<&Bound<'py, PyAny>>, psi: Option<&Bound<'py, 
     if !v.is_finite() {
         return Err(invalid(format!("invalid `{parameter}`: {v} is not a finite angle")));
     }
-    Ok(SelfMotion::Fixed { parameter: parameter.into(), value: Some(v) })
+    Ok(SelfMotion::Fixed { parameter, value: Some(v) })
 }
 
 /// `blend` of :meth:`Robot.lin`, read as `kinema traj lin --blend` reads it.

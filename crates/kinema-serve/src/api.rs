@@ -1,6 +1,7 @@
 //! The request handler: routing, the JSON API and the embedded page, as pure
 //! functions of (method, path, body).
 
+use kinema::ik::family::SelfMotionParameter;
 use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, SolverChoice};
 use kinema::nalgebra::Matrix4;
 use kinema::traj::{
@@ -580,13 +581,13 @@ impl TrajReq {
     fn self_motion(&self) -> Result<SelfMotion> {
         let (parameter, value) = match (&self.q3, &self.psi) {
             (Some(_), Some(_)) => return Err(bad("/api/traj: give \"q3\" or \"psi\", not both".into())),
-            (Some(v), None) => ("q3", v),
-            (None, Some(v)) => ("psi", v),
+            (Some(v), None) => (SelfMotionParameter::Q3, v),
+            (None, Some(v)) => (SelfMotionParameter::ArmAngle, v),
             (None, None) => return Ok(SelfMotion::Auto),
         };
         match value {
             PolicyValue::Text(text) => Ok(SelfMotion::parse(parameter, text, 1.0)?),
-            PolicyValue::Angle(v) => Ok(SelfMotion::Fixed { parameter: parameter.into(), value: Some(*v) }),
+            PolicyValue::Angle(v) => Ok(SelfMotion::Fixed { parameter, value: Some(*v) }),
         }
     }
 }

@@ -6,6 +6,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use crate::error::{Error, Result};
+use crate::ik::family::SelfMotionParameter;
 use crate::ik::SolverChoice;
 use crate::kin::Frame;
 use crate::math::RpyConvention;
@@ -95,7 +96,18 @@ impl Named for Profile {
     }
 }
 
-display_and_parse_by_name!(RpyConvention, SolverChoice, Frame, Profile);
+impl Named for SelfMotionParameter {
+    const WHAT: &'static str = "self-motion parameter";
+    const ALL: &'static [Self] = &[SelfMotionParameter::Q3, SelfMotionParameter::ArmAngle];
+    fn name(self) -> &'static str {
+        match self {
+            SelfMotionParameter::Q3 => "q3",
+            SelfMotionParameter::ArmAngle => "psi",
+        }
+    }
+}
+
+display_and_parse_by_name!(RpyConvention, SolverChoice, Frame, Profile, SelfMotionParameter);
 
 /// The forms a blend is written in.
 const BLEND_FORMS: &str = "decel, none, a time in seconds (0.2) or a distance in metres (0.05m)";
@@ -152,6 +164,7 @@ mod tests {
         round_trips::<SolverChoice>();
         round_trips::<Frame>();
         round_trips::<Profile>();
+        round_trips::<SelfMotionParameter>();
     }
 
     #[test]

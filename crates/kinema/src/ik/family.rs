@@ -51,6 +51,20 @@ impl IkTarget {
     }
 }
 
+/// A redundancy parameter a family may expose ([`Redundancy::parameters`]):
+/// the quantity a request fixes to pick one configuration of an arm's
+/// self-motion. Parsed and printed by name (`q3`, `psi`) through
+/// [`Named`](crate::Named), so every door reads it the same way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SelfMotionParameter {
+    /// The angle of the joint the family names in [`Redundancy::joint`]
+    /// (joint 3 of the iiwa and the other SRS arms, seed 004 §V-B), `q3`.
+    Q3,
+    /// The arm angle ψ of the elbow about the shoulder–wrist line (seed 004
+    /// §V-D), `psi`.
+    ArmAngle,
+}
+
 /// A closed-form solver family fitted to one robot.
 pub trait Family: IkSolver {
     /// Whether this family solves typed targets of `kind` (its entry in
@@ -89,11 +103,11 @@ pub trait Family: IkSolver {
 /// value, and the searches a request without one uses.
 pub trait Redundancy {
     /// The parameters a request may fix, the first being the one
-    /// [`Redundancy::value_of`] reads (e.g. `["q3", "psi"]`).
-    fn parameters(&self) -> &'static [&'static str];
+    /// [`Redundancy::value_of`] reads (e.g. `[Q3, ArmAngle]`).
+    fn parameters(&self) -> &'static [SelfMotionParameter];
 
     /// Every closed-form solution with `parameter` at `value`.
-    fn solve_at(&self, target: &Pose, parameter: &str, value: f64) -> Result<Vec<Solution>>;
+    fn solve_at(&self, target: &Pose, parameter: SelfMotionParameter, value: f64) -> Result<Vec<Solution>>;
 
     /// The first parameter's value at configuration `q`.
     fn value_of(&self, q: &[f64]) -> f64;
@@ -117,7 +131,7 @@ pub trait Redundancy {
 
     /// The value of `parameter` (one of [`Redundancy::parameters`]) at
     /// configuration `q`; NaN for a parameter the family does not have.
-    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+    fn parameter_of(&self, q: &[f64], parameter: SelfMotionParameter) -> f64 {
         if parameter == self.parameters()[0] {
             self.value_of(q)
         } else {
@@ -132,7 +146,7 @@ pub trait Redundancy {
     fn continue_at(
         &self,
         target: &Pose,
-        parameter: &str,
+        parameter: SelfMotionParameter,
         value: f64,
         prev: &[f64],
         out: &mut CandidateSet,
@@ -154,7 +168,7 @@ pub trait Redundancy {
 pub fn solutions_into<R: Redundancy + ?Sized>(
     family: &R,
     target: &Pose,
-    parameter: &str,
+    parameter: SelfMotionParameter,
     value: f64,
     out: &mut CandidateSet,
 ) -> Result<()> {
@@ -163,6 +177,11 @@ pub fn solutions_into<R: Redundancy + ?Sized>(
         out.push(&s.q, s.branch);
     }
     Ok(())
+}
+
+/// The names of `parameters`, comma-separated (for messages).
+pub fn parameter_names(parameters: &[SelfMotionParameter]) -> String {
+    parameters.iter().map(|p| p.to_string()).collect::<Vec<_>>().join(", ")
 }
 
 /// An objective over configurations (higher is better).
@@ -302,13 +321,13 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
     if steps == 0 {
         return Err(super::iiwa::no_steps());
     }
-    if !family.parameters().contains(&"psi") {
+    if !family.parameters().contains(&SelfMotionParameter::ArmAngle) {
         return Err(crate::Error::DoesNotFit {
             what: "robot".into(),
             reason: format!(
                 "robot `{}` has no arm angle ψ to turn (its self-motion parameters: {})",
                 robot.name(),
-                family.parameters().join(", ")
+                parameter_names(family.parameters())
             ),
         });
     }
@@ -319,8 +338,8 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
         });
     }
     let target = robot.fk(q)?.world_from_tool;
-    let psi0 = family.parameter_of(q, "psi");
-    let start = family.solve_at(&target, "psi", psi0)?;
+    let psi0 = family.parameter_of(q, SelfMotionParameter::ArmAngle);
+    let start = family.solve_at(&target, SelfMotionParameter::ArmAngle, psi0)?;
     let branch = start
         .iter()
         .map(|s| (super::joint_distance(robot, &s.q, q), s))
@@ -332,7 +351,7 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
         .map(|k| {
             let psi = super::wrap_angle(psi0 + std::f64::consts::TAU * k as f64 / steps as f64);
             let s = family
-                .solve_at(&target, "psi", psi)?
+                .solve_at(&target, SelfMotionParameter::ArmAngle, psi)?
                 .into_iter()
                 .find(|s| s.branch == branch)
                 .ok_or_else(|| infeasible("psi", format!("branch {branch} has no solution at ψ = {psi:.6} rad")))?;
@@ -343,6 +362,7 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
 }
 
 /// One family in the registry.
+#[derive(Clone, Copy)]
 pub struct Entry {
     /// The family's name, as its solver reports it.
     pub name: &'static str,
@@ -352,7 +372,8 @@ pub struct Entry {
     pub fit: fn(&Robot) -> Result<Box<dyn Family>>,
 }
 
-fn boxed<F: Family + 'static>(r: Result<F>) -> Result<Box<dyn Family>> {
+/// A fitted family boxed for [`Entry::fit`].
+pub fn boxed<F: Family + 'static>(r: Result<F>) -> Result<Box<dyn Family>> {
     r.map(|f| Box::new(f) as Box<dyn Family>)
 }
 
@@ -371,7 +392,14 @@ pub const FAMILIES: &[Entry] = &[
 
 /// The first family in [`FAMILIES`] that fits `robot`.
 pub fn fit(robot: &Robot) -> Option<Box<dyn Family>> {
-    FAMILIES.iter().find_map(|e| (e.fit)(robot).ok())
+    fit_in(FAMILIES, robot)
+}
+
+/// The first family of `families` that fits `robot`: [`fit`] over another
+/// registry, e.g. [`FAMILIES`] and families of a caller's own, for
+/// [`solve_target_with`](super::solve_target_with).
+pub fn fit_in(families: &[Entry], robot: &Robot) -> Option<Box<dyn Family>> {
+    families.iter().find_map(|e| (e.fit)(robot).ok())
 }
 
 /// Runs `task` with the family that owns typed targets of `kind`: `fitted`

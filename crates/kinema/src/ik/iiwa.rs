@@ -24,7 +24,7 @@
 //!
 //! * **q3 fixed** (seed 004 eq. 3–11, [`IiwaIk::solve_q3`]): up to 8
 //!   solutions for a given q3; this is the paper's method, and the
-//!   [`IkSolver`] implementation uses it with q3 = 0 by default
+//!   [`IkSolver`](crate::ik::IkSolver) implementation uses it with q3 = 0 by default
 //!   ([`IiwaIk::with_q3`]).
 //! * **arm angle ψ** (Shimizu et al. 2008; Faria et al. 2018,
 //!   [`IiwaIk::solve_psi`]): the rotation of the shoulder–elbow–wrist plane
@@ -74,8 +74,8 @@ use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::family::{Choice, Redundancy};
-use super::{check_target, joint_distance, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
+use super::family::{Choice, Redundancy, SelfMotionParameter};
+use super::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
 use crate::kin::Frame;
@@ -398,7 +398,7 @@ pub fn config_label(config: u8) -> &'static str {
 impl IiwaIk {
     /// A solver for `robot`, which must be a 7R arm of the iiwa's shape
     /// (see the module documentation); otherwise [`Error::SolverDoesNotFit`]
-    /// says what does not fit. The default q3 of [`IkSolver::solve`] is 0.
+    /// says what does not fit. The default q3 of [`IkSolver::solve`](crate::ik::IkSolver::solve) is 0.
     pub fn new(robot: &Robot) -> Result<Self> {
         const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
         if robot.dof() != 7 {
@@ -461,13 +461,13 @@ impl IiwaIk {
         })
     }
 
-    /// The same solver with another q3 \[rad\] for [`IkSolver::solve`].
+    /// The same solver with another q3 \[rad\] for [`IkSolver::solve`](crate::ik::IkSolver::solve).
     pub fn with_q3(mut self, q3: f64) -> Self {
         self.q3 = q3;
         self
     }
 
-    /// The q3 \[rad\] that [`IkSolver::solve`] uses.
+    /// The q3 \[rad\] that [`IkSolver::solve`](crate::ik::IkSolver::solve) uses.
     pub fn q3(&self) -> f64 {
         self.q3
     }
@@ -1284,18 +1284,16 @@ impl IiwaIk {
     }
 }
 
-impl IkSolver for IiwaIk {
-    fn name(&self) -> &'static str {
-        "iiwa"
+impl super::ClosedForm for IiwaIk {
+    const NAME: &'static str = "iiwa";
+
+    fn robot(&self) -> &Robot {
+        &self.robot
     }
 
-    /// The (up to 8) solutions of [`IiwaIk::solve_q3`] for q3 = [`IiwaIk::q3`]
-    /// (0 unless set with [`IiwaIk::with_q3`]).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        self.solve_q3(target, self.q3)
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    /// The (up to 8) candidates of [`IiwaIk::solve_q3_candidates`] for q3 =
+    /// [`IiwaIk::q3`] (0 unless set with [`IiwaIk::with_q3`]).
+    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         self.solve_q3_candidates(target, self.q3)?.write_into(out);
         Ok(())
     }
@@ -1309,14 +1307,14 @@ impl super::family::Family for IiwaIk {
 
 /// The self-motion of seed 004: joint 3 (§V-B) or the arm angle ψ (§V-D).
 impl Redundancy for IiwaIk {
-    fn parameters(&self) -> &'static [&'static str] {
-        &["q3", "psi"]
+    fn parameters(&self) -> &'static [SelfMotionParameter] {
+        &[SelfMotionParameter::Q3, SelfMotionParameter::ArmAngle]
     }
 
     /// At ψ: one solution per global configuration that reaches the target
     /// (the first configuration's reason when none does).
-    fn solve_at(&self, target: &Pose, parameter: &str, value: f64) -> Result<Vec<Solution>> {
-        if parameter != "psi" {
+    fn solve_at(&self, target: &Pose, parameter: SelfMotionParameter, value: f64) -> Result<Vec<Solution>> {
+        if parameter == SelfMotionParameter::Q3 {
             return self.solve_q3(target, value);
         }
         let all: Vec<Solution> = (0u8..8).filter_map(|c| self.solve_psi(target, value, c).ok()).collect();
@@ -1347,11 +1345,11 @@ impl Redundancy for IiwaIk {
         2
     }
 
-    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+    fn parameter_of(&self, q: &[f64], parameter: SelfMotionParameter) -> f64 {
         match parameter {
-            "q3" => self.value_of(q),
-            "psi" if q.len() == 7 && q.iter().all(|v| v.is_finite()) => self.psi_of(q),
-            _ => f64::NAN,
+            SelfMotionParameter::Q3 => self.value_of(q),
+            SelfMotionParameter::ArmAngle if q.len() == 7 && q.iter().all(|v| v.is_finite()) => self.psi_of(q),
+            SelfMotionParameter::ArmAngle => f64::NAN,
         }
     }
 
@@ -1359,12 +1357,12 @@ impl Redundancy for IiwaIk {
     fn continue_at(
         &self,
         target: &Pose,
-        parameter: &str,
+        parameter: SelfMotionParameter,
         value: f64,
         prev: &[f64],
         out: &mut super::CandidateSet,
     ) -> Result<()> {
-        if parameter == "q3" {
+        if parameter == SelfMotionParameter::Q3 {
             self.solve_q3_near(target, value, prev)?.write_into(out);
             return Ok(());
         }

@@ -22,6 +22,7 @@ use crate::model::JointSet;
 use crate::robot::Robot;
 
 mod batch;
+mod closed_form;
 pub mod contract;
 pub mod family;
 pub mod geo;
@@ -35,6 +36,7 @@ pub mod scorbot;
 
 pub use crate::error::{Closest, Tolerance, Unreachable};
 pub use batch::solve_batch;
+pub use closed_form::ClosedForm;
 pub use contract::{Discarded, IkAnswer, Residual};
 pub use iiwa::IiwaIk;
 pub use numeric::{Damping, NumericIk, NumericOptions};

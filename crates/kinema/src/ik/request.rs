@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 
 use super::contract::{self, IkAnswer, Tolerance};
-use super::family::{self, Family};
+use super::family::{self, Family, SelfMotionParameter};
 use super::{Closest, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
@@ -164,7 +164,8 @@ fn solve_request_with(
         robot.check_q(q0)?;
     }
     let masked = request.mask.is_some();
-    let fixed = request.q3.map(|v| ("q3", v)).or(request.psi.map(|v| ("psi", v)));
+    let fixed =
+        request.q3.map(|v| (SelfMotionParameter::Q3, v)).or(request.psi.map(|v| (SelfMotionParameter::ArmAngle, v)));
     if fixed.is_some() && masked {
         return Err(Error::DoesNotFit {
             what: "target".into(),
@@ -177,7 +178,7 @@ fn solve_request_with(
         let f = family;
         let Some(r) = f.and_then(|f| f.redundancy()).filter(|r| r.parameters().contains(&parameter)) else {
             let has = f.map_or("no closed-form solver".to_string(), |f| {
-                let params = f.redundancy().map_or("none".to_string(), |r| r.parameters().join(", "));
+                let params = f.redundancy().map_or("none".to_string(), |r| family::parameter_names(r.parameters()));
                 format!("the {} solver, whose self-motion parameters are: {params}", f.name())
             });
             let reason = if f.and_then(|f| f.redundancy()).is_some() {
@@ -188,7 +189,7 @@ fn solve_request_with(
                     robot.name()
                 )
             };
-            return Err(Error::DoesNotFit { what: parameter.into(), reason });
+            return Err(Error::DoesNotFit { what: parameter.to_string(), reason });
         };
         return Ok((f.map_or("", |f| f.name()), r.solve_at(target, parameter, value)?));
     }

@@ -34,7 +34,7 @@
 //! chosen so the forearm is perpendicular to the approach (two ways, labels
 //! `axis/elbow-…/a` and `/b`; q1 = 0 if q1 does not matter either); wrist on the
 //! shoulder (a2 = d4, folded): q2 = 0; q5 = 0 for a position + approach target
-//! ([`RommelIk::solve_position_approach`]); for a full pose ([`IkSolver::solve`]) q5
+//! ([`RommelIk::solve_position_approach`]); for a full pose ([`IkSolver::solve`](crate::ik::IkSolver::solve)) q5
 //! turns the tool x axis onto the target's. Angles are wrapped to (−π, π].
 //!
 //! # Base and tool
@@ -46,7 +46,7 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
+use super::{check_target, wrap_angle, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::Pose;
@@ -334,16 +334,18 @@ impl RommelIk {
     }
 }
 
-impl IkSolver for RommelIk {
-    fn name(&self) -> &'static str {
-        NAME
+impl super::ClosedForm for RommelIk {
+    const NAME: &'static str = NAME;
+
+    fn robot(&self) -> &Robot {
+        &self.robot
     }
 
     /// Solutions for the target's position and z axis (approach), with q5 turning
     /// the tool x axis onto the target's — so the reported `orientation_error` is
     /// ~0 whenever the approach is reachable. An approach that is not is
     /// [`Unreachable::Orientation`] (see [`RommelIk::solve_position_approach`]).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
+    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         check_target(target)?;
         let local = self.robot.base().inverse().mul(target);
         let flange_rot = local.rot * self.robot.tool().rot.transpose();
@@ -357,7 +359,11 @@ impl IkSolver for RommelIk {
             let (x0, z0) = (r0.column(0).into_owned(), r0.column(2).into_owned());
             x0.cross(&x_target).dot(&z0).fast_atan2(x0.dot(&x_target))
         })?;
-        raw.into_iter().map(|r| Solution::evaluate(&self.robot, r.q, target, r.label)).collect()
+        out.clear();
+        for r in raw {
+            out.push(&r.q, r.label);
+        }
+        Ok(())
     }
 }
 

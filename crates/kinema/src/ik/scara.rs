@@ -73,7 +73,7 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
+use super::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::{rot_z, Pose};
@@ -621,9 +621,11 @@ impl ScaraIk {
     }
 }
 
-impl IkSolver for ScaraIk {
-    fn name(&self) -> &'static str {
-        NAME
+impl super::ClosedForm for ScaraIk {
+    const NAME: &'static str = NAME;
+
+    fn robot(&self) -> &Robot {
+        &self.robot
     }
 
     /// Up to two solutions, `elbow-right` then `elbow-left`, each with the rail
@@ -636,14 +638,7 @@ impl IkSolver for ScaraIk {
     /// right elbow. α is the rotation of the target about the vertical. A target
     /// whose z axis is not vertical is [`Unreachable::Orientation`] with the tilt
     /// angle.
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        self.zone_pair(target)?
-            .into_iter()
-            .map(|(q, elbow)| Solution::evaluate(&self.robot, q.to_vec(), target, elbow.label()))
-            .collect()
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         let pair = self.zone_pair(target)?;
         out.clear();
         for (q, elbow) in pair {
@@ -654,7 +649,7 @@ impl IkSolver for ScaraIk {
 }
 
 impl ScaraIk {
-    /// The solutions of [`IkSolver::solve`] for a pose: each elbow side at its
+    /// The solutions of [`IkSolver::solve`](crate::ik::IkSolver::solve) for a pose: each elbow side at its
     /// rail ([`ScaraIk::zone_q`]), those that have one.
     fn zone_pair(&self, target: &Pose) -> Result<Vec<([f64; 5], Elbow)>> {
         check_target(target)?;

@@ -67,7 +67,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{check_target, wrap_angle, Candidates, IkSolver, Solution, Unreachable};
+use super::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::FastMath;
 use crate::math::{rot_x, rot_y, Pose, RpyConvention};
@@ -284,7 +284,7 @@ impl ScorbotIk {
     /// The yaw error \[rad\] any solution of `target` must have: the angle between the
     /// target orientation and the nearest orientation the arm can take at that
     /// position (its yaw is fixed by θ1). It equals the smallest
-    /// `orientation_error` among the solutions of [`IkSolver::solve`]. 0 when the
+    /// `orientation_error` among the solutions of [`IkSolver::solve`](crate::ik::IkSolver::solve). 0 when the
     /// position is on the base axis or the approach is vertical; `f64::INFINITY`
     /// for a non-finite or invalid target.
     ///
@@ -458,9 +458,11 @@ fn decompose(m: &Matrix3<f64>) -> (f64, f64, f64, bool) {
     (roll, pitch, yaw, cp <= 1e-12)
 }
 
-impl IkSolver for ScorbotIk {
-    fn name(&self) -> &'static str {
-        NAME
+impl super::ClosedForm for ScorbotIk {
+    const NAME: &'static str = NAME;
+
+    fn robot(&self) -> &Robot {
+        &self.robot
     }
 
     /// Solutions for a full pose: the position, pitch and roll are taken from the
@@ -472,22 +474,20 @@ impl IkSolver for ScorbotIk {
     /// eight solutions are returned: the four of [`ScorbotIk::solve_xyz_pitch_roll`]
     /// for (β, γ) and four more labelled `…/flip` for (π − β, γ + π). Their
     /// `orientation_error` is the uncontrollable yaw error (see
-    /// [`ScorbotIk::yaw_error`]); the list is sorted by it, smallest first.
-    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    /// [`ScorbotIk::yaw_error`]); [`IkSolver::solve`](crate::ik::IkSolver::solve) sorts the list by it,
+    /// smallest first.
+    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
         self.pose_candidates(target)?.write_into(out);
         Ok(())
     }
 
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        let raw = self.pose_candidates(target)?;
-        let mut sols = raw.evaluate(&self.robot, target)?;
-        sols.sort_by(|a, b| a.orientation_error.total_cmp(&b.orientation_error));
-        Ok(sols)
+    fn order(&self, solutions: &mut [Solution]) {
+        solutions.sort_by(|a, b| a.orientation_error.total_cmp(&b.orientation_error));
     }
 }
 
 impl ScorbotIk {
-    /// The closed form of [`IkSolver::solve`] alone: joint vectors and branch
+    /// The closed form of [`IkSolver::solve`](crate::ik::IkSolver::solve) alone: joint vectors and branch
     /// labels (up to eight), unsorted, without the FK residual check and without
     /// allocating. Same errors.
     pub fn pose_candidates(&self, target: &Pose) -> Result<ScorbotCandidates> {

@@ -9,7 +9,7 @@ use std::fmt;
 use super::cart::CartesianMotion;
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
-use crate::ik::family::{Choice, Redundancy};
+use crate::ik::family::{parameter_names, Choice, Redundancy, SelfMotionParameter};
 use crate::ik::{self, CandidateSet};
 use crate::kin::Frame;
 use crate::robot::Robot;
@@ -28,12 +28,12 @@ pub enum SelfMotion {
     /// at its value in the start configuration, as industrial controllers hold
     /// the redundancy angle during LIN and CIRC motions.
     Hold,
-    /// A named parameter (`q3`, `psi`, as the family lists them) held at a
-    /// value, which the start configuration must have; `None` holds the
+    /// One of the family's parameters ([`Redundancy::parameters`]) held at
+    /// a value, which the start configuration must have; `None` holds the
     /// start's value.
     Fixed {
-        /// The parameter's name.
-        parameter: String,
+        /// The parameter.
+        parameter: SelfMotionParameter,
         /// Its value \[rad\].
         value: Option<f64>,
     },
@@ -67,37 +67,36 @@ impl fmt::Display for SelfMotion {
 impl SelfMotion {
     /// The policy as the CLI's `--q3`/`--psi`, Python's `q3=`/`psi=` and the
     /// language's `REDUNDANCY` write it: for `q3`, a mode (`auto`, `hold`,
-    /// `track`, `manipulability`, `avoid-limits`) or a value; for another
-    /// parameter (`psi`), `hold` or a value. A value is in radians times
-    /// `scale` (π/180 for degrees).
+    /// `track`, `manipulability`, `avoid-limits`) or a value; for `psi`,
+    /// `hold` or a value. A value is in radians times `scale` (π/180 for
+    /// degrees).
     ///
     /// # Examples
     /// ```
+    /// use kinema::ik::family::SelfMotionParameter::{ArmAngle, Q3};
     /// use kinema::traj::SelfMotion;
-    /// assert_eq!(SelfMotion::parse("q3", "track", 1.0)?, SelfMotion::Track);
-    /// assert_eq!(SelfMotion::parse("psi", "0.5", 1.0)?, SelfMotion::Fixed { parameter: "psi".into(), value: Some(0.5) });
-    /// assert!(SelfMotion::parse("psi", "track", 1.0).is_err());
+    /// assert_eq!(SelfMotion::parse(Q3, "track", 1.0)?, SelfMotion::Track);
+    /// assert_eq!(SelfMotion::parse(ArmAngle, "0.5", 1.0)?, SelfMotion::Fixed { parameter: ArmAngle, value: Some(0.5) });
+    /// assert!(SelfMotion::parse("psi".parse()?, "track", 1.0).is_err());
     /// # Ok::<(), kinema::Error>(())
     /// ```
-    pub fn parse(parameter: &str, text: &str, scale: f64) -> Result<SelfMotion> {
+    pub fn parse(parameter: SelfMotionParameter, text: &str, scale: f64) -> Result<SelfMotion> {
         let text = text.trim();
         let mode = text.to_ascii_lowercase().replace('_', "-");
-        let first = parameter == "q3";
+        let first = parameter == SelfMotionParameter::Q3;
         match mode.as_str() {
             "auto" if first => return Ok(SelfMotion::Auto),
             "hold" if first => return Ok(SelfMotion::Hold),
-            "hold" => return Ok(SelfMotion::Fixed { parameter: parameter.into(), value: None }),
+            "hold" => return Ok(SelfMotion::Fixed { parameter, value: None }),
             "track" if first => return Ok(SelfMotion::Track),
             "manipulability" if first => return Ok(SelfMotion::Manipulability),
             "avoid-limits" | "avoidlimits" if first => return Ok(SelfMotion::AvoidLimits),
             _ => {}
         }
         match text.parse::<f64>() {
-            Ok(v) if (v * scale).is_finite() => {
-                Ok(SelfMotion::Fixed { parameter: parameter.into(), value: Some(v * scale) })
-            }
+            Ok(v) if (v * scale).is_finite() => Ok(SelfMotion::Fixed { parameter, value: Some(v * scale) }),
             _ => Err(Error::UnknownName {
-                what: parameter.into(),
+                what: parameter.to_string(),
                 name: text.into(),
                 known: if first {
                     "auto, hold, track, manipulability, avoid-limits, or a finite angle".into()
@@ -129,7 +128,7 @@ const WINDOW: f64 = 0.05;
 /// How a path's joint values are found for one robot and policy.
 pub(crate) enum Plan<'a> {
     /// Each sample from the closed-form candidates at a held value.
-    Held { family: &'a dyn Redundancy, parameter: &'static str, value: f64 },
+    Held { family: &'a dyn Redundancy, parameter: SelfMotionParameter, value: f64 },
     /// Decisions by an objective, interpolated between.
     Steered { family: &'a dyn Redundancy, objective: Objective },
     /// The numeric solver from the previous sample.
@@ -180,11 +179,11 @@ pub(crate) fn plan<'a>(
             Plan::Held { family, parameter: first, value: family.parameter_of(q_start, first) }
         }
         SelfMotion::Fixed { parameter, value } => {
-            let Some(&name) = family.parameters().iter().find(|p| **p == parameter.as_str()) else {
+            let Some(&name) = family.parameters().iter().find(|p| *p == parameter) else {
                 return Err(Error::UnknownName {
                     what: "self-motion".into(),
-                    name: parameter.clone(),
-                    known: family.parameters().join(", "),
+                    name: parameter.to_string(),
+                    known: parameter_names(family.parameters()),
                 });
             };
             let at_start = family.parameter_of(q_start, name);

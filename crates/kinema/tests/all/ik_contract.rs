@@ -13,6 +13,7 @@
 
 use std::collections::BTreeMap;
 
+use kinema::ik::family::SelfMotionParameter;
 use kinema::ik::{solve_target, IkRequest, IkTarget, SolverChoice};
 use kinema::math::{axis_angle_to_rot, rot_to_axis_angle};
 use kinema::nalgebra::Vector3;
@@ -103,7 +104,7 @@ struct Door {
     position: bool,
     /// A self-motion parameter held at the source configuration's value
     /// (`--q3`, `--psi`), with every solution there listed.
-    fixed: Option<&'static str>,
+    fixed: Option<SelfMotionParameter>,
 }
 
 const DOORS: [Door; 9] = [
@@ -177,7 +178,7 @@ const DOORS: [Door; 9] = [
         with_q0: false,
         mask: false,
         position: false,
-        fixed: Some("q3"),
+        fixed: Some(SelfMotionParameter::Q3),
     },
     Door {
         name: "pose --psi --all",
@@ -186,7 +187,7 @@ const DOORS: [Door; 9] = [
         with_q0: false,
         mask: false,
         position: false,
-        fixed: Some("psi"),
+        fixed: Some(SelfMotionParameter::ArmAngle),
     },
 ];
 
@@ -234,7 +235,7 @@ fn no_door_returns_a_wrong_solution() {
                         IkTarget::Pose(pose)
                     };
                     let q0 = if door.with_q0 { Some(q.as_slice()) } else { None };
-                    let held = |p: &str| {
+                    let held = |p: SelfMotionParameter| {
                         door.fixed.filter(|&f| f == p).map(|f| redundancy.expect("checked above").parameter_of(&q, f))
                     };
                     let request = IkRequest {
@@ -242,8 +243,8 @@ fn no_door_returns_a_wrong_solution() {
                         all: door.all,
                         q0,
                         mask: door.mask.then_some(mask),
-                        q3: held("q3"),
-                        psi: held("psi"),
+                        q3: held(SelfMotionParameter::Q3),
+                        psi: held(SelfMotionParameter::ArmAngle),
                         ..Default::default()
                     };
                     c.asked += 1;

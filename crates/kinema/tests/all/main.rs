@@ -23,6 +23,7 @@ mod ik_rommel;
 mod ik_scara;
 mod ik_scorbot;
 mod ik_srs;
+mod ik_toy_family;
 mod jacobian;
 mod module_graph;
 mod random_chains;

@@ -4,6 +4,7 @@
 // the printed values.
 #![allow(clippy::approx_constant)]
 
+use kinema::ik::family::SelfMotionParameter;
 use kinema::ik::iiwa::IiwaIk;
 use kinema::ik::IkSolver;
 use kinema::math::rot_to_axis_angle;
@@ -314,7 +315,7 @@ fn a_held_arm_angle_holds_on_a_urdf_iiwa() {
     let m = lin_motion(&a, &b);
     let psi0 = ik.psi_of(&q0);
     for value in [Some(psi0), None] {
-        let by_psi = SelfMotion::Fixed { parameter: "psi".into(), value };
+        let by_psi = SelfMotion::Fixed { parameter: SelfMotionParameter::ArmAngle, value };
         let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(by_psi)).unwrap();
         let worst = (0..traj.len()).map(|k| (ik.psi_of(traj.q(k)) - psi0).abs()).fold(0.0, f64::max);
         assert!(worst < 1e-9, "ψ drifted by {worst}");
@@ -324,7 +325,7 @@ fn a_held_arm_angle_holds_on_a_urdf_iiwa() {
         let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
         assert!(report.violations.is_empty(), "{}", report.violations[0]);
     }
-    let other = SelfMotion::Fixed { parameter: "psi".into(), value: Some(psi0 + 0.5) };
+    let other = SelfMotion::Fixed { parameter: SelfMotionParameter::ArmAngle, value: Some(psi0 + 0.5) };
     let e = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(other)).unwrap_err().to_string();
     assert!(e.contains("psi ="), "{e}");
 }
@@ -337,12 +338,12 @@ fn a_fixed_parameter_holds_along_the_path() {
     let (m, a) = seed_lin(Orientation::Slerp);
     let ik = IiwaIk::new(&robot).unwrap();
     let q0 = ik.solve_q3(&a, 0.4).unwrap().into_iter().find(|s| s.within_limits()).unwrap().q;
-    let fixed = SelfMotion::Fixed { parameter: "q3".into(), value: Some(0.4) };
+    let fixed = SelfMotion::Fixed { parameter: SelfMotionParameter::Q3, value: Some(0.4) };
     let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(fixed)).unwrap();
     assert!((0..traj.len()).all(|k| (traj.q(k)[2] - 0.4).abs() < 1e-12));
     assert_on_path(&robot, &m, &traj);
     let psi0 = ik.psi_of(&q0);
-    let by_psi = SelfMotion::Fixed { parameter: "psi".into(), value: Some(psi0) };
+    let by_psi = SelfMotion::Fixed { parameter: SelfMotionParameter::ArmAngle, value: Some(psi0) };
     let traj = to_joints(&robot, &m, &q0, 0.01, JointMethod::Ik(by_psi)).unwrap();
     let worst = (0..traj.len()).map(|k| (ik.psi_of(traj.q(k)) - psi0).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-9, "ψ drifted by {worst}");
@@ -352,20 +353,13 @@ fn a_fixed_parameter_holds_along_the_path() {
         &m,
         &q0,
         0.01,
-        JointMethod::Ik(SelfMotion::Fixed { parameter: "q3".into(), value: Some(0.1) }),
+        JointMethod::Ik(SelfMotion::Fixed { parameter: SelfMotionParameter::Q3, value: Some(0.1) }),
     )
     .unwrap_err()
     .to_string();
     assert!(e.contains("q3 = 0.4") && e.contains("0.1"), "{e}");
-    let e = to_joints(
-        &robot,
-        &m,
-        &q0,
-        0.01,
-        JointMethod::Ik(SelfMotion::Fixed { parameter: "q5".into(), value: Some(0.1) }),
-    )
-    .unwrap_err()
-    .to_string();
+    // A parameter no family has is refused when it is read, naming the ones there are.
+    let e = "q5".parse::<SelfMotionParameter>().unwrap_err().to_string();
     assert!(e.contains("q5") && e.contains("q3, psi"), "{e}");
     // A six-joint arm has no self-motion to choose.
     let puma = Robot::builtin("puma560").unwrap();

@@ -52,9 +52,9 @@ use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 use super::kin::{distance_to_line, parallel};
 use super::subproblems::{rot, rotate, sp1, sp5};
-use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
-use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{wrap_angle, CandidateSet, Candidates, ClosedForm, Unreachable};
 use crate::math::{rot_to_axis_angle, Pose};
 use crate::robot::Robot;
 
@@ -471,22 +471,16 @@ fn dist3(a: &[f64; 4], b: &[f64; 4]) -> f64 {
     (1..4).map(|k| wrap_angle(a[k] - b[k]).abs()).sum()
 }
 
-impl IkSolver for GeneralIk {
-    fn name(&self) -> &'static str {
-        "geo-general"
+impl ClosedForm for GeneralIk {
+    const NAME: &'static str = "geo-general";
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
     /// Every solution the search finds (see the [module documentation](self)).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
-        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
-        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }
 

@@ -178,25 +178,7 @@ fn run_kernel<const M: usize>(
     Ok(c)
 }
 
-/// Runs a kernel and turns its candidates into solutions.
-fn solve_with<const M: usize>(
-    common: &Common,
-    name: &'static str,
-    target: &Pose,
-    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
-) -> Result<Vec<Solution>> {
-    run_kernel(name, target, kernel)?.evaluate(&common.robot, target)
-}
-
-/// The kernel's candidates unmeasured, for the contract ([`IkSolver::propose`]).
-fn propose_with<const M: usize>(
-    name: &'static str,
-    target: &Pose,
-    kernel: impl Fn(&Pose, &mut Candidates<6, M>) -> std::result::Result<(), Unreachable>,
-) -> Result<Vec<Solution>> {
-    Ok(run_kernel(name, target, kernel)?.iter().map(|(q, b)| Solution::unmeasured(q.to_vec(), b)).collect())
-}
-
+/// The kernel's candidates into `out`, for [`ClosedForm::kernel`](crate::ik::ClosedForm::kernel).
 fn candidates_with<const M: usize>(
     name: &'static str,
     target: &Pose,

@@ -28,9 +28,9 @@ use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel, screw};
 use super::subproblems::{rot, rotate, sp1, sp3, sp4, Angles};
-use super::{candidates_with, label, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, label, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
-use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{CandidateSet, Candidates, ClosedForm, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -207,21 +207,15 @@ impl ThreeParallelIk {
     }
 }
 
-impl IkSolver for ThreeParallelIk {
-    fn name(&self) -> &'static str {
-        "geo-three-parallel"
+impl ClosedForm for ThreeParallelIk {
+    const NAME: &'static str = "geo-three-parallel";
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
     /// All (up to 8) solutions, labelled as in the [module documentation](self).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
-        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
-        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }

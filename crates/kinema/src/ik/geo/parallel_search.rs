@@ -21,9 +21,9 @@ use nalgebra::Vector3;
 use super::kin::{distance_to_line, intersection, parallel, screw};
 use super::search::{find_zeros, LABELS};
 use super::subproblems::{rot, sp1, sp3, sp4};
-use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
-use crate::ik::{wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{wrap_angle, CandidateSet, Candidates, ClosedForm, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -182,21 +182,15 @@ impl ThreeParallelSearchIk {
     }
 }
 
-impl IkSolver for ThreeParallelSearchIk {
-    fn name(&self) -> &'static str {
-        "geo-three-parallel-search"
+impl ClosedForm for ThreeParallelSearchIk {
+    const NAME: &'static str = "geo-three-parallel-search";
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
     /// Every solution the search finds (see the [module documentation](self)).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
-        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
-        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }

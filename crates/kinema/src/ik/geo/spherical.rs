@@ -29,9 +29,9 @@ use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rotate, rotate_sc, sp1, sp2, sp3, sp4};
-use super::{candidates_with, label, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, label, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
-use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{CandidateSet, Candidates, ClosedForm, Unreachable};
 use crate::math::{FastMath, Pose};
 use crate::robot::Robot;
 
@@ -267,21 +267,15 @@ pub(super) fn arm(
     Ok(n)
 }
 
-impl IkSolver for SphericalWristIk {
-    fn name(&self) -> &'static str {
-        "geo-spherical-wrist"
+impl ClosedForm for SphericalWristIk {
+    const NAME: &'static str = "geo-spherical-wrist";
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
     /// All (up to 8) solutions, labelled as in the [module documentation](self).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
-        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
-        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }

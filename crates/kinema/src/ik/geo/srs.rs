@@ -64,8 +64,9 @@ use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rot, rotate, sp1, sp2, sp3, Angles};
 use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
 use crate::error::{Error, Result};
+use crate::ik::family::SelfMotionParameter;
 use crate::ik::iiwa::golden_max;
-use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, ClosedForm, Solution, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -93,7 +94,7 @@ pub const SEARCH_STEPS: usize = 40;
 type Margins = [(f64, [f64; 7]); 8];
 
 /// The geometric solver for SRS arms (see the [module documentation](self)).
-/// Name `geo-srs`. [`IkSolver::solve`] is [`SrsIk::solve_q3`] at q₃ = 0.
+/// Name `geo-srs`. [`IkSolver::solve`](crate::ik::IkSolver::solve) is [`SrsIk::solve_q3`] at q₃ = 0.
 ///
 /// # Examples
 /// ```
@@ -647,17 +648,15 @@ fn frame(x: &V3, y: &V3) -> Matrix3<f64> {
     Matrix3::from_columns(&[*x, y, x.cross(&y)])
 }
 
-impl IkSolver for SrsIk {
-    fn name(&self) -> &'static str {
-        NAME
+impl ClosedForm for SrsIk {
+    const NAME: &'static str = NAME;
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
-    /// [`SrsIk::solve_q3`] at q₃ = 0.
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        self.solve_q3(target, 0.0)
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+    /// [`SrsIk::solve_q3_candidates`] at q₃ = 0.
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
         self.solve_q3_candidates(target, 0.0)?.write_into(out);
         Ok(())
     }
@@ -672,15 +671,15 @@ impl crate::ik::family::Family for SrsIk {
 /// The self-motion as joint 3 (`q3`, the first parameter, which the
 /// searches and the steered paths vary) or as the arm angle (`psi`).
 impl crate::ik::family::Redundancy for SrsIk {
-    fn parameters(&self) -> &'static [&'static str] {
-        &["q3", "psi"]
+    fn parameters(&self) -> &'static [SelfMotionParameter] {
+        &[SelfMotionParameter::Q3, SelfMotionParameter::ArmAngle]
     }
 
     /// Up to 8 solutions at `q3` or at `psi`.
-    fn solve_at(&self, target: &Pose, parameter: &str, value: f64) -> Result<Vec<Solution>> {
+    fn solve_at(&self, target: &Pose, parameter: SelfMotionParameter, value: f64) -> Result<Vec<Solution>> {
         match parameter {
-            "psi" => self.solve_psi(target, value),
-            _ => self.solve_q3(target, value),
+            SelfMotionParameter::ArmAngle => self.solve_psi(target, value),
+            SelfMotionParameter::Q3 => self.solve_q3(target, value),
         }
     }
 
@@ -688,11 +687,10 @@ impl crate::ik::family::Redundancy for SrsIk {
         q.get(2).copied().unwrap_or(f64::NAN)
     }
 
-    fn parameter_of(&self, q: &[f64], parameter: &str) -> f64 {
+    fn parameter_of(&self, q: &[f64], parameter: SelfMotionParameter) -> f64 {
         match parameter {
-            "q3" => self.value_of(q),
-            "psi" => self.psi_of(q),
-            _ => f64::NAN,
+            SelfMotionParameter::Q3 => self.value_of(q),
+            SelfMotionParameter::ArmAngle => self.psi_of(q),
         }
     }
 
@@ -700,14 +698,14 @@ impl crate::ik::family::Redundancy for SrsIk {
     fn continue_at(
         &self,
         target: &Pose,
-        parameter: &str,
+        parameter: SelfMotionParameter,
         value: f64,
         _prev: &[f64],
         out: &mut CandidateSet,
     ) -> Result<()> {
         let candidates = match parameter {
-            "psi" => self.solve_psi_candidates(target, value)?,
-            _ => self.solve_q3_candidates(target, value)?,
+            SelfMotionParameter::ArmAngle => self.solve_psi_candidates(target, value)?,
+            SelfMotionParameter::Q3 => self.solve_q3_candidates(target, value)?,
         };
         candidates.write_into(out);
         Ok(())

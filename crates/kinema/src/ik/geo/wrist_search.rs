@@ -20,9 +20,9 @@ use super::kin::{distance_to_line, intersection, parallel, screw};
 use super::search::{find_zeros, LABELS};
 use super::spherical::{arm, ShoulderKind};
 use super::subproblems::{rot, sp1};
-use super::{candidates_with, propose_with, reject, solve_with, too_far, Common, GEOM_TOL};
+use super::{candidates_with, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
-use crate::ik::{CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::{CandidateSet, Candidates, ClosedForm, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -176,21 +176,15 @@ impl TwoIntersectingSearchIk {
     }
 }
 
-impl IkSolver for TwoIntersectingSearchIk {
-    fn name(&self) -> &'static str {
-        "geo-two-intersecting-search"
+impl ClosedForm for TwoIntersectingSearchIk {
+    const NAME: &'static str = "geo-two-intersecting-search";
+
+    fn robot(&self) -> &Robot {
+        &self.common.robot
     }
 
     /// Every solution the search finds (see the [module documentation](self)).
-    fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        solve_with(&self.common, self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
-        propose_with(self.name(), target, |t, c| self.solve_candidates(t, c))
-    }
-
-    fn candidates_into(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
-        candidates_with(self.name(), target, out, |t, c| self.solve_candidates(t, c))
+    fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()> {
+        candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }
