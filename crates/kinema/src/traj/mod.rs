@@ -28,20 +28,25 @@ pub mod cart;
 pub mod cell;
 mod check;
 pub mod expr;
-pub mod joint;
 pub mod law;
 pub mod self_motion;
+pub mod to_joints;
 pub mod track;
 pub mod waypoints;
+
+/// The former name of [`to_joints`](mod@to_joints), kept while callers (`self_motion`,
+/// `kinema-plot`) move to the new one.
+#[doc(hidden)]
+pub use self::to_joints as joint;
 
 pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment, Waypoint};
 pub use cell::{Cell, CellMember, CellReport};
 pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
 pub use expr::{expression_trajectory, Expr};
-pub use joint::{to_joints, to_joints_at, JointMethod};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw, MIN_DURATION};
 pub use self_motion::SelfMotion;
+pub use to_joints::{to_joints, to_joints_at, JointMethod};
 pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 
 use crate::error::{Error, Result};
@@ -665,7 +670,7 @@ impl JointTrajectory {
     /// A trajectory from sampled positions alone: `q` holds one configuration
     /// of `dof` values per time in `t` (row-major); velocities and
     /// accelerations are second-order finite differences
-    /// ([`joint::derivatives`]). Errors: `q` not `dof` values per time.
+    /// ([`to_joints::derivatives`]). Errors: `q` not `dof` values per time.
     pub fn from_positions(dof: usize, t: Vec<f64>, q: Vec<f64>) -> Result<Self> {
         if q.len() != t.len() * dof {
             return Err(Error::WrongLength {
@@ -679,7 +684,7 @@ impl JointTrajectory {
         let mut qdd = vec![0.0; q.len()];
         if dof > 0 {
             for (k, (v, a)) in qd.chunks_exact_mut(dof).zip(qdd.chunks_exact_mut(dof)).enumerate() {
-                joint::derivatives(&t, &q, dof, k, v, a);
+                to_joints::derivatives(&t, &q, dof, k, v, a);
             }
         }
         Ok(JointTrajectory { dof, t, q, qd, qdd })
