@@ -107,7 +107,7 @@ impl CartesianCurves {
         let mut acc = vec![0.0; 3 * n];
         let (mut a, mut scratch) = ([0.0; 3], [0.0; 3]);
         for k in 0..n {
-            kinema::traj::joint::derivatives(traj.times(), &vel, 3, k, &mut a, &mut scratch);
+            kinema::traj::to_joints::derivatives(traj.times(), &vel, 3, k, &mut a, &mut scratch);
             acc[3 * k..3 * k + 3].copy_from_slice(&a);
         }
         let vecs = |flat: &[f64]| -> Vec<Vector3<f64>> { flat.chunks(3).map(Vector3::from_column_slice).collect() };

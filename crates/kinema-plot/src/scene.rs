@@ -238,7 +238,7 @@ impl ToolPath3d {
     /// other than the robot's, an empty trajectory.
     pub fn new(robot: &Robot, traj: &JointTrajectory) -> Result<Self> {
         crate::check_traj(robot, traj, 1)?;
-        let path: Vec<Vector3<f64>> = kinema::traj::joint::poses(robot, traj)?.iter().map(|p| p.pos).collect();
+        let path: Vec<Vector3<f64>> = kinema::traj::to_joints::poses(robot, traj)?.iter().map(|p| p.pos).collect();
         let first = robot.link_frames(traj.q(0))?;
         let last = robot.link_frames(traj.q(traj.len() - 1))?;
         let mut scene = Scene::new("");

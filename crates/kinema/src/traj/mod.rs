@@ -34,11 +34,6 @@ pub mod to_joints;
 pub mod track;
 pub mod waypoints;
 
-/// The former name of [`to_joints`](mod@to_joints), kept while callers (`self_motion`,
-/// `kinema-plot`) move to the new one.
-#[doc(hidden)]
-pub use self::to_joints as joint;
-
 pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment, Waypoint};
 pub use cell::{Cell, CellMember, CellReport};
@@ -399,7 +394,8 @@ impl BoundaryPtp {
     /// Errors: those of [`Ptp::new`]; a boundary vector that is not one
     /// finite value per joint; boundary velocities with a profile other than
     /// the trapezoid or S-curve; boundary accelerations without a jerk-limited
-    /// profile; a boundary state beyond a limit (see [`BoundaryLaw::fastest`]).
+    /// profile; a target state beyond a limit (see [`BoundaryLaw::fastest`]; a
+    /// start beyond one is braked first).
     pub fn new(robot: &Robot, from: &[f64], to: &[f64], opts: &PtpOptions, boundary: &JointBoundary) -> Result<Self> {
         let [v0, a0, v1, a1] = boundary.vectors(robot.dof())?;
         if boundary.is_rest() {

@@ -270,7 +270,7 @@ pub(crate) fn steered_path(
             Ok(sol) => Ok((sol.q, false)),
             Err(e) => match smooth {
                 Ok(sol) => Ok((sol.q, false)),
-                Err(_) => Err(super::joint::at_time(t, e)),
+                Err(_) => Err(super::to_joints::at_time(t, e)),
             },
         }
     };
@@ -322,7 +322,7 @@ pub(crate) fn steered_path(
                     .ok()
                     .and_then(|_| set.nearest_within_limits(robot, prev));
                 if let Some(i) = picked {
-                    if fits(set.q(i), prev, dt_k) && super::joint::reaches(robot, set.q(i), &target)? {
+                    if fits(set.q(i), prev, dt_k) && super::to_joints::reaches(robot, set.q(i), &target)? {
                         found = Some(set.q(i).to_vec());
                         break;
                     }
