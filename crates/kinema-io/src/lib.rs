@@ -29,6 +29,7 @@ mod robot;
 mod solution;
 mod traj;
 mod trajectory;
+pub mod trajectory_csv;
 
 pub use bench::{BenchAnswer, IkBench};
 pub use cell::{CellAnswer, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
