@@ -349,3 +349,113 @@ pub fn read_trajectory_csv(text: &[u8], origin: &str, robot: &Robot) -> Result<T
         lines: sample_lines,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A seeded random trajectory on `robot`: increasing times, q, q̇, q̈ in [-1, 1).
+    fn random_trajectory(robot: &Robot, seed: u64, samples: usize) -> JointTrajectory {
+        // splitmix64: the test needs reproducible numbers, not a random crate.
+        let mut state = seed;
+        let mut next = move || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            (z ^ (z >> 31)) as f64 / u64::MAX as f64 * 2.0 - 1.0
+        };
+        let n = robot.dof();
+        let t: Vec<f64> = (0..samples).map(|k| k as f64 * 0.01 + 0.004 * (next() + 1.0)).collect();
+        let mut values = |len: usize| (0..len).map(|_| next()).collect::<Vec<f64>>();
+        let (q, qd, qdd) = (values(samples * n), values(samples * n), values(samples * n));
+        JointTrajectory::from_samples(n, t, q, Some(qd), Some(qdd)).unwrap()
+    }
+
+    fn read(text: &str) -> Result<TrajectoryCsv, CsvError> {
+        read_trajectory_csv(text.as_bytes(), "q.csv", &Robot::builtin("puma560").unwrap())
+    }
+
+    #[test]
+    fn round_trip_digits_read_back_exactly() {
+        let robot = Robot::builtin("puma560").unwrap();
+        let traj = random_trajectory(&robot, 36, 50);
+        let mut text = Vec::new();
+        write_trajectory_csv(&mut text, "out.csv", &robot, &traj, RpyConvention::Zyx, Digits::RoundTrip).unwrap();
+        let back = read_trajectory_csv(&text, "out.csv", &robot).unwrap();
+        assert_eq!(back.given, (true, true));
+        assert_eq!(back.lines, (2..52).collect::<Vec<u64>>());
+        assert_eq!(back.traj.len(), traj.len());
+        assert_eq!(back.traj.times(), traj.times());
+        for k in 0..traj.len() {
+            assert_eq!(back.traj.q(k), traj.q(k), "q at sample {k}");
+            assert_eq!(back.traj.qd(k), traj.qd(k), "qd at sample {k}");
+            assert_eq!(back.traj.qdd(k), traj.qdd(k), "qdd at sample {k}");
+        }
+    }
+
+    #[test]
+    fn fixed_digits_give_the_resolution() {
+        let robot = Robot::builtin("puma560").unwrap();
+        let traj = random_trajectory(&robot, 7, 5);
+        let mut text = Vec::new();
+        write_trajectory_csv(&mut text, "out.csv", &robot, &traj, RpyConvention::Xyz, Digits::Fixed(6)).unwrap();
+        let head = String::from_utf8(text.clone()).unwrap();
+        assert!(head.starts_with("t,q1,q2,q3,q4,q5,q6,qd1,") && head.contains(",rx,ry,rz,manipulability\n"), "{head}");
+        let back = read_trajectory_csv(&text, "out.csv", &robot).unwrap();
+        assert_eq!(back.resolution, (0.5e-6, 0.5e-6));
+        for k in 0..traj.len() {
+            for (a, b) in back.traj.q(k).iter().zip(traj.q(k)) {
+                assert!((a - b).abs() <= 0.5e-6, "{a} {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn comments_and_missing_rates_are_allowed() {
+        let s =
+            read("# made by hand\n\nt, q1,q2,q3,q4,q5,q6, note\n0,0,0,0,0,0,0,x\n# pause\n1,1,0,0,0,0,0,y\n").unwrap();
+        assert_eq!((s.given, s.lines.clone()), ((false, false), vec![4, 6]));
+        assert_eq!(s.traj.q(1)[0], 1.0);
+    }
+
+    #[test]
+    fn bad_inputs_are_errors_naming_the_place() {
+        let e = read("").unwrap_err();
+        assert_eq!(e.line, None);
+        assert!(e.to_string().starts_with("`q.csv`: no CSV header; expected one naming t and q1..q6"), "{e}");
+
+        let e = read("t,q1,q2,q3,q4,q5,q6\n").unwrap_err();
+        assert!(e.to_string().contains("`q.csv`: holds no samples"), "{e}");
+
+        let e = read("# c\nt,q1,q2,q3,q4,q5\n0,0,0,0,0,0\n").unwrap_err();
+        assert_eq!(e.line, Some(2));
+        assert!(e.to_string().contains("must name q1..q6 for robot `puma560` (it has t,q1,q2,q3,q4,q5)"), "{e}");
+
+        let e = read("q1,q2,q3,q4,q5,q6\n0,0,0,0,0,0\n").unwrap_err();
+        assert!(e.to_string().contains("no `t` column"), "{e}");
+
+        let e = read("t,q1,q2,q3,q4,q5,q6,q7\n0,0,0,0,0,0,0,0\n").unwrap_err();
+        assert!(e.to_string().contains("more joint columns"), "{e}");
+
+        let e = read("t,q1,q2,q3,q4,q5,q6\n0,0,0,0,0,0,0\n# c\n0.1,0,zero,0,0,0,0\n").unwrap_err();
+        assert_eq!((e.line, e.column.clone()), (Some(4), Some((3, "q2".to_string()))));
+        assert_eq!(e.to_string(), "`q.csv` line 4, column 3 `q2`: `zero` is not a number; expected a decimal number");
+
+        let e = read("t,q1,q2,q3,q4,q5,q6\n0,0,0,0,0,0,0\n0.1,0,0\n").unwrap_err();
+        assert!(e.to_string().starts_with("`q.csv` line 3: not readable as CSV"), "{e}");
+        assert!(std::error::Error::source(&e).is_some_and(|c| c.to_string().contains("fields")), "{e:?}");
+
+        let e = read("0,0,0,0,0,0,0\n").unwrap_err();
+        assert!(e.to_string().contains("line 1: `0,0,0,0,0,0,0` is numbers"), "{e}");
+        let e = read("t,q1,0\n").unwrap_err();
+        assert!(e.to_string().contains("mixes numbers and names"), "{e}");
+    }
+
+    #[test]
+    fn first_rows_are_classified() {
+        assert_eq!(FirstRow::of(["1", " 2.5 "]), FirstRow::Numbers);
+        assert_eq!(FirstRow::of(["t", "q1"]), FirstRow::Header);
+        assert_eq!(FirstRow::of(["t", "1"]), FirstRow::Mixed);
+    }
+}
