@@ -760,42 +760,6 @@ fn check_file(a: CheckArgs) -> Result<()> {
     }
 }
 
-/// A CSV file read into memory, positioned after its header.
-pub(crate) type CsvReader = csv::Reader<std::io::Cursor<Vec<u8>>>;
-
-/// A CSV file with a header line (at most [`crate::input::MAX_CSV_BYTES`],
-/// cells trimmed, `#` lines skipped): the reader positioned at the first
-/// record and the header's names. A first line with numbers in it is not
-/// taken as the header: it is an error naming the line.
-pub(crate) fn open_csv(path: &std::path::Path) -> Result<(CsvReader, Vec<String>)> {
-    use crate::input::{first_row, read_limited, FirstRow, MAX_CSV_BYTES};
-    let bytes = read_limited(path, MAX_CSV_BYTES, "CSV input")?;
-    let mut rd = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .trim(csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_reader(std::io::Cursor::new(bytes));
-    let mut head = csv::StringRecord::new();
-    loop {
-        if !rd.read_record(&mut head).with_context(|| format!("`{}`: not readable as CSV", path.display()))? {
-            bail!("`{}`: no CSV header", path.display());
-        }
-        if !head.iter().all(str::is_empty) {
-            break;
-        }
-    }
-    let byte = head.position().map_or(0, |p| p.byte());
-    let line = crate::input::LineCounter::new(rd.get_ref().get_ref()).line_at(byte);
-    if first_row(head.iter(), path, line)? == FirstRow::Numbers {
-        bail!(
-            "`{}` line {line}: `{}` is numbers; the first line must be a header naming the columns",
-            path.display(),
-            head.iter().collect::<Vec<_>>().join(",")
-        );
-    }
-    Ok((rd, head.iter().map(str::to_string).collect()))
-}
-
 /// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd*
 /// optional), with how finely the file gives (values, times).
 pub(crate) fn read_trajectory_with_resolution(
