@@ -56,66 +56,22 @@ pub(crate) fn read_text_limited(path: &Path, max: u64, what: &str) -> Result<Str
     })
 }
 
-/// Line numbers of CSV records from their byte offsets, met in increasing
-/// order: the `csv` crate's position of a record is where its reading began,
-/// before the `#` comment and blank lines it skipped, and its line count does
-/// not include the comment lines at the start of a file.
-pub(crate) struct LineCounter<'a> {
-    text: &'a [u8],
-    byte: usize,
-    line: u64,
-}
+pub(crate) use kinema_io::trajectory_csv::{FirstRow, LineCounter};
 
-impl<'a> LineCounter<'a> {
-    pub(crate) fn new(text: &'a [u8]) -> Self {
-        LineCounter { text, byte: 0, line: 1 }
-    }
-
-    /// The 1-based line of the record read from byte offset `at` on (at or
-    /// after the last one asked).
-    pub(crate) fn line_at(&mut self, at: u64) -> u64 {
-        let at = (at as usize).min(self.text.len()).max(self.byte);
-        self.line += self.text[self.byte..at].iter().filter(|&&b| b == b'\n').count() as u64;
-        self.byte = at;
-        while matches!(self.text.get(self.byte), Some(b'#' | b'\n' | b'\r')) {
-            match self.text[self.byte..].iter().position(|&b| b == b'\n') {
-                Some(n) => {
-                    self.byte += n + 1;
-                    self.line += 1;
-                }
-                None => break,
-            }
-        }
-        self.line
-    }
-}
-
-/// What the first row of a CSV file is.
-#[derive(Debug, PartialEq, Eq)]
-pub(crate) enum FirstRow {
-    /// Every field is a number.
-    Numbers,
-    /// No field is a number: column names.
-    Header,
-}
-
-/// Classifies a first row: a header has names only; a row that mixes
-/// numbers and names (`0,0,0,zz`) is an error naming `line`, as it is a
-/// data row with a typo as often as a header.
+/// Classifies a first row as [`FirstRow::of`]; a row that mixes numbers and
+/// names (`0,0,0,zz`) is an error naming `line`, as it is a data row with a
+/// typo as often as a header.
 pub(crate) fn first_row<'a>(fields: impl IntoIterator<Item = &'a str>, path: &Path, line: u64) -> Result<FirstRow> {
     let fields: Vec<&str> = fields.into_iter().collect();
-    let numbers = fields.iter().filter(|f| f.trim().parse::<f64>().is_ok()).count();
-    if numbers == fields.len() {
-        Ok(FirstRow::Numbers)
-    } else if numbers == 0 {
-        Ok(FirstRow::Header)
-    } else {
+    let row = FirstRow::of(fields.iter().copied());
+    if row == FirstRow::Mixed {
         bail!(
             "`{}` line {line}: `{}` mixes numbers and names; a header line has names only, a data line numbers only",
             path.display(),
             fields.join(",")
         )
     }
+    Ok(row)
 }
 
 /// Joint values given on the command line: a named pose (`home`, `qr`, …) or

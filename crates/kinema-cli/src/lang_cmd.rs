@@ -150,7 +150,9 @@ pub fn run(a: RunArgs) -> Result<()> {
     let conv = RpyConvention::Zyx;
     // Ctrl-C while the plan was made: still nothing written.
     check_interrupted()?;
-    write_atomically(&a.out, |w| traj_cmd::write_csv(w, robot, &plan.trajectory, conv, 12))?;
+    write_atomically(&a.out, |w| {
+        traj_cmd::write_csv(w, &a.out.display().to_string(), robot, &plan.trajectory, conv, 12)
+    })?;
     eprintln!("wrote {} samples ({:.4} s) to {}", plan.trajectory.len(), plan.duration(), a.out.display());
     if a.json {
         print_json(&built.answer()?)?;

@@ -169,8 +169,44 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// A CSV file read into memory, positioned after its header.
+type CsvReader = csv::Reader<std::io::Cursor<Vec<u8>>>;
+
+/// A CSV file with a header line (at most [`crate::input::MAX_CSV_BYTES`],
+/// cells trimmed, `#` lines skipped): the reader positioned at the first
+/// record and the header's names. A first line with numbers in it is not
+/// taken as the header: it is an error naming the line.
+fn open_csv(path: &std::path::Path) -> Result<(CsvReader, Vec<String>)> {
+    use crate::input::{first_row, read_limited, FirstRow, MAX_CSV_BYTES};
+    let bytes = read_limited(path, MAX_CSV_BYTES, "CSV input")?;
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .trim(csv::Trim::All)
+        .comment(Some(b'#'))
+        .from_reader(std::io::Cursor::new(bytes));
+    let mut head = csv::StringRecord::new();
+    loop {
+        if !rd.read_record(&mut head).with_context(|| format!("`{}`: not readable as CSV", path.display()))? {
+            bail!("`{}`: no CSV header", path.display());
+        }
+        if !head.iter().all(str::is_empty) {
+            break;
+        }
+    }
+    let byte = head.position().map_or(0, |p| p.byte());
+    let line = crate::input::LineCounter::new(rd.get_ref().get_ref()).line_at(byte);
+    if first_row(head.iter(), path, line)? == FirstRow::Numbers {
+        bail!(
+            "`{}` line {line}: `{}` is numbers; the first line must be a header naming the columns",
+            path.display(),
+            head.iter().collect::<Vec<_>>().join(",")
+        );
+    }
+    Ok((rd, head.iter().map(str::to_string).collect()))
+}
+
 fn read_points(path: &Path) -> Result<Vec<Vector3<f64>>> {
-    let (mut rd, head) = traj_cmd::open_csv(path)?;
+    let (mut rd, head) = open_csv(path)?;
     let cols: Option<Vec<usize>> = ["x", "y", "z"].iter().map(|c| head.iter().position(|h| h == c)).collect();
     let cols = cols
         .with_context(|| format!("`{}`: the header must name x, y, z (it has {})", path.display(), head.join(",")))?;

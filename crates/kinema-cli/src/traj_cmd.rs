@@ -5,16 +5,17 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
-use kinema::analysis::{yoshikawa, Axes};
 use kinema::ik::family::SelfMotionParameter;
-use kinema::nalgebra::Matrix6xX;
 use kinema::traj::waypoints::{skip_unreachable, SkippedPoint};
 use kinema::traj::{
     check, expression_trajectory, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, Expr,
     JointMethod, JointTrajectory, MotionLimits, Orientation, Profile, Ptp, PtpOptions, Segment, SelfMotion, TimeLaw,
     Waypoint,
 };
-use kinema::{Frame, Pose, Robot, RpyConvention};
+use kinema::{Pose, Robot, RpyConvention};
+use kinema_io::trajectory_csv::{
+    for_each_trajectory_row, read_trajectory_csv, trajectory_header, write_trajectory_csv, Digits, TrajectoryCsv,
+};
 use kinema_io::{CheckAnswer, JointExpression, LawAnswer, LawSamples, TrajSummary};
 
 use crate::{print_json, write_atomically, RobotArg};
@@ -494,15 +495,18 @@ fn emit(
     let samples = traj.len();
     let duration = traj.times().last().copied().unwrap_or(0.0);
     if let Some(path) = out {
-        write_atomically(path, |w| write_csv(w, robot, traj, conv, 12))?;
+        write_atomically(path, |w| write_csv(w, &path.display().to_string(), robot, traj, conv, 12))?;
         eprintln!("wrote {samples} samples ({duration:.4} s) to {}", path.display());
     }
     if as_json {
         if out.is_some() {
             return print_json(&summary);
         }
-        let with_rows =
-            WithRows { summary: &summary, columns: header(robot.dof(), conv), rows: Rows { robot, traj, conv } };
+        let with_rows = WithRows {
+            summary: &summary,
+            columns: trajectory_header(robot.dof(), conv),
+            rows: Rows { robot, traj, conv },
+        };
         let mut w = std::io::BufWriter::new(std::io::stdout().lock());
         let written: Result<()> = (|| {
             serde_json::to_writer_pretty(&mut w, &with_rows)?;
@@ -513,27 +517,24 @@ fn emit(
     }
     if out.is_none() {
         let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-        write_csv(&mut w, robot, traj, conv, 9).context("cannot write to standard output")?;
+        write_csv(&mut w, "standard output", robot, traj, conv, 9).context("cannot write to standard output")?;
     } else {
         outln!("{:?} on `{}`: {duration:.6} s, {samples} samples", summary.motion, robot.name())?;
     }
     Ok(())
 }
 
-/// The CSV of a trajectory ([`header`], then one row per sample with
-/// `decimals`), each row computed as it is written.
+/// The CSV of a trajectory (see [`kinema_io::trajectory_csv`]) with
+/// `decimals`; `origin` names the destination in errors.
 pub(crate) fn write_csv(
     w: impl std::io::Write,
+    origin: &str,
     robot: &Robot,
     traj: &JointTrajectory,
     conv: RpyConvention,
     decimals: usize,
 ) -> Result<()> {
-    let mut w = csv::Writer::from_writer(w);
-    w.write_record(header(robot.dof(), conv))?;
-    for_each_row(robot, traj, conv, |row| Ok(w.write_record(row.iter().map(|v| format!("{v:.decimals$}")))?))?;
-    w.flush()?;
-    Ok(())
+    Ok(write_trajectory_csv(w, origin, robot, traj, conv, Digits::Fixed(decimals))?)
 }
 
 /// A JSON summary with the trajectory's columns and rows, the rows computed
@@ -546,7 +547,7 @@ struct WithRows<'a> {
     rows: Rows<'a>,
 }
 
-/// The rows of [`for_each_row`] as a JSON array.
+/// The rows of [`for_each_trajectory_row`] as a JSON array.
 struct Rows<'a> {
     robot: &'a Robot,
     traj: &'a JointTrajectory,
@@ -558,7 +559,7 @@ impl serde::Serialize for Rows<'_> {
         use serde::ser::{Error, SerializeSeq};
         let mut seq = s.serialize_seq(Some(self.traj.len()))?;
         let mut write_error = None;
-        let computed = for_each_row(self.robot, self.traj, self.conv, |row| {
+        let computed = for_each_trajectory_row(self.robot, self.traj, self.conv, |row| {
             seq.serialize_element(row).map_err(|e| {
                 write_error = Some(e);
                 anyhow::anyhow!("the JSON could not be written")
@@ -760,62 +761,6 @@ fn check_file(a: CheckArgs) -> Result<()> {
     }
 }
 
-/// A CSV file read into memory, positioned after its header.
-pub(crate) type CsvReader = csv::Reader<std::io::Cursor<Vec<u8>>>;
-
-/// A CSV file with a header line (at most [`crate::input::MAX_CSV_BYTES`],
-/// cells trimmed, `#` lines skipped): the reader positioned at the first
-/// record and the header's names. A first line with numbers in it is not
-/// taken as the header: it is an error naming the line.
-pub(crate) fn open_csv(path: &std::path::Path) -> Result<(CsvReader, Vec<String>)> {
-    use crate::input::{first_row, read_limited, FirstRow, MAX_CSV_BYTES};
-    let bytes = read_limited(path, MAX_CSV_BYTES, "CSV input")?;
-    let mut rd = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .trim(csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_reader(std::io::Cursor::new(bytes));
-    let mut head = csv::StringRecord::new();
-    loop {
-        if !rd.read_record(&mut head).with_context(|| format!("`{}`: not readable as CSV", path.display()))? {
-            bail!("`{}`: no CSV header", path.display());
-        }
-        if !head.iter().all(str::is_empty) {
-            break;
-        }
-    }
-    let byte = head.position().map_or(0, |p| p.byte());
-    let line = crate::input::LineCounter::new(rd.get_ref().get_ref()).line_at(byte);
-    if first_row(head.iter(), path, line)? == FirstRow::Numbers {
-        bail!(
-            "`{}` line {line}: `{}` is numbers; the first line must be a header naming the columns",
-            path.display(),
-            head.iter().collect::<Vec<_>>().join(",")
-        );
-    }
-    Ok((rd, head.iter().map(str::to_string).collect()))
-}
-
-/// Half the last digit of numbers written with a fixed count of decimals:
-/// the most decimals seen (a writer of shortest round-trip numbers shows ~17,
-/// so its values count as exact); 0 when every number has an exponent.
-#[derive(Default)]
-struct Decimals(Option<usize>);
-
-impl Decimals {
-    fn see(&mut self, text: &str) {
-        if text.contains(['e', 'E']) {
-            return;
-        }
-        let d = text.split_once('.').map_or(0, |(_, frac)| frac.len());
-        self.0 = Some(self.0.map_or(d, |m| m.max(d)));
-    }
-
-    fn resolution(&self) -> f64 {
-        self.0.map_or(0.0, |d| 0.5 * 10f64.powi(-(d.min(300) as i32)))
-    }
-}
-
 /// Reads a trajectory CSV with a header naming t and q1..qn (qd*, qdd*
 /// optional), with how finely the file gives (values, times).
 pub(crate) fn read_trajectory_with_resolution(
@@ -826,114 +771,9 @@ pub(crate) fn read_trajectory_with_resolution(
     Ok((s.traj, s.resolution))
 }
 
-/// A trajectory CSV as read: the trajectory and what the file itself gave.
-pub(crate) struct Samples {
-    /// t, q and q̇, q̈ (estimated from q where the file has no such columns).
-    pub traj: JointTrajectory,
-    /// How finely the file gives (values, times).
-    pub resolution: (f64, f64),
-    /// Whether the file has qd1..qdn and qdd1..qddn columns.
-    pub given: (bool, bool),
-    /// The line of the file each sample comes from.
-    pub lines: Vec<u64>,
-}
-
-/// [`read_trajectory_with_resolution`], also saying which columns the file
-/// gave and where each sample is.
-pub(crate) fn read_samples(robot: &Robot, path: &std::path::Path) -> Result<Samples> {
-    let (mut rd, head) = open_csv(path)?;
-    let n = robot.dof();
-    let col = |name: &str| head.iter().position(|h| h == name);
-    let t_col = col("t").with_context(|| format!("`{}`: the header has no `t` column", path.display()))?;
-    let cols = |prefix: &str| -> Option<Vec<usize>> { (1..=n).map(|i| col(&format!("{prefix}{i}"))).collect() };
-    let q_cols = cols("q").with_context(|| {
-        format!(
-            "`{}`: the header must name q1..q{n} for robot `{}` (it has {})",
-            path.display(),
-            robot.name(),
-            head.join(",")
-        )
-    })?;
-    if col(&format!("q{}", n + 1)).is_some() {
-        bail!("`{}`: the file has more joint columns than robot `{}` ({n} joints)", path.display(), robot.name());
-    }
-    let (qd_cols, qdd_cols) = (cols("qd"), cols("qdd"));
-    let mut t = Vec::new();
-    let mut qs: Vec<f64> = Vec::new();
-    let mut qds: Vec<f64> = Vec::new();
-    let mut qdds: Vec<f64> = Vec::new();
-    let mut lines = Vec::new();
-    let (mut value_digits, mut time_digits) = (Decimals::default(), Decimals::default());
-    for rec in rd.records() {
-        let rec = rec.with_context(|| format!("`{}`: not readable as CSV", path.display()))?;
-        let line = rec.position().map_or(0, |p| p.line());
-        lines.push(line);
-        let get = |c: usize, digits: &mut Decimals| -> Result<f64> {
-            let s = rec.get(c).unwrap_or("");
-            digits.see(s);
-            s.parse::<f64>().with_context(|| {
-                format!("`{}` line {line}, column `{}`: `{s}` is not a number", path.display(), head[c])
-            })
-        };
-        t.push(get(t_col, &mut time_digits)?);
-        for &c in &q_cols {
-            qs.push(get(c, &mut value_digits)?);
-        }
-        for (cols, out) in [(&qd_cols, &mut qds), (&qdd_cols, &mut qdds)] {
-            for &c in cols.iter().flatten() {
-                out.push(get(c, &mut value_digits)?);
-            }
-        }
-    }
-    if t.is_empty() {
-        bail!("`{}` holds no samples", path.display());
-    }
-    // Velocities and accelerations the file does not give are estimated from the positions.
-    let given = (qd_cols.is_some(), qdd_cols.is_some());
-    let traj = JointTrajectory::from_samples(n, t, qs, qd_cols.map(|_| qds), qdd_cols.map(|_| qdds))?;
-    Ok(Samples { traj, resolution: (value_digits.resolution(), time_digits.resolution()), given, lines })
-}
-
-/// The CSV header of a sampled trajectory.
-pub fn header(n: usize, conv: RpyConvention) -> Vec<String> {
-    let mut h = vec!["t".to_string()];
-    for prefix in ["q", "qd", "qdd"] {
-        h.extend((1..=n).map(|i| format!("{prefix}{i}")));
-    }
-    let rpy = match conv {
-        RpyConvention::Zyx => ["roll", "pitch", "yaw"],
-        RpyConvention::Xyz => ["rx", "ry", "rz"],
-    };
-    h.extend(["x", "y", "z"].iter().chain(&rpy).map(|s| s.to_string()));
-    h.push("manipulability".into());
-    h
-}
-
-/// Hands `each` one row per sample: t, q, q̇, q̈, the tool pose and the
-/// translational manipulability (Yoshikawa on the linear-velocity rows, as
-/// seed 004 Fig. 30/33). Rows are computed one at a time, never held
-/// together: a trajectory at the sample limit would need gigabytes as a table.
-pub fn for_each_row(
-    robot: &Robot,
-    traj: &JointTrajectory,
-    conv: RpyConvention,
-    mut each: impl FnMut(&[f64]) -> Result<()>,
-) -> Result<()> {
-    let mut jac = Matrix6xX::zeros(robot.dof());
-    let mut row = Vec::with_capacity(1 + 3 * robot.dof() + 7);
-    for k in 0..traj.len() {
-        let q = traj.q(k);
-        let fk = kinema::kin::jacobian_into(robot, q, Frame::Base, &mut jac)?;
-        row.clear();
-        row.push(traj.times()[k]);
-        row.extend_from_slice(q);
-        row.extend_from_slice(traj.qd(k));
-        row.extend_from_slice(traj.qdd(k));
-        let p = fk.world_from_tool;
-        row.extend([p.pos.x, p.pos.y, p.pos.z]);
-        row.extend(p.rpy(conv));
-        row.push(yoshikawa(&jac, Axes::Translation)?);
-        each(&row)?;
-    }
-    Ok(())
+/// The trajectory CSV at `path` (at most [`crate::input::MAX_CSV_BYTES`]) as
+/// [`read_trajectory_csv`] reads it.
+pub(crate) fn read_samples(robot: &Robot, path: &std::path::Path) -> Result<TrajectoryCsv> {
+    let bytes = crate::input::read_limited(path, crate::input::MAX_CSV_BYTES, "CSV input")?;
+    Ok(read_trajectory_csv(&bytes, &path.display().to_string(), robot)?)
 }

@@ -3,6 +3,9 @@
 //! what Python's `to_dict` calls give, field for field, so the three doors
 //! cannot drift apart.
 //!
+//! [`trajectory_csv`] is the one reader and writer of a joint trajectory CSV,
+//! so that what one command writes another reads.
+//!
 //! Each answer's constructor calls the core and reads its values out, so a
 //! door converts and prints and decides nothing.
 //!
@@ -29,6 +32,7 @@ mod robot;
 mod solution;
 mod traj;
 mod trajectory;
+pub mod trajectory_csv;
 
 pub use bench::{BenchAnswer, IkBench};
 pub use cell::{CellAnswer, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
