@@ -2,12 +2,12 @@
 
 use std::sync::Arc;
 
+use kinema::ik::family::SelfMotionParameter;
 use kinema::traj::{
     check, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation,
     Profile, Segment, SelfMotion,
 };
 use kinema::Pose;
-use kinema::ik::family::SelfMotionParameter;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
