@@ -399,7 +399,7 @@ pub struct SelfMotionArgs {
 /// angle (seed 004 §V-D, Fig. 7), from any description of it.
 pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
     let robot = a.robot.load()?;
-    let family = kinema::ik::family::fit(&robot);
+    let family = kinema::ik::registry::fit(&robot);
     let Some(redundancy) = family.as_deref().and_then(|f| f.redundancy()) else {
         bail!(
             "robot `{}` has no self-motion with a closed form (an arm of the iiwa's structure has one)",

@@ -138,11 +138,11 @@ mod tests {
         let e = parse_q(&robot, "0.5, 90deg, 0, 0, 0", false).unwrap_err();
         assert!(matches!(e, Error::Syntax { column: 6, .. }), "{e:?}");
         let e = parse_q(&robot, "0.5, 0, 0, nan, 0", false).unwrap_err();
-        assert!(matches!(e, Error::NonFinite { joint: 4, .. }), "{e:?}");
+        assert!(matches!(e, Error::BadJointValue { joint: 4, .. }), "{e:?}");
         let e = parse_q(&robot, "inf, 0, 0, 0, 0", true).unwrap_err();
-        assert!(matches!(e, Error::NonFinite { joint: 1, .. }), "{e:?}");
+        assert!(matches!(e, Error::BadJointValue { joint: 1, .. }), "{e:?}");
         let e = parse_q(&robot, "nan", false).unwrap_err();
-        assert!(matches!(e, Error::JointCount { got: 1, .. } | Error::NonFinite { .. }), "{e:?}");
+        assert!(matches!(e, Error::JointCount { got: 1, .. } | Error::BadJointValue { .. }), "{e:?}");
         assert!(matches!(parse_q(&robot, "qx", false), Err(Error::UnknownPose { .. })));
         for len in [1, 4, 6, 9] {
             let e = parse_q(&robot, &vec!["0.1"; len].join(","), false).unwrap_err();

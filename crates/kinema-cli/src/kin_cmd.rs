@@ -88,7 +88,7 @@ pub fn fk(a: FkArgs) -> Result<()> {
         return print_json(&FkAnswer::new(&r, &q, conv)?);
     }
     outln!("robot {}  q = [{}] (rad/m)", r.name(), q.iter().map(|v| format!("{v:.6}")).collect::<Vec<_>>().join(", "))?;
-    outln!("T (base_from_tool):")?;
+    outln!("T (world_from_tool):")?;
     for row in p.to_rows() {
         outln!("  [{:>10.6} {:>10.6} {:>10.6} {:>10.6}]", row[0], row[1], row[2], row[3])?;
     }

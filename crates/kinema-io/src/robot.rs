@@ -113,7 +113,7 @@ pub struct RobotInfo {
 impl RobotInfo {
     /// What `robot` is.
     pub fn new(robot: &Robot) -> RobotInfo {
-        let family = kinema::ik::family::fit(robot);
+        let family = kinema::ik::registry::fit(robot);
         let parameters = family.as_ref().and_then(|f| f.redundancy()).map_or(&[][..], |r| r.parameters());
         let redundancy: Vec<&'static str> = parameters.iter().map(|p| p.name()).collect();
         let meta = robot.metadata();

@@ -336,7 +336,7 @@ impl SelfMotionView {
         if steps < 8 {
             return Err(Error::TooFew { what: "self-motion".into(), got: steps, min: 8, of: "steps".into() });
         }
-        let family = kinema::ik::family::fit(robot);
+        let family = kinema::ik::registry::fit(robot);
         let Some(redundancy) = family.as_deref().and_then(|f| f.redundancy()) else {
             return Err(Error::DoesNotFit {
                 what: "robot".into(),

@@ -146,7 +146,7 @@ impl PyRobot {
 #[pymethods]
 impl PyRobot {
     /// Straight-line Cartesian motion (LIN, seed 004 §VIII-C) from the tool
-    /// pose of ``q0`` to the pose ``T`` (``base_from_tool``), through the
+    /// pose of ``q0`` to the pose ``T`` (``world_from_tool``), through the
     /// optional ``via`` poses, converted to joint values and checked against
     /// the robot's limits, as ``kinema traj lin`` does.
     ///

@@ -23,7 +23,7 @@ pub(crate) fn to_py(e: Error) -> PyErr {
         }
         Error::UnknownRobot { .. } => UnknownRobot::new_err(message),
         Error::JointCount { .. }
-        | Error::NonFinite { .. }
+        | Error::BadJointValue { .. }
         | Error::UnknownPose { .. }
         | Error::OutOfRange { .. }
         | Error::TooFew { .. }
@@ -32,7 +32,7 @@ pub(crate) fn to_py(e: Error) -> PyErr {
         | Error::DoesNotFit { .. }
         | Error::Infeasible { .. }
         | Error::Syntax { .. }
-        | Error::SolverDoesNotFit { .. }
+        | Error::UnsupportedStructure { .. }
         | Error::WrongLength { .. }
         | Error::NotFinite { .. }
         | Error::Overflow { .. }

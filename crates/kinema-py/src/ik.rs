@@ -187,7 +187,7 @@ impl PyRobot {
     ///
     /// The target is one of:
     ///
-    /// * ``T``: a full pose ``base_from_tool``, a 4×4 array or 6 numbers
+    /// * ``T``: a full pose ``world_from_tool``, a 4×4 array or 6 numbers
     ///   x, y, z [m], roll, pitch, yaw [rad] in the convention ``rpy``
     ///   (``"zyx"``: R = Rz(yaw)·Ry(pitch)·Rx(roll), the default of
     ///   ``kinema ik --pose``; ``"xyz"``: Rx·Ry·Rz). The robot's analytic

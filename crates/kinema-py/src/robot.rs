@@ -17,18 +17,18 @@ use crate::{fast, npio};
 ///
 /// Units are SI: metres and radians. Joint vectors are 1-D arrays (or lists)
 /// of ``n`` values; transforms are 4×4 homogeneous matrices
-/// (``base_from_tool``); Jacobian rows are ``[vx vy vz ωx ωy ωz]``.
+/// (``world_from_tool``); Jacobian rows are ``[vx vy vz ωx ωy ωz]``.
 #[pyclass(frozen, name = "Robot", module = "kinema")]
 pub(crate) struct PyRobot {
     pub(crate) robot: Arc<Robot>,
-    /// The IK solver family fitted to the robot once (`ik::family::fit`), so
+    /// The IK solver family fitted to the robot once (`ik::registry::fit`), so
     /// that each `ik` call does not fit it again.
     pub(crate) family: Option<Arc<dyn kinema::ik::family::Family>>,
 }
 
 impl PyRobot {
     pub(crate) fn new(robot: Arc<Robot>) -> Self {
-        let family = kinema::ik::family::fit(&robot).map(Arc::from);
+        let family = kinema::ik::registry::fit(&robot).map(Arc::from);
         PyRobot { robot, family }
     }
 }
@@ -219,7 +219,7 @@ impl PyRobot {
         self.robot.pose(name).map(|q| PyArray1::from_slice(py, q)).map_err(to_py)
     }
 
-    /// Forward kinematics: the tool pose ``base_from_tool`` as a 4×4 array.
+    /// Forward kinematics: the tool pose ``world_from_tool`` as a 4×4 array.
     ///
     /// ``q`` is a 1-D array or list of n joint values (rad / m) or the name of
     /// a pose. Values outside the joint limits are computed anyway.

@@ -26,7 +26,7 @@ use crate::robot::PyRobot;
 ///     phase_times: durations of the time law's phases [s] (zero-length
 ///         phases left out); empty for a Cartesian motion of several segments.
 ///     poses: Cartesian motions only: the planned tool pose
-///         (``base_from_tool``) at every sample time, shape (K, 4, 4); ``None``
+///         (``world_from_tool``) at every sample time, shape (K, 4, 4); ``None``
 ///         for ``ptp``. Forward kinematics of ``q`` reaches them to 1e-6.
 ///     segment_starts: start time of each segment [s] (``[0.0]`` for ``ptp``).
 ///     blend_times: how long each blend between consecutive segments lasts [s].

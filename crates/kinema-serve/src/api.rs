@@ -271,7 +271,7 @@ impl App {
         let target = IkTarget::Pose(target);
         let answer = solve_target(r, &target, &request)?;
         let mut solutions = answer.solutions.clone();
-        let redundant = kinema::ik::family::fit(r).is_some_and(|f| f.redundancy().is_some());
+        let redundant = kinema::ik::registry::fit(r).is_some_and(|f| f.redundancy().is_some());
         let q3 = req
             .q3
             .or_else(|| req.q0.as_ref().and_then(|q| q.get(2).copied()))

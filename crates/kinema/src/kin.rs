@@ -79,7 +79,7 @@ pub fn fk(robot: &Robot, q: &[f64]) -> Result<Fk> {
 }
 
 /// Forward kinematics as the row-major 4 × 4 homogeneous matrix of
-/// `base_from_tool` (row r, column c at `out[4·r + c]`; the layout of a
+/// `world_from_tool` (row r, column c at `out[4·r + c]`; the layout of a
 /// C or NumPy 4 × 4 array), written into `out`, which must have 16 values.
 /// Returns the joints outside their limits. The same numbers as
 /// [`fk`], without building a [`Pose`] first. Does not allocate;

@@ -105,7 +105,7 @@ impl Robot {
             return Error::JointCount { robot: self.name().into(), expected: joints.len(), got: q.len() };
         }
         let i = q.iter().position(|v| !(v.abs() < crate::MAX_MAGNITUDE)).unwrap_or(0);
-        Error::NonFinite { robot: self.name().into(), joint: i + 1, name: joints[i].name.clone(), value: q[i] }
+        Error::BadJointValue { robot: self.name().into(), joint: i + 1, name: joints[i].name.clone(), value: q[i] }
     }
 
     /// `source` as the error of joint `i` (0-based), named as the model names it.

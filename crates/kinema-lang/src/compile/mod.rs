@@ -20,7 +20,8 @@ use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
 use std::rc::Rc;
 
-use kinema::ik::family::{self, TypedKind};
+use kinema::ik::registry;
+use kinema::ik::TypedKind;
 use kinema::math::Pose;
 use kinema::traj::{CartesianLimits, CartesianMotion, JointTrajectory, Profile, SelfMotion};
 use kinema::Robot;
@@ -245,7 +246,7 @@ impl<'a> Compiler<'a> {
             robot,
             robot_tool: robot.clone(),
             opts,
-            scara: family::for_typed(robot, TypedKind::Alpha).map_or(Scara::No, |f| Scara::Solver(Rc::from(f))),
+            scara: registry::for_typed(robot, TypedKind::Alpha).map_or(Scara::No, |f| Scara::Solver(Rc::from(f))),
             q,
             traj,
             speed: 1.0,

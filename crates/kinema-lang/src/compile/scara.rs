@@ -4,7 +4,9 @@
 use std::f64::consts::PI;
 use std::rc::Rc;
 
-use kinema::ik::family::{self, Family, TypedKind};
+use kinema::ik::family::Family;
+use kinema::ik::registry;
+use kinema::ik::TypedKind;
 use kinema::ik::{self, IkTarget};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{Profile, TimeLaw};
@@ -40,11 +42,11 @@ impl Compiler<'_> {
         if matches!(self.scara, Scara::No) {
             return;
         }
-        match family::for_typed(with_tool, TypedKind::Alpha) {
+        match registry::for_typed(with_tool, TypedKind::Alpha) {
             Ok(f) => self.scara = Scara::Solver(Rc::from(f)),
             Err(e) => {
                 let why = match e {
-                    kinema::Error::SolverDoesNotFit { reason, .. } => reason,
+                    kinema::Error::UnsupportedStructure { reason, .. } => reason,
                     e => e.to_string(),
                 };
                 let line = self.line(&t.span());

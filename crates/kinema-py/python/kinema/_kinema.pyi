@@ -236,7 +236,7 @@ class Robot:
     def pose(self, name: str) -> F64Array:
         """A named configuration. Raises InvalidInput for an unknown name."""
     def fkine(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
-        """Tool pose base_from_tool, shape (4, 4); written into ``out`` (a writeable C-contiguous
+        """Tool pose world_from_tool, shape (4, 4); written into ``out`` (a writeable C-contiguous
         float64 (4, 4) array, returned) when given. Raises InvalidInput for a bad ``q`` or ``out``."""
     def fkine_all(self, q: JointVector) -> F64Array:
         """Base, link 1..n and tool frames, shape (n + 2, 4, 4)."""

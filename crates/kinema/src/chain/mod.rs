@@ -4,7 +4,7 @@
 //! compiled once into
 //!
 //! ```text
-//! base_from_tool(q) = base · (pre1 · J(θ1) · post1) · … · (pren · J(θn) · postn) · tool
+//! world_from_tool(q) = base · (pre1 · J(θ1) · post1) · … · (pren · J(θn) · postn) · tool
 //! ```
 //!
 //! with θi = signi·qi + offseti, `J` a rotation about (revolute) or
@@ -502,7 +502,7 @@ impl Chain {
         (finite, bits)
     }
 
-    /// `base_from_tool` for `q` of length n, and what the walk found about
+    /// `world_from_tool` for `q` of length n, and what the walk found about
     /// `q` (the pose is meaningless if a value is not finite).
     #[inline(always)]
     pub(crate) fn fk(&self, q: &[f64]) -> (Pose, Scanned) {
@@ -513,7 +513,7 @@ impl Chain {
         by_shape!(self.shape, |S| fk_core::<P4, S, 0>(self, q))
     }
 
-    /// `base_from_tool` as the rows of its 4 × 4 homogeneous matrix, written
+    /// `world_from_tool` as the rows of its 4 × 4 homogeneous matrix, written
     /// into `out` (nothing is written when a value of `q` is not finite),
     /// and what the walk found about `q`.
     #[inline(always)]
@@ -536,7 +536,7 @@ impl Chain {
 
     /// Geometric Jacobian into the 6 × n storage `data` (`layout`, at least
     /// 6·n values; all of the first 6·n are written), for `q` of length n,
-    /// and `base_from_tool` into `pose` when one is given; returns what the
+    /// and `world_from_tool` into `pose` when one is given; returns what the
     /// walk found about `q`. Nothing is written when a value of `q` is not
     /// finite.
     #[inline(always)]
@@ -593,7 +593,7 @@ impl Chain {
     /// With `N` = 0 the whole padded chain is walked and both are also called
     /// for the padding joints (i ≥ n); otherwise `N` must be n (one of
     /// [`EXACT`]) and only the n joints are walked. `q` must have n values.
-    /// Returns `base_from_tool` and what was found about `q`.
+    /// Returns `world_from_tool` and what was found about `q`.
     ///
     /// The chain is of shape `SHAPE` (the kernels are compiled per shape,
     /// see [`by_shape`]): for the uniform shapes the kind of every joint is

@@ -23,7 +23,7 @@ pub enum Error {
     },
     /// A joint value that is NaN, infinite, or beyond ±[`crate::MAX_MAGNITUDE`].
     #[error("joint {joint} (`{name}`) of robot `{robot}` is {value}; joint values must be finite numbers within ±1e9")]
-    NonFinite {
+    BadJointValue {
         /// Robot name.
         robot: String,
         /// 1-based joint index.
@@ -120,7 +120,7 @@ pub enum Error {
     },
     /// A robot whose structure an IK solver family does not handle.
     #[error("the {solver} solver does not fit robot `{robot}`: {reason}")]
-    SolverDoesNotFit {
+    UnsupportedStructure {
         /// The solver family.
         solver: String,
         /// Robot name.
@@ -204,7 +204,7 @@ pub enum Error {
         of: String,
     },
     /// A value that must be a finite number and is not (of an argument other
-    /// than a joint vector, which is [`Error::NonFinite`]).
+    /// than a joint vector, which is [`Error::BadJointValue`]).
     #[error("`{what}` is {value}; it must be a finite number")]
     NotFinite {
         /// Which value (e.g. `qd[3]`, `q3`).

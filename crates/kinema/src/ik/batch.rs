@@ -5,7 +5,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use super::request::{pick_one, solve_target_with, IkRequest, IkTarget};
+use super::request::{pick_one, solve_target_with, IkRequest};
+use super::target::IkTarget;
 use super::Solution;
 use crate::error::{Error, Result};
 use crate::robot::Robot;
@@ -49,7 +50,7 @@ pub fn solve_batch(
         super::request::check_request(robot, target, request)?;
     }
     let one = IkRequest { all: false, ..request.clone() };
-    let fitted = super::family::fit(robot);
+    let fitted = super::registry::fit(robot);
     let stop = AtomicBool::new(false);
     let results = targets
         .par_iter()

@@ -17,7 +17,7 @@ pub trait ClosedForm: Send + Sync {
     /// The robot the family was fitted to, whose FK measures the candidates.
     fn robot(&self) -> &Robot;
 
-    /// Every closed-form candidate for `target` (`base_from_tool`) into
+    /// Every closed-form candidate for `target` (`world_from_tool`) into
     /// `out` (cleared first), without measuring them; an unreachable target
     /// is an [`Error::Unreachable`](crate::Error::Unreachable) that says why.
     fn kernel(&self, target: &Pose, out: &mut CandidateSet) -> Result<()>;

@@ -9,8 +9,8 @@ use std::borrow::Cow;
 
 use nalgebra::Vector3;
 
-use super::family::{self, Family};
-use super::request::IkTarget;
+use super::family::Family;
+use super::target::IkTarget;
 use super::{Closest, Solution, Unreachable};
 pub use crate::error::Tolerance;
 use crate::error::{Error, Result};
@@ -81,7 +81,7 @@ fn residual_with(
             let kind = typed.typed_kind().expect("neither a pose nor a position");
             let position = typed.position().expect("typed targets have a position");
             let orientation =
-                family::with_owner(robot, fitted, kind, |f| Ok(f.typed_orientation_error(typed, reached)))?;
+                super::registry::with_owner(robot, fitted, kind, |f| Ok(f.typed_orientation_error(typed, reached)))?;
             Residual { position: position_of(&position), orientation }
         }
     })

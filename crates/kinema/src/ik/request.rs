@@ -7,7 +7,9 @@
 use nalgebra::Vector3;
 
 use super::contract::{self, IkAnswer, Tolerance};
-use super::family::{self, Family, SelfMotionParameter};
+use super::family::{Family, SelfMotionParameter};
+use super::registry;
+use super::target::IkTarget;
 use super::{Closest, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
 use crate::error::{Error, Result};
 use crate::math::Pose;
@@ -23,66 +25,6 @@ pub enum SolverChoice {
     Analytic,
     /// The numeric solver.
     Numeric,
-}
-
-/// What the tool must reach (see [`solve_target`]). Positions are tool points
-/// in the world frame (the frame of [`Robot::fk`]) \[m\]; angles \[rad\].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum IkTarget {
-    /// A full tool pose `base_from_tool`: the robot's analytic solver or the
-    /// numeric one ([`solve_request`]).
-    Pose(Pose),
-    /// The tool point alone, the orientation free: the numeric solver with
-    /// the position-only task mask \[x, y, z\]. The solutions' residuals are
-    /// measured against this position with the orientation of the robot's
-    /// `home` pose as a placeholder, so their `orientation_error` means
-    /// nothing (see [`IkTarget::orientation_free`]).
-    Position([f64; 3]),
-    /// Scorbot (seed 000 eq. 13): the tool point with pitch β = −(θ2 + θ3 + θ4)
-    /// and roll γ = θ5; the yaw follows from the position
-    /// ([`ScorbotIk::solve_xyz_pitch_roll`](crate::ik::scorbot::ScorbotIk::solve_xyz_pitch_roll), up to four solutions).
-    PositionPitchRoll {
-        /// Tool point \[m\].
-        position: [f64; 3],
-        /// Pitch β \[rad\] (positive points the approach downwards).
-        pitch: f64,
-        /// Roll γ \[rad\].
-        roll: f64,
-    },
-    /// ROMMEL (seed 001): the tool point with the tool z axis along
-    /// `approach` (any non-zero vector, normalised), q5 = 0
-    /// ([`RommelIk::solve_position_approach`](crate::ik::rommel::RommelIk::solve_position_approach), up to four solutions).
-    PositionApproach {
-        /// Tool point \[m\].
-        position: [f64; 3],
-        /// Approach direction (tool z axis), world frame.
-        approach: [f64; 3],
-    },
-    /// SCARA on a rail (seed 003): the tool point with the tool angle
-    /// α = q2 + q3 + q5 about the vertical, the rail placed by the zone rule;
-    /// elbow side and q5 follow `IkRequest::q0` when given
-    /// ([`ScaraIk::solve_zone`](crate::ik::scara::ScaraIk::solve_zone), one solution).
-    PositionAlpha {
-        /// Tool point \[m\].
-        position: [f64; 3],
-        /// Tool angle α \[rad\].
-        alpha: f64,
-    },
-}
-
-impl IkTarget {
-    /// Whether the orientation is not part of the target ([`IkTarget::Position`]):
-    /// then a solution's `orientation_error` is measured against a placeholder
-    /// (the `home` orientation) and says nothing about success. The typed
-    /// targets measure it against the orientation they fix, so it is ~0.
-    pub fn orientation_free(&self) -> bool {
-        matches!(self, IkTarget::Position(_))
-    }
-
-    /// Whether this is a robot family's typed target (pitch/roll, approach, α).
-    pub fn is_typed(&self) -> bool {
-        !matches!(self, IkTarget::Pose(_) | IkTarget::Position(_))
-    }
 }
 
 /// The task mask of a position-only target: x, y, z.
@@ -152,7 +94,7 @@ pub fn solve_request(robot: &Robot, target: &Pose, request: &IkRequest) -> Resul
 }
 
 /// [`solve_request`] with the family already fitted to `robot`
-/// ([`family::fit`]), so that many requests fit it once.
+/// ([`registry::fit`]), so that many requests fit it once.
 fn solve_request_with(
     robot: &Robot,
     fitted: Option<&dyn Family>,
@@ -178,7 +120,8 @@ fn solve_request_with(
         let f = family;
         let Some(r) = f.and_then(|f| f.redundancy()).filter(|r| r.parameters().contains(&parameter)) else {
             let has = f.map_or("no closed-form solver".to_string(), |f| {
-                let params = f.redundancy().map_or("none".to_string(), |r| family::parameter_names(r.parameters()));
+                let params =
+                    f.redundancy().map_or("none".to_string(), |r| super::family::parameter_names(r.parameters()));
                 format!("the {} solver, whose self-motion parameters are: {params}", f.name())
             });
             let reason = if f.and_then(|f| f.redundancy()).is_some() {
@@ -313,11 +256,11 @@ fn solve_request_with(
 /// # Ok::<(), kinema::Error>(())
 /// ```
 pub fn solve_target(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<IkAnswer> {
-    solve_target_with(robot, family::fit(robot).as_deref(), target, request)
+    solve_target_with(robot, registry::fit(robot).as_deref(), target, request)
 }
 
 /// [`solve_target`] with the family already fitted to `robot`
-/// ([`family::fit`], `None` when none fits): the same answer, without
+/// ([`registry::fit`], `None` when none fits): the same answer, without
 /// fitting it again for every target (Python's `Robot` and
 /// [`super::solve_batch`] fit it once).
 pub fn solve_target_with(
@@ -419,7 +362,7 @@ fn propose(
         }
         _ => {
             let kind = target.typed_kind().expect("neither a pose nor a position");
-            family::with_owner(robot, fitted, kind, |f| Ok((f.name(), f.solve_typed(target, request.q0)?)))
+            registry::with_owner(robot, fitted, kind, |f| Ok((f.name(), f.solve_typed(target, request.q0)?)))
         }
     }
 }

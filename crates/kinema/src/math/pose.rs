@@ -6,7 +6,7 @@ use super::rotation::{rot_to_axis_angle, rot_to_rpy, rot_x, rot_y, rot_z, rpy_to
 
 /// A rigid transform (rotation + translation), `child` expressed in `parent`.
 ///
-/// Names of values of this type read like `base_from_tool`: the pose of the
+/// Names of values of this type read like `world_from_tool`: the pose of the
 /// tool frame expressed in the base frame, which maps tool coordinates to base
 /// coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -29,10 +29,10 @@ pub mod cell;
 mod check;
 pub mod expr;
 pub mod law;
+pub mod path_error;
 mod ptp;
 pub mod self_motion;
 pub mod to_joints;
-pub mod track;
 pub mod waypoints;
 
 pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
@@ -41,11 +41,11 @@ pub use cell::{Cell, CellMember, CellReport};
 pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
 pub use expr::{expression_trajectory, Expr};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw, MIN_DURATION};
+pub use path_error::{distances_to_path, tracking_error, PathDistance, TrackingError};
 pub(crate) use ptp::joint_limits;
 pub use ptp::{default_profile, BoundaryPtp, JointBoundary, Ptp, PtpOptions};
 pub use self_motion::SelfMotion;
 pub use to_joints::{to_joints, to_joints_at, JointMethod};
-pub use track::{distances_to_path, tracking_error, PathDistance, TrackingError};
 
 use crate::error::{Error, Result};
 

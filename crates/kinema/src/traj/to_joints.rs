@@ -19,8 +19,8 @@ pub enum JointMethod {
     /// arm chosen by the [`SelfMotion`] policy: the robot's closed form when
     /// it has one (every solution, the one nearest the previous sample within
     /// limits and reaching the pose), else the numeric solver started from
-    /// the previous sample without restarts. Six-joint arms first try Newton
-    /// tracking from the constant-velocity prediction of the sample
+    /// the previous sample without restarts. Six-joint arms first refine the
+    /// constant-velocity prediction of the sample by Newton steps
     /// (converged to 1e-12, within limits, a correction below 0.1): the same
     /// branch as the nearest closed-form solution (tested sample by sample)
     /// at a quarter of the cost; the closed form takes over wherever it does
@@ -159,25 +159,25 @@ pub(super) fn reaches(robot: &Robot, q: &[f64], target: &Pose) -> Result<bool> {
     Ok(e.position_norm() <= TRACK_TOL && e.rotation_angle() <= TRACK_TOL)
 }
 
-/// Position \[m\] and orientation \[rad\] error at which Newton tracking has
+/// Position \[m\] and orientation \[rad\] error at which Newton refinement has
 /// converged: rounding level for arms of about a metre.
 const NEWTON_TOL: f64 = 1e-12;
 /// Newton steps tried per sample before falling back to the closed form.
 const NEWTON_STEPS: usize = 3;
-/// Largest correction \[rad or m, any joint\] Newton tracking may make to its
+/// Largest correction \[rad or m, any joint\] Newton refinement may make to its
 /// prediction: well above what a smooth path needs at any sensible sample
 /// period, well below the distance between two inverse-kinematics branches
 /// away from singularities. Larger corrections go to the closed form.
 const NEWTON_MAX_CORRECTION: f64 = 0.1;
 
-/// Newton tracking for six-joint arms: refines `q` (on entry the prediction
+/// Newton refinement for six-joint arms: refines `q` (on entry the prediction
 /// of the next sample, on exit the solution) onto `target` by Newton steps
 /// on the pose error with the base-frame Jacobian, q ← q + J⁻¹·e. True when
 /// it converged to [`NEWTON_TOL`] within [`NEWTON_STEPS`], each step at most
 /// half the previous (quadratic convergence, not wandering near a
 /// singularity) and the total correction within [`NEWTON_MAX_CORRECTION`]; the
 /// caller still checks the joint limits.
-fn newton_track(robot: &Robot, target: &Pose, q: &mut [f64], jac: &mut Matrix6xX<f64>) -> Result<bool> {
+fn newton_refine(robot: &Robot, target: &Pose, q: &mut [f64], jac: &mut Matrix6xX<f64>) -> Result<bool> {
     let mut q0 = [0.0; 6];
     q0.copy_from_slice(q);
     let mut last_step = f64::INFINITY;
@@ -229,7 +229,7 @@ fn by_ik(
     times: &[f64],
     policy: &SelfMotion,
 ) -> Result<JointTrajectory> {
-    let family = ik::family::fit(robot);
+    let family = ik::registry::fit(robot);
     let redundancy = family.as_deref().and_then(|f| f.redundancy());
     let plan = self_motion::plan(robot, redundancy, policy, q_start)?;
     let held = follow(robot, &plan, motion, q_start, times);
@@ -287,12 +287,12 @@ fn follow(
 
 /// The closed-form candidates of a sample (target, previous sample, out)
 /// and a name for errors.
-type ClosedForm<'a> = (&'a dyn Fn(&Pose, &[f64], &mut CandidateSet) -> Result<()>, &'a str);
+type ClosedCandidates<'a> = (&'a dyn Fn(&Pose, &[f64], &mut CandidateSet) -> Result<()>, &'a str);
 
-/// A path sample by sample, row-major joint values. With `tracking` (six
-/// joints), each sample is first Newton-tracked from the constant-velocity
+/// A path sample by sample, row-major joint values. With `newton_first` (six
+/// joints), each sample is first Newton-refined from the constant-velocity
 /// prediction 2·q_{k−1} − q_{k−2}; where that does not converge cleanly or
-/// leaves the limits, and always without `tracking`, the `closed` candidate
+/// leaves the limits, and always without `newton_first`, the `closed` candidate
 /// nearest the previous sample (within limits, reaching the pose) is taken,
 /// or without `closed` the numeric solver's answer from the previous sample.
 fn generic_path(
@@ -300,8 +300,8 @@ fn generic_path(
     motion: &CartesianMotion,
     q_start: &[f64],
     times: &[f64],
-    tracking: bool,
-    closed: Option<ClosedForm>,
+    newton_first: bool,
+    closed: Option<ClosedCandidates>,
 ) -> Result<Vec<f64>> {
     let n = robot.dof();
     let numeric = NumericIk::with_options(robot, NumericOptions { max_restarts: 0, ..NumericOptions::default() })?;
@@ -316,9 +316,9 @@ fn generic_path(
     for (k, &t) in times.iter().enumerate().skip(1) {
         let target = motion.at(t).pose;
         let prev = &qs[(k - 1) * n..k * n];
-        if tracking {
+        if newton_first {
             predict(&qs, times, k, n, &mut q);
-            if newton_track(robot, &target, &mut q, &mut jac)? && ik::settle_on_limits(robot, &mut q).is_empty() {
+            if newton_refine(robot, &target, &mut q, &mut jac)? && ik::settle_on_limits(robot, &mut q).is_empty() {
                 qs.extend_from_slice(&q);
                 continue;
             }
@@ -500,11 +500,11 @@ mod tests {
         m: &CartesianMotion,
         q: &[f64],
         times: &[f64],
-        tracking: bool,
+        newton_first: bool,
     ) -> Result<Vec<f64>> {
         let solver = ik::analytic_solver(robot).unwrap();
         let closed = |target: &Pose, _: &[f64], set: &mut CandidateSet| solver.candidates_into(target, set);
-        generic_path(robot, m, q, times, tracking, Some((&closed, solver.name())))
+        generic_path(robot, m, q, times, newton_first, Some((&closed, solver.name())))
     }
 
     fn lin(a: &Pose, b: &Pose) -> CartesianMotion {
@@ -514,11 +514,11 @@ mod tests {
         CartesianMotion::new(vec![seg], Profile::SCurve, &limits, Blend::None).unwrap()
     }
 
-    /// Newton tracking is another algorithm for the same quantity as the
+    /// Newton refinement is another algorithm for the same quantity as the
     /// closed form's nearest branch: over random PUMA lines both give the
     /// same joint path, sample by sample.
     #[test]
-    fn newton_tracking_equals_the_nearest_closed_form_branch() {
+    fn newton_refinement_equals_the_nearest_closed_form_branch() {
         let robot = Robot::builtin("puma560").unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(41);
         let (mut compared, mut samples) = (0, 0);
@@ -562,13 +562,13 @@ mod tests {
         let b = Pose::new(a.rot * rpy_to_rot([0.0, 0.0, 0.8], RpyConvention::Zyx), a.pos);
         let m = lin(&a, &b);
         let times = sample_times(m.duration(), 0.01).unwrap();
-        for tracking in [false, true] {
-            let qs = closed_form_path(&robot, &m, &q_a, &times, tracking).unwrap();
+        for newton_first in [false, true] {
+            let qs = closed_form_path(&robot, &m, &q_a, &times, newton_first).unwrap();
             let last = qs[qs.len() - 1];
-            assert!(last > std::f64::consts::PI, "tracking {tracking}: q6 ends at {last}");
+            assert!(last > std::f64::consts::PI, "newton_first {newton_first}: q6 ends at {last}");
             let traj = JointTrajectory::from_positions(6, times.clone(), qs).unwrap();
             let report = check(&robot, &traj, &CheckOptions::default()).unwrap();
-            assert!(report.violations.is_empty(), "tracking {tracking}: {}", report.violations[0]);
+            assert!(report.violations.is_empty(), "newton_first {newton_first}: {}", report.violations[0]);
         }
     }
 }

@@ -621,7 +621,7 @@ fn non_finite_joint_values() {
                 let mut q = robot.home().to_vec();
                 q[joint] = bad;
                 let check = |e: Error| {
-                    let Error::NonFinite { robot: r, joint: jn, name: jname, value } = &e else { panic!("{e:?}") };
+                    let Error::BadJointValue { robot: r, joint: jn, name: jname, value } = &e else { panic!("{e:?}") };
                     assert_eq!(r, name);
                     assert_eq!(*jn, joint + 1);
                     assert_eq!(jname, &robot.joints()[joint].name);
@@ -666,7 +666,7 @@ fn fk_batch_with_one_bad_row() {
         let e = robot.fk_batch(&qs).unwrap_err();
         let Error::InBatch { index, source } = &e else { panic!("{e:?}") };
         assert_eq!(*index, row, "{e}");
-        let Error::NonFinite { joint: jn, .. } = source.as_ref() else { panic!("{e:?}") };
+        let Error::BadJointValue { joint: jn, .. } = source.as_ref() else { panic!("{e:?}") };
         assert_eq!(*jn, joint + 1, "{e}");
         assert!(e.to_string().contains(&format!("configuration {row} ")), "{e}");
         // Fixing the row makes the batch work.

@@ -204,7 +204,7 @@ fn no_door_returns_a_wrong_solution() {
     for (name, robot) in robots {
         let name = name.as_str();
         let has_analytic = kinema::ik::analytic_solver(&robot).is_some();
-        let family = kinema::ik::family::fit(&robot);
+        let family = kinema::ik::registry::fit(&robot);
         let redundancy = family.as_deref().and_then(|f| f.redundancy());
         let mut rng = ChaCha8Rng::seed_from_u64(0x1c0 ^ name.len() as u64);
         for door in &DOORS {
@@ -409,7 +409,7 @@ mod edges {
     /// self-motion picks its parameter on a grid near q0's (seed 004 §V-E),
     /// so its pick is only near.
     fn near_enough(robot: &Robot) -> f64 {
-        let redundant = kinema::ik::family::fit(robot).is_some_and(|f| f.redundancy().is_some());
+        let redundant = kinema::ik::registry::fit(robot).is_some_and(|f| f.redundancy().is_some());
         if redundant {
             0.5
         } else {

@@ -8,8 +8,8 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
-use kinema::ik::family::{fit, FAMILIES};
 use kinema::ik::geo::GeneralIk;
+use kinema::ik::registry::{fit, FAMILIES};
 use kinema::ik::{IkSolver, NumericIk, NumericOptions, Solution};
 use kinema::nalgebra::{Rotation3, Unit, Vector3};
 use kinema::{Pose, Robot};

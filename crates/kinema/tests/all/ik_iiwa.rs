@@ -110,7 +110,7 @@ fn other_robots_are_rejected_with_a_reason() {
     for name in ["ur5", "panda", "puma560"] {
         let robot = Robot::builtin(name).unwrap();
         match IiwaIk::new(&robot) {
-            Err(Error::SolverDoesNotFit { reason, .. }) => assert!(!reason.is_empty()),
+            Err(Error::UnsupportedStructure { reason, .. }) => assert!(!reason.is_empty()),
             other => panic!("{name}: {other:?}"),
         }
     }

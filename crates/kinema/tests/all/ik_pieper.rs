@@ -170,8 +170,8 @@ fn solutions_respect_limits_and_flags() {
 fn detection_accepts_and_rejects() {
     assert!(PieperIk::new(&puma()).is_ok());
     let msg = |name: &str| match PieperIk::new(&Robot::builtin(name).unwrap()) {
-        Err(Error::SolverDoesNotFit { reason, .. }) => reason,
-        other => panic!("{name}: expected SolverDoesNotFit, got {other:?}"),
+        Err(Error::UnsupportedStructure { reason, .. }) => reason,
+        other => panic!("{name}: expected UnsupportedStructure, got {other:?}"),
     };
     let ur5 = msg("ur5");
     assert!(ur5.contains("ur5") && ur5.contains("axes 4, 5, 6 do not intersect") && ur5.contains("0.0946"), "{ur5}");
@@ -182,8 +182,8 @@ fn detection_accepts_and_rejects() {
     // A general (URDF-like) description is rejected: the solver reads the DH table.
     let general = Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ur5-general.toml"), None).unwrap();
     let m = match PieperIk::new(&general) {
-        Err(Error::SolverDoesNotFit { reason, .. }) => reason,
-        other => panic!("expected SolverDoesNotFit, got {other:?}"),
+        Err(Error::UnsupportedStructure { reason, .. }) => reason,
+        other => panic!("expected UnsupportedStructure, got {other:?}"),
     };
     assert!(m.contains("general transform") && m.contains("DH table"), "{m}");
     // Every built-in robot is either accepted or rejected with a message, never a panic.
@@ -191,7 +191,7 @@ fn detection_accepts_and_rejects() {
         let robot = Robot::builtin(name).unwrap();
         match PieperIk::new(&robot) {
             Ok(_) => {}
-            Err(Error::SolverDoesNotFit { robot: r, .. }) => assert_eq!(r, robot.name()),
+            Err(Error::UnsupportedStructure { robot: r, .. }) => assert_eq!(r, robot.name()),
             Err(e) => panic!("{name}: {e}"),
         }
     }
@@ -554,8 +554,8 @@ fn unsupported_arrangements_are_rejected() {
         (0.0, 0.0, 0.0, 0.0),
     ];
     let err = |rows| match PieperIk::new(&synthetic("x", "standard", rows, "")) {
-        Err(Error::SolverDoesNotFit { reason, .. }) => reason,
-        other => panic!("expected SolverDoesNotFit, got {other:?}"),
+        Err(Error::UnsupportedStructure { reason, .. }) => reason,
+        other => panic!("expected UnsupportedStructure, got {other:?}"),
     };
     // Axes 1 and 2 coincide (α1 = 0, a1 = 0).
     let mut rows = rows_ok;

@@ -187,10 +187,10 @@ fn variant_lengths_base_and_tool() {
         assert!(sols.iter().any(|s| same(&s.q[..4], &q[..4], 1e-9)));
     }
     let bad = robot.with_tool(Pose::translation(0.05, 0.0, 0.0)).unwrap();
-    assert!(matches!(RommelIk::new(&bad), Err(Error::SolverDoesNotFit { .. })));
+    assert!(matches!(RommelIk::new(&bad), Err(Error::UnsupportedStructure { .. })));
     assert!(matches!(
         RommelIk::new(&Robot::builtin("scorbot-er-v-plus").unwrap()),
-        Err(Error::SolverDoesNotFit { .. })
+        Err(Error::UnsupportedStructure { .. })
     ));
 }
 

@@ -291,10 +291,10 @@ fn variant_lengths_base_and_tool() {
     }
     // A rotated base breaks eq. 1; a tilted tool cannot be held.
     let r = robot.with_base(Pose::IDENTITY).unwrap();
-    assert!(matches!(ScaraIk::new(&r), Err(Error::SolverDoesNotFit { .. })));
+    assert!(matches!(ScaraIk::new(&r), Err(Error::UnsupportedStructure { .. })));
     let r = robot.with_tool(Pose::rot_x(0.1)).unwrap();
-    assert!(matches!(ScaraIk::new(&r), Err(Error::SolverDoesNotFit { .. })));
-    assert!(matches!(ScaraIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::SolverDoesNotFit { .. })));
+    assert!(matches!(ScaraIk::new(&r), Err(Error::UnsupportedStructure { .. })));
+    assert!(matches!(ScaraIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::UnsupportedStructure { .. })));
 }
 
 #[test]

@@ -361,9 +361,9 @@ fn variant_lengths_base_and_tool() {
     }
     // A tool offset sideways cannot be handled.
     let bad = robot.with_tool(Pose::translation(0.05, 0.0, 0.0)).unwrap();
-    assert!(matches!(ScorbotIk::new(&bad), Err(Error::SolverDoesNotFit { .. })));
+    assert!(matches!(ScorbotIk::new(&bad), Err(Error::UnsupportedStructure { .. })));
     // Not a Scorbot at all.
-    assert!(matches!(ScorbotIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::SolverDoesNotFit { .. })));
+    assert!(matches!(ScorbotIk::new(&Robot::builtin("puma560").unwrap()), Err(Error::UnsupportedStructure { .. })));
     let _ = FRAC_PI_2;
 }
 

@@ -574,9 +574,9 @@ fn the_generic_self_motion_is_the_iiwas_and_works_from_urdf() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x5e1f);
     let dh = dh_iiwa();
     let iiwa = IiwaIk::new(&dh).unwrap();
-    let dh_family = kinema::ik::family::fit(&dh).unwrap();
+    let dh_family = kinema::ik::registry::fit(&dh).unwrap();
     let urdf = data("iiwa14.urdf");
-    let urdf_family = kinema::ik::family::fit(&urdf).unwrap();
+    let urdf_family = kinema::ik::registry::fit(&urdf).unwrap();
     let mut worst = (0.0f64, 0.0f64);
     for _ in 0..200 {
         let q = dh.random_q(&mut rng);

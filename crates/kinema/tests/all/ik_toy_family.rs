@@ -3,8 +3,9 @@
 //! whose kernel alone (through [`ClosedForm`]) makes it an IK solver that the
 //! request layer and the contract take as they take the built-in families.
 
-use kinema::ik::family::{self, boxed, Entry, Family, FAMILIES};
+use kinema::ik::family::Family;
 use kinema::ik::geo::Kinematics;
+use kinema::ik::registry::{self, boxed, Entry, FAMILIES};
 use kinema::ik::{solve_target_with, CandidateSet, ClosedForm, IkRequest, IkTarget, SolverChoice};
 use kinema::nalgebra::Vector3;
 use kinema::{Error, Pose, Robot};
@@ -21,7 +22,7 @@ struct Planar2R {
 
 impl Planar2R {
     fn new(robot: &Robot) -> kinema::Result<Self> {
-        let refuse = |reason: &str| Error::SolverDoesNotFit {
+        let refuse = |reason: &str| Error::UnsupportedStructure {
             solver: "planar-2r".into(),
             robot: robot.name().into(),
             reason: reason.into(),
@@ -101,13 +102,13 @@ home = [0, 0]
 #[test]
 fn a_family_in_one_file_and_one_registry_line_solves_through_the_contract() {
     let robot = Robot::from_toml_str(ARM, "toy.toml").unwrap();
-    assert!(family::fit(&robot).is_none(), "no built-in family takes the toy arm");
+    assert!(registry::fit(&robot).is_none(), "no built-in family takes the toy arm");
     let registry: Vec<Entry> = FAMILIES
         .iter()
         .copied()
         .chain([Entry { name: "planar-2r", typed: &[], fit: |r| boxed(Planar2R::new(r)) }])
         .collect();
-    let fitted = family::fit_in(&registry, &robot).expect("the toy family fits its arm");
+    let fitted = registry::fit_in(&registry, &robot).expect("the toy family fits its arm");
     assert_eq!(fitted.name(), "planar-2r");
     let mut rng = ChaCha8Rng::seed_from_u64(0x2e);
     for _ in 0..200 {

@@ -57,8 +57,8 @@ pub use spherical::{ShoulderKind, SphericalWristIk};
 pub use srs::SrsIk;
 pub use wrist_search::TwoIntersectingSearchIk;
 
-use super::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -154,7 +154,7 @@ impl Common {
 }
 
 fn reject<T>(solver: &str, robot: &Robot, reason: String) -> Result<T> {
-    Err(Error::SolverDoesNotFit { solver: solver.into(), robot: robot.name().into(), reason })
+    Err(Error::UnsupportedStructure { solver: solver.into(), robot: robot.name().into(), reason })
 }
 
 /// A target whose motion is absurdly large (or not finite after the tool is
@@ -237,7 +237,7 @@ impl GeoIk {
             Ok(s) => return Ok(GeoIk::TwoIntersectingSearch(s)),
             Err(e) => e,
         };
-        Err(Error::SolverDoesNotFit {
+        Err(Error::UnsupportedStructure {
             solver: "geometric".into(),
             robot: robot.name().into(),
             reason: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),

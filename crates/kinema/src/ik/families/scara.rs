@@ -73,8 +73,8 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::ik::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::{rot_z, Pose};
 use crate::model::LinkGeometry;
@@ -147,12 +147,13 @@ impl ScaraIk {
     /// H2 (offset of joint 4) from its DH table and checking with forward kinematics
     /// that the model is seed 003 eq. 1 with these values.
     ///
-    /// Errors ([`Error::SolverDoesNotFit`]) for a robot that is not PRRPR with DH rows,
+    /// Errors ([`Error::UnsupportedStructure`]) for a robot that is not PRRPR with DH rows,
     /// whose forward kinematics is not eq. 1 (a base rotation other than Rx(−90°)
     /// included; any base translation is fine), whose tool is tilted (its z axis must
     /// stay vertical), or whose rail is too short for the zone rule.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
+        let bad =
+            |reason: String| Error::UnsupportedStructure { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.joint_types() != "PRRPR" {
             return Err(bad(format!(
                 "the SCARA solver needs joints PRRPR (rail, shoulder, elbow, z, wrist); `{}` is {}",
@@ -282,7 +283,7 @@ impl ScaraIk {
     fn planar(&self, x: f64, y: f64, elbow: Elbow) -> Option<(f64, f64)> {
         let (l1, l2) = (self.l1, self.l2);
         let r = x.fast_hypot(y);
-        let e = super::two_link_elbow(r, l1, l2, REACH_TOL).ok()?;
+        let e = crate::ik::two_link_elbow(r, l1, l2, REACH_TOL).ok()?;
         let sign = elbow.sign();
         // q2 = ∠(x, y) − ∠(L1 + L2·c3, L2·s3), as one atan2 of cross and dot
         // product; at r = 0 (L1 = L2, folded) q2 is free: 0.
@@ -621,7 +622,7 @@ impl ScaraIk {
     }
 }
 
-impl super::ClosedForm for ScaraIk {
+impl crate::ik::ClosedForm for ScaraIk {
     const NAME: &'static str = NAME;
 
     fn robot(&self) -> &Robot {
@@ -638,7 +639,7 @@ impl super::ClosedForm for ScaraIk {
     /// right elbow. α is the rotation of the target about the vertical. A target
     /// whose z axis is not vertical is [`Unreachable::Orientation`] with the tilt
     /// angle.
-    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    fn kernel(&self, target: &Pose, out: &mut crate::ik::CandidateSet) -> Result<()> {
         let pair = self.zone_pair(target)?;
         out.clear();
         for (q, elbow) in pair {
@@ -680,14 +681,10 @@ impl ScaraIk {
     }
 }
 
-impl super::family::Family for ScaraIk {
-    fn owns(&self, kind: super::family::TypedKind) -> bool {
-        kind == super::family::TypedKind::Alpha
-    }
-
-    fn solve_typed(&self, target: &super::IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+impl crate::ik::family::Family for ScaraIk {
+    fn solve_typed(&self, target: &crate::ik::IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
-            super::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
+            crate::ik::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
                 Ok(vec![self.solve_zone([x, y, z, alpha], q0)?])
             }
             _ => Err(Error::DoesNotFit {
@@ -697,9 +694,9 @@ impl super::family::Family for ScaraIk {
         }
     }
 
-    fn typed_orientation_error(&self, target: &super::IkTarget, reached: &Pose) -> f64 {
+    fn typed_orientation_error(&self, target: &crate::ik::IkTarget, reached: &Pose) -> f64 {
         match *target {
-            super::IkTarget::PositionAlpha { position, alpha } => {
+            crate::ik::IkTarget::PositionAlpha { position, alpha } => {
                 crate::math::pose_error(&Self::alpha_pose(position, alpha), reached).rotation_angle()
             }
             _ => f64::INFINITY,

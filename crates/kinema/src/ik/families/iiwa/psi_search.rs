@@ -62,7 +62,7 @@ impl IiwaIk {
         Ok(out)
     }
 
-    /// The solutions within the joint limits for `target` (`base_from_tool`),
+    /// The solutions within the joint limits for `target` (`world_from_tool`),
     /// searching the self-motion when q3 = `prefer_q3` \[rad\] has none.
     ///
     /// First the closed form at `prefer_q3` ([`IiwaIk::solve_q3`]): if any of

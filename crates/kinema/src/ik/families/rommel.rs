@@ -46,8 +46,8 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::{check_target, wrap_angle, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::ik::{check_target, wrap_angle, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry};
@@ -112,10 +112,11 @@ impl RommelIk {
     /// checking with forward kinematics that the geometry of the module
     /// documentation holds.
     ///
-    /// Errors ([`Error::SolverDoesNotFit`]) for a robot that is not five revolute
+    /// Errors ([`Error::UnsupportedStructure`]) for a robot that is not five revolute
     /// modified-DH joints with that geometry, or a tool that leaves the flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
+        let bad =
+            |reason: String| Error::UnsupportedStructure { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.joint_types() != "RRRRR" {
             return Err(bad(format!(
                 "the ROMMEL solver needs 5 revolute joints; `{}` is {}",
@@ -245,7 +246,7 @@ impl RommelIk {
             let (x, y) = (wrist.y - self.d1, self.a1 - rho);
             let r = x.fast_hypot(y);
             // Law of cosines, half-angle form (see `two_link_elbow`).
-            let q3abs = match super::two_link_elbow(r, self.a2, self.d4, REACH_TOL) {
+            let q3abs = match crate::ik::two_link_elbow(r, self.a2, self.d4, REACH_TOL) {
                 Ok(e) => e.angle,
                 Err(miss) => {
                     let which = if miss.outer { "outer" } else { "inner" };
@@ -334,7 +335,7 @@ impl RommelIk {
     }
 }
 
-impl super::ClosedForm for RommelIk {
+impl crate::ik::ClosedForm for RommelIk {
     const NAME: &'static str = NAME;
 
     fn robot(&self) -> &Robot {
@@ -345,7 +346,7 @@ impl super::ClosedForm for RommelIk {
     /// the tool x axis onto the target's — so the reported `orientation_error` is
     /// ~0 whenever the approach is reachable. An approach that is not is
     /// [`Unreachable::Orientation`] (see [`RommelIk::solve_position_approach`]).
-    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    fn kernel(&self, target: &Pose, out: &mut crate::ik::CandidateSet) -> Result<()> {
         check_target(target)?;
         let local = self.robot.base().inverse().mul(target);
         let flange_rot = local.rot * self.robot.tool().rot.transpose();
@@ -367,14 +368,10 @@ impl super::ClosedForm for RommelIk {
     }
 }
 
-impl super::family::Family for RommelIk {
-    fn owns(&self, kind: super::family::TypedKind) -> bool {
-        kind == super::family::TypedKind::Approach
-    }
-
-    fn solve_typed(&self, target: &super::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+impl crate::ik::family::Family for RommelIk {
+    fn solve_typed(&self, target: &crate::ik::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
-            super::IkTarget::PositionApproach { position, approach } => {
+            crate::ik::IkTarget::PositionApproach { position, approach } => {
                 self.solve_position_approach(position, approach)
             }
             _ => Err(Error::DoesNotFit {
@@ -384,9 +381,9 @@ impl super::family::Family for RommelIk {
         }
     }
 
-    fn typed_orientation_error(&self, target: &super::IkTarget, reached: &Pose) -> f64 {
+    fn typed_orientation_error(&self, target: &crate::ik::IkTarget, reached: &Pose) -> f64 {
         match *target {
-            super::IkTarget::PositionApproach { approach, .. } => Self::approach_error(reached, approach),
+            crate::ik::IkTarget::PositionApproach { approach, .. } => Self::approach_error(reached, approach),
             _ => f64::INFINITY,
         }
     }

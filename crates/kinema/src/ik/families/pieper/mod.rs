@@ -78,8 +78,8 @@ use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::ik::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry};
@@ -197,11 +197,11 @@ impl PieperIk {
     /// q4…q6 change, at a few seeded configurations. The shoulder
     /// arrangement ([`ArmKind`]) is classified with the same tolerances.
     ///
-    /// Errors ([`Error::SolverDoesNotFit`]) say which condition fails.
+    /// Errors ([`Error::UnsupportedStructure`]) say which condition fails.
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
         let reject =
-            |reason: String| Err(Error::SolverDoesNotFit { solver: "pieper".into(), robot: name.into(), reason });
+            |reason: String| Err(Error::UnsupportedStructure { solver: "pieper".into(), robot: name.into(), reason });
         let types = robot.joint_types();
         if robot.dof() != 6 || types != "RRRRRR" {
             return reject(format!(
@@ -360,7 +360,7 @@ impl PieperIk {
         self.dh0_from_world * *target * self.tool_from_flange
     }
 
-    /// The wrist centre of a target pose (`base_from_tool`), in the DH base
+    /// The wrist centre of a target pose (`world_from_tool`), in the DH base
     /// frame \[m\].
     fn wrist_centre(&self, target: &Pose) -> Vector3<f64> {
         self.dh0_from_flange(target).transform_point(&self.wc_in_flange)
@@ -704,18 +704,18 @@ impl IkSolver for PieperIk {
     /// All (up to 8) solutions: each arm branch × {noflip, flip}, labelled
     /// as described in the [module documentation](self).
     fn solve(&self, target: &Pose) -> Result<Vec<Solution>> {
-        let mut set = super::CandidateSet::new();
+        let mut set = crate::ik::CandidateSet::new();
         self.candidates_into(target, &mut set)?;
         (0..set.len()).map(|i| set.evaluate(i, &self.robot, target)).collect()
     }
 
     fn propose(&self, target: &Pose) -> Result<Vec<Solution>> {
-        let mut set = super::CandidateSet::new();
+        let mut set = crate::ik::CandidateSet::new();
         self.candidates_into(target, &mut set)?;
         Ok(set.unmeasured())
     }
 
-    fn candidates_into(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    fn candidates_into(&self, target: &Pose, out: &mut crate::ik::CandidateSet) -> Result<()> {
         check_target(target)?;
         out.clear();
         let unreachable = |reason| Error::Unreachable { solver: "pieper".into(), reason, closest: None };
@@ -754,4 +754,4 @@ impl IkSolver for PieperIk {
     }
 }
 
-impl super::family::Family for PieperIk {}
+impl crate::ik::family::Family for PieperIk {}

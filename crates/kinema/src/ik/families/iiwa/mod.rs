@@ -74,10 +74,10 @@ use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::family::{Choice, Redundancy, SelfMotionParameter};
-use super::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, Result};
+use crate::ik::family::{Choice, Redundancy, SelfMotionParameter};
+use crate::ik::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::kin::Frame;
 use crate::math::FastMath;
 use crate::math::{rot_y, rot_z, Pose};
@@ -131,7 +131,7 @@ pub const RECOVERED_TOLERANCE: f64 = 1e-9;
 /// (seed 004 §V-C) is a fair demand.
 pub const WELL_CONDITIONED_LIMIT: f64 = 1e-13;
 
-pub use super::family::SelfMotionSample;
+pub use crate::ik::family::SelfMotionSample;
 
 /// The analytic solver for the LBR iiwa and arms of the same shape.
 ///
@@ -232,7 +232,7 @@ pub(crate) fn no_steps() -> Error {
 }
 
 fn invalid(robot: &Robot, reason: String) -> Error {
-    Error::SolverDoesNotFit { solver: "iiwa".into(), robot: robot.name().into(), reason }
+    Error::UnsupportedStructure { solver: "iiwa".into(), robot: robot.name().into(), reason }
 }
 
 fn sign_of(config: u8, bit: u8) -> f64 {
@@ -295,7 +295,7 @@ pub fn config_label(config: u8) -> &'static str {
 
 impl IiwaIk {
     /// A solver for `robot`, which must be a 7R arm of the iiwa's shape
-    /// (see the module documentation); otherwise [`Error::SolverDoesNotFit`]
+    /// (see the module documentation); otherwise [`Error::UnsupportedStructure`]
     /// says what does not fit. The default q3 of [`IkSolver::solve`](crate::ik::IkSolver::solve) is 0.
     pub fn new(robot: &Robot) -> Result<Self> {
         const TWIST: [f64; 7] = [-FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, -FRAC_PI_2, FRAC_PI_2, 0.0];
@@ -554,7 +554,7 @@ impl IiwaIk {
         Ok(out)
     }
 
-    /// All solutions for the target pose `target` (`base_from_tool`) with
+    /// All solutions for the target pose `target` (`world_from_tool`) with
     /// joint 3 fixed at `q3` \[rad\] — seed 004 eq. 3–11: up to 8 solutions,
     /// 2 elbows × 2 shoulders × 2 wrists, each labelled with its
     /// configuration bits and the fixed-q3 shoulder side
@@ -746,7 +746,7 @@ impl IiwaIk {
     }
 }
 
-impl super::ClosedForm for IiwaIk {
+impl crate::ik::ClosedForm for IiwaIk {
     const NAME: &'static str = "iiwa";
 
     fn robot(&self) -> &Robot {
@@ -755,13 +755,13 @@ impl super::ClosedForm for IiwaIk {
 
     /// The (up to 8) candidates of [`IiwaIk::solve_q3_candidates`] for q3 =
     /// [`IiwaIk::q3`] (0 unless set with [`IiwaIk::with_q3`]).
-    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    fn kernel(&self, target: &Pose, out: &mut crate::ik::CandidateSet) -> Result<()> {
         self.solve_q3_candidates(target, self.q3)?.write_into(out);
         Ok(())
     }
 }
 
-impl super::family::Family for IiwaIk {
+impl crate::ik::family::Family for IiwaIk {
     fn redundancy(&self) -> Option<&dyn Redundancy> {
         Some(self)
     }

@@ -167,7 +167,7 @@ impl SrsIk {
     }
 
     /// All (up to 8) solutions for the target pose `target`
-    /// (`base_from_tool`) with joint 3 at `q3` \[rad\], labelled
+    /// (`world_from_tool`) with joint 3 at `q3` \[rad\], labelled
     /// `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`; solutions outside the limits
     /// are included and flagged.
     ///
@@ -287,7 +287,7 @@ impl SrsIk {
     }
 
     /// All (up to 8) solutions for the target pose `target`
-    /// (`base_from_tool`) at the arm angle `psi` \[rad\] (see the [module
+    /// (`world_from_tool`) at the arm angle `psi` \[rad\] (see the [module
     /// documentation](self)), labelled `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`
     /// as [`SrsIk::solve_q3`]'s; solutions outside the limits are included
     /// and flagged. Each label keeps its branch as ψ varies, away from the
@@ -459,7 +459,7 @@ impl SrsIk {
     }
 
     /// The solutions within the joint limits for `target`
-    /// (`base_from_tool`), searching q₃ when `prefer_q3` \[rad\] has none.
+    /// (`world_from_tool`), searching q₃ when `prefer_q3` \[rad\] has none.
     ///
     /// First [`SrsIk::solve_q3`] at `prefer_q3`: its solutions within limits,
     /// if any. Otherwise q₃ is scanned over its range (its limits, or a turn

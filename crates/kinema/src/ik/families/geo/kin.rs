@@ -50,7 +50,7 @@ impl Kinematics {
     pub fn new(robot: &Robot) -> Result<Self> {
         let name = robot.name();
         if let Some(i) = robot.joints().iter().position(|j| j.kind != JointType::Revolute) {
-            return Err(Error::SolverDoesNotFit {
+            return Err(Error::UnsupportedStructure {
                 solver: "geometric".into(),
                 robot: name.into(),
                 reason: format!("joint {} is prismatic; the geometric solvers handle revolute joints only", i + 1),
@@ -77,7 +77,7 @@ impl Kinematics {
             let scale = 1.0 + b.pos.norm();
             let err = ((a.pos - b.pos).norm() / scale).max((a.rot - b.rot).norm());
             if !(err <= 1e-9) {
-                return Err(Error::SolverDoesNotFit {
+                return Err(Error::UnsupportedStructure {
                     solver: "geometric".into(),
                     robot: name.into(),
                     reason: format!("the axes read at q = 0 do not reproduce the forward kinematics (error {err:.3e})"),

@@ -67,8 +67,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::error::{Error, Result};
+use crate::ik::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::{rot_x, rot_y, Pose, RpyConvention};
 use crate::model::{DhConvention, LinkGeometry};
@@ -120,7 +120,7 @@ pub struct ScorbotIk {
 /// Why a branch missed: the annulus boundary and on which side (front/back).
 #[derive(Debug, Clone, Copy)]
 struct Miss {
-    annulus: super::AnnulusMiss,
+    annulus: crate::ik::AnnulusMiss,
     side: &'static str,
 }
 
@@ -138,12 +138,13 @@ impl ScorbotIk {
     /// A solver for `robot`, reading d1, a1, a2, a3, d5 and the joint offsets from
     /// its DH table.
     ///
-    /// Errors ([`Error::SolverDoesNotFit`]) unless the robot has five revolute
+    /// Errors ([`Error::UnsupportedStructure`]) unless the robot has five revolute
     /// standard-DH joints with twists (π/2, 0, 0, π/2, 0), d2 = d3 = d4 = 0,
     /// a4 = a5 = 0, a2 > 0, a3 > 0, and a tool whose translation lies along the
     /// flange z axis.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let bad = |reason: String| Error::SolverDoesNotFit { solver: NAME.into(), robot: robot.name().into(), reason };
+        let bad =
+            |reason: String| Error::UnsupportedStructure { solver: NAME.into(), robot: robot.name().into(), reason };
         if robot.dof() != 5 || robot.joint_types() != "RRRRR" {
             return Err(bad(format!(
                 "the Scorbot solver needs 5 revolute joints (RRRRR); `{}` has {} ({})",
@@ -395,7 +396,7 @@ impl ScorbotIk {
             // 2·a2²·a3²; it is 2·a2·a3: cos θ3 = (k1² + k2² − a2² − a3²)/(2·a2·a3).
             // Evaluated in the equivalent half-angle form (`two_link_elbow`),
             // accurate near the stretched and folded arm where acos loses half the digits.
-            let elbow = match super::two_link_elbow_terms(rho, a2, a3, REACH_TOL) {
+            let elbow = match crate::ik::two_link_elbow_terms(rho, a2, a3, REACH_TOL) {
                 Ok(e) => e,
                 Err(annulus) => {
                     miss[k] = Some(Miss { annulus, side });
@@ -458,7 +459,7 @@ fn decompose(m: &Matrix3<f64>) -> (f64, f64, f64, bool) {
     (roll, pitch, yaw, cp <= 1e-12)
 }
 
-impl super::ClosedForm for ScorbotIk {
+impl crate::ik::ClosedForm for ScorbotIk {
     const NAME: &'static str = NAME;
 
     fn robot(&self) -> &Robot {
@@ -476,7 +477,7 @@ impl super::ClosedForm for ScorbotIk {
     /// `orientation_error` is the uncontrollable yaw error (see
     /// [`ScorbotIk::yaw_error`]); [`IkSolver::solve`](crate::ik::IkSolver::solve) sorts the list by it,
     /// smallest first.
-    fn kernel(&self, target: &Pose, out: &mut super::CandidateSet) -> Result<()> {
+    fn kernel(&self, target: &Pose, out: &mut crate::ik::CandidateSet) -> Result<()> {
         self.pose_candidates(target)?.write_into(out);
         Ok(())
     }
@@ -515,14 +516,10 @@ impl ScorbotIk {
     }
 }
 
-impl super::family::Family for ScorbotIk {
-    fn owns(&self, kind: super::family::TypedKind) -> bool {
-        kind == super::family::TypedKind::PitchRoll
-    }
-
-    fn solve_typed(&self, target: &super::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+impl crate::ik::family::Family for ScorbotIk {
+    fn solve_typed(&self, target: &crate::ik::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
-            super::IkTarget::PositionPitchRoll { position, pitch, roll } => {
+            crate::ik::IkTarget::PositionPitchRoll { position, pitch, roll } => {
                 self.solve_xyz_pitch_roll(position, pitch, roll)
             }
             _ => Err(Error::DoesNotFit {
@@ -532,9 +529,9 @@ impl super::family::Family for ScorbotIk {
         }
     }
 
-    fn typed_orientation_error(&self, target: &super::IkTarget, reached: &Pose) -> f64 {
+    fn typed_orientation_error(&self, target: &crate::ik::IkTarget, reached: &Pose) -> f64 {
         match *target {
-            super::IkTarget::PositionPitchRoll { pitch, roll, .. } => self.pitch_roll_error(reached, pitch, roll),
+            crate::ik::IkTarget::PositionPitchRoll { pitch, roll, .. } => self.pitch_roll_error(reached, pitch, roll),
             _ => f64::INFINITY,
         }
     }
