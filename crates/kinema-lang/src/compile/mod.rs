@@ -18,10 +18,7 @@ mod trajectory_check;
 
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
-use std::rc::Rc;
 
-use kinema::ik::registry;
-use kinema::ik::TypedKind;
 use kinema::math::Pose;
 use kinema::traj::{CartesianLimits, CartesianMotion, JointTrajectory, Profile, SelfMotion};
 use kinema::Robot;
@@ -246,7 +243,7 @@ impl<'a> Compiler<'a> {
             robot,
             robot_tool: robot.clone(),
             opts,
-            scara: registry::for_typed(robot, TypedKind::Alpha).map_or(Scara::No, |f| Scara::Solver(Rc::from(f))),
+            scara: Scara::fit(robot),
             q,
             traj,
             speed: 1.0,

@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 use std::rc::Rc;
 
-use kinema::ik::family::Family;
+use kinema::ik::family::{Family, ToolAngleJoints};
 use kinema::ik::registry;
 use kinema::ik::TypedKind;
 use kinema::ik::{self, IkTarget};
@@ -27,11 +27,31 @@ pub(super) enum Scara {
     /// No family takes tool-angle targets on this robot: the instructions are
     /// refused before the program runs.
     No,
-    /// The fitted family.
-    Solver(Rc<dyn Family>),
+    /// The fitted family, and what its joints move.
+    Solver(Rc<dyn Family>, ToolAngleJoints),
     /// The SCARA with a tool its IK cannot take (a tilted one): which TOOL, and why. HOME
     /// and PTP/LIN still work; MOVEXY/MOVEZ/MOVETITA are errors.
-    ToolRefused(String),
+    ToolRefused(String, ToolAngleJoints),
+}
+
+impl Scara {
+    /// The family that owns tool-angle targets on `robot`, if one does and
+    /// says what its joints move.
+    pub(super) fn fit(robot: &Robot) -> Scara {
+        let Ok(family) = registry::for_typed(robot, TypedKind::Alpha) else { return Scara::No };
+        match family.tool_angle_joints() {
+            Some(joints) => Scara::Solver(Rc::from(family), joints),
+            None => Scara::No,
+        }
+    }
+
+    /// What the joints move; `None` for [`Scara::No`].
+    fn joints(&self) -> Option<ToolAngleJoints> {
+        match self {
+            Scara::No => None,
+            Scara::Solver(_, j) | Scara::ToolRefused(_, j) => Some(*j),
+        }
+    }
 }
 
 impl Compiler<'_> {
@@ -39,11 +59,9 @@ impl Compiler<'_> {
     /// tool. A tool it cannot take (a tilted one) is fine for PTP/LIN and HOME;
     /// MOVEXY/MOVEZ/MOVETITA after it are errors (they did nothing).
     pub(super) fn refit_scara(&mut self, with_tool: &Robot, t: &Target) {
-        if matches!(self.scara, Scara::No) {
-            return;
-        }
+        let Some(joints) = self.scara.joints() else { return };
         match registry::for_typed(with_tool, TypedKind::Alpha) {
-            Ok(f) => self.scara = Scara::Solver(Rc::from(f)),
+            Ok(f) => self.scara = Scara::Solver(Rc::from(f), joints),
             Err(e) => {
                 let why = match e {
                     kinema::Error::UnsupportedStructure { reason, .. } => reason,
@@ -54,7 +72,7 @@ impl Compiler<'_> {
                     t.span(),
                     format!("the SCARA's closed-form IK cannot take this tool: {why}; MOVEXY, MOVEZ and MOVETITA cannot follow it"),
                 ));
-                self.scara = Scara::ToolRefused(format!("the TOOL at line {line}: {why}"));
+                self.scara = Scara::ToolRefused(format!("the TOOL at line {line}: {why}"), joints);
             }
         }
     }
@@ -92,11 +110,11 @@ impl Compiler<'_> {
 
     /// Seed 003's relative moves: `delta` = [dx, dy, dz, dα] of the tool.
     fn scara_relative(&mut self, s: &Stmt, delta: [f64; 4], t: f64, kw: &str) {
-        let ik = match &self.scara {
-            Scara::Solver(ik) => Rc::clone(ik),
+        let (ik, joints) = match &self.scara {
+            Scara::Solver(ik, joints) => (Rc::clone(ik), *joints),
             // Other robots are refused before running.
             Scara::No => return,
-            Scara::ToolRefused(why) => {
+            Scara::ToolRefused(why, _) => {
                 let why = why.clone();
                 self.err(
                     Diagnostic::error(
@@ -112,13 +130,12 @@ impl Compiler<'_> {
         let alpha = pose.rot[(1, 0)].atan2(pose.rot[(0, 0)]);
         let target = [pose.pos.x + delta[0], pose.pos.y + delta[1], pose.pos.z + delta[2], alpha + delta[3]];
         let q_to = if delta[0] == 0.0 && delta[1] == 0.0 {
-            // Z and θ alone: only joint 4 (z) or 5 (θ) moves, as the seed's linear law does.
+            // Z and θ alone: only the vertical or the roll joint moves, as the seed's linear law does.
             let mut q = self.q.clone();
             if delta[2] != 0.0 {
-                let dzdq = self.dz_dq4();
-                q[3] += delta[2] / dzdq;
+                q[joints.vertical] += delta[2] / self.dz_dq(joints.vertical);
             }
-            q[4] += delta[3];
+            q[joints.roll] += delta[3];
             q
         } else {
             let typed = IkTarget::PositionAlpha { position: [target[0], target[1], target[2]], alpha: target[3] };
@@ -130,12 +147,13 @@ impl Compiler<'_> {
             match solved {
                 Ok(sol) => {
                     let mut q = sol.q;
-                    // Keep θ continuous: the nearest equivalent of q5 to the present one.
-                    while q[4] - self.q[4] > PI {
-                        q[4] -= 2.0 * PI;
+                    // Keep θ continuous: the nearest equivalent of the roll joint to the present one.
+                    let r = joints.roll;
+                    while q[r] - self.q[r] > PI {
+                        q[r] -= 2.0 * PI;
                     }
-                    while self.q[4] - q[4] > PI {
-                        q[4] += 2.0 * PI;
+                    while self.q[r] - q[r] > PI {
+                        q[r] += 2.0 * PI;
                     }
                     q
                 }
@@ -160,19 +178,20 @@ impl Compiler<'_> {
         self.scara_move(s, q_to, t, kw, text);
     }
 
-    /// ∂z/∂q4 of the tool (the vertical axis is linear in q4).
-    fn dz_dq4(&self) -> f64 {
+    /// ∂z/∂q of the tool for the vertical joint `vertical` (z is linear in it).
+    fn dz_dq(&self, vertical: usize) -> f64 {
         let mut q = self.q.clone();
         let z0 = self.current_pose().pos.z;
-        q[3] += 0.01;
+        q[vertical] += 0.01;
         let z1 = self.robot_tool.fk(&q).map(|f| f.world_from_tool.pos.z).unwrap_or(z0 - 0.01);
         (z1 - z0) / 0.01
     }
 
-    /// Seed 003 §III-D: joints 1–3 (rail, shoulder, elbow: the XY plane) and the
+    /// Seed 003 §III-D: the planar joints (rail, shoulder, elbow: the XY plane) and the
     /// wrist's compensation of them follow a cubic; z and θ alone follow a
     /// linear law. Lasts exactly `t`.
     pub(super) fn scara_move(&mut self, s: &Stmt, q_to: Vec<f64>, t: f64, kw: &str, text: String) {
+        let Some(joints) = self.scara.joints() else { return };
         if let Some(m) = outside_limits(self.robot, &q_to) {
             self.err(Diagnostic::error(s.span.clone(), format!("{kw} puts {m}")));
             return;
@@ -181,8 +200,9 @@ impl Compiler<'_> {
         else {
             return;
         };
-        let xy_moves = (0..3).any(|i| q_to[i] != self.q[i]);
-        let laws: Vec<TimeLaw> = (0..5).map(|i| if i < 3 || (i == 4 && xy_moves) { cubic } else { linear }).collect();
+        let xy_moves = joints.planar.iter().any(|&i| q_to[i] != self.q[i]);
+        let follows_the_plane = |i: usize| joints.planar.contains(&i) || (i == joints.roll && xy_moves);
+        let laws: Vec<TimeLaw> = (0..q_to.len()).map(|i| if follows_the_plane(i) { cubic } else { linear }).collect();
         let from = self.q.clone();
         let Some(j) = self.sample_laws(s, &from, &q_to, &laws) else { return };
         let t0 = self.traj.times().last().copied().unwrap_or(0.0);
@@ -191,7 +211,8 @@ impl Compiler<'_> {
             (true, _) => "cubic",
             (false, _) => "linear",
         };
-        let linear: Vec<bool> = (0..5).map(|i| laws[i].profile() == Profile::Linear && q_to[i] != from[i]).collect();
+        let linear: Vec<bool> =
+            (0..q_to.len()).map(|i| laws[i].profile() == Profile::Linear && q_to[i] != from[i]).collect();
         self.velocity_steps.push((t0, t0 + t, linear));
         self.record(s, kw, t0, t0 + t, profile, text);
         self.append(&j, t0);

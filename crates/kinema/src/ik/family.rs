@@ -59,6 +59,25 @@ pub trait Family: IkSolver {
     fn redundancy(&self) -> Option<&dyn Redundancy> {
         None
     }
+
+    /// For a family owning tool-angle targets ([`TypedKind::Alpha`]): which
+    /// joints move the tool in the plane, along the vertical and about it.
+    fn tool_angle_joints(&self) -> Option<ToolAngleJoints> {
+        None
+    }
+}
+
+/// The joints of an arm that takes tool-angle targets, by what each moves:
+/// seed 003's relative instructions move the vertical or the roll joint
+/// alone (MOVEZ, MOVETITA) and time the planar joints differently from them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ToolAngleJoints {
+    /// The joints that place the tool in the horizontal plane (0-based).
+    pub planar: &'static [usize],
+    /// The joint that moves the tool along the vertical alone.
+    pub vertical: usize,
+    /// The joint that turns the tool about the vertical alone.
+    pub roll: usize,
 }
 
 /// The redundancy parameters of a family whose arm has a self-motion (a

@@ -682,6 +682,13 @@ impl ScaraIk {
 }
 
 impl crate::ik::family::Family for ScaraIk {
+    /// The rail, shoulder and elbow place the tool in the plane; joint 4
+    /// slides it along the vertical and joint 5 turns it (the "PRRPR" chain
+    /// [`ScaraIk::new`] requires).
+    fn tool_angle_joints(&self) -> Option<crate::ik::family::ToolAngleJoints> {
+        Some(crate::ik::family::ToolAngleJoints { planar: &[0, 1, 2], vertical: 3, roll: 4 })
+    }
+
     fn solve_typed(&self, target: &crate::ik::IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         match *target {
             crate::ik::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
