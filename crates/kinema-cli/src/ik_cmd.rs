@@ -164,24 +164,14 @@ type Solved = kinema::Result<IkAnswer>;
 /// returns its answer and the target solved for.
 fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(Solved, IkTarget)> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
-    // The core refuses these too; checked here first so that the message names the flags.
-    let typed = a.pitch.is_some() || a.approach.is_some() || a.alpha.is_some() || a.q3.is_some() || a.psi.is_some();
-    if typed && a.solver == SolverChoice::Numeric {
-        bail!("--pitch/--roll, --approach, --alpha, --q3 and --psi select an analytic solver; drop --solver numeric");
-    }
+    // Flag grammar, not the core's rule: a typed flag beside --T/--pose would be ignored (clap's
+    // `requires` does not fire when a conflicting target flag is given).
     let typed_target = a.pitch.is_some() || a.roll.is_some() || a.approach.is_some() || a.alpha.is_some();
     if typed_target && !matches!(target, IkTarget::Position(_)) {
         bail!(
             "--pitch/--roll, --approach and --alpha complete a --position target; they do not apply to --T or --pose"
         );
     }
-    if (a.q3.is_some() || a.psi.is_some()) && !matches!(target, IkTarget::Pose(_)) {
-        bail!("--q3 and --psi need a full target pose: give --T or --pose");
-    }
-    if a.mask.is_some() && (a.q3.is_some() || a.psi.is_some()) {
-        bail!("--mask frees components of the pose, --q3 and --psi solve the full pose in closed form; give one");
-    }
-    // clap makes --pitch/--roll, --approach and --alpha require --position.
     let target = match target {
         IkTarget::Position(position) => {
             if let (Some(pitch), Some(roll)) = (a.pitch, a.roll) {
@@ -219,13 +209,21 @@ pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest
     })
 }
 
-/// Names the flag of a tolerance the core refused: its message names the
-/// request's field (`tolerance.position`), the command line knows it as
-/// `--tol-position`.
-fn tolerance_flag(e: anyhow::Error) -> anyhow::Error {
-    let flag = match e.downcast_ref::<Error>().map(Error::root) {
-        Some(Error::OutOfRange { what, .. }) if what == "tolerance.position" => "--tol-position",
-        Some(Error::OutOfRange { what, .. }) if what == "tolerance.orientation" => "--tol-orientation",
+/// Names the flag of a request field the core refused: its message names
+/// the request's field (`tolerance.position`, `solver`, `mask` …), the
+/// command line knows it as a flag (`--tol-position`, `--solver`, `--mask` …).
+fn request_flag(e: anyhow::Error) -> anyhow::Error {
+    let what = match e.downcast_ref::<Error>().map(Error::root) {
+        Some(Error::OutOfRange { what, .. } | Error::DoesNotFit { what, .. }) => what.as_str(),
+        _ => return e,
+    };
+    let flag = match what {
+        "tolerance.position" => "--tol-position",
+        "tolerance.orientation" => "--tol-orientation",
+        "solver" => "--solver",
+        "mask" => "--mask",
+        "q3" => "--q3/--psi",
+        "target" => "the target (--T, --pose or --position, with --pitch/--roll, --approach or --alpha)",
         _ => return e,
     };
     e.context(flag)
@@ -246,7 +244,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
     }
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
-    let (result, target) = solve(&a, &robot, target, q0.as_deref()).map_err(tolerance_flag)?;
+    let (result, target) = solve(&a, &robot, target, q0.as_deref()).map_err(request_flag)?;
     let orientation_free = target.orientation_free();
     let answer = match result {
         Ok(s) => s,

@@ -2068,6 +2068,17 @@ fn negative_numbers_are_values_and_refused_by_what_checks_them() {
     }
     let r = kinema(&["ik", "--robot", "puma560", "--position", "0.5,0.2,0.3", "--tol-position", "-1"]);
     assert!(r.stderr.contains("positive tolerance"), "{}", r.stderr);
+    // Combinations only the core refuses, named by their flags.
+    let pose = "0.5,0.1,0.5,3.14159,0,0";
+    for (args, flag) in [
+        (&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", pose, "--q3", "0.1", "--solver", "numeric"][..], "--solver"),
+        (&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", pose, "--q3", "0.1", "--mask", "1,1,1,1,1,0"][..], "--mask"),
+        (&["ik", "--robot", "lbr-iiwa-14-r820", "--position", "0.5,0.1,0.5", "--q3", "0.1"][..], "the target"),
+    ] {
+        let r = kinema(args);
+        assert_eq!(r.code, Some(1), "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains(flag) && r.stderr.contains("invalid `"), "{args:?}: {}", r.stderr);
+    }
     // A valid negative value is taken as it is: --q3 of the iiwa.
     let r = kinema(&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", "0.5,0.1,0.5,3.14159,0,0", "--q3", "-0.3"]);
     assert!(r.ok, "{}", r.stderr);

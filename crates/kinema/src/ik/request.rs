@@ -329,6 +329,12 @@ pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkReques
             "a task mask selects components of a full pose; a position or typed target already says what it fixes",
         );
     }
+    if request.mask.is_some() && iiwa {
+        return invalid(
+            "mask",
+            "a task mask frees components of the pose, q3 and psi solve the full pose in closed form; give one",
+        );
+    }
     if request.mask.is_some_and(|m| !m.iter().any(|&b| b)) {
         return Err(super::no_component());
     }
@@ -656,6 +662,9 @@ mod tests {
         assert!(message(&iiwa, &IkTarget::Position(xyz(&pose)), &q3).contains("full target pose"));
         let both = IkRequest { q3: Some(0.0), psi: Some(0.0), ..Default::default() };
         assert!(message(&iiwa, &IkTarget::Pose(pose), &both).contains("not both"));
+        let masked =
+            IkRequest { q3: Some(0.0), mask: Some([true, true, true, true, true, false]), ..Default::default() };
+        assert!(message(&iiwa, &IkTarget::Pose(pose), &masked).contains("invalid `mask`"));
         assert!(message(&iiwa, &typed, &IkRequest::default()).contains("Scorbot solver needs 5 revolute joints"));
         let approach = IkTarget::PositionApproach { position: [0.4, 0.1, 0.3], approach: [0.0, 0.0, 1.0] };
         assert!(message(&scorbot, &approach, &IkRequest::default()).contains("modified-DH"));
