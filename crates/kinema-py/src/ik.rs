@@ -337,10 +337,12 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] tol_position: f64,
         #[pyo3(from_py_with = real)] tol_orientation: f64,
     ) -> PyResult<PyObject> {
+        let solver = solver_choice(solver)?;
+        let convention = parse_rpy(rpy)?;
         let request = IkCall {
-            target: ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?,
-            convention: parse_rpy(rpy)?,
-            solver: solver_choice(solver)?,
+            target: ik_target(T, position, pitch, roll, approach, alpha, convention)?,
+            convention,
+            solver,
             q0: self.optional_joint_vector(q0, "q0")?,
             all,
             q3,
@@ -397,10 +399,12 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] tol_position: f64,
         #[pyo3(from_py_with = real)] tol_orientation: f64,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let solver = solver_choice(solver)?;
+        let convention = parse_rpy(rpy)?;
         let request = IkCall {
-            target: ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?,
-            convention: parse_rpy(rpy)?,
-            solver: solver_choice(solver)?,
+            target: ik_target(T, position, pitch, roll, approach, alpha, convention)?,
+            convention,
+            solver,
             q0: self.optional_joint_vector(q0, "q0")?,
             all,
             q3,
