@@ -30,9 +30,7 @@ use clap::Args;
 use kinema::traj::cell::{placed, Approach};
 use kinema::traj::{check, Cell, CellReport, CheckOptions, CheckReport, JointTrajectory, SINGULAR_WARNING};
 use kinema::{Pose, Robot, RpyConvention};
-use kinema_io::{
-    CellAnswer, CellPair, CellRobot, CheckAnswer, ClosestApproach, ManipRange, Placement, Span, TimedValue,
-};
+use kinema_io::{CellAnswer, CellMember};
 use kinema_lang::{render_all, Options, Stop};
 use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
@@ -446,57 +444,27 @@ fn write_csv(out: &Path, members: &[Member], report: &CellReport) -> Result<()> 
     })
 }
 
-fn summary(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> CellAnswer {
-    let robots: Vec<CellRobot> = cell
+fn summary(a: &CellArgs, cell: &Loaded, report: &CellReport) -> CellAnswer {
+    let members: Vec<CellMember<'_>> = cell
         .members
         .iter()
-        .enumerate()
-        .map(|(m, member)| {
-            let (trajectory, program) = match &member.motion {
+        .map(|m| {
+            let (trajectory, program) = match &m.motion {
                 Motion::Trajectory(p) => (Some(p.display().to_string()), None),
                 Motion::Program(p) => (None, Some(p.display().to_string())),
             };
-            let manip = &report.manipulability[m];
-            let at = |k: usize| TimedValue { t: report.times[k], value: manip[k] };
-            let kmin = (0..manip.len()).min_by(|x, y| manip[*x].total_cmp(&manip[*y])).unwrap_or(0);
-            let kmax = (0..manip.len()).max_by(|x, y| manip[*x].total_cmp(&manip[*y])).unwrap_or(0);
-            let b = member.base;
-            CellRobot {
-                name: member.name.clone(),
-                robot: member.spec.clone(),
-                dof: member.robot.dof(),
+            CellMember {
+                name: &m.name,
+                robot: &m.spec,
+                dof: m.robot.dof(),
                 trajectory,
                 program,
-                base: Placement { xyz: [b.pos.x, b.pos.y, b.pos.z], rpy: b.rpy(RpyConvention::Zyx).map(|v| v + 0.0) },
-                end: report.ends[m],
-                check: CheckAnswer::new(&member.check),
-                manipulability: ManipRange { min: at(kmin), max: at(kmax) },
+                base: &m.base,
+                check: &m.check,
             }
         })
         .collect();
-    let pairs: Vec<CellPair> = approaches
-        .iter()
-        .map(|ap| {
-            let (i, j) = ap.pair;
-            let spans = cell.min_distance.map(|min| report.closer_than(i, j, min));
-            CellPair {
-                robots: [cell.members[i].name.clone(), cell.members[j].name.clone()],
-                closest: ClosestApproach { t: ap.time, distance: ap.distance },
-                ok: spans.as_ref().map(Vec::is_empty),
-                closer_than_minimum: spans.map(|s| s.iter().map(|&(from, to)| Span { from, to }).collect()),
-            }
-        })
-        .collect();
-    CellAnswer {
-        file: a.file.display().to_string(),
-        duration: report.times.last().copied().unwrap_or(0.0),
-        dt: cell.dt,
-        samples: report.times.len(),
-        min_distance: cell.min_distance,
-        ok: cell.members.iter().all(|m| m.check.violations.is_empty()) && pairs.iter().all(|p| p.ok.unwrap_or(true)),
-        robots,
-        pairs,
-    }
+    CellAnswer::new(Some(a.file.display().to_string()), cell.dt, cell.min_distance, &members, report)
 }
 
 fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> Result<()> {
@@ -584,7 +552,7 @@ pub fn run(a: CellArgs) -> Result<()> {
         }
     }
     if a.json {
-        print_json(&summary(&a, &loaded, &report, &approaches))?;
+        print_json(&summary(&a, &loaded, &report))?;
     } else if !a.out.as_deref().is_some_and(crate::output::is_stdout) {
         print_text(&a, &loaded, &report, &approaches)?;
     }

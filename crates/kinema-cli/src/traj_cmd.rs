@@ -16,7 +16,7 @@ use kinema::{Pose, Robot, RpyConvention};
 use kinema_io::trajectory_csv::{
     for_each_trajectory_row, read_trajectory_csv, trajectory_header, write_trajectory_csv, Digits, TrajectoryCsv,
 };
-use kinema_io::{CheckAnswer, JointExpression, LawAnswer, LawSamples, TrajSummary};
+use kinema_io::{CheckAnswer, LawAnswer, TrajSummary};
 
 use crate::{print_json, write_atomically, RobotArg};
 
@@ -336,48 +336,9 @@ fn law(a: LawArgs) -> Result<()> {
         }
         _ => bail!("give either --duration T or --vmax V --amax A [--jmax J]"),
     };
-    let peaks = law.peaks();
+    // A law of given duration is the normalised one.
     let scale = if a.duration.is_some() { 1.0 } else { a.distance };
-    let finite = |v: f64| Some(v * scale).filter(|_| v.is_finite());
-    let phases = law.phase_times();
-    let (mut t_acc, mut t_cruise, mut t_dec, mut t_jerk) = (None, None, None, None);
-    match profile {
-        Profile::Trapezoid => {
-            t_acc = Some(phases.first().copied().unwrap_or(0.0));
-            t_cruise = Some(if phases.len() == 3 { phases[1] } else { 0.0 });
-            t_dec = Some(phases.last().copied().unwrap_or(0.0));
-        }
-        // Phases: jerk, constant acceleration, jerk, cruise, … (zero-length ones omitted).
-        Profile::SCurve => t_jerk = Some(phases.first().copied().unwrap_or(0.0)),
-        _ => {}
-    }
-    let samples = match a.dt {
-        Some(dt) => {
-            let rows = kinema::traj::sample_times(law.duration(), dt)?
-                .iter()
-                .map(|&t| {
-                    let s = law.at(t);
-                    [t, s.s * scale, s.sd * scale, s.sdd * scale, s.sddd * scale]
-                })
-                .collect();
-            Some(LawSamples { columns: ["t", "p", "v", "a", "j"], rows })
-        }
-        None => None,
-    };
-    let out = LawAnswer {
-        profile: profile.name(),
-        distance: scale,
-        duration: law.duration(),
-        phase_times: phases.to_vec(),
-        peak_velocity: finite(peaks.sd),
-        peak_acceleration: finite(peaks.sdd),
-        peak_jerk: finite(peaks.sddd),
-        t_acc,
-        t_cruise,
-        t_dec,
-        t_jerk,
-        samples,
-    };
+    let out = LawAnswer::new(&law, scale, a.dt)?;
     if a.json {
         return print_json(&out);
     }
@@ -441,20 +402,12 @@ fn ptp(a: PtpArgs) -> Result<()> {
         // Boundary states: one law per joint, checked like every trajectory.
         let plan = kinema::traj::BoundaryPtp::new(&robot, &from, &to, &opts, &boundary)?;
         let traj = plan.sample(&robot, a.dt)?;
-        let phase_times: Vec<Vec<f64>> = plan.laws().iter().map(|l| l.phase_times()).collect();
-        let summary = TrajSummary {
-            phase_times: Some(plan.rest().map(|p| p.law().phase_times().to_vec())),
-            joint_phase_times: Some(phase_times),
-            ..TrajSummary::new(&robot, "ptp", Some(opts.profile.name()), plan.duration(), traj.len())
-        };
+        let summary = TrajSummary::boundary_ptp(&robot, &plan, opts.profile, traj.len());
         return emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary);
     }
     let plan = Ptp::new(&robot, &from, &to, &opts)?;
     let traj = plan.sample(&robot, a.dt)?;
-    let summary = TrajSummary {
-        phase_times: Some(Some(plan.law().phase_times().to_vec())),
-        ..TrajSummary::new(&robot, "ptp", Some(plan.law().profile().name()), plan.duration(), traj.len())
-    };
+    let summary = TrajSummary::ptp(&robot, &plan, traj.len());
     emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
 
@@ -711,12 +664,7 @@ fn expr(a: ExprArgs) -> Result<()> {
     };
     let traj = expression_trajectory(&robot, &q0, &exprs, a.duration, a.dt)?;
     check(&robot, &traj, &limits)?.into_result()?;
-    let summary = TrajSummary {
-        expressions: Some(
-            exprs.iter().map(|(j, e)| JointExpression { joint: j + 1, expr: e.text().to_string() }).collect(),
-        ),
-        ..TrajSummary::new(&robot, "expression", None, a.duration, traj.len())
-    };
+    let summary = TrajSummary::expression(&robot, &exprs, a.duration, traj.len());
     emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
 

@@ -1,6 +1,8 @@
 //! A work cell as an answer: each robot's placement, check and
 //! manipulability, and each pair's closest approach.
 
+use kinema::traj::{CellReport, CheckReport};
+use kinema::{Pose, RpyConvention};
 use serde::Serialize;
 
 use crate::traj::{CheckAnswer, TimedValue};
@@ -81,11 +83,12 @@ pub struct CellPair {
     pub closer_than_minimum: Option<Vec<Span>>,
 }
 
-/// The answer of `kinema cell --json`.
+/// The answer of `kinema cell --json` (and of Python's `CellReport.to_dict`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CellAnswer {
-    /// The cell file.
-    pub file: String,
+    /// The cell file (none for a cell built in Python).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
     /// The common duration \[s\].
     pub duration: f64,
     /// The common sample period \[s\].
@@ -100,4 +103,87 @@ pub struct CellAnswer {
     pub robots: Vec<CellRobot>,
     /// The pairs.
     pub pairs: Vec<CellPair>,
+}
+
+/// What a door knows of one robot of a cell besides the core's report.
+#[derive(Debug, Clone)]
+pub struct CellMember<'a> {
+    /// Its name in the cell.
+    pub name: &'a str,
+    /// The robot as the cell names it (a built-in name or a file).
+    pub robot: &'a str,
+    /// Its number of joints.
+    pub dof: usize,
+    /// The trajectory CSV it follows, if it follows one from a file.
+    pub trajectory: Option<String>,
+    /// The program file it runs, if it runs one.
+    pub program: Option<String>,
+    /// Where its base sits in the cell's world.
+    pub base: &'a Pose,
+    /// Its trajectory check.
+    pub check: &'a CheckReport,
+}
+
+impl CellAnswer {
+    /// The answer for the core's `report` of a cell whose robots are
+    /// `members` (in the report's order), run every `dt` seconds with an
+    /// optional minimum tool distance \[m\]; `file`: the cell file, if any.
+    pub fn new(
+        file: Option<String>,
+        dt: f64,
+        min_distance: Option<f64>,
+        members: &[CellMember<'_>],
+        report: &CellReport,
+    ) -> CellAnswer {
+        let robots: Vec<CellRobot> = members
+            .iter()
+            .enumerate()
+            .map(|(m, member)| {
+                let manip = &report.manipulability[m];
+                let at = |k: usize| TimedValue { t: report.times[k], value: manip[k] };
+                let kmin = (0..manip.len()).min_by(|x, y| manip[*x].total_cmp(&manip[*y])).unwrap_or(0);
+                let kmax = (0..manip.len()).max_by(|x, y| manip[*x].total_cmp(&manip[*y])).unwrap_or(0);
+                let b = member.base;
+                CellRobot {
+                    name: member.name.to_string(),
+                    robot: member.robot.to_string(),
+                    dof: member.dof,
+                    trajectory: member.trajectory.clone(),
+                    program: member.program.clone(),
+                    // `+ 0.0`: no negative zeros in the angles.
+                    base: Placement {
+                        xyz: [b.pos.x, b.pos.y, b.pos.z],
+                        rpy: b.rpy(RpyConvention::Zyx).map(|v| v + 0.0),
+                    },
+                    end: report.ends[m],
+                    check: CheckAnswer::new(member.check),
+                    manipulability: ManipRange { min: at(kmin), max: at(kmax) },
+                }
+            })
+            .collect();
+        let pairs: Vec<CellPair> = report
+            .approaches()
+            .iter()
+            .map(|ap| {
+                let (i, j) = ap.pair;
+                let spans = min_distance.map(|min| report.closer_than(i, j, min));
+                CellPair {
+                    robots: [members[i].name.to_string(), members[j].name.to_string()],
+                    closest: ClosestApproach { t: ap.time, distance: ap.distance },
+                    ok: spans.as_ref().map(Vec::is_empty),
+                    closer_than_minimum: spans.map(|s| s.iter().map(|&(from, to)| Span { from, to }).collect()),
+                }
+            })
+            .collect();
+        CellAnswer {
+            file,
+            duration: report.times.last().copied().unwrap_or(0.0),
+            dt,
+            samples: report.times.len(),
+            min_distance,
+            ok: members.iter().all(|m| m.check.violations.is_empty()) && pairs.iter().all(|p| p.ok.unwrap_or(true)),
+            robots,
+            pairs,
+        }
+    }
 }

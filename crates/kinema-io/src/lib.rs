@@ -35,7 +35,7 @@ mod trajectory;
 pub mod trajectory_csv;
 
 pub use bench::{BenchAnswer, IkBench};
-pub use cell::{CellAnswer, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
+pub use cell::{CellAnswer, CellMember, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
 pub use error::ErrorAnswer;
 pub use ik::{
     shown_q, ClosestAnswer, DiscardedAnswer, DiscardedCandidate, IkAnswer, SelfMotionAnswer, SelfMotionPoint,

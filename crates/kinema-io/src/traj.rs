@@ -1,7 +1,7 @@
 //! Trajectories as answers: what a planned motion is (its summary), a
 //! trajectory check's report and a time law.
 
-use kinema::traj::{CheckReport, Violation};
+use kinema::traj::{BoundaryPtp, CheckReport, Expr, Profile, Ptp, TimeLaw, Violation};
 use kinema::Robot;
 use serde::Serialize;
 
@@ -94,11 +94,42 @@ impl TrajSummary {
         }
     }
 
+    /// The summary of a point-to-point motion: its shared law's name and phase times.
+    pub fn ptp(robot: &Robot, plan: &Ptp, samples: usize) -> TrajSummary {
+        let law = plan.law();
+        TrajSummary {
+            phase_times: Some(Some(law.phase_times().to_vec())),
+            ..TrajSummary::new(robot, "ptp", Some(law.profile().name()), plan.duration(), samples)
+        }
+    }
+
+    /// The summary of a point-to-point motion between moving states planned
+    /// with `profile`: each joint's phase times, and the common law's when
+    /// the motion has one (`null` otherwise).
+    pub fn boundary_ptp(robot: &Robot, plan: &BoundaryPtp, profile: Profile, samples: usize) -> TrajSummary {
+        TrajSummary {
+            phase_times: Some(plan.rest().map(|p| p.law().phase_times().to_vec())),
+            joint_phase_times: Some(plan.laws().iter().map(|l| l.phase_times()).collect()),
+            ..TrajSummary::new(robot, "ptp", Some(profile.name()), plan.duration(), samples)
+        }
+    }
+
+    /// The summary of joint curves given by expressions of t (`exprs`: the
+    /// joint, counting from 0, and its expression) over `duration` \[s\].
+    pub fn expression(robot: &Robot, exprs: &[(usize, Expr)], duration: f64, samples: usize) -> TrajSummary {
+        TrajSummary {
+            expressions: Some(
+                exprs.iter().map(|(j, e)| JointExpression { joint: j + 1, expr: e.text().to_string() }).collect(),
+            ),
+            ..TrajSummary::new(robot, "expression", None, duration, samples)
+        }
+    }
+
     /// The summary of a Cartesian motion under `profile`: its segment starts and blend times.
     pub fn cartesian(
         robot: &Robot,
         motion: &kinema::traj::CartesianMotion,
-        profile: kinema::traj::Profile,
+        profile: Profile,
         samples: usize,
         skipped: &[kinema::traj::waypoints::SkippedPoint],
     ) -> TrajSummary {
@@ -232,4 +263,52 @@ pub struct LawAnswer {
     /// The law sampled, when a sample period was given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub samples: Option<LawSamples>,
+}
+
+impl LawAnswer {
+    /// The answer for `law` covering `distance` (its peaks and samples scaled
+    /// by it); `dt`: also the law sampled every `dt` seconds.
+    pub fn new(law: &TimeLaw, distance: f64, dt: Option<f64>) -> kinema::Result<LawAnswer> {
+        let peaks = law.peaks();
+        let finite = |v: f64| Some(v * distance).filter(|_| v.is_finite());
+        let phases = law.phase_times();
+        let (mut t_acc, mut t_cruise, mut t_dec, mut t_jerk) = (None, None, None, None);
+        match law.profile() {
+            Profile::Trapezoid => {
+                t_acc = Some(phases.first().copied().unwrap_or(0.0));
+                t_cruise = Some(if phases.len() == 3 { phases[1] } else { 0.0 });
+                t_dec = Some(phases.last().copied().unwrap_or(0.0));
+            }
+            // Phases: jerk, constant acceleration, jerk, cruise, … (zero-length ones omitted).
+            Profile::SCurve => t_jerk = Some(phases.first().copied().unwrap_or(0.0)),
+            _ => {}
+        }
+        let samples = match dt {
+            Some(dt) => {
+                let rows = kinema::traj::sample_times(law.duration(), dt)?
+                    .iter()
+                    .map(|&t| {
+                        let s = law.at(t);
+                        [t, s.s * distance, s.sd * distance, s.sdd * distance, s.sddd * distance]
+                    })
+                    .collect();
+                Some(LawSamples { columns: ["t", "p", "v", "a", "j"], rows })
+            }
+            None => None,
+        };
+        Ok(LawAnswer {
+            profile: law.profile().name(),
+            distance,
+            duration: law.duration(),
+            phase_times: phases.to_vec(),
+            peak_velocity: finite(peaks.sd),
+            peak_acceleration: finite(peaks.sdd),
+            peak_jerk: finite(peaks.sddd),
+            t_acc,
+            t_cruise,
+            t_dec,
+            t_jerk,
+            samples,
+        })
+    }
 }

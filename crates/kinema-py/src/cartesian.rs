@@ -3,11 +3,13 @@
 use std::sync::Arc;
 
 use kinema::ik::family::SelfMotionParameter;
+use kinema::traj::waypoints::SkippedPoint;
 use kinema::traj::{
     check, to_joints, to_joints_at, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation,
     Profile, Segment, SelfMotion,
 };
 use kinema::Pose;
+use kinema_io::TrajSummary;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
@@ -106,9 +108,11 @@ impl PyRobot {
         q0: Vec<f64>,
         o: CartOptions,
         blend: Blend,
+        skipped: &[SkippedPoint],
         segments: impl FnOnce(Pose) -> kinema::Result<Vec<Segment>> + Send,
     ) -> PyResult<PyJointTrajectory> {
         let robot = Arc::clone(&self.robot);
+        let profile = o.profile;
         let (motion, traj, poses) = py
             .allow_threads(move || -> kinema::Result<_> {
                 let start = robot.fk(&q0)?.world_from_tool;
@@ -134,11 +138,13 @@ impl PyRobot {
             .map_err(to_py)?;
         let laws = motion.laws();
         let phase_times = if laws.len() == 1 { laws[0].phase_times().to_vec() } else { Vec::new() };
+        let summary = TrajSummary::cartesian(&self.robot, &motion, profile, traj.len(), skipped);
         Ok(PyJointTrajectory {
             poses: Some(to_numpy(py, (traj.len(), 4, 4), poses)?.unbind()),
             segment_starts: motion.segment_starts().to_vec(),
             blend_times: motion.blend_times(),
-            ..PyJointTrajectory::new(py, &traj, motion.duration(), laws[0].profile().name(), phase_times)?
+            skipped: skipped.iter().map(|p| p.index).collect(),
+            ..PyJointTrajectory::new(py, &traj, motion.duration(), laws[0].profile().name(), phase_times, summary)?
         })
     }
 }
@@ -221,11 +227,15 @@ impl PyRobot {
         };
         points.push(waypoint_arg(T, "T", conv)?);
         // Seed 003 Fig. 9, as `kinema traj lin --skip-unreachable`.
-        let skipped: Vec<usize> = if skip_unreachable {
+        let skipped: Vec<SkippedPoint> = if skip_unreachable {
             let poses: Vec<Pose> = points.iter().map(|p| *p.pose()).collect();
             let (_, skipped) = kinema::traj::waypoints::skip_unreachable(&self.robot, &poses).map_err(to_py)?;
-            let skipped: Vec<usize> = skipped.iter().map(|p| p.index).collect();
-            points = points.into_iter().enumerate().filter(|(i, _)| !skipped.contains(i)).map(|(_, p)| p).collect();
+            points = points
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| skipped.iter().all(|p| p.index != *i))
+                .map(|(_, p)| p)
+                .collect();
             skipped
         } else {
             Vec::new()
@@ -248,10 +258,7 @@ impl PyRobot {
             max_angle,
             min_manip,
         )?;
-        let mut traj =
-            self.cartesian(py, q0, opts, blend, move |start| Segment::lin_chain(&start, &points, orientation))?;
-        traj.skipped = skipped;
-        Ok(traj)
+        self.cartesian(py, q0, opts, blend, &skipped, move |start| Segment::lin_chain(&start, &points, orientation))
     }
 
     /// Circular Cartesian motion (CIRC, as KUKA CIRC / ABB MoveC) from the
@@ -309,6 +316,6 @@ impl PyRobot {
             max_angle,
             min_manip,
         )?;
-        self.cartesian(py, q0, opts, Blend::None, move |start| Ok(vec![Segment::circ_through(&start, &aux, &to)?]))
+        self.cartesian(py, q0, opts, Blend::None, &[], move |start| Ok(vec![Segment::circ_through(&start, &aux, &to)?]))
     }
 }

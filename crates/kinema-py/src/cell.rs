@@ -8,10 +8,12 @@ use std::sync::Arc;
 
 use kinema::traj::{check, CheckOptions, CheckReport, JointTrajectory};
 use kinema::{Pose, Robot};
+use kinema_io::{CellAnswer, CellMember};
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+use crate::answer::to_python;
 use crate::args::{opt_real, parse_rpy, pose_arg, real, to_numpy};
 use crate::check::{check_resolutions, PyCheckReport};
 use crate::errors::{invalid, to_py};
@@ -22,6 +24,10 @@ use crate::traj::{sampled_arrays, traj_from_arrays};
 /// One robot added to a cell.
 struct Member {
     name: String,
+    /// The robot as given: a built-in name or a file, or the name of a `Robot`.
+    spec: String,
+    /// Where its own world frame sits in the cell's.
+    base: Pose,
     robot: Arc<Robot>,
     traj: JointTrajectory,
     check: CheckReport,
@@ -132,7 +138,9 @@ impl PyCell {
             return Err(invalid(format!("`{name}` names two robots of the cell")));
         }
         check_resolutions(resolution, time_resolution)?;
+        let spec: Option<String> = robot.extract().ok();
         let robot = robot_arg(robot)?;
+        let spec = spec.unwrap_or_else(|| robot.name().to_string());
         let conv = parse_rpy(rpy)?;
         let world_from_robot = match base.filter(|b| !b.is_none()) {
             Some(b) => pose_arg(b, "base", conv)?,
@@ -185,7 +193,7 @@ impl PyCell {
         if traj.is_empty() {
             return Err(invalid(format!("robot `{name}`: the trajectory has no sample")));
         }
-        slf.members.push(Member { name, robot, traj, check });
+        slf.members.push(Member { name, spec, base: world_from_robot, robot, traj, check });
         Ok(slf)
     }
 
@@ -271,6 +279,8 @@ pub(crate) struct PyCellReport {
     min_distance: Option<f64>,
     #[pyo3(get)]
     ok: bool,
+    /// What `kinema cell --json` prints for the cell.
+    answer: CellAnswer,
 }
 
 impl PyCellReport {
@@ -287,7 +297,7 @@ impl PyCellReport {
             tool_positions.set_item(name, to_numpy(py, (k, 3), p)?)?;
             manipulability.set_item(name, to_numpy(py, k, r.manipulability[m].clone())?)?;
             ends.set_item(name, r.ends[m])?;
-            checks.set_item(name, Py::new(py, PyCheckReport { report: member.check.clone() })?)?;
+            checks.set_item(name, Py::new(py, PyCheckReport::new(member.check.clone()))?)?;
             ok &= member.check.violations.is_empty();
         }
         for ((i, j), d) in &r.distances {
@@ -303,7 +313,22 @@ impl PyCellReport {
             ok &= spans.is_empty();
             closer.set_item(&key, spans)?;
         }
+        let members: Vec<CellMember<'_>> = cell
+            .members
+            .iter()
+            .map(|m| CellMember {
+                name: &m.name,
+                robot: &m.spec,
+                dof: m.robot.dof(),
+                trajectory: None,
+                program: None,
+                base: &m.base,
+                check: &m.check,
+            })
+            .collect();
+        let answer = CellAnswer::new(None, cell.dt, cell.min_distance, &members, r);
         Ok(PyCellReport {
+            answer,
             names: cell.members.iter().map(|m| m.name.clone()).collect(),
             t: to_numpy(py, k, r.times.clone())?.unbind(),
             duration: r.times.last().copied().unwrap_or(0.0),
@@ -323,6 +348,17 @@ impl PyCellReport {
 
 #[pymethods]
 impl PyCellReport {
+    /// The cell's answer as ``kinema cell --json`` prints it (without the
+    /// ``file`` a cell file gives): ``duration``, ``dt``, ``samples``,
+    /// ``min_distance``, ``ok``, per robot (``robots``) its name, robot,
+    /// dof, ``base`` placement (``xyz``, zyx ``rpy``), ``end``, ``check`` (as
+    /// :meth:`CheckReport.to_dict`) and manipulability extremes, and per
+    /// pair (``pairs``) the closest approach and, with a minimum distance,
+    /// ``ok`` and ``closer_than_minimum``.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer)
+    }
+
     fn __len__(&self, py: Python<'_>) -> usize {
         self.t.bind(py).len()
     }

@@ -3,10 +3,11 @@
 use std::sync::Arc;
 
 use kinema::traj::{check, CheckOptions, CheckReport};
+use kinema_io::CheckAnswer;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
 
+use crate::answer::to_python;
 use crate::args::{limit_values, opt_real, real};
 use crate::errors::{invalid, to_py};
 use crate::robot::PyRobot;
@@ -21,7 +22,8 @@ use crate::traj::{sampled_arrays, traj_from_arrays};
 ///         |q⃛| per joint, shape (n,).
 ///     min_manipulability: ``(t, value)`` of the smallest manipulability when
 ///         ``min_manip`` was given, else ``None``.
-///     violations: one dict per problem, in sample order, with keys ``kind``
+///     violations: one dict per problem, in sample order (as
+///         ``kinema traj check --json`` lists them), with keys ``kind``
 ///         (``"position"``, ``"velocity"``, ``"acceleration"``, ``"jerk"``,
 ///         ``"jump"``, ``"inconsistent"``, ``"malformed"``,
 ///         ``"nearsingular"``), ``t`` [s], ``sample`` (from 0), ``joint``
@@ -32,6 +34,14 @@ use crate::traj::{sampled_arrays, traj_from_arrays};
 #[pyclass(frozen, name = "CheckReport", module = "kinema")]
 pub(crate) struct PyCheckReport {
     pub(crate) report: CheckReport,
+    /// The report as `kinema traj check --json` prints it.
+    answer: CheckAnswer,
+}
+
+impl PyCheckReport {
+    pub(crate) fn new(report: CheckReport) -> Self {
+        PyCheckReport { answer: CheckAnswer::new(&report), report }
+    }
 }
 
 #[pymethods]
@@ -67,13 +77,20 @@ impl PyCheckReport {
     }
 
     #[getter]
-    fn violations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        violation_dicts(py, &self.report.violations)
+    fn violations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer.violations)
     }
 
     #[getter]
-    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        violation_dicts(py, &self.report.warnings)
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer.warnings)
+    }
+
+    /// The report as ``kinema traj check --json`` prints it: ``samples``,
+    /// ``ok``, the peaks, ``min_manipulability`` (``{"t", "value"}`` or
+    /// ``None``), ``violations`` and ``warnings``.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer)
     }
 
     /// Raises :class:`TrajectoryError` (count and first violation in the
@@ -85,23 +102,6 @@ impl PyCheckReport {
     fn __repr__(&self) -> String {
         format!("CheckReport({} samples, {} violation(s))", self.report.samples, self.report.violations.len())
     }
-}
-
-/// One dict per violation or warning, as ``kinema traj check --json`` lists them.
-fn violation_dicts<'py>(py: Python<'py>, items: &[kinema::traj::Violation]) -> PyResult<Bound<'py, PyList>> {
-    let list = PyList::empty(py);
-    for v in items {
-        let d = PyDict::new(py);
-        d.set_item("kind", v.kind.name())?;
-        d.set_item("t", v.time)?;
-        d.set_item("sample", v.sample)?;
-        d.set_item("joint", v.joint.map(|j| j + 1))?;
-        d.set_item("value", v.value)?;
-        d.set_item("limit", v.limit)?;
-        d.set_item("message", v.to_string())?;
-        list.append(d)?;
-    }
-    Ok(list)
 }
 
 #[pymethods]
@@ -176,7 +176,7 @@ impl PyRobot {
         };
         let robot = Arc::clone(&self.robot);
         let report = py.allow_threads(move || check(&robot, &traj, &opts)).map_err(to_py)?;
-        Ok(PyCheckReport { report })
+        Ok(PyCheckReport::new(report))
     }
 }
 

@@ -1,7 +1,10 @@
 //! The Python exceptions of kinema and the mapping of core errors onto them.
 
 use kinema::Error;
+use kinema_io::{ClosestAnswer, UnreachableAnswer};
 use pyo3::prelude::*;
+
+use crate::answer::to_python;
 
 pyo3::import_exception!(kinema._errors, KinemaError);
 pyo3::import_exception!(kinema._errors, InvalidInput);
@@ -18,8 +21,18 @@ pub(crate) fn to_py(e: Error) -> PyErr {
     // A batch row or path sample is classified by what is wrong there.
     match e.root() {
         Error::Unreachable { solver, reason, closest } => {
-            let closest = closest.as_ref().map(|c| ClosestArg(c.q.clone(), c.position_error, c.orientation_error));
-            Unreachable::new_err((message, solver.clone(), reason.to_string(), closest))
+            // The answer `kinema ik --json` prints for the same target (exit code 2).
+            let answer = UnreachableAnswer {
+                error: "unreachable",
+                solver: solver.clone(),
+                reason: reason.to_string(),
+                closest: closest.as_ref().map(|c| ClosestAnswer {
+                    q: c.q.clone(),
+                    position_error: c.position_error,
+                    orientation_error: c.orientation_error,
+                }),
+            };
+            Unreachable::new_err(UnreachableArgs(message, answer))
         }
         Error::UnknownRobot { .. } => UnknownRobot::new_err(message),
         Error::JointCount { .. }
@@ -46,20 +59,21 @@ pub(crate) fn to_py(e: Error) -> PyErr {
     }
 }
 
-/// The closest configuration of an unreachable target, given to Python as a dict.
-struct ClosestArg(Vec<f64>, f64, f64);
+/// The arguments of an `Unreachable` exception, converted when Python first
+/// looks at it: the message, the solver, the reason, the closest
+/// configuration and the whole answer, as dicts of `kinema-io`'s types.
+struct UnreachableArgs(String, UnreachableAnswer);
 
-impl<'py> IntoPyObject<'py> for ClosestArg {
-    type Target = pyo3::types::PyDict;
-    type Output = Bound<'py, pyo3::types::PyDict>;
+impl<'py> IntoPyObject<'py> for UnreachableArgs {
+    type Target = pyo3::types::PyTuple;
+    type Output = Bound<'py, pyo3::types::PyTuple>;
     type Error = PyErr;
 
     fn into_pyobject(self, py: Python<'py>) -> PyResult<Self::Output> {
-        let d = pyo3::types::PyDict::new(py);
-        d.set_item("q", self.0)?;
-        d.set_item("position_error", self.1)?;
-        d.set_item("orientation_error", self.2)?;
-        Ok(d)
+        let UnreachableArgs(message, answer) = self;
+        let closest = to_python(py, &answer.closest)?;
+        let dict = to_python(py, &answer)?;
+        (message, answer.solver, answer.reason, closest, dict).into_pyobject(py)
     }
 }
 

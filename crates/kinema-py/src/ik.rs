@@ -4,11 +4,13 @@ use std::sync::Arc;
 
 use kinema::ik::{pick_one, solve_target_with, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
 use kinema::RpyConvention;
+use kinema_io::SolutionAnswer;
 use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyArray1, PyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::PyInt;
 
+use crate::answer::to_python;
 use crate::args::{f64_array, opt_real, parse_rpy, pose_arg, real, to_numpy, vec3_arg};
 use crate::batch;
 use crate::errors::{invalid, to_py, KinemaError};
@@ -85,6 +87,8 @@ pub(crate) struct PyIkSolution {
     iterations: Option<usize>,
     #[pyo3(get)]
     restarts: Option<usize>,
+    /// The solution as `kinema ik --json` lists it.
+    answer: SolutionAnswer,
 }
 
 #[pymethods]
@@ -93,6 +97,15 @@ impl PyIkSolution {
     #[getter]
     fn residual(&self) -> (f64, f64) {
         (self.position_error, self.orientation_error)
+    }
+
+    /// The solution as ``kinema ik --json`` lists it: ``q``, ``branch``,
+    /// ``within_limits``, ``position_error``, ``orientation_error`` (``None``
+    /// for a target that leaves the orientation free) and, for a numeric
+    /// solution, ``iterations``, ``restarts`` and ``stop`` (why the search
+    /// stopped).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer)
     }
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
@@ -127,6 +140,10 @@ impl PyIkSolution {
                 && (orientation_free || s.orientation_error <= tol.tol_orientation),
             iterations: s.numeric.map(|n| n.iterations),
             restarts: s.numeric.map(|n| n.restarts),
+            answer: SolutionAnswer {
+                orientation_error: Some(s.orientation_error).filter(|_| !orientation_free),
+                ..SolutionAnswer::new(s)
+            },
         }
     }
 }
@@ -178,6 +195,56 @@ fn ik_target(
         (_, _, _, Some(alpha)) => IkTarget::PositionAlpha { position, alpha },
         _ => IkTarget::Position(position),
     })
+}
+
+/// One request of :meth:`Robot.ik` or :meth:`Robot.ik_dict`, its arguments converted.
+struct IkCall {
+    target: IkTarget,
+    /// The roll-pitch-yaw convention of the target, as given and as answered.
+    convention: RpyConvention,
+    solver: SolverChoice,
+    q0: Option<Vec<f64>>,
+    all: bool,
+    q3: Option<f64>,
+    psi: Option<f64>,
+    mask: Option<[bool; 6]>,
+    tolerance: Tolerance,
+    seed: u64,
+}
+
+/// What the solver found for an [`IkCall`]: its answer, and the solutions
+/// returned (all of them, or the one `pick_one` picks).
+struct IkFound {
+    answer: kinema::ik::IkAnswer,
+    chosen: Vec<Solution>,
+}
+
+impl PyRobot {
+    /// Solves `call` without the GIL (core: `ik::solve_target_with`, `ik::pick_one`).
+    fn solve_ik(&self, py: Python<'_>, call: &IkCall) -> PyResult<IkFound> {
+        let robot = Arc::clone(&self.robot);
+        let family = self.family.clone();
+        py.allow_threads(move || -> kinema::Result<IkFound> {
+            let request = IkRequest {
+                solver: call.solver,
+                q0: call.q0.as_deref(),
+                all: call.all,
+                q3: call.q3,
+                psi: call.psi,
+                mask: call.mask,
+                tolerance: call.tolerance,
+                numeric: NumericOptions { seed: call.seed, ..Default::default() },
+            };
+            let answer = solve_target_with(&robot, family.as_deref(), &call.target, &request)?;
+            let chosen = if call.all {
+                answer.solutions.clone()
+            } else {
+                vec![pick_one(&robot, answer.solver, answer.solutions.clone(), call.q0.as_deref())?]
+            };
+            Ok(IkFound { answer, chosen })
+        })
+        .map_err(to_py)
+    }
 }
 
 #[pymethods]
@@ -271,32 +338,23 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] tol_orientation: f64,
     ) -> PyResult<PyObject> {
         let solver = solver_choice(solver)?;
-        let target = ik_target(T, position, pitch, roll, approach, alpha, parse_rpy(rpy)?)?;
-        let q0 = self.optional_joint_vector(q0, "q0")?;
-        let robot = Arc::clone(&self.robot);
-        let family = self.family.clone();
-        let (name, solutions) = py
-            .allow_threads(move || -> kinema::Result<(&'static str, Vec<Solution>)> {
-                let request = IkRequest {
-                    solver,
-                    q0: q0.as_deref(),
-                    all,
-                    q3,
-                    psi,
-                    mask,
-                    tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
-                    numeric: NumericOptions { seed, ..Default::default() },
-                };
-                let answer = solve_target_with(&robot, family.as_deref(), &target, &request)?;
-                let name = answer.solver;
-                if all {
-                    return Ok((name, answer.solutions));
-                }
-                Ok((name, vec![pick_one(&robot, name, answer.solutions, q0.as_deref())?]))
-            })
-            .map_err(to_py)?;
-        let free = target.orientation_free();
-        let mut list: Vec<PyIkSolution> = solutions.iter().map(|s| PyIkSolution::new(py, s, name, free)).collect();
+        let convention = parse_rpy(rpy)?;
+        let request = IkCall {
+            target: ik_target(T, position, pitch, roll, approach, alpha, convention)?,
+            convention,
+            solver,
+            q0: self.optional_joint_vector(q0, "q0")?,
+            all,
+            q3,
+            psi,
+            mask,
+            tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
+            seed,
+        };
+        let found = self.solve_ik(py, &request)?;
+        let free = request.target.orientation_free();
+        let name = found.answer.solver;
+        let mut list: Vec<PyIkSolution> = found.chosen.iter().map(|s| PyIkSolution::new(py, s, name, free)).collect();
         if all {
             return Ok(list.into_pyobject(py)?.into_any().unbind());
         }
@@ -304,6 +362,64 @@ impl PyRobot {
             Some(one) => Ok(Bound::new(py, one)?.into_any().unbind()),
             None => Err(KinemaError::new_err("the solver returned no solution")),
         }
+    }
+
+    /// The answer of ``kinema ik --json`` (``--all`` with ``all=True``) to
+    /// the request :meth:`ik` takes, with the same arguments: ``robot``,
+    /// ``solver``, ``target`` (a full pose: ``T``, ``position``, ``rpy`` in
+    /// the convention ``rpy``, ``quaternion_wxyz``), ``q3``/``psi`` when
+    /// given, ``solutions`` (each as :meth:`IkSolution.to_dict`),
+    /// ``tolerance``, ``discarded`` (the solver's candidates that miss the
+    /// target, and why) and ``folded`` (copies within limits, joints turned
+    /// by whole turns, not listed).
+    ///
+    /// Raises: as :meth:`ik`; :meth:`Unreachable.to_dict` is the CLI's answer
+    /// to an unreachable target.
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    #[pyo3(signature = (T=None, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0, *, position=None,
+        pitch=None, roll=None, approach=None, alpha=None, rpy="zyx", mask=None, tol_position=1e-6,
+        tol_orientation=1e-6))]
+    fn ik_dict<'py>(
+        &self,
+        py: Python<'py>,
+        T: Option<&Bound<'_, PyAny>>,
+        all: bool,
+        q0: Option<&Bound<'_, PyAny>>,
+        solver: &str,
+        #[pyo3(from_py_with = opt_real)] q3: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] psi: Option<f64>,
+        #[pyo3(from_py_with = seed_arg)] seed: u64,
+        position: Option<&Bound<'_, PyAny>>,
+        #[pyo3(from_py_with = opt_real)] pitch: Option<f64>,
+        #[pyo3(from_py_with = opt_real)] roll: Option<f64>,
+        approach: Option<&Bound<'_, PyAny>>,
+        #[pyo3(from_py_with = opt_real)] alpha: Option<f64>,
+        rpy: &str,
+        #[pyo3(from_py_with = mask_arg)] mask: Option<[bool; 6]>,
+        #[pyo3(from_py_with = real)] tol_position: f64,
+        #[pyo3(from_py_with = real)] tol_orientation: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solver = solver_choice(solver)?;
+        let convention = parse_rpy(rpy)?;
+        let request = IkCall {
+            target: ik_target(T, position, pitch, roll, approach, alpha, convention)?,
+            convention,
+            solver,
+            q0: self.optional_joint_vector(q0, "q0")?,
+            all,
+            q3,
+            psi,
+            mask,
+            tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
+            seed,
+        };
+        let found = self.solve_ik(py, &request)?;
+        let answer = kinema_io::IkAnswer {
+            q3,
+            psi,
+            ..kinema_io::IkAnswer::new(&self.robot, &found.answer, &found.chosen, &request.target, request.convention)
+        };
+        to_python(py, &answer)
     }
 
     /// Inverse kinematics of many targets at once, one solution each, solved

@@ -10,14 +10,20 @@
 //! are 4×4 row-major (C order); Jacobians are 6×n with rows
 //! \[vx vy vz ωx ωy ωz\]; batches stack along the first axis.
 //!
-//! The files, by what they do: `errors` (exceptions), `args` (argument
-//! conversion), `robot` (the `Robot` class: loading, forward kinematics,
+//! Every result that one of the other doors (the CLI's `--json`, the HTTP
+//! API) also gives has a `to_dict` (the robot's own: `Robot.fk_dict`,
+//! `Robot.manip_dict`, …) returning that door's answer: a `kinema-io` type
+//! converted by `answer`.
+//!
+//! The files, by what they do: `answer` (answers as Python objects),
+//! `errors` (exceptions), `args` (argument conversion), `robot` (the `Robot` class: loading, forward kinematics,
 //! Jacobians), `dynamics`, `ik` (with `batch` for `ik_batch`), `traj`
 //! (joint-space motions), `cartesian` (`lin`, `circ`), `check`, `time_law`,
 //! `program` (the robot language), `cell`; `npio` and `fast` are the per-call
 //! and batch paths of numpy arrays. The `Robot` class's methods are spread
 //! over these files (PyO3's `multiple-pymethods`).
 
+mod answer;
 mod args;
 mod batch;
 mod cartesian;

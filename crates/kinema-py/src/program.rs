@@ -5,13 +5,14 @@ use std::sync::mpsc::RecvTimeoutError;
 use std::sync::Arc;
 use std::time::Duration;
 
-use kinema_lang::{PlannedMotion, Severity};
+use kinema_io::ProgramAnswer;
+use kinema_lang::Severity;
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
 
+use crate::answer::to_python;
 use crate::args::real;
-use crate::errors::{invalid, ProgramError};
+use crate::errors::{invalid, to_py, ProgramError};
 use crate::robot::{robot_arg, PyRobot};
 use crate::traj::traj_arrays;
 
@@ -26,7 +27,7 @@ use crate::traj::traj_arrays;
 ///     motions: one dict per motion, in execution order, with keys
 ///         ``line`` (source line, from 1), ``kind`` (``"PTP"``, ``"LIN"``,
 ///         ``"WAIT"``, ...), ``start``, ``end`` [s], ``profile`` and ``target``
-///         (as ``kinema compile --json`` prints them).
+///         (as ``kinema compile --json`` prints them; :meth:`to_dict`).
 ///     warnings: the program's warnings, one line each
 ///         (``file:line:col: warning: message``).
 ///     robot: the robot as it ends the program (with its last ``TOOL``).
@@ -41,31 +42,35 @@ pub(crate) struct PyPlan {
     #[pyo3(get)]
     pub(crate) qdd: Py<PyArrayDyn<f64>>,
     #[pyo3(get)]
-    pub(crate) duration: f64,
-    #[pyo3(get)]
-    pub(crate) warnings: Vec<String>,
-    #[pyo3(get)]
     pub(crate) robot: Py<PyRobot>,
-    pub(crate) plan_motions: Vec<PlannedMotion>,
-    pub(crate) plan_listing: String,
+    /// What `kinema run --json` prints for the program.
+    answer: ProgramAnswer,
+    plan_listing: String,
 }
 
 #[pymethods]
 impl PyPlan {
     #[getter]
-    fn motions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let list = PyList::empty(py);
-        for m in &self.plan_motions {
-            let d = PyDict::new(py);
-            d.set_item("line", m.line)?;
-            d.set_item("kind", &m.kind)?;
-            d.set_item("start", m.start)?;
-            d.set_item("end", m.end)?;
-            d.set_item("profile", &m.profile)?;
-            d.set_item("target", &m.target)?;
-            list.append(d)?;
-        }
-        Ok(list)
+    fn duration(&self) -> f64 {
+        self.answer.duration
+    }
+
+    #[getter]
+    fn motions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer.motions)
+    }
+
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.answer.warnings.clone()
+    }
+
+    /// The program's answer as ``kinema run --json`` prints it (the
+    /// samples go to :attr:`t`, :attr:`q`, ...): ``robot``, ``duration``,
+    /// ``samples``, ``motions``, ``final_q``, ``final_pose`` (the tool pose at
+    /// the end, zyx roll-pitch-yaw) and ``warnings``.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer)
     }
 
     /// The motion plan as text (``kinema compile --listing``): a header, then
@@ -82,9 +87,9 @@ impl PyPlan {
     fn __repr__(&self, py: Python<'_>) -> String {
         format!(
             "Plan({} motion(s), {} samples, duration={:.6} s)",
-            self.plan_motions.len(),
+            self.answer.motions.len(),
             self.t.bind(py).len(),
-            self.duration
+            self.answer.duration
         )
     }
 }
@@ -168,13 +173,8 @@ pub(crate) fn run_program(
                 q,
                 qd,
                 qdd,
-                duration: plan.duration(),
-                warnings: {
-                    let lines = kinema_lang::diag::LineIndex::new(&text);
-                    plan.warnings.iter().map(|d| d.one_line_in(filename, &text, &lines)).collect()
-                },
+                answer: ProgramAnswer::new(&plan, filename, &text).map_err(to_py)?,
                 plan_listing: plan.listing(),
-                plan_motions: plan.motions,
                 robot: Py::new(py, PyRobot::new(Arc::new(plan.robot)))?,
             })
         }

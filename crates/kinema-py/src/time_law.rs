@@ -1,9 +1,11 @@
 //! Time laws: `TimeLaw` and the `time_law` function.
 
 use kinema::traj::{sample_times, MotionLimits, Profile, TimeLaw};
+use kinema_io::LawAnswer;
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
+use crate::answer::to_python;
 use crate::args::{f64_array, opt_real, real, to_numpy};
 use crate::errors::{invalid, to_py};
 use crate::traj::TrajArrays;
@@ -47,6 +49,23 @@ impl PyTimeLaw {
     #[getter]
     fn phase_times(&self) -> Vec<f64> {
         self.law.phase_times().to_vec()
+    }
+
+    /// The law as ``kinema traj law --json`` prints it: ``profile``,
+    /// ``distance``, ``duration``, ``phase_times``, the peaks (``None`` where
+    /// unbounded) and the trapezoid's or S-curve's phase lengths; with ``dt``
+    /// [s] also ``samples``: ``columns`` (t, p, v, a, j) and ``rows`` every
+    /// ``dt`` seconds.
+    ///
+    /// Raises:
+    ///     InvalidInput: a ``dt`` that is not a positive time.
+    #[pyo3(signature = (dt=None))]
+    fn to_dict<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = opt_real)] dt: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &LawAnswer::new(&self.law, self.distance, dt).map_err(to_py)?)
     }
 
     #[getter]

@@ -3,10 +3,12 @@
 use std::sync::Arc;
 
 use kinema::traj::{check, expression_trajectory, CheckOptions, Expr, JointTrajectory, Profile, Ptp, PtpOptions};
+use kinema_io::TrajSummary;
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::answer::to_python;
 use crate::args::{check_shape, f64_array, limit_values, opt_real, real, to_numpy};
 use crate::errors::{invalid, to_py};
 use crate::program::PyPlan;
@@ -56,6 +58,8 @@ pub(crate) struct PyJointTrajectory {
     pub(crate) blend_times: Vec<f64>,
     #[pyo3(get)]
     pub(crate) skipped: Vec<usize>,
+    /// What `kinema traj … --json --out FILE` prints for the motion.
+    pub(crate) summary: TrajSummary,
 }
 
 impl PyJointTrajectory {
@@ -66,6 +70,7 @@ impl PyJointTrajectory {
         duration: f64,
         profile: &'static str,
         phase_times: Vec<f64>,
+        summary: TrajSummary,
     ) -> PyResult<Self> {
         let [t, q, qd, qdd] = traj_arrays(py, traj)?;
         Ok(PyJointTrajectory {
@@ -80,12 +85,25 @@ impl PyJointTrajectory {
             segment_starts: vec![0.0],
             blend_times: Vec::new(),
             skipped: Vec::new(),
+            summary,
         })
     }
 }
 
 #[pymethods]
 impl PyJointTrajectory {
+    /// The motion as ``kinema traj ptp|lin|circ|expr --json --out FILE``
+    /// prints it (the samples go to :attr:`t`, :attr:`q`, ...): ``robot``,
+    /// ``motion`` (``"ptp"``, ``"cartesian"`` or ``"expression"``),
+    /// ``profile``, ``duration``, ``samples``, and the motion's own fields:
+    /// ``phase_times`` (ptp; ``None`` between moving states without a common
+    /// law) and ``joint_phase_times`` (between moving states),
+    /// ``segment_starts``, ``blend_times`` and ``skipped`` (Cartesian), or
+    /// ``expressions`` (expression trajectories).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.summary)
+    }
+
     fn __len__(&self, py: Python<'_>) -> usize {
         self.t.bind(py).len()
     }
@@ -225,7 +243,8 @@ impl PyRobot {
         };
         let robot = Arc::clone(&self.robot);
         if boundary != kinema::traj::JointBoundary::default() {
-            let name = opts.profile.name();
+            let profile = opts.profile;
+            let name = profile.name();
             let (plan, traj) = py
                 .allow_threads(move || -> kinema::Result<_> {
                     let plan = kinema::traj::BoundaryPtp::new(&robot, &from, &to, &opts, &boundary)?;
@@ -234,7 +253,8 @@ impl PyRobot {
                 })
                 .map_err(to_py)?;
             let phase_times = plan.rest().map_or_else(Vec::new, |p| p.law().phase_times().to_vec());
-            return PyJointTrajectory::new(py, &traj, plan.duration(), name, phase_times);
+            let summary = TrajSummary::boundary_ptp(&self.robot, &plan, profile, traj.len());
+            return PyJointTrajectory::new(py, &traj, plan.duration(), name, phase_times, summary);
         }
         let (plan, traj) = py
             .allow_threads(move || -> kinema::Result<_> {
@@ -244,7 +264,8 @@ impl PyRobot {
             })
             .map_err(to_py)?;
         let law = plan.law();
-        PyJointTrajectory::new(py, &traj, plan.duration(), law.profile().name(), law.phase_times().to_vec())
+        let summary = TrajSummary::ptp(&self.robot, &plan, traj.len());
+        PyJointTrajectory::new(py, &traj, plan.duration(), law.profile().name(), law.phase_times().to_vec(), summary)
     }
 
     /// Joint curves from expressions of t (``kinema traj expr``, seed 001
@@ -307,14 +328,15 @@ impl PyRobot {
             exprs.push((j as usize - 1, Expr::parse(&text).map_err(to_py)?));
         }
         let robot = Arc::clone(&self.robot);
-        let traj = py
+        let (traj, exprs) = py
             .allow_threads(move || -> kinema::Result<_> {
                 let traj = expression_trajectory(&robot, &q0, &exprs, duration, dt)?;
                 check(&robot, &traj, &limits)?.into_result()?;
-                Ok(traj)
+                Ok((traj, exprs))
             })
             .map_err(to_py)?;
-        let duration = traj.times().last().copied().unwrap_or(0.0);
-        PyJointTrajectory::new(py, &traj, duration, "expression", Vec::new())
+        let summary = TrajSummary::expression(&self.robot, &exprs, duration, traj.len());
+        let end = traj.times().last().copied().unwrap_or(0.0);
+        PyJointTrajectory::new(py, &traj, end, "expression", Vec::new(), summary)
     }
 }

@@ -330,10 +330,7 @@ impl App {
                 let plan = Ptp::new(r, &req.from, to, &opts)?;
                 cap_samples(plan.duration(), dt)?;
                 let traj = plan.sample(r, dt)?;
-                let summary = TrajSummary {
-                    phase_times: Some(Some(plan.law().phase_times().to_vec())),
-                    ..TrajSummary::new(r, "ptp", Some(plan.law().profile().name()), plan.duration(), traj.len())
-                };
+                let summary = TrajSummary::ptp(r, &plan, traj.len());
                 (traj, summary)
             }
             "lin" => {

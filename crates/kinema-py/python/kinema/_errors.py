@@ -7,6 +7,7 @@ that already catches ``ValueError`` keeps working. The message is the text the
 Rust core (and the ``kinema`` command line) prints for the same mistake.
 """
 
+import copy
 from typing import Iterable, List, Optional, Tuple
 
 
@@ -52,11 +53,21 @@ class Unreachable(KinemaError):
         solver: Optional[str] = None,
         reason: Optional[str] = None,
         closest: Optional[dict] = None,
+        answer: Optional[dict] = None,
     ) -> None:
         super().__init__(message)
         self.solver = solver
         self.reason = reason
         self.closest = closest
+        self._answer = answer
+
+    def to_dict(self) -> dict:
+        """The answer ``kinema ik --json`` prints for the same target (exit
+        code 2): ``error`` (``"unreachable"``), ``solver``, ``reason`` and
+        ``closest``."""
+        if self._answer is not None:
+            return copy.deepcopy(self._answer)
+        return {"error": "unreachable", "solver": self.solver, "reason": self.reason, "closest": self.closest}
 
 
 class TrajectoryError(KinemaError):

@@ -52,6 +52,9 @@ class IkSolution:
     @property
     def restarts(self) -> Optional[int]:
         """Restarts of the numeric solver (None for analytic solutions)."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The solution as ``kinema ik --json`` lists it: q, branch, within_limits, position_error,
+        orientation_error (None for a position-only target); numeric: iterations, restarts, stop."""
 
 class JointTrajectory:
     """A sampled joint trajectory (from Robot.ptp, Robot.lin, Robot.circ or Robot.expr)."""
@@ -89,6 +92,9 @@ class JointTrajectory:
     @property
     def skipped(self) -> List[int]:
         """Indices (among via, then T) of waypoints lin(..., skip_unreachable=True) left out."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The motion as ``kinema traj ptp|lin|circ|expr --json --out FILE`` prints it (without the samples):
+        robot, motion, profile, duration, samples and the motion's own fields."""
     def __len__(self) -> int: ...
 
 class CheckReport:
@@ -118,6 +124,8 @@ class CheckReport:
     @property
     def warnings(self) -> List[Dict[str, Any]]:
         """Singular passages (kind "singular"), one per passage, as dicts like violations."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The report as ``kinema traj check --json`` prints it."""
     def raise_if_violations(self) -> None:
         """Raises TrajectoryError when a limit is broken."""
 
@@ -139,6 +147,8 @@ class TimeLaw:
     @property
     def peaks(self) -> Tuple[float, float, float]:
         """Largest |velocity|, |acceleration|, |jerk| (scaled by distance; inf where unbounded)."""
+    def to_dict(self, dt: Optional[float] = None) -> Dict[str, Any]:
+        """The law as ``kinema traj law --json`` prints it; with dt [s] also its samples every dt seconds."""
     def sample(self, t: ArrayLike) -> Tuple[F64Array, F64Array, F64Array, F64Array]:
         """(p, v, a, j) at the times t, each of t's shape. Raises InvalidInput for NaN."""
     def times(self, dt: float) -> F64Array:
@@ -181,6 +191,9 @@ class Plan:
     @property
     def robot(self) -> "Robot":
         """The robot as it ends the program (with its last TOOL)."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The program's answer as ``kinema run --json`` prints it (without the samples): robot, duration,
+        samples, motions, final_q, final_pose, warnings."""
     def listing(self) -> str:
         """The motion plan as text (kinema compile --listing)."""
     def __len__(self) -> int: ...
@@ -235,6 +248,16 @@ class Robot:
         """Named configurations."""
     def pose(self, name: str) -> F64Array:
         """A named configuration. Raises InvalidInput for an unknown name."""
+    def to_dict(self) -> Dict[str, Any]:
+        """What the robot is, as ``kinema info --json`` prints it and ``GET /api/robots/{name}`` returns it."""
+    def fk_dict(self, q: JointVector, rpy: RpyName = "zyx") -> Dict[str, Any]:
+        """Forward kinematics as ``kinema fk --json`` prints it and ``POST /api/fk`` returns it."""
+    def jacobian_dict(
+        self, q: JointVector, frame: Literal["base", "tool"] = "base", analytic: Optional[RpyName] = None
+    ) -> Dict[str, Any]:
+        """The Jacobian as ``kinema jacobian --json`` prints it (analytic: of the roll-pitch-yaw rates)."""
+    def manip_dict(self, q: JointVector, direction: Optional[ArrayLike] = None) -> Dict[str, Any]:
+        """Manipulability measures as ``kinema manip --json`` prints them and ``POST /api/manip`` returns them."""
     def fkine(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
         """Tool pose world_from_tool, shape (4, 4); written into ``out`` (a writeable C-contiguous
         float64 (4, 4) array, returned) when given. Raises InvalidInput for a bad ``q`` or ``out``."""
@@ -469,6 +492,28 @@ class Robot:
         tol_orientation: float = 1e-6,
     ) -> List[IkSolution]:
         """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""
+    def ik_dict(
+        self,
+        T: Optional[PoseLike] = None,
+        all: bool = False,
+        q0: Optional[JointVector] = None,
+        solver: SolverName = "auto",
+        q3: Optional[float] = None,
+        psi: Optional[float] = None,
+        seed: int = 0,
+        *,
+        position: Optional[ArrayLike] = None,
+        pitch: Optional[float] = None,
+        roll: Optional[float] = None,
+        approach: Optional[ArrayLike] = None,
+        alpha: Optional[float] = None,
+        rpy: RpyName = "zyx",
+        mask: Optional[Sequence[Union[bool, int]]] = None,
+        tol_position: float = 1e-6,
+        tol_orientation: float = 1e-6,
+    ) -> Dict[str, Any]:
+        """The answer of ``kinema ik --json`` (``--all`` with all=True) to the request ik takes: solutions,
+        tolerance, discarded candidates, folded copies. Raises Unreachable, InvalidInput."""
 
 class CellReport:
     """What Cell.run computed (kinema cell's CSV and JSON); dicts keyed by robot name or (a, b) pair."""
@@ -512,6 +557,8 @@ class CellReport:
     @property
     def ok(self) -> bool:
         """No check violation and no pair closer than min_distance."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The cell's answer as ``kinema cell --json`` prints it (without the cell file's name)."""
     def __len__(self) -> int: ...
 
 class Cell:
