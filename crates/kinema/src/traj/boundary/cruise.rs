@@ -1,36 +1,62 @@
 //! Step 2, both orders: a cruise at some velocity v_c between the fastest
 //! changes to and from it, lasting a prescribed time.
 
-use super::fastest_third::residual;
 use super::problem::{Limits, Problem};
-use super::profile::Profile;
+use super::profile::{Integrator, JerkSegment, Profile};
 use super::roots;
 use super::velocity::{fastest_change, Change};
 
 /// Cruise at v_c (zero acceleration) between the fastest changes to and
 /// from it, lasting exactly `t`; for any order (`j` = None: second order).
 pub(super) fn cruise_at(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<Profile> {
-    let (a, b) = match l.jerk {
+    let mut s = Profile::default();
+    for g in &cruise_segments(p, l, t, vc)? {
+        s.push(g.dt, g.jerk, g.set_acc);
+    }
+    Some(s)
+}
+
+/// The end position of [`cruise_at`]'s profile minus the target's (NaN when
+/// there is none), computed without building the profile.
+fn cruise_residual(p: &Problem, l: &Limits, t: f64, vc: f64) -> f64 {
+    let Some(segments) = cruise_segments(p, l, t, vc) else { return f64::NAN };
+    let mut m = Integrator::new(p.v0, p.a0);
+    for g in &segments {
+        m.segment(g);
+    }
+    m.p - p.dp
+}
+
+/// [`cruise_at`]'s segments (unused ones of length 0): up to three for the
+/// change to v_c, the cruise, up to three for the change from it.
+fn cruise_segments(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<[JerkSegment; 7]> {
+    let mut g = [JerkSegment::default(); 7];
+    let (da, db) = match l.jerk {
         Some(j) => {
-            (fastest_change(p.v0, p.a0, vc, 0.0, l, j)?.profile(), fastest_change(vc, 0.0, p.vf, p.af, l, j)?.profile())
+            let (a, b) = (fastest_change(p.v0, p.a0, vc, 0.0, l, j)?, fastest_change(vc, 0.0, p.vf, p.af, l, j)?);
+            g[..3].copy_from_slice(&a.segments());
+            g[4..].copy_from_slice(&b.segments());
+            (a.duration(), b.duration())
         }
         None => {
-            let ramp = |from: f64, to: f64| {
-                let mut s = Profile::default();
-                s.push((to - from).abs() / l.acc, 0.0, Some(l.acc.copysign(to - from)));
-                s
+            let ramp = |from: f64, to: f64| JerkSegment {
+                dt: (to - from).abs() / l.acc,
+                jerk: 0.0,
+                set_acc: Some(l.acc.copysign(to - from)),
             };
-            (ramp(p.v0, vc), ramp(vc, p.vf))
+            let (a, b) = (ramp(p.v0, vc), ramp(vc, p.vf));
+            (g[0], g[4]) = (a, b);
+            // As a profile sums its non-empty segments.
+            let d = |s: JerkSegment| [s.dt].iter().filter(|&&t| t > 0.0).sum::<f64>();
+            (d(a), d(b))
         }
     };
-    let cruise = t - a.duration() - b.duration();
+    let cruise = t - da - db;
     if !(cruise >= -1e-12 * t.max(1.0)) {
         return None;
     }
-    let mut s = a;
-    s.push(cruise.max(0.0), 0.0, Some(0.0).filter(|_| l.jerk.is_none()));
-    s.extend(&b);
-    Some(s)
+    g[3] = JerkSegment { dt: cruise.max(0.0), jerk: 0.0, set_acc: Some(0.0).filter(|_| l.jerk.is_none()) };
+    Some(g)
 }
 
 /// Cruise candidates lasting exactly `t`: the cruise velocities v_c for which
@@ -99,7 +125,7 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
     let mut rs = Vec::new();
     for (lo, hi) in intervals {
         rs.clear();
-        roots::find(l.search, &|vc| residual(p, cruise_at(p, l, t, vc)), lo, hi, roots::GRID, &mut rs);
+        roots::find(l.search, &|vc| cruise_residual(p, l, t, vc), lo, hi, roots::GRID, &mut rs);
         out.extend(rs.iter().filter_map(|&vc| cruise_at(p, l, t, vc)));
     }
 }

@@ -3,17 +3,9 @@
 //! or a hold at a limit (+a_max, −a_max, or a cruise at +v_max).
 
 use super::problem::{Limits, Problem};
-use super::profile::Profile;
+use super::profile::{Integrator, Profile};
 use super::roots;
 use super::velocity::{fall, rise};
-
-/// Residual of a candidate's position; NaN when there is none.
-pub(super) fn residual(p: &Problem, s: Option<Profile>) -> f64 {
-    match s {
-        Some(s) => s.integrate(p.v0, p.a0).0 - p.dp,
-        None => f64::NAN,
-    }
-}
 
 /// Time-optimal candidates of one frame (acceleration rises, falls, rises).
 pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profile>) {
@@ -38,30 +30,56 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
         }
     }
     // No cruise, valley acceleration x ∈ [−a_max, a_f], final ramp +j to a_f.
-    let valley = |x: f64, root: bool| -> Option<Profile> {
+    let valley_change = |x: f64, root: bool| {
         let vc = p.vf - (p.af * p.af - x * x) / (2.0 * j);
-        let mut s = rise(p.v0, p.a0, vc, x, l, j, root)?.profile();
+        rise(p.v0, p.a0, vc, x, l, j, root)
+    };
+    let valley = |x: f64, root: bool| -> Option<Profile> {
+        let mut s = valley_change(x, root)?.profile();
         s.push((p.af - x) / j, j, None);
         Some(s)
     };
-    for root in [true, false] {
+    let valley_residual = |x: f64, root: bool| match valley_change(x, root) {
+        Some(c) => {
+            let mut m = Integrator::new(p.v0, p.a0);
+            c.advance(&mut m);
+            m.jerk((p.af - x) / j, j);
+            m.p - p.dp
+        }
+        None => f64::NAN,
+    };
+    // A falling root (a peak −√K ≤ 0) cannot start from a0 > 0: `rise`
+    // refuses every such change, so its searches would find nothing.
+    let roots_signs: &[bool] = if p.a0 > 1e-12 * l.acc { &[true] } else { &[true, false] };
+    for &root in roots_signs {
         xs.clear();
-        roots::find(l.search, &|x| residual(p, valley(x, root)), -l.acc, p.af, roots::GRID, &mut xs);
+        roots::find(l.search, &|x| valley_residual(x, root), -l.acc, p.af, roots::GRID, &mut xs);
         out.extend(xs.iter().filter_map(|&x| valley(x, root)));
     }
     // No cruise, valley held at −a_max for x seconds.
     let v7 = p.vf - (p.af * p.af - l.acc * l.acc) / (2.0 * j);
+    let held_change = |x: f64, root: bool| rise(p.v0, p.a0, v7 + l.acc * x, -l.acc, l, j, root);
     let held = |x: f64, root: bool| -> Option<Profile> {
-        let mut s = rise(p.v0, p.a0, v7 + l.acc * x, -l.acc, l, j, root)?.profile();
+        let mut s = held_change(x, root)?.profile();
         s.push(x, 0.0, None);
         s.push((p.af + l.acc) / j, j, None);
         Some(s)
     };
+    let held_residual = |x: f64, root: bool| match held_change(x, root) {
+        Some(c) => {
+            let mut m = Integrator::new(p.v0, p.a0);
+            c.advance(&mut m);
+            m.jerk(x, 0.0);
+            m.jerk((p.af + l.acc) / j, j);
+            m.p - p.dp
+        }
+        None => f64::NAN,
+    };
     let hmax = (l.vel - v7) / l.acc;
     if hmax > 0.0 {
-        for root in [true, false] {
+        for &root in roots_signs {
             xs.clear();
-            roots::find(l.search, &|x| residual(p, held(x, root)), 0.0, hmax, roots::GRID, &mut xs);
+            roots::find(l.search, &|x| held_residual(x, root), 0.0, hmax, roots::GRID, &mut xs);
             out.extend(xs.iter().filter_map(|&x| held(x, root)));
         }
     }

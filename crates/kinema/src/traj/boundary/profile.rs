@@ -68,18 +68,12 @@ impl Profile {
     }
 
     /// Position, velocity and acceleration at the end, from (0, v, a).
-    pub fn integrate(&self, mut v: f64, mut a: f64) -> (f64, f64, f64) {
-        let mut p = 0.0;
+    pub fn integrate(&self, v: f64, a: f64) -> (f64, f64, f64) {
+        let mut m = Integrator::new(v, a);
         for s in self.segments() {
-            if let Some(a0) = s.set_acc {
-                a = a0;
-            }
-            let u = s.dt;
-            p += u * (v + u * (a / 2.0 + u * s.jerk / 6.0));
-            v += u * (a + u * s.jerk / 2.0);
-            a += u * s.jerk;
+            m.segment(s);
         }
-        (p, v, a)
+        (m.p, m.v, m.a)
     }
 
     /// The jerk at time `t` into the profile (the last segment's after it).
@@ -92,6 +86,46 @@ impl Profile {
             }
         }
         self.segments[self.len.saturating_sub(1)].jerk
+    }
+}
+
+/// The state reached segment by segment, with the arithmetic of
+/// [`Profile::integrate`]: the searches evaluate a candidate's end position
+/// this way without building (and copying) a [`Profile`]. Segments a
+/// profile would leave out (length ≤ 0) are skipped, so both give the same
+/// numbers to the last bit.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Integrator {
+    pub p: f64,
+    pub v: f64,
+    pub a: f64,
+}
+
+impl Integrator {
+    /// At position 0 with velocity `v` and acceleration `a`.
+    pub fn new(v: f64, a: f64) -> Integrator {
+        Integrator { p: 0.0, v, a }
+    }
+
+    /// Advances over one segment.
+    #[inline]
+    pub fn segment(&mut self, s: &JerkSegment) {
+        if !(s.dt > 0.0) {
+            return;
+        }
+        if let Some(a0) = s.set_acc {
+            self.a = a0;
+        }
+        let u = s.dt;
+        self.p += u * (self.v + u * (self.a / 2.0 + u * s.jerk / 6.0));
+        self.v += u * (self.a + u * s.jerk / 2.0);
+        self.a += u * s.jerk;
+    }
+
+    /// Advances over a segment of jerk `jerk` lasting `dt`.
+    #[inline]
+    pub fn jerk(&mut self, dt: f64, jerk: f64) {
+        self.segment(&JerkSegment { dt, jerk, set_acc: None });
     }
 }
 

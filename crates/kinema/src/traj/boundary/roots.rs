@@ -20,7 +20,7 @@ pub(super) enum Search {
 /// refined by bisection, plus near-tangent roots found where |f| has a local
 /// minimum between grid points. `f` may return NaN where the family has no
 /// profile.
-pub(super) fn find(search: Search, f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize, out: &mut Vec<f64>) {
+pub(super) fn find(search: Search, f: &impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize, out: &mut Vec<f64>) {
     if !(lo.is_finite() && hi.is_finite()) || hi < lo {
         return;
     }
@@ -30,9 +30,13 @@ pub(super) fn find(search: Search, f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: 
         }
         return;
     }
-    let mut xs: Vec<f64> = (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect();
-    xs[n] = hi; // exactly: roots on the bounds (a phase of length 0) are common
-    let ys: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
+    assert!(n <= GRID, "at most GRID intervals");
+    let (mut xs, mut ys) = ([0.0; GRID + 1], [0.0; GRID + 1]);
+    for (i, (x, y)) in xs.iter_mut().zip(&mut ys).take(n + 1).enumerate() {
+        // The last exactly: roots on the bounds (a phase of length 0) are common.
+        *x = if i == n { hi } else { lo + (hi - lo) * i as f64 / n as f64 };
+        *y = f(*x);
+    }
     for i in 0..=n {
         if ys[i] == 0.0 {
             out.push(xs[i]);
@@ -57,7 +61,7 @@ pub(super) fn find(search: Search, f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: 
 }
 
 /// A root of `f` between `a` (where f = `fa`) and `b`, where f has the other sign.
-fn bisect(f: &dyn Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64) -> f64 {
+fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64) -> f64 {
     for _ in 0..200 {
         let m = 0.5 * (a + b);
         if m <= a || m >= b {
@@ -84,7 +88,7 @@ fn bisect(f: &dyn Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64) -> f64 {
 /// signs) by regula falsi, the retained end's value halved when the same
 /// end is kept twice (Illinois) so that both ends converge. Falls back to
 /// bisection where `f` is NaN.
-fn illinois(f: &dyn Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
+fn illinois(f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
     let mut side = 0;
     for _ in 0..100 {
         if !(b - a > 4.0 * f64::EPSILON * a.abs().max(b.abs())) {
@@ -135,7 +139,7 @@ fn dips([ya, ym, yb]: [f64; 3]) -> bool {
 
 /// A pair of roots inside one grid interval (or a tangent root) shows as a
 /// local minimum of |f| without a sign change: look for the extremum.
-fn pair_near_minimum(f: &dyn Fn(f64) -> f64, xs: [f64; 3], ys: [f64; 3], out: &mut Vec<f64>) {
+fn pair_near_minimum(f: &impl Fn(f64) -> f64, xs: [f64; 3], ys: [f64; 3], out: &mut Vec<f64>) {
     let [ya, ym, yb] = ys;
     if !(ya.is_finite() && ym.is_finite() && yb.is_finite()) || ym == 0.0 {
         return;

@@ -1,15 +1,42 @@
 //! Step 2, third order: profiles lasting a prescribed time with one free
 //! hold (the peak acceleration held below a_max, or the valley held at −a_max).
 
-use super::fastest_third::residual;
 use super::problem::{Limits, Problem};
-use super::profile::Profile;
+use super::profile::{Integrator, JerkSegment, Profile};
 use super::roots;
 
 /// Candidates lasting exactly `t` with one free hold: acceleration rises to a
 /// peak a_p ≤ a_max held for some time, falls to a valley x, rises to a_f
 /// (the valley held at −a_max for `hold` seconds when x = −a_max).
 pub(super) fn held_peak(p: &Problem, l: &Limits, j: f64, t: f64, x: f64, hold: f64, root: bool) -> Option<Profile> {
+    let mut s = Profile::default();
+    for g in &held_peak_segments(p, l, j, t, x, hold, root)? {
+        s.push(g.dt, g.jerk, g.set_acc);
+    }
+    Some(s)
+}
+
+/// The end position of [`held_peak`]'s profile minus the target's (NaN when
+/// there is none), computed without building the profile.
+fn held_peak_residual(p: &Problem, l: &Limits, j: f64, t: f64, x: f64, hold: f64, root: bool) -> f64 {
+    let Some(segments) = held_peak_segments(p, l, j, t, x, hold, root) else { return f64::NAN };
+    let mut m = Integrator::new(p.v0, p.a0);
+    for g in &segments {
+        m.segment(g);
+    }
+    m.p - p.dp
+}
+
+/// [`held_peak`]'s five segments (some possibly of length 0).
+fn held_peak_segments(
+    p: &Problem,
+    l: &Limits,
+    j: f64,
+    t: f64,
+    x: f64,
+    hold: f64,
+    root: bool,
+) -> Option<[JerkSegment; 5]> {
     let t7 = (p.af - x) / j;
     let vc = p.vf - (p.af * p.af - x * x) / (2.0 * j) + if hold > 0.0 { -x * hold } else { 0.0 };
     let tau = t - t7 - hold;
@@ -36,13 +63,8 @@ pub(super) fn held_peak(p: &Problem, l: &Limits, j: f64, t: f64, x: f64, hold: f
     if th < -1e-12 * t.max(1.0) {
         return None;
     }
-    let mut s = Profile::default();
-    s.push(t1, j, None);
-    s.push(th.max(0.0), 0.0, None);
-    s.push(t3, -j, None);
-    s.push(hold, 0.0, None);
-    s.push(t7, j, None);
-    Some(s)
+    let g = |dt: f64, jerk: f64| JerkSegment { dt, jerk, set_acc: None };
+    Some([g(t1, j), g(th.max(0.0), 0.0), g(t3, -j), g(hold, 0.0), g(t7, j)])
 }
 
 /// Candidates of one frame lasting exactly `t` (third order).
@@ -50,17 +72,10 @@ pub(super) fn timed_third(p: &Problem, l: &Limits, j: f64, t: f64, out: &mut Vec
     let mut xs = Vec::new();
     for root in [true, false] {
         xs.clear();
-        roots::find(
-            l.search,
-            &|x| residual(p, held_peak(p, l, j, t, x, 0.0, root)),
-            -l.acc,
-            p.af,
-            roots::GRID,
-            &mut xs,
-        );
+        roots::find(l.search, &|x| held_peak_residual(p, l, j, t, x, 0.0, root), -l.acc, p.af, roots::GRID, &mut xs);
         out.extend(xs.iter().filter_map(|&x| held_peak(p, l, j, t, x, 0.0, root)));
         xs.clear();
-        roots::find(l.search, &|h| residual(p, held_peak(p, l, j, t, -l.acc, h, root)), 0.0, t, roots::GRID, &mut xs);
+        roots::find(l.search, &|h| held_peak_residual(p, l, j, t, -l.acc, h, root), 0.0, t, roots::GRID, &mut xs);
         out.extend(xs.iter().filter_map(|&h| held_peak(p, l, j, t, -l.acc, h, root)));
     }
 }

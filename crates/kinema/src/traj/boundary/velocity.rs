@@ -2,7 +2,7 @@
 //! ignoring position, the building block of every third-order family.
 
 use super::problem::Limits;
-use super::profile::Profile;
+use super::profile::{Integrator, JerkSegment, Profile};
 
 /// A velocity change: jerk `jerk` for `ramp_up`, a hold, then −`jerk` for
 /// `ramp_down`. Kept as three numbers (not a [`Profile`]) because the
@@ -23,10 +23,27 @@ impl Change {
 
     pub fn profile(&self) -> Profile {
         let mut s = Profile::default();
-        s.push(self.ramp_up, self.jerk, None);
-        s.push(self.hold, 0.0, None);
-        s.push(self.ramp_down, -self.jerk, None);
+        for g in &self.segments() {
+            s.push(g.dt, g.jerk, g.set_acc);
+        }
         s
+    }
+
+    /// The ramp up, the hold and the ramp down (lengths possibly 0).
+    pub fn segments(&self) -> [JerkSegment; 3] {
+        [
+            JerkSegment { dt: self.ramp_up, jerk: self.jerk, set_acc: None },
+            JerkSegment { dt: self.hold, jerk: 0.0, set_acc: None },
+            JerkSegment { dt: self.ramp_down, jerk: -self.jerk, set_acc: None },
+        ]
+    }
+
+    /// Advances `m` over this change (as over its [`Change::profile`]).
+    #[inline]
+    pub fn advance(&self, m: &mut Integrator) {
+        m.jerk(self.ramp_up, self.jerk);
+        m.jerk(self.hold, 0.0);
+        m.jerk(self.ramp_down, -self.jerk);
     }
 
     fn mirrored(self) -> Change {
