@@ -85,3 +85,4 @@ pub use model::{
 pub use names::Named;
 pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};
 pub use robot::Robot;
+pub use urdf::UrdfLink;

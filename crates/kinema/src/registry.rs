@@ -74,6 +74,32 @@ impl Robot {
         crate::urdf::robot_from_urdf(text, file, tip)
     }
 
+    /// As [`Robot::from_urdf_str`], and where each `<link>` of the URDF
+    /// rides on the robot (see [`crate::UrdfLink`]), for link geometry.
+    ///
+    /// # Examples
+    /// ```
+    /// let urdf = r#"<robot name="r">
+    ///   <link name="base"/> <link name="arm"/> <link name="flange"/>
+    ///   <joint name="j1" type="continuous"><parent link="base"/><child link="arm"/></joint>
+    ///   <joint name="f" type="fixed"><parent link="arm"/><child link="flange"/>
+    ///     <origin xyz="0 0 0.5"/></joint>
+    /// </robot>"#;
+    /// let (robot, links) = kinema::Robot::from_urdf_str_with_links(urdf, "r.urdf", None)?;
+    /// assert_eq!(robot.dof(), 1);
+    /// assert_eq!(links[2].name, "flange");
+    /// assert_eq!(links[2].link, 1); // fixed to the body of joint 1
+    /// assert!((links[2].link_from_urdf.pos.z - 0.5).abs() < 1e-15);
+    /// # Ok::<(), kinema::Error>(())
+    /// ```
+    pub fn from_urdf_str_with_links(
+        text: &str,
+        file: &str,
+        tip: Option<&str>,
+    ) -> Result<(Robot, Vec<crate::UrdfLink>)> {
+        crate::urdf::robot_and_links_from_urdf(text, file, tip)
+    }
+
     /// Reads a `.toml` or `.urdf` file of at most [`MAX_DESCRIPTION_BYTES`].
     pub fn from_file(path: impl AsRef<Path>, tip: Option<&str>) -> Result<Robot> {
         let path = path.as_ref();

@@ -45,6 +45,29 @@ use crate::robot::Robot;
 /// (default: the only leaf link reached through moving joints, see the module
 /// documentation). `file` is used in messages only.
 pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robot> {
+    robot_and_links_from_urdf(text, file, tip).map(|(robot, _)| robot)
+}
+
+/// Where one URDF `<link>` rides on the robot imported from its file: the
+/// kinema link it is rigidly fixed to and its pose there. Link geometry
+/// (`<collision>`, `<visual>`) is placed with it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfLink {
+    /// The URDF link's name.
+    pub name: String,
+    /// The kinema link (index of [`crate::kin::link_frames_into`]'s frames)
+    /// it is fixed to: 0 for the base (links before the first moving joint),
+    /// i for the body moved by joint i. Links after a fixed joint fold into
+    /// their parent's body, and links off the chain are carried with their
+    /// joints held at 0, as the mass properties are.
+    pub link: usize,
+    /// The URDF link frame in that kinema link frame.
+    pub link_from_urdf: Pose,
+}
+
+/// As [`robot_from_urdf`], and where each `<link>` of the document rides
+/// (in document order; see [`UrdfLink`]).
+pub fn robot_and_links_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<(Robot, Vec<UrdfLink>)> {
     let err = |message: String| Error::Urdf { file: file.to_string(), message };
     let scan = Scan::new(text, file)?;
     let u = urdf_rs::read_from_string(&scan.kept(0..text.len())).map_err(|e| scan.locate(file, e))?;
@@ -222,7 +245,43 @@ pub fn robot_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<Robo
     if let Some(b) = inertials {
         model = model.inertials(b.into_iter().map(Some).collect());
     }
-    Ok(Robot::new(model.build().map_err(|e| err(e.to_string()))?))
+    let robot = Robot::new(model.build().map_err(|e| err(e.to_string()))?);
+    let links = urdf_links(&u, &path, &by_child, robot.base());
+    Ok((robot, links))
+}
+
+/// Where each link of `u` rides: walk up from the link to the nearest moving
+/// joint of the chain (its child link frame is kinema's link frame), composing
+/// the origins of the joints passed (fixed ones, and joints off the chain at
+/// 0); a link that reaches the root rides on the base, whose frame is the
+/// root's fixed transforms up to the first moving joint (`base`).
+fn urdf_links(
+    u: &urdf_rs::Robot,
+    path: &[&urdf_rs::Joint],
+    by_child: &HashMap<&str, &urdf_rs::Joint>,
+    base: &Pose,
+) -> Vec<UrdfLink> {
+    let moving: Vec<&str> =
+        path.iter().filter(|j| j.joint_type != urdf_rs::JointType::Fixed).map(|j| j.name.as_str()).collect();
+    let base_from_root = base.inverse();
+    u.links
+        .iter()
+        .map(|l| {
+            let mut above_from_link = Pose::IDENTITY;
+            let mut at = l.name.as_str();
+            // A cycle was refused while the chain was read; the bound keeps this walk finite anyway.
+            for _ in 0..=u.joints.len() {
+                let Some(j) = by_child.get(at) else { break };
+                if let Some(i) = moving.iter().position(|m| *m == j.name) {
+                    return UrdfLink { name: l.name.clone(), link: i + 1, link_from_urdf: above_from_link };
+                }
+                above_from_link =
+                    Pose::from_xyz_rpy(*j.origin.xyz, *j.origin.rpy, RpyConvention::Zyx) * above_from_link;
+                at = j.parent.link.as_str();
+            }
+            UrdfLink { name: l.name.clone(), link: 0, link_from_urdf: base_from_root * above_from_link }
+        })
+        .collect()
 }
 
 /// One way to choose the tip: the leaves reached through the same moving joints.

@@ -35,3 +35,4 @@ mod traj_cell;
 mod traj_expr;
 mod traj_law;
 mod traj_ptp;
+mod urdf_links;

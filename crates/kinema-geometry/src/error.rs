@@ -1,0 +1,96 @@
+//! The error type of `kinema-geometry`.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while loading link geometry or asking it a
+/// question. Each variant names what was wrong and what was expected.
+#[non_exhaustive]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// An error of the kinematic core (a URDF that cannot be read, a joint
+    /// vector of the wrong length, a file that cannot be read, …).
+    #[error(transparent)]
+    Kinema(#[from] kinema::Error),
+    /// A mesh named by a URDF that is in none of the places it may be.
+    #[error(
+        "{urdf}: link `{link}`: mesh `{uri}` not found; looked in: {}{}",
+        list(searched),
+        if uri.starts_with("package://") { " (add the directory that holds the package to the package search path)" } else { "" }
+    )]
+    MeshNotFound {
+        /// The URDF file (or `<string>`).
+        urdf: String,
+        /// The link whose `<collision>` or `<visual>` names it.
+        link: String,
+        /// The file name as the URDF gives it.
+        uri: String,
+        /// Every path tried, in order.
+        searched: Vec<PathBuf>,
+    },
+    /// A mesh file that cannot be used: unreadable format, no triangles,
+    /// non-finite vertices, or a hull that encloses no volume.
+    #[error("mesh `{path}`: {message}")]
+    Mesh {
+        /// Path as given or resolved.
+        path: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// A shape with a dimension that is not a positive finite length, or a
+    /// pose that is not finite.
+    #[error("shape `{name}`: {message}")]
+    Shape {
+        /// The shape's name.
+        name: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
+    /// A shape attached to a link the robot does not have.
+    #[error("shape `{name}` rides on link {link}, but robot `{robot}` has links 0 (base) to {dof}")]
+    NoSuchLink {
+        /// The shape's name.
+        name: String,
+        /// The link index asked for.
+        link: usize,
+        /// Robot name.
+        robot: String,
+        /// The robot's joint count (its last link's index).
+        dof: usize,
+    },
+    /// A pair of shapes the collision library has no algorithm for.
+    #[error("no collision algorithm for the pair `{a}` – `{b}` ({kinds})")]
+    UnsupportedPair {
+        /// First shape's name.
+        a: String,
+        /// Second shape's name.
+        b: String,
+        /// The two shape kinds.
+        kinds: String,
+    },
+    /// A safety margin that is not a distance.
+    #[error("the safety margin is {margin}; expected a finite distance ≥ 0 m")]
+    Margin {
+        /// The margin given \[m\].
+        margin: f64,
+    },
+    /// A placement, or a pair list, made for another geometry.
+    #[error("{what} is for {got} shapes, but the geometry has {expected}; make it from this geometry")]
+    Mismatch {
+        /// What was given (`the placement`, `pair (3, 9)`).
+        what: String,
+        /// Its shape count or index.
+        got: usize,
+        /// The geometry's shape count.
+        expected: usize,
+    },
+}
+
+fn list(paths: &[PathBuf]) -> String {
+    if paths.is_empty() {
+        return "nowhere (no search directory applies)".into();
+    }
+    paths.iter().map(|p| format!("`{}`", p.display())).collect::<Vec<_>>().join(", ")
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,70 @@
+//! # kinema-geometry — the bodies of kinema's robots, and collision and distance between them
+//!
+//! Link geometry sits beside the kinematic model, as Pinocchio's
+//! `GeometryModel` does beside its `Model`; the robot itself does not grow
+//! shape fields.
+//!
+//! * [`Shape`] — sphere, box, cylinder, capsule, convex mesh, triangle mesh,
+//!   in the shape's own frame (round shapes along z, boxes by full edge lengths).
+//! * [`LinkShape`] — a named shape fixed to one link of a robot (0 = base,
+//!   i = the body moved by joint i; the numbering of
+//!   [`kinema::kin::link_frames_into`]), at a pose in that link's frame.
+//! * [`RobotGeometry`] — the shapes of one robot, immutable and shareable.
+//!   From a URDF with [`load_urdf`] (`<collision>` and `<visual>`; `package://`
+//!   and relative mesh paths; STL, OBJ and COLLADA meshes via [`load_mesh`]),
+//!   or built in code.
+//! * [`Placement`] — the world pose and bounding box of every shape for one
+//!   joint vector, filled by [`place`] into reusable buffers.
+//! * [`CollisionPairs`] — which pairs are checked ([`CollisionPairs::self_collision`]:
+//!   shapes on links that are not neighbours on the chain).
+//! * Queries on parry3d-f64: [`collides`] (the first pair within a safety
+//!   margin), [`contacts`], [`min_distance`] and [`pair_distance`] (signed
+//!   distance with witness points, as a [`Proximity`]).
+//!
+//! Units are SI: metres and radians.
+//!
+//! ## Example
+//!
+//! ```
+//! use kinema::{Pose, Robot};
+//! use kinema_geometry::{collides, min_distance, CollisionPairs, LinkShape, Placement, RobotGeometry, Shape};
+//!
+//! let robot = Robot::builtin("ur5")?;
+//! // A capsule for the upper arm (link 2) and a ball at the wrist (link 6).
+//! let arm = Shape::Capsule { radius: 0.06, length: 0.425 };
+//! let upper_arm = LinkShape::new("upper_arm", 2, Pose::translation(-0.2125, 0.0, 0.0) * Pose::rot_y(std::f64::consts::FRAC_PI_2), arm)?;
+//! let wrist = LinkShape::new("wrist", 6, Pose::IDENTITY, Shape::Sphere { radius: 0.05 })?;
+//! let geometry = RobotGeometry::new(&robot, vec![upper_arm, wrist])?;
+//! let pairs = CollisionPairs::self_collision(&geometry);
+//!
+//! let mut placement = Placement::new(&geometry);
+//! kinema_geometry::place(&robot, &geometry, robot.home(), &mut placement)?;
+//! assert_eq!(collides(&geometry, &placement, &pairs, 0.0)?, None);
+//! let closest = min_distance(&geometry, &placement, &pairs)?.expect("one pair");
+//! assert!(closest.distance > 0.0);
+//! assert!(((closest.point_b - closest.point_a).norm() - closest.distance).abs() < 1e-9);
+//! # Ok::<(), kinema_geometry::Error>(())
+//! ```
+#![warn(missing_docs)]
+// `!(x > 0.0)` is used on purpose: unlike `x <= 0.0` it is also true for NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod error;
+mod geometry;
+mod mesh;
+mod pairs;
+mod placement;
+mod query;
+mod shape;
+mod urdf;
+
+pub use error::{Error, Result};
+pub use geometry::{LinkShape, RobotGeometry};
+pub use mesh::{load_mesh, MAX_MESH_BYTES};
+pub use pairs::CollisionPairs;
+pub use placement::{place, Placement};
+pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
+pub use shape::{Mesh, Shape};
+pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
+
+pub use parry3d_f64;

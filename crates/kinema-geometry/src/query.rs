@@ -1,0 +1,290 @@
+//! Exact queries on placed shapes, on parry3d-f64: in collision or not
+//! ([`collides`]), every contact ([`contacts`]), the minimum distance with its
+//! witness points ([`min_distance`], [`pair_distance`]).
+//!
+//! Distances are signed: positive between separated shapes, the negated
+//! penetration depth between overlapping ones. A bounding-box gap, a lower
+//! bound of the distance, skips pairs that cannot matter. A new query is a
+//! free function here over (geometry, placement, pairs) that calls parry per
+//! pair through [`shapes_of`] and reports pairs by shape index.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::query::{self, ClosestPoints};
+use parry3d_f64::shape::{SegmentPointLocation, Shape as ParryShape};
+
+use crate::error::{Error, Result};
+use crate::geometry::RobotGeometry;
+use crate::pairs::CollisionPairs;
+use crate::placement::Placement;
+
+/// How close two shapes are, with the points that show it (world frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Proximity {
+    /// First shape's index (the lower one of the pair).
+    pub a: usize,
+    /// Second shape's index.
+    pub b: usize,
+    /// Signed distance \[m\]: > 0 apart, < 0 overlapping by that depth.
+    pub distance: f64,
+    /// The point of shape `a` nearest to `b` (deepest in `b` when overlapping) \[m\].
+    pub point_a: Point3<f64>,
+    /// The point of shape `b` nearest to `a` (deepest in `a` when overlapping) \[m\].
+    pub point_b: Point3<f64>,
+    /// Unit direction from `a` towards `b` along which they are closest
+    /// (zero when the two points coincide and the library gave none).
+    pub normal: Vector3<f64>,
+}
+
+/// The first pair of `pairs` (in its order) whose shapes are closer than
+/// `margin` \[m, ≥ 0\]: with `margin` 0, shapes that overlap or touch; with a
+/// safety margin, shapes less than `margin` apart as well.
+///
+/// # Examples
+/// ```
+/// use kinema::{Pose, Robot};
+/// use kinema_geometry::{collides, CollisionPairs, LinkShape, Placement, RobotGeometry, Shape};
+/// let robot = Robot::builtin("ur5")?;
+/// let ball = Shape::Sphere { radius: 0.05 };
+/// let base = LinkShape::new("base", 0, Pose::IDENTITY, ball.clone())?;
+/// let wrist = LinkShape::new("wrist", 6, Pose::IDENTITY, ball)?;
+/// let geometry = RobotGeometry::new(&robot, vec![base, wrist])?;
+/// let pairs = CollisionPairs::self_collision(&geometry);
+/// let at_home = Placement::of(&robot, &geometry, robot.home())?;
+/// assert_eq!(collides(&geometry, &at_home, &pairs, 0.0)?, None);
+/// // Closer than 10 km counts with a 10 km margin.
+/// assert_eq!(collides(&geometry, &at_home, &pairs, 1e4)?, Some((0, 1)));
+/// # Ok::<(), kinema_geometry::Error>(())
+/// ```
+pub fn collides(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    pairs: &CollisionPairs,
+    margin: f64,
+) -> Result<Option<(usize, usize)>> {
+    check(geometry, placement, pairs, margin)?;
+    for (a, b) in pairs.iter() {
+        let gap = aabb_gap(placement.aabb(a), placement.aabb(b));
+        if gap > margin {
+            continue;
+        }
+        let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+        let hit = if let Some(p) = round_pair(geometry, placement, a, b) {
+            p.distance < margin || p.distance <= 0.0
+        } else if margin == 0.0 {
+            query::intersection_test(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?
+        } else {
+            query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))? < margin
+        };
+        if hit {
+            return Ok(Some((a, b)));
+        }
+    }
+    Ok(None)
+}
+
+/// Every pair of `pairs` closer than `margin` \[m, ≥ 0\] (see [`collides`]),
+/// with its signed distance and points, in the order of `pairs`.
+pub fn contacts(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    pairs: &CollisionPairs,
+    margin: f64,
+) -> Result<Vec<Proximity>> {
+    check(geometry, placement, pairs, margin)?;
+    let mut out = Vec::new();
+    for (a, b) in pairs.iter() {
+        if aabb_gap(placement.aabb(a), placement.aabb(b)) > margin {
+            continue;
+        }
+        if let Some(p) = round_pair(geometry, placement, a, b) {
+            if p.distance < margin || p.distance <= 0.0 {
+                out.push(p);
+            }
+            continue;
+        }
+        let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+        let contact = query::contact(pa, sa, pb, sb, margin).map_err(|_| unsupported(geometry, a, b))?;
+        if let Some(c) = contact.filter(|c| c.dist < margin || c.dist <= 0.0) {
+            out.push(Proximity {
+                a,
+                b,
+                distance: c.dist,
+                point_a: c.point1,
+                point_b: c.point2,
+                normal: c.normal1.into_inner(),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The closest pair of `pairs` with its signed distance and witness points
+/// (`None` if `pairs` is empty). Overlapping pairs come first, deepest first.
+///
+/// # Examples
+/// ```
+/// use kinema::{Pose, Robot};
+/// use kinema_geometry::{min_distance, CollisionPairs, LinkShape, Placement, RobotGeometry, Shape};
+/// let robot = Robot::builtin("ur5")?;
+/// let base = LinkShape::new("base", 0, Pose::IDENTITY, Shape::Sphere { radius: 0.1 })?;
+/// let flange = LinkShape::new("flange", 6, Pose::IDENTITY, Shape::Sphere { radius: 0.05 })?;
+/// let geometry = RobotGeometry::new(&robot, vec![base, flange])?;
+/// let placement = Placement::of(&robot, &geometry, robot.home())?;
+/// let closest = min_distance(&geometry, &placement, &CollisionPairs::all(&geometry))?.unwrap();
+/// let centres = placement.frames()[6].pos - placement.frames()[0].pos;
+/// assert!((closest.distance - (centres.norm() - 0.15)).abs() < 1e-9);
+/// # Ok::<(), kinema_geometry::Error>(())
+/// ```
+pub fn min_distance(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    pairs: &CollisionPairs,
+) -> Result<Option<Proximity>> {
+    check(geometry, placement, pairs, 0.0)?;
+    let mut best: Option<(usize, usize, f64)> = None;
+    for (a, b) in pairs.iter() {
+        let bound = best.map_or(f64::INFINITY, |(_, _, d)| d);
+        let gap = aabb_gap(placement.aabb(a), placement.aabb(b));
+        // Once a pair overlaps, only pairs whose boxes overlap can be deeper.
+        if gap >= bound.max(0.0) && (gap > 0.0 || bound > 0.0) {
+            continue;
+        }
+        if let Some(p) = round_pair(geometry, placement, a, b) {
+            if p.distance < bound {
+                best = Some((a, b, p.distance));
+            }
+            continue;
+        }
+        let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+        let mut d = query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?;
+        if d <= 0.0 {
+            // Overlapping: the depth orders overlapping pairs.
+            let c = query::contact(pa, sa, pb, sb, 0.0).map_err(|_| unsupported(geometry, a, b))?;
+            d = c.map_or(0.0, |c| c.dist.min(0.0));
+        }
+        if d < bound {
+            best = Some((a, b, d));
+        }
+    }
+    best.map(|(a, b, _)| pair_distance(geometry, placement, a, b)).transpose()
+}
+
+/// The signed distance between shapes `a` and `b` and their witness points.
+pub fn pair_distance(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Result<Proximity> {
+    if a.max(b) >= geometry.len() || placement.len() != geometry.len() {
+        return Err(Error::Mismatch {
+            what: format!("shape pair ({a}, {b}) or the placement"),
+            got: a.max(b).max(placement.len()),
+            expected: geometry.len(),
+        });
+    }
+    if let Some(p) = round_pair(geometry, placement, a, b) {
+        return Ok(p);
+    }
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let err = |_| unsupported(geometry, a, b);
+    let d = query::distance(pa, sa, pb, sb).map_err(err)?;
+    // A prediction just above the distance makes parry return the closest points.
+    let prediction = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
+    if let Some(c) = query::contact(pa, sa, pb, sb, prediction).map_err(err)? {
+        let distance = if d > 0.0 { d } else { c.dist.min(0.0) };
+        return Ok(Proximity { a, b, distance, point_a: c.point1, point_b: c.point2, normal: c.normal1.into_inner() });
+    }
+    let (point_a, point_b) = match query::closest_points(pa, sa, pb, sb, 2.0 * prediction).map_err(err)? {
+        ClosestPoints::WithinMargin(p, q) => (p, q),
+        _ => (pa.translation.vector.into(), pb.translation.vector.into()),
+    };
+    let normal = (point_b - point_a).try_normalize(0.0).unwrap_or_else(Vector3::zeros);
+    Ok(Proximity { a, b, distance: d, point_a, point_b, normal })
+}
+
+/// The placed parry shapes of a pair: (pose of a, a, pose of b, b).
+pub(crate) fn shapes_of<'g>(
+    geometry: &'g RobotGeometry,
+    placement: &'g Placement,
+    a: usize,
+    b: usize,
+) -> (&'g Isometry3<f64>, &'g dyn ParryShape, &'g Isometry3<f64>, &'g dyn ParryShape) {
+    let shapes = geometry.shapes();
+    (
+        placement.world_from_collider(a),
+        shapes[a].collider().as_ref(),
+        placement.world_from_collider(b),
+        shapes[b].collider().as_ref(),
+    )
+}
+
+/// The core segment (world frame) and radius of a ball (a segment of no
+/// length) or a capsule.
+fn round(shape: &dyn ParryShape, pose: &Isometry3<f64>) -> Option<(Point3<f64>, Point3<f64>, f64)> {
+    if let Some(ball) = shape.as_ball() {
+        let c = Point3::from(pose.translation.vector);
+        return Some((c, c, ball.radius));
+    }
+    let capsule = shape.as_capsule()?;
+    Some((pose * capsule.segment.a, pose * capsule.segment.b, capsule.radius))
+}
+
+/// Balls and capsules pairwise in closed form (their core segments' closest
+/// points, less the radii): exact where parry's penetration depth (EPA) is
+/// not, such as capsules overlapping along a common axis.
+fn round_pair(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Option<Proximity> {
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let (a0, a1, ra) = round(sa, pa)?;
+    let (b0, b1, rb) = round(sb, pb)?;
+    let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD((&a0, &a1), (&b0, &b1));
+    let at = |(p, q): (Point3<f64>, Point3<f64>), loc: SegmentPointLocation| match loc {
+        SegmentPointLocation::OnVertex(0) => p,
+        SegmentPointLocation::OnVertex(_) => q,
+        SegmentPointLocation::OnEdge([u, v]) => Point3::from(p.coords * u + q.coords * v),
+    };
+    let (ca, cb) = (at((a0, a1), la), at((b0, b1), lb));
+    let between = cb - ca;
+    let gap = between.norm();
+    // Core segments that cross have no closest direction: any direction perpendicular to a does.
+    let normal = if gap > 0.0 {
+        between / gap
+    } else {
+        let axis = a1 - a0;
+        axis.cross(&Vector3::x())
+            .try_normalize(0.0)
+            .or_else(|| axis.cross(&Vector3::y()).try_normalize(0.0))
+            .unwrap_or(Vector3::x())
+    };
+    Some(Proximity { a, b, distance: gap - ra - rb, point_a: ca + normal * ra, point_b: cb - normal * rb, normal })
+}
+
+/// The distance between two boxes (0 when they overlap): a lower bound of
+/// the distance between anything inside them.
+fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
+    let below = a.mins - b.maxs;
+    let above = b.mins - a.maxs;
+    below.zip_map(&above, |x, y| x.max(y).max(0.0)).norm()
+}
+
+fn check(geometry: &RobotGeometry, placement: &Placement, pairs: &CollisionPairs, margin: f64) -> Result<()> {
+    if placement.len() != geometry.len() {
+        return Err(Error::Mismatch { what: "the placement".into(), got: placement.len(), expected: geometry.len() });
+    }
+    if pairs.shape_count() != geometry.len() {
+        return Err(Error::Mismatch {
+            what: "the pair list".into(),
+            got: pairs.shape_count(),
+            expected: geometry.len(),
+        });
+    }
+    if !(margin >= 0.0 && margin.is_finite()) {
+        return Err(Error::Margin { margin });
+    }
+    Ok(())
+}
+
+fn unsupported(geometry: &RobotGeometry, a: usize, b: usize) -> Error {
+    let (sa, sb) = (&geometry.shapes()[a], &geometry.shapes()[b]);
+    Error::UnsupportedPair {
+        a: sa.name().into(),
+        b: sb.name().into(),
+        kinds: format!("{} – {}", sa.shape().kind(), sb.shape().kind()),
+    }
+}

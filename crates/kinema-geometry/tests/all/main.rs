@@ -1,0 +1,8 @@
+//! kinema-geometry's integration tests, one module per area, in one test
+//! binary. Run one area with `cargo test -p kinema-geometry --test all urdf::`.
+
+mod common;
+mod meshes;
+mod primitives;
+mod self_collision;
+mod urdf;
