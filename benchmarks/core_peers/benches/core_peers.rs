@@ -21,7 +21,8 @@ use std::path::Path;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into, DynBuffers};
+use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into};
+use kinema::Data;
 use kinema::nalgebra::{DMatrix, Matrix6xX, Vector3};
 use kinema::Frame;
 use kinema_core_peers::{load, read_states, State};
@@ -69,7 +70,7 @@ fn core_peers(c: &mut Criterion) {
                 black_box(k::jacobian(chain))
             })
         });
-        let mut buf = DynBuffers::new(robot);
+        let mut buf = Data::new(robot);
         let mut tau = vec![0.0; n];
         group.bench_function("rnea-kinema", |b| {
             b.iter(|| {

@@ -12,7 +12,8 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into, DynBuffers};
+use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into};
+use kinema::Data;
 use kinema::nalgebra::{DMatrix, Vector3};
 use kinema::{Frame, Robot};
 #[cfg(feature = "ik-geo")]
@@ -39,7 +40,7 @@ fn check(urdf: &Path, tip: &str, states: &Path) -> Result<bool, String> {
     let n = robot.dof();
     let states = read_states(states, n)?;
     let g = Vector3::new(0.0, 0.0, -9.81);
-    let mut buf = DynBuffers::new(robot);
+    let mut buf = Data::new(robot);
     let (mut tau, mut m) = (vec![0.0; n], DMatrix::zeros(n, n));
     // Worst difference per quantity: kinema's pose, Jacobian, τ (plain, fast), M (plain, fast); k's pose, Jacobian.
     let mut worst = [0.0f64; 8];

@@ -152,7 +152,7 @@ impl ManipulabilityCurve {
         crate::check_traj(robot, traj, 2)?;
         let n = traj.len();
         let (mut wt, mut wr, mut along) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        let mut ws = kinema::Buffers::new(robot);
+        let mut ws = kinema::Data::new(robot);
         let mut speed = Vec::with_capacity(n);
         for k in 0..n {
             let j = ws.jacobian(robot, traj.q(k), Frame::Base)?;

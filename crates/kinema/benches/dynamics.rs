@@ -13,8 +13,9 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use kinema::dynamics::{forward_dynamics, mass_matrix, mass_matrix_into, rnea, rnea_into, DynBuffers};
+use kinema::dynamics::{forward_dynamics, mass_matrix, mass_matrix_into, rnea, rnea_into};
 use kinema::nalgebra::{DMatrix, Vector3};
+use kinema::Data;
 use kinema::Robot;
 use rand::{Rng, SeedableRng};
 
@@ -43,7 +44,7 @@ fn dynamics(c: &mut Criterion) {
             black_box(rnea(&robot, q, qd, qdd, &g).unwrap())
         })
     });
-    let mut buf = DynBuffers::new(&robot);
+    let mut buf = Data::new(&robot);
     let mut tau = [0.0; 6];
     c.bench_function("puma560 rnea_into", |b| {
         b.iter(|| {

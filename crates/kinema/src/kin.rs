@@ -6,7 +6,7 @@
 //! compiled chain, and `tests/all/reference.rs` checks them against the plain
 //! [`crate::reference`] functions. Convenience methods that
 //! allocate ([`Robot::fk`], [`Robot::jacobian`], [`Robot::link_frames`]) sit
-//! on top, and [`Buffers`] bundles reusable output buffers.
+//! on top, and [`Data`](crate::Data) holds their reusable scratch.
 //!
 //! Jacobian rows are ordered \[vx vy vz ωx ωy ωz\]: linear velocity of the tool
 //! point, then angular velocity.
@@ -17,6 +17,7 @@ use rayon::prelude::*;
 use std::mem::MaybeUninit;
 
 use crate::chain::{as_uninit, Layout};
+use crate::data::Data;
 use crate::error::{Error, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::JointSet;
@@ -357,45 +358,15 @@ impl Robot {
     }
 }
 
-/// Reusable output buffers for one robot, so repeated calls allocate nothing.
-///
-/// # Examples
-/// ```
-/// use kinema::{Robot, Frame, Buffers};
-/// let robot = Robot::builtin("panda")?;
-/// let mut ws = Buffers::new(&robot);
-/// for q in [robot.home(), robot.pose("qr")?] {
-///     let j = ws.jacobian(&robot, q, Frame::Base)?;
-///     assert_eq!(j.ncols(), 7);
-/// }
-/// # Ok::<(), kinema::Error>(())
-/// ```
-#[derive(Debug, Clone)]
-pub struct Buffers {
-    jacobian: Matrix6xX<f64>,
-    frames: Vec<Pose>,
-}
-
-impl Buffers {
-    /// Buffers sized for `robot`.
-    pub fn new(robot: &Robot) -> Self {
-        Buffers { jacobian: Matrix6xX::zeros(robot.dof()), frames: vec![Pose::IDENTITY; robot.dof() + 2] }
-    }
-
-    fn fit(&mut self, robot: &Robot) {
-        if self.jacobian.ncols() != robot.dof() {
-            *self = Buffers::new(robot);
-        }
-    }
-
-    /// Geometric Jacobian into its buffer.
+impl Data {
+    /// Geometric Jacobian into the scratch (see [`jacobian_into`]).
     pub fn jacobian(&mut self, robot: &Robot, q: &[f64], frame: Frame) -> Result<&Matrix6xX<f64>> {
         self.fit(robot);
         jacobian_into(robot, q, frame, &mut self.jacobian)?;
         Ok(&self.jacobian)
     }
 
-    /// All link frames into its buffer (see [`link_frames_into`]).
+    /// All link frames into the scratch (see [`link_frames_into`]).
     pub fn link_frames(&mut self, robot: &Robot, q: &[f64]) -> Result<&[Pose]> {
         self.fit(robot);
         link_frames_into(robot, q, &mut self.frames)?;

@@ -60,6 +60,7 @@ pub use nalgebra;
 
 pub mod analysis;
 mod chain;
+mod data;
 mod desc;
 pub mod dynamics;
 mod error;
@@ -75,8 +76,9 @@ mod robot;
 pub mod traj;
 mod urdf;
 
+pub use data::Data;
 pub use error::{Error, IoError, Result};
-pub use kin::{Buffers, Fk, Frame};
+pub use kin::{Fk, Frame};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{
     DhConvention, GeometryKind, Inertial, Joint, JointSet, JointType, Limits, LinkGeometry, Metadata, Model,

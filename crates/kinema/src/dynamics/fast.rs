@@ -1,5 +1,5 @@
 //! Allocation-free inverse dynamics ([`rnea_into`]) and mass matrix
-//! ([`mass_matrix_into`]) over reusable [`DynBuffers`], computing what the
+//! ([`mass_matrix_into`]) over a reusable [`Data`](crate::Data), computing what the
 //! plain [`rnea`](super::rnea) and [`mass_matrix`](super::mass_matrix)
 //! compute (they are the reference these are tested against).
 //!
@@ -19,65 +19,11 @@
 use nalgebra::{DMatrix, Vector3};
 
 use super::{check_gravity, check_rates, joint_axis};
+use crate::data::{Data, Spatial};
 use crate::error::{Error, Result};
 use crate::math::Pose;
 use crate::model::{Inertial, JointType};
 use crate::robot::Robot;
-
-/// A spatial motion or force vector as its angular and linear parts (see the
-/// module docs of [`crate::dynamics`] for the ordering and the frame).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Spatial {
-    ang: Vector3<f64>,
-    lin: Vector3<f64>,
-}
-
-impl Spatial {
-    const ZERO: Spatial = Spatial { ang: Vector3::new(0.0, 0.0, 0.0), lin: Vector3::new(0.0, 0.0, 0.0) };
-
-    fn dot(&self, other: &Spatial) -> f64 {
-        self.ang.dot(&other.ang) + self.lin.dot(&other.lin)
-    }
-}
-
-/// Scratch space for [`rnea_into`] and [`mass_matrix_into`]: link frames,
-/// motion subspaces and link wrenches. Sized for one robot by
-/// [`DynBuffers::new`]; handed a robot with another number of joints, a
-/// call grows it once (the only time these functions allocate).
-#[derive(Debug, Clone)]
-pub struct DynBuffers {
-    frames: Vec<Pose>,
-    subspace: Vec<Spatial>,
-    wrench: Vec<Spatial>,
-}
-
-impl DynBuffers {
-    /// Buffers sized for `robot`.
-    ///
-    /// # Examples
-    /// ```
-    /// use kinema::dynamics::{mass_matrix_into, DynBuffers};
-    /// let robot = kinema::Robot::builtin("puma560")?;
-    /// let mut buf = DynBuffers::new(&robot);
-    /// let mut m = kinema::nalgebra::DMatrix::zeros(6, 6);
-    /// mass_matrix_into(&robot, &mut buf, robot.home(), &mut m)?;
-    /// assert!(m[(0, 0)] > 0.0);
-    /// # Ok::<(), kinema::Error>(())
-    /// ```
-    pub fn new(robot: &Robot) -> Self {
-        let mut buf = DynBuffers { frames: Vec::new(), subspace: Vec::new(), wrench: Vec::new() };
-        buf.fit(robot.dof());
-        buf
-    }
-
-    fn fit(&mut self, n: usize) {
-        if self.subspace.len() != n {
-            self.frames.resize(n + 2, Pose::IDENTITY);
-            self.subspace.resize(n, Spatial::ZERO);
-            self.wrench.resize(n, Spatial::ZERO);
-        }
-    }
-}
 
 /// The mass properties of every link, or the error naming the first link
 /// without. Checked once per call so that the loops below need no error path.
@@ -173,10 +119,10 @@ fn subspaces(robot: &Robot, frames: &[Pose], out: &mut [Spatial]) {
 /// ```
 /// use kinema::{dynamics, nalgebra::Vector3};
 /// let robot = kinema::Robot::builtin("puma560")?;
-/// let mut buf = dynamics::DynBuffers::new(&robot);
+/// let mut data = kinema::Data::new(&robot);
 /// let (g, qd, qdd) = (Vector3::new(0.0, 0.0, -9.81), [0.1; 6], [0.2; 6]);
 /// let mut tau = [0.0; 6];
-/// dynamics::rnea_into(&robot, &mut buf, robot.home(), &qd, &qdd, &g, &mut tau)?;
+/// dynamics::rnea_into(&robot, &mut data, robot.home(), &qd, &qdd, &g, &mut tau)?;
 /// let reference = dynamics::rnea(&robot, robot.home(), &qd, &qdd, &g)?;
 /// assert!(tau.iter().zip(&reference).all(|(a, b)| (a - b).abs() < 1e-12));
 /// # Ok::<(), kinema::Error>(())
@@ -184,7 +130,7 @@ fn subspaces(robot: &Robot, frames: &[Pose], out: &mut [Spatial]) {
 #[allow(clippy::too_many_arguments)]
 pub fn rnea_into(
     robot: &Robot,
-    buf: &mut DynBuffers,
+    data: &mut Data,
     q: &[f64],
     qd: &[f64],
     qdd: &[f64],
@@ -197,9 +143,9 @@ pub fn rnea_into(
     let n = robot.dof();
     check_len(robot, "tau", tau.len(), n)?;
     let bodies = bodies(robot)?;
-    buf.fit(n);
-    crate::kin::link_frames_into(robot, q, &mut buf.frames)?;
-    subspaces(robot, &buf.frames, &mut buf.subspace);
+    data.fit(robot);
+    crate::kin::link_frames_into(robot, q, &mut data.frames)?;
+    subspaces(robot, &data.frames, &mut data.subspace);
 
     // Outward, as in the reference: velocity and spatial acceleration of the
     // body point at the world origin; gravity as an upward base acceleration.
@@ -207,7 +153,7 @@ pub fn rnea_into(
     let (mut dw, mut dv) = (Vector3::zeros(), -gravity);
     for (i, b) in bodies.iter().enumerate() {
         let b = b.as_ref().unwrap_or(&Inertial::ZERO); // all present (checked above)
-        let s = &buf.subspace[i];
+        let s = &data.subspace[i];
         let (sw, sv) = (s.ang * qd[i], s.lin * qd[i]);
         w += sw;
         v += sv;
@@ -217,21 +163,21 @@ pub fn rnea_into(
 
         // Newton at the centre of mass c: its classical acceleration is the
         // spatial one plus α × c plus ω × (velocity of c).
-        let frame = &buf.frames[i + 1];
+        let frame = &data.frames[i + 1];
         let c = frame.rot * b.com + frame.pos;
         let vc = v + w.cross(&c);
         let force = (dv + dw.cross(&c) + w.cross(&vc)) * b.mass;
         // Euler about c in the link's axes, where the inertia is constant.
         let (wl, dwl) = (frame.rot.tr_mul(&w), frame.rot.tr_mul(&dw));
         let moment = frame.rot * (b.inertia * dwl + wl.cross(&(b.inertia * wl)));
-        buf.wrench[i] = Spatial { ang: moment + c.cross(&force), lin: force };
+        data.wrench[i] = Spatial { ang: moment + c.cross(&force), lin: force };
     }
     // Inward: joint i carries the wrenches of links i..n (all at one point).
     let mut carried = Spatial::ZERO;
     for i in (0..n).rev() {
-        carried.ang += buf.wrench[i].ang;
-        carried.lin += buf.wrench[i].lin;
-        tau[i] = buf.subspace[i].dot(&carried);
+        carried.ang += data.wrench[i].ang;
+        carried.lin += data.wrench[i].lin;
+        tau[i] = data.subspace[i].dot(&carried);
     }
     let torque = |i: usize| format!("the torque of joint {}", i + 1);
     super::finite_result(robot, tau, torque, &[("q̇", qd), ("q̈", qdd)], Some(gravity))
@@ -246,13 +192,13 @@ pub fn rnea_into(
 /// ```
 /// use kinema::{dynamics, nalgebra::DMatrix};
 /// let robot = kinema::Robot::builtin("puma560")?;
-/// let mut buf = dynamics::DynBuffers::new(&robot);
+/// let mut data = kinema::Data::new(&robot);
 /// let mut m = DMatrix::zeros(6, 6);
-/// dynamics::mass_matrix_into(&robot, &mut buf, robot.home(), &mut m)?;
+/// dynamics::mass_matrix_into(&robot, &mut data, robot.home(), &mut m)?;
 /// assert!((m.clone() - dynamics::mass_matrix(&robot, robot.home())?).amax() < 1e-12);
 /// # Ok::<(), kinema::Error>(())
 /// ```
-pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut DMatrix<f64>) -> Result<()> {
+pub fn mass_matrix_into(robot: &Robot, data: &mut Data, q: &[f64], m: &mut DMatrix<f64>) -> Result<()> {
     let n = robot.dof();
     if m.nrows() != n || m.ncols() != n {
         return Err(Error::WrongLength {
@@ -263,19 +209,19 @@ pub fn mass_matrix_into(robot: &Robot, buf: &mut DynBuffers, q: &[f64], m: &mut 
         });
     }
     let bodies = bodies(robot)?;
-    buf.fit(n);
-    crate::kin::link_frames_into(robot, q, &mut buf.frames)?;
-    subspaces(robot, &buf.frames, &mut buf.subspace);
+    data.fit(robot);
+    crate::kin::link_frames_into(robot, q, &mut data.frames)?;
+    subspaces(robot, &data.frames, &mut data.subspace);
 
     // The composite body of links j..n: in one frame a plain sum.
     let mut composite = Body::ZERO;
     for j in (0..n).rev() {
         let b = bodies[j].as_ref().unwrap_or(&Inertial::ZERO); // all present (checked above)
-        composite.add(&Body::in_world(b, &buf.frames[j + 1]));
+        composite.add(&Body::in_world(b, &data.frames[j + 1]));
         // The wrench that q̈_j = 1 alone needs from the locked links j..n: I^c·S_j.
-        let f = composite.times(&buf.subspace[j]);
+        let f = composite.times(&data.subspace[j]);
         for i in 0..=j {
-            let mij = buf.subspace[i].dot(&f);
+            let mij = data.subspace[i].dot(&f);
             m[(i, j)] = mij;
             m[(j, i)] = mij;
         }

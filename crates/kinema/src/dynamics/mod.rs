@@ -31,7 +31,7 @@ use crate::model::{DhConvention, Inertial, Joint, JointType, LinkGeometry};
 use crate::robot::Robot;
 
 mod fast;
-pub use fast::{mass_matrix_into, rnea_into, DynBuffers};
+pub use fast::{mass_matrix_into, rnea_into};
 
 /// The skew-symmetric matrix of `v`: `skew(v)·w = v × w`.
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {

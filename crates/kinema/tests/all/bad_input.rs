@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 
 use kinema::nalgebra::Matrix6xX;
 use kinema::{
-    builtin_names, Buffers, DhConvention, Error, Frame, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model,
-    Pose, Robot, RpyConvention,
+    builtin_names, Data, DhConvention, Error, Frame, GeometryKind, Joint, JointType, Limits, LinkGeometry, Model, Pose,
+    Robot, RpyConvention,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -575,8 +575,8 @@ fn wrong_joint_count() {
         check(robot.jacobian(&q, Frame::Base).unwrap_err());
         check(robot.analytic_jacobian(&q, RpyConvention::Zyx).unwrap_err());
         check(robot.link_frames(&q).unwrap_err());
-        check(Buffers::new(&robot).jacobian(&robot, &q, Frame::Tool).unwrap_err());
-        check(Buffers::new(&robot).link_frames(&robot, &q).unwrap_err());
+        check(Data::new(&robot).jacobian(&robot, &q, Frame::Tool).unwrap_err());
+        check(Data::new(&robot).link_frames(&robot, &q).unwrap_err());
     }
     // fk_batch: not a whole number of configurations.
     let e = robot.fk_batch(&[0.0; 13]).unwrap_err();
@@ -645,7 +645,7 @@ fn non_finite_joint_values() {
                 check(robot.jacobian(&q, Frame::Tool).unwrap_err());
                 check(robot.analytic_jacobian(&q, RpyConvention::Xyz).unwrap_err());
                 check(robot.link_frames(&q).unwrap_err());
-                let mut ws = Buffers::new(&robot);
+                let mut ws = Data::new(&robot);
                 check(ws.jacobian(&robot, &q, Frame::Base).unwrap_err());
                 check(ws.link_frames(&robot, &q).unwrap_err());
             }
@@ -917,7 +917,7 @@ fn absurd_lengths_and_joint_values_are_refused_by_name() {
     assert!(puma.with_base(Pose::translation(0.0, 1e8, 0.0)).is_ok());
     let e = puma.fk(&[0.0, 0.0, 0.0, 0.0, 0.0, 2e9]).unwrap_err().to_string();
     assert!(e.contains("joint 6") && e.contains("within ±1e9"), "{e}");
-    let mut b = Buffers::new(&puma);
+    let mut b = Data::new(&puma);
     assert!(b.jacobian(&puma, &[1e9, 0.0, 0.0, 0.0, 0.0, 0.0], Frame::Base).is_err());
 }
 

@@ -10,8 +10,9 @@ use crate::common;
 use std::f64::consts::PI;
 
 use common::arms;
-use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into, DynBuffers};
+use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into};
 use kinema::nalgebra::{DMatrix, Matrix3, Vector3};
+use kinema::Data;
 use kinema::{Error, Inertial, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -61,7 +62,7 @@ fn relative_diff(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 fn fast_rnea_and_crba_match_the_reference() {
     let mut rng = ChaCha8Rng::seed_from_u64(0xFA57);
-    let mut buf = DynBuffers::new(&Robot::builtin("puma560").unwrap());
+    let mut buf = Data::new(&Robot::builtin("puma560").unwrap());
     let (mut states, mut worst_tau, mut worst_m) = (0, 0.0f64, 0.0f64);
     for robot in robots(&mut rng, 400) {
         let n = robot.dof();
@@ -108,7 +109,7 @@ fn urdf_robots_match_the_reference() {
     </robot>"#;
     let robot = Robot::from_urdf_str(urdf, "t.urdf", None).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let mut buf = DynBuffers::new(&robot);
+    let mut buf = Data::new(&robot);
     let (mut tau, mut m) = ([0.0; 2], DMatrix::zeros(2, 2));
     let g = Vector3::new(0.0, 0.0, -9.81);
     for _ in 0..500 {
@@ -124,7 +125,7 @@ fn urdf_robots_match_the_reference() {
 #[test]
 fn bad_arguments_are_errors_and_leave_the_output_alone() {
     let robot = Robot::builtin("puma560").unwrap();
-    let mut buf = DynBuffers::new(&robot);
+    let mut buf = Data::new(&robot);
     let (q, z, g) = (robot.home().to_vec(), [0.0; 6], Vector3::new(0.0, 0.0, -9.81));
     let mut tau = [7.0; 6];
     assert!(rnea_into(&robot, &mut buf, &q[..5], &z, &z, &g, &mut tau).is_err());

@@ -5,7 +5,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use kinema::nalgebra::{Matrix3, Matrix6xX, Vector3};
-use kinema::{builtin_names, Buffers, Frame, GeometryKind, JointType, Pose, Robot, RpyConvention};
+use kinema::{builtin_names, Data, Frame, GeometryKind, JointType, Pose, Robot, RpyConvention};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -188,9 +188,9 @@ fn analytic_jacobian_errors_at_the_rpy_singularity() {
 fn jacobian_forms_agree() {
     for robot in robots() {
         let mut rng = ChaCha8Rng::seed_from_u64(0x1f);
-        let mut ws = Buffers::new(&robot);
+        let mut ws = Data::new(&robot);
         // A workspace sized for another robot must adapt.
-        let mut other_ws = Buffers::new(&Robot::builtin("scara5").unwrap());
+        let mut other_ws = Data::new(&Robot::builtin("scara5").unwrap());
         let mut buf = Matrix6xX::from_element(robot.dof(), f64::NAN);
         for _ in 0..SAMPLES {
             let q = robot.random_q(&mut rng);
@@ -229,7 +229,7 @@ fn joint_axes_from_frames(robot: &Robot, frames: &[Pose]) -> Vec<(Vector3<f64>, 
 fn link_frames_agree_with_fk_and_jacobian_columns() {
     for robot in robots() {
         let mut rng = ChaCha8Rng::seed_from_u64(0x11);
-        let mut ws = Buffers::new(&robot);
+        let mut ws = Data::new(&robot);
         let n = robot.dof();
         for _ in 0..SAMPLES {
             let q = robot.random_q(&mut rng);
