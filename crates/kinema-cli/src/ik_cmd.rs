@@ -9,6 +9,7 @@ use kinema::{Error, Pose, Robot, RpyConvention};
 use kinema_io::{SelfMotionAnswer, UnreachableAnswer, ValidateAnswer};
 
 use crate::{print_json, Exit, RobotArg};
+use kinema::InputError;
 
 mod batch;
 
@@ -214,7 +215,9 @@ pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest
 /// command line knows it as a flag (`--tol-position`, `--solver`, `--mask` …).
 fn request_flag(e: anyhow::Error) -> anyhow::Error {
     let what = match e.downcast_ref::<Error>().map(Error::root) {
-        Some(Error::OutOfRange { what, .. } | Error::DoesNotFit { what, .. }) => what.as_str(),
+        Some(Error::Input(InputError::OutOfRange { what, .. }) | Error::Input(InputError::DoesNotFit { what, .. })) => {
+            what.as_str()
+        }
         _ => return e,
     };
     let flag = match what {

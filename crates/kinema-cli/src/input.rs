@@ -90,16 +90,18 @@ pub(crate) fn parse_q(robot: &kinema::Robot, text: &str, degrees: bool) -> kinem
         let item = raw.trim();
         let at = start + (raw.len() - raw.trim_start().len());
         start += raw.len() + 1;
-        let v: f64 = item.parse().map_err(|_| kinema::Error::Syntax {
-            what: "joint values".into(),
-            text: t.into(),
-            column: t[..at].chars().count() + 1,
-            expected: format!(
-                "value {} `{item}` is not a number; give {} comma-separated numbers or a named pose ({})",
-                i + 1,
-                robot.dof(),
-                robot.poses().iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
-            ),
+        let v: f64 = item.parse().map_err(|_| {
+            kinema::Error::Input(kinema::InputError::Syntax {
+                what: "joint values".into(),
+                text: t.into(),
+                column: t[..at].chars().count() + 1,
+                expected: format!(
+                    "value {} `{item}` is not a number; give {} comma-separated numbers or a named pose ({})",
+                    i + 1,
+                    robot.dof(),
+                    robot.poses().iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+                ),
+            })
         })?;
         let revolute = robot.joints().get(i).is_some_and(|j| j.kind == kinema::JointType::Revolute);
         q.push(if degrees && revolute { v.to_radians() } else { v });
@@ -111,7 +113,7 @@ pub(crate) fn parse_q(robot: &kinema::Robot, text: &str, degrees: bool) -> kinem
 #[cfg(test)]
 mod tests {
     use super::*;
-    use kinema::{Error, Robot};
+    use kinema::{Error, InputError, Robot};
 
     #[test]
     fn parse_q_reads_poses_numbers_and_degrees() {
@@ -128,25 +130,31 @@ mod tests {
     fn parse_q_rejects_bad_text() {
         let robot = Robot::builtin("scara5").unwrap();
         let e = parse_q(&robot, "1,2,x", false).unwrap_err();
-        let Error::Syntax { what, column, expected, .. } = &e else { panic!("{e:?}") };
+        let Error::Input(InputError::Syntax { what, column, expected, .. }) = &e else { panic!("{e:?}") };
         assert_eq!((what.as_str(), *column), ("joint values", 5));
         assert!(expected.contains("value 3") && expected.contains("`x`"), "{expected}");
         assert!(expected.contains("home") && expected.contains("qz"), "{expected}");
         for text in ["", ",", "1,,2,3,4", "1;2;3;4;5", "0.5, 90deg, 0, 0, 0", "1 2 3 4 5"] {
-            assert!(matches!(parse_q(&robot, text, false), Err(Error::Syntax { .. })), "{text:?}");
+            assert!(matches!(parse_q(&robot, text, false), Err(Error::Input(InputError::Syntax { .. }))), "{text:?}");
         }
         let e = parse_q(&robot, "0.5, 90deg, 0, 0, 0", false).unwrap_err();
-        assert!(matches!(e, Error::Syntax { column: 6, .. }), "{e:?}");
+        assert!(matches!(e, Error::Input(InputError::Syntax { column: 6, .. })), "{e:?}");
         let e = parse_q(&robot, "0.5, 0, 0, nan, 0", false).unwrap_err();
-        assert!(matches!(e, Error::BadJointValue { joint: 4, .. }), "{e:?}");
+        assert!(matches!(e, Error::Input(InputError::BadJointValue { joint: 4, .. })), "{e:?}");
         let e = parse_q(&robot, "inf, 0, 0, 0, 0", true).unwrap_err();
-        assert!(matches!(e, Error::BadJointValue { joint: 1, .. }), "{e:?}");
+        assert!(matches!(e, Error::Input(InputError::BadJointValue { joint: 1, .. })), "{e:?}");
         let e = parse_q(&robot, "nan", false).unwrap_err();
-        assert!(matches!(e, Error::JointCount { got: 1, .. } | Error::BadJointValue { .. }), "{e:?}");
-        assert!(matches!(parse_q(&robot, "qx", false), Err(Error::UnknownPose { .. })));
+        assert!(
+            matches!(
+                e,
+                Error::Input(InputError::JointCount { got: 1, .. }) | Error::Input(InputError::BadJointValue { .. })
+            ),
+            "{e:?}"
+        );
+        assert!(matches!(parse_q(&robot, "qx", false), Err(Error::Input(InputError::UnknownPose { .. }))));
         for len in [1, 4, 6, 9] {
             let e = parse_q(&robot, &vec!["0.1"; len].join(","), false).unwrap_err();
-            assert!(matches!(e, Error::JointCount { expected: 5, got, .. } if got == len), "{e:?}");
+            assert!(matches!(e, Error::Input(InputError::JointCount { expected: 5, got, .. }) if got == len), "{e:?}");
         }
     }
 

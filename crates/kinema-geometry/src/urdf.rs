@@ -54,7 +54,9 @@ pub fn ros_package_path() -> Vec<PathBuf> {
 pub fn load_urdf(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<UrdfRobot> {
     let path = path.as_ref();
     let shown = path.display().to_string();
-    let io = |e: std::io::Error| Error::Kinema(kinema::Error::Io { path: shown.clone(), source: e.into() });
+    let io = |e: std::io::Error| {
+        Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: shown.clone(), source: e.into() }))
+    };
     let mut text = String::new();
     std::fs::File::open(path)
         .map_err(io)?
@@ -62,11 +64,11 @@ pub fn load_urdf(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<UrdfRo
         .read_to_string(&mut text)
         .map_err(io)?;
     if text.len() as u64 > kinema::MAX_DESCRIPTION_BYTES {
-        return Err(Error::Kinema(kinema::Error::FileTooLarge {
+        return Err(Error::Kinema(kinema::Error::File(kinema::FileError::FileTooLarge {
             path: shown,
             what: "a robot description".into(),
             limit: kinema::MAX_DESCRIPTION_BYTES,
-        }));
+        })));
     }
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     urdf_from_str(&text, &shown, &dir, options)
@@ -77,10 +79,10 @@ pub fn load_urdf(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<UrdfRo
 pub fn urdf_from_str(text: &str, file: &str, dir: &Path, options: &UrdfOptions) -> Result<UrdfRobot> {
     let (robot, links) = Robot::from_urdf_str_with_links(text, file, options.tip.as_deref())?;
     let u = urdf_rs::read_from_string(text).map_err(|e| {
-        Error::Kinema(kinema::Error::Urdf {
+        Error::Kinema(kinema::Error::Model(kinema::ModelError::Urdf {
             file: file.to_string(),
             message: format!("its <collision> or <visual> elements cannot be read: {e}"),
-        })
+        }))
     })?;
     let on: HashMap<&str, &UrdfLink> = links.iter().map(|l| (l.name.as_str(), l)).collect();
     let mut reader = Reader { file, dir, options, meshes: HashMap::new() };

@@ -1,6 +1,6 @@
 //! The Python exceptions of kinema and the mapping of core errors onto them.
 
-use kinema::Error;
+use kinema::{Error, ModelError};
 use kinema_io::{ClosestAnswer, UnreachableAnswer};
 use pyo3::prelude::*;
 
@@ -34,26 +34,14 @@ pub(crate) fn to_py(e: Error) -> PyErr {
             };
             Unreachable::new_err(UnreachableArgs(message, answer))
         }
-        Error::UnknownRobot { .. } => UnknownRobot::new_err(message),
-        Error::JointCount { .. }
-        | Error::BadJointValue { .. }
-        | Error::UnknownPose { .. }
-        | Error::OutOfRange { .. }
-        | Error::TooFew { .. }
-        | Error::MissingLimit { .. }
-        | Error::UnknownName { .. }
-        | Error::DoesNotFit { .. }
+        Error::Model(ModelError::UnknownRobot { .. }) => UnknownRobot::new_err(message),
+        Error::Input(_)
         | Error::Infeasible { .. }
-        | Error::Syntax { .. }
         | Error::UnsupportedStructure { .. }
-        | Error::WrongLength { .. }
-        | Error::NotFinite { .. }
         | Error::Overflow { .. }
         | Error::RpySingularity { .. } => InvalidInput::new_err(message),
-        Error::Description { .. } | Error::Urdf { .. } | Error::MimicJoint { .. } | Error::InvalidModel { .. } => {
-            DescriptionError::new_err(message)
-        }
-        Error::Io { .. } | Error::FileTooLarge { .. } => RobotFileError::new_err(message),
+        Error::Model(_) => DescriptionError::new_err(message),
+        Error::File(_) => RobotFileError::new_err(message),
         Error::Trajectory { .. } => TrajectoryError::new_err(message),
         _ => KinemaError::new_err(message),
     }

@@ -6,7 +6,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6xX, Vector3};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 
 /// Which rows of the Jacobian a measure uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -22,7 +22,7 @@ pub enum Axes {
 
 pub(crate) fn rows(j: &Matrix6xX<f64>, axes: Axes) -> Result<DMatrix<f64>> {
     if let Some(&value) = j.iter().find(|v| !v.is_finite()) {
-        return Err(Error::NotFinite { what: "jacobian".into(), value });
+        return Err(Error::Input(InputError::NotFinite { what: "jacobian".into(), value }));
     }
     let (start, n) = match axes {
         Axes::All => (0, 6),
@@ -85,7 +85,11 @@ pub fn rank(j: &Matrix6xX<f64>, axes: Axes, tol: Option<f64>) -> Result<(usize, 
     let s = singular_values(j, axes)?;
     let tol = tol.unwrap_or_else(|| default_rank_tolerance(m.nrows(), m.ncols(), s[0]));
     if !(tol >= 0.0) {
-        return Err(Error::OutOfRange { what: "tolerance".into(), value: tol, expected: "a number ≥ 0".into() });
+        return Err(Error::Input(InputError::OutOfRange {
+            what: "tolerance".into(),
+            value: tol,
+            expected: "a number ≥ 0".into(),
+        }));
     }
     Ok((s.iter().filter(|&&v| v > tol).count(), tol))
 }
@@ -104,10 +108,10 @@ pub struct Ellipsoid {
 /// Errors for [`Axes::All`] (a 6-D ellipsoid has no 3×3 form).
 pub fn ellipsoid(j: &Matrix6xX<f64>, axes: Axes) -> Result<Ellipsoid> {
     if axes == Axes::All {
-        return Err(Error::DoesNotFit {
+        return Err(Error::Input(InputError::DoesNotFit {
             what: "axes".into(),
             reason: "an ellipsoid is drawn for translation or rotation, not both".into(),
-        });
+        }));
     }
     let m = rows(j, axes)?;
     let a: Matrix3<f64> = {
@@ -134,11 +138,11 @@ pub fn ellipsoid(j: &Matrix6xX<f64>, axes: Axes) -> Result<Ellipsoid> {
 pub fn manipulability_along(j: &Matrix6xX<f64>, axes: Axes, v: &Vector3<f64>) -> Result<f64> {
     let norm = v.norm();
     if !(norm > 0.0 && norm.is_finite()) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "direction".into(),
             value: norm,
             expected: format!("a direction of finite, non-zero length (this is its length; {:?})", v.as_slice()),
-        });
+        }));
     }
     let e = ellipsoid(j, axes)?;
     let u = v / norm;
@@ -178,9 +182,11 @@ pub fn dependent_joints(j: &Matrix6xX<f64>, tol: Option<f64>) -> Result<Vec<Depe
     let m = rows(j, Axes::All)?;
     let tol = tol.unwrap_or(1e-9);
     if !(tol >= 0.0 && tol.is_finite()) {
-        return Err(Error::OutOfRange {
-            what: "tolerance".into(), value: tol, expected: "a finite number ≥ 0".into()
-        });
+        return Err(Error::Input(InputError::OutOfRange {
+            what: "tolerance".into(),
+            value: tol,
+            expected: "a finite number ≥ 0".into(),
+        }));
     }
     let scale = m.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-300);
     let mut basis: Vec<usize> = Vec::new();

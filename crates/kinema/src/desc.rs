@@ -33,7 +33,7 @@ use nalgebra::Vector3;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, ModelError, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::{
     DhConvention, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, Model, NamedPose,
@@ -149,7 +149,13 @@ struct Ctx<'a> {
 impl Ctx<'_> {
     fn err(&self, span: std::ops::Range<usize>, field: impl Into<String>, message: impl Into<String>) -> Error {
         let (line, column) = line_col(self.text, span.start);
-        Error::Description { file: self.file.to_string(), line, column, field: field.into(), message: message.into() }
+        Error::Model(ModelError::Description {
+            file: self.file.to_string(),
+            line,
+            column,
+            field: field.into(),
+            message: message.into(),
+        })
     }
 }
 
@@ -324,7 +330,7 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
     }
     let meta = Metadata { manufacturer: f.manufacturer, source: f.source, notes: f.notes, warnings: Vec::new() };
     let to_desc = |e| match e {
-        Error::InvalidModel { message, .. } => ctx.err(0..0, "(model)", message),
+        Error::Model(ModelError::InvalidModel { message, .. }) => ctx.err(0..0, "(model)", message),
         other => other,
     };
     let mut model =
@@ -378,7 +384,7 @@ home = [0, 90]
     #[test]
     fn unknown_field_names_line_and_field() {
         let bad = GOOD.replacen("alpha = 0\nmin = -170", "alpah = 0\nmin = -170", 1);
-        let Error::Description { file, line, field, message, .. } = err_of(&bad) else { panic!() };
+        let Error::Model(ModelError::Description { file, line, field, message, .. }) = err_of(&bad) else { panic!() };
         assert_eq!(file, "bad.toml");
         assert_eq!(line, 11, "{message}");
         assert!(field.starts_with("joint[0]"), "{field}");
@@ -388,33 +394,46 @@ home = [0, 90]
     #[test]
     fn wrong_type_and_syntax_errors() {
         let bad = GOOD.replacen("a = 1000", "a = \"long\"", 1);
-        let Error::Description { line, field, .. } = err_of(&bad) else { panic!() };
+        let Error::Model(ModelError::Description { line, field, .. }) = err_of(&bad) else { panic!() };
         assert_eq!((line, field.as_str()), (10, "joint[0].a"));
-        let Error::Description { line, .. } = err_of("name = \"x\"\nsource = \n") else { panic!() };
+        let Error::Model(ModelError::Description { line, .. }) = err_of("name = \"x\"\nsource = \n") else { panic!() };
         assert_eq!(line, 2);
-        let Error::Description { field, .. } = err_of(&GOOD.replace("source = \"test\"\n", "")) else { panic!() };
+        let Error::Model(ModelError::Description { field, .. }) = err_of(&GOOD.replace("source = \"test\"\n", ""))
+        else {
+            panic!()
+        };
         assert_eq!(field, "(top level)");
     }
 
     #[test]
     fn semantic_errors_point_at_the_joint() {
         let bad = GOOD.replacen("min = -170\nmax = 170", "min = 170\nmax = -170", 1);
-        let Error::Description { line, field, message, .. } = err_of(&bad) else { panic!() };
+        let Error::Model(ModelError::Description { line, field, message, .. }) = err_of(&bad) else { panic!() };
         assert_eq!(line, 8);
         assert_eq!(field, "joint[0].min");
         assert!(message.contains("not an interval"));
-        let Error::Description { field, .. } = err_of(&GOOD.replace("home = [0, 90]", "home = [0]")) else { panic!() };
+        let Error::Model(ModelError::Description { field, .. }) = err_of(&GOOD.replace("home = [0, 90]", "home = [0]"))
+        else {
+            panic!()
+        };
         assert_eq!(field, "poses.home");
-        let Error::Description { field, .. } = err_of(&GOOD.replace("home = [0, 90]", "qz = [0, 0]")) else { panic!() };
+        let Error::Model(ModelError::Description { field, .. }) =
+            err_of(&GOOD.replace("home = [0, 90]", "qz = [0, 0]"))
+        else {
+            panic!()
+        };
         assert_eq!(field, "poses.home");
-        let Error::Description { field, .. } = err_of(&GOOD.replacen("name = \"j1\"", "name = \"j1\"\ntheta = 3", 1))
+        let Error::Model(ModelError::Description { field, .. }) =
+            err_of(&GOOD.replacen("name = \"j1\"", "name = \"j1\"\ntheta = 3", 1))
         else {
             panic!()
         };
         assert_eq!(field, "joint[0].theta");
-        let Error::Description { field, .. } = err_of(&GOOD.replacen("alpha = 0\n", "", 1)) else { panic!() };
+        let Error::Model(ModelError::Description { field, .. }) = err_of(&GOOD.replacen("alpha = 0\n", "", 1)) else {
+            panic!()
+        };
         assert_eq!(field, "joint[0].alpha");
-        let Error::Description { field, .. } =
+        let Error::Model(ModelError::Description { field, .. }) =
             err_of(&GOOD.replace("convention = \"standard\"", "convention = \"dh\""))
         else {
             panic!()
@@ -437,12 +456,12 @@ home = [0, 90]
     fn bad_effort_names_the_joint_and_what_is_expected() {
         for (value, says) in [("0", "must be positive"), ("-3", "must be positive"), ("inf", "not a finite number")] {
             let text = GOOD.replacen("max = 170\n", &format!("max = 170\neffort = {value}\n"), 1);
-            let Error::Description { line, field, message, .. } = err_of(&text) else { panic!() };
+            let Error::Model(ModelError::Description { line, field, message, .. }) = err_of(&text) else { panic!() };
             assert_eq!((line, field.as_str()), (8, "joint[0].effort"), "{value}");
             assert!(message.contains("joint 1 (`j1`)") && message.contains(says), "{value}: {message}");
         }
         let text = GOOD.replacen("max = 170\n", "max = 170\neffort = \"high\"\n", 1);
-        let Error::Description { field, .. } = err_of(&text) else { panic!() };
+        let Error::Model(ModelError::Description { field, .. }) = err_of(&text) else { panic!() };
         assert_eq!(field, "joint[0].effort");
     }
 

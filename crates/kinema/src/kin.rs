@@ -6,7 +6,7 @@
 //! compiled chain, and `tests/all/reference.rs` checks them against the plain
 //! [`crate::reference`] functions. Convenience methods that
 //! allocate ([`Robot::fk`], [`Robot::jacobian`], [`Robot::link_frames`]) sit
-//! on top, and [`Data`](crate::Data) holds their reusable scratch.
+//! on top, and [`Data`] holds their reusable scratch.
 //!
 //! Jacobian rows are ordered \[vx vy vz ωx ωy ωz\]: linear velocity of the tool
 //! point, then angular velocity.
@@ -18,7 +18,7 @@ use std::mem::MaybeUninit;
 
 use crate::chain::{as_uninit, Layout};
 use crate::data::Data;
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::JointSet;
 use crate::robot::Robot;
@@ -110,7 +110,12 @@ pub fn fk_matrix_into_uninit(robot: &Robot, q: &[f64], out: &mut [MaybeUninit<f6
     }
     let len = out.len();
     let Ok(out) = <&mut [MaybeUninit<f64>; 16]>::try_from(out) else {
-        return Err(Error::WrongLength { what: "out".into(), got: len, expected: 16, of: "a 4 × 4 matrix".into() });
+        return Err(Error::Input(InputError::WrongLength {
+            what: "out".into(),
+            got: len,
+            expected: 16,
+            of: "a 4 × 4 matrix".into(),
+        }));
     };
     let scanned = robot.chain.fk_rows(q, out);
     if !scanned.finite {
@@ -136,12 +141,12 @@ pub fn fk_batch(robot: &Robot, qs: &[f64]) -> Result<Vec<Fk>> {
     let n = robot.dof();
     if qs.len() % n != 0 {
         // The nearest whole number of configurations, as the count expected.
-        return Err(Error::WrongLength {
+        return Err(Error::Input(InputError::WrongLength {
             what: "qs".into(),
             got: qs.len(),
             expected: (qs.len() / n).max(1) * n,
             of: format!("a whole number of {n}-joint configurations"),
-        });
+        }));
     }
     for (index, q) in qs.chunks_exact(n).enumerate() {
         robot.check_q(q).map_err(|e| Error::InBatch { index, source: Box::new(e) })?;
@@ -164,12 +169,12 @@ pub fn link_frames_into(robot: &Robot, q: &[f64], out: &mut [Pose]) -> Result<Fk
     let out_of_limits = robot.scan_q(q)?;
     let n = robot.dof();
     if out.len() != n + 2 {
-        return Err(Error::WrongLength {
+        return Err(Error::Input(InputError::WrongLength {
             what: "out".into(),
             got: out.len(),
             expected: n + 2,
             of: format!("frames: the base, {n} links and the tool"),
-        });
+        }));
     }
     out[0] = *robot.base();
     robot.chain.link_frames(q, out);
@@ -183,12 +188,12 @@ pub fn link_frames_into(robot: &Robot, q: &[f64], out: &mut [Pose]) -> Result<Fk
 pub fn jacobian_into(robot: &Robot, q: &[f64], frame: Frame, out: &mut Matrix6xX<f64>) -> Result<Fk> {
     let n = robot.dof();
     if q.len() == n && out.ncols() != n {
-        return Err(Error::WrongLength {
+        return Err(Error::Input(InputError::WrongLength {
             what: "out".into(),
             got: out.ncols(),
             expected: n,
             of: format!("Jacobian columns, one per joint of `{}`", robot.name()),
-        });
+        }));
     }
     // Column-major 6 × n storage: column i is data[6i..6i+6].
     let mut pose = Pose::IDENTITY;
@@ -230,12 +235,12 @@ pub fn jacobian_rows_into_uninit(
 ) -> Result<JointSet> {
     let n = robot.dof();
     if q.len() == n && out.len() != 6 * n {
-        return Err(Error::WrongLength {
+        return Err(Error::Input(InputError::WrongLength {
             what: "out".into(),
             got: out.len(),
             expected: 6 * n,
             of: format!("a 6 × {n} Jacobian of `{}`", robot.name()),
-        });
+        }));
     }
     jacobian_in(robot, q, frame, Layout::RowMajor, out, None)
 }

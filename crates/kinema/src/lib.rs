@@ -77,7 +77,7 @@ pub mod traj;
 mod urdf;
 
 pub use data::Data;
-pub use error::{Error, IoError, Result};
+pub use error::{Error, FileError, InputError, IoError, ModelError, Result};
 pub use kin::{Fk, Frame};
 pub use math::{Pose, PoseError, RpyConvention};
 pub use model::{

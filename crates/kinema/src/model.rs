@@ -11,7 +11,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, ModelError, Result};
 use crate::math::Pose;
 
 /// Largest number of joints a model may have (limit flags are a `u64` bit set).
@@ -164,7 +164,7 @@ impl Inertial {
     /// six inertia values `[ixx, iyy, izz, ixy, ixz, iyz]` \[kg·m²\] about the
     /// centre of mass (the products as they stand in the tensor, I = \[\[ixx ixy
     /// ixz\] \[ixy iyy iyz\] \[ixz iyz izz\]\], as in URDF). Errors
-    /// ([`Error::NotFinite`], [`Error::OutOfRange`]) if a value is not finite, the mass is
+    /// ([`InputError::NotFinite`], [`InputError::OutOfRange`]) if a value is not finite, the mass is
     /// negative, or the tensor is not physical (a negative principal moment, or
     /// one larger than the sum of the other two, beyond 10⁻⁹ of the trace).
     ///
@@ -193,41 +193,45 @@ impl Inertial {
             .chain(["ixx", "iyy", "izz", "ixy", "ixz", "iyz"].into_iter().zip(six))
             .find(|(_, v)| !v.is_finite());
         if let Some((what, value)) = not_finite {
-            return Err(Error::NotFinite { what: format!("inertial {what}"), value });
+            return Err(Error::Input(InputError::NotFinite { what: format!("inertial {what}"), value }));
         }
         if i.iter().any(|v| !v.is_finite()) {
             // A tensor built field by field whose lower triangle alone is not finite.
             let value = i.iter().copied().find(|v| !v.is_finite()).unwrap_or(f64::NAN);
-            return Err(Error::NotFinite { what: "inertial inertia".into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: "inertial inertia".into(), value }));
         }
         if mass < 0.0 {
-            return Err(Error::OutOfRange { what: "mass".into(), value: mass, expected: "a mass ≥ 0 [kg]".into() });
+            return Err(Error::Input(InputError::OutOfRange {
+                what: "mass".into(),
+                value: mass,
+                expected: "a mass ≥ 0 [kg]".into(),
+            }));
         }
         let tol = 1e-9 * (six[0].abs() + six[1].abs() + six[2].abs());
         let asymmetry = (i - i.transpose()).amax();
         if asymmetry > tol {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "inertia".into(),
                 value: asymmetry,
                 expected: format!(
                     "a symmetric tensor (the value is the largest |I − Iᵀ| entry of {:?}, at most {tol:e})",
                     i.as_slice()
                 ),
-            });
+            }));
         }
         let mut p = i.symmetric_eigenvalues();
         p.as_mut_slice().sort_by(f64::total_cmp);
         if p[0] < -tol {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "inertia".into(),
                 value: p[0],
                 expected: format!(
                     "principal moments ≥ 0 kg·m² (the value is the smallest of inertia {six:?}, as ixx, iyy, izz, ixy, ixz, iyz)"
                 ),
-            });
+            }));
         }
         if p[0] + p[1] < p[2] - tol {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "inertia".into(),
                 value: p[2],
                 expected: format!(
@@ -235,7 +239,7 @@ impl Inertial {
                      inequality; inertia {six:?}, as ixx, iyy, izz, ixy, ixz, iyz)",
                     p[0] + p[1]
                 ),
-            });
+            }));
         }
         Ok(())
     }
@@ -396,7 +400,7 @@ impl ModelBuilder {
     /// interval, a pose of the wrong length, no `home`, invalid inertials.
     pub fn build(self) -> Result<Model> {
         let Model { name, kind, meta, joints, base, tool, poses, inertials } = self.draft;
-        let invalid = |message: String| Error::InvalidModel { robot: name.clone(), message };
+        let invalid = |message: String| Error::Model(ModelError::InvalidModel { robot: name.clone(), message });
         if joints.is_empty() {
             return Err(invalid("a robot needs at least one joint".into()));
         }
@@ -548,10 +552,12 @@ impl Model {
     }
     /// A named configuration.
     pub fn pose(&self, name: &str) -> Result<&[f64]> {
-        self.poses.iter().find(|p| p.name == name).map(|p| p.q.as_slice()).ok_or_else(|| Error::UnknownPose {
-            robot: self.name.clone(),
-            pose: name.to_string(),
-            known: self.poses.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", "),
+        self.poses.iter().find(|p| p.name == name).map(|p| p.q.as_slice()).ok_or_else(|| {
+            Error::Input(InputError::UnknownPose {
+                robot: self.name.clone(),
+                pose: name.to_string(),
+                known: self.poses.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", "),
+            })
         })
     }
     /// The `home` configuration.

@@ -5,7 +5,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::family::SelfMotionParameter;
 use crate::ik::SolverChoice;
 use crate::kin::Frame;
@@ -29,10 +29,12 @@ pub trait Named: Copy + 'static {
     /// The value named `text` (ASCII case ignored), or an error listing the names.
     fn from_name(text: &str) -> Result<Self> {
         let text = text.trim();
-        Self::ALL.iter().copied().find(|v| v.name().eq_ignore_ascii_case(text)).ok_or_else(|| Error::UnknownName {
-            what: Self::WHAT.into(),
-            name: text.into(),
-            known: Self::names().join(", "),
+        Self::ALL.iter().copied().find(|v| v.name().eq_ignore_ascii_case(text)).ok_or_else(|| {
+            Error::Input(InputError::UnknownName {
+                what: Self::WHAT.into(),
+                name: text.into(),
+                known: Self::names().join(", "),
+            })
         })
     }
 }
@@ -129,7 +131,9 @@ impl FromStr for Blend {
     /// a time or distance must be finite and not negative.
     fn from_str(s: &str) -> Result<Self> {
         let text = s.trim();
-        let unknown = || Error::UnknownName { what: "blend".into(), name: text.into(), known: BLEND_FORMS.into() };
+        let unknown = || {
+            Error::Input(InputError::UnknownName { what: "blend".into(), name: text.into(), known: BLEND_FORMS.into() })
+        };
         let amount = |number: &str| match number.trim().parse::<f64>() {
             Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
             _ => Err(unknown()),

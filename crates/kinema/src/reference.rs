@@ -39,7 +39,7 @@
 
 use nalgebra::{IsometryMatrix3, Matrix3, Matrix6xX, RealField, Rotation3, Translation3, Vector3};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::kin::Frame;
 use crate::math::Pose;
 use crate::model::{DhConvention, Joint, JointType, LinkGeometry};
@@ -184,7 +184,11 @@ pub fn link_transform<T: RealField + Copy>(joint: &Joint, q: T) -> IsometryMatri
 /// ```
 pub fn link_frames<T: RealField + Copy>(robot: &Robot, q: &[T]) -> Result<Vec<IsometryMatrix3<T>>> {
     if q.len() != robot.dof() {
-        return Err(Error::JointCount { robot: robot.name().to_string(), expected: robot.dof(), got: q.len() });
+        return Err(Error::Input(InputError::JointCount {
+            robot: robot.name().to_string(),
+            expected: robot.dof(),
+            got: q.len(),
+        }));
     }
     let mut frames = Vec::with_capacity(robot.dof() + 2);
     let mut world_from_link = transform::<T>(robot.base());
@@ -327,7 +331,11 @@ pub fn jacobian<T: RealField + Copy>(robot: &Robot, q: &[T], frame: Frame) -> Re
 /// ```
 pub fn jacobian_dot<T: RealField + Copy>(robot: &Robot, q: &[T], qd: &[T], frame: Frame) -> Result<Matrix6xX<T>> {
     if qd.len() != robot.dof() {
-        return Err(Error::JointCount { robot: robot.name().to_string(), expected: robot.dof(), got: qd.len() });
+        return Err(Error::Input(InputError::JointCount {
+            robot: robot.name().to_string(),
+            expected: robot.dof(),
+            got: qd.len(),
+        }));
     }
     let frames = link_frames(robot, q)?;
     let n = robot.dof();

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, FileError, InputError, ModelError, Result};
 use crate::robot::Robot;
 
 include!(concat!(env!("OUT_DIR"), "/builtin_robots.rs"));
@@ -16,16 +16,16 @@ pub const MAX_DESCRIPTION_BYTES: u64 = 16 << 20;
 /// The text of a description file, at most [`MAX_DESCRIPTION_BYTES`] long.
 fn read_description(path: &Path, shown: &str) -> Result<String> {
     use std::io::Read;
-    let io = |e: std::io::Error| Error::Io { path: shown.to_string(), source: e.into() };
+    let io = |e: std::io::Error| Error::File(FileError::Io { path: shown.to_string(), source: e.into() });
     let file = std::fs::File::open(path).map_err(io)?;
     let mut text = String::new();
     file.take(MAX_DESCRIPTION_BYTES + 1).read_to_string(&mut text).map_err(io)?;
     if text.len() as u64 > MAX_DESCRIPTION_BYTES {
-        return Err(Error::FileTooLarge {
+        return Err(Error::File(FileError::FileTooLarge {
             path: shown.to_string(),
             what: "a robot description".into(),
             limit: MAX_DESCRIPTION_BYTES,
-        });
+        }));
     }
     Ok(text)
 }
@@ -51,9 +51,11 @@ impl Robot {
     /// # Ok::<(), kinema::Error>(())
     /// ```
     pub fn builtin(name: &str) -> Result<Robot> {
-        let text = builtin_source(name).ok_or_else(|| Error::UnknownRobot {
-            name: name.to_string(),
-            known: builtin_names().collect::<Vec<_>>().join(", "),
+        let text = builtin_source(name).ok_or_else(|| {
+            Error::Model(ModelError::UnknownRobot {
+                name: name.to_string(),
+                known: builtin_names().collect::<Vec<_>>().join(", "),
+            })
         })?;
         Robot::from_toml_str(text, &format!("robots/{name}.toml"))
     }
@@ -109,18 +111,18 @@ impl Robot {
         match ext.as_deref() {
             Some("toml") => {
                 if tip.is_some() {
-                    return Err(Error::DoesNotFit {
+                    return Err(Error::Input(InputError::DoesNotFit {
                         what: "tip".into(),
                         reason: "a tip link only applies to URDF files".into(),
-                    });
+                    }));
                 }
                 Robot::from_toml_str(&read()?, &shown)
             }
             Some("urdf") | Some("xml") => Robot::from_urdf_str(&read()?, &shown, tip),
-            _ => Err(Error::DoesNotFit {
+            _ => Err(Error::Input(InputError::DoesNotFit {
                 what: "robot file".into(),
                 reason: format!("`{shown}` must end in .toml (kinema description) or .urdf"),
-            }),
+            })),
         }
     }
 
@@ -128,10 +130,10 @@ impl Robot {
     pub fn load(spec: &str, tip: Option<&str>) -> Result<Robot> {
         if builtin_source(spec).is_some() {
             if tip.is_some() {
-                return Err(Error::DoesNotFit {
+                return Err(Error::Input(InputError::DoesNotFit {
                     what: "tip".into(),
                     reason: "a tip link only applies to URDF files".into(),
-                });
+                }));
             }
             return Robot::builtin(spec);
         }
@@ -139,6 +141,9 @@ impl Robot {
         if lower.ends_with(".toml") || lower.ends_with(".urdf") || lower.ends_with(".xml") || Path::new(spec).exists() {
             return Robot::from_file(spec, tip);
         }
-        Err(Error::UnknownRobot { name: spec.to_string(), known: builtin_names().collect::<Vec<_>>().join(", ") })
+        Err(Error::Model(ModelError::UnknownRobot {
+            name: spec.to_string(),
+            known: builtin_names().collect::<Vec<_>>().join(", "),
+        }))
     }
 }

@@ -5,7 +5,7 @@
 use std::ops::Deref;
 
 use crate::chain::Chain;
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::Pose;
 use crate::model::{Inertial, JointSet, Model};
 
@@ -102,10 +102,19 @@ impl Robot {
     pub(crate) fn bad_q(&self, q: &[f64]) -> Error {
         let joints = self.joints();
         if q.len() != joints.len() {
-            return Error::JointCount { robot: self.name().into(), expected: joints.len(), got: q.len() };
+            return Error::Input(InputError::JointCount {
+                robot: self.name().into(),
+                expected: joints.len(),
+                got: q.len(),
+            });
         }
         let i = q.iter().position(|v| !(v.abs() < crate::MAX_MAGNITUDE)).unwrap_or(0);
-        Error::BadJointValue { robot: self.name().into(), joint: i + 1, name: joints[i].name.clone(), value: q[i] }
+        Error::Input(InputError::BadJointValue {
+            robot: self.name().into(),
+            joint: i + 1,
+            name: joints[i].name.clone(),
+            value: q[i],
+        })
     }
 
     /// `source` as the error of joint `i` (0-based), named as the model names it.

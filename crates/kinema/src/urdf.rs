@@ -36,7 +36,7 @@ use std::ops::Range;
 use nalgebra::Vector3;
 use quick_xml::events::{BytesStart, Event};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, ModelError, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::{GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, Model};
 use crate::robot::Robot;
@@ -68,7 +68,7 @@ pub struct UrdfLink {
 /// As [`robot_from_urdf`], and where each `<link>` of the document rides
 /// (in document order; see [`UrdfLink`]).
 pub fn robot_and_links_from_urdf(text: &str, file: &str, tip: Option<&str>) -> Result<(Robot, Vec<UrdfLink>)> {
-    let err = |message: String| Error::Urdf { file: file.to_string(), message };
+    let err = |message: String| Error::Model(ModelError::Urdf { file: file.to_string(), message });
     let scan = Scan::new(text, file)?;
     let u = urdf_rs::read_from_string(&scan.kept(0..text.len())).map_err(|e| scan.locate(file, e))?;
     if u.joints.is_empty() {
@@ -155,14 +155,14 @@ pub fn robot_and_links_from_urdf(text: &str, file: &str, tip: Option<&str>) -> R
         };
         let at = scan.joint(&j.name);
         if let Some(m) = &j.mimic {
-            return Err(Error::MimicJoint {
+            return Err(Error::Model(ModelError::MimicJoint {
                 file: file.to_string(),
                 line: at.map_or(0, |e| e.line),
                 joint: j.name.clone(),
                 follows: m.joint.clone(),
                 multiplier: m.multiplier.unwrap_or(1.0),
                 offset: m.offset.unwrap_or(0.0),
-            });
+            }));
         }
         let axis = Vector3::from(*j.axis.xyz);
         let norm = axis.norm();
@@ -175,7 +175,7 @@ pub fn robot_and_links_from_urdf(text: &str, file: &str, tip: Option<&str>) -> R
             // urdf-rs reads a missing <limit> as all zeros: a locked joint nobody asked for.
             if let Some(e) = at.filter(|e| !e.has_limit) {
                 let kind = if kind == JointType::Revolute { "revolute" } else { "prismatic" };
-                return Err(Error::Description {
+                return Err(Error::Model(ModelError::Description {
                     file: file.to_string(),
                     line: e.line,
                     column: e.column,
@@ -185,7 +185,7 @@ pub fn robot_and_links_from_urdf(text: &str, file: &str, tip: Option<&str>) -> R
                          (the URDF format requires it; without one its range would be [0, 0]){}",
                         if kind == "revolute" { "; a joint that turns without end is type=\"continuous\"" } else { "" }
                     ),
-                });
+                }));
             }
             let l = &j.limit;
             if !(l.lower.is_finite() && l.upper.is_finite()) || l.lower > l.upper {
@@ -294,7 +294,7 @@ struct Choice<'a> {
 /// The tip when none is given: among the leaf links reached through at least
 /// one moving joint, those reached through the same moving joints are one
 /// choice (ending at their last common link); exactly one choice must remain.
-/// The error is the message of an [`Error::Urdf`].
+/// The error is the message of an [`ModelError::Urdf`].
 fn default_tip<'a>(
     leaves: &[&'a str],
     path_to: &dyn Fn(&str) -> Result<Vec<&'a urdf_rs::Joint>>,
@@ -306,7 +306,7 @@ fn default_tip<'a>(
     let mut choices: Vec<Choice> = Vec::new(); // in document order
     for &leaf in leaves {
         let path = path_to(leaf).map_err(|e| match e {
-            Error::Urdf { message, .. } => message,
+            Error::Model(ModelError::Urdf { message, .. }) => message,
             other => other.to_string(),
         })?;
         let moving: Vec<&str> =
@@ -388,13 +388,13 @@ impl<'a> Scan<'a> {
             let start = reader.buffer_position() as usize;
             let event = reader.read_event().map_err(|e| {
                 let (line, column) = line_column(text, reader.error_position() as usize);
-                Error::Description {
+                Error::Model(ModelError::Description {
                     file: file.to_string(),
                     line,
                     column,
                     field: "XML".into(),
                     message: format!("not well-formed XML: {e}"),
-                }
+                })
             })?;
             let end = reader.buffer_position() as usize;
             match event {
@@ -484,9 +484,11 @@ impl<'a> Scan<'a> {
     /// its own (its messages name a field but no element or line).
     fn locate(&self, file: &str, e: urdf_rs::UrdfError) -> Error {
         let clean = |m: String| m.strip_prefix("custom: ").map(str::to_string).unwrap_or(m);
-        let whole = || Error::Urdf {
-            file: file.to_string(),
-            message: format!("not a readable URDF document: {}", clean(e.to_string())),
+        let whole = || {
+            Error::Model(ModelError::Urdf {
+                file: file.to_string(),
+                message: format!("not a readable URDF document: {}", clean(e.to_string())),
+            })
         };
         // Each element is tried alone under the document's own root tag (its version, namespaces).
         let root = &self.text[self.root_tag.clone()];
@@ -498,7 +500,7 @@ impl<'a> Scan<'a> {
         for el in self.elements.iter().filter(|el| !el.range.is_empty()) {
             let one = format!("{root}{}</{closing}>", self.kept(el.range.clone()));
             if let Err(why) = urdf_rs::read_from_string(&one) {
-                return Error::Description {
+                return Error::Model(ModelError::Description {
                     file: file.to_string(),
                     line: el.line,
                     column: el.column,
@@ -508,7 +510,7 @@ impl<'a> Scan<'a> {
                         el.tag,
                         clean(why.to_string())
                     ),
-                };
+                });
             }
         }
         whole()
@@ -557,7 +559,10 @@ fn inertials(
         while let Some((name, child_from_link)) = stack.pop() {
             visited += 1;
             if visited > u.links.len() + 1 {
-                return Err(Error::Urdf { file: file.to_string(), message: "the joints form a cycle".into() });
+                return Err(Error::Model(ModelError::Urdf {
+                    file: file.to_string(),
+                    message: "the joints form a cycle".into(),
+                }));
             }
             if let Some(l) = link_by_name.get(name) {
                 let o = &l.inertial.origin;
@@ -570,10 +575,10 @@ fn inertials(
                 ) {
                     Ok(own) => body = body.combined(&own.transformed(&(child_from_link * link_from_inertial))),
                     Err(e) if on_chain.contains(name) => {
-                        return Err(Error::Urdf {
+                        return Err(Error::Model(ModelError::Urdf {
                             file: file.to_string(),
                             message: format!("link `{name}` (on the chain): <inertial>: {e}"),
-                        })
+                        }))
                     }
                     // Off the chain it only adds to a body's mass: leave it out and say so.
                     Err(e) => warnings.push(format!(

@@ -166,7 +166,7 @@ fn a_missing_mesh_is_named_with_where_it_was_looked_for() {
 #[test]
 fn urdf_errors_come_from_the_core() {
     let e = urdf_from_str("<robot name=\"x\"/>", "x.urdf", Path::new("."), &UrdfOptions::default()).unwrap_err();
-    assert!(matches!(e, kinema_geometry::Error::Kinema(kinema::Error::Urdf { .. })), "{e}");
+    assert!(matches!(e, kinema_geometry::Error::Kinema(kinema::Error::Model(kinema::ModelError::Urdf { .. }))), "{e}");
     let bad_box = URDF.replace("0.2 0.2 0.1", "0.2 -0.2 0.1");
     let options = UrdfOptions { skip_visual: true, ..Default::default() };
     let e = urdf_from_str(&bad_box, "x.urdf", Path::new("."), &options).unwrap_err().to_string();

@@ -7,7 +7,7 @@
 use nalgebra::{Matrix6, Vector3, Vector6};
 
 use super::{check_gravity, check_rates, cross_force, cross_motion, join, kinematics};
-use crate::error::{Error, Result};
+use crate::error::{Error, ModelError, Result};
 use crate::robot::Robot;
 
 /// q̈ for τ at (q, q̇) under `gravity`, in O(n); see [`super::forward_dynamics`].
@@ -44,7 +44,7 @@ pub(super) fn aba(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &V
         // D_i is the articulated inertia the joint drives; it is positive
         // unless the joint moves no mass (then q̈_i is undetermined).
         if !(d[i] > 0.0 && d[i].is_finite()) {
-            return Err(Error::InvalidModel {
+            return Err(Error::Model(ModelError::InvalidModel {
                 robot: robot.name().to_string(),
                 message: format!(
                     "joint `{}` drives an articulated inertia of {:e} at this configuration; forward dynamics \
@@ -52,7 +52,7 @@ pub(super) fn aba(robot: &Robot, q: &[f64], qd: &[f64], tau: &[f64], gravity: &V
                     robot.joints()[i].name,
                     d[i]
                 ),
-            });
+            }));
         }
         uu[i] = tau[i] - k.s[i].dot(&pa[i]);
         if i > 0 {

@@ -20,7 +20,7 @@ use nalgebra::{DMatrix, Vector3};
 
 use super::{check_gravity, check_rates, joint_axis};
 use crate::data::{Data, Spatial};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::Pose;
 use crate::model::{Inertial, JointType};
 use crate::robot::Robot;
@@ -201,12 +201,12 @@ pub fn rnea_into(
 pub fn mass_matrix_into(robot: &Robot, data: &mut Data, q: &[f64], m: &mut DMatrix<f64>) -> Result<()> {
     let n = robot.dof();
     if m.nrows() != n || m.ncols() != n {
-        return Err(Error::WrongLength {
+        return Err(Error::Input(InputError::WrongLength {
             what: "m".into(),
             got: m.len(),
             expected: n * n,
             of: format!("an {n} × {n} matrix for robot `{}`; it is {} × {}", robot.name(), m.nrows(), m.ncols()),
-        });
+        }));
     }
     let bodies = bodies(robot)?;
     data.fit(robot);
@@ -233,10 +233,10 @@ fn check_len(robot: &Robot, what: &str, len: usize, n: usize) -> Result<()> {
     if len == n {
         return Ok(());
     }
-    Err(Error::WrongLength {
+    Err(Error::Input(InputError::WrongLength {
         what: what.into(),
         got: len,
         expected: n,
         of: format!("one per joint of `{}`", robot.name()),
-    })
+    }))
 }

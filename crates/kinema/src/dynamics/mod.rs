@@ -25,7 +25,7 @@ use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
 mod aba;
 mod coriolis;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::Pose;
 use crate::model::{DhConvention, Inertial, Joint, JointType, LinkGeometry};
 use crate::robot::Robot;
@@ -138,15 +138,15 @@ fn bodies(robot: &Robot) -> Result<Vec<&Inertial>> {
 /// Checks a vector of joint rates (`what` = "qd", "qdd", "tau"): length and finiteness.
 fn check_rates(robot: &Robot, what: &str, v: &[f64]) -> Result<()> {
     if v.len() != robot.dof() {
-        return Err(Error::WrongLength {
+        return Err(Error::Input(InputError::WrongLength {
             what: what.into(),
             got: v.len(),
             expected: robot.dof(),
             of: format!("one per joint of `{}`", robot.name()),
-        });
+        }));
     }
     if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-        return Err(robot.for_joint(i, Error::NotFinite { what: what.into(), value: v[i] }));
+        return Err(robot.for_joint(i, Error::Input(InputError::NotFinite { what: what.into(), value: v[i] })));
     }
     Ok(())
 }
@@ -185,7 +185,7 @@ pub(crate) fn matrix_entry(m: &str, n: usize) -> impl Fn(usize) -> String + '_ {
 fn check_gravity(gravity: &Vector3<f64>) -> Result<()> {
     match gravity.iter().position(|g| !g.is_finite()) {
         None => Ok(()),
-        Some(i) => Err(Error::NotFinite { what: format!("gravity[{i}]"), value: gravity[i] }),
+        Some(i) => Err(Error::Input(InputError::NotFinite { what: format!("gravity[{i}]"), value: gravity[i] })),
     }
 }
 

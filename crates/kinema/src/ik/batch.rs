@@ -15,7 +15,7 @@ use crate::robot::Robot;
 /// each (within limits, nearest `request.q0` when given), in parallel.
 /// `request.all` is ignored. One result per target, in order: the solver's
 /// name and the solution, or the error that target gives ([`Error::Unreachable`] with its reason, or
-/// [`Error::NotFinite`] or [`Error::OutOfRange`] for a target that is not a rigid transform…).
+/// [`InputError::NotFinite`](crate::InputError::NotFinite) or [`InputError::OutOfRange`](crate::InputError::OutOfRange) for a target that is not a rigid transform…).
 /// Errors that concern the request as a whole (a `q0` of the wrong length, a
 /// mask with a target that is not a full pose, a tolerance that is not
 /// positive, …) are returned once, before any solving.

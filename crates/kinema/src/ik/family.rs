@@ -8,7 +8,7 @@
 use super::registry;
 use super::target::{IkTarget, TypedKind};
 use super::{CandidateSet, IkSolver, Solution};
-use crate::error::Result;
+use crate::error::{InputError, Result};
 use crate::math::Pose;
 use crate::robot::Robot;
 use nalgebra::Vector3;
@@ -42,10 +42,10 @@ pub trait Family: IkSolver {
     /// that keep a branch or a side from it.
     fn solve_typed(&self, target: &IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         let _ = q0;
-        Err(crate::Error::DoesNotFit {
+        Err(crate::Error::Input(crate::InputError::DoesNotFit {
             what: "target".into(),
             reason: format!("the {} solver takes no {:?} target", self.name(), target.typed_kind()),
-        })
+        }))
     }
 
     /// The orientation error \[rad\] of `reached` against a typed target of
@@ -199,25 +199,30 @@ impl Choice<'_> {
     pub fn check(&self, dof: usize) -> Result<()> {
         use crate::Error;
         if !self.center.is_finite() {
-            return Err(Error::NotFinite { what: "center".into(), value: self.center });
+            return Err(Error::Input(InputError::NotFinite { what: "center".into(), value: self.center }));
         }
         if !(self.window >= 0.0 && self.window.is_finite()) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "window".into(),
                 value: self.window,
                 expected: "a finite half-width ≥ 0".into(),
-            });
+            }));
         }
         if self.points % 2 == 0 {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "points".into(),
                 value: self.points as f64,
                 expected: "an odd number of grid points".into(),
-            });
+            }));
         }
         for (what, got) in [("max_steps", self.max_steps.len()), ("prev", self.prev.len())] {
             if got != dof {
-                return Err(Error::WrongLength { what: what.into(), got, expected: dof, of: "one per joint".into() });
+                return Err(Error::Input(InputError::WrongLength {
+                    what: what.into(),
+                    got,
+                    expected: dof,
+                    of: "one per joint".into(),
+                }));
             }
         }
         Ok(())
@@ -304,20 +309,20 @@ pub fn self_motion(robot: &Robot, family: &dyn Redundancy, q: &[f64], steps: usi
         return Err(super::iiwa::no_steps());
     }
     if !family.parameters().contains(&SelfMotionParameter::ArmAngle) {
-        return Err(crate::Error::DoesNotFit {
+        return Err(crate::Error::Input(crate::InputError::DoesNotFit {
             what: "robot".into(),
             reason: format!(
                 "robot `{}` has no arm angle ψ to turn (its self-motion parameters: {})",
                 robot.name(),
                 parameter_names(family.parameters())
             ),
-        });
+        }));
     }
     if robot.dof() < 4 {
-        return Err(crate::Error::DoesNotFit {
+        return Err(crate::Error::Input(crate::InputError::DoesNotFit {
             what: "robot".into(),
             reason: format!("robot `{}` has no elbow frame", robot.name()),
-        });
+        }));
     }
     let target = robot.fk(q)?.world_from_tool;
     let psi0 = family.parameter_of(q, SelfMotionParameter::ArmAngle);

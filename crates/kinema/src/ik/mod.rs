@@ -20,7 +20,7 @@
 //! `contract` (what counts as a solution), `families/` (one module per
 //! closed-form family), `numeric` (the solver for any chain).
 
-use crate::error::Error;
+use crate::error::{Error, InputError};
 
 mod batch;
 mod closed_form;
@@ -55,5 +55,10 @@ pub(crate) use two_link::{two_link_elbow, two_link_elbow_terms, AnnulusMiss};
 
 /// The error for a task mask that selects no component.
 pub(crate) fn no_component() -> Error {
-    Error::TooFew { what: "mask".into(), got: 0, min: 1, of: "selected components (of x, y, z, ωx, ωy, ωz)".into() }
+    Error::Input(InputError::TooFew {
+        what: "mask".into(),
+        got: 0,
+        min: 1,
+        of: "selected components (of x, y, z, ωx, ωy, ωz)".into(),
+    })
 }

@@ -23,7 +23,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::{check_target, no_component, Closest, IkSolver, NumericInfo, Solution, Stop, Unreachable};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::kin::Frame;
 use crate::math::{rot_to_axis_angle, Pose};
 use crate::model::JointType;
@@ -121,25 +121,29 @@ impl NumericIk {
     pub fn with_options(robot: &Robot, opts: NumericOptions) -> Result<Self> {
         for (what, value) in [("tol_position", opts.tol_position), ("tol_orientation", opts.tol_orientation)] {
             if !(value > 0.0) {
-                return Err(Error::OutOfRange { what: what.into(), value, expected: "a positive tolerance".into() });
+                return Err(Error::Input(InputError::OutOfRange {
+                    what: what.into(),
+                    value,
+                    expected: "a positive tolerance".into(),
+                }));
             }
         }
         if opts.max_iterations == 0 {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "max_iterations".into(),
                 value: 0.0,
                 expected: "at least 1 iteration".into(),
-            });
+            }));
         }
         if let Some(rest) = &opts.rest {
             robot.check_q(rest)?;
         }
         if !(opts.rest_gain >= 0.0 && opts.rest_gain.is_finite()) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "rest_gain".into(),
                 value: opts.rest_gain,
                 expected: "a finite gain ≥ 0".into(),
-            });
+            }));
         }
         if opts.mask.is_some_and(|m| !m.iter().any(|&b| b)) {
             return Err(no_component());

@@ -11,7 +11,7 @@ use super::family::{Family, SelfMotionParameter};
 use super::registry;
 use super::target::IkTarget;
 use super::{Closest, IkSolver, NumericIk, NumericOptions, Solution, Solutions, Unreachable};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -109,10 +109,10 @@ fn solve_request_with(
     let fixed =
         request.q3.map(|v| (SelfMotionParameter::Q3, v)).or(request.psi.map(|v| (SelfMotionParameter::ArmAngle, v)));
     if fixed.is_some() && masked {
-        return Err(Error::DoesNotFit {
+        return Err(Error::Input(InputError::DoesNotFit {
             what: "target".into(),
             reason: "q3 and ψ need a full target pose, not a task mask".into(),
-        });
+        }));
     }
     let numeric_only = masked || request.solver == SolverChoice::Numeric;
     let family = if numeric_only && fixed.is_none() { None } else { fitted };
@@ -132,7 +132,7 @@ fn solve_request_with(
                     robot.name()
                 )
             };
-            return Err(Error::DoesNotFit { what: parameter.to_string(), reason });
+            return Err(Error::Input(InputError::DoesNotFit { what: parameter.to_string(), reason }));
         };
         return Ok((f.map_or("", |f| f.name()), r.solve_at(target, parameter, value)?));
     }
@@ -155,15 +155,15 @@ fn solve_request_with(
         }
     }
     match (request.solver, family) {
-        (SolverChoice::Analytic, None) if masked => Err(Error::DoesNotFit {
+        (SolverChoice::Analytic, None) if masked => Err(Error::Input(InputError::DoesNotFit {
             what: "solver".into(),
             reason: format!(
                 "robot `{}` has no analytic solver for a task mask or a position-only target (the closed forms \
                  solve full poses); use the numeric solver",
                 robot.name()
             ),
-        }),
-        (SolverChoice::Analytic, None) => Err(Error::DoesNotFit {
+        })),
+        (SolverChoice::Analytic, None) => Err(Error::Input(InputError::DoesNotFit {
             what: "solver".into(),
             reason: format!(
                 "robot `{}` has no analytic solver for this target (analytic solvers: iiwa-type 7R, 6R with a \
@@ -171,7 +171,7 @@ fn solve_request_with(
                  targets are numeric); use the numeric solver",
                 robot.name()
             ),
-        }),
+        })),
         (_, Some(f)) => Ok((f.name(), f.propose(target)?)),
         (_, None) => {
             let solver = NumericIk::with_options(robot, request.numeric_options())?;
@@ -210,7 +210,7 @@ fn solve_request_with(
 /// joints meets a full pose exactly or not at all, unless a mask frees what
 /// it cannot control.
 ///
-/// Errors ([`Error::DoesNotFit`], [`Error::TooFew`], [`Error::OutOfRange`]) before any solving: both q3 and ψ;
+/// Errors ([`InputError::DoesNotFit`], [`InputError::TooFew`], [`InputError::OutOfRange`]) before any solving: both q3 and ψ;
 /// `q0` not a configuration of `robot`; a typed target, q3 or ψ with
 /// [`SolverChoice::Numeric`] (they select an analytic solver); q3 or ψ with a
 /// target that is not a full pose; a mask with a target that is not a full
@@ -306,7 +306,9 @@ fn measure(
 
 /// The combinations [`solve_target`] refuses before solving.
 pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkRequest) -> Result<()> {
-    let invalid = |what: &str, reason: &str| Err(Error::DoesNotFit { what: what.into(), reason: reason.into() });
+    let invalid = |what: &str, reason: &str| {
+        Err(Error::Input(InputError::DoesNotFit { what: what.into(), reason: reason.into() }))
+    };
     let iiwa = request.q3.is_some() || request.psi.is_some();
     if request.q3.is_some() && request.psi.is_some() {
         return invalid("q3", "give q3 or psi, not both");
@@ -342,7 +344,11 @@ pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkReques
         [("tolerance.position", request.tolerance.position), ("tolerance.orientation", request.tolerance.orientation)];
     for (what, value) in tolerance {
         if !(value > 0.0) {
-            return Err(Error::OutOfRange { what: what.into(), value, expected: "a positive tolerance".into() });
+            return Err(Error::Input(InputError::OutOfRange {
+                what: what.into(),
+                value,
+                expected: "a positive tolerance".into(),
+            }));
         }
     }
     Ok(())
@@ -360,7 +366,7 @@ fn propose(
         IkTarget::Pose(ref pose) => solve_request_with(robot, fitted, pose, request),
         IkTarget::Position(p) => {
             if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
-                return Err(Error::NotFinite { what: "position".into(), value });
+                return Err(Error::Input(InputError::NotFinite { what: "position".into(), value }));
             }
             let mut masked = request.clone();
             masked.mask = Some(POSITION_MASK);
@@ -446,7 +452,14 @@ pub fn pick_one(robot: &Robot, solver: &str, solutions: Vec<Solution>, q0: Optio
         None => within.into_iter().next(),
     };
     // `within` is not empty, so there is a pick.
-    pick.ok_or_else(|| Error::TooFew { what: "solutions".into(), got: 0, min: 1, of: "solutions within limits".into() })
+    pick.ok_or_else(|| {
+        Error::Input(InputError::TooFew {
+            what: "solutions".into(),
+            got: 0,
+            min: 1,
+            of: "solutions within limits".into(),
+        })
+    })
 }
 
 #[cfg(test)]

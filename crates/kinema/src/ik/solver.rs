@@ -4,7 +4,7 @@
 
 use super::registry;
 use super::{wrap_angle, CandidateSet, Solution, Solutions, Unreachable};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -92,23 +92,23 @@ pub fn analytic_solver(robot: &Robot) -> Option<Box<dyn IkSolver>> {
 /// Rejects a target with NaN/inf entries or a rotation block that is not a rotation.
 pub fn check_target(target: &Pose) -> Result<()> {
     if let Some(&value) = target.pos.iter().chain(target.rot.iter()).find(|v| !v.is_finite()) {
-        return Err(Error::NotFinite { what: "target".into(), value });
+        return Err(Error::Input(InputError::NotFinite { what: "target".into(), value }));
     }
     let r = &target.rot;
     let orth = (r.transpose() * r - nalgebra::Matrix3::identity()).norm();
     if orth > 1e-6 {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "target".into(),
             value: orth,
             expected: "a rotation block: this is its ‖RᵀR − I‖, which must be ≤ 1e-6".into(),
-        });
+        }));
     }
     if r.determinant() < 0.0 {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "target".into(),
             value: r.determinant(),
             expected: "a rotation block: this is its determinant, which must be +1 (not a reflection)".into(),
-        });
+        }));
     }
     Ok(())
 }

@@ -11,7 +11,7 @@ use nalgebra::Matrix6xX;
 
 use super::JointTrajectory;
 use crate::analysis::{yoshikawa, Axes};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::kin::Frame;
 use crate::math::Pose;
 use crate::robot::Robot;
@@ -136,14 +136,19 @@ impl Cell {
     pub fn add(&mut self, name: impl Into<String>, robot: Robot, traj: JointTrajectory) -> Result<&mut Self> {
         let name = name.into();
         if traj.dof() != robot.dof() {
-            return Err(Error::JointCount {
+            return Err(Error::Input(InputError::JointCount {
                 robot: format!("{name} ({})", robot.name()),
                 expected: robot.dof(),
                 got: traj.dof(),
-            });
+            }));
         }
         if traj.is_empty() {
-            return Err(Error::TooFew { what: name, got: 0, min: 1, of: "trajectory samples".into() });
+            return Err(Error::Input(InputError::TooFew {
+                what: name,
+                got: 0,
+                min: 1,
+                of: "trajectory samples".into(),
+            }));
         }
         self.members.push(CellMember { name, robot, traj });
         Ok(self)
@@ -160,7 +165,7 @@ impl Cell {
     /// its last it holds them.
     pub fn run(&self, dt: f64) -> Result<CellReport> {
         if self.members.is_empty() {
-            return Err(Error::TooFew { what: "cell".into(), got: 0, min: 1, of: "robots".into() });
+            return Err(Error::Input(InputError::TooFew { what: "cell".into(), got: 0, min: 1, of: "robots".into() }));
         }
         let end = self.members.iter().map(|m| *m.traj.times().last().expect("non-empty")).fold(0.0, f64::max);
         let times = super::sample_times(end, dt)?;

@@ -12,7 +12,7 @@
 
 use super::{joint_limits, JointTrajectory};
 use crate::analysis::{rows, yoshikawa, Axes};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 pub use crate::error::{Violation, ViolationKind};
 use crate::kin::Frame;
 use crate::robot::Robot;
@@ -128,7 +128,11 @@ impl CheckReport {
 pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Result<CheckReport> {
     let n = robot.dof();
     if traj.dof() != n {
-        return Err(Error::JointCount { robot: robot.name().to_string(), expected: n, got: traj.dof() });
+        return Err(Error::Input(InputError::JointCount {
+            robot: robot.name().to_string(),
+            expected: n,
+            got: traj.dof(),
+        }));
     }
     let js = robot.joints();
     let vel = joint_limits(robot, opts.vel.as_deref(), "vmax", |i| js[i].limits.vel)?;
@@ -289,11 +293,11 @@ fn check_steps(
 /// below `threshold`, at the passage's most singular sample.
 fn singular_passages(robot: &Robot, traj: &JointTrajectory, threshold: f64, axes: Axes) -> Result<Vec<Violation>> {
     if !(threshold > 0.0 && threshold < 1.0) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "singular_warning".into(),
             value: threshold,
             expected: "a number in (0, 1): it is a ratio of singular values".into(),
-        });
+        }));
     }
     let mut jac = nalgebra::Matrix6xX::zeros(robot.dof());
     let mut out: Vec<Violation> = Vec::new();

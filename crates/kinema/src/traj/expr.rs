@@ -12,7 +12,7 @@
 use std::fmt;
 
 use super::{sample_times, JointTrajectory};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::robot::Robot;
 
 /// A parsed expression of `t`.
@@ -85,7 +85,7 @@ const FUNCS: [(&str, Func, usize); 20] = [
 /// characters) and what was expected.
 fn syntax(text: &str, col: usize, message: String) -> Error {
     let column = text.get(..col.min(text.len())).map_or(col, |s| s.chars().count()) + 1;
-    Error::Syntax { what: "expression".into(), text: text.into(), column, expected: message }
+    Error::Input(InputError::Syntax { what: "expression".into(), text: text.into(), column, expected: message })
 }
 
 struct Parser<'a> {
@@ -486,21 +486,21 @@ pub fn expression_trajectory(
 ) -> Result<JointTrajectory> {
     robot.check_q(q0)?;
     if !(duration.is_finite() && duration > 0.0) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "duration".into(),
             value: duration,
             expected: "a positive, finite time [s]".into(),
-        });
+        }));
     }
     let n = robot.dof();
     let mut compiled = Vec::with_capacity(exprs.len());
     for (j, e) in exprs {
         if *j >= n {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "joint".into(),
                 value: (j + 1) as f64,
                 expected: format!("a joint of `{}`, 1 to {n}", robot.name()),
-            });
+            }));
         }
         let d1 = e.derivative();
         let d2 = d1.derivative();

@@ -28,7 +28,7 @@
 //! - **linear** — s = t/T (seed 003 for Z and θ): constant velocity; the
 //!   velocity jumps at both ends (unbounded acceleration).
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 
 /// The family of a time law.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -161,7 +161,11 @@ fn check_positive(what: &str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(Error::OutOfRange { what: what.into(), value: v, expected: "a positive finite number".into() })
+        Err(Error::Input(InputError::OutOfRange {
+            what: what.into(),
+            value: v,
+            expected: "a positive finite number".into(),
+        }))
     }
 }
 
@@ -222,11 +226,11 @@ impl TimeLaw {
     /// break a limit.
     pub fn from_limits(profile: Profile, distance: f64, limits: &MotionLimits) -> Result<TimeLaw> {
         if !(distance.is_finite() && distance >= 0.0) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "distance".into(),
                 value: distance,
                 expected: "a finite number ≥ 0".into(),
-            });
+            }));
         }
         check_positive("vmax", limits.vel)?;
         if profile != Profile::Linear {
@@ -234,11 +238,11 @@ impl TimeLaw {
         }
         let jerk = match (profile, limits.jerk) {
             (Profile::SCurve, None) => {
-                return Err(Error::MissingLimit {
+                return Err(Error::Input(InputError::MissingLimit {
                     limit: "jerk".into(),
                     option: "jmax".into(),
                     needed_by: "the scurve profile".into(),
-                });
+                }));
             }
             (_, Some(j)) => {
                 check_positive("jmax", j)?;
@@ -345,11 +349,11 @@ impl TimeLaw {
     /// factors k, k², k³ with k = T/T′, so limits that held still hold.
     pub fn stretched_to(&self, duration: f64) -> Result<TimeLaw> {
         if !(duration.is_finite() && duration >= self.duration) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "duration".into(),
                 value: duration,
                 expected: format!("at least the law's own duration, {} s (a law is only stretched)", self.duration),
-            });
+            }));
         }
         if self.duration == 0.0 || duration == self.duration {
             return Ok(*self);

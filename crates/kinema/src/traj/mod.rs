@@ -47,7 +47,7 @@ pub use ptp::{default_profile, BoundaryPtp, JointBoundary, Ptp, PtpOptions};
 pub use self_motion::SelfMotion;
 pub use to_joints::{to_joints, to_joints_at, JointMethod};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 
 /// The most samples one trajectory may have: 10⁷, 2.8 hours at 1 kHz. A 7-joint
 /// trajectory of that length holds 1.8 GB (t, q, q̇, q̈), its planned poses another
@@ -78,14 +78,18 @@ pub fn sample_times(duration: f64, dt: f64) -> Result<Vec<f64>> {
 /// (to check a budget first); the same errors.
 pub fn sample_count(duration: f64, dt: f64) -> Result<usize> {
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(Error::OutOfRange { what: "dt".into(), value: dt, expected: "a positive time step [s]".into() });
+        return Err(Error::Input(InputError::OutOfRange {
+            what: "dt".into(),
+            value: dt,
+            expected: "a positive time step [s]".into(),
+        }));
     }
     if !(duration.is_finite() && duration >= 0.0) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "duration".into(),
             value: duration,
             expected: "a finite, non-negative time [s]".into(),
-        });
+        }));
     }
     let steps = (duration / dt).floor();
     // 0, dt, …, steps·dt, and the end unless steps·dt already is it (to rounding).
@@ -93,14 +97,14 @@ pub fn sample_count(duration: f64, dt: f64) -> Result<usize> {
     let samples = steps + 1.0 + f64::from(u8::from(end_apart));
     if samples > MAX_SAMPLES as f64 {
         let count = if samples.is_finite() { format!("{samples:.0}") } else { "more than 10^308".to_string() };
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "dt".into(),
             value: dt,
             expected: format!(
                 "a larger time step: over {} s this one would give {count} samples (at most {MAX_SAMPLES})",
                 crate::error::number_text(duration)
             ),
-        });
+        }));
     }
     Ok(samples as usize)
 }
@@ -132,14 +136,16 @@ impl JointTrajectory {
     /// or more than the system gives.
     pub fn reserved(dof: usize, samples: usize) -> Result<Self> {
         let bytes = Self::bytes_for(dof, samples);
-        let too_many = |why: String| Error::OutOfRange {
-            what: "samples".into(),
-            value: samples as f64,
-            expected: format!(
-                "fewer samples of {dof} joint(s): t, q, q̇ and q̈ of these would take {:.2} GB, {why}; \
+        let too_many = |why: String| {
+            Error::Input(InputError::OutOfRange {
+                what: "samples".into(),
+                value: samples as f64,
+                expected: format!(
+                    "fewer samples of {dof} joint(s): t, q, q̇ and q̈ of these would take {:.2} GB, {why}; \
                  a larger time step (dt) gives fewer",
-                bytes as f64 / 1e9
-            ),
+                    bytes as f64 / 1e9
+                ),
+            })
         };
         if bytes > MAX_TRAJECTORY_BYTES {
             return Err(too_many(format!(
@@ -176,12 +182,12 @@ impl JointTrajectory {
     /// ([`to_joints::derivatives`]). Errors: `q` not `dof` values per time.
     pub fn from_positions(dof: usize, t: Vec<f64>, q: Vec<f64>) -> Result<Self> {
         if q.len() != t.len() * dof {
-            return Err(Error::WrongLength {
+            return Err(Error::Input(InputError::WrongLength {
                 what: "q".into(),
                 got: q.len(),
                 expected: t.len() * dof,
                 of: format!("{dof} per sample time, {} times", t.len()),
-            });
+            }));
         }
         let mut qd = vec![0.0; q.len()];
         let mut qdd = vec![0.0; q.len()];
@@ -219,17 +225,17 @@ impl JointTrajectory {
         qdd: Option<Vec<f64>>,
     ) -> Result<Self> {
         if t.is_empty() {
-            return Err(Error::TooFew { what: "t".into(), got: 0, min: 1, of: "samples".into() });
+            return Err(Error::Input(InputError::TooFew { what: "t".into(), got: 0, min: 1, of: "samples".into() }));
         }
         for (what, v) in [("qd", &qd), ("qdd", &qdd)] {
             if let Some(v) = v {
                 if v.len() != t.len() * dof {
-                    return Err(Error::WrongLength {
+                    return Err(Error::Input(InputError::WrongLength {
                         what: what.into(),
                         got: v.len(),
                         expected: t.len() * dof,
                         of: format!("{dof} per sample time, {} times", t.len()),
-                    });
+                    }));
                 }
             }
         }
@@ -247,12 +253,12 @@ impl JointTrajectory {
     pub fn push(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<()> {
         for (what, v) in [("q", q), ("qd", qd), ("qdd", qdd)] {
             if v.len() != self.dof {
-                return Err(Error::WrongLength {
+                return Err(Error::Input(InputError::WrongLength {
                     what: what.into(),
                     got: v.len(),
                     expected: self.dof,
                     of: "one per joint of the trajectory".into(),
-                });
+                }));
             }
         }
         self.t.push(t);
@@ -348,7 +354,7 @@ mod tests {
             (1e300, 1e-300, "dt"),
         ] {
             match sample_times(duration, dt) {
-                Err(Error::OutOfRange { what: w, .. }) => assert_eq!(w, what, "{duration} {dt}"),
+                Err(Error::Input(InputError::OutOfRange { what: w, .. })) => assert_eq!(w, what, "{duration} {dt}"),
                 other => panic!("{duration} s / {dt} s: {other:?}"),
             }
         }
@@ -378,6 +384,6 @@ mod tests {
         assert!(JointTrajectory::from_samples(2, t.clone(), q.clone(), None, Some(vec![0.0; 3])).is_err());
         assert!(JointTrajectory::from_samples(2, t, q[..6].to_vec(), None, None).is_err());
         let e = JointTrajectory::from_samples(2, vec![], vec![], None, None).unwrap_err();
-        assert!(matches!(&e, Error::TooFew { what, got: 0, .. } if what == "t"), "{e:?}");
+        assert!(matches!(&e, Error::Input(InputError::TooFew { what, got: 0, .. }) if what == "t"), "{e:?}");
     }
 }

@@ -10,7 +10,7 @@
 
 use nalgebra::Vector3;
 
-use crate::{Error, Result};
+use crate::{Error, InputError, Result};
 
 /// Where a point is relative to a polyline path.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,12 +43,17 @@ pub fn distances_to_path(points: &[Vector3<f64>], path: &[Vector3<f64>]) -> Resu
 /// [`distances_to_path`], with the points named `points_name` in errors.
 fn distances(points: &[Vector3<f64>], points_name: &str, path: &[Vector3<f64>]) -> Result<Vec<PathDistance>> {
     if path.len() < 2 {
-        return Err(Error::TooFew { what: "path".into(), got: path.len(), min: 2, of: "point(s)".into() });
+        return Err(Error::Input(InputError::TooFew {
+            what: "path".into(),
+            got: path.len(),
+            min: 2,
+            of: "point(s)".into(),
+        }));
     }
     for (what, list) in [("path", path), (points_name, points)] {
         if let Some(i) = list.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
             let value = list[i].iter().copied().find(|v| !v.is_finite()).unwrap_or(f64::NAN);
-            return Err(Error::NotFinite { what: format!("{what}: point {}", i + 1), value });
+            return Err(Error::Input(InputError::NotFinite { what: format!("{what}: point {}", i + 1), value }));
         }
     }
     // Cumulative arc length at the start of each segment.
@@ -59,11 +64,11 @@ fn distances(points: &[Vector3<f64>], points_name: &str, path: &[Vector3<f64>]) 
         s += (w[1] - w[0]).norm();
     }
     if s == 0.0 {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "path".into(),
             value: s,
             expected: "a path of non-zero length (all its points coincide)".into(),
-        });
+        }));
     }
     Ok(points
         .iter()
@@ -107,8 +112,8 @@ pub struct TrackingError {
 /// "0,17 ± 0,02 cm".
 ///
 /// Errors: no run or an empty run, a desired path of fewer than two points
-/// ([`Error::TooFew`]); a path of zero length ([`Error::OutOfRange`]);
-/// non-finite coordinates ([`Error::NotFinite`]).
+/// ([`InputError::TooFew`]); a path of zero length ([`InputError::OutOfRange`]);
+/// non-finite coordinates ([`InputError::NotFinite`]).
 ///
 /// # Examples
 /// ```
@@ -124,10 +129,20 @@ pub struct TrackingError {
 /// ```
 pub fn tracking_error(desired: &[Vector3<f64>], runs: &[Vec<Vector3<f64>>]) -> Result<TrackingError> {
     if runs.is_empty() {
-        return Err(Error::TooFew { what: "runs".into(), got: 0, min: 1, of: "measured runs".into() });
+        return Err(Error::Input(InputError::TooFew {
+            what: "runs".into(),
+            got: 0,
+            min: 1,
+            of: "measured runs".into(),
+        }));
     }
     if let Some(i) = runs.iter().position(|r| r.is_empty()) {
-        return Err(Error::TooFew { what: format!("runs: run {}", i + 1), got: 0, min: 1, of: "points".into() });
+        return Err(Error::Input(InputError::TooFew {
+            what: format!("runs: run {}", i + 1),
+            got: 0,
+            min: 1,
+            of: "points".into(),
+        }));
     }
     let mut run_means = Vec::with_capacity(runs.len());
     for (i, run) in runs.iter().enumerate() {
@@ -213,7 +228,7 @@ mod tests {
     fn tracking_error_refuses_bad_input() {
         let path = [Vector3::zeros(), Vector3::x()];
         let e = tracking_error(&path, &[]).unwrap_err();
-        assert!(matches!(&e, Error::TooFew { what, got: 0, min: 1, .. } if what == "runs"), "{e:?}");
+        assert!(matches!(&e, Error::Input(InputError::TooFew { what, got: 0, min: 1, .. }) if what == "runs"), "{e:?}");
         assert!(e.to_string().contains("0 measured runs; at least 1 needed"), "{e}");
         assert!(tracking_error(&path, &[vec![Vector3::x()], vec![]])
             .unwrap_err()

@@ -5,18 +5,18 @@
 use super::boundary::{sync_duration, BoundaryLaw, BoundaryState};
 use super::law::{MotionLimits, Profile, TimeLaw};
 use super::{check, sample_times, CheckOptions, JointTrajectory};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::robot::Robot;
 
 /// Joint `i` moves but the robot model gives no `limit` for it, and neither does `option`.
 fn missing_limit(robot: &Robot, i: usize, limit: &str, option: &str) -> Error {
     robot.for_joint(
         i,
-        Error::MissingLimit {
+        Error::Input(InputError::MissingLimit {
             limit: limit.into(),
             option: option.into(),
             needed_by: "its motion in the robot model".into(),
-        },
+        }),
     )
 }
 
@@ -33,7 +33,7 @@ fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64]) -> 
     let Some(i) = (0..delta.len()).find(|&i| delta[i] != 0.0 && jerk(i).is_some()) else { return Ok(()) };
     Err(robot.for_joint(
         i,
-        Error::DoesNotFit {
+        Error::Input(InputError::DoesNotFit {
             what: "profile".into(),
             reason: format!(
                 "the joint has a jerk limit of {}, which the {} profile's steps in acceleration break; \
@@ -41,7 +41,7 @@ fn refuse_acceleration_steps(robot: &Robot, profile: Profile, delta: &[f64]) -> 
                 jerk(i).unwrap_or(f64::NAN),
                 profile.name()
             ),
-        },
+        }),
     ))
 }
 
@@ -118,12 +118,12 @@ pub(crate) fn joint_limits(
     match given {
         Some(v) if v.len() == 1 => Ok(vec![Some(v[0]); n]),
         Some(v) if v.len() == n => Ok(v.iter().map(|&x| Some(x)).collect()),
-        Some(v) => Err(Error::WrongLength {
+        Some(v) => Err(Error::Input(InputError::WrongLength {
             what: what.into(),
             got: v.len(),
             expected: n,
             of: format!("one per joint of `{}`, or 1 for every joint", robot.name()),
-        }),
+        })),
         None => Ok((0..n).map(from_robot).collect()),
     }
 }
@@ -159,20 +159,20 @@ impl Ptp {
                 let l = robot.joints()[i].limits;
                 return Err(robot.for_joint(
                     i,
-                    Error::OutOfRange {
+                    Error::Input(InputError::OutOfRange {
                         what: what.into(),
                         value: q[i],
                         expected: format!("a value within the joint's limits [{}, {}]", l.min, l.max),
-                    },
+                    }),
                 ));
             }
         }
         if !(opts.speed > 0.0 && opts.speed <= 1.0) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "speed".into(),
                 value: opts.speed,
                 expected: "an override in (0, 1]".into(),
-            });
+            }));
         }
         let js = robot.joints();
         let vel = joint_limits(robot, opts.vel.as_deref(), "vmax", |i| js[i].limits.vel)?;
@@ -294,15 +294,15 @@ impl JointBoundary {
         let one = |what: &str, v: &Option<Vec<f64>>| -> Result<Vec<f64>> {
             let Some(v) = v else { return Ok(vec![0.0; dof]) };
             if v.len() != dof {
-                return Err(Error::WrongLength {
+                return Err(Error::Input(InputError::WrongLength {
                     what: what.into(),
                     got: v.len(),
                     expected: dof,
                     of: "one per joint".into(),
-                });
+                }));
             }
             if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                return Err(Error::NotFinite { what: format!("{what}[{}]", i + 1), value: v[i] });
+                return Err(Error::Input(InputError::NotFinite { what: format!("{what}[{}]", i + 1), value: v[i] }));
             }
             Ok(v.clone())
         };
@@ -369,14 +369,14 @@ impl BoundaryPtp {
             Profile::SCurve => true,
             Profile::Trapezoid => false,
             p => {
-                return Err(Error::DoesNotFit {
+                return Err(Error::Input(InputError::DoesNotFit {
                     what: "profile".into(),
                     reason: format!(
                         "the {} profile only moves rest to rest; boundary velocities and accelerations \
                          need the trapezoid or scurve profile",
                         p.name()
                     ),
-                })
+                }))
             }
         };
         if !jerk_limited {
@@ -384,12 +384,12 @@ impl BoundaryPtp {
                 let (what, j) = if i < a0.len() { ("a0", i) } else { ("a1", i - a0.len()) };
                 return Err(robot.for_joint(
                     j,
-                    Error::DoesNotFit {
+                    Error::Input(InputError::DoesNotFit {
                         what: what.into(),
                         reason: "a boundary acceleration needs the jerk-limited scurve profile \
                                  (the trapezoid's acceleration steps)"
                             .into(),
-                    },
+                    }),
                 ));
             }
         }
@@ -422,9 +422,9 @@ impl BoundaryPtp {
             };
             // Name the joint in a refused state.
             BoundaryLaw::fastest(start, end, &lim).map_err(|e| match e {
-                Error::OutOfRange { .. }
-                | Error::NotFinite { .. }
-                | Error::MissingLimit { .. }
+                Error::Input(InputError::OutOfRange { .. })
+                | Error::Input(InputError::NotFinite { .. })
+                | Error::Input(InputError::MissingLimit { .. })
                 | Error::Infeasible { .. } => robot.for_joint(i, e),
                 e => e,
             })?;

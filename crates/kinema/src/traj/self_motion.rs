@@ -8,7 +8,7 @@ use std::fmt;
 
 use super::cart::CartesianMotion;
 use crate::analysis::{manipulability_along, Axes};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::family::{parameter_names, Choice, Redundancy, SelfMotionParameter};
 use crate::ik::{self, CandidateSet};
 use crate::kin::Frame;
@@ -95,7 +95,7 @@ impl SelfMotion {
         }
         match text.parse::<f64>() {
             Ok(v) if (v * scale).is_finite() => Ok(SelfMotion::Fixed { parameter, value: Some(v * scale) }),
-            _ => Err(Error::UnknownName {
+            _ => Err(Error::Input(InputError::UnknownName {
                 what: parameter.to_string(),
                 name: text.into(),
                 known: if first {
@@ -103,7 +103,7 @@ impl SelfMotion {
                 } else {
                     "hold, or a finite angle".into()
                 },
-            }),
+            })),
         }
     }
 }
@@ -153,7 +153,7 @@ pub(crate) fn plan<'a>(
     q_start: &[f64],
 ) -> Result<Plan<'a>> {
     let redundant = robot.dof() > 6;
-    let refuse = |reason: String| Err(Error::DoesNotFit { what: "self-motion".into(), reason });
+    let refuse = |reason: String| Err(Error::Input(InputError::DoesNotFit { what: "self-motion".into(), reason }));
     if !redundant {
         return match policy {
             SelfMotion::Auto => Ok(Plan::None),
@@ -180,11 +180,11 @@ pub(crate) fn plan<'a>(
         }
         SelfMotion::Fixed { parameter, value } => {
             let Some(&name) = family.parameters().iter().find(|p| *p == parameter) else {
-                return Err(Error::UnknownName {
+                return Err(Error::Input(InputError::UnknownName {
                     what: "self-motion".into(),
                     name: parameter.to_string(),
                     known: parameter_names(family.parameters()),
-                });
+                }));
             };
             let at_start = family.parameter_of(q_start, name);
             let Some(value) = *value else {

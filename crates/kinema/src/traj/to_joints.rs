@@ -6,7 +6,7 @@ use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use super::cart::CartesianMotion;
 use super::self_motion::{self, Plan, SelfMotion};
 use super::{sample_times, JointTrajectory};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::{self, CandidateSet, NumericIk, NumericOptions};
 use crate::kin::Frame;
 use crate::math::{pose_error, Pose};
@@ -50,11 +50,11 @@ impl JointMethod {
         match name.trim().to_ascii_lowercase().as_str() {
             "ik" => Ok(JointMethod::Ik(self_motion)),
             "rate" => Ok(JointMethod::RESOLVED_RATE),
-            _ => Err(crate::Error::UnknownName {
+            _ => Err(crate::Error::Input(crate::InputError::UnknownName {
                 what: "method".into(),
                 name: name.trim().into(),
                 known: "ik, rate".into(),
-            }),
+            })),
         }
     }
 }
@@ -103,14 +103,14 @@ pub fn to_joints_at(
     let start = motion.at(0.0).pose;
     let e = pose_error(&start, &robot.fk(q_start)?.world_from_tool);
     if e.position_norm() > TRACK_TOL || e.rotation_angle() > TRACK_TOL {
-        return Err(Error::DoesNotFit {
+        return Err(Error::Input(InputError::DoesNotFit {
             what: "q_start".into(),
             reason: format!(
                 "the start configuration does not reach the motion's start pose (off by {:.3e} m, {:.3e} rad)",
                 e.position_norm(),
                 e.rotation_angle()
             ),
-        });
+        }));
     }
     let times = times.to_vec();
     match method {
@@ -397,24 +397,29 @@ pub fn derivatives(t: &[f64], q: &[f64], dof: usize, k: usize, qd: &mut [f64], q
 /// Sample times start at 0, are finite and increase strictly.
 fn check_times(times: &[f64]) -> Result<()> {
     let Some(&first) = times.first() else {
-        return Err(Error::TooFew { what: "times".into(), got: 0, min: 1, of: "sample times".into() });
+        return Err(Error::Input(InputError::TooFew {
+            what: "times".into(),
+            got: 0,
+            min: 1,
+            of: "sample times".into(),
+        }));
     };
     if first != 0.0 {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "times[0]".into(),
             value: first,
             expected: "0 (sample times start at 0 and increase strictly)".into(),
-        });
+        }));
     }
     if let Some(k) = times.iter().position(|t| !t.is_finite()) {
-        return Err(Error::NotFinite { what: format!("times[{k}]"), value: times[k] });
+        return Err(Error::Input(InputError::NotFinite { what: format!("times[{k}]"), value: times[k] }));
     }
     if let Some(k) = times.windows(2).position(|w| !(w[1] > w[0])) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: format!("times[{}]", k + 1),
             value: times[k + 1],
             expected: format!("more than times[{k}] = {} (sample times increase strictly)", times[k]),
-        });
+        }));
     }
     Ok(())
 }
@@ -428,14 +433,18 @@ fn resolved_rate(
     gain: f64,
 ) -> Result<JointTrajectory> {
     if !(damping >= 0.0 && damping.is_finite()) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "damping".into(),
             value: damping,
             expected: "a finite number ≥ 0".into(),
-        });
+        }));
     }
     if !(gain > 0.0 && gain <= 1.0) {
-        return Err(Error::OutOfRange { what: "gain".into(), value: gain, expected: "a number in (0, 1]".into() });
+        return Err(Error::Input(InputError::OutOfRange {
+            what: "gain".into(),
+            value: gain,
+            expected: "a number in (0, 1]".into(),
+        }));
     }
     let n = robot.dof();
     let mut jac = Matrix6xX::zeros(n);

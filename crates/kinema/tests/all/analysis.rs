@@ -175,7 +175,10 @@ fn ellipsoid_axes_are_eigenvectors_of_j_jt() {
         }
     });
     let j = Robot::builtin("ur5").unwrap().jacobian(&[0.1; 6], Frame::Base).unwrap();
-    assert!(matches!(analysis::ellipsoid(&j, Axes::All), Err(kinema::Error::DoesNotFit { .. })));
+    assert!(matches!(
+        analysis::ellipsoid(&j, Axes::All),
+        Err(kinema::Error::Input(kinema::InputError::DoesNotFit { .. }))
+    ));
 }
 
 /// (J·Jᵀ)⁻¹ through the adjugate, written out: the matrix [[a, d, e], [d, b, f],

@@ -11,6 +11,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::mutate::{fuzz_cases, mutate, random_text};
+use kinema::{FileError, InputError, ModelError};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
@@ -65,7 +66,7 @@ fn replace_once(text: &str, from: &str, to: &str) -> String {
 fn desc_err(text: &str) -> (Error, usize, usize, String, String) {
     let e = Robot::from_toml_str(text, "bad.toml").expect_err("must be rejected");
     match &e {
-        Error::Description { file, line, column, field, message } => {
+        Error::Model(ModelError::Description { file, line, column, field, message }) => {
             assert_eq!(file, "bad.toml");
             assert!(*line >= 1 && *column >= 1);
             let shown = e.to_string();
@@ -74,7 +75,7 @@ fn desc_err(text: &str) -> (Error, usize, usize, String, String) {
             let (l, c, f, m) = (*line, *column, field.clone(), message.clone());
             (e, l, c, f, m)
         }
-        other => panic!("expected Error::Description, got {other:?}"),
+        other => panic!("expected Error::Model(ModelError::Description), got {other:?}"),
     }
 }
 
@@ -107,7 +108,7 @@ fn toml_syntax_error_gives_line_and_column() {
     // From a file: the path is in the message.
     let path = data("malformed.toml");
     let e = Robot::from_file(&path, None).unwrap_err();
-    let Error::Description { file, line, .. } = &e else { panic!("{e:?}") };
+    let Error::Model(ModelError::Description { file, line, .. }) = &e else { panic!("{e:?}") };
     assert_eq!(file, &path.display().to_string());
     let text = std::fs::read_to_string(&path).unwrap();
     assert_eq!(*line, line_of(&text, "alpha = = 90"));
@@ -248,7 +249,9 @@ const GOOD_URDF_HEAD: &str = r#"<?xml version="1.0"?>
 
 fn urdf_err(text: &str, tip: Option<&str>) -> String {
     let e = Robot::from_urdf_str(text, "bad.urdf", tip).expect_err("must be rejected");
-    let Error::Urdf { file, message } = &e else { panic!("expected Error::Urdf, got {e:?}") };
+    let Error::Model(ModelError::Urdf { file, message }) = &e else {
+        panic!("expected Error::Model(ModelError::Urdf), got {e:?}")
+    };
     assert_eq!(file, "bad.urdf");
     assert_eq!(e.to_string(), format!("bad.urdf: {message}"));
     message.clone()
@@ -290,7 +293,7 @@ fn urdf_not_xml() {
     // XML that is not well formed: the line and column of the markup at fault.
     let e =
         Robot::from_urdf_str("<?xml version=\"1.0\"?>\n<robot>\n  <link>\n</robot>\n", "bad.urdf", None).unwrap_err();
-    let Error::Description { line: 4, column: 1, field, message, .. } = &e else { panic!("{e:?}") };
+    let Error::Model(ModelError::Description { line: 4, column: 1, field, message, .. }) = &e else { panic!("{e:?}") };
     assert_eq!(field, "XML");
     assert!(message.contains("not well-formed") && message.contains("</link>"), "{message}");
     let m = urdf_err("this is not xml", None);
@@ -337,7 +340,7 @@ fn urdf_unread_elements_are_skipped_and_unreadable_ones_located() {
         joint_xml("j2", "revolute", "l1", "l2", r#"<limit lower="-1" upper="1" effort="1"/>"#)
     );
     let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
-    let Error::Description { file, line, column, field, message } = &e else { panic!("{e:?}") };
+    let Error::Model(ModelError::Description { file, line, column, field, message }) = &e else { panic!("{e:?}") };
     assert_eq!((file.as_str(), *line, *column), ("bad.urdf", SECOND_JOINT_LINE, 3));
     assert_eq!(field, "<joint name=\"j2\">");
     assert!(message.contains("velocity") && message.contains("<joint>"), "{message}");
@@ -351,7 +354,7 @@ fn urdf_unread_elements_are_skipped_and_unreadable_ones_located() {
         joint_xml("j2", "revolute", "l1", "l2", LIMIT)
     );
     let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
-    let Error::Description { line: 4, column: 3, field, .. } = &e else { panic!("{e:?}") };
+    let Error::Model(ModelError::Description { line: 4, column: 3, field, .. }) = &e else { panic!("{e:?}") };
     assert_eq!(field, "<link name=\"l1\">");
 }
 
@@ -367,7 +370,7 @@ fn urdf_joint_without_limit_is_refused() {
             joint_xml("j2", kind, "l1", "l2", "")
         );
         let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
-        let Error::Description { line, column: 3, field, message, .. } = &e else { panic!("{e:?}") };
+        let Error::Model(ModelError::Description { line, column: 3, field, message, .. }) = &e else { panic!("{e:?}") };
         assert_eq!(*line, SECOND_JOINT_LINE);
         assert_eq!(field, "<joint name=\"j2\">");
         assert!(message.contains(&format!("a {kind} joint needs a <limit")) && message.contains("[0, 0]"), "{message}");
@@ -383,7 +386,10 @@ fn urdf_joint_without_limit_is_refused() {
     let r = Robot::from_urdf_str(&text, "ok.urdf", Some("l2")).unwrap();
     assert_eq!(r.joints()[1].limits.max, f64::INFINITY);
     let e = Robot::from_urdf_str(&text, "bad.urdf", Some("l3")).unwrap_err();
-    assert!(matches!(&e, Error::Description { field, .. } if field == "<joint name=\"j3\">"), "{e:?}");
+    assert!(
+        matches!(&e, Error::Model(ModelError::Description { field, .. }) if field == "<joint name=\"j3\">"),
+        "{e:?}"
+    );
 }
 
 /// Issue 34, item 12: a `<mimic>` joint on the chain is refused with a typed
@@ -399,21 +405,22 @@ fn urdf_mimic_joint_on_the_chain_is_refused() {
     let e = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err();
     assert_eq!(
         e,
-        Error::MimicJoint {
+        Error::Model(ModelError::MimicJoint {
             file: "bad.urdf".into(),
             line: SECOND_JOINT_LINE,
             joint: "j2".into(),
             follows: "j1".into(),
             multiplier: 2.0,
             offset: 0.5
-        }
+        })
     );
     let m = e.to_string();
     assert!(m.starts_with(&format!("bad.urdf:{SECOND_JOINT_LINE}: joint `j2` on the chain mimics joint `j1`")), "{m}");
     assert!(m.contains("--tip"), "{m}");
     // Defaults: multiplier 1, offset 0.
     let text = text.replace(" multiplier=\"2\" offset=\"0.5\"", "");
-    let Error::MimicJoint { multiplier, offset, .. } = Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err()
+    let Error::Model(ModelError::MimicJoint { multiplier, offset, .. }) =
+        Robot::from_urdf_str(&text, "bad.urdf", None).unwrap_err()
     else {
         panic!()
     };
@@ -427,7 +434,10 @@ fn urdf_mimic_joint_on_the_chain_is_refused() {
     );
     assert_eq!(Robot::from_urdf_str(&text, "ok.urdf", Some("l2")).unwrap().dof(), 2);
     let e = Robot::from_urdf_str(&text, "bad.urdf", Some("l3")).unwrap_err();
-    assert!(matches!(&e, Error::MimicJoint { joint, follows, .. } if joint == "j3" && follows == "j2"), "{e:?}");
+    assert!(
+        matches!(&e, Error::Model(ModelError::MimicJoint { joint, follows, .. }) if joint == "j3" && follows == "j2"),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -544,7 +554,7 @@ fn model_rejects_a_bad_effort_limit() {
     assert_eq!(make(Some(5.0)).unwrap().joints()[0].limits.effort, Some(5.0));
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         let e = make(Some(bad)).unwrap_err();
-        assert!(matches!(&e, Error::InvalidModel { .. }), "{e:?}");
+        assert!(matches!(&e, Error::Model(ModelError::InvalidModel { .. })), "{e:?}");
         let m = e.to_string();
         assert!(m.contains("`j1`") && m.contains("effort limit") && m.contains("positive and finite"), "{m}");
     }
@@ -557,9 +567,9 @@ fn urdf_unknown_tip() {
     assert!(m.contains("`link_99`") && m.contains("link_7") && m.contains("tool0"), "{m}");
     // A tip for a TOML file makes no sense.
     let e = Robot::from_file(data("iiwa-modified.toml"), Some("tool0")).unwrap_err();
-    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "tip"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::DoesNotFit { what, .. }) if what == "tip"), "{e:?}");
     let e = Robot::load("panda", Some("tool0")).unwrap_err();
-    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "tip"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::DoesNotFit { what, .. }) if what == "tip"), "{e:?}");
 }
 
 #[test]
@@ -568,7 +578,7 @@ fn wrong_joint_count() {
     for len in [0, 1, 5, 7, 12] {
         let q = vec![0.1; len];
         let check = |e: Error| {
-            assert_eq!(e, Error::JointCount { robot: "puma560".into(), expected: 6, got: len });
+            assert_eq!(e, Error::Input(InputError::JointCount { robot: "puma560".into(), expected: 6, got: len }));
             assert!(e.to_string().contains(&format!("{len} joint values")), "{e}");
         };
         check(robot.fk(&q).unwrap_err());
@@ -580,17 +590,23 @@ fn wrong_joint_count() {
     }
     // fk_batch: not a whole number of configurations.
     let e = robot.fk_batch(&[0.0; 13]).unwrap_err();
-    assert!(matches!(&e, Error::WrongLength { what, got: 13, expected: 12, .. } if what == "qs"), "{e:?}");
+    assert!(
+        matches!(&e, Error::Input(InputError::WrongLength { what, got: 13, expected: 12, .. }) if what == "qs"),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("a whole number of 6-joint configurations"), "{e}");
     // Wrongly sized output buffers.
     let mut j = Matrix6xX::zeros(5);
     let e = kinema::kin::jacobian_into(&robot, robot.home(), Frame::Base, &mut j).unwrap_err();
-    assert!(matches!(&e, Error::WrongLength { what, got: 5, expected: 6, .. } if what == "out"), "{e:?}");
+    assert!(
+        matches!(&e, Error::Input(InputError::WrongLength { what, got: 5, expected: 6, .. }) if what == "out"),
+        "{e:?}"
+    );
     for len in [0, 15, 17] {
         let mut t = vec![7.5; len];
         let e = kinema::kin::fk_matrix_into(&robot, robot.home(), &mut t).unwrap_err();
         assert!(
-            matches!(&e, Error::WrongLength { what, got, expected: 16, .. } if what == "out" && *got == len),
+            matches!(&e, Error::Input(InputError::WrongLength { what, got, expected: 16, .. }) if what == "out" && *got == len),
             "{e:?}"
         );
         assert_eq!(e.to_string(), format!("`out` has {len} values; 16 expected (a 4 × 4 matrix)"));
@@ -600,7 +616,7 @@ fn wrong_joint_count() {
         let mut rows = vec![7.5; len];
         let e = kinema::kin::jacobian_rows_into(&robot, robot.home(), Frame::Base, &mut rows).unwrap_err();
         assert!(
-            matches!(&e, Error::WrongLength { what, got, expected: 36, .. } if what == "out" && *got == len),
+            matches!(&e, Error::Input(InputError::WrongLength { what, got, expected: 36, .. }) if what == "out" && *got == len),
             "{e:?}"
         );
         assert!(e.to_string().ends_with("(a 6 × 6 Jacobian of `puma560`)"), "{e}");
@@ -608,7 +624,10 @@ fn wrong_joint_count() {
     }
     let mut frames = vec![Pose::IDENTITY; 6];
     let e = kinema::kin::link_frames_into(&robot, robot.home(), &mut frames).unwrap_err();
-    assert!(matches!(&e, Error::WrongLength { what, got: 6, expected: 8, .. } if what == "out"), "{e:?}");
+    assert!(
+        matches!(&e, Error::Input(InputError::WrongLength { what, got: 6, expected: 8, .. }) if what == "out"),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -621,7 +640,9 @@ fn non_finite_joint_values() {
                 let mut q = robot.home().to_vec();
                 q[joint] = bad;
                 let check = |e: Error| {
-                    let Error::BadJointValue { robot: r, joint: jn, name: jname, value } = &e else { panic!("{e:?}") };
+                    let Error::Input(InputError::BadJointValue { robot: r, joint: jn, name: jname, value }) = &e else {
+                        panic!("{e:?}")
+                    };
                     assert_eq!(r, name);
                     assert_eq!(*jn, joint + 1);
                     assert_eq!(jname, &robot.joints()[joint].name);
@@ -666,7 +687,7 @@ fn fk_batch_with_one_bad_row() {
         let e = robot.fk_batch(&qs).unwrap_err();
         let Error::InBatch { index, source } = &e else { panic!("{e:?}") };
         assert_eq!(*index, row, "{e}");
-        let Error::BadJointValue { joint: jn, .. } = source.as_ref() else { panic!("{e:?}") };
+        let Error::Input(InputError::BadJointValue { joint: jn, .. }) = source.as_ref() else { panic!("{e:?}") };
         assert_eq!(*jn, joint + 1, "{e}");
         assert!(e.to_string().contains(&format!("configuration {row} ")), "{e}");
         // Fixing the row makes the batch work.
@@ -678,7 +699,7 @@ fn fk_batch_with_one_bad_row() {
 #[test]
 fn unknown_robot_and_pose_names() {
     let e = Robot::builtin("r2d2").unwrap_err();
-    let Error::UnknownRobot { name, known } = &e else { panic!("{e:?}") };
+    let Error::Model(ModelError::UnknownRobot { name, known }) = &e else { panic!("{e:?}") };
     assert_eq!(name, "r2d2");
     let s = e.to_string();
     for b in builtin_names() {
@@ -686,11 +707,11 @@ fn unknown_robot_and_pose_names() {
     }
     assert!(s.contains("`r2d2`"), "{s}");
     let e = Robot::load("r2d2", None).unwrap_err();
-    assert!(matches!(e, Error::UnknownRobot { .. }), "{e:?}");
+    assert!(matches!(e, Error::Model(ModelError::UnknownRobot { .. })), "{e:?}");
 
     let robot = Robot::builtin("puma560").unwrap();
     let e = robot.pose("qx").unwrap_err();
-    let Error::UnknownPose { robot: r, pose, known } = &e else { panic!("{e:?}") };
+    let Error::Input(InputError::UnknownPose { robot: r, pose, known }) = &e else { panic!("{e:?}") };
     assert_eq!((r.as_str(), pose.as_str()), ("puma560", "qx"));
     for p in ["home", "qn", "qr", "qs", "qz"] {
         assert!(known.contains(p), "{known}");
@@ -702,7 +723,7 @@ fn unknown_robot_and_pose_names() {
 fn from_file_missing_and_wrong_extension() {
     let missing = data("no-such-robot.toml");
     let e = Robot::from_file(&missing, None).unwrap_err();
-    let Error::Io { path, source } = &e else { panic!("{e:?}") };
+    let Error::File(FileError::Io { path, source }) = &e else { panic!("{e:?}") };
     assert_eq!(path, &missing.display().to_string());
     assert_eq!(source.0.kind(), std::io::ErrorKind::NotFound);
     // The operating system's error stays reachable as the source.
@@ -710,14 +731,14 @@ fn from_file_missing_and_wrong_extension() {
     assert!(cause.downcast_ref::<std::io::Error>().is_some(), "{cause:?}");
     assert!(e.to_string().contains("no-such-robot.toml"), "{e}");
     let e = Robot::from_file(data("no-such-robot.urdf"), None).unwrap_err();
-    assert!(matches!(e, Error::Io { .. }), "{e:?}");
+    assert!(matches!(e, Error::File(FileError::Io { .. })), "{e:?}");
     // `load` of a path-looking name that does not exist is an I/O error too.
     let e = Robot::load(&missing.display().to_string(), None).unwrap_err();
-    assert!(matches!(e, Error::Io { .. }), "{e:?}");
+    assert!(matches!(e, Error::File(FileError::Io { .. })), "{e:?}");
 
     for path in [data("robot.txt"), data("iiwa14"), PathBuf::from("Cargo.lock")] {
         let e = Robot::from_file(&path, None).unwrap_err();
-        let Error::DoesNotFit { what, reason } = &e else { panic!("{e:?}") };
+        let Error::Input(InputError::DoesNotFit { what, reason }) = &e else { panic!("{e:?}") };
         assert_eq!(what, "robot file");
         assert!(reason.contains(".toml") && reason.contains(".urdf"), "{reason}");
     }
@@ -726,7 +747,7 @@ fn from_file_missing_and_wrong_extension() {
     std::fs::create_dir_all(&dir).unwrap();
     let e = Robot::from_file(&dir, None).unwrap_err();
     std::fs::remove_dir(&dir).unwrap();
-    assert!(matches!(e, Error::Io { .. }), "{e:?}");
+    assert!(matches!(e, Error::File(FileError::Io { .. })), "{e:?}");
 }
 
 // ---------------------------------------------------------------------------
@@ -778,7 +799,7 @@ fn random_toml_never_panics() {
             Err(e) => {
                 err += 1;
                 assert!(!e.to_string().is_empty());
-                if let Error::Description { line, column, .. } = e {
+                if let Error::Model(ModelError::Description { line, column, .. }) = e {
                     assert!(line >= 1 && line <= text.lines().count().max(1) + 1, "{line} {text}");
                     assert!(column >= 1);
                 }
@@ -833,10 +854,13 @@ fn argument_errors_are_typed() {
 
     // OutOfRange: a negative time step.
     let e = sample_count(1.0, -0.1).unwrap_err();
-    assert!(matches!(&e, Error::OutOfRange { what, value, .. } if what == "dt" && *value == -0.1), "{e:?}");
+    assert!(
+        matches!(&e, Error::Input(InputError::OutOfRange { what, value, .. }) if what == "dt" && *value == -0.1),
+        "{e:?}"
+    );
     assert_eq!(e.to_string(), "invalid `dt`: -0.1; expected a positive time step [s]");
     let e = sample_count(1e300, 1e-300).unwrap_err();
-    assert!(matches!(&e, Error::OutOfRange { what, .. } if what == "dt"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::OutOfRange { what, .. }) if what == "dt"), "{e:?}");
     assert!(e.to_string().contains("expected a larger time step: over 1e300 s this one would give"), "{e}");
 
     // OutOfRange under the joint it concerns: a target beyond a joint's limits.
@@ -845,13 +869,13 @@ fn argument_errors_are_typed() {
     to[1] = 3.0;
     let e = Ptp::new(&iiwa, iiwa.home(), &to, &PtpOptions::default()).unwrap_err();
     assert!(matches!(&e, Error::ForJoint { joint: 2, .. }), "{e:?}");
-    assert!(matches!(e.root(), Error::OutOfRange { what, value: 3.0, .. } if what == "to"), "{e:?}");
+    assert!(matches!(e.root(), Error::Input(InputError::OutOfRange { what, value: 3.0, .. }) if what == "to"), "{e:?}");
     assert!(e.to_string().contains("invalid `to`: 3; expected a value within the joint's limits ["), "{e}");
 
     // TooFew: a path of one point.
     let o = Vector3::zeros();
     let e = distances_to_path(&[o], &[o]).unwrap_err();
-    assert!(matches!(&e, Error::TooFew { what, got: 1, min: 2, .. } if what == "path"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::TooFew { what, got: 1, min: 2, .. }) if what == "path"), "{e:?}");
     assert_eq!(e.to_string(), "`path` has 1 point(s); at least 2 needed");
 
     // MissingLimit: every built-in has acceleration limits, so the iiwa's file
@@ -864,7 +888,7 @@ fn argument_errors_are_typed() {
     let e = Ptp::new(&slow, slow.home(), &to, &PtpOptions::default()).unwrap_err();
     assert!(matches!(&e, Error::ForJoint { joint: 2, .. }), "{e:?}");
     assert!(
-        matches!(e.root(), Error::MissingLimit { limit, option, .. } if limit == "acceleration" && option == "amax"),
+        matches!(e.root(), Error::Input(InputError::MissingLimit { limit, option, .. }) if limit == "acceleration" && option == "amax"),
         "{e:?}"
     );
     assert!(
@@ -872,13 +896,13 @@ fn argument_errors_are_typed() {
         "{e}"
     );
     let e = TimeLaw::from_limits(Profile::SCurve, 1.0, &MotionLimits::new(1.0, 1.0)).unwrap_err();
-    assert!(matches!(&e, Error::MissingLimit { option, .. } if option == "jmax"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::MissingLimit { option, .. }) if option == "jmax"), "{e:?}");
     assert_eq!(e.to_string(), "no jerk limit for the scurve profile; give one (`jmax`)");
 
     // UnknownName: a profile that does not exist, with the known ones.
     let e = "zigzag".parse::<Profile>().unwrap_err();
     assert!(
-        matches!(&e, Error::UnknownName { what, name, known }
+        matches!(&e, Error::Input(InputError::UnknownName { what, name, known })
         if what == "profile" && name == "zigzag" && known.contains("scurve")),
         "{e:?}"
     );
@@ -889,7 +913,7 @@ fn argument_errors_are_typed() {
 
     // DoesNotFit: a tip link for a built-in robot.
     let e = Robot::load("panda", Some("tool0")).unwrap_err();
-    assert!(matches!(&e, Error::DoesNotFit { what, .. } if what == "tip"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::DoesNotFit { what, .. }) if what == "tip"), "{e:?}");
     assert_eq!(e.to_string(), "invalid `tip`: a tip link only applies to URDF files");
 
     // Infeasible: limits so fast that the motion would be shorter than a motion may last.
@@ -899,7 +923,7 @@ fn argument_errors_are_typed() {
 
     // Syntax: an unclosed call, with the column and a caret under it.
     let e = Expr::parse("sin(t").unwrap_err();
-    assert!(matches!(&e, Error::Syntax { what, column: 6, .. } if what == "expression"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::Syntax { what, column: 6, .. }) if what == "expression"), "{e:?}");
     assert_eq!(e.to_string(), "invalid `expression`: `sin(t`, column 6: expected `,` or `)`\n  sin(t\n       ^");
 }
 

@@ -161,7 +161,7 @@ fn urdf_tip_selects_the_chain() {
     let text = std::fs::read_to_string(data("two-leaves.urdf")).unwrap();
     // Two leaves: the default must refuse and name both.
     let e = Robot::from_urdf_str(&text, "two-leaves.urdf", None).unwrap_err();
-    let kinema::Error::Urdf { file, message } = &e else { panic!("{e:?}") };
+    let kinema::Error::Model(kinema::ModelError::Urdf { file, message }) = &e else { panic!("{e:?}") };
     assert_eq!(file, "two-leaves.urdf");
     assert!(message.contains("leaf_a") && message.contains("leaf_b"), "{message}");
     assert!(message.contains("2 leaf links"), "{message}");
@@ -267,7 +267,7 @@ fn urdf_ros_industrial_base_frame_needs_no_tip() {
   </joint>
 </robot>"#;
     let e = Robot::from_urdf_str(&text.replace("</robot>", branch), "rosi.urdf", None).unwrap_err();
-    let kinema::Error::Urdf { message, .. } = &e else { panic!("{e:?}") };
+    let kinema::Error::Model(kinema::ModelError::Urdf { message, .. }) = &e else { panic!("{e:?}") };
     assert!(message.contains("2 leaf links reached through different moving joints (tool0, arm_b)"), "{message}");
     assert!(message.contains("--tip"), "{message}");
 }
@@ -295,7 +295,7 @@ fn urdf_bad_inertial_off_the_chain_is_a_warning() {
 
     // l_arm is on the chain to l_tool: refused, naming it.
     let e = Robot::from_file(data("off-chain-inertia.urdf"), Some("l_tool")).unwrap_err();
-    let kinema::Error::Urdf { message, .. } = &e else { panic!("{e:?}") };
+    let kinema::Error::Model(kinema::ModelError::Urdf { message, .. }) = &e else { panic!("{e:?}") };
     assert!(message.contains("`l_arm` (on the chain)") && message.contains("triangle inequality"), "{message}");
 }
 

@@ -9,6 +9,7 @@ use std::f64::consts::PI;
 
 use kinema::dynamics::{coriolis, coriolis_matrix, forward_dynamics, gravity_torques, mass_matrix, rnea};
 use kinema::nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Unit, Vector3};
+use kinema::ModelError;
 use kinema::{DhConvention, Error, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Model, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -485,7 +486,10 @@ home = [0]
     assert!((b.inertia[(0, 1)] - 0.001).abs() < 1e-15 && (b.com.x + 0.2).abs() < 1e-15);
     // An unphysical tensor is a description error at the joint.
     let bad = text("m", 1.0).replace("inertia = [0.02, 0.03, 0.03", "inertia = [0.02, 0.03, 0.3");
-    let Err(Error::Description { field, message, .. }) = Robot::from_toml_str(&bad, "bad.toml") else { panic!() };
+    let Err(Error::Model(ModelError::Description { field, message, .. })) = Robot::from_toml_str(&bad, "bad.toml")
+    else {
+        panic!()
+    };
     assert_eq!(field, "joint[0].inertial", "{message}");
     assert!(message.contains("triangle"), "{message}");
 }

@@ -18,6 +18,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::common;
 use common::same_angles;
+use kinema::InputError;
 
 type V3 = Vector3<f64>;
 
@@ -408,10 +409,10 @@ fn unreachable_and_malformed_targets() {
         }
         let mut nan = Pose::translation(0.3, 0.2, 0.1);
         nan.pos.x = f64::NAN;
-        assert!(matches!(ik.solve(&nan), Err(Error::NotFinite { .. })));
+        assert!(matches!(ik.solve(&nan), Err(Error::Input(InputError::NotFinite { .. }))));
         let mut skew = Pose::translation(0.3, 0.2, 0.1);
         skew.rot[(0, 1)] = 0.5;
-        assert!(matches!(ik.solve(&skew), Err(Error::OutOfRange { .. })));
+        assert!(matches!(ik.solve(&skew), Err(Error::Input(InputError::OutOfRange { .. }))));
         common::random_poses_never_panic_or_return_nan(&ik);
     }
 }

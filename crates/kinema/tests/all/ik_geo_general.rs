@@ -312,6 +312,6 @@ fn unreachable_and_malformed_targets() {
     let far = Pose::translation(30.0, 0.0, 0.0);
     assert!(matches!(ik.solve(&far), Err(kinema::Error::Unreachable { .. })));
     let nan = Pose::translation(f64::NAN, 0.0, 0.0);
-    assert!(matches!(ik.solve(&nan), Err(kinema::Error::NotFinite { .. })));
+    assert!(matches!(ik.solve(&nan), Err(kinema::Error::Input(kinema::InputError::NotFinite { .. }))));
     common::random_poses_never_panic_or_return_nan(&ik);
 }

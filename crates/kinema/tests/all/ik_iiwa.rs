@@ -12,6 +12,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::common;
+use kinema::InputError;
 
 const ROBOT: &str = "lbr-iiwa-14-r820";
 
@@ -198,8 +199,8 @@ fn unreachable_and_invalid_targets() {
     assert!(ik.solve_q3(&target, 0.0).is_ok());
     let mut nan = robot.fk(robot.home()).unwrap().world_from_tool;
     nan.pos.x = f64::NAN;
-    assert!(matches!(ik.solve_q3(&nan, 0.0), Err(Error::NotFinite { .. })));
-    assert!(matches!(ik.solve(&nan), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve_q3(&nan, 0.0), Err(Error::Input(InputError::NotFinite { .. }))));
+    assert!(matches!(ik.solve(&nan), Err(Error::Input(InputError::NotFinite { .. }))));
     assert!(ik.solve_psi(&nan, 0.0, 0).is_err());
     assert!(ik.feasible_psi_intervals(&nan, 0).is_err());
     assert!(ik.select(robot.home(), &nan, None).is_err());
@@ -557,7 +558,7 @@ fn searching_refuses_only_what_no_q3_reaches() {
         Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })
     ));
     let r = ik.solve_searching(&far, f64::NAN);
-    assert!(matches!(r, Err(Error::NotFinite { .. })), "{r:?}");
+    assert!(matches!(r, Err(Error::Input(InputError::NotFinite { .. }))), "{r:?}");
     // The flange pointing into the base column: no ψ keeps q2 and q6 within ±120°.
     let q = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let straight = robot.fk(&q).unwrap().world_from_tool;

@@ -8,6 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::common;
+use kinema::InputError;
 
 /// FK of random within-limit configurations → IK → the pose is reached within
 /// tolerance, within limits, for (almost) every target.
@@ -106,14 +107,14 @@ fn bad_targets_and_options_are_rejected() {
     let solver = NumericIk::new(&robot);
     let mut t = robot.fk(robot.home()).unwrap().world_from_tool;
     t.pos.x = f64::NAN;
-    assert!(matches!(solver.solve(&t), Err(Error::NotFinite { .. })));
+    assert!(matches!(solver.solve(&t), Err(Error::Input(InputError::NotFinite { .. }))));
     let mut t = robot.fk(robot.home()).unwrap().world_from_tool;
     t.rot[(0, 0)] = 2.0;
     let e = solver.solve(&t).unwrap_err();
-    assert!(matches!(&e, Error::OutOfRange { what, .. } if what == "target"), "{e:?}");
+    assert!(matches!(&e, Error::Input(InputError::OutOfRange { what, .. }) if what == "target"), "{e:?}");
     assert!(e.to_string().contains("a rotation block"), "{e}");
     let good = robot.fk(robot.home()).unwrap().world_from_tool;
-    assert!(matches!(solver.solve_from(&good, &[0.0; 3]), Err(Error::JointCount { .. })));
+    assert!(matches!(solver.solve_from(&good, &[0.0; 3]), Err(Error::Input(InputError::JointCount { .. }))));
     let no_mask = NumericOptions { mask: Some([false; 6]), ..Default::default() };
     assert!(NumericIk::with_options(&robot, no_mask).is_err());
     let bad_tol = NumericOptions { tol_position: 0.0, ..Default::default() };

@@ -8,6 +8,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use kinema::ik::pieper::{ArmKind, PieperIk};
 use kinema::ik::{IkSolver, NumericIk, NumericOptions, Solution, Unreachable};
 use kinema::math::RpyConvention;
+use kinema::InputError;
 use kinema::{Error, Pose, Robot};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -717,10 +718,10 @@ fn unreachable_and_invalid_targets() {
     }
     let mut nan = Pose::translation(0.5, 0.1, 0.5);
     nan.pos.y = f64::NAN;
-    assert!(matches!(ik.solve(&nan), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve(&nan), Err(Error::Input(InputError::NotFinite { .. }))));
     let mut bad = Pose::translation(0.5, 0.1, 0.5);
     bad.rot[(0, 0)] = 2.0;
-    assert!(matches!(ik.solve(&bad), Err(Error::OutOfRange { .. })));
+    assert!(matches!(ik.solve(&bad), Err(Error::Input(InputError::OutOfRange { .. }))));
     // Huge but finite targets: an error, never a panic or NaN (past 1e100 m, without a figure).
     for s in [1e10, 1e200, f64::MAX] {
         match ik.solve(&Pose::translation(s, -s, s)) {

@@ -8,6 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::common;
+use kinema::InputError;
 
 fn wrap(a: f64) -> f64 {
     kinema::ik::wrap_angle(a)
@@ -144,15 +145,21 @@ fn singular_and_bad_input() {
         other => panic!("{other:?}"),
     }
     // NaN, infinity, zero approach.
-    assert!(matches!(ik.solve_position_approach([f64::NAN, 0.5, 0.0], [0.0, 0.0, 1.0]), Err(Error::NotFinite { .. })));
+    assert!(matches!(
+        ik.solve_position_approach([f64::NAN, 0.5, 0.0], [0.0, 0.0, 1.0]),
+        Err(Error::Input(InputError::NotFinite { .. }))
+    ));
     assert!(matches!(
         ik.solve_position_approach([0.1, 0.5, 0.0], [0.0, f64::INFINITY, 1.0]),
-        Err(Error::NotFinite { .. })
+        Err(Error::Input(InputError::NotFinite { .. }))
     ));
-    assert!(matches!(ik.solve_position_approach([0.1, 0.5, 0.0], [0.0, 0.0, 0.0]), Err(Error::OutOfRange { .. })));
+    assert!(matches!(
+        ik.solve_position_approach([0.1, 0.5, 0.0], [0.0, 0.0, 0.0]),
+        Err(Error::Input(InputError::OutOfRange { .. }))
+    ));
     let mut p = Pose::translation(0.1, 0.5, 0.0);
     p.pos.y = f64::NAN;
-    assert!(matches!(ik.solve(&p), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve(&p), Err(Error::Input(InputError::NotFinite { .. }))));
     // Random finite input never panics or returns NaN.
     let mut rng = ChaCha8Rng::seed_from_u64(12);
     for _ in 0..3000 {

@@ -8,6 +8,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::common;
+use kinema::InputError;
 
 fn wrap(a: f64) -> f64 {
     kinema::ik::wrap_angle(a)
@@ -246,13 +247,22 @@ fn singular_and_bad_input() {
     assert!(sols.iter().all(|s| s.position_error < 1e-10 && s.q.iter().all(|v| v.is_finite())));
     assert!(sols.iter().any(|s| same(&s.q, &q, 1e-7)));
     // NaN and infinity rejected.
-    assert!(matches!(ik.solve_with_rail([f64::NAN, 0.0, 0.2, 0.0], 0.0), Err(Error::NotFinite { .. })));
-    assert!(matches!(ik.solve_with_rail([0.3, 0.0, 0.2, 0.0], f64::INFINITY), Err(Error::NotFinite { .. })));
-    assert!(matches!(ik.solve_zone([0.3, 0.5, 0.2, f64::NAN], None), Err(Error::NotFinite { .. })));
-    assert!(matches!(ik.solve_zone([0.3, 0.5, 0.2, 0.0], Some(&[0.0; 3])), Err(Error::WrongLength { .. })));
+    assert!(matches!(
+        ik.solve_with_rail([f64::NAN, 0.0, 0.2, 0.0], 0.0),
+        Err(Error::Input(InputError::NotFinite { .. }))
+    ));
+    assert!(matches!(
+        ik.solve_with_rail([0.3, 0.0, 0.2, 0.0], f64::INFINITY),
+        Err(Error::Input(InputError::NotFinite { .. }))
+    ));
+    assert!(matches!(ik.solve_zone([0.3, 0.5, 0.2, f64::NAN], None), Err(Error::Input(InputError::NotFinite { .. }))));
+    assert!(matches!(
+        ik.solve_zone([0.3, 0.5, 0.2, 0.0], Some(&[0.0; 3])),
+        Err(Error::Input(InputError::WrongLength { .. }))
+    ));
     let mut p = Pose::translation(0.3, 0.5, 0.2);
     p.pos.x = f64::NAN;
-    assert!(matches!(ik.solve(&p), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve(&p), Err(Error::Input(InputError::NotFinite { .. }))));
     // Random finite input never panics or returns NaN.
     let mut rng = ChaCha8Rng::seed_from_u64(8);
     for _ in 0..3000 {

@@ -11,6 +11,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::common;
+use kinema::InputError;
 
 fn wrap(a: f64) -> f64 {
     kinema::ik::wrap_angle(a)
@@ -328,11 +329,17 @@ fn singular_targets_are_finite() {
 fn nan_rejected() {
     let robot = robot();
     let ik = ScorbotIk::new(&robot).unwrap();
-    assert!(matches!(ik.solve_xyz_pitch_roll([f64::NAN, 0.0, 0.3], 0.0, 0.0), Err(Error::NotFinite { .. })));
-    assert!(matches!(ik.solve_xyz_pitch_roll([0.3, 0.0, 0.3], f64::INFINITY, 0.0), Err(Error::NotFinite { .. })));
+    assert!(matches!(
+        ik.solve_xyz_pitch_roll([f64::NAN, 0.0, 0.3], 0.0, 0.0),
+        Err(Error::Input(InputError::NotFinite { .. }))
+    ));
+    assert!(matches!(
+        ik.solve_xyz_pitch_roll([0.3, 0.0, 0.3], f64::INFINITY, 0.0),
+        Err(Error::Input(InputError::NotFinite { .. }))
+    ));
     let mut t = Pose::translation(0.3, 0.0, 0.3);
     t.rot[(0, 0)] = f64::NAN;
-    assert!(matches!(ik.solve(&t), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve(&t), Err(Error::Input(InputError::NotFinite { .. }))));
     assert_eq!(ik.yaw_error(&t), f64::INFINITY);
 }
 

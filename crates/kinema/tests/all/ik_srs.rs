@@ -16,6 +16,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::common;
 use common::same_angles;
+use kinema::InputError;
 
 type V3 = Vector3<f64>;
 
@@ -273,12 +274,12 @@ fn unreachable_and_malformed_targets() {
     }
     assert!(matches!(
         ik.solve_q3(&robot.fk(&[0.0; 7]).unwrap().world_from_tool, f64::NAN),
-        Err(Error::NotFinite { .. })
+        Err(Error::Input(InputError::NotFinite { .. }))
     ));
-    assert!(matches!(ik.solve_searching(&far, f64::INFINITY), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve_searching(&far, f64::INFINITY), Err(Error::Input(InputError::NotFinite { .. }))));
     let mut bad = far;
     bad.pos.x = f64::NAN;
-    assert!(matches!(ik.solve_q3(&bad, 0.0), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve_q3(&bad, 0.0), Err(Error::Input(InputError::NotFinite { .. }))));
     let huge = Pose::translation(1e300, -1e300, 1e308);
     assert!(matches!(ik.solve_q3(&huge, 0.0), Err(Error::Unreachable { .. })));
     // The flange pointing into the base column: no q3 keeps q2 and q6 within limits.
@@ -293,8 +294,8 @@ fn unreachable_and_malformed_targets() {
         ik.solve_psi(&far, 0.3),
         Err(Error::Unreachable { reason: Unreachable::OutsideReach { .. }, .. })
     ));
-    assert!(matches!(ik.solve_psi(&straight, f64::NAN), Err(Error::NotFinite { .. })));
-    assert!(matches!(ik.solve_psi(&bad, 0.0), Err(Error::NotFinite { .. })));
+    assert!(matches!(ik.solve_psi(&straight, f64::NAN), Err(Error::Input(InputError::NotFinite { .. }))));
+    assert!(matches!(ik.solve_psi(&bad, 0.0), Err(Error::Input(InputError::NotFinite { .. }))));
     assert!(matches!(ik.solve_psi(&huge, 0.0), Err(Error::Unreachable { .. })));
     assert!(ik.psi_of(&[0.1, f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]).is_nan() && ik.psi_of(&[0.1; 6]).is_nan());
 }

@@ -328,10 +328,12 @@ fn targets_no_law_can_reach_are_refused_naming_the_limit() {
     let refuse = |from: BoundaryState, to: BoundaryState, lim: &MotionLimits| {
         let e = BoundaryLaw::fastest(from, to, lim).unwrap_err();
         match &e {
-            kinema::Error::OutOfRange { what, .. }
+            kinema::Error::Input(kinema::InputError::OutOfRange { what, .. })
             | kinema::Error::Infeasible { what, .. }
-            | kinema::Error::NotFinite { what, .. }
-            | kinema::Error::MissingLimit { option: what, .. } => (what.clone(), e.to_string()),
+            | kinema::Error::Input(kinema::InputError::NotFinite { what, .. })
+            | kinema::Error::Input(kinema::InputError::MissingLimit { option: what, .. }) => {
+                (what.clone(), e.to_string())
+            }
             other => panic!("{other:?}"),
         }
     };
@@ -540,7 +542,7 @@ fn ruckig_durations() {
 
 mod ptp {
     use kinema::traj::{BoundaryPtp, JointBoundary, Profile, Ptp, PtpOptions};
-    use kinema::{Error, Robot};
+    use kinema::{Error, InputError, Robot};
 
     const TO: [f64; 7] = [-0.1090, 1.2417, 0.4463, 1.9156, -0.9695, -1.8728, 0.4876];
     const VIA: [f64; 7] = [0.5, 0.8, 0.2, 1.2, -0.4, -1.0, 0.1];
@@ -635,7 +637,10 @@ mod ptp {
         )
         .unwrap_err();
         assert!(matches!(&e, Error::ForJoint { joint: 1, .. }), "{e:?}");
-        assert!(matches!(e.root(), Error::OutOfRange { what, value: 5.0, .. } if what == "target velocity"), "{e:?}");
+        assert!(
+            matches!(e.root(), Error::Input(InputError::OutOfRange { what, value: 5.0, .. }) if what == "target velocity"),
+            "{e:?}"
+        );
         let m = e.to_string();
         assert!(m.starts_with("joint 1 (`") && m.contains("`target velocity`: 5; expected a velocity within ±"), "{m}");
     }

@@ -157,7 +157,10 @@ fn rommel_joint_curve_from_the_seed() {
         assert!(report.violations.iter().any(|v| v.joint == Some(0)), "expected a joint-1 violation");
     }
     let e = expression_trajectory(&robot, robot.home(), &[(7, Expr::parse("t").unwrap())], 1.0, 0.1).unwrap_err();
-    assert!(matches!(&e, kinema::Error::OutOfRange { what, value: 8.0, .. } if what == "joint"), "{e:?}");
+    assert!(
+        matches!(&e, kinema::Error::Input(kinema::InputError::OutOfRange { what, value: 8.0, .. }) if what == "joint"),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("expected a joint of `rommel`, 1 to 5"), "{e}");
     let e =
         expression_trajectory(&robot, robot.home(), &[(0, Expr::parse("ln(t - 0.5)").unwrap())], 1.0, 0.1).unwrap_err();

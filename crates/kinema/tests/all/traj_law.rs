@@ -6,6 +6,7 @@
 
 use kinema::traj::{LawState, MotionLimits, Profile, TimeLaw};
 use kinema::Error;
+use kinema::InputError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -401,7 +402,7 @@ fn zero_distance_is_a_still_law() {
 fn bad_inputs_are_errors_naming_the_argument() {
     let ok = MotionLimits::with_jerk(1.0, 1.0, 1.0);
     let name = |e: Error| match e {
-        Error::OutOfRange { what, .. } => what,
+        Error::Input(InputError::OutOfRange { what, .. }) => what,
         other => panic!("unexpected error {other:?}"),
     };
     for d in [-1.0, f64::NAN, f64::INFINITY] {

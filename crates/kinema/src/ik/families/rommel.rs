@@ -46,7 +46,7 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::{check_target, wrap_angle, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::Pose;
@@ -184,7 +184,7 @@ impl RommelIk {
     /// Up to four solutions (front/back × elbow-pos/neg), each evaluated against
     /// the pose it reaches with the target position (the roll about the approach is
     /// not part of this target), flagged for joint limits. Errors: non-finite input
-    /// ([`Error::NotFinite`]) or a zero approach ([`Error::OutOfRange`]); the position out of reach
+    /// ([`InputError::NotFinite`]) or a zero approach ([`InputError::OutOfRange`]); the position out of reach
     /// ([`Unreachable::OutsideReach`]); no position branch whose forearm is
     /// perpendicular to the approach ([`Unreachable::Orientation`], with the smallest
     /// angle to a reachable approach).
@@ -203,16 +203,16 @@ impl RommelIk {
     pub fn solve_position_approach(&self, p: [f64; 3], approach: [f64; 3]) -> Result<Vec<Solution>> {
         let named = p.iter().map(|&v| ("position", v)).chain(approach.iter().map(|&v| ("approach", v)));
         if let Some((what, value)) = named.into_iter().find(|(_, v)| !v.is_finite()) {
-            return Err(Error::NotFinite { what: what.into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: what.into(), value }));
         }
         let a = Vector3::from(approach);
         let n = a.norm();
         if n <= 1e-12 {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "approach".into(),
                 value: n,
                 expected: "a direction of non-zero length (this is its length)".into(),
-            });
+            }));
         }
         let a = a / n;
         let base = self.robot.base();
@@ -374,10 +374,10 @@ impl crate::ik::family::Family for RommelIk {
             crate::ik::IkTarget::PositionApproach { position, approach } => {
                 self.solve_position_approach(position, approach)
             }
-            _ => Err(Error::DoesNotFit {
+            _ => Err(Error::Input(InputError::DoesNotFit {
                 what: "target".into(),
                 reason: "ROMMEL's typed target is a position with an approach direction".into(),
-            }),
+            })),
         }
     }
 

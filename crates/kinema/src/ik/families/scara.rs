@@ -73,7 +73,7 @@ use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::{rot_z, Pose};
@@ -301,10 +301,10 @@ impl ScaraIk {
 
     fn check_typed(target: &[f64; 4], extra: &[f64]) -> Result<()> {
         if let Some(&value) = target.iter().find(|v| !v.is_finite()) {
-            return Err(Error::NotFinite { what: "target".into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: "target".into(), value }));
         }
         if let Some(&value) = extra.iter().find(|v| !v.is_finite()) {
-            return Err(Error::NotFinite { what: "rail position".into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: "rail position".into(), value }));
         }
         Ok(())
     }
@@ -442,12 +442,12 @@ impl ScaraIk {
         Self::check_typed(&target, previous.unwrap_or(&[]))?;
         if let Some(p) = previous {
             if p.len() != 5 {
-                return Err(Error::WrongLength {
+                return Err(Error::Input(InputError::WrongLength {
                     what: "previous".into(),
                     got: p.len(),
                     expected: 5,
                     of: "one per joint of the SCARA".into(),
-                });
+                }));
             }
         }
         let elbow = match previous {
@@ -694,10 +694,10 @@ impl crate::ik::family::Family for ScaraIk {
             crate::ik::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
                 Ok(vec![self.solve_zone([x, y, z, alpha], q0)?])
             }
-            _ => Err(Error::DoesNotFit {
+            _ => Err(Error::Input(InputError::DoesNotFit {
                 what: "target".into(),
                 reason: "the SCARA's typed target is a position with the tool angle α".into(),
-            }),
+            })),
         }
     }
 

@@ -67,7 +67,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::{rot_x, rot_y, Pose, RpyConvention};
@@ -219,7 +219,7 @@ impl ScorbotIk {
     /// Returns up to four solutions (front/back × elbow up/down), each flagged for
     /// joint limits and evaluated against the pose they reach, i.e.
     /// Rz(θ1)·Ry(β)·Rx(γ)·R_hᵀ with the yaw θ1 that the position imposes — so their
-    /// residuals are ~0. Errors: non-finite input ([`Error::NotFinite`]); the
+    /// residuals are ~0. Errors: non-finite input ([`InputError::NotFinite`]); the
     /// wrist point outside the annulus \[|a2 − a3|, a2 + a3\] around the shoulder for
     /// both the front and the back branch ([`Unreachable::OutsideReach`], with the
     /// smaller miss).
@@ -270,7 +270,7 @@ impl ScorbotIk {
     pub fn xyz_pitch_roll_candidates(&self, p: [f64; 3], pitch: f64, roll: f64) -> Result<ScorbotCandidates> {
         let named = p.iter().map(|&v| ("position", v)).chain([("pitch", pitch), ("roll", roll)]);
         if let Some((what, value)) = named.into_iter().find(|(_, v)| !v.is_finite()) {
-            return Err(Error::NotFinite { what: what.into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: what.into(), value }));
         }
         let pb = self.base_inv.transform_point(&Vector3::from(p));
         let mut out = ScorbotCandidates::default();
@@ -522,10 +522,10 @@ impl crate::ik::family::Family for ScorbotIk {
             crate::ik::IkTarget::PositionPitchRoll { position, pitch, roll } => {
                 self.solve_xyz_pitch_roll(position, pitch, roll)
             }
-            _ => Err(Error::DoesNotFit {
+            _ => Err(Error::Input(InputError::DoesNotFit {
                 what: "target".into(),
                 reason: "the Scorbot solver's typed target is a position with pitch and roll".into(),
-            }),
+            })),
         }
     }
 

@@ -53,7 +53,7 @@ use self::problem::Limits;
 use self::profile::{Phase, MAX_SEGMENTS};
 use self::roots::Search;
 use super::law::{MotionLimits, MIN_DURATION};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 
 mod brake;
 mod cruise;
@@ -238,14 +238,14 @@ impl BoundaryLaw {
         let tb = brake.duration();
         if let Some(fast) = optimal.first() {
             if tb > 0.0 && duration < (tb + fast.duration) * (1.0 - 1e-12) {
-                return Err(Error::OutOfRange {
+                return Err(Error::Input(InputError::OutOfRange {
                     what: "duration".into(),
                     value: duration,
                     expected: format!(
                         "at least {} s, the fastest motion between these states (braking for {tb} s first) [s]",
                         tb + fast.duration
                     ),
-                });
+                }));
             }
         }
         let rest = if tb > 0.0 { (duration - tb).max(optimal.first().map_or(0.0, |c| c.duration)) } else { duration };

@@ -3,7 +3,7 @@
 
 use super::roots::Search;
 use super::{infeasible, BoundaryState};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::traj::law::MotionLimits;
 
 /// The limits of one problem, validated: positive and finite.
@@ -21,20 +21,20 @@ impl Limits {
     pub fn new(limits: &MotionLimits, search: Search) -> Result<Limits> {
         for (name, v) in [("vmax", limits.vel), ("amax", limits.acc)] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(Error::OutOfRange {
+                return Err(Error::Input(InputError::OutOfRange {
                     what: name.into(),
                     value: v,
                     expected: "a positive finite number".into(),
-                });
+                }));
             }
         }
         if let Some(j) = limits.jerk {
             if !(j.is_finite() && j > 0.0) {
-                return Err(Error::OutOfRange {
+                return Err(Error::Input(InputError::OutOfRange {
                     what: "jmax".into(),
                     value: j,
                     expected: "a positive finite number".into(),
-                });
+                }));
             }
         }
         Ok(Limits { vel: limits.vel, acc: limits.acc, jerk: limits.jerk, search })
@@ -47,11 +47,11 @@ impl Limits {
         for (what, s) in [("start", from), ("target", to)] {
             for (name, x) in [("position", s.p), ("velocity", s.v), ("acceleration", s.a)] {
                 if !x.is_finite() {
-                    return Err(Error::NotFinite { what: format!("{what} {name}"), value: x });
+                    return Err(Error::Input(InputError::NotFinite { what: format!("{what} {name}"), value: x }));
                 }
             }
             if self.jerk.is_none() && s.a != 0.0 {
-                return Err(Error::MissingLimit {
+                return Err(Error::Input(InputError::MissingLimit {
                     limit: "jerk".into(),
                     option: "jmax".into(),
                     needed_by: format!(
@@ -59,15 +59,15 @@ impl Limits {
                          accelerations must be 0)",
                         s.a
                     ),
-                });
+                }));
             }
         }
         if to.v.abs() > self.vel * (1.0 + 1e-12) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "target velocity".into(),
                 value: to.v,
                 expected: format!("a velocity within ±{} (vmax); no motion within the limits ends beyond it", self.vel),
-            });
+            }));
         }
         match self.jerk {
             Some(j) => self.check_target_jerk_limited(to, j),
@@ -79,11 +79,11 @@ impl Limits {
     /// velocity past v_max cannot be arrived at within the limits.
     fn check_target_jerk_limited(&self, to: &BoundaryState, j: f64) -> Result<()> {
         if to.a.abs() > self.acc * (1.0 + 1e-12) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "target acceleration".into(),
                 value: to.a,
                 expected: format!("an acceleration within ±{} (amax)", self.acc),
-            });
+            }));
         }
         let reach = to.v - to.a * to.a.abs() / (2.0 * j);
         if reach.abs() > self.vel * (1.0 + 1e-9) {

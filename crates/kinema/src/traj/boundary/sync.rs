@@ -4,7 +4,7 @@
 use super::problem::Limits;
 use super::roots::Search;
 use super::{check_min, infeasible, no_profile, BoundaryLaw, BoundaryState};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::traj::law::MotionLimits;
 
 /// The smallest duration ≥ `at_least` \[s\] at which every coordinate has a
@@ -34,12 +34,12 @@ pub(super) fn sync_by(
 ) -> Result<(f64, Vec<BoundaryLaw>)> {
     for (what, got) in [("to", to.len()), ("limits", limits.len())] {
         if got != from.len() {
-            return Err(Error::WrongLength {
+            return Err(Error::Input(InputError::WrongLength {
                 what: what.into(),
                 got,
                 expected: from.len(),
                 of: "one per start state".into(),
-            });
+            }));
         }
     }
     let mut critical = Vec::new();

@@ -8,7 +8,7 @@ use super::profile::Profile;
 use super::second::timed_second;
 use super::timed_third::{held_peak, timed_third};
 use super::{check_min, no_profile, roots, BoundaryLaw, BoundaryState};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 
 impl BoundaryLaw {
     /// [`BoundaryLaw::with_duration`] with the limits checked and the locally
@@ -127,19 +127,19 @@ impl BoundaryLaw {
 /// Refuses a duration that is not finite and ≥ 0, or shorter than the fastest law's.
 fn check_duration(duration: f64, optimal: &[BoundaryLaw]) -> Result<()> {
     if !(duration.is_finite() && duration >= 0.0) {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "duration".into(),
             value: duration,
             expected: "a finite duration ≥ 0 [s]".into(),
-        });
+        }));
     }
     if let Some(fast) = optimal.first() {
         if duration < fast.duration * (1.0 - 1e-12) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "duration".into(),
                 value: duration,
                 expected: format!("at least {} s, the fastest motion between these states [s]", fast.duration),
-            });
+            }));
         }
     }
     Ok(())

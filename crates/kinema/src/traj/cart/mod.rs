@@ -33,7 +33,7 @@ pub use self::segment::Segment;
 
 use super::law::{Profile, TimeLaw};
 use super::MAX_SAMPLES;
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::{rot_to_axis_angle, Pose, RpyConvention};
 
 /// How a LIN segment interpolates orientation.
@@ -213,30 +213,35 @@ impl CartesianMotion {
         stop: &dyn Fn() -> bool,
     ) -> Result<Self> {
         if segments.is_empty() {
-            return Err(Error::TooFew { what: "segments".into(), got: 0, min: 1, of: "segments".into() });
+            return Err(Error::Input(InputError::TooFew {
+                what: "segments".into(),
+                got: 0,
+                min: 1,
+                of: "segments".into(),
+            }));
         }
         for (i, w) in segments.windows(2).enumerate() {
             let (a, b) = (w[0].end(), w[1].start());
             let dp = (a.pos - b.pos).norm();
             let dr = rot_to_axis_angle(&(a.rot * b.rot.transpose())).norm();
             if dp > 1e-9 || dr > 1e-9 {
-                return Err(Error::DoesNotFit {
+                return Err(Error::Input(InputError::DoesNotFit {
                     what: "segments".into(),
                     reason: format!(
                         "segment {} does not start where segment {} ends (off by {dp:.3e} m, {dr:.3e} rad)",
                         i + 2,
                         i + 1
                     ),
-                });
+                }));
             }
         }
         let lin_jerk = match (profile, limits.jerk) {
             (Profile::SCurve, None) => {
-                return Err(Error::MissingLimit {
+                return Err(Error::Input(InputError::MissingLimit {
                     limit: "jerk".into(),
                     option: "jmax".into(),
                     needed_by: "the scurve profile".into(),
-                })
+                }))
             }
             (_, j) => j,
         };
@@ -244,7 +249,11 @@ impl CartesianMotion {
         let named =
             [("vel", limits.vel), ("acc", limits.acc), ("rot_vel", limits.rot_vel), ("rot_acc", limits.rot_acc)];
         if let Some((what, value)) = named.into_iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
-            return Err(Error::OutOfRange { what: what.into(), value, expected: "a positive finite limit".into() });
+            return Err(Error::Input(InputError::OutOfRange {
+                what: what.into(),
+                value,
+                expected: "a positive finite limit".into(),
+            }));
         }
         let laws = segments
             .iter()
@@ -368,14 +377,14 @@ impl CartesianMotion {
     /// accelerations by k², jerks by k³, and every limit still holds.
     pub fn stretched_to(&self, duration: f64) -> Result<Self> {
         if !(duration.is_finite() && duration >= self.duration) {
-            return Err(Error::OutOfRange {
+            return Err(Error::Input(InputError::OutOfRange {
                 what: "duration".into(),
                 value: duration,
                 expected: format!(
                     "at least the motion's own duration, {} s (a motion is only stretched)",
                     self.duration
                 ),
-            });
+            }));
         }
         if self.duration == 0.0 {
             return Ok(self.clone());
@@ -455,11 +464,11 @@ impl CartesianMotion {
     pub fn resample_times(&self, max_step: f64, max_angle: f64) -> Result<Vec<f64>> {
         for (what, value, unit) in [("max_step", max_step, "m"), ("max_angle", max_angle, "rad")] {
             if !(value > 0.0) {
-                return Err(Error::OutOfRange {
+                return Err(Error::Input(InputError::OutOfRange {
                     what: what.into(),
                     value,
                     expected: format!("a positive step [{unit}]"),
-                });
+                }));
             }
         }
         let n = 20_000usize;
@@ -482,14 +491,16 @@ impl CartesianMotion {
         }
         // Named after the limit that asks for most of the samples.
         let (what, value) = if by_angle > 0.5 * needed { ("max_angle", max_angle) } else { ("max_step", max_step) };
-        let too_many = |about: String| Error::OutOfRange {
-            what: what.into(),
-            value,
-            expected: format!(
-                "larger steps: {} m / {} rad would split this path into {about} samples (at most {MAX_SAMPLES})",
-                crate::error::number_text(max_step),
-                crate::error::number_text(max_angle)
-            ),
+        let too_many = |about: String| {
+            Error::Input(InputError::OutOfRange {
+                what: what.into(),
+                value,
+                expected: format!(
+                    "larger steps: {} m / {} rad would split this path into {about} samples (at most {MAX_SAMPLES})",
+                    crate::error::number_text(max_step),
+                    crate::error::number_text(max_angle)
+                ),
+            })
         };
         if needed > 1.01 * MAX_SAMPLES as f64 {
             let about = if needed.is_finite() { format!("about {needed:.3e}") } else { "more than 10^308".into() };
@@ -515,11 +526,11 @@ impl CartesianMotion {
                     }
                 }
                 if lo <= *out.last().expect("non-empty") {
-                    return Err(Error::OutOfRange {
+                    return Err(Error::Input(InputError::OutOfRange {
                         what: "max_step".into(),
                         value: max_step,
                         expected: "a step above the sampling resolution of this path [m]".into(),
-                    });
+                    }));
                 }
                 // Room for this sample and the end's.
                 if out.len() + 2 > MAX_SAMPLES {

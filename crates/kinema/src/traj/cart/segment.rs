@@ -5,7 +5,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::{CartesianLimits, CartesianMotion, Orientation, Waypoint};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::math::{
     axis_angle_to_rot, rot_to_axis_angle, rot_to_rpy_near, rot_x, rot_y, rot_z, rpy_to_rot, Pose, RpyConvention,
 };
@@ -42,7 +42,7 @@ type RotState = (Matrix3<f64>, Vector3<f64>, Vector3<f64>);
 fn finite_pose(what: &str, p: &Pose) -> Result<()> {
     match p.pos.iter().chain(p.rot.iter()).find(|v| !v.is_finite()) {
         None => Ok(()),
-        Some(&value) => Err(Error::NotFinite { what: format!("{what} pose"), value }),
+        Some(&value) => Err(Error::Input(InputError::NotFinite { what: format!("{what} pose"), value })),
     }
 }
 
@@ -107,7 +107,7 @@ impl Segment {
         finite_pose("from", from)?;
         finite_pose("to", to)?;
         if let Some(&value) = aux.iter().find(|v| !v.is_finite()) {
-            return Err(Error::NotFinite { what: "aux".into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: "aux".into(), value }));
         }
         let (a, b, c) = (from.pos, *aux, to.pos);
         let (ab, ac) = (b - a, c - a);
@@ -156,18 +156,18 @@ impl Segment {
             .chain(rot.iter().map(|&v| ("rot", v)))
             .find(|(_, v)| !v.is_finite());
         if let Some((what, value)) = not_finite {
-            return Err(Error::NotFinite { what: what.into(), value });
+            return Err(Error::Input(InputError::NotFinite { what: what.into(), value }));
         }
         let local = centre.inverse().transform_point(start);
         let r = local.x.hypot(local.y);
         if r == 0.0 || local.z.abs() > 1e-9 * r.max(1.0) {
-            return Err(Error::DoesNotFit {
+            return Err(Error::Input(InputError::DoesNotFit {
                 what: "start".into(),
                 reason: format!(
                     "the start point must lie in the xy plane of the centre frame, away from its origin (local {:.6}, {:.6}, {:.6})",
                     local.x, local.y, local.z
                 ),
-            });
+            }));
         }
         let e1 = centre.rot * Vector3::new(local.x / r, local.y / r, 0.0);
         let z = centre.rot.column(2).into_owned();

@@ -63,7 +63,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rot, rotate, sp1, sp2, sp3, Angles};
 use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::family::SelfMotionParameter;
 use crate::ik::iiwa::golden_max;
 use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, ClosedForm, Solution, Unreachable};
@@ -171,7 +171,7 @@ impl SrsIk {
     /// `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`; solutions outside the limits
     /// are included and flagged.
     ///
-    /// Errors: a non-finite `q3` or target ([`Error::NotFinite`]); a
+    /// Errors: a non-finite `q3` or target ([`InputError::NotFinite`]); a
     /// wrist centre outside the shell the elbow reaches
     /// ([`Unreachable::OutsideReach`]), in the cones around axis 1 that this
     /// q3 cannot reach ([`Unreachable::InsideExcluded`]), or an orientation
@@ -195,7 +195,7 @@ impl SrsIk {
     /// ```
     pub fn solve_q3_candidates(&self, target: &Pose, q3: f64) -> Result<Candidates<7, 8>> {
         if !q3.is_finite() {
-            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
+            return Err(Error::Input(InputError::NotFinite { what: "q3".into(), value: q3 }));
         }
         check_target(target)?;
         let mut out = Candidates::default();
@@ -293,7 +293,7 @@ impl SrsIk {
     /// and flagged. Each label keeps its branch as ψ varies, away from the
     /// singularities.
     ///
-    /// Errors: a non-finite `psi` or target ([`Error::NotFinite`]); a
+    /// Errors: a non-finite `psi` or target ([`InputError::NotFinite`]); a
     /// wrist centre outside the shell the elbow reaches
     /// ([`Unreachable::OutsideReach`]); an arm angle joints 1–3 cannot turn
     /// the upper arm to, or an orientation the wrist cannot take
@@ -321,7 +321,7 @@ impl SrsIk {
     /// branch labels without the FK check, without allocating. Same errors.
     pub fn solve_psi_candidates(&self, target: &Pose, psi: f64) -> Result<Candidates<7, 8>> {
         if !psi.is_finite() {
-            return Err(Error::NotFinite { what: "psi".into(), value: psi });
+            return Err(Error::Input(InputError::NotFinite { what: "psi".into(), value: psi }));
         }
         check_target(target)?;
         let mut out = Candidates::default();
@@ -499,7 +499,9 @@ impl SrsIk {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect());
             }
-            Err(e @ (Error::OutOfRange { .. } | Error::NotFinite { .. })) => return Err(e),
+            Err(e @ (Error::Input(InputError::OutOfRange { .. }) | Error::Input(InputError::NotFinite { .. }))) => {
+                return Err(e)
+            }
             other => other,
         };
         let mut best = self.search_q3(target);

@@ -75,7 +75,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::analysis::{manipulability_along, Axes};
-use crate::error::{Error, Result};
+use crate::error::{Error, InputError, Result};
 use crate::ik::family::{Choice, Redundancy, SelfMotionParameter};
 use crate::ik::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::kin::Frame;
@@ -217,18 +217,18 @@ struct Elbow {
 /// Refuses a configuration label that is not 3 bits.
 fn check_config(config: u8) -> Result<()> {
     if config > 7 {
-        return Err(Error::OutOfRange {
+        return Err(Error::Input(InputError::OutOfRange {
             what: "config".into(),
             value: f64::from(config),
             expected: "a 3-bit value, 0 to 7".into(),
-        });
+        }));
     }
     Ok(())
 }
 
 /// The error for a self-motion of no samples.
 pub(crate) fn no_steps() -> Error {
-    Error::TooFew { what: "steps".into(), got: 0, min: 1, of: "samples".into() }
+    Error::Input(InputError::TooFew { what: "steps".into(), got: 0, min: 1, of: "samples".into() })
 }
 
 fn invalid(robot: &Robot, reason: String) -> Error {
@@ -561,7 +561,7 @@ impl IiwaIk {
     /// (`shoulder+/elbow-/wrist+/front`, see the module documentation). Solutions outside the joint limits are included and
     /// flagged; coinciding solutions (singular cases) are returned once.
     ///
-    /// Errors: a non-finite target ([`Error::NotFinite`]); a wrist point
+    /// Errors: a non-finite target ([`InputError::NotFinite`]); a wrist point
     /// outside the shoulder–wrist annulus \[|d3 − d5|, d3 + d5\], or inside the
     /// cylinder around the axis of joint 1 of radius d5·|sin q3·sin q4| that
     /// this q3 cannot reach ([`Error::Unreachable`] with
@@ -584,7 +584,7 @@ impl IiwaIk {
     /// ```
     pub fn solve_q3(&self, target: &Pose, q3: f64) -> Result<Vec<Solution>> {
         if !q3.is_finite() {
-            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
+            return Err(Error::Input(InputError::NotFinite { what: "q3".into(), value: q3 }));
         }
         let t = self.arm_target(target)?;
         self.solve_q3_raw(&t, q3, 0.0)?.evaluate(&self.robot, target)
@@ -607,7 +607,7 @@ impl IiwaIk {
     /// ```
     pub fn solve_q3_candidates(&self, target: &Pose, q3: f64) -> Result<Candidates<7, 8>> {
         if !q3.is_finite() {
-            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
+            return Err(Error::Input(InputError::NotFinite { what: "q3".into(), value: q3 }));
         }
         let t = self.arm_target(target)?;
         self.solve_q3_raw(&t, q3, 0.0)
@@ -633,7 +633,7 @@ impl IiwaIk {
     /// ```
     pub fn solve_q3_near(&self, target: &Pose, q3: f64, near: &[f64]) -> Result<Candidates<7, 8>> {
         if !q3.is_finite() {
-            return Err(Error::NotFinite { what: "q3".into(), value: q3 });
+            return Err(Error::Input(InputError::NotFinite { what: "q3".into(), value: q3 }));
         }
         self.robot.check_q(near)?;
         let t = self.arm_target(target)?;
@@ -686,7 +686,7 @@ impl IiwaIk {
     /// [`IiwaIk::solve_q3`] (the annulus only: every ψ is reachable).
     pub fn solve_psi(&self, target: &Pose, psi: f64, config: u8) -> Result<Solution> {
         if !psi.is_finite() {
-            return Err(Error::NotFinite { what: "psi".into(), value: psi });
+            return Err(Error::Input(InputError::NotFinite { what: "psi".into(), value: psi }));
         }
         check_config(config)?;
         let t = self.arm_target(target)?;

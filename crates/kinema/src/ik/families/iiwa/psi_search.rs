@@ -3,6 +3,7 @@
 //! configuration bits when no q3 or ψ is given.
 
 use super::*;
+use crate::error::InputError;
 
 impl IiwaIk {
     /// The intervals of ψ in \[−π, π\] where the solution with configuration
@@ -98,7 +99,9 @@ impl IiwaIk {
             Ok(sols) if sols.iter().any(Solution::within_limits) => {
                 return Ok(sols.into_iter().filter(Solution::within_limits).collect())
             }
-            Err(e @ (Error::OutOfRange { .. } | Error::NotFinite { .. })) => return Err(e),
+            Err(e @ (Error::Input(InputError::OutOfRange { .. }) | Error::Input(InputError::NotFinite { .. }))) => {
+                return Err(e)
+            }
             _ => {}
         }
         let t = self.arm_target(target)?;
