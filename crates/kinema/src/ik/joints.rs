@@ -2,7 +2,7 @@
 //! configurations, joint limits (with the tolerance a closed form needs to
 //! land on one), whole turns of revolute joints, angle wrapping.
 
-use crate::model::JointSet;
+use crate::model::{JointSet, Limits};
 use crate::robot::Robot;
 
 /// Distance between two configurations: Euclidean over joints, with the
@@ -118,6 +118,23 @@ pub(crate) fn nearest_turns(robot: &Robot, q: &mut [f64], reference: &[f64]) -> 
         }
     }
     settle_on_limits(robot, q)
+}
+
+/// A closed form's angle θ \[rad\] as a joint value: wrapped to (−π, π],
+/// then moved by ±2π or ±4π when that brings it within `limits` (else left
+/// wrapped, for the limit flags to report).
+pub(crate) fn wrap_into_limits(limits: &Limits, theta: f64) -> f64 {
+    use std::f64::consts::TAU;
+    let q = wrap_angle(theta);
+    if limits.contains(q) {
+        return q;
+    }
+    for k in [1.0, -1.0, 2.0, -2.0] {
+        if limits.contains(q + k * TAU) {
+            return q + k * TAU;
+        }
+    }
+    q
 }
 
 /// `a` wrapped to (−π, π].

@@ -43,7 +43,7 @@ pub use contract::{Discarded, IkAnswer, Residual};
 pub use families::iiwa::IiwaIk;
 pub use families::{geo, iiwa, pieper, rommel, scara, scorbot};
 pub use joints::{joint_distance, settle_on_limits, wrap_angle, LIMIT_TOL};
-pub(crate) use joints::{limit_margin, nearest_turns, turn_copies};
+pub(crate) use joints::{limit_margin, nearest_turns, turn_copies, wrap_into_limits};
 pub use numeric::{Damping, NumericIk, NumericOptions};
 pub use request::{pick_one, solve_request, solve_target, solve_target_with, IkRequest, SolverChoice};
 pub use solution::{CandidateSet, Candidates, NumericInfo, Solution, Solutions, Stop};

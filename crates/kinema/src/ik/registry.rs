@@ -28,14 +28,19 @@ pub fn boxed<F: Family + 'static>(r: Result<F>) -> Result<Box<dyn Family>> {
 }
 
 /// The families, in the order they are tried: the DH readers of the seeds'
-/// robots first, then the geometric solvers that read any description.
+/// robots first, then the geometric solvers that read any description — the
+/// closed forms, the 1-D searches, the SRS arm, and last the 2-D search that
+/// takes any other 6R arm. [`geo::GeoIk`] tries its variants in this order.
 pub const FAMILIES: &[Entry] = &[
     Entry { name: "iiwa", typed: &[], fit: |r| boxed(iiwa::IiwaIk::new(r)) },
     Entry { name: "pieper", typed: &[], fit: |r| boxed(pieper::PieperIk::new(r)) },
     Entry { name: "scorbot", typed: &[TypedKind::PitchRoll], fit: |r| boxed(scorbot::ScorbotIk::new(r)) },
     Entry { name: "scara", typed: &[TypedKind::Alpha], fit: |r| boxed(scara::ScaraIk::new(r)) },
     Entry { name: "rommel", typed: &[TypedKind::Approach], fit: |r| boxed(rommel::RommelIk::new(r)) },
-    Entry { name: "geo", typed: &[], fit: |r| boxed(geo::GeoIk::new(r)) },
+    Entry { name: "geo-spherical-wrist", typed: &[], fit: |r| boxed(geo::SphericalWristIk::new(r)) },
+    Entry { name: "geo-three-parallel", typed: &[], fit: |r| boxed(geo::ThreeParallelIk::new(r)) },
+    Entry { name: "geo-three-parallel-search", typed: &[], fit: |r| boxed(geo::ThreeParallelSearchIk::new(r)) },
+    Entry { name: "geo-two-intersecting-search", typed: &[], fit: |r| boxed(geo::TwoIntersectingSearchIk::new(r)) },
     Entry { name: "geo-srs", typed: &[], fit: |r| boxed(geo::SrsIk::new(r)) },
     Entry { name: "geo-general", typed: &[], fit: |r| boxed(geo::GeneralIk::new(r)) },
 ];

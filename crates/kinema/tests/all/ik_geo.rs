@@ -664,3 +664,35 @@ fn search_solves_offset_wrists_whose_last_two_axes_meet() {
     assert!(matches!(e, Error::Unreachable { .. }), "{e}");
     common::random_poses_never_panic_or_return_nan(&ik);
 }
+
+/// The geometric families are entries of the one registry: on seeded random
+/// arms of each structure `registry::fit` picks the family `GeoIk::new`
+/// picks, and the two give the same solutions, branch for branch.
+#[test]
+fn the_registry_fits_random_arms_as_geo_ik_does() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x4e6);
+    for k in 0..24 {
+        let (robot, name) = match k % 4 {
+            0 => (random_spherical(&mut rng, k % 8 == 0), "geo-spherical-wrist"),
+            1 => (random_three_parallel(&mut rng), "geo-three-parallel"),
+            2 => (random_three_parallel_with(&mut rng, true), "geo-three-parallel-search"),
+            _ => (random_spherical_with(&mut rng, k % 8 == 3, true), "geo-two-intersecting-search"),
+        };
+        let geo = GeoIk::new(&robot).unwrap_or_else(|e| panic!("arm {k}: {e}"));
+        let fitted = kinema::ik::registry::fit(&robot).unwrap_or_else(|| panic!("arm {k}: no family fits"));
+        assert_eq!((geo.name(), fitted.name()), (name, name), "arm {k}");
+        for _ in 0..10 {
+            let target = robot.fk(&robot.random_q(&mut rng)).unwrap().world_from_tool;
+            match (geo.solve(&target), fitted.solve(&target)) {
+                (Ok(a), Ok(b)) => {
+                    assert_eq!(a.len(), b.len(), "arm {k}");
+                    for (s, t) in a.iter().zip(&b) {
+                        assert_eq!((&s.branch, &s.q), (&t.branch, &t.q), "arm {k}");
+                    }
+                }
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "arm {k}"),
+                (a, b) => panic!("arm {k}: {a:?} against {b:?}"),
+            }
+        }
+    }
+}

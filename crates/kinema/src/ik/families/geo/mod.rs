@@ -29,8 +29,10 @@
 //! q₃ and a search over q₃ within the limits; not a [`GeoIk`] variant, since
 //! its [`IkSolver::solve`] fixes q₃ = 0.
 //!
-//! [`GeoIk::new`] picks the first six-joint family that fits. Joint values are wrapped
-//! to (−π, π] and moved by ±2π when that brings them within the joint limits;
+//! Each family is its own entry in the one registry, [`FAMILIES`];
+//! [`GeoIk`] is the six-joint ones as one type, and [`GeoIk::new`] picks the
+//! first that fits, in the registry's order. Joint values are wrapped to
+//! (−π, π] and moved by ±2π when that brings them within the joint limits;
 //! solutions outside the limits are returned and flagged. Branch labels are
 //! `shoulder-{1,2}/elbow-{1,2}/wrist-{1,2}`: the root index of each step's
 //! subproblem (documented per family).
@@ -45,8 +47,6 @@ pub mod srs;
 pub mod subproblems;
 pub mod wrist_search;
 
-use std::f64::consts::TAU;
-
 use nalgebra::Vector3;
 
 pub use general::GeneralIk;
@@ -58,7 +58,9 @@ pub use srs::SrsIk;
 pub use wrist_search::TwoIntersectingSearchIk;
 
 use crate::error::{Error, Result};
-use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, IkSolver, Solution, Unreachable};
+use crate::ik::registry::FAMILIES;
+use crate::ik::wrap_into_limits;
+use crate::ik::{check_target, CandidateSet, Candidates, ClosedForm, IkSolver, Solution, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -127,17 +129,7 @@ impl Common {
     /// Joint value for angle θ of joint `i`: wrapped to (−π, π], moved by
     /// ±2π when that brings it within the limits.
     fn joint_value(&self, i: usize, theta: f64) -> f64 {
-        let q = wrap_angle(theta);
-        let lim = &self.robot.joints()[i].limits;
-        if lim.contains(q) {
-            return q;
-        }
-        for k in [1.0, -1.0, 2.0, -2.0] {
-            if lim.contains(q + k * TAU) {
-                return q + k * TAU;
-            }
-        }
-        q
+        wrap_into_limits(&self.robot.joints()[i].limits, theta)
     }
 
     /// Adds the joint values for angles `t` (unless one is not finite).
@@ -216,31 +208,35 @@ pub enum GeoIk {
     TwoIntersectingSearch(TwoIntersectingSearchIk),
 }
 
+/// How a [`FAMILIES`] entry becomes a [`GeoIk`] variant: the entry's name and the variant's constructor.
+type Variant = (&'static str, fn(&Robot) -> Result<GeoIk>);
+
+/// The registry entries that are [`GeoIk`] variants; the order they are
+/// tried in is the registry's.
+const VARIANTS: [Variant; 4] = [
+    (SphericalWristIk::NAME, |r| SphericalWristIk::new(r).map(GeoIk::SphericalWrist)),
+    (ThreeParallelIk::NAME, |r| ThreeParallelIk::new(r).map(GeoIk::ThreeParallel)),
+    (ThreeParallelSearchIk::NAME, |r| ThreeParallelSearchIk::new(r).map(GeoIk::ThreeParallelSearch)),
+    (TwoIntersectingSearchIk::NAME, |r| TwoIntersectingSearchIk::new(r).map(GeoIk::TwoIntersectingSearch)),
+];
+
 impl GeoIk {
-    /// The first family that fits `robot`, closed forms first (spherical
-    /// wrist, three parallel axes, then the two searches); the error lists
-    /// why each one refused.
+    /// The first six-joint geometric family that fits `robot`, in the order
+    /// of [`FAMILIES`] (closed forms first: spherical wrist, three parallel
+    /// axes, then the two searches); the error lists why each one refused.
     pub fn new(robot: &Robot) -> Result<Self> {
-        let e1 = match SphericalWristIk::new(robot) {
-            Ok(s) => return Ok(GeoIk::SphericalWrist(s)),
-            Err(e) => e,
-        };
-        let e2 = match ThreeParallelIk::new(robot) {
-            Ok(s) => return Ok(GeoIk::ThreeParallel(s)),
-            Err(e) => e,
-        };
-        let e3 = match ThreeParallelSearchIk::new(robot) {
-            Ok(s) => return Ok(GeoIk::ThreeParallelSearch(s)),
-            Err(e) => e,
-        };
-        let e4 = match TwoIntersectingSearchIk::new(robot) {
-            Ok(s) => return Ok(GeoIk::TwoIntersectingSearch(s)),
-            Err(e) => e,
-        };
+        let mut refusals = Vec::with_capacity(VARIANTS.len());
+        let fits = FAMILIES.iter().filter_map(|e| VARIANTS.iter().find(|(name, _)| *name == e.name));
+        for (_, fit) in fits {
+            match fit(robot) {
+                Ok(geo) => return Ok(geo),
+                Err(e) => refusals.push(e.to_string()),
+            }
+        }
         Err(Error::UnsupportedStructure {
             solver: "geometric".into(),
             robot: robot.name().into(),
-            reason: format!("no geometric IK family fits: {e1}; {e2}; {e3}; {e4}"),
+            reason: format!("no geometric IK family fits: {}", refusals.join("; ")),
         })
     }
 
@@ -273,3 +269,23 @@ impl IkSolver for GeoIk {
 }
 
 impl crate::ik::family::Family for GeoIk {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_variant_is_a_registry_entry_and_fits_as_the_registry_does() {
+        for (name, _) in VARIANTS {
+            assert!(FAMILIES.iter().any(|e| e.name == name), "{name} is not in FAMILIES");
+        }
+        for name in crate::builtin_names() {
+            let robot = Robot::builtin(name).unwrap();
+            let fitted = crate::ik::registry::fit(&robot).map(|f| f.name());
+            let is_variant = fitted.is_some_and(|f| VARIANTS.iter().any(|(n, _)| *n == f));
+            if is_variant {
+                assert_eq!(GeoIk::new(&robot).unwrap().name(), fitted.unwrap(), "{name}");
+            }
+        }
+    }
+}

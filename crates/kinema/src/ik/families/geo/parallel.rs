@@ -219,3 +219,5 @@ impl ClosedForm for ThreeParallelIk {
         candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }
+
+impl crate::ik::family::Family for ThreeParallelIk {}

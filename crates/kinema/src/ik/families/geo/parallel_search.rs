@@ -194,3 +194,5 @@ impl ClosedForm for ThreeParallelSearchIk {
         candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }
+
+impl crate::ik::family::Family for ThreeParallelSearchIk {}

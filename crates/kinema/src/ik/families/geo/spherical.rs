@@ -279,3 +279,5 @@ impl ClosedForm for SphericalWristIk {
         candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }
+
+impl crate::ik::family::Family for SphericalWristIk {}

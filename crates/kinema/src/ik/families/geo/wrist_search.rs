@@ -188,3 +188,5 @@ impl ClosedForm for TwoIntersectingSearchIk {
         candidates_with(Self::NAME, target, out, |t, c| self.solve_candidates(t, c))
     }
 }
+
+impl crate::ik::family::Family for TwoIntersectingSearchIk {}

@@ -79,7 +79,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::error::{Error, Result};
-use crate::ik::{check_target, wrap_angle, IkSolver, Solution, Unreachable};
+use crate::ik::wrap_into_limits;
+use crate::ik::{check_target, IkSolver, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry};
@@ -369,18 +370,7 @@ impl PieperIk {
     /// Joint value for angle θ of joint `i`: θ − offset wrapped to (−π, π],
     /// moved by ±2π when that brings it within the limits.
     fn joint_value(&self, i: usize, theta: f64) -> f64 {
-        let q = wrap_angle(theta - self.links[i].offset);
-        let lim = &self.robot.joints()[i].limits;
-        if lim.contains(q) {
-            return q;
-        }
-        for k in [1.0, -1.0, 2.0, -2.0] {
-            let c = q + k * 2.0 * PI;
-            if lim.contains(c) {
-                return c;
-            }
-        }
-        q
+        wrap_into_limits(&self.robot.joints()[i].limits, theta - self.links[i].offset)
     }
 
     /// The arm solutions (θ1, θ2, θ3, label) for wrist centre `p`.
