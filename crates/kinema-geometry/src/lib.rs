@@ -23,6 +23,13 @@
 //!   margin), [`contacts`], [`min_distance`] and [`pair_distance`] (signed
 //!   distance with witness points, as a [`Proximity`]).
 //!
+//! * [`Scene`] — obstacles fixed in the world and robots on their bases, from
+//!   one TOML file (a `kinema cell` file is a scene plus motions);
+//!   [`Scene::with_robot`] adds the obstacles to a robot's geometry and pairs.
+//!   The broad phase is each placed shape's axis-aligned box: only pairs whose
+//!   boxes are within the margin (or, for distances, within the best distance
+//!   so far) reach the exact query.
+//!
 //! Units are SI: metres and radians.
 //!
 //! ## Example
@@ -58,6 +65,7 @@ mod pairs;
 mod placement;
 mod query;
 mod robot_toml;
+mod scene;
 mod shape;
 mod toml_shape;
 mod urdf;
@@ -69,6 +77,7 @@ pub use pairs::CollisionPairs;
 pub use placement::{place, Placement};
 pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
 pub use robot_toml::{load_robot_geometry, toml_geometry};
+pub use scene::{Obstacle, Scene, SceneRobot, MAX_SCENE_BYTES};
 pub use shape::{Mesh, Shape};
 pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
 

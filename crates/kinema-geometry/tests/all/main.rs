@@ -5,5 +5,6 @@ mod builtin_shapes;
 mod common;
 mod meshes;
 mod primitives;
+mod scene;
 mod self_collision;
 mod urdf;
