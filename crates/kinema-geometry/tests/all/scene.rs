@@ -14,33 +14,35 @@ fn an_obstacle_on_the_arm_collides_and_one_beside_it_does_not() {
     let (robot, geometry) = load_robot_geometry("ur5", &Default::default()).unwrap();
     let home = robot.home().to_vec();
     let wrist = robot.link_frames(&home).unwrap()[4].pos;
-    let ball = |x: f64| {
+    let ball = |up: f64| {
         format!(
-            "[[obstacle]]\nname = \"ball\"\nsphere = {{ radius = 0.05 }}\npose = [{x}, {}, {}, 0, 0, 0]\n",
-            wrist.y, wrist.z
+            "[[obstacle]]\nname = \"ball\"\nsphere = {{ radius = 0.05 }}\npose = [{}, {}, {}, 0, 0, 0]\n",
+            wrist.x,
+            wrist.y,
+            wrist.z + up
         )
     };
     let pairs = CollisionPairs::self_collision(&geometry);
-    for (x, hit) in [(wrist.x, true), (wrist.x + 0.5, false)] {
-        let s = scene(&ball(x)).unwrap();
+    for (up, hit) in [(0.0, true), (1.0, false)] {
+        let s = scene(&ball(up)).unwrap();
         let (all, all_pairs) = s.with_robot(&robot, &geometry, &pairs).unwrap();
         assert_eq!(all.len(), geometry.len() + 1);
         assert_eq!(all_pairs.len(), pairs.len() + geometry.len());
         let placement = Placement::of(&robot, &all, &home).unwrap();
         let first = collides(&all, &placement, &all_pairs, 0.0).unwrap();
-        assert_eq!(first.is_some(), hit, "ball at x = {x}");
+        assert_eq!(first.is_some(), hit, "ball {up} m above the wrist");
         if let Some((a, b)) = first {
             assert_eq!(all.shapes()[b].link_name(), "ball");
             assert!(all.shapes()[a].link() >= 3, "{}", all.shapes()[a].name());
         } else {
-            // The ball's centre is 0.5 m from the wrist centre: the nearest link is 0.3–0.5 m away,
-            // and the closest pair of all is no farther.
+            // The ball's centre is 1 m above the wrist centre, the arm's highest point at home: the
+            // nearest link is 0.5–1 m away, and the closest pair of all is no farther.
             let ball = all.len() - 1;
             let to_ball = (0..geometry.len())
                 .filter(|&s| all_pairs.contains(s, ball))
                 .map(|s| kinema_geometry::pair_distance(&all, &placement, s, ball).unwrap().distance)
                 .fold(f64::INFINITY, f64::min);
-            assert!(to_ball > 0.3 && to_ball < 0.5, "{to_ball}");
+            assert!(to_ball > 0.5 && to_ball < 1.0, "{to_ball}");
             let d = min_distance(&all, &placement, &all_pairs).unwrap().unwrap();
             assert!(d.distance <= to_ball, "{d:?}");
         }
