@@ -13,6 +13,7 @@ pub(crate) use output::write_atomically;
 
 mod bench_cmd;
 mod cell_cmd;
+mod collide_cmd;
 mod dyn_cmd;
 mod ik_cmd;
 mod info_cmd;
@@ -90,6 +91,9 @@ enum Cmd {
     /// Several robots on a common clock (seed 004 §VIII-E): per-robot checks and the closest
     /// distance between their tools (exit code 3 when closer than the minimum).
     Cell(cell_cmd::CellArgs),
+    /// Self-collision and collision with a scene's obstacles at a configuration (or a CSV of them):
+    /// the colliding pairs and the closest pair (exit code 3 on a collision).
+    Collide(collide_cmd::CollideArgs),
     /// Check a robot program: every diagnostic, nothing written (exit code 1 on errors).
     Check(lang_cmd::ProgramArgs),
     /// Run a robot program: write its joint signals as CSV (nothing is written on any error).
@@ -364,6 +368,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Traj { cmd } => traj_cmd::traj(cmd),
         Cmd::Dyn(a) => dyn_cmd::run(a),
         Cmd::Cell(a) => cell_cmd::run(a),
+        Cmd::Collide(a) => collide_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
         Cmd::Compile(a) => lang_cmd::compile(a),

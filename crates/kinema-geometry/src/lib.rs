@@ -12,7 +12,9 @@
 //! * [`RobotGeometry`] — the shapes of one robot, immutable and shareable.
 //!   From a URDF with [`load_urdf`] (`<collision>` and `<visual>`; `package://`
 //!   and relative mesh paths; STL, OBJ and COLLADA meshes via [`load_mesh`]),
-//!   or built in code.
+//!   or built in code; for kinema's TOML robots from their `[[shape]]`
+//!   tables with [`toml_geometry`] (every built-in robot has them;
+//!   [`load_robot_geometry`] loads a robot and its shapes by name or path).
 //! * [`Placement`] — the world pose and bounding box of every shape for one
 //!   joint vector, filled by [`place`] into reusable buffers.
 //! * [`CollisionPairs`] — which pairs are checked ([`CollisionPairs::self_collision`]:
@@ -20,6 +22,13 @@
 //! * Queries on parry3d-f64: [`collides`] (the first pair within a safety
 //!   margin), [`contacts`], [`min_distance`] and [`pair_distance`] (signed
 //!   distance with witness points, as a [`Proximity`]).
+//!
+//! * [`Scene`] — obstacles fixed in the world and robots on their bases, from
+//!   one TOML file (a `kinema cell` file is a scene plus motions);
+//!   [`Scene::with_robot`] adds the obstacles to a robot's geometry and pairs.
+//!   The broad phase is each placed shape's axis-aligned box: only pairs whose
+//!   boxes are within the margin (or, for distances, within the best distance
+//!   so far) reach the exact query.
 //!
 //! Units are SI: metres and radians.
 //!
@@ -55,7 +64,10 @@ mod mesh;
 mod pairs;
 mod placement;
 mod query;
+mod robot_toml;
+mod scene;
 mod shape;
+mod toml_shape;
 mod urdf;
 
 pub use error::{Error, Result};
@@ -64,6 +76,8 @@ pub use mesh::{load_mesh, MAX_MESH_BYTES};
 pub use pairs::CollisionPairs;
 pub use placement::{place, Placement};
 pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
+pub use robot_toml::{load_robot_geometry, toml_geometry};
+pub use scene::{Obstacle, Scene, SceneRobot, MAX_SCENE_BYTES};
 pub use shape::{Mesh, Shape};
 pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
 

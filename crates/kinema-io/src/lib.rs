@@ -23,6 +23,7 @@
 
 mod bench;
 mod cell;
+mod collide;
 mod error;
 mod ik;
 mod kinematics;
@@ -36,6 +37,7 @@ pub mod trajectory_csv;
 
 pub use bench::{BenchAnswer, IkBench};
 pub use cell::{CellAnswer, CellMember, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
+pub use collide::{CollideAnswer, CollidePair, DistanceAnswer};
 pub use error::ErrorAnswer;
 pub use ik::{
     shown_q, ClosestAnswer, DiscardedAnswer, DiscardedCandidate, IkAnswer, SelfMotionAnswer, SelfMotionPoint,

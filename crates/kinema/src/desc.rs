@@ -25,7 +25,8 @@
 //! ```
 //!
 //! Everything is converted to SI (m, rad) on load. Errors name the file, the
-//! line and column, and the field.
+//! line and column, and the field. `[[shape]]` tables (link geometry) belong
+//! to kinema-geometry, which reads them from the same text; the core skips them.
 
 use std::collections::BTreeMap;
 
@@ -55,6 +56,10 @@ struct RobotFile {
     tool: Option<Spanned<FrameSpec>>,
     joint: Vec<Spanned<JointSpec>>,
     poses: BTreeMap<String, Spanned<Vec<f64>>>,
+    /// `[[shape]]`: link geometry, read from the same text by kinema-geometry
+    /// (the kinematic model carries no shapes); accepted here unread.
+    #[serde(default, rename = "shape")]
+    _shapes: Option<toml::Value>,
 }
 
 #[derive(Deserialize)]

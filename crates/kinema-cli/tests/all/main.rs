@@ -9,6 +9,7 @@ mod mutate;
 
 mod cell;
 mod cli;
+mod collide;
 #[cfg(feature = "serve")]
 mod doors;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.

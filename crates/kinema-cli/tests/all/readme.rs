@@ -289,8 +289,8 @@ fn fixtures(dir: &Path) {
     };
     // `fk --robot my_arm.urdf --tip tool0`: any URDF arm with a link tool0.
     copy(repo.join("crates/kinema/tests/data/ur5.urdf"), "my_arm.urdf");
-    // The robot programs and cells, at the paths the documents give.
-    for folder in ["examples/programs", "examples/cells"] {
+    // The robot programs, cells and scenes, at the paths the documents give.
+    for folder in ["examples/programs", "examples/cells", "examples/scenes"] {
         std::fs::create_dir_all(dir.join(folder)).unwrap();
         for entry in std::fs::read_dir(repo.join(folder)).unwrap() {
             let path = entry.unwrap().path();

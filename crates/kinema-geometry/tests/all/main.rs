@@ -1,8 +1,10 @@
 //! kinema-geometry's integration tests, one module per area, in one test
 //! binary. Run one area with `cargo test -p kinema-geometry --test all urdf::`.
 
+mod builtin_shapes;
 mod common;
 mod meshes;
 mod primitives;
+mod scene;
 mod self_collision;
 mod urdf;

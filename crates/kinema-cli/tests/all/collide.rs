@@ -1,0 +1,112 @@
+//! `kinema collide`: text and JSON, a free and a colliding configuration of a
+//! built-in robot, an obstacle scene, batch order, and bad inputs.
+
+use crate::common::kinema;
+
+fn json(text: &str) -> serde_json::Value {
+    serde_json::from_str(text).unwrap_or_else(|e| panic!("not JSON ({e}): {text}"))
+}
+
+fn has_pair(answer: &serde_json::Value, a: &str, b: &str) -> bool {
+    answer["pairs"].as_array().unwrap().iter().any(|p| (p["a"] == a && p["b"] == b) || (p["a"] == b && p["b"] == a))
+}
+
+const FOLDED_UR5: &str = "0,-90,-180,-90,-90,0";
+
+#[test]
+fn free_and_folded_ur5_in_text_and_json() {
+    let free = kinema(&["collide", "--robot", "ur5", "--q", "home"]);
+    assert!(free.ok, "{}", free.stderr);
+    assert!(free.stdout.starts_with("free; closest link "), "{}", free.stdout);
+
+    let hit = kinema(&["collide", "--robot", "ur5", "--q", FOLDED_UR5, "--deg", "--json"]);
+    assert_eq!(hit.code, Some(3), "{}", hit.stderr);
+    let a = json(&hit.stdout);
+    assert_eq!(a["collision"], true);
+    assert!(has_pair(&a, "link 2", "link 4"), "{a}");
+    let d = &a["min_distance"];
+    assert!(d["distance"].as_f64().unwrap() < 0.0, "{d}");
+    assert_eq!(d["point_a"].as_array().unwrap().len(), 3);
+
+    let text = kinema(&["collide", "--robot", "ur5", "--q", FOLDED_UR5, "--deg"]);
+    assert_eq!(text.code, Some(3));
+    assert!(text.stdout.starts_with("collision: ") && text.stdout.contains("link 2 – link 4"), "{}", text.stdout);
+
+    // A margin turns a near miss into a collision.
+    let margin = kinema(&["collide", "--robot", "ur5", "--q", "home", "--margin", "0.5", "--json"]);
+    assert_eq!(margin.code, Some(3), "{}", margin.stderr);
+    assert_eq!(json(&margin.stdout)["margin"], 0.5);
+}
+
+#[test]
+fn an_obstacle_scene_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("lab.toml");
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/lab.toml");
+    std::fs::copy(repo, &scene).unwrap();
+    let scene = scene.to_str().unwrap();
+    let home = kinema(&["collide", "--robot", "ur5", "--scene", scene, "--q", "home", "--json"]);
+    assert!(home.ok, "{}{}", home.stdout, home.stderr);
+    assert_eq!(json(&home.stdout)["collision"], false);
+    // The shoulder lowered 30° below the horizontal: the upper arm reaches into the bench.
+    let low = kinema(&["collide", "--robot", "ur5", "--scene", scene, "--q", "0,30,0,0,0,0", "--deg", "--json"]);
+    assert_eq!(low.code, Some(3), "{}", low.stderr);
+    let a = json(&low.stdout);
+    assert!(has_pair(&a, "link 2", "bench"), "{a}");
+}
+
+#[test]
+fn batch_answers_in_input_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("q.csv");
+    let folded: Vec<f64> = FOLDED_UR5.split(',').map(|v| v.parse::<f64>().unwrap().to_radians()).collect();
+    let home = [0.0, -90f64.to_radians(), 90f64.to_radians(), -90f64.to_radians(), -90f64.to_radians(), 0.0];
+    let row = |q: &[f64]| q.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(",");
+    let mut text = String::from("q1,q2,q3,q4,q5,q6\n");
+    let expected: Vec<bool> = (0..50).map(|i| i % 3 == 1).collect();
+    for &hit in &expected {
+        text += &row(if hit { &folded } else { &home });
+        text += "\n";
+    }
+    std::fs::write(&input, text).unwrap();
+    let run = kinema(&["collide", "--robot", "ur5", "--input", input.to_str().unwrap(), "--json"]);
+    assert_eq!(run.code, Some(3), "{}", run.stderr);
+    let got: Vec<bool> = run.stdout.lines().map(|l| json(l)["collision"].as_bool().unwrap()).collect();
+    assert_eq!(got, expected);
+    let plain = kinema(&["collide", "--robot", "ur5", "--input", input.to_str().unwrap()]);
+    let lines: Vec<&str> = plain.stdout.lines().collect();
+    assert!(lines[0].starts_with("line 2: free") && lines[1].starts_with("line 3: collision"), "{lines:?}");
+}
+
+#[test]
+fn bad_inputs_say_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let unknown = write("unknown.toml", "[[obstacle]]\nname = \"b\"\nbox = [1, 1, 1]\ncolor = 1\n");
+    let r = kinema(&["collide", "--robot", "ur5", "--scene", &unknown, "--q", "home"]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("unknown.toml:4:") && r.stderr.contains("color"), "{}", r.stderr);
+
+    let mesh = write("mesh.toml", "[[obstacle]]\nname = \"m\"\nmesh = \"fixture.stl\"\n");
+    let r = kinema(&["collide", "--robot", "ur5", "--scene", &mesh, "--q", "home"]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("fixture.stl") && r.stderr.contains("not found"), "{}", r.stderr);
+
+    let r = kinema(&["collide", "--robot", "ur5", "--q", "0,0"]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains('2') && r.stderr.contains('6'), "{}", r.stderr);
+
+    let short = write("short.csv", "0,0,0,0,0,0\n0,0,0\n");
+    let r = kinema(&["collide", "--robot", "ur5", "--input", &short]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("line 2") && r.stderr.contains("expected one per joint"), "{}", r.stderr);
+    assert!(r.stdout.is_empty(), "nothing printed before the input is checked");
+
+    let r = kinema(&["collide", "--robot", "ur5", "--q", "home", "--margin", "-1"]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("margin"), "{}", r.stderr);
+}
