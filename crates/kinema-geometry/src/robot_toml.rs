@@ -116,8 +116,9 @@ pub fn load_robot_geometry(spec: &str, options: &UrdfOptions) -> Result<(Robot, 
     }
     let robot = Robot::load(spec, options.tip.as_deref())?;
     let path = Path::new(spec);
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Kinema(kinema::Error::Io { path: spec.to_string(), source: e.into() }))?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: spec.to_string(), source: e.into() }))
+    })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let geometry = toml_geometry(&robot, &text, spec, dir)?;
     Ok((robot, geometry))

@@ -11,7 +11,7 @@
 //!
 //! Numbers are in the file's units (a robot file's `[units]`; SI in a
 //! scene); any value may also be a string with its unit (`"60mm"`, `"90deg"`).
-//! Errors are [`kinema::Error::Description`]s naming file, line, column and field.
+//! Errors are [`ModelError::Description`](kinema::ModelError::Description)s naming file, line, column and field.
 
 use std::ops::Range;
 use std::path::Path;
@@ -123,13 +123,13 @@ impl Src<'_> {
         let before = &self.text[..at];
         let line = before.matches('\n').count() + 1;
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        Error::Kinema(kinema::Error::Description {
+        Error::Kinema(kinema::Error::Model(kinema::ModelError::Description {
             file: self.file.to_string(),
             line,
             column,
             field: field.to_string(),
             message: message.into(),
-        })
+        }))
     }
 
     /// Parses `text` into `T` with errors at the offending field.

@@ -139,7 +139,7 @@ fn shape_tables_are_checked_with_file_and_line() {
     let e = error(negative);
     assert!(e.contains("shape[1]") && e.contains("radius is -0.06"), "{e}");
 
-    let no_link = base.replacen("link = 7", "link = 7", 1).replacen("link = 2\n", "link = 9\n", 1);
+    let no_link = base.replacen("link = 2\n", "link = 9\n", 1);
     let e = error(no_link);
     assert!(e.contains("shape[1].link") && e.contains("expected 0 (base) to 6"), "{e}");
 
