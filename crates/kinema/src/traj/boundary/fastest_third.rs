@@ -3,7 +3,7 @@
 //! or a hold at a limit (+a_max, −a_max, or a cruise at +v_max).
 
 use super::problem::{Limits, Problem};
-use super::profile::{Integrator, Profile};
+use super::profile::{residual_of, JerkSegment, Profile};
 use super::roots;
 use super::velocity::{fall, rise};
 
@@ -40,12 +40,7 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
         Some(s)
     };
     let valley_residual = |x: f64, root: bool| match valley_change(x, root) {
-        Some(c) => {
-            let mut m = Integrator::new(p.v0, p.a0);
-            c.advance(&mut m);
-            m.jerk((p.af - x) / j, j);
-            m.p - p.dp
-        }
+        Some(c) => residual_of(p, c.segments().iter().chain(&[ramp((p.af - x) / j, j)])),
         None => f64::NAN,
     };
     // A falling root (a peak −√K ≤ 0) cannot start from a0 > 0: `rise`
@@ -66,13 +61,7 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
         Some(s)
     };
     let held_residual = |x: f64, root: bool| match held_change(x, root) {
-        Some(c) => {
-            let mut m = Integrator::new(p.v0, p.a0);
-            c.advance(&mut m);
-            m.jerk(x, 0.0);
-            m.jerk((p.af + l.acc) / j, j);
-            m.p - p.dp
-        }
+        Some(c) => residual_of(p, c.segments().iter().chain(&[ramp(x, 0.0), ramp((p.af + l.acc) / j, j)])),
         None => f64::NAN,
     };
     let hmax = (l.vel - v7) / l.acc;
@@ -83,4 +72,9 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
             out.extend(xs.iter().filter_map(|&x| held(x, root)));
         }
     }
+}
+
+/// A segment of constant jerk that keeps the acceleration continuous.
+fn ramp(dt: f64, jerk: f64) -> JerkSegment {
+    JerkSegment { dt, jerk, set_acc: None }
 }
