@@ -64,21 +64,8 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
     let xs: Vec<f64> = (0..=n).map(|i| -l.vel + 2.0 * l.vel * i as f64 / n as f64).collect();
     let ss: Vec<f64> = xs.iter().map(|&x| slack(x)).collect();
     // The slack is largest near its best sample; feasible intervals are
-    // runs of samples with slack ≥ 0, extended to slack = 0 by bisection.
-    let edge = |mut inside: f64, mut outside: f64| -> f64 {
-        for _ in 0..200 {
-            let m = 0.5 * (inside + outside);
-            if m == inside || m == outside {
-                break;
-            }
-            if slack(m) >= 0.0 {
-                inside = m;
-            } else {
-                outside = m;
-            }
-        }
-        inside
-    };
+    // runs of samples with slack ≥ 0, extended to slack = 0 by Illinois.
+    let edge = |inside: f64, outside: f64| roots::last_inside(&slack, inside, outside);
     let mut intervals = Vec::new();
     let mut i = 0;
     while i <= n {

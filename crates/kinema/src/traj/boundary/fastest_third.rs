@@ -40,7 +40,10 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
         Some(s)
     };
     let valley_residual = |x: f64, root: bool| match valley_change(x, root) {
-        Some(c) => residual_of(p, c.segments().iter().chain(&[ramp((p.af - x) / j, j)])),
+        Some(c) => {
+            let [up, hold, down] = c.segments();
+            residual_of(p, &[up, hold, down, ramp((p.af - x) / j, j)])
+        }
         None => f64::NAN,
     };
     // A falling root (a peak −√K ≤ 0) cannot start from a0 > 0: `rise`
@@ -61,7 +64,10 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
         Some(s)
     };
     let held_residual = |x: f64, root: bool| match held_change(x, root) {
-        Some(c) => residual_of(p, c.segments().iter().chain(&[ramp(x, 0.0), ramp((p.af + l.acc) / j, j)])),
+        Some(c) => {
+            let [up, hold, down] = c.segments();
+            residual_of(p, &[up, hold, down, ramp(x, 0.0), ramp((p.af + l.acc) / j, j)])
+        }
         None => f64::NAN,
     };
     let hmax = (l.vel - v7) / l.acc;
