@@ -2,29 +2,20 @@
 //! changes to and from it, lasting a prescribed time.
 
 use super::problem::{Limits, Problem};
-use super::profile::{Integrator, JerkSegment, Profile};
+use super::profile::{residual_of, JerkSegment, Profile};
 use super::roots;
 use super::velocity::{fastest_change, Change};
 
 /// Cruise at v_c (zero acceleration) between the fastest changes to and
 /// from it, lasting exactly `t`; for any order (`j` = None: second order).
 pub(super) fn cruise_at(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<Profile> {
-    let mut s = Profile::default();
-    for g in &cruise_segments(p, l, t, vc)? {
-        s.push(g.dt, g.jerk, g.set_acc);
-    }
-    Some(s)
+    Some(Profile::from_segments(&cruise_segments(p, l, t, vc)?))
 }
 
 /// The end position of [`cruise_at`]'s profile minus the target's (NaN when
 /// there is none), computed without building the profile.
 fn cruise_residual(p: &Problem, l: &Limits, t: f64, vc: f64) -> f64 {
-    let Some(segments) = cruise_segments(p, l, t, vc) else { return f64::NAN };
-    let mut m = Integrator::new(p.v0, p.a0);
-    for g in &segments {
-        m.segment(g);
-    }
-    m.p - p.dp
+    cruise_segments(p, l, t, vc).map_or(f64::NAN, |g| residual_of(p, &g))
 }
 
 /// [`cruise_at`]'s segments (unused ones of length 0): up to three for the
@@ -47,8 +38,7 @@ fn cruise_segments(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<[JerkSegm
             let (a, b) = (ramp(p.v0, vc), ramp(vc, p.vf));
             (g[0], g[4]) = (a, b);
             // As a profile sums its non-empty segments.
-            let d = |s: JerkSegment| [s.dt].iter().filter(|&&t| t > 0.0).sum::<f64>();
-            (d(a), d(b))
+            (a.dt.max(0.0), b.dt.max(0.0))
         }
     };
     let cruise = t - da - db;
@@ -74,21 +64,8 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
     let xs: Vec<f64> = (0..=n).map(|i| -l.vel + 2.0 * l.vel * i as f64 / n as f64).collect();
     let ss: Vec<f64> = xs.iter().map(|&x| slack(x)).collect();
     // The slack is largest near its best sample; feasible intervals are
-    // runs of samples with slack ≥ 0, extended to slack = 0 by bisection.
-    let edge = |mut inside: f64, mut outside: f64| -> f64 {
-        for _ in 0..200 {
-            let m = 0.5 * (inside + outside);
-            if m == inside || m == outside {
-                break;
-            }
-            if slack(m) >= 0.0 {
-                inside = m;
-            } else {
-                outside = m;
-            }
-        }
-        inside
-    };
+    // runs of samples with slack ≥ 0, extended to slack = 0 by Illinois.
+    let edge = |inside: f64, outside: f64| roots::last_inside(&slack, inside, outside);
     let mut intervals = Vec::new();
     let mut i = 0;
     while i <= n {

@@ -3,7 +3,7 @@
 //! or a hold at a limit (+a_max, −a_max, or a cruise at +v_max).
 
 use super::problem::{Limits, Problem};
-use super::profile::{Integrator, Profile};
+use super::profile::{residual_of, JerkSegment, Profile};
 use super::roots;
 use super::velocity::{fall, rise};
 
@@ -41,10 +41,8 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     };
     let valley_residual = |x: f64, root: bool| match valley_change(x, root) {
         Some(c) => {
-            let mut m = Integrator::new(p.v0, p.a0);
-            c.advance(&mut m);
-            m.jerk((p.af - x) / j, j);
-            m.p - p.dp
+            let [up, hold, down] = c.segments();
+            residual_of(p, &[up, hold, down, ramp((p.af - x) / j, j)])
         }
         None => f64::NAN,
     };
@@ -67,11 +65,8 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     };
     let held_residual = |x: f64, root: bool| match held_change(x, root) {
         Some(c) => {
-            let mut m = Integrator::new(p.v0, p.a0);
-            c.advance(&mut m);
-            m.jerk(x, 0.0);
-            m.jerk((p.af + l.acc) / j, j);
-            m.p - p.dp
+            let [up, hold, down] = c.segments();
+            residual_of(p, &[up, hold, down, ramp(x, 0.0), ramp((p.af + l.acc) / j, j)])
         }
         None => f64::NAN,
     };
@@ -83,4 +78,9 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
             out.extend(xs.iter().filter_map(|&x| held(x, root)));
         }
     }
+}
+
+/// A segment of constant jerk that keeps the acceleration continuous.
+fn ramp(dt: f64, jerk: f64) -> JerkSegment {
+    JerkSegment { dt, jerk, set_acc: None }
 }

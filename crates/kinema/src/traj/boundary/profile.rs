@@ -1,7 +1,7 @@
 //! A profile — a sequence of segments of constant jerk — integrating it,
 //! and building and re-checking the law it makes.
 
-use super::problem::Limits;
+use super::problem::{Limits, Problem};
 use super::{BoundaryLaw, BoundaryState};
 
 /// The most segments any law has: a brake of up to four, then a blend of
@@ -31,6 +31,15 @@ impl Profile {
             self.segments[self.len] = JerkSegment { dt, jerk, set_acc };
             self.len += 1;
         }
+    }
+
+    /// The profile of `segments`, zero-length ones left out.
+    pub fn from_segments<'a>(segments: impl IntoIterator<Item = &'a JerkSegment>) -> Profile {
+        let mut s = Profile::default();
+        for g in segments {
+            s.push(g.dt, g.jerk, g.set_acc);
+        }
+        s
     }
 
     pub fn extend(&mut self, other: &Profile) {
@@ -121,12 +130,16 @@ impl Integrator {
         self.v += u * (self.a + u * s.jerk / 2.0);
         self.a += u * s.jerk;
     }
+}
 
-    /// Advances over a segment of jerk `jerk` lasting `dt`.
-    #[inline]
-    pub fn jerk(&mut self, dt: f64, jerk: f64) {
-        self.segment(&JerkSegment { dt, jerk, set_acc: None });
+/// The end position of the profile of `segments` from `p`'s start state
+/// minus the target's, without building the profile.
+pub(super) fn residual_of<'a>(p: &Problem, segments: impl IntoIterator<Item = &'a JerkSegment>) -> f64 {
+    let mut m = Integrator::new(p.v0, p.a0);
+    for g in segments {
+        m.segment(g);
     }
+    m.p - p.dp
 }
 
 /// One segment of a built law: the state at its start `t0` and its jerk.

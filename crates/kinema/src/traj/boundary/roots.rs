@@ -1,7 +1,7 @@
 //! Roots of a function of one unknown on an interval: sign changes on a
 //! grid, refined by bisection (reference) or the Illinois variant of
 //! regula falsi (fast), plus pairs of roots hidden between two grid points
-//! (found at a minimum of |f|).
+//! (found at a minimum of |f|); and the edge of a region where f ≥ 0.
 
 /// Grid intervals for the one-unknown searches.
 pub(super) const GRID: usize = 64;
@@ -189,4 +189,45 @@ fn pair_near_minimum(f: &impl Fn(f64) -> f64, xs: [f64; 3], ys: [f64; 3], out: &
     } else if fm <= 1e-13 * ym.abs().max(1e-300) {
         out.push(xm); // tangent: accepted if the rebuilt law checks out
     }
+}
+
+/// The last point from `inside` towards `outside` where `f` ≥ 0, to the
+/// resolution of f64, given f(`inside`) ≥ 0 and f(`outside`) < 0 or NaN.
+/// Regula falsi (Illinois) while the values allow it, bisection where they
+/// are not finite or a step has not halved the bracket: the edges of a
+/// feasible interval this way take a handful of evaluations, not fifty.
+pub(super) fn last_inside(f: &impl Fn(f64) -> f64, mut inside: f64, mut outside: f64) -> f64 {
+    let (mut fi, mut fo) = (f(inside), f(outside));
+    let (mut side, mut stalled) = (0, 0);
+    let mut width = (outside - inside).abs();
+    for _ in 0..200 {
+        let mid = 0.5 * (inside + outside);
+        if mid == inside || mid == outside {
+            break;
+        }
+        let secant = inside - fi * (outside - inside) / (fo - fi);
+        let between = (secant - inside) * (secant - outside) < 0.0;
+        let x = if between && stalled < 2 { secant } else { mid };
+        let fx = f(x);
+        if fx >= 0.0 {
+            (inside, fi) = (x, fx);
+            if side == -1 {
+                fo *= 0.5;
+            }
+            side = -1;
+        } else {
+            (outside, fo) = (x, fx);
+            if side == 1 {
+                fi *= 0.5;
+            }
+            side = 1;
+        }
+        let w = (outside - inside).abs();
+        if w <= 0.5 * width {
+            (width, stalled) = (w, 0);
+        } else {
+            stalled += 1;
+        }
+    }
+    inside
 }

@@ -2,29 +2,20 @@
 //! hold (the peak acceleration held below a_max, or the valley held at −a_max).
 
 use super::problem::{Limits, Problem};
-use super::profile::{Integrator, JerkSegment, Profile};
+use super::profile::{residual_of, JerkSegment, Profile};
 use super::roots;
 
 /// Candidates lasting exactly `t` with one free hold: acceleration rises to a
 /// peak a_p ≤ a_max held for some time, falls to a valley x, rises to a_f
 /// (the valley held at −a_max for `hold` seconds when x = −a_max).
 pub(super) fn held_peak(p: &Problem, l: &Limits, j: f64, t: f64, x: f64, hold: f64, root: bool) -> Option<Profile> {
-    let mut s = Profile::default();
-    for g in &held_peak_segments(p, l, j, t, x, hold, root)? {
-        s.push(g.dt, g.jerk, g.set_acc);
-    }
-    Some(s)
+    Some(Profile::from_segments(&held_peak_segments(p, l, j, t, x, hold, root)?))
 }
 
 /// The end position of [`held_peak`]'s profile minus the target's (NaN when
 /// there is none), computed without building the profile.
 fn held_peak_residual(p: &Problem, l: &Limits, j: f64, t: f64, x: f64, hold: f64, root: bool) -> f64 {
-    let Some(segments) = held_peak_segments(p, l, j, t, x, hold, root) else { return f64::NAN };
-    let mut m = Integrator::new(p.v0, p.a0);
-    for g in &segments {
-        m.segment(g);
-    }
-    m.p - p.dp
+    held_peak_segments(p, l, j, t, x, hold, root).map_or(f64::NAN, |g| residual_of(p, &g))
 }
 
 /// [`held_peak`]'s five segments (some possibly of length 0).

@@ -2,7 +2,7 @@
 //! ignoring position, the building block of every third-order family.
 
 use super::problem::Limits;
-use super::profile::{Integrator, JerkSegment, Profile};
+use super::profile::{JerkSegment, Profile};
 
 /// A velocity change: jerk `jerk` for `ramp_up`, a hold, then −`jerk` for
 /// `ramp_down`. Kept as three numbers (not a [`Profile`]) because the
@@ -22,11 +22,7 @@ impl Change {
     }
 
     pub fn profile(&self) -> Profile {
-        let mut s = Profile::default();
-        for g in &self.segments() {
-            s.push(g.dt, g.jerk, g.set_acc);
-        }
-        s
+        Profile::from_segments(&self.segments())
     }
 
     /// The ramp up, the hold and the ramp down (lengths possibly 0).
@@ -36,14 +32,6 @@ impl Change {
             JerkSegment { dt: self.hold, jerk: 0.0, set_acc: None },
             JerkSegment { dt: self.ramp_down, jerk: -self.jerk, set_acc: None },
         ]
-    }
-
-    /// Advances `m` over this change (as over its [`Change::profile`]).
-    #[inline]
-    pub fn advance(&self, m: &mut Integrator) {
-        m.jerk(self.ramp_up, self.jerk);
-        m.jerk(self.hold, 0.0);
-        m.jerk(self.ramp_down, -self.jerk);
     }
 
     fn mirrored(self) -> Change {
