@@ -17,6 +17,8 @@
 //!   joint vector, filled by [`place`] into reusable buffers.
 //! * [`CollisionPairs`] — which pairs are checked ([`CollisionPairs::self_collision`]:
 //!   shapes on links that are not neighbours on the chain).
+//! * [`Srdf`] — an SRDF's `<disable_collisions>`: read, applied to a pair
+//!   list, written; [`generate_srdf`] finds them as MoveIt's setup assistant does.
 //! * Queries on parry3d-f64: [`collides`] (the first pair within a safety
 //!   margin), [`contacts`], [`min_distance`] and [`pair_distance`] (signed
 //!   distance with witness points, as a [`Proximity`]).
@@ -56,6 +58,7 @@ mod pairs;
 mod placement;
 mod query;
 mod shape;
+mod srdf;
 mod urdf;
 
 pub use error::{Error, Result};
@@ -65,6 +68,7 @@ pub use pairs::CollisionPairs;
 pub use placement::{place, Placement};
 pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
 pub use shape::{Mesh, Shape};
+pub use srdf::{generate_srdf, DisabledPair, Srdf};
 pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
 
 pub use parry3d_f64;

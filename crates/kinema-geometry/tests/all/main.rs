@@ -5,4 +5,5 @@ mod common;
 mod meshes;
 mod primitives;
 mod self_collision;
+mod srdf;
 mod urdf;
