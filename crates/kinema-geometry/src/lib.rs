@@ -17,6 +17,10 @@
 //!   joint vector, filled by [`place`] into reusable buffers.
 //! * [`CollisionPairs`] — which pairs are checked ([`CollisionPairs::self_collision`]:
 //!   shapes on links that are not neighbours on the chain).
+//! * [`Spheres`] — the conservative fast path: each shape inside a few
+//!   spheres on its link; [`spheres_free`] (forward kinematics included)
+//!   says "free" only when the exact shapes are free, [`collides_fast`]
+//!   asks the exact shapes only where it cannot.
 //! * [`Srdf`] — an SRDF's `<disable_collisions>`: read, applied to a pair
 //!   list, written; [`generate_srdf`] finds them as MoveIt's setup assistant does.
 //! * Queries on parry3d-f64: [`collides`] (the first pair within a safety
@@ -58,6 +62,7 @@ mod pairs;
 mod placement;
 mod query;
 mod shape;
+mod spheres;
 mod srdf;
 mod urdf;
 
@@ -68,6 +73,7 @@ pub use pairs::CollisionPairs;
 pub use placement::{place, Placement};
 pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
 pub use shape::{Mesh, Shape};
+pub use spheres::{collides_fast, spheres_free, SpherePlacement, Spheres};
 pub use srdf::{generate_srdf, DisabledPair, Srdf};
 pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
 

@@ -5,5 +5,6 @@ mod common;
 mod meshes;
 mod primitives;
 mod self_collision;
+mod spheres;
 mod srdf;
 mod urdf;
