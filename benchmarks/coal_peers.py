@@ -9,7 +9,8 @@ Joints off kinema's chain (the Panda's fingers) are locked at 0, as kinema carri
 per robot, a header line `#robot,NAME,URDF,SRDF,PACKAGE_DIR,TIP,A|B,…` naming the checked pairs
 (Pinocchio's geometry names, `LINK_i` as kinema names them), then one line per configuration:
 `NAME,q…,collision,distance,…` with coal's verdict (0/1) and distance [m] per pair, in header order.
---timing M: per configuration over M configurations of the Panda, computeCollisions (forward
+--timing M: per configuration over the first M configurations of the Panda (the ones kinema's bench
+`collision` reads from the same CSV), computeCollisions (forward
 kinematics, placements, all pairs, stopping at the first collision, as kinema's `collides` does) and
 computeDistances (all pairs), printed as `coal TASK: X us per configuration`.
 """
@@ -78,7 +79,8 @@ def main():
             ]
             out.write(f"#robot,{name},{path},{os.path.join(robots, srdf)},{share},{tip}," + ",".join(names) + "\n")
             hits = 0
-            for q in configurations(model, rng, args.n):
+            qs = configurations(model, rng, args.n)
+            for q in qs:
                 pin.computeCollisions(model, data, geom, gdata, q, False)
                 pin.computeDistances(model, data, geom, gdata, q)
                 cells = []
@@ -89,7 +91,7 @@ def main():
                 out.write(name + "," + ",".join(repr(float(v)) for v in q) + "," + ",".join(cells) + "\n")
             print(f"{name}: {len(geom.geometryObjects)} shapes, {len(names)} pairs after the SRDF, {args.n} configurations, {hits} pair collisions")
             if name == "panda" and args.timing:
-                timing(model, geom, configurations(model, rng, args.timing))
+                timing(model, geom, qs[: args.timing])
     return 0
 
 

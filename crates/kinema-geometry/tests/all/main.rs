@@ -1,6 +1,7 @@
 //! kinema-geometry's integration tests, one module per area, in one test
 //! binary. Run one area with `cargo test -p kinema-geometry --test all urdf::`.
 
+mod coal;
 mod common;
 mod meshes;
 mod primitives;
