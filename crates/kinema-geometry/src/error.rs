@@ -67,6 +67,14 @@ pub enum Error {
         /// The two shape kinds.
         kinds: String,
     },
+    /// An SRDF that cannot be read, or that names a link the robot does not have.
+    #[error("{file}: {message}")]
+    Srdf {
+        /// The SRDF file (or `<string>`).
+        file: String,
+        /// What is wrong and what is expected.
+        message: String,
+    },
     /// A safety margin that is not a distance.
     #[error("the safety margin is {margin}; expected a finite distance ≥ 0 m")]
     Margin {

@@ -19,6 +19,12 @@
 //!   joint vector, filled by [`place`] into reusable buffers.
 //! * [`CollisionPairs`] — which pairs are checked ([`CollisionPairs::self_collision`]:
 //!   shapes on links that are not neighbours on the chain).
+//! * [`Spheres`] — the conservative fast path: each shape inside a few
+//!   spheres on its link; [`spheres_free`] (forward kinematics included)
+//!   says "free" only when the exact shapes are free, [`collides_fast`]
+//!   asks the exact shapes only where it cannot.
+//! * [`Srdf`] — an SRDF's `<disable_collisions>`: read, applied to a pair
+//!   list, written; [`generate_srdf`] finds them as MoveIt's setup assistant does.
 //! * Queries on parry3d-f64: [`collides`] (the first pair within a safety
 //!   margin), [`contacts`], [`min_distance`] and [`pair_distance`] (signed
 //!   distance with witness points, as a [`Proximity`]).
@@ -67,6 +73,8 @@ mod query;
 mod robot_toml;
 mod scene;
 mod shape;
+mod spheres;
+mod srdf;
 mod toml_shape;
 mod urdf;
 
@@ -79,6 +87,8 @@ pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
 pub use robot_toml::{load_robot_geometry, toml_geometry};
 pub use scene::{Obstacle, Scene, SceneRobot, MAX_SCENE_BYTES};
 pub use shape::{Mesh, Shape};
+pub use spheres::{collides_fast, spheres_free, SpherePlacement, Spheres};
+pub use srdf::{generate_srdf, DisabledPair, Srdf};
 pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
 
 pub use parry3d_f64;

@@ -68,19 +68,31 @@ pub fn collides(
         if gap > margin {
             continue;
         }
-        let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-        let hit = if let Some(p) = round_pair(geometry, placement, a, b) {
-            p.distance < margin || p.distance <= 0.0
-        } else if margin == 0.0 {
-            query::intersection_test(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?
-        } else {
-            query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))? < margin
-        };
-        if hit {
+        if pair_hits(geometry, placement, a, b, margin)? {
             return Ok(Some((a, b)));
         }
     }
     Ok(None)
+}
+
+/// Whether shapes `a` and `b` are closer than `margin` (overlap or touch
+/// with `margin` 0), past the bounding-box test; indices and margin checked
+/// by the caller.
+pub(crate) fn pair_hits(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    a: usize,
+    b: usize,
+    margin: f64,
+) -> Result<bool> {
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    Ok(if let Some(p) = round_pair(geometry, placement, a, b) {
+        p.distance < margin || p.distance <= 0.0
+    } else if margin == 0.0 {
+        query::intersection_test(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?
+    } else {
+        query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))? < margin
+    })
 }
 
 /// Every pair of `pairs` closer than `margin` \[m, ≥ 0\] (see [`collides`]),
@@ -257,7 +269,7 @@ fn round_pair(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usiz
 
 /// The distance between two boxes (0 when they overlap): a lower bound of
 /// the distance between anything inside them.
-fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
+pub(crate) fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
     let below = a.mins - b.maxs;
     let above = b.mins - a.maxs;
     below.zip_map(&above, |x, y| x.max(y).max(0.0)).norm()

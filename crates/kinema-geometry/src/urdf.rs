@@ -42,6 +42,10 @@ pub struct UrdfRobot {
     /// The `<visual>` shapes, named the same way (empty with
     /// [`UrdfOptions::skip_visual`]).
     pub visual: RobotGeometry,
+    /// Every `<link>` of the URDF and the kinema link it rides on (fixed
+    /// links folded into their parent), in document order: the names an
+    /// SRDF may use ([`crate::Srdf::apply`]).
+    pub links: Vec<UrdfLink>,
 }
 
 /// The directories of the `ROS_PACKAGE_PATH` environment variable (empty if unset).
@@ -103,6 +107,7 @@ pub fn urdf_from_str(text: &str, file: &str, dir: &Path, options: &UrdfOptions) 
         collision: RobotGeometry::new(&robot, collision)?,
         visual: RobotGeometry::new(&robot, visual)?,
         robot,
+        links,
     })
 }
 

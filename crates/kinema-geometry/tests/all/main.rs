@@ -2,9 +2,12 @@
 //! binary. Run one area with `cargo test -p kinema-geometry --test all urdf::`.
 
 mod builtin_shapes;
+mod coal;
 mod common;
 mod meshes;
 mod primitives;
 mod scene;
 mod self_collision;
+mod spheres;
+mod srdf;
 mod urdf;
