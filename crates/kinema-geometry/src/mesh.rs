@@ -1,6 +1,5 @@
 //! Mesh files (STL, OBJ, COLLADA) read with `mesh-loader`, bounded in size.
 
-use std::io::Read;
 use std::path::Path;
 
 use nalgebra::{Point3, Vector3};
@@ -29,19 +28,7 @@ pub const MAX_MESH_BYTES: u64 = 256 << 20;
 /// ```
 pub fn load_mesh(path: &Path, scale: [f64; 3]) -> Result<Mesh> {
     let shown = path.display().to_string();
-    let io = |e: std::io::Error| {
-        Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: shown.clone(), source: e.into() }))
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut bytes = Vec::new();
-    file.take(MAX_MESH_BYTES + 1).read_to_end(&mut bytes).map_err(io)?;
-    if bytes.len() as u64 > MAX_MESH_BYTES {
-        return Err(Error::Kinema(kinema::Error::File(kinema::FileError::FileTooLarge {
-            path: shown,
-            what: "a mesh".into(),
-            limit: MAX_MESH_BYTES,
-        })));
-    }
+    let bytes = kinema::read_bounded(path, "a mesh", MAX_MESH_BYTES)?;
     let bad = |message: String| Error::Mesh { path: shown.clone(), message };
     if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
         return Err(bad(format!("scale {scale:?} must be three finite, non-zero factors")));

@@ -112,21 +112,9 @@ impl Scene {
     /// Reads a scene file (at most [`MAX_SCENE_BYTES`]); mesh and robot
     /// paths in it are relative to its folder.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene> {
-        use std::io::Read;
         let path = path.as_ref();
         let shown = path.display().to_string();
-        let io = |e: std::io::Error| {
-            Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: shown.clone(), source: e.into() }))
-        };
-        let mut text = String::new();
-        std::fs::File::open(path).map_err(io)?.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text).map_err(io)?;
-        if text.len() as u64 > MAX_SCENE_BYTES {
-            return Err(Error::Kinema(kinema::Error::File(kinema::FileError::FileTooLarge {
-                path: shown,
-                what: "a scene".into(),
-                limit: MAX_SCENE_BYTES,
-            })));
-        }
+        let text = kinema::read_bounded_text(path, "a scene", MAX_SCENE_BYTES)?;
         Scene::from_toml(&text, &shown, path.parent().unwrap_or(Path::new(".")))
     }
 

@@ -9,7 +9,6 @@
 //! exactly the shapes Pinocchio's `removeCollisionPairs` would.
 
 use std::collections::BTreeSet;
-use std::io::Read;
 use std::path::Path;
 
 use quick_xml::events::{BytesStart, Event};
@@ -51,22 +50,7 @@ impl Srdf {
     pub fn load(path: impl AsRef<Path>) -> Result<Srdf> {
         let path = path.as_ref();
         let shown = path.display().to_string();
-        let io = |e: std::io::Error| {
-            Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: shown.clone(), source: e.into() }))
-        };
-        let mut text = String::new();
-        std::fs::File::open(path)
-            .map_err(io)?
-            .take(kinema::MAX_DESCRIPTION_BYTES + 1)
-            .read_to_string(&mut text)
-            .map_err(io)?;
-        if text.len() as u64 > kinema::MAX_DESCRIPTION_BYTES {
-            return Err(Error::Kinema(kinema::Error::File(kinema::FileError::FileTooLarge {
-                path: shown,
-                what: "an SRDF".into(),
-                limit: kinema::MAX_DESCRIPTION_BYTES,
-            })));
-        }
+        let text = kinema::read_bounded_text(path, "an SRDF", kinema::MAX_DESCRIPTION_BYTES)?;
         Srdf::from_str(&text, &shown)
     }
 

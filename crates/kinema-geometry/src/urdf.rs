@@ -3,7 +3,6 @@
 //! fixed links fold into their parent's body, as the mass properties do).
 
 use std::collections::HashMap;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -58,22 +57,7 @@ pub fn ros_package_path() -> Vec<PathBuf> {
 pub fn load_urdf(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<UrdfRobot> {
     let path = path.as_ref();
     let shown = path.display().to_string();
-    let io = |e: std::io::Error| {
-        Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: shown.clone(), source: e.into() }))
-    };
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .map_err(io)?
-        .take(kinema::MAX_DESCRIPTION_BYTES + 1)
-        .read_to_string(&mut text)
-        .map_err(io)?;
-    if text.len() as u64 > kinema::MAX_DESCRIPTION_BYTES {
-        return Err(Error::Kinema(kinema::Error::File(kinema::FileError::FileTooLarge {
-            path: shown,
-            what: "a robot description".into(),
-            limit: kinema::MAX_DESCRIPTION_BYTES,
-        })));
-    }
+    let text = kinema::read_bounded_text(path, "a robot description", kinema::MAX_DESCRIPTION_BYTES)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     urdf_from_str(&text, &shown, &dir, options)
 }

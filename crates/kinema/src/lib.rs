@@ -70,6 +70,7 @@ mod lanes;
 pub mod math;
 pub mod model;
 mod names;
+mod read;
 pub mod reference;
 mod registry;
 mod robot;
@@ -85,6 +86,7 @@ pub use model::{
     ModelBuilder, NamedPose, MAX_MAGNITUDE,
 };
 pub use names::Named;
+pub use read::{read_bounded, read_bounded_text};
 pub use registry::{builtin_names, builtin_source, MAX_DESCRIPTION_BYTES};
 pub use robot::Robot;
 pub use urdf::UrdfLink;

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use crate::error::{Error, FileError, InputError, ModelError, Result};
+use crate::error::{Error, InputError, ModelError, Result};
 use crate::robot::Robot;
 
 include!(concat!(env!("OUT_DIR"), "/builtin_robots.rs"));
@@ -12,23 +12,6 @@ include!(concat!(env!("OUT_DIR"), "/builtin_robots.rs"));
 /// tests is 20 KiB), so that `/dev/zero` or a FIFO given by mistake is refused
 /// instead of filling the memory.
 pub const MAX_DESCRIPTION_BYTES: u64 = 16 << 20;
-
-/// The text of a description file, at most [`MAX_DESCRIPTION_BYTES`] long.
-fn read_description(path: &Path, shown: &str) -> Result<String> {
-    use std::io::Read;
-    let io = |e: std::io::Error| Error::File(FileError::Io { path: shown.to_string(), source: e.into() });
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut text = String::new();
-    file.take(MAX_DESCRIPTION_BYTES + 1).read_to_string(&mut text).map_err(io)?;
-    if text.len() as u64 > MAX_DESCRIPTION_BYTES {
-        return Err(Error::File(FileError::FileTooLarge {
-            path: shown.to_string(),
-            what: "a robot description".into(),
-            limit: MAX_DESCRIPTION_BYTES,
-        }));
-    }
-    Ok(text)
-}
 
 /// Names of the built-in robots, sorted.
 pub fn builtin_names() -> impl Iterator<Item = &'static str> {
@@ -107,7 +90,7 @@ impl Robot {
         let path = path.as_ref();
         let shown = path.display().to_string();
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-        let read = || read_description(path, &shown);
+        let read = || crate::read::read_bounded_text(path, "a robot description", MAX_DESCRIPTION_BYTES);
         match ext.as_deref() {
             Some("toml") => {
                 if tip.is_some() {
