@@ -22,8 +22,8 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into};
-use kinema::Data;
 use kinema::nalgebra::{DMatrix, Matrix6xX, Vector3};
+use kinema::Data;
 use kinema::Frame;
 use kinema_core_peers::{load, read_states, State};
 

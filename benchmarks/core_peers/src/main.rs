@@ -13,8 +13,8 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use kinema::dynamics::{mass_matrix, mass_matrix_into, rnea, rnea_into};
-use kinema::Data;
 use kinema::nalgebra::{DMatrix, Vector3};
+use kinema::Data;
 use kinema::{Frame, Robot};
 #[cfg(feature = "ik-geo")]
 use kinema_core_peers::ikgeo::{arms, GeoArm};
