@@ -10,11 +10,7 @@ use anyhow::{bail, Result};
 use clap::Args;
 use rayon::prelude::*;
 
-use kinema::Robot;
-use kinema_geometry::{
-    contacts, load_robot_geometry, min_distance, place, ros_package_path, CollisionPairs, Placement, RobotGeometry,
-    Scene, UrdfOptions,
-};
+use kinema_geometry::{CollisionCheck, Placement};
 use kinema_io::{CollideAnswer, CollidePair, DistanceAnswer};
 
 use crate::stdout::outln;
@@ -30,13 +26,8 @@ const CHUNK: usize = 4096;
 pub struct CollideArgs {
     #[command(flatten)]
     robot: crate::RobotArg,
-    /// A scene file: `[[obstacle]]`s (and `[[robot]]`s, as in a `kinema cell` file; only the obstacles are
-    /// checked here).
-    #[arg(long, value_name = "FILE")]
-    scene: Option<PathBuf>,
-    /// Safety margin [m]: pairs closer than this count as colliding.
-    #[arg(long, default_value_t = 0.0, value_name = "METRES")]
-    margin: f64,
+    #[command(flatten)]
+    body: crate::BodyArgs,
     /// Joint values, comma-separated (rad and m), or a named pose such as `home`.
     #[arg(long, allow_hyphen_values = true, required_unless_present = "input", conflicts_with = "input")]
     q: Option<String>,
@@ -46,43 +37,17 @@ pub struct CollideArgs {
     /// Revolute joint values are in degrees (prismatic ones stay in metres).
     #[arg(long)]
     deg: bool,
-    /// For a URDF: directories holding the packages of `package://` meshes (ROS_PACKAGE_PATH is added).
-    #[arg(long = "package-path", value_name = "DIR")]
-    package_path: Vec<PathBuf>,
     /// Print JSON (one object per configuration, one per line with --input).
     #[arg(long)]
     json: bool,
 }
 
-/// What is checked: the robot, its shapes (and the obstacles) and the pairs.
-struct Checked {
-    robot: Robot,
-    geometry: RobotGeometry,
-    pairs: CollisionPairs,
-    margin: f64,
-}
-
 pub fn run(a: CollideArgs) -> Result<()> {
-    let mut package_paths = a.package_path.clone();
-    package_paths.extend(ros_package_path());
-    let options = UrdfOptions { tip: a.robot.tip.clone(), package_paths, skip_visual: true };
-    let (robot, geometry) = load_robot_geometry(&a.robot.robot, &options)?;
-    if geometry.is_empty() {
-        bail!(
-            "robot `{}` has no link shapes; add [[shape]] tables (TOML) or <collision> elements (URDF)",
-            a.robot.robot
-        );
-    }
-    let self_pairs = CollisionPairs::self_collision(&geometry);
-    let (geometry, pairs) = match &a.scene {
-        Some(path) => Scene::load(path)?.with_robot(&robot, &geometry, &self_pairs)?,
-        None => (geometry, self_pairs),
-    };
-    let checked = Checked { robot, geometry, pairs, margin: a.margin };
+    let checked = a.body.load(&a.robot)?;
     let collided = match (&a.q, &a.input) {
         (Some(text), _) => {
-            let q = crate::input::parse_q(&checked.robot, text, a.deg)?;
-            let answer = check(&checked, q, &mut Placement::new(&checked.geometry))?;
+            let q = crate::input::parse_q(checked.robot(), text, a.deg)?;
+            let answer = check(&checked, q, &mut checked.placement())?;
             print(&answer, None, a.json)?;
             answer.collision
         }
@@ -96,19 +61,19 @@ pub fn run(a: CollideArgs) -> Result<()> {
 }
 
 /// Checks every line of `path` on all cores, chunk by chunk; prints in input order.
-fn batch(c: &Checked, path: &std::path::Path, deg: bool, json: bool) -> Result<bool> {
+fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool) -> Result<bool> {
     let rows = crate::numeric_rows(path)?;
     if rows.is_empty() {
         bail!("`{}` holds no configurations", path.display());
     }
-    let dof = c.robot.dof();
+    let dof = c.robot().dof();
     for (line, v) in &rows {
         if v.len() != dof {
             bail!(
                 "`{}` line {line}: {} values; expected one per joint of `{}` ({dof})",
                 path.display(),
                 v.len(),
-                c.robot.name()
+                c.robot().name()
             );
         }
     }
@@ -117,14 +82,14 @@ fn batch(c: &Checked, path: &std::path::Path, deg: bool, json: bool) -> Result<b
         let answers: Vec<Result<CollideAnswer>> = chunk
             .par_iter()
             .map_init(
-                || Placement::new(&c.geometry),
+                || c.placement(),
                 |placement, (line, v)| {
                     let q = v
                         .iter()
-                        .zip(c.robot.joints())
+                        .zip(c.robot().joints())
                         .map(|(x, j)| if deg && j.kind == kinema::JointType::Revolute { x.to_radians() } else { *x })
                         .collect::<Vec<f64>>();
-                    c.robot.check_q(&q).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", path.display()))?;
+                    c.robot().check_q(&q).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", path.display()))?;
                     check(c, q, placement)
                 },
             )
@@ -139,25 +104,18 @@ fn batch(c: &Checked, path: &std::path::Path, deg: bool, json: bool) -> Result<b
 }
 
 /// The answer for one configuration.
-fn check(c: &Checked, q: Vec<f64>, placement: &mut Placement) -> Result<CollideAnswer> {
-    place(&c.robot, &c.geometry, &q, placement)?;
-    let shapes = c.geometry.shapes();
-    let link = |i: usize| shapes[i].link_name().to_string();
-    let mut pairs: Vec<CollidePair> = Vec::new();
-    for p in contacts(&c.geometry, placement, &c.pairs, c.margin)? {
-        let pair = CollidePair { a: link(p.a), b: link(p.b) };
-        if !pairs.contains(&pair) {
-            pairs.push(pair);
-        }
-    }
-    let closest = min_distance(&c.geometry, placement, &c.pairs)?.map(|p| DistanceAnswer {
+fn check(c: &CollisionCheck, q: Vec<f64>, placement: &mut Placement) -> Result<CollideAnswer> {
+    c.place(&q, placement)?;
+    let pairs: Vec<CollidePair> =
+        c.colliding_bodies(placement)?.into_iter().map(|(a, b)| CollidePair { a, b }).collect();
+    let closest = c.closest(placement)?.map(|p| DistanceAnswer {
         distance: p.distance,
-        a: link(p.a),
-        b: link(p.b),
+        a: c.body(p.a).to_string(),
+        b: c.body(p.b).to_string(),
         point_a: p.point_a.coords.into(),
         point_b: p.point_b.coords.into(),
     });
-    Ok(CollideAnswer { q, collision: !pairs.is_empty(), margin: c.margin, pairs, min_distance: closest })
+    Ok(CollideAnswer { q, collision: !pairs.is_empty(), margin: c.margin(), pairs, min_distance: closest })
 }
 
 fn print(a: &CollideAnswer, line: Option<u64>, json: bool) -> Result<()> {

@@ -3,7 +3,9 @@
 use crate::stdout::outln;
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use kinema::ik::{Closest, IkAnswer, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
+use kinema::ik::{
+    Admissible, Closest, IkAnswer, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance,
+};
 use kinema::nalgebra::Matrix4;
 use kinema::{Error, Pose, Robot, RpyConvention};
 use kinema_io::{SelfMotionAnswer, UnreachableAnswer, ValidateAnswer};
@@ -82,6 +84,10 @@ pub struct IkArgs {
     /// Print JSON.
     #[arg(long)]
     json: bool,
+    /// Collision checks (with --scene or --srdf): a solution in collision is discarded, and an iiwa-type arm
+    /// searches its self-motion for a free one.
+    #[command(flatten)]
+    body: crate::BodyArgs,
 }
 
 fn numbers(text: &str, what: &str, count: usize) -> Result<Vec<f64>> {
@@ -163,7 +169,13 @@ type Solved = kinema::Result<IkAnswer>;
 
 /// Runs the solver the arguments ask for (the core's `ik::solve_target`);
 /// returns its answer and the target solved for.
-fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Result<(Solved, IkTarget)> {
+fn solve(
+    a: &IkArgs,
+    robot: &Robot,
+    target: IkTarget,
+    q0: Option<&[f64]>,
+    admissible: Option<&dyn Admissible>,
+) -> Result<(Solved, IkTarget)> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     // Flag grammar, not the core's rule: a typed flag beside --T/--pose would be ignored (clap's
     // `requires` does not fire when a conflicting target flag is given).
@@ -187,7 +199,7 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
         }
         other => other,
     };
-    let request = request(a, q0)?;
+    let request = request(a, q0, admissible)?;
     match kinema::ik::solve_target(robot, &target, &request) {
         Ok(answer) => Ok((Ok(answer), target)),
         Err(e @ Error::Unreachable { .. }) => Ok((Err(e), target)),
@@ -195,8 +207,13 @@ fn solve(a: &IkArgs, robot: &Robot, target: IkTarget, q0: Option<&[f64]>) -> Res
     }
 }
 
-/// The request the flags make (solver, q0, all, q3/ψ, mask, tolerance, seed).
-pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest<'a>> {
+/// The request the flags make (solver, q0, all, q3/ψ, mask, tolerance, seed,
+/// the collision check).
+pub(crate) fn request<'a>(
+    a: &IkArgs,
+    q0: Option<&'a [f64]>,
+    admissible: Option<&'a dyn Admissible>,
+) -> Result<IkRequest<'a>> {
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     Ok(IkRequest {
         solver: a.solver,
@@ -207,6 +224,7 @@ pub(crate) fn request<'a>(a: &IkArgs, q0: Option<&'a [f64]>) -> Result<IkRequest
         mask: a.mask.as_deref().map(mask).transpose()?,
         tolerance: Tolerance { position: a.tol_position, orientation: a.tol_orientation },
         numeric: NumericOptions { seed: a.seed, ..Default::default() },
+        admissible,
     })
 }
 
@@ -241,13 +259,18 @@ pub fn ik(a: IkArgs) -> Result<()> {
              targets); the answer to a single target is printed (add --json and redirect it to keep it)",
         ));
     }
-    let robot = a.robot.load()?;
+    let check = a.body.load_if_asked(&a.robot)?;
+    let admissible = check.as_ref().map(|c| c as &dyn Admissible);
+    let robot = match &check {
+        Some(c) => c.robot().clone(),
+        None => a.robot.load()?,
+    };
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
-        return batch::run(&a, &robot, input, output);
+        return batch::run(&a, &robot, input, output, admissible);
     }
     let target = target(&a)?;
     let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
-    let (result, target) = solve(&a, &robot, target, q0.as_deref()).map_err(request_flag)?;
+    let (result, target) = solve(&a, &robot, target, q0.as_deref(), admissible).map_err(request_flag)?;
     let orientation_free = target.orientation_free();
     let answer = match result {
         Ok(s) => s,
@@ -277,8 +300,12 @@ pub fn ik(a: IkArgs) -> Result<()> {
     }
     let IkAnswer { solver: name, discarded, tolerance, folded, .. } = answer;
     outln!("robot {}  solver {}  {} solution(s)", robot.name(), name, chosen.len())?;
-    if !discarded.is_empty() {
-        outln!("  ({} candidate(s) discarded: {}, {tolerance})", discarded.len(), kinema_io::DISCARD_REASON)?;
+    let (missed, rejected): (Vec<_>, Vec<_>) = discarded.iter().partition(|d| d.rejection.is_none());
+    if !missed.is_empty() {
+        outln!("  ({} candidate(s) discarded: {}, {tolerance})", missed.len(), kinema_io::DISCARD_REASON)?;
+    }
+    if let Some(first) = rejected.first().and_then(|d| d.rejection.as_ref()) {
+        outln!("  ({} solution(s) discarded, the first for {first})", rejected.len())?;
     }
     if folded > 0 && a.all {
         outln!("  ({folded} more copies within limits, joints turned by whole turns, not listed)")?;

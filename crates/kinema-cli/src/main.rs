@@ -9,9 +9,12 @@ use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use kinema::{Named, Robot};
 
+pub(crate) use body::BodyArgs;
+
 pub(crate) use output::write_atomically;
 
 mod bench_cmd;
+mod body;
 mod cell_cmd;
 mod collide_cmd;
 mod dyn_cmd;
@@ -151,13 +154,13 @@ fn not_built(feature: &str) -> anyhow::Error {
 }
 
 #[derive(Args)]
-struct RobotArg {
+pub(crate) struct RobotArg {
     /// A built-in robot name (see `kinema robots`), a .toml description or a .urdf file.
     #[arg(long, short)]
-    robot: String,
+    pub(crate) robot: String,
     /// For a URDF: the tip link of the chain (default: the only leaf link).
     #[arg(long)]
-    tip: Option<String>,
+    pub(crate) tip: Option<String>,
 }
 
 impl RobotArg {
@@ -169,10 +172,15 @@ impl RobotArg {
 /// [`Robot::load`], with what the loader left out or chose printed on stderr.
 pub(crate) fn load_robot(spec: &str, tip: Option<&str>) -> Result<Robot> {
     let robot = Robot::load(spec, tip)?;
+    print_load_warnings(spec, &robot);
+    Ok(robot)
+}
+
+/// What the loader of `spec` left out or chose, on stderr.
+pub(crate) fn print_load_warnings(spec: &str, robot: &Robot) {
     for w in &robot.metadata().warnings {
         eprintln!("warning: {spec}: {w}");
     }
-    Ok(robot)
 }
 
 #[derive(Args)]

@@ -29,6 +29,11 @@
 //!   margin), [`contacts`], [`min_distance`] and [`pair_distance`] (signed
 //!   distance with witness points, as a [`Proximity`]).
 //!
+//! * [`CollisionCheck`] — a robot, its shapes, a scene's obstacles, the
+//!   pairs (less an SRDF's) and a margin, loaded by [`CollisionCheck::load`]
+//!   the same way for every door; it is IK's admissibility test
+//!   ([`kinema::ik::Admissible`]): `kinema ik --scene` discards solutions in
+//!   collision and searches a redundant arm's self-motion for a free one.
 //! * [`Scene`] — obstacles fixed in the world and robots on their bases, from
 //!   one TOML file (a `kinema cell` file is a scene plus motions);
 //!   [`Scene::with_robot`] adds the obstacles to a robot's geometry and pairs.
@@ -64,6 +69,7 @@
 // `!(x > 0.0)` is used on purpose: unlike `x <= 0.0` it is also true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod check;
 mod error;
 mod geometry;
 mod mesh;
@@ -78,6 +84,7 @@ mod srdf;
 mod toml_shape;
 mod urdf;
 
+pub use check::{CheckOptions, CollisionCheck};
 pub use error::{Error, Result};
 pub use geometry::{LinkShape, RobotGeometry};
 pub use mesh::{load_mesh, MAX_MESH_BYTES};

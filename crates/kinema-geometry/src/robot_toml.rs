@@ -108,18 +108,21 @@ pub fn load_robot_geometry(spec: &str, options: &UrdfOptions) -> Result<(Robot, 
         let geometry = toml_geometry(&robot, text, &file, Path::new("."))?;
         return Ok((robot, geometry));
     }
-    let lower = spec.to_ascii_lowercase();
-    if lower.ends_with(".urdf") || lower.ends_with(".xml") {
+    if is_urdf(spec) {
         let options = UrdfOptions { skip_visual: true, ..options.clone() };
         let u = load_urdf(spec, &options)?;
         return Ok((u.robot, u.collision));
     }
     let robot = Robot::load(spec, options.tip.as_deref())?;
     let path = Path::new(spec);
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        Error::Kinema(kinema::Error::File(kinema::FileError::Io { path: spec.to_string(), source: e.into() }))
-    })?;
+    let text = kinema::read_bounded_text(path, "a robot description", kinema::MAX_DESCRIPTION_BYTES)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let geometry = toml_geometry(&robot, &text, spec, dir)?;
     Ok((robot, geometry))
+}
+
+/// Whether `spec` names a URDF file (by its extension, as [`Robot::load`] decides).
+pub(crate) fn is_urdf(spec: &str) -> bool {
+    let lower = spec.to_ascii_lowercase();
+    lower.ends_with(".urdf") || lower.ends_with(".xml")
 }

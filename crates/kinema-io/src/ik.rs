@@ -9,8 +9,12 @@ use serde::Serialize;
 use crate::pose::PoseAnswer;
 use crate::solution::SolutionAnswer;
 
-/// Why a candidate of the solver is not listed.
+/// Why a candidate of the solver that misses the target is not listed.
 pub const DISCARD_REASON: &str = "forward kinematics misses the target by more than the tolerance";
+
+/// The `reason` of a candidate that misses the target (else the rejecting
+/// test's kind, `collision`).
+pub const MISSED: &str = "tolerance";
 
 /// The tolerance a solution met \[m, rad\].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -21,11 +25,17 @@ pub struct ToleranceAnswer {
     pub orientation: f64,
 }
 
-/// A candidate the solver proposed whose forward kinematics misses the target.
+/// A candidate the solver proposed whose forward kinematics misses the
+/// target, or that a collision check rejected.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DiscardedCandidate {
     /// The solver's branch label.
     pub branch: String,
+    /// Why: [`MISSED`] (`tolerance`), or the rejecting test (`collision`).
+    pub reason: &'static str,
+    /// What the test found (the colliding pair, `link_4 – bench`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub detail: Option<String>,
     /// Its position residual \[m\].
     pub position_error: f64,
     /// Its orientation residual \[rad\].
@@ -37,8 +47,9 @@ pub struct DiscardedCandidate {
 pub struct DiscardedAnswer {
     /// How many.
     pub count: usize,
-    /// Why ([`DISCARD_REASON`]).
-    pub reason: &'static str,
+    /// Why, in words: [`DISCARD_REASON`] and/or the rejecting tests
+    /// (`collision`), joined by `; `.
+    pub reason: String,
     /// Each of them.
     pub candidates: Vec<DiscardedCandidate>,
 }
@@ -79,6 +90,18 @@ pub struct IkAnswer {
     pub picked: Option<usize>,
 }
 
+/// The distinct reasons of `candidates` in words, in order of first appearance.
+fn discard_reasons(candidates: &[DiscardedCandidate]) -> String {
+    let mut reasons: Vec<&str> = Vec::new();
+    for c in candidates {
+        let reason = if c.reason == MISSED { DISCARD_REASON } else { c.reason };
+        if !reasons.contains(&reason) {
+            reasons.push(reason);
+        }
+    }
+    reasons.join("; ")
+}
+
 impl IkAnswer {
     /// The answer listing `solutions` out of the solver's `solved` (its
     /// discarded candidates, tolerance and folded copies) for `target`, a
@@ -97,6 +120,8 @@ impl IkAnswer {
             .iter()
             .map(|d| DiscardedCandidate {
                 branch: d.branch.to_string(),
+                reason: d.rejection.as_ref().map_or(MISSED, |r| r.kind),
+                detail: d.rejection.as_ref().map(|r| r.detail.clone()),
                 position_error: d.residual.position,
                 orientation_error: d.residual.orientation,
             })
@@ -124,7 +149,7 @@ impl IkAnswer {
                 position: solved.tolerance.position,
                 orientation: solved.tolerance.orientation,
             },
-            discarded: DiscardedAnswer { count: candidates.len(), reason: DISCARD_REASON, candidates },
+            discarded: DiscardedAnswer { count: candidates.len(), reason: discard_reasons(&candidates), candidates },
             folded: solved.folded,
             nearest: None,
             picked: None,

@@ -41,7 +41,7 @@ pub use collide::{CollideAnswer, CollidePair, DistanceAnswer};
 pub use error::ErrorAnswer;
 pub use ik::{
     shown_q, ClosestAnswer, DiscardedAnswer, DiscardedCandidate, IkAnswer, SelfMotionAnswer, SelfMotionPoint,
-    ToleranceAnswer, UnreachableAnswer, ValidateAnswer, DISCARD_REASON,
+    ToleranceAnswer, UnreachableAnswer, ValidateAnswer, DISCARD_REASON, MISSED,
 };
 pub use program::{MotionAnswer, ProgramAnswer};
 pub use traj::{

@@ -267,6 +267,7 @@ impl App {
             mask: req.mask,
             tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
+            admissible: None,
         };
         let target = IkTarget::Pose(target);
         let answer = solve_target(r, &target, &request)?;

@@ -21,10 +21,16 @@ type Row = (u64, std::result::Result<IkTarget, String>);
 /// solution, or why there is none.
 type Answer<'a> = (u64, std::result::Result<(&'a str, Solution), String>);
 
-pub(super) fn run(a: &IkArgs, robot: &Robot, input: &Path, output: &Path) -> Result<()> {
+pub(super) fn run(
+    a: &IkArgs,
+    robot: &Robot,
+    input: &Path,
+    output: &Path,
+    admissible: Option<&dyn kinema::ik::Admissible>,
+) -> Result<()> {
     let rows = read_targets(a, input)?;
     let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(robot, t, a.deg)).transpose()?;
-    let request = request(a, q0.as_deref())?;
+    let request = request(a, q0.as_deref(), admissible)?;
     let targets: Vec<IkTarget> = rows.iter().filter_map(|(_, t)| t.clone().ok()).collect();
     let bar = crate::progress_bar(targets.len(), "targets", 2_000);
     // Ctrl-C stops the solvers between targets (the rest come back

@@ -1,5 +1,6 @@
 //! `kinema collide`: text and JSON, a free and a colliding configuration of a
-//! built-in robot, an obstacle scene, batch order, and bad inputs.
+//! built-in robot, an obstacle scene, an SRDF, batch order, and bad inputs;
+//! and `kinema ik --scene`, checked by `kinema collide`.
 
 use crate::common::kinema;
 
@@ -109,4 +110,95 @@ fn bad_inputs_say_what_is_wrong() {
     let r = kinema(&["collide", "--robot", "ur5", "--q", "home", "--margin", "-1"]);
     assert_eq!(r.code, Some(1));
     assert!(r.stderr.contains("margin"), "{}", r.stderr);
+}
+
+/// The repository's example scene `name`.
+fn example_scene(name: &str) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes").join(name);
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn an_srdf_disables_pairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let srdf = dir.path().join("ur5.srdf");
+    std::fs::write(
+        &srdf,
+        "<robot name=\"ur5\"><disable_collisions link1=\"link 2\" link2=\"link 4\" reason=\"Never\"/></robot>",
+    )
+    .unwrap();
+    let srdf = srdf.to_str().unwrap();
+    let hit = kinema(&["collide", "--robot", "ur5", "--q", FOLDED_UR5, "--deg", "--json"]);
+    assert!(has_pair(&json(&hit.stdout), "link 2", "link 4"));
+    let run = kinema(&["collide", "--robot", "ur5", "--srdf", srdf, "--q", FOLDED_UR5, "--deg", "--json"]);
+    assert!(!has_pair(&json(&run.stdout), "link 2", "link 4"), "{}", run.stdout);
+    let wrong = dir.path().join("other.srdf");
+    std::fs::write(&wrong, "<robot name=\"x\"><disable_collisions link1=\"elbow\" link2=\"wrist\"/></robot>").unwrap();
+    let r = kinema(&["collide", "--robot", "ur5", "--srdf", wrong.to_str().unwrap(), "--q", "home"]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("elbow"), "{}", r.stderr);
+}
+
+/// Seed 004's reason for a redundant arm: in the fume hood, the default
+/// elbow-up solution hits the sash; `kinema ik --scene` discards it and turns
+/// the elbow, and `kinema collide` confirms the answer is free.
+#[test]
+fn ik_in_the_fume_hood_turns_the_elbow_out_of_the_way() {
+    let scene = example_scene("fume-hood.toml");
+    let iiwa = "lbr-iiwa-14-r820";
+    let pose = "0.6,0,0.3,180,0,0";
+    let plain = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--json"]);
+    assert!(plain.ok, "{}", plain.stderr);
+    let default_q = json(&plain.stdout)["solutions"][0]["q"].to_string();
+    let default_q = default_q.trim_matches(['[', ']']);
+    let hit = kinema(&["collide", "--robot", iiwa, "--scene", &scene, "--q", default_q, "--deg", "--json"]);
+    assert_eq!(hit.code, Some(3), "the default solution hits the sash: {}", hit.stdout);
+    assert!(has_pair(&json(&hit.stdout), "link 4", "sash"), "{}", hit.stdout);
+
+    let run = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--scene", &scene, "--json"]);
+    assert!(run.ok, "{}", run.stderr);
+    let a = json(&run.stdout);
+    let q: Vec<f64> = a["solutions"][0]["q"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert!(q[2].abs() > 10.0, "the elbow turned: q3 = {}°", q[2]);
+    let collided: Vec<&serde_json::Value> =
+        a["discarded"]["candidates"].as_array().unwrap().iter().filter(|c| c["reason"] == "collision").collect();
+    assert!(!collided.is_empty() && collided[0]["detail"].as_str().unwrap().contains("sash"), "{a}");
+    assert!(a["discarded"]["reason"].as_str().unwrap().contains("collision"), "{a}");
+    let shown: Vec<String> = q.iter().map(|v| v.to_string()).collect();
+    let free = kinema(&["collide", "--robot", iiwa, "--scene", &scene, "--q", &shown.join(","), "--deg"]);
+    assert!(free.ok && free.stdout.starts_with("free"), "{}{}", free.stdout, free.stderr);
+
+    // Text: the discarded solutions and the first pair.
+    let text = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--scene", &scene]);
+    assert!(text.ok && text.stdout.contains("discarded, the first for collision: link"), "{}", text.stdout);
+    // At a fixed q3 there is nothing to search: every solution collides.
+    let fixed = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--scene", &scene, "--q3", "0"]);
+    assert_eq!(fixed.code, Some(2), "{}", fixed.stdout);
+    assert!(fixed.stderr.contains("every solution is rejected") && fixed.stderr.contains("sash"), "{}", fixed.stderr);
+    // A margin without a scene would be ignored.
+    let r = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--margin", "0.1"]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("--scene"), "{}", r.stderr);
+}
+
+#[test]
+fn ik_batch_answers_are_free_of_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = example_scene("fume-hood.toml");
+    let targets = dir.path().join("targets.csv");
+    std::fs::write(&targets, "0.6,0,0.3,3.14159265,0,0\n0.55,0.1,0.25,3.14159265,0,0\n0.65,-0.1,0.3,3.14159265,0,0\n")
+        .unwrap();
+    let out = dir.path().join("q.csv");
+    let iiwa = "lbr-iiwa-14-r820";
+    let args = ["ik", "--robot", iiwa, "--scene", &scene, "--input", targets.to_str().unwrap()];
+    let run = kinema(&[&args[..], &["--output", out.to_str().unwrap()]].concat());
+    assert!(run.ok, "{}", run.stderr);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#') && !l.starts_with("line")).collect();
+    assert_eq!(rows.len(), 3, "{text}");
+    let check = dir.path().join("check.csv");
+    let qs: Vec<String> = rows.iter().map(|r| r.split(',').skip(3).take(7).collect::<Vec<_>>().join(",")).collect();
+    std::fs::write(&check, qs.join("\n")).unwrap();
+    let free = kinema(&["collide", "--robot", iiwa, "--scene", &scene, "--input", check.to_str().unwrap()]);
+    assert!(free.ok, "every answer is free: {}{}", free.stdout, free.stderr);
 }

@@ -93,6 +93,17 @@ pub enum Unreachable {
         /// Joints of the robot.
         dof: usize,
     },
+    /// Solutions meet the target, but the request's admissibility test (a
+    /// scene's collision check) rejects every one.
+    Rejected {
+        /// How many solutions were rejected.
+        candidates: usize,
+        /// The first rejection, e.g. `collision: link_4 – bench`.
+        first: String,
+        /// The self-motion parameter searched for an admissible solution
+        /// (`q3` or `psi`), if the arm is redundant and the request left it free.
+        searched: Option<String>,
+    },
     /// The numeric solver found no solution within its restarts.
     NoConvergence {
         /// Best position error reached \[m\].
@@ -138,6 +149,13 @@ impl fmt::Display for Unreachable {
                         "; an arm with {dof} joints cannot take every orientation at a position: give a pose on its \
                          reachable set, or a task mask that frees the components it cannot control"
                     )?;
+                }
+                Ok(())
+            }
+            Unreachable::Rejected { candidates, first, searched } => {
+                write!(f, "every solution is rejected ({candidates} in all; the first: {first})")?;
+                if let Some(p) = searched {
+                    write!(f, "; no value of {p} over its range gives one that is not")?;
                 }
                 Ok(())
             }

@@ -97,13 +97,17 @@ fn pose_residual(target: &Pose, reached: &Pose, mask: [bool; 6]) -> Residual {
     Residual { position: pick(dp, &mask[..3]), orientation: pick(dw, &mask[3..]) }
 }
 
-/// A candidate a solver proposed that does not meet the target.
+/// A candidate a solver proposed that is not a solution: it misses the
+/// target, or meets it where the request's admissibility test (a scene's
+/// collision check) rejects it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Discarded {
     /// The solver's branch label.
     pub branch: Cow<'static, str>,
     /// Its residual on the constrained components.
     pub residual: Residual,
+    /// Why the test rejected it; `None` when it misses the target.
+    pub rejection: Option<super::Rejection>,
 }
 
 /// What a request got: the solutions that meet the target (each within the
@@ -115,7 +119,8 @@ pub struct IkAnswer {
     pub solver: &'static str,
     /// Solutions meeting the target (never empty in an `Ok` answer).
     pub solutions: Vec<Solution>,
-    /// Candidates whose FK misses the target by more than the tolerance.
+    /// Candidates whose FK misses the target by more than the tolerance, or
+    /// that the request's admissibility test rejected.
     pub discarded: Vec<Discarded>,
     /// The tolerance applied.
     pub tolerance: Tolerance,
@@ -164,7 +169,7 @@ pub fn sort_out(
         if closest.as_ref().is_none_or(|(b, _)| badness < *b) {
             closest = Some((badness, Closest::of(&s)));
         }
-        discarded.push(Discarded { branch: s.branch, residual: r });
+        discarded.push(Discarded { branch: s.branch, residual: r, rejection: None });
     }
     if solutions.is_empty() {
         let closest = closest.map(|(_, c)| c);

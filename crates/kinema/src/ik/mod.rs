@@ -17,11 +17,13 @@
 //! trait of the analytic families, with the solver glue written once),
 //! `family` (typed targets and redundancy), `registry` (the families in the
 //! order they are tried), `request` (one request as every door makes it),
-//! `contract` (what counts as a solution), `families/` (one module per
+//! `contract` (what counts as a solution), `admissible` (a test besides the
+//! target, such as a scene's collision check), `families/` (one module per
 //! closed-form family), `numeric` (the solver for any chain).
 
 use crate::error::{Error, InputError};
 
+mod admissible;
 mod batch;
 mod closed_form;
 pub mod contract;
@@ -37,6 +39,7 @@ mod target;
 mod two_link;
 
 pub use crate::error::{Closest, Tolerance, Unreachable};
+pub use admissible::{Admissible, Rejection};
 pub use batch::solve_batch;
 pub use closed_form::ClosedForm;
 pub use contract::{Discarded, IkAnswer, Residual};

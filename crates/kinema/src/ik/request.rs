@@ -6,6 +6,7 @@
 
 use nalgebra::Vector3;
 
+use super::admissible::{self, Admissible, SelfMotionSearch};
 use super::contract::{self, IkAnswer, Tolerance};
 use super::family::{Family, SelfMotionParameter};
 use super::registry;
@@ -55,6 +56,11 @@ pub struct IkRequest<'a> {
     /// Options of the numeric solver (seed, iterations, restarts, damping, …);
     /// its mask and tolerances are set from `mask` and `tolerance`.
     pub numeric: NumericOptions,
+    /// A test every solution must pass besides meeting the target (a scene's
+    /// collision check): rejected solutions are discarded, and a redundant
+    /// arm's self-motion is searched before the target is refused (see
+    /// [`Admissible`]).
+    pub admissible: Option<&'a dyn Admissible>,
 }
 
 impl IkRequest<'_> {
@@ -274,17 +280,31 @@ pub fn solve_target_with(
         IkTarget::Position(_) => Some(POSITION_MASK),
         _ => request.mask,
     };
-    let proposed = match propose(robot, fitted, target, request) {
+    let answer = match propose(robot, fitted, target, request) {
         // A fixed q3 or ψ is a constraint the numeric solver does not keep.
         Err(Error::Unreachable { solver, reason, closest: None })
             if solver != "numeric" && request.q3.is_none() && request.psi.is_none() =>
         {
-            return closest_by_numeric(robot, target, mask, request, solver, reason);
+            closest_by_numeric(robot, target, mask, request, solver, reason)?
         }
-        other => other?,
+        other => {
+            let (name, candidates) = other?;
+            measure(robot, fitted, target, mask, request, name, candidates)?
+        }
     };
-    let (name, candidates) = proposed;
-    measure(robot, fitted, target, mask, request, name, candidates)
+    let Some(test) = request.admissible else {
+        return Ok(answer);
+    };
+    let solver = answer.solver;
+    let family = fitted.filter(|f| f.name() == solver);
+    let measure_at = |candidates| measure(robot, family, target, mask, request, solver, candidates);
+    let search = match (target, family.and_then(|f| f.redundancy())) {
+        (IkTarget::Pose(pose), Some(redundancy)) if request.q3.is_none() && request.psi.is_none() => {
+            Some(SelfMotionSearch { robot, redundancy, target: *pose, measure: &measure_at })
+        }
+        _ => None,
+    };
+    admissible::admit(answer, test, search)
 }
 
 /// The contract on `candidates` ([`contract::sort_out`]), then every

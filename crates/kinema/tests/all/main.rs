@@ -13,6 +13,7 @@ mod bad_input;
 mod descriptions;
 mod dynamics;
 mod dynamics_fast;
+mod ik_admissible;
 mod ik_contract;
 mod ik_geo;
 mod ik_geo_general;

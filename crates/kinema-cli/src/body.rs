@@ -1,0 +1,56 @@
+//! The options that give a command's robot a body to check: a scene of
+//! obstacles, an SRDF of pairs not to check, a safety margin and where
+//! meshes are. `kinema collide` always checks; `kinema ik` checks when a
+//! scene or an SRDF is given.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use kinema_geometry::{CheckOptions, CollisionCheck};
+
+use crate::RobotArg;
+
+#[derive(Args, Clone, Default)]
+pub struct BodyArgs {
+    /// A scene file: `[[obstacle]]`s checked against the robot's moving links (its `[[robot]]`s, as in a
+    /// `kinema cell` file, are not used here).
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// An SRDF whose `<disable_collisions>` link pairs are not checked.
+    #[arg(long, value_name = "FILE")]
+    srdf: Option<PathBuf>,
+    /// Safety margin [m]: bodies closer than this count as colliding.
+    #[arg(long, default_value_t = 0.0, value_name = "METRES")]
+    margin: f64,
+    /// For a URDF: directories holding the packages of `package://` meshes (ROS_PACKAGE_PATH is added).
+    #[arg(long = "package-path", value_name = "DIR")]
+    package_path: Vec<PathBuf>,
+}
+
+impl BodyArgs {
+    /// The robot with its shapes, the scene's obstacles and the pairs to check.
+    pub fn load(&self, robot: &RobotArg) -> Result<CollisionCheck> {
+        let options = CheckOptions {
+            tip: robot.tip.clone(),
+            package_paths: self.package_path.clone(),
+            scene: self.scene.clone(),
+            srdf: self.srdf.clone(),
+            margin: self.margin,
+        };
+        let check = CollisionCheck::load(&robot.robot, &options)?;
+        crate::print_load_warnings(&robot.robot, check.robot());
+        Ok(check)
+    }
+
+    /// [`BodyArgs::load`] when a scene or an SRDF asks for collision checks.
+    pub fn load_if_asked(&self, robot: &RobotArg) -> Result<Option<CollisionCheck>> {
+        if self.scene.is_none() && self.srdf.is_none() {
+            if self.margin != 0.0 || !self.package_path.is_empty() {
+                anyhow::bail!("--margin and --package-path apply to collision checks; give --scene or --srdf too");
+            }
+            return Ok(None);
+        }
+        self.load(robot).map(Some)
+    }
+}
