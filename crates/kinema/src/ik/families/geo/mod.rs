@@ -46,6 +46,7 @@ pub mod spherical;
 pub mod srs;
 pub mod subproblems;
 pub mod wrist_search;
+pub(crate) mod wrist;
 
 use nalgebra::Vector3;
 
