@@ -45,8 +45,8 @@ pub mod search;
 pub mod spherical;
 pub mod srs;
 pub mod subproblems;
-pub mod wrist_search;
 pub(crate) mod wrist;
+pub mod wrist_search;
 
 use nalgebra::Vector3;
 

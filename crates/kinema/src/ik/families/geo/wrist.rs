@@ -25,7 +25,7 @@ use std::f64::consts::PI;
 use nalgebra::Vector3;
 
 use super::kin::parallel;
-use super::subproblems::{rotate, sp1, sp2};
+use super::subproblems::{rotate, sp1_angle, sp2};
 use super::GEOM_TOL;
 
 type V3 = Vector3<f64>;
@@ -63,7 +63,8 @@ impl SphericalWrist {
     /// h_c); at the singularity the first branch takes q_a = `singular_a`
     /// \[rad\], the second `singular_a` + π.
     pub(crate) fn new(h: [V3; 3], singular_a: f64) -> Self {
-        let aligned = (parallel(&h[0], &h[2], GEOM_TOL) && h[1].dot(&h[2]).abs() <= GEOM_TOL).then(|| h[1].cross(&h[2]));
+        let aligned =
+            (parallel(&h[0], &h[2], GEOM_TOL) && h[1].dot(&h[2]).abs() <= GEOM_TOL).then(|| h[1].cross(&h[2]));
         SphericalWrist { h, u: perpendicular(&h[2]), aligned, singular_a }
     }
 
@@ -85,14 +86,14 @@ impl SphericalWrist {
             Some(a) if !singular => {
                 let tb = v_perp.norm().atan2(mh.dot(hc));
                 for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
-                    roots.q[k] = [sp1(ha, &(a * sign), mh).first(), sign * tb, 0.0];
+                    roots.q[k] = [sp1_angle(ha, &(a * sign), mh), sign * tb, 0.0];
                 }
             }
             _ if singular => {
                 roots.singular = true;
                 for k in 0..2 {
                     let qa = self.singular_a + PI * k as f64;
-                    roots.q[k] = [qa, sp1(hb, hc, &rotate(ha, -qa, mh)).first(), 0.0];
+                    roots.q[k] = [qa, sp1_angle(hb, hc, &rotate(ha, -qa, mh)), 0.0];
                 }
             }
             _ => {
@@ -108,7 +109,7 @@ impl SphericalWrist {
         }
         for q in &mut roots.q[..roots.n] {
             let back = rotate(hb, -q[1], &rotate(ha, -q[0], mu));
-            q[2] = sp1(hc, &self.u, &back).first();
+            q[2] = sp1_angle(hc, &self.u, &back);
         }
         Ok(roots)
     }
