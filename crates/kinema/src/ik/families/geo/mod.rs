@@ -45,6 +45,7 @@ pub mod search;
 pub mod spherical;
 pub mod srs;
 pub mod subproblems;
+pub(crate) mod wrist;
 pub mod wrist_search;
 
 use nalgebra::Vector3;

@@ -13,14 +13,11 @@
 //!   1, 2), and rot(h₁, q₁)·rot(h₂, q₂)·(E₃(w) − c) = W − c gives (q₁, q₂) by
 //!   subproblem 2 (*shoulder* 1, 2).
 //!
-//! **Wrist.** With M = (R₁R₂R₃)ᵀ·R_G = R₄R₅R₆ and R₆h₆ = h₆:
-//! rot(h₅, q₅)·h₆ = rot(h₄, −q₄)·M·h₆, subproblem 2 (*wrist* 1, 2), then q₆
-//! by subproblem 1 on a vector ⊥ h₆.
-//!
-//! **Wrist singularity** (M·h₆ ∥ h₄, within 1e-12: axes 4 and 6 aligned):
-//! only a combination of q₄ and q₆ is determined. Convention, as the DH
-//! solver `pieper`: *wrist-1* takes q₄ = 0 and *wrist-2* q₄ = π (wrapped into
-//! the limits when possible), q₅ by subproblem 1, q₆ the rest.
+//! **Wrist.** M = (R₁R₂R₃)ᵀ·R_G = R₄R₅R₆ gives q₄, q₅, q₆ by the shared
+//! spherical-wrist solve (`geo/wrist.rs`, *wrist* 1, 2), the one
+//! the DH solver `pieper` and [`SrsIk`](super::SrsIk) use too. At its
+//! singularity (axes 4 and 6 aligned) *wrist-1* takes q₄ = 0 and *wrist-2*
+//! q₄ = π (wrapped into the limits when possible).
 //! **Shoulder singularity** (W on axis 1 for axes 2 ∥ 3): q₁ is free; one
 //! solution with q₁ = 0 per elbow and wrist branch. Coinciding branches of a
 //! target on a reach boundary are both returned.
@@ -29,6 +26,7 @@ use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rotate, rotate_sc, sp1, sp2, sp3, sp4};
+use super::wrist::SphericalWrist;
 use super::{candidates_with, label, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
 use crate::ik::{CandidateSet, Candidates, ClosedForm, Unreachable};
@@ -36,9 +34,6 @@ use crate::math::{FastMath, Pose};
 use crate::robot::Robot;
 
 type V3 = Vector3<f64>;
-
-/// Below this |h₄ × M·h₆| the wrist is treated as singular.
-const WRIST_SING_TOL: f64 = 1e-12;
 
 /// How the first three axes are arranged.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,8 +67,8 @@ pub struct SphericalWristIk {
     shoulder: ShoulderKind,
     /// The wrist centre at q = 0 \[m\].
     w: V3,
-    /// A unit vector ⊥ h₆, for q₆.
-    u6: V3,
+    /// Axes 4, 5, 6: the wrist's orientation solve.
+    wrist: SphericalWrist,
 }
 
 impl SphericalWristIk {
@@ -131,10 +126,8 @@ impl SphericalWristIk {
                 "the wrist centre lies on axis 3: joint 3 cannot change the reach".into(),
             );
         }
-        let h6 = h(5);
-        let seed = if h6.x.abs() < 0.9 { V3::x() } else { V3::y() };
-        let u6 = (seed - h6 * h6.dot(&seed)).normalize();
-        Ok(SphericalWristIk { common, shoulder, w, u6 })
+        let wrist = SphericalWrist::new([h(3), h(4), h(5)], 0.0);
+        Ok(SphericalWristIk { common, shoulder, w, wrist })
     }
 
     /// The arrangement of the first three axes that was detected.
@@ -160,33 +153,19 @@ impl SphericalWristIk {
         let mut arms = [([0.0; 3], 0, 0); 4];
         let n = arm(c, self.shoulder, &self.w, &wt, &mut arms)?;
         let mut worst_wrist = f64::INFINITY;
-        let (gh6, gu6) = (g.rot * h(5), g.rot * self.u6);
+        let (gh6, gu6) = (g.rot * h(5), g.rot * self.wrist.u());
         for &(q, si, ei) in &arms[..n] {
             // M = (R₁R₂R₃)ᵀ·R_G on h₆ and u₆: turned back about axes 1, 2, 3.
             let turns = q.map(|v| (-v).fast_sin_cos());
             let back = |v: V3| (0..3).fold(v, |v, j| rotate_sc(&h(j), turns[j], &v));
-            let (mh6, mu6) = (back(gh6), back(gu6));
-            let mut wrists = [[0.0; 2]; 2];
-            let nw;
-            if h(3).cross(&mh6).norm() <= WRIST_SING_TOL {
-                for (k, q4) in [0.0, std::f64::consts::PI].into_iter().enumerate() {
-                    wrists[k] = [q4, sp1(&h(4), &h(5), &rotate(&h(3), -q4, &mh6)).first()];
-                }
-                nw = 2;
-            } else {
-                let (a4, a5) = sp2(&h(3), &mh6, &h(4), &h(5));
-                if !a4.exact {
-                    worst_wrist = worst_wrist.min(a4.miss);
+            let roots = match self.wrist.solve(&back(gh6), &back(gu6)) {
+                Ok(roots) => roots,
+                Err(miss) => {
+                    worst_wrist = worst_wrist.min(miss);
                     continue;
                 }
-                nw = a4.as_slice().len();
-                for (wk, (t4, t5)) in wrists.iter_mut().zip(a4.as_slice().iter().zip(a5.as_slice())) {
-                    *wk = [-t4, *t5];
-                }
-            }
-            for (wi, &[q4, q5]) in wrists[..nw].iter().enumerate() {
-                let r45t_mu6 = rotate(&h(4), -q5, &rotate(&h(3), -q4, &mu6));
-                let q6 = sp1(&h(5), &self.u6, &r45t_mu6).first();
+            };
+            for (wi, &[q4, q5, q6]) in roots.q[..roots.n].iter().enumerate() {
                 c.push(out, [q[0], q[1], q[2], q4, q5, q6], label(si, ei, wi));
             }
         }

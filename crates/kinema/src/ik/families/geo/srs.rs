@@ -10,12 +10,10 @@
 //! * **Elbow**: |E₄(w) − s| = |W − s|, subproblem 3 in q₄ (*elbow* 1, 2).
 //! * **Shoulder**: with x = R₃·(E₄(w) − s), rot(h₁, q₁)·rot(h₂, q₂)·x =
 //!   W − s, subproblem 2 in (q₁, q₂) (*shoulder* 1, 2).
-//! * **Wrist**: with M = (R₁R₂R₃R₄)ᵀ·R_G = R₅R₆R₇ and R₇h₇ = h₇,
-//!   rot(h₆, q₆)·h₇ = rot(h₅, −q₅)·M·h₇, subproblem 2 (*wrist* 1, 2); q₇ by
-//!   subproblem 1 on a vector ⊥ h₇. When h₅ ∥ h₇ and h₆ ⊥ h₇ at q = 0 (the
-//!   iiwa's wrist), q₆ = ±atan2(|M·h₇ off h₅|, h₇ᵀ·M·h₇) and q₅ by
-//!   subproblem 1 instead: subproblem 2 loses half the digits of q₆ near
-//!   q₆ = 0, this form none.
+//! * **Wrist**: M = (R₁R₂R₃R₄)ᵀ·R_G = R₅R₆R₇ gives q₅, q₆, q₇ by the
+//!   shared spherical-wrist solve (`geo/wrist.rs`, *wrist* 1, 2),
+//!   which on the iiwa's orthogonal wrist takes the form that keeps full
+//!   accuracy near q₆ = 0.
 //!
 //! Up to 8 solutions for each q₃; the self-motion is q₃ itself, searched
 //! within the limits by [`SrsIk::solve_searching`].
@@ -62,6 +60,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rot, rotate, sp1, sp2, sp3, Angles};
+use super::wrist::{perpendicular, SphericalWrist};
 use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
 use crate::error::{Error, InputError, Result};
 use crate::ik::family::SelfMotionParameter;
@@ -75,8 +74,6 @@ type V3 = Vector3<f64>;
 /// The solver's name.
 const NAME: &str = "geo-srs";
 
-/// Below this |h₅ × M·h₇| the wrist is treated as singular.
-const WRIST_SING_TOL: f64 = 1e-12;
 /// Below this distance \[m\] of the wrist centre from axis 1 the arm angle's
 /// reference plane takes axis 2 at q₁ = 0 as its normal (as `IiwaIk` does).
 const SHOULDER_AXIS_TOL: f64 = 1e-12;
@@ -117,11 +114,8 @@ pub struct SrsIk {
     w: V3,
     /// A unit vector ⊥ h₃, for q₃ in the arm-angle form.
     u3: V3,
-    /// A unit vector ⊥ h₇, for q₇.
-    u7: V3,
-    /// h₆ × h₇ when h₅ ∥ h₇ and h₆ ⊥ h₇ at q = 0 (the iiwa's wrist), for
-    /// the form of q₅, q₆ that keeps its accuracy near the singularity.
-    aligned: Option<V3>,
+    /// Axes 5, 6, 7: the wrist's orientation solve.
+    wrist: SphericalWrist,
 }
 
 impl SrsIk {
@@ -150,10 +144,9 @@ impl SrsIk {
                     .into(),
             );
         }
-        let (u3, u7) = (perpendicular(&common.h(2)), perpendicular(&common.h(6)));
-        let (h5, h6, h7) = (common.h(4), common.h(5), common.h(6));
-        let aligned = (parallel(&h5, &h7, GEOM_TOL) && h6.dot(&h7).abs() <= GEOM_TOL).then(|| h6.cross(&h7));
-        Ok(SrsIk { common, s, w, u3, u7, aligned })
+        let u3 = perpendicular(&common.h(2));
+        let wrist = SphericalWrist::new([common.h(4), common.h(5), common.h(6)], 0.0);
+        Ok(SrsIk { common, s, w, u3, wrist })
     }
 
     /// The robot this solver was built for.
@@ -415,43 +408,13 @@ impl SrsIk {
     /// candidates; the subproblem's miss when the wrist cannot take M.
     fn wrist(
         &self,
-        m: &nalgebra::Matrix3<f64>,
+        m: &Matrix3<f64>,
         arm: [f64; 4],
         (si, ei): (usize, usize),
         out: &mut Candidates<7, 8>,
     ) -> std::result::Result<(), f64> {
-        let h = |i| self.common.h(i);
-        let mh7 = m * h(6);
-        let mut wrists = [[0.0; 2]; 2];
-        let n;
-        let v_perp = mh7 - h(4) * h(4).dot(&mh7);
-        if let (Some(a), false) = (self.aligned, v_perp.norm() <= WRIST_SING_TOL) {
-            // rot(h₆, q₆)·h₇ = cos q₆·h₇ + sin q₆·a, so |sin q₆| is the part of
-            // M·h₇ off axis 5: an atan2 that stays accurate next to q₆ = 0.
-            let t6 = v_perp.norm().atan2(mh7.dot(&h(6)));
-            for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
-                wrists[k] = [sp1(&h(4), &(a * sign), &mh7).first(), sign * t6];
-            }
-            n = 2;
-        } else if v_perp.norm() <= WRIST_SING_TOL {
-            for (k, q5) in [0.0, PI].into_iter().enumerate() {
-                wrists[k] = [q5, sp1(&h(5), &h(6), &rotate(&h(4), -q5, &mh7)).first()];
-            }
-            n = 2;
-        } else {
-            // rot(h₆, q₆)·h₇ = rot(h₅, −q₅)·M·h₇.
-            let (a5, a6) = sp2(&h(4), &mh7, &h(5), &h(6));
-            if !a5.exact {
-                return Err(a5.miss);
-            }
-            n = a5.as_slice().len();
-            for (wk, (t5, t6)) in wrists.iter_mut().zip(a5.as_slice().iter().zip(a6.as_slice())) {
-                *wk = [-t5, *t6];
-            }
-        }
-        for (wi, &[q5, q6]) in wrists[..n].iter().enumerate() {
-            let r56 = rot(&h(4), q5) * rot(&h(5), q6);
-            let q7 = sp1(&h(6), &self.u7, &(r56.transpose() * m * self.u7)).first();
+        let roots = self.wrist.solve(&(m * self.common.h(6)), &(m * self.wrist.u()))?;
+        for (wi, &[q5, q6, q7]) in roots.q[..roots.n].iter().enumerate() {
             let [q1, q2, q3, q4] = arm;
             self.common.push(out, [q1, q2, q3, q4, q5, q6, q7], label(si, ei, wi));
         }
@@ -633,12 +596,6 @@ fn unit_or(v: &V3, fallback: &V3) -> V3 {
     } else {
         *fallback
     }
-}
-
-/// A unit vector ⊥ the unit vector `k`.
-fn perpendicular(k: &V3) -> V3 {
-    let seed = if k.x.abs() < 0.9 { V3::x() } else { V3::y() };
-    (seed - k * k.dot(&seed)).normalize()
 }
 
 /// The right-handed orthonormal frame \[x̂, ŷ, x̂ × ŷ\] with x̂ the unit

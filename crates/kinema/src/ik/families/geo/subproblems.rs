@@ -119,11 +119,17 @@ fn trig(a: f64, b: f64, c: f64, scale: f64) -> Angles {
 /// assert!(a.exact && (a.first() - 0.7).abs() < 1e-12);
 /// ```
 pub fn sp1(k: &V3, p: &V3, q: &V3) -> Angles {
-    let pp = p - k * k.dot(p);
-    let qp = q - k * k.dot(q);
-    let theta = k.dot(&pp.cross(&qp)).fast_atan2(pp.dot(&qp));
+    let theta = sp1_angle(k, p, q);
     let miss = (rotate(k, theta, p) - q).norm();
     Angles::one(theta, miss <= EXACT_TOL * (1.0 + p.norm() + q.norm()), miss)
+}
+
+/// [`sp1`]'s angle alone, without the residual: for a caller that knows
+/// the equation is solvable (or takes the least-squares angle anyway).
+pub fn sp1_angle(k: &V3, p: &V3, q: &V3) -> f64 {
+    let pp = p - k * k.dot(p);
+    let qp = q - k * k.dot(q);
+    k.dot(&pp.cross(&qp)).fast_atan2(pp.dot(&qp))
 }
 
 /// Subproblem 2: (θ1, θ2) with `rot(k1, θ1)·p1 = rot(k2, θ2)·p2`, for

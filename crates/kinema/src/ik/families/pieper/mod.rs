@@ -35,12 +35,15 @@
 //!    parallel) are rejected by [`PieperIk::new`].
 //! 3. **Wrist (q4, q5, q6).** With R36 = R03ᵀ·R06·Rx(α6)ᵀ = Rz(θ4)·Rx(α4)·
 //!    Rz(θ5)·Rx(α5)·Rz(θ6) and an orthogonal wrist (α4, α5 = ±90°), the
-//!    third column of R36 gives θ4 (two branches, *flip* with sα5·sin θ5 ≥ 0
-//!    and *noflip* with sα5·sin θ5 ≤ 0 — the names Corke's toolbox gives the
-//!    PUMA 560's wrist, `f` and `n` of `ikine_a`, checked against
-//!    roboticstoolbox-python 1.5.0), then θ5, and θ6 from the remaining
-//!    rotation Rz(θ6). Every angle comes from `atan2`, never `acos` of a
-//!    rotation entry, so residuals stay at rounding level.
+//!    wrist's axes in frame 3 (ẑ, Rx(α4)·ẑ, Rx(α4)·Rx(α5)·ẑ, read once from
+//!    the table) go to the spherical-wrist solve the geometric solvers share
+//!    (`geo/wrist.rs`): θ5 = ±atan2 of the third column of R36 off and
+//!    along ẑ (two branches, *flip* with sin θ5 > 0 and *noflip* with
+//!    sin θ5 < 0 — the names Corke's toolbox gives the PUMA 560's wrist, `f`
+//!    and `n` of `ikine_a`, checked against roboticstoolbox-python 1.5.0),
+//!    then θ4 and θ6 as the rotations about their axes that remain. Every
+//!    angle comes from `atan2`, never `acos` of a rotation entry, so
+//!    residuals stay at rounding level.
 //!
 //! Robots described by general (URDF-style) transforms are rejected; the
 //! solver reads the DH table. Up to 4 arm × 2 wrist = 8 solutions. Joint values are θ − offset wrapped to
@@ -91,15 +94,14 @@ mod rows;
 use general::GeneralShoulder;
 use rows::{arm_g, intersecting_coeffs, mul, rzrx, theta1, tmul, M3};
 
+use super::geo::wrist::{SphericalWrist, WristRoots};
+
 /// Tolerance on DH lengths \[m\] and on sines/cosines of twists when deciding
 /// the geometry.
 const GEOM_TOL: f64 = 1e-9;
 
 /// Relative tolerance for targets just outside a boundary (treated as on it).
 const BOUNDARY_TOL: f64 = 1e-12;
-
-/// Below this |sin θ5| the wrist is treated as singular.
-const WRIST_SING_TOL: f64 = 1e-12;
 
 /// Below this distance \[m\] the wrist centre is treated as on axis 1 (or 2).
 const AXIS_TOL: f64 = 1e-12;
@@ -134,6 +136,17 @@ struct Link {
 /// Rx(αi) from the link's exact cosine and sine.
 fn rx(l: Link) -> Matrix3<f64> {
     Matrix3::new(1.0, 0.0, 0.0, 0.0, l.ca, -l.sa, 0.0, l.sa, l.ca)
+}
+
+/// The wrist axes in DH frame 3 with θ4 = θ5 = 0 — ẑ, Rx(α4)·ẑ and
+/// Rx(α4)·Rx(α5)·ẑ, so that Rz(θ4)·Rx(α4)·Rz(θ5)·Rx(α5)·Rz(θ6) is
+/// rot(h4, θ4)·rot(h5, θ5)·rot(h6, θ6)·Rx(α4)·Rx(α5) — followed by the
+/// shared solve's vector u ⊥ h6 turned back by (Rx(α4)·Rx(α5))ᵀ.
+fn wrist_axes(l4: Link, l5: Link) -> [Vector3<f64>; 4] {
+    let post = rx(l4) * rx(l5);
+    let (h5, h6) = (rx(l4) * Vector3::z(), post * Vector3::z());
+    let u = SphericalWrist::new([Vector3::z(), h5, h6], 0.0).u();
+    [Vector3::z(), h5, h6, post.transpose() * u]
 }
 
 /// Snaps the cosine and sine of a twist to exact 0/±1 when within tolerance.
@@ -183,6 +196,10 @@ pub struct PieperIk {
     arm: ArmKind,
     /// The products of the general shoulder's θ3 condition (used by [`ArmKind::General`]).
     general: GeneralShoulder,
+    /// Axes 4, 5, 6 in DH frame 3 at θ = 0: the wrist's orientation solve.
+    wrist: SphericalWrist,
+    /// The wrist's vector ⊥ axis 6, carried back to DH frame 5 (Rz(θ6)'s frame).
+    wrist_u: Vector3<f64>,
 }
 
 impl PieperIk {
@@ -317,6 +334,7 @@ impl PieperIk {
         let wc_in_dh6 = rx(l6).transpose() * Vector3::new(-l6.a, 0.0, -l6.d);
         let tool = robot.tool();
         let wc_in_flange = wc_in_dh6;
+        let wrist_axes = wrist_axes(l4, l5);
         let ik = PieperIk {
             robot: robot.clone(),
             links,
@@ -325,6 +343,8 @@ impl PieperIk {
             wc_in_flange,
             arm,
             general: GeneralShoulder::new(&links),
+            wrist: SphericalWrist::new(wrist_axes[..3].try_into().unwrap_or([Vector3::z(); 3]), l4.offset),
+            wrist_u: wrist_axes[3],
         };
         // Numeric check: the wrist centre must not move with q4…q6.
         let mut rng = ChaCha8Rng::seed_from_u64(0x5049_4550);
@@ -641,31 +661,20 @@ impl PieperIk {
         p
     }
 
-    /// The two wrist solutions (θ4, θ5, θ6) for M = R03ᵀ·R06·Rx(α6)ᵀ.
+    /// The two wrist solutions (θ4, θ5, θ6) for M = R03ᵀ·R06·Rx(α6)ᵀ, by
+    /// the shared spherical-wrist solve, the *flip* branch first.
     fn solve_wrist(&self, m: &M3) -> [([f64; 3], &'static str); 2] {
-        let [_, _, _, l4, l5, _] = self.links;
-        let (mx, my) = (m[0][2], m[1][2]);
-        // Third column of M: (m13, m23) = sα5·s5·(c4, s4).
-        let singular = mx.fast_hypot(my) <= WRIST_SING_TOL;
+        // M·ẑ, and M·u for the wrist's u carried back to frame 5 (see `wrist_axes`).
+        let mh = Vector3::new(m[0][2], m[1][2], m[2][2]);
+        let u = &self.wrist_u;
+        let mu = Vector3::from_fn(|i, _| m[i][0] * u.x + m[i][1] * u.y + m[i][2] * u.z);
+        // An orthogonal wrist always has its two branches (never subproblem 2's miss).
+        let roots = self.wrist.solve(&mh, &mu).unwrap_or(WristRoots { q: [[f64::NAN; 3]; 2], n: 2, singular: false });
         // Labels as Corke's `ikine_a` names the PUMA 560's wrist (`n`/`f`): the
-        // branch with sα5·sin θ5 ≥ 0 is the flipped one.
-        let mut out = [([0.0; 3], "wrist-flip"), ([0.0; 3], "wrist-noflip")];
-        for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
-            let t4 = if singular {
-                l4.offset + if k == 0 { PI } else { 0.0 }
-            } else {
-                (sign * l5.sa * my).fast_atan2(sign * l5.sa * mx)
-            };
-            let r4 = rzrx(t4, l4);
-            // w = (Rz(θ4)·Rx(α4))ᵀ·M·ẑ = Rz(θ5)·(0, −sα5, 0) = (sα5 s5, −sα5 c5, 0).
-            let w = tmul(&r4, m);
-            let t5 = (l5.sa * w[0][2]).fast_atan2(-l5.sa * w[1][2]);
-            // N = (Rz(θ5)·Rx(α5))ᵀ·w = Rz(θ6).
-            let n = tmul(&rzrx(t5, l5), &w);
-            let t6 = n[1][0].fast_atan2(n[0][0]);
-            out[k].0 = [t4, t5, t6];
-        }
-        out
+        // branch with sin θ5 > 0 is the flipped one; at the singularity the
+        // one half a turn from θ4's offset.
+        let flip_first = if roots.singular { 1 } else { usize::from(roots.q[0][1] < 0.0) };
+        [(roots.q[flip_first], "wrist-flip"), (roots.q[1 - flip_first], "wrist-noflip")]
     }
 }
 
