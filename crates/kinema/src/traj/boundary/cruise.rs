@@ -3,7 +3,7 @@
 
 use super::problem::{Limits, Problem};
 use super::profile::{residual_of, JerkSegment, Profile};
-use super::roots;
+use super::roots::{self, Search};
 use super::velocity::{fastest_change, Change};
 
 /// Cruise at v_c (zero acceleration) between the fastest changes to and
@@ -60,12 +60,59 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
             None => t - ((vc - p.v0).abs() + (p.vf - vc).abs()) / l.acc,
         }
     };
+    let intervals = match l.search {
+        Search::Fast => feasible_by_shape(p, l, &slack),
+        Search::Reference => feasible_by_scan(l, &slack),
+    };
+    let mut rs = Vec::new();
+    for (lo, hi) in intervals {
+        rs.clear();
+        roots::find(l.search, &|vc| cruise_residual(p, l, t, vc), lo, hi, l.search.intervals(), &mut rs);
+        out.extend(rs.iter().filter_map(|&vc| cruise_at(p, l, t, vc)));
+    }
+}
+
+/// The intervals of cruise velocities in \[−v_max, v_max\] where `slack` ≥ 0,
+/// from the slack's shape. The duration of the fastest change from the start
+/// to (v_c, 0) is smallest at the velocity the start reaches when its
+/// acceleration is brought to 0 (v₀ + a₀|a₀|/(2 j)) and grows away from it
+/// along concave arms (square roots of v_c, linear once a_max is held); so
+/// does the change from (v_c, 0) to the target around v_f − a_f|a_f|/(2 j).
+/// The slack is thus convex between and beside those two cusps, rises up to
+/// the lower one and falls after the upper one: a feasible interval around
+/// each cusp, merged unless the slack dips below 0 between them.
+fn feasible_by_shape(p: &Problem, l: &Limits, slack: &impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    let natural = |v: f64, a: f64, sign: f64| v + sign * l.jerk.map_or(0.0, |j| a * a.abs() / (2.0 * j));
+    let (ca, cb) = (natural(p.v0, p.a0, 1.0), natural(p.vf, p.af, -1.0));
+    let (m1, m2) = (ca.min(cb).clamp(-l.vel, l.vel), ca.max(cb).clamp(-l.vel, l.vel));
+    let (s1, s2) = (slack(m1), slack(m2));
+    let edge = |inside: f64, outside: f64| roots::last_inside(slack, inside, outside);
+    let outer = |m: f64, end: f64| if slack(end) >= 0.0 { end } else { edge(m, end) };
+    match (s1 >= 0.0, s2 >= 0.0) {
+        (false, false) => Vec::new(),
+        (true, false) => vec![(outer(m1, -l.vel), edge(m1, m2))],
+        (false, true) => vec![(edge(m2, m1), outer(m2, l.vel))],
+        (true, true) => {
+            let (lo, hi) = (outer(m1, -l.vel), outer(m2, l.vel));
+            // The slack is smallest between the cusps where both changes
+            // peak at the same acceleration (their slopes 1/a_peak cancel).
+            let shift = l.jerk.map_or(0.0, |j| (p.af * p.af - p.a0 * p.a0) / (4.0 * j));
+            let lowest = (0.5 * (p.v0 + p.vf) + if ca <= cb { shift } else { -shift }).clamp(m1, m2);
+            match Some(lowest).filter(|&x| slack(x) < 0.0) {
+                Some(x) => vec![(lo, edge(m1, x)), (edge(m2, x), hi)],
+                None => vec![(lo, hi)],
+            }
+        }
+    }
+}
+
+/// The intervals where `slack` ≥ 0, by sampling 4·GRID + 1 cruise velocities
+/// (the reference): runs of samples with slack ≥ 0, extended to slack = 0.
+fn feasible_by_scan(l: &Limits, slack: &impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
     let n = 4 * roots::GRID;
     let xs: Vec<f64> = (0..=n).map(|i| -l.vel + 2.0 * l.vel * i as f64 / n as f64).collect();
     let ss: Vec<f64> = xs.iter().map(|&x| slack(x)).collect();
-    // The slack is largest near its best sample; feasible intervals are
-    // runs of samples with slack ≥ 0, extended to slack = 0 by Illinois.
-    let edge = |inside: f64, outside: f64| roots::last_inside(&slack, inside, outside);
+    let edge = |inside: f64, outside: f64| roots::last_inside(slack, inside, outside);
     let mut intervals = Vec::new();
     let mut i = 0;
     while i <= n {
@@ -99,10 +146,5 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
             intervals.push((edge(m, xs[k.saturating_sub(1)]), edge(m, xs[(k + 1).min(n)])));
         }
     }
-    let mut rs = Vec::new();
-    for (lo, hi) in intervals {
-        rs.clear();
-        roots::find(l.search, &|vc| cruise_residual(p, l, t, vc), lo, hi, roots::GRID, &mut rs);
-        out.extend(rs.iter().filter_map(|&vc| cruise_at(p, l, t, vc)));
-    }
+    intervals
 }

@@ -51,7 +51,7 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     let roots_signs: &[bool] = if p.a0 > 1e-12 * l.acc { &[true] } else { &[true, false] };
     for &root in roots_signs {
         xs.clear();
-        roots::find(l.search, &|x| valley_residual(x, root), -l.acc, p.af, roots::GRID, &mut xs);
+        roots::find(l.search, &|x| valley_residual(x, root), -l.acc, p.af, l.search.intervals(), &mut xs);
         out.extend(xs.iter().filter_map(|&x| valley(x, root)));
     }
     // No cruise, valley held at −a_max for x seconds.
@@ -74,7 +74,7 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     if hmax > 0.0 {
         for &root in roots_signs {
             xs.clear();
-            roots::find(l.search, &|x| held_residual(x, root), 0.0, hmax, roots::GRID, &mut xs);
+            roots::find(l.search, &|x| held_residual(x, root), 0.0, hmax, l.search.intervals(), &mut xs);
             out.extend(xs.iter().filter_map(|&x| held(x, root)));
         }
     }

@@ -24,6 +24,8 @@
 //! longer time (what synchronised PTP needs). Its families hold the velocity
 //! at some v_c (a cruise with zero acceleration between two fastest
 //! velocity changes) or hold the acceleration at some level below a_max;
+//! (the cruise velocities that fit are found from the shape of the
+//! changes' durations, a few evaluations instead of a scan);
 //! where none of them has a root, two of their laws lasting that long, one
 //! short of the target position and one past it, are blended (the limits
 //! are convex and the motion is linear in the jerk). A duration can be

@@ -6,6 +6,10 @@
 /// Grid intervals for the one-unknown searches.
 pub(super) const GRID: usize = 64;
 
+/// Grid intervals of the fast search: the pair search at dips stands in
+/// for the finer grid.
+const FAST_GRID: usize = 32;
+
 /// How a bracketed root is refined and when a hidden pair is looked for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Search {
@@ -14,6 +18,16 @@ pub(super) enum Search {
     Fast,
     /// Plain bisection, and a pair search at every local minimum of |f|.
     Reference,
+}
+
+impl Search {
+    /// Grid intervals for the one-unknown searches.
+    pub fn intervals(self) -> usize {
+        match self {
+            Search::Fast => FAST_GRID,
+            Search::Reference => GRID,
+        }
+    }
 }
 
 /// All roots of `f` on \[lo, hi\]: sign changes on a grid of `n` intervals,

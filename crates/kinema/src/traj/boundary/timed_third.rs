@@ -63,10 +63,24 @@ pub(super) fn timed_third(p: &Problem, l: &Limits, j: f64, t: f64, out: &mut Vec
     let mut xs = Vec::new();
     for root in [true, false] {
         xs.clear();
-        roots::find(l.search, &|x| held_peak_residual(p, l, j, t, x, 0.0, root), -l.acc, p.af, roots::GRID, &mut xs);
+        roots::find(
+            l.search,
+            &|x| held_peak_residual(p, l, j, t, x, 0.0, root),
+            -l.acc,
+            p.af,
+            l.search.intervals(),
+            &mut xs,
+        );
         out.extend(xs.iter().filter_map(|&x| held_peak(p, l, j, t, x, 0.0, root)));
         xs.clear();
-        roots::find(l.search, &|h| held_peak_residual(p, l, j, t, -l.acc, h, root), 0.0, t, roots::GRID, &mut xs);
+        roots::find(
+            l.search,
+            &|h| held_peak_residual(p, l, j, t, -l.acc, h, root),
+            0.0,
+            t,
+            l.search.intervals(),
+            &mut xs,
+        );
         out.extend(xs.iter().filter_map(|&h| held_peak(p, l, j, t, -l.acc, h, root)));
     }
 }

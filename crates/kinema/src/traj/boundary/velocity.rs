@@ -43,9 +43,12 @@ impl Change {
 /// acceleration a_p (held at a_max if it would exceed it), then −j down to
 /// a1. `root` picks a_p = +√K or −√K (both may be valid).
 pub(super) fn rise(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root: bool) -> Option<Change> {
-    let k = j * (v1 - v0) + 0.5 * (a0 * a0 + a1 * a1);
     let hi = a0.max(a1);
     let tol = 1e-12 * l.acc;
+    if !root && hi > tol {
+        return None; // a peak −√K ≤ 0 below a boundary acceleration
+    }
+    let k = j * (v1 - v0) + 0.5 * (a0 * a0 + a1 * a1);
     if k < -tol * l.acc {
         return None;
     }
