@@ -11,7 +11,7 @@ use clap::Args;
 use rayon::prelude::*;
 
 use kinema_geometry::{CollisionCheck, Placement};
-use kinema_io::{CollideAnswer, CollidePair, DistanceAnswer};
+use kinema_io::CollideAnswer;
 
 use crate::stdout::outln;
 use crate::Exit;
@@ -105,17 +105,7 @@ fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool) -> R
 
 /// The answer for one configuration.
 fn check(c: &CollisionCheck, q: Vec<f64>, placement: &mut Placement) -> Result<CollideAnswer> {
-    c.place(&q, placement)?;
-    let pairs: Vec<CollidePair> =
-        c.colliding_bodies(placement)?.into_iter().map(|(a, b)| CollidePair { a, b }).collect();
-    let closest = c.closest(placement)?.map(|p| DistanceAnswer {
-        distance: p.distance,
-        a: c.body(p.a).to_string(),
-        b: c.body(p.b).to_string(),
-        point_a: p.point_a.coords.into(),
-        point_b: p.point_b.coords.into(),
-    });
-    Ok(CollideAnswer { q, collision: !pairs.is_empty(), margin: c.margin(), pairs, min_distance: closest })
+    Ok(CollideAnswer::of(c, q, placement)?)
 }
 
 fn print(a: &CollideAnswer, line: Option<u64>, json: bool) -> Result<()> {

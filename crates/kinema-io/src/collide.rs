@@ -1,6 +1,8 @@
 //! A collision check as an answer: in collision or not, the colliding pairs
-//! by link or obstacle name, and the closest pair with its witness points.
+//! by link or obstacle name, and the closest pair with its witness points —
+//! built once here for `kinema collide`, the server and Python.
 
+use kinema_geometry::{CollisionCheck, Placement};
 use serde::Serialize;
 
 /// Two bodies, by link name (a robot's) or obstacle name (a scene's).
@@ -40,4 +42,26 @@ pub struct CollideAnswer {
     pub pairs: Vec<CollidePair>,
     /// The closest checked pair (absent when no pair is checked).
     pub min_distance: Option<DistanceAnswer>,
+}
+
+impl CollideAnswer {
+    /// The answer of `check` at `q`, placed into `placement` (reused across
+    /// calls): every colliding body pair and the closest pair.
+    pub fn of(
+        check: &CollisionCheck,
+        q: Vec<f64>,
+        placement: &mut Placement,
+    ) -> kinema_geometry::Result<CollideAnswer> {
+        check.place(&q, placement)?;
+        let pairs: Vec<CollidePair> =
+            check.colliding_bodies(placement)?.into_iter().map(|(a, b)| CollidePair { a, b }).collect();
+        let closest = check.closest(placement)?.map(|p| DistanceAnswer {
+            distance: p.distance,
+            a: check.body(p.a).to_string(),
+            b: check.body(p.b).to_string(),
+            point_a: p.point_a.coords.into(),
+            point_b: p.point_b.coords.into(),
+        });
+        Ok(CollideAnswer { q, collision: !pairs.is_empty(), margin: check.margin(), pairs, min_distance: closest })
+    }
 }

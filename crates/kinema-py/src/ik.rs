@@ -234,6 +234,7 @@ impl PyRobot {
                 mask: call.mask,
                 tolerance: call.tolerance,
                 numeric: NumericOptions { seed: call.seed, ..Default::default() },
+                admissible: None,
             };
             let answer = solve_target_with(&robot, family.as_deref(), &call.target, &request)?;
             let chosen = if call.all {

@@ -2,13 +2,15 @@
 //! functions of (method, path, body).
 
 use kinema::ik::family::SelfMotionParameter;
-use kinema::ik::{solve_target, IkRequest, IkTarget, NumericOptions, SolverChoice};
+use kinema::ik::{solve_target, Admissible, IkRequest, IkTarget, NumericOptions, SolverChoice};
 use kinema::nalgebra::Matrix4;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
     PtpOptions, Segment, SelfMotion,
 };
 use kinema::{Pose, Robot, RpyConvention};
+use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, RobotGeometry, Scene};
+use std::path::Path;
 use std::time::Duration;
 
 use kinema_lang::{Stop, StopReason};
@@ -19,7 +21,8 @@ use serde_json::Value;
 
 use crate::error::{Error, Result};
 use kinema_io::{
-    ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary, TrajectoryAnswer,
+    CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary,
+    TrajectoryAnswer,
 };
 
 /// Largest request body accepted \[bytes\] (1 MiB); larger ones get 413.
@@ -92,6 +95,8 @@ fn error_json(e: &Error) -> (u16, Value) {
 #[derive(Debug, Clone)]
 pub struct App {
     robots: Vec<Robot>,
+    /// The built-in robots' link shapes, by robot name (collision checks).
+    bodies: Vec<(String, RobotGeometry)>,
     default: usize,
 }
 
@@ -116,7 +121,16 @@ impl App {
         if robots.is_empty() {
             return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
         }
-        Ok(App { robots, default })
+        let mut bodies = Vec::new();
+        for name in kinema::builtin_names() {
+            let (builtin, geometry) = load_robot_geometry(name, &Default::default())
+                .map_err(|e| Error::Internal { message: format!("built-in robot `{name}`'s shapes: {e}") })?;
+            // A default robot that replaced a built-in of its name has other links: its shapes are not known.
+            if robots.contains(&builtin) {
+                bodies.push((name.to_string(), geometry));
+            }
+        }
+        Ok(App { robots, bodies, default })
     }
 
     /// The robot requests get when they name none.
@@ -210,6 +224,7 @@ impl App {
             "/api/traj" => |a, b, _| a.traj(b),
             "/api/run" => App::run,
             "/api/manip" => |a, b, _| a.manip(b),
+            "/api/collide" => |a, b, _| a.collide(b),
             _ => return Err(Error::NotFound { path: path.into() }),
         };
         if method != "POST" {
@@ -245,8 +260,47 @@ impl App {
         to_value(ManipAnswer::new(r, &req.q, None)?)
     }
 
+    /// The collision check of robot `name` (a built-in's shapes) with the
+    /// obstacles of `scene` (a scene file's TOML text) and `margin` \[m\].
+    fn collision_check(
+        &self,
+        name: &Option<String>,
+        scene: Option<&str>,
+        margin: Option<f64>,
+    ) -> Result<CollisionCheck> {
+        let robot = self.robot(name)?;
+        let geometry = self.bodies.iter().find(|(n, _)| n == robot.name()).map(|(_, g)| g).ok_or_else(|| {
+            Error::Unprocessable {
+                message: format!(
+                    "robot `{}` has no link shapes known to the server (collision checks use the built-in robots' \
+                     shapes)",
+                    robot.name()
+                ),
+            }
+        })?;
+        let unprocessable = |e: kinema_geometry::Error| Error::Unprocessable { message: e.to_string() };
+        let self_pairs = CollisionPairs::self_collision(geometry);
+        let (geometry, pairs) = match scene {
+            Some(text) => Scene::from_toml(text, "scene", Path::new("."))
+                .and_then(|s| s.with_robot(robot, geometry, &self_pairs))
+                .map_err(unprocessable)?,
+            None => (geometry.clone(), self_pairs),
+        };
+        CollisionCheck::new(robot.clone(), geometry, pairs, margin.unwrap_or(0.0)).map_err(unprocessable)
+    }
+
+    fn collide(&self, body: &[u8]) -> Result<Value> {
+        const SHAPE: &str = r#"{"robot": "NAME", "q": [joint values in rad and m], optional "scene" (a scene file's TOML text: [[obstacle]] tables), "margin" (m, ≥ 0)}"#;
+        let req: CollideReq = parse(body, "/api/collide", SHAPE)?;
+        let check = self.collision_check(&req.robot, req.scene.as_deref(), req.margin)?;
+        check.robot().check_q(&req.q)?;
+        let answer = CollideAnswer::of(&check, req.q, &mut check.placement())
+            .map_err(|e| Error::Unprocessable { message: e.to_string() })?;
+        to_value(answer)
+    }
+
     fn ik(&self, body: &[u8]) -> Result<Value> {
-        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3" or "psi" (arm angle), "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet)"#;
+        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3" or "psi" (arm angle), "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet), "scene" (a scene file's TOML text; solutions in collision are discarded), "margin" (m)"#;
         let req: IkReq = parse(body, "/api/ik", SHAPE)?;
         let r = self.robot(&req.robot)?;
         let target = req.target().pose("/api/ik", SHAPE)?;
@@ -255,6 +309,10 @@ impl App {
             r.check_q(q0)?;
         }
         let solver = named("/api/ik", req.solver.as_deref(), SolverChoice::Auto)?;
+        let check = match (&req.scene, req.margin) {
+            (None, None) => None,
+            (scene, margin) => Some(self.collision_check(&req.robot, scene.as_deref(), margin)?),
+        };
         // Every solution (the viewer shows them all, `nearest` marks the one
         // nearest q0); for an iiwa-type arm the closed form at the request's q3
         // or ψ, else at q0's q3.
@@ -267,7 +325,7 @@ impl App {
             mask: req.mask,
             tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
-            admissible: None,
+            admissible: check.as_ref().map(|c| c as &dyn Admissible),
         };
         let target = IkTarget::Pose(target);
         let answer = solve_target(r, &target, &request)?;
@@ -539,6 +597,17 @@ struct IkReq {
     solver: Option<String>,
     seed: Option<u64>,
     mask: Option<[bool; 6]>,
+    scene: Option<String>,
+    margin: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CollideReq {
+    robot: Option<String>,
+    q: Vec<f64>,
+    scene: Option<String>,
+    margin: Option<f64>,
 }
 
 #[derive(Deserialize)]

@@ -30,10 +30,11 @@
 //! | `GET /api/robots` | — | `[{name, dof, description, joint_types, manufacturer, source, default}]` |
 //! | `GET /api/robots/{name}` | — | the fields of `kinema info --json`, plus `home` and `ik` |
 //! | `POST /api/fk` | `{robot?, q}` | `T` (4 rows), position, rpy, quaternion, `within_limits`, `frames`, `joints` |
-//! | `POST /api/ik` | `{robot?, T}` or `{robot?, position, rpy}`, optional `q3` or `psi`, `q0`, `solver` | every solution: `q`, `branch`, `within_limits`, residuals |
+//! | `POST /api/ik` | `{robot?, T}` or `{robot?, position, rpy}`, optional `q3` or `psi`, `q0`, `solver`, `scene`, `margin` | every solution: `q`, `branch`, `within_limits`, residuals |
 //! | `POST /api/traj` | `{robot?, kind: "ptp", from, to}` or `{kind: "lin", from, T \| position+rpy}` | `t`, `q`, `qd`, `qdd` |
 //! | `POST /api/run` | `{robot?, program, dt?, start?}` | `t`, `q`, `qd`, `qdd`, `motions`, `warnings` |
 //! | `POST /api/manip` | `{robot?, q}` | manipulability, translational and rotational ellipsoids |
+//! | `POST /api/collide` | `{robot?, q}`, optional `scene` (TOML text), `margin` | `collision`, `pairs`, `min_distance` |
 //!
 //! ## Limits, and how each failure is answered
 //!

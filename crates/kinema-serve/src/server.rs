@@ -421,7 +421,7 @@ async fn serve(listener: TcpListener, app: Arc<App>, limits: Limits, shutdown: i
 fn heavy(method: &str, path: &str) -> bool {
     let path = path.split(['?', '#']).next().unwrap_or("");
     let path = path.strip_suffix('/').unwrap_or(path);
-    method == "POST" && matches!(path, "/api/ik" | "/api/traj" | "/api/run")
+    method == "POST" && matches!(path, "/api/ik" | "/api/traj" | "/api/run" | "/api/collide")
 }
 
 /// The one handler: the body read within its limits, then [`App::handle`].
@@ -621,6 +621,7 @@ mod tests {
     #[test]
     fn heavy_endpoints_are_told_apart() {
         assert!(heavy("POST", "/api/run") && heavy("POST", "/api/ik/?x=1") && heavy("POST", "/api/traj"));
+        assert!(heavy("POST", "/api/collide"));
         assert!(!heavy("GET", "/api/run") && !heavy("POST", "/api/fk") && !heavy("GET", "/api/robots"));
     }
 

@@ -854,3 +854,59 @@ fn random_request_bodies_are_answered_never_with_a_500() {
     }
     assert!(accepted > 100 && refused > 500, "accepted {accepted}, refused {refused}");
 }
+
+/// `/api/collide` answers as `kinema collide --json` does (the same
+/// `kinema_io::CollideAnswer`), with a scene sent as TOML text; `/api/ik`
+/// with the same scene discards the solutions in collision.
+#[test]
+fn collide_and_ik_in_a_scene() {
+    let running = start();
+    let addr = running.local_addr();
+    let scene_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/fume-hood.toml");
+    let scene = std::fs::read_to_string(&scene_path).unwrap();
+    let iiwa = "lbr-iiwa-14-r820";
+
+    let home = post(addr, "/api/collide", &json!({"robot": iiwa, "q": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]}));
+    assert_eq!(home.status, 200, "{}", home.json);
+    assert_eq!(home.json["collision"], false);
+    assert!(home.json["min_distance"]["distance"].as_f64().unwrap() > 0.0);
+
+    // The default elbow-up solution of the fume-hood target hits the sash.
+    let target = json!({"robot": iiwa, "position": [0.6, 0.0, 0.3], "rpy": [std::f64::consts::PI, 0.0, 0.0]});
+    let plain = post(addr, "/api/ik", &target);
+    let picked = plain.json["picked"].as_u64().unwrap() as usize;
+    let q = plain.json["solutions"][picked]["q"].clone();
+    let hit = post(addr, "/api/collide", &json!({"robot": iiwa, "q": q, "scene": scene}));
+    assert_eq!(hit.status, 200, "{}", hit.json);
+    assert_eq!(hit.json["collision"], true, "{}", hit.json);
+    let pairs = hit.json["pairs"].as_array().unwrap();
+    assert!(pairs.iter().any(|p| p["b"] == "sash" || p["a"] == "sash"), "{}", hit.json);
+
+    let mut in_scene = target.clone();
+    in_scene["scene"] = json!(scene);
+    let solved = post(addr, "/api/ik", &in_scene);
+    assert_eq!(solved.status, 200, "{}", solved.json);
+    let solutions = solved.json["solutions"].as_array().unwrap();
+    assert!(!solutions.is_empty());
+    for s in solutions {
+        let free = post(addr, "/api/collide", &json!({"robot": iiwa, "q": s["q"], "scene": scene}));
+        assert_eq!(free.json["collision"], false, "{} is free: {}", s["q"], free.json);
+    }
+    let discarded = solved.json["discarded"]["candidates"].as_array().unwrap();
+    assert!(discarded.iter().any(|c| c["reason"] == "collision"), "{}", solved.json);
+
+    // Bad requests say what is wrong.
+    let bad = post(
+        addr,
+        "/api/collide",
+        &json!({"robot": iiwa, "q": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], "scene": "[[obstacle]]\nname = 1\n"}),
+    );
+    assert_eq!(bad.status, 422, "{}", bad.json);
+    assert!(bad.json["error"].as_str().unwrap().contains("scene"), "{}", bad.json);
+    let short = post(addr, "/api/collide", &json!({"robot": iiwa, "q": [0.0, 0.0, 0.0]}));
+    assert_eq!(short.status, 422, "{}", short.json);
+    let margin =
+        post(addr, "/api/collide", &json!({"robot": iiwa, "q": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], "margin": -1.0}));
+    assert_eq!(margin.status, 422, "{}", margin.json);
+    assert!(margin.json["error"].as_str().unwrap().contains("margin"), "{}", margin.json);
+}
