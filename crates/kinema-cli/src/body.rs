@@ -1,7 +1,7 @@
 //! The options that give a command's robot a body to check: a scene of
 //! obstacles, an SRDF of pairs not to check, a safety margin and where
-//! meshes are. `kinema collide` always checks; `kinema ik` checks when a
-//! scene or an SRDF is given.
+//! meshes are. `kinema collide` always checks; `kinema ik` and `kinema
+//! traj` check when a scene or an SRDF is given.
 
 use std::path::PathBuf;
 
@@ -41,6 +41,23 @@ impl BodyArgs {
         let check = CollisionCheck::load(&robot.robot, &options)?;
         crate::print_load_warnings(&robot.robot, check.robot());
         Ok(check)
+    }
+
+    /// An error when any option that `flag` would ignore is given (`why`: what `flag` does instead).
+    pub fn refuse_with(&self, flag: &str, why: &str) -> Result<()> {
+        if self.scene.is_some() || self.srdf.is_some() || self.margin != 0.0 {
+            anyhow::bail!("{flag} takes no --scene, --srdf or --margin: {why}");
+        }
+        Ok(())
+    }
+
+    /// The robot, and its collision check when a scene or an SRDF asks for one
+    /// (the check's robot then: loaded once).
+    pub fn robot_and_check(&self, robot: &RobotArg) -> Result<(kinema::Robot, Option<CollisionCheck>)> {
+        match self.load_if_asked(robot)? {
+            Some(check) => Ok((check.robot().clone(), Some(check))),
+            None => Ok((robot.load()?, None)),
+        }
     }
 
     /// [`BodyArgs::load`] when a scene or an SRDF asks for collision checks.

@@ -376,7 +376,7 @@ fn load(a: &CellArgs) -> Result<Loaded> {
 
 /// What every member is checked with: the robot's limits, singular passages
 /// as warnings, as `kinema traj check` does by default.
-fn check_options() -> CheckOptions {
+fn check_options() -> CheckOptions<'static> {
     CheckOptions { singular_warning: Some(SINGULAR_WARNING), ..CheckOptions::default() }
 }
 

@@ -2,15 +2,17 @@
 //! itself or a scene's obstacles, which pairs, and how close is the closest
 //! pair. One configuration (`--q`) or a CSV of them (`--input`, checked on
 //! all cores, printed in input order). Exit code 3 when any configuration
-//! collides.
+//! collides. `--generate-srdf` writes the pairs that need no check.
 
-use std::path::PathBuf;
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 use clap::Args;
 use rayon::prelude::*;
 
-use kinema_geometry::{CollisionCheck, Placement};
+use kinema_geometry::{generate_srdf, CollisionCheck};
 use kinema_io::CollideAnswer;
 
 use crate::stdout::outln;
@@ -29,11 +31,28 @@ pub struct CollideArgs {
     #[command(flatten)]
     body: crate::BodyArgs,
     /// Joint values, comma-separated (rad and m), or a named pose such as `home`.
-    #[arg(long, allow_hyphen_values = true, required_unless_present = "input", conflicts_with = "input")]
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        required_unless_present_any = ["input", "generate_srdf"],
+        conflicts_with_all = ["input", "generate_srdf"]
+    )]
     q: Option<String>,
     /// A CSV of configurations, one per line (`#` comments and a header line allowed).
-    #[arg(long, value_name = "CSV")]
+    #[arg(long, value_name = "CSV", conflicts_with = "generate_srdf")]
     input: Option<PathBuf>,
+    /// Write the pairs that need no check as an SRDF (`-`: standard output), found as MoveIt's setup
+    /// assistant finds them: adjacent links, links touching at the home pose, and links in collision at
+    /// all or none of --samples random configurations.
+    #[arg(long, value_name = "FILE")]
+    generate_srdf: Option<PathBuf>,
+    /// With --generate-srdf: how many seeded random configurations decide `Always` and `Never`
+    /// [default: 10000, MoveIt's default density].
+    #[arg(long, requires = "generate_srdf")]
+    samples: Option<usize>,
+    /// With --generate-srdf: the seed of the random configurations [default: 0].
+    #[arg(long, value_parser = crate::seed, requires = "generate_srdf")]
+    seed: Option<u64>,
     /// Revolute joint values are in degrees (prismatic ones stay in metres).
     #[arg(long)]
     deg: bool,
@@ -43,16 +62,26 @@ pub struct CollideArgs {
 }
 
 pub fn run(a: CollideArgs) -> Result<()> {
+    if let Some(path) = &a.generate_srdf {
+        a.body.refuse_with("--generate-srdf", "it finds the robot's own pairs")?;
+        let checked = a.body.load(&a.robot)?;
+        return write_srdf(&checked, path, a.samples.unwrap_or(10_000), a.seed.unwrap_or(0));
+    }
+    if a.samples.is_some() || a.seed.is_some() {
+        // clap lets `requires` pass when the required flag conflicts with a given one (--q).
+        eprintln!("error: --samples and --seed go with --generate-srdf");
+        return Err(Exit(crate::EXIT_USAGE).into());
+    }
     let checked = a.body.load(&a.robot)?;
     let collided = match (&a.q, &a.input) {
         (Some(text), _) => {
             let q = crate::input::parse_q(checked.robot(), text, a.deg)?;
-            let answer = check(&checked, q, &mut checked.placement())?;
+            let answer = CollideAnswer::of(&checked, q, &mut checked.placement())?;
             print(&answer, None, a.json)?;
             answer.collision
         }
         (None, Some(path)) => batch(&checked, path, a.deg, a.json)?,
-        (None, None) => unreachable!("clap requires --q or --input"),
+        (None, None) => unreachable!("clap requires --q, --input or --generate-srdf"),
     };
     if collided {
         return Err(Exit(EXIT_COLLISION).into());
@@ -90,7 +119,7 @@ fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool) -> R
                         .map(|(x, j)| if deg && j.kind == kinema::JointType::Revolute { x.to_radians() } else { *x })
                         .collect::<Vec<f64>>();
                     c.robot().check_q(&q).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", path.display()))?;
-                    check(c, q, placement)
+                    Ok(CollideAnswer::of(c, q, placement)?)
                 },
             )
             .collect();
@@ -103,9 +132,27 @@ fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool) -> R
     Ok(any)
 }
 
-/// The answer for one configuration.
-fn check(c: &CollisionCheck, q: Vec<f64>, placement: &mut Placement) -> Result<CollideAnswer> {
-    Ok(CollideAnswer::of(c, q, placement)?)
+/// Generates the robot's allowed-collision pairs and writes them as an SRDF to `path`.
+fn write_srdf(c: &CollisionCheck, path: &Path, samples: usize, seed: u64) -> Result<()> {
+    let srdf = generate_srdf(c.robot(), c.geometry(), samples, seed)?;
+    crate::output::write_atomically(path, |out| Ok(out.write_all(srdf.to_xml().as_bytes())?))?;
+    let mut reasons: BTreeMap<&str, usize> = BTreeMap::new();
+    for d in &srdf.disabled {
+        *reasons.entry(d.reason.as_str()).or_default() += 1;
+    }
+    let counts: Vec<String> = reasons.iter().map(|(r, n)| format!("{r} {n}")).collect();
+    let summary = format!(
+        "{} link pairs need no check ({}) over {samples} configurations, seed {seed}",
+        srdf.disabled.len(),
+        counts.join(", ")
+    );
+    // The summary must not mix into an SRDF written to standard output.
+    if crate::output::is_stdout(path) {
+        eprintln!("{summary}");
+    } else {
+        outln!("wrote `{}`: {summary}", path.display())?;
+    }
+    Ok(())
 }
 
 fn print(a: &CollideAnswer, line: Option<u64>, json: bool) -> Result<()> {

@@ -13,6 +13,7 @@ use kinema::traj::{
     Waypoint,
 };
 use kinema::{Pose, Robot, RpyConvention};
+use kinema_geometry::CollisionCheck;
 use kinema_io::trajectory_csv::{
     for_each_trajectory_row, read_trajectory_csv, trajectory_header, write_trajectory_csv, Digits, TrajectoryCsv,
 };
@@ -48,6 +49,8 @@ pub enum OrientationArg {
 pub struct CartArgs {
     #[command(flatten)]
     robot: RobotArg,
+    #[command(flatten)]
+    body: crate::BodyArgs,
     /// Start configuration (comma-separated or a named pose); the motion starts at its tool pose.
     #[arg(long, allow_hyphen_values = true)]
     from: String,
@@ -152,6 +155,8 @@ pub struct CircArgs {
 pub struct ExprArgs {
     #[command(flatten)]
     robot: RobotArg,
+    #[command(flatten)]
+    body: crate::BodyArgs,
     /// A joint (1-based) and its expression of t, e.g. --joint 1 "3*sin(4*pi*t^2/2)"; repeat for more joints.
     #[arg(long, num_args = 2, value_names = ["JOINT", "EXPR"], allow_hyphen_values = true)]
     joint: Vec<String>,
@@ -189,6 +194,8 @@ pub struct ExprArgs {
 pub struct CheckArgs {
     #[command(flatten)]
     robot: RobotArg,
+    #[command(flatten)]
+    body: crate::BodyArgs,
     /// The trajectory CSV: a header with t and q1..qn, optionally qd1..qdn and qdd1..qddn
     /// (estimated from the samples when absent); other columns are ignored.
     file: PathBuf,
@@ -245,6 +252,8 @@ pub struct LawArgs {
 pub struct PtpArgs {
     #[command(flatten)]
     robot: RobotArg,
+    #[command(flatten)]
+    body: crate::BodyArgs,
     /// Start configuration: comma-separated values or a named pose.
     #[arg(long, allow_hyphen_values = true)]
     from: String,
@@ -378,7 +387,7 @@ fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Resul
 }
 
 fn ptp(a: PtpArgs) -> Result<()> {
-    let robot = a.robot.load()?;
+    let (robot, body) = a.body.robot_and_check(&a.robot)?;
     let from = crate::input::parse_q(&robot, &a.from, a.deg)?;
     let to = crate::input::parse_q(&robot, &a.to, a.deg)?;
     if !(a.speed > 0.0 && a.speed <= 100.0) {
@@ -402,11 +411,13 @@ fn ptp(a: PtpArgs) -> Result<()> {
         // Boundary states: one law per joint, checked like every trajectory.
         let plan = kinema::traj::BoundaryPtp::new(&robot, &from, &to, &opts, &boundary)?;
         let traj = plan.sample(&robot, a.dt)?;
+        refuse_collisions(&traj, body.as_ref())?;
         let summary = TrajSummary::boundary_ptp(&robot, &plan, opts.profile, traj.len());
         return emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary);
     }
     let plan = Ptp::new(&robot, &from, &to, &opts)?;
     let traj = plan.sample(&robot, a.dt)?;
+    refuse_collisions(&traj, body.as_ref())?;
     let summary = TrajSummary::ptp(&robot, &plan, traj.len());
     emit(&robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
 }
@@ -552,8 +563,23 @@ fn numbers(text: &str, what: &str) -> Result<Vec<f64>> {
         .collect()
 }
 
+/// The check as the core's admissibility test.
+fn admissible(body: Option<&CollisionCheck>) -> Option<&dyn kinema::ik::Admissible> {
+    body.map(|c| c as &dyn kinema::ik::Admissible)
+}
+
+/// An error listing where `traj` collides, when a check is given: the samples
+/// and the straight joint steps between them, certified.
+fn refuse_collisions(traj: &JointTrajectory, body: Option<&CollisionCheck>) -> Result<()> {
+    if let Some(check) = body {
+        kinema::traj::collision_free(traj, check)?;
+    }
+    Ok(())
+}
+
 fn cart_motion(
     robot: &Robot,
+    body: Option<&CollisionCheck>,
     c: &CartArgs,
     segments: impl FnOnce(Pose) -> Result<Vec<Segment>>,
     blend: Blend,
@@ -585,14 +611,15 @@ fn cart_motion(
         Some(step) => to_joints_at(robot, &motion, &q0, &motion.resample_times(step, c.max_angle)?, method.clone())?,
         None => to_joints(robot, &motion, &q0, c.dt, method)?,
     };
-    let opts = CheckOptions { min_manipulability: c.min_manip, ..CheckOptions::default() };
+    let opts =
+        CheckOptions { min_manipulability: c.min_manip, admissible: admissible(body), ..CheckOptions::default() };
     check(robot, &traj, &opts)?.into_result()?;
     let summary = TrajSummary::cartesian(robot, &motion, profile, traj.len(), skipped);
     emit(robot, &traj, c.rpy, c.out.as_deref(), c.json, summary)
 }
 
 fn lin(a: LinArgs) -> Result<()> {
-    let robot = a.cart.robot.load()?;
+    let (robot, body) = a.cart.body.robot_and_check(&a.cart.robot)?;
     let conv = a.cart.rpy;
     let orientation = match a.orientation {
         OrientationArg::Slerp => Orientation::Slerp,
@@ -622,11 +649,12 @@ fn lin(a: LinArgs) -> Result<()> {
         Vec::new()
     };
     let blend = a.blend;
-    cart_motion(&robot, &a.cart, |start| Ok(Segment::lin_chain(&start, &points, orientation)?), blend, &skipped)
+    let segments = |start| Ok(Segment::lin_chain(&start, &points, orientation)?);
+    cart_motion(&robot, body.as_ref(), &a.cart, segments, blend, &skipped)
 }
 
 fn circ(a: CircArgs) -> Result<()> {
-    let robot = a.cart.robot.load()?;
+    let (robot, body) = a.cart.body.robot_and_check(&a.cart.robot)?;
     let conv = a.cart.rpy;
     let aux = numbers(&a.aux, "aux")?;
     if aux.len() != 3 {
@@ -635,6 +663,7 @@ fn circ(a: CircArgs) -> Result<()> {
     let to = pose_arg(&a.to, conv, "to")?;
     cart_motion(
         &robot,
+        body.as_ref(),
         &a.cart,
         |start| Ok(vec![Segment::circ_through(&start, &kinema::nalgebra::Vector3::new(aux[0], aux[1], aux[2]), &to)?]),
         Blend::None,
@@ -643,7 +672,7 @@ fn circ(a: CircArgs) -> Result<()> {
 }
 
 fn expr(a: ExprArgs) -> Result<()> {
-    let robot = a.robot.load()?;
+    let (robot, body) = a.body.robot_and_check(&a.robot)?;
     let q0 = crate::input::parse_q(&robot, &a.q0, false)?;
     if a.joint.is_empty() {
         bail!("give at least one --joint N EXPR");
@@ -660,6 +689,7 @@ fn expr(a: ExprArgs) -> Result<()> {
         vel: limits_arg(&robot, a.vmax.as_deref(), false, "vmax")?,
         acc: limits_arg(&robot, a.amax.as_deref(), false, "amax")?,
         jerk: limits_arg(&robot, a.jmax.as_deref(), false, "jmax")?,
+        admissible: admissible(body.as_ref()),
         ..CheckOptions::default()
     };
     let traj = expression_trajectory(&robot, &q0, &exprs, a.duration, a.dt)?;
@@ -669,7 +699,7 @@ fn expr(a: ExprArgs) -> Result<()> {
 }
 
 fn check_file(a: CheckArgs) -> Result<()> {
-    let robot = a.robot.load()?;
+    let (robot, body) = a.body.robot_and_check(&a.robot)?;
     let (traj, (value_resolution, time_resolution)) = read_trajectory_with_resolution(&robot, &a.file)?;
     let opts = CheckOptions {
         value_resolution,
@@ -679,6 +709,7 @@ fn check_file(a: CheckArgs) -> Result<()> {
         jerk: limits_arg(&robot, a.jmax.as_deref(), false, "jmax")?,
         min_manipulability: a.min_manip,
         singular_warning: (a.singular != 0.0).then_some(a.singular),
+        admissible: admissible(body.as_ref()),
         ..CheckOptions::default()
     };
     let report = check(&robot, &traj, &opts)?;

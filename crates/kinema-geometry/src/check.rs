@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use kinema::ik::{Admissible, Rejection};
+use kinema::ik::{Admissible, Assessment, Rejection};
 use kinema::Robot;
 
 use crate::error::{Error, Result};
@@ -15,6 +15,7 @@ use crate::query::{collides, contacts, min_distance, Proximity};
 use crate::robot_toml::{is_urdf, load_robot_geometry};
 use crate::scene::Scene;
 use crate::srdf::Srdf;
+use crate::sweep::{LeverArms, Segment, SweptContact};
 use crate::urdf::{load_urdf, ros_package_path, UrdfOptions};
 
 /// Where a [`CollisionCheck`]'s parts come from.
@@ -43,6 +44,7 @@ pub struct CollisionCheck {
     geometry: RobotGeometry,
     pairs: CollisionPairs,
     margin: f64,
+    arms: LeverArms,
 }
 
 impl CollisionCheck {
@@ -62,7 +64,8 @@ impl CollisionCheck {
                 expected: geometry.len(),
             });
         }
-        Ok(CollisionCheck { robot, geometry, pairs, margin })
+        let arms = LeverArms::new(&robot, &geometry)?;
+        Ok(CollisionCheck { robot, geometry, pairs, margin, arms })
     }
 
     /// Loads robot `spec` (a built-in name, a `.toml` or a `.urdf`) with its
@@ -96,11 +99,24 @@ impl CollisionCheck {
             let links = if is_urdf(spec) { load_urdf(spec, &urdf)?.links } else { Vec::new() };
             Srdf::load(path)?.apply(&geometry, &links, &mut pairs)?;
         }
-        let (geometry, pairs) = match &options.scene {
-            Some(path) => Scene::load(path)?.with_robot(&robot, &geometry, &pairs)?,
+        let scene = options.scene.as_deref().map(Scene::load).transpose()?;
+        CollisionCheck::with_scene(robot, geometry, pairs, scene.as_ref(), options.margin)
+    }
+
+    /// The check of the robot's `pairs` and, with a scene, of every moving
+    /// link against every obstacle of it.
+    pub fn with_scene(
+        robot: Robot,
+        geometry: RobotGeometry,
+        pairs: CollisionPairs,
+        scene: Option<&Scene>,
+        margin: f64,
+    ) -> Result<CollisionCheck> {
+        let (geometry, pairs) = match scene {
+            Some(scene) => scene.with_robot(&robot, &geometry, &pairs)?,
             None => (geometry, pairs),
         };
-        CollisionCheck::new(robot, geometry, pairs, options.margin)
+        CollisionCheck::new(robot, geometry, pairs, margin)
     }
 
     /// The robot.
@@ -145,6 +161,28 @@ impl CollisionCheck {
         collides(&self.geometry, &placement, &self.pairs, self.margin)
     }
 
+    /// The first contact on the straight joint-space segment `from` → `to`
+    /// (both checked against the robot's joints), certified by conservative
+    /// advancement: no contact between the two is missed; a pair within
+    /// [`CONTACT_TOLERANCE`](crate::CONTACT_TOLERANCE) of the margin counts.
+    pub fn first_contact_between(
+        &self,
+        from: &[f64],
+        to: &[f64],
+        placement: &mut Placement,
+    ) -> Result<Option<SweptContact>> {
+        self.robot.check_q(from)?;
+        self.robot.check_q(to)?;
+        let segment = Segment {
+            robot: &self.robot,
+            geometry: &self.geometry,
+            pairs: &self.pairs,
+            arms: &self.arms,
+            margin: self.margin,
+        };
+        segment.first_contact(from, to, placement)
+    }
+
     /// Every body pair closer than the margin in the placed configuration,
     /// each once (by link or obstacle name), in check order.
     pub fn colliding_bodies(&self, placement: &Placement) -> Result<Vec<(String, String)>> {
@@ -180,13 +218,28 @@ fn to_core(e: Error) -> kinema::Error {
 impl Admissible for CollisionCheck {
     fn rejects(&self, q: &[f64]) -> kinema::Result<Option<Rejection>> {
         let pair = self.first_collision(q).map_err(to_core)?;
-        Ok(pair.map(|(a, b)| Rejection { kind: "collision", detail: format!("{} – {}", self.body(a), self.body(b)) }))
+        Ok(pair.map(|pair| self.rejection(pair)))
     }
 
-    fn clearance(&self, q: &[f64]) -> kinema::Result<f64> {
+    fn assess(&self, q: &[f64]) -> kinema::Result<Assessment> {
         let mut placement = self.placement();
         self.place(q, &mut placement).map_err(to_core)?;
+        if let Some(pair) = collides(&self.geometry, &placement, &self.pairs, self.margin).map_err(to_core)? {
+            return Ok(Assessment::Rejected(self.rejection(pair)));
+        }
         let closest = self.closest(&placement).map_err(to_core)?;
-        Ok(closest.map_or(f64::INFINITY, |p| p.distance - self.margin))
+        Ok(Assessment::Clear(closest.map_or(f64::INFINITY, |p| p.distance - self.margin)))
+    }
+
+    fn first_rejection_between(&self, from: &[f64], to: &[f64]) -> kinema::Result<Option<(f64, Rejection)>> {
+        let contact = self.first_contact_between(from, to, &mut self.placement()).map_err(to_core)?;
+        Ok(contact.map(|c| (c.fraction, self.rejection(c.pair))))
+    }
+}
+
+impl CollisionCheck {
+    /// A colliding pair of shapes as IK's rejection, by body name.
+    fn rejection(&self, (a, b): (usize, usize)) -> Rejection {
+        Rejection { kind: "collision", detail: format!("{} – {}", self.body(a), self.body(b)) }
     }
 }

@@ -81,6 +81,7 @@ mod scene;
 mod shape;
 mod spheres;
 mod srdf;
+mod sweep;
 mod toml_shape;
 mod urdf;
 
@@ -96,6 +97,7 @@ pub use scene::{Obstacle, Scene, SceneRobot, MAX_SCENE_BYTES};
 pub use shape::{Mesh, Shape};
 pub use spheres::{collides_fast, spheres_free, SpherePlacement, Spheres};
 pub use srdf::{generate_srdf, DisabledPair, Srdf};
+pub use sweep::{SweptContact, CONTACT_TOLERANCE};
 pub use urdf::{load_urdf, ros_package_path, urdf_from_str, UrdfOptions, UrdfRobot};
 
 pub use parry3d_f64;

@@ -115,6 +115,12 @@ impl CollisionPairs {
         self.pairs.iter().map(|&(a, b)| (a as usize, b as usize))
     }
 
+    /// Pair `n` in check order (panics when `n` ≥ [`len`](Self::len)).
+    pub(crate) fn get(&self, n: usize) -> (usize, usize) {
+        let (a, b) = self.pairs[n];
+        (a as usize, b as usize)
+    }
+
     /// The number of pairs.
     pub fn len(&self) -> usize {
         self.pairs.len()

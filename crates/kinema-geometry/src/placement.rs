@@ -95,6 +95,43 @@ impl Placement {
 /// # Ok::<(), kinema_geometry::Error>(())
 /// ```
 pub fn place(robot: &Robot, geometry: &RobotGeometry, q: &[f64], out: &mut Placement) -> Result<Fk> {
+    check_fits(robot, geometry, out)?;
+    let fk = kin::link_frames_into(robot, q, &mut out.frames)?;
+    place_on_frames(geometry, out);
+    Ok(fk)
+}
+
+/// [`place`] for link `frames` already computed (as [`place`]'s, same length)
+/// by the caller: copies them and places the shapes, without forward kinematics.
+pub(crate) fn place_at_frames(
+    robot: &Robot,
+    geometry: &RobotGeometry,
+    frames: &[Pose],
+    out: &mut Placement,
+) -> Result<()> {
+    check_fits(robot, geometry, out)?;
+    if frames.len() != out.frames.len() {
+        return Err(Error::Mismatch { what: "the link frames".into(), got: frames.len(), expected: out.frames.len() });
+    }
+    out.frames.copy_from_slice(frames);
+    place_on_frames(geometry, out);
+    Ok(())
+}
+
+/// Each shape's world pose and bounding box from the link frames in `out`.
+fn place_on_frames(geometry: &RobotGeometry, out: &mut Placement) {
+    for (link, frame) in out.links.iter_mut().zip(&out.frames) {
+        *link = isometry(frame);
+    }
+    for (i, s) in geometry.shapes().iter().enumerate() {
+        let pose = out.links[s.link()] * s.link_from_collider();
+        out.aabbs[i] = s.collider().compute_aabb(&pose);
+        out.world_from_collider[i] = pose;
+    }
+}
+
+/// Errors unless `geometry` was made for `robot` and `out` for `geometry`.
+fn check_fits(robot: &Robot, geometry: &RobotGeometry, out: &Placement) -> Result<()> {
     if geometry.dof() != robot.dof() || geometry.robot() != robot.name() {
         return Err(Error::Shape {
             name: geometry.robot().to_string(),
@@ -110,14 +147,5 @@ pub fn place(robot: &Robot, geometry: &RobotGeometry, q: &[f64], out: &mut Place
     if out.len() != geometry.len() || out.frames.len() != robot.dof() + 2 {
         return Err(Error::Mismatch { what: "the placement".into(), got: out.len(), expected: geometry.len() });
     }
-    let fk = kin::link_frames_into(robot, q, &mut out.frames)?;
-    for (link, frame) in out.links.iter_mut().zip(&out.frames) {
-        *link = isometry(frame);
-    }
-    for (i, s) in geometry.shapes().iter().enumerate() {
-        let pose = out.links[s.link()] * s.link_from_collider();
-        out.aabbs[i] = s.collider().compute_aabb(&pose);
-        out.world_from_collider[i] = pose;
-    }
-    Ok(fk)
+    Ok(())
 }

@@ -212,6 +212,16 @@ pub fn pair_distance(geometry: &RobotGeometry, placement: &Placement, a: usize, 
 }
 
 /// The placed parry shapes of a pair: (pose of a, a, pose of b, b).
+/// The distance \[m\] between shapes `a` and `b` in `placement` (0 when they
+/// touch or overlap): [`pair_distance`] without the witness points.
+pub(crate) fn pair_gap(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Result<f64> {
+    if let Some(p) = round_pair(geometry, placement, a, b) {
+        return Ok(p.distance.max(0.0));
+    }
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))
+}
+
 pub(crate) fn shapes_of<'g>(
     geometry: &'g RobotGeometry,
     placement: &'g Placement,

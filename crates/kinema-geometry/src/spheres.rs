@@ -18,7 +18,7 @@ use kinema::{kin, Pose, Robot};
 use crate::error::{Error, Result};
 use crate::geometry::RobotGeometry;
 use crate::pairs::CollisionPairs;
-use crate::placement::{place, Placement};
+use crate::placement::{place_at_frames, Placement};
 use crate::query::{aabb_gap, pair_hits};
 use crate::shape::Shape;
 
@@ -142,13 +142,12 @@ pub fn collides_fast(
     sphere_placement: &mut SpherePlacement,
     placement: &mut Placement,
 ) -> Result<Option<(usize, usize)>> {
-    let Some(first) = first_maybe(robot, spheres, q, pairs, margin, sphere_placement, 0)? else {
+    let Some(mut next) = first_maybe(robot, spheres, q, pairs, margin, sphere_placement, 0)? else {
         return Ok(None);
     };
-    place(robot, geometry, q, placement)?;
-    let mut next = first;
+    place_at_frames(robot, geometry, &sphere_placement.frames, placement)?;
     loop {
-        let (a, b) = pairs.iter().nth(next).expect("first_maybe returns a pair index");
+        let (a, b) = pairs.get(next);
         if aabb_gap(placement.aabb(a), placement.aabb(b)) <= margin && pair_hits(geometry, placement, a, b, margin)? {
             return Ok(Some((a, b)));
         }
@@ -203,7 +202,8 @@ fn maybe_from(
     from: usize,
 ) -> Option<usize> {
     let (c, r) = (&out.centres, &spheres.radius);
-    for (n, (a, b)) in pairs.iter().enumerate().skip(from) {
+    for n in from..pairs.len() {
+        let (a, b) = pairs.get(n);
         let ((a0, a1), (b0, b1)) = (spheres.of_shape[a], spheres.of_shape[b]);
         for i in a0..a1 {
             for j in b0..b1 {

@@ -168,6 +168,9 @@ pub struct ViolationAnswer {
     pub limit: f64,
     /// The finding in words.
     pub message: String,
+    /// What else there is to say (for a collision: the pair).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub detail: Option<String>,
 }
 
 impl ViolationAnswer {
@@ -180,6 +183,7 @@ impl ViolationAnswer {
             value: v.value,
             limit: v.limit,
             message: v.to_string(),
+            detail: v.detail.clone(),
         }
     }
 }

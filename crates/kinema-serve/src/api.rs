@@ -11,6 +11,7 @@ use kinema::traj::{
 use kinema::{Pose, Robot, RpyConvention};
 use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, RobotGeometry, Scene};
 use std::path::Path;
+use std::sync::OnceLock;
 use std::time::Duration;
 
 use kinema_lang::{Stop, StopReason};
@@ -95,8 +96,9 @@ fn error_json(e: &Error) -> (u16, Value) {
 #[derive(Debug, Clone)]
 pub struct App {
     robots: Vec<Robot>,
-    /// The built-in robots' link shapes, by robot name (collision checks).
-    bodies: Vec<(String, RobotGeometry)>,
+    /// The built-in robots' link shapes, by robot name, loaded at the first
+    /// collision check.
+    bodies: OnceLock<Vec<(String, RobotGeometry)>>,
     default: usize,
 }
 
@@ -121,16 +123,24 @@ impl App {
         if robots.is_empty() {
             return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
         }
+        Ok(App { robots, bodies: OnceLock::new(), default })
+    }
+
+    /// The link shapes of the built-in robots this server serves.
+    fn bodies(&self) -> Result<&[(String, RobotGeometry)]> {
+        if let Some(bodies) = self.bodies.get() {
+            return Ok(bodies);
+        }
         let mut bodies = Vec::new();
         for name in kinema::builtin_names() {
             let (builtin, geometry) = load_robot_geometry(name, &Default::default())
                 .map_err(|e| Error::Internal { message: format!("built-in robot `{name}`'s shapes: {e}") })?;
             // A default robot that replaced a built-in of its name has other links: its shapes are not known.
-            if robots.contains(&builtin) {
+            if self.robots.contains(&builtin) {
                 bodies.push((name.to_string(), geometry));
             }
         }
-        Ok(App { robots, bodies, default })
+        Ok(self.bodies.get_or_init(|| bodies))
     }
 
     /// The robot requests get when they name none.
@@ -269,7 +279,7 @@ impl App {
         margin: Option<f64>,
     ) -> Result<CollisionCheck> {
         let robot = self.robot(name)?;
-        let geometry = self.bodies.iter().find(|(n, _)| n == robot.name()).map(|(_, g)| g).ok_or_else(|| {
+        let geometry = self.bodies()?.iter().find(|(n, _)| n == robot.name()).map(|(_, g)| g).ok_or_else(|| {
             Error::Unprocessable {
                 message: format!(
                     "robot `{}` has no link shapes known to the server (collision checks use the built-in robots' \
@@ -279,14 +289,11 @@ impl App {
             }
         })?;
         let unprocessable = |e: kinema_geometry::Error| Error::Unprocessable { message: e.to_string() };
-        let self_pairs = CollisionPairs::self_collision(geometry);
-        let (geometry, pairs) = match scene {
-            Some(text) => Scene::from_toml(text, "scene", Path::new("."))
-                .and_then(|s| s.with_robot(robot, geometry, &self_pairs))
-                .map_err(unprocessable)?,
-            None => (geometry.clone(), self_pairs),
-        };
-        CollisionCheck::new(robot.clone(), geometry, pairs, margin.unwrap_or(0.0)).map_err(unprocessable)
+        let scene =
+            scene.map(|text| Scene::from_toml(text, "scene", Path::new("."))).transpose().map_err(unprocessable)?;
+        let pairs = CollisionPairs::self_collision(geometry);
+        CollisionCheck::with_scene(robot.clone(), geometry.clone(), pairs, scene.as_ref(), margin.unwrap_or(0.0))
+            .map_err(unprocessable)
     }
 
     fn collide(&self, body: &[u8]) -> Result<Value> {

@@ -11,7 +11,7 @@
 //! Jacobian rows are ordered \[vx vy vz ωx ωy ωz\]: linear velocity of the tool
 //! point, then angular velocity.
 
-use nalgebra::{Matrix3, Matrix6xX};
+use nalgebra::{Matrix3, Matrix6xX, Vector3};
 use rayon::prelude::*;
 
 use std::mem::MaybeUninit;
@@ -20,7 +20,7 @@ use crate::chain::{as_uninit, Layout};
 use crate::data::Data;
 use crate::error::{Error, InputError, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::JointSet;
+use crate::model::{DhConvention, Joint, JointSet, LinkGeometry};
 use crate::robot::Robot;
 
 /// The frame a Jacobian (or a velocity) is expressed in.
@@ -376,5 +376,24 @@ impl Data {
         self.fit(robot);
         link_frames_into(robot, q, &mut self.frames)?;
         Ok(&self.frames)
+    }
+}
+
+/// Joint `i`'s axis (`joint` is `robot.joints()[i]`) in the frame of the
+/// link frames `frames` (as [`link_frames_into`] gives them): its unit
+/// direction and a point on it. The point is fixed on the link before the
+/// joint and, for a revolute joint, on the link after it too. A standard DH joint
+/// turns about z of the previous frame (link i is Rz(θ)·… after frame i−1); a
+/// modified DH joint about z of its own frame (…·Rz(θ)); a general joint
+/// about `axis` of its own frame, which the joint's own motion leaves unchanged.
+pub fn joint_axis(j: &Joint, i: usize, frames: &[Pose]) -> (Vector3<f64>, Vector3<f64>) {
+    match j.geometry {
+        LinkGeometry::Dh { convention: DhConvention::Standard, .. } => {
+            (frames[i].rot.column(2).into_owned(), frames[i].pos)
+        }
+        LinkGeometry::Dh { convention: DhConvention::Modified, .. } => {
+            (frames[i + 1].rot.column(2).into_owned(), frames[i + 1].pos)
+        }
+        LinkGeometry::General { axis, .. } => (frames[i + 1].rot * axis, frames[i + 1].pos),
     }
 }

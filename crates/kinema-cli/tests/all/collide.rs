@@ -202,3 +202,68 @@ fn ik_batch_answers_are_free_of_the_scene() {
     let free = kinema(&["collide", "--robot", iiwa, "--scene", &scene, "--input", check.to_str().unwrap()]);
     assert!(free.ok, "every answer is free: {}{}", free.stdout, free.stderr);
 }
+
+/// `--generate-srdf` writes the pairs that need no check; read back with
+/// `--srdf`, it keeps a folded arm's collision (those pairs do collide at
+/// some samples) and every disabled pair is one the sampling justified.
+#[test]
+fn a_generated_srdf_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let srdf = dir.path().join("ur5.srdf");
+    let path = srdf.to_str().unwrap();
+    let run = kinema(&["collide", "--robot", "ur5", "--generate-srdf", path, "--samples", "2000", "--seed", "3"]);
+    assert!(run.ok, "{}", run.stderr);
+    assert!(run.stdout.contains("link pairs need no check") && run.stdout.contains("Adjacent"), "{}", run.stdout);
+    let text = std::fs::read_to_string(&srdf).unwrap();
+    assert!(text.contains("<robot name=\"ur5\">") && text.contains("reason=\"Adjacent\""), "{text}");
+    assert!(!text.contains("link1=\"link 2\" link2=\"link 4\""), "link 2 and link 4 do collide when folded: {text}");
+    let hit = kinema(&["collide", "--robot", "ur5", "--srdf", path, "--q", FOLDED_UR5, "--deg", "--json"]);
+    assert_eq!(hit.code, Some(3), "{}", hit.stderr);
+    assert!(has_pair(&json(&hit.stdout), "link 2", "link 4"), "{}", hit.stdout);
+    // To standard output, the summary goes to stderr.
+    let out = kinema(&["collide", "--robot", "ur5", "--generate-srdf", "-", "--samples", "10"]);
+    assert!(out.ok && out.stdout.starts_with("<?xml") && out.stderr.contains("need no check"), "{}", out.stderr);
+    // What it would ignore is refused.
+    let scene = example_scene("fume-hood.toml");
+    let r = kinema(&["collide", "--robot", "ur5", "--generate-srdf", path, "--scene", &scene]);
+    assert_eq!(r.code, Some(1));
+    assert!(r.stderr.contains("--generate-srdf takes no --scene"), "{}", r.stderr);
+    let r = kinema(&["collide", "--robot", "ur5", "--samples", "10", "--q", "home"]);
+    assert_eq!(r.code, Some(64), "{}", r.stderr);
+}
+
+/// `--scene` on `kinema traj`: a PTP that swings the iiwa's tilted arm past
+/// the fume hood's sash is refused with the time and the pair, though both
+/// ends are free; `traj check --scene` finds the same in the written file.
+#[test]
+fn a_motion_through_the_sash_is_refused() {
+    let scene = example_scene("fume-hood.toml");
+    let (from, to) = ("-1.5708,1.047,0,0,0,0,0", "1.5708,1.047,0,0,0,0,0");
+    for q in [from, to] {
+        let free = kinema(&["collide", "--robot", "lbr-iiwa-14-r820", "--scene", &scene, "--q", q]);
+        assert!(free.ok, "{q}: {}", free.stdout);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("swing.csv");
+    let out = out.to_str().unwrap();
+    let base = ["traj", "ptp", "--robot", "lbr-iiwa-14-r820", "--from", from, "--to", to, "--out", out];
+    let refused = kinema(&[&base[..], &["--scene", &scene]].concat());
+    assert_eq!(refused.code, Some(1), "{}", refused.stderr);
+    assert!(refused.stderr.contains("collision: link") && refused.stderr.contains("– sash"), "{}", refused.stderr);
+    assert!(!std::path::Path::new(out).exists(), "a refused motion writes nothing");
+
+    let written = kinema(&base);
+    assert!(written.ok, "{}", written.stderr);
+    let checked = kinema(&["traj", "check", "--robot", "lbr-iiwa-14-r820", out, "--scene", &scene, "--json"]);
+    assert_eq!(checked.code, Some(1), "{}", checked.stderr);
+    let report = json(&checked.stdout);
+    let hits: Vec<&serde_json::Value> =
+        report["violations"].as_array().unwrap().iter().filter(|v| v["kind"] == "collision").collect();
+    assert_eq!(hits.len(), 1, "one stretch through the sash: {report}");
+    assert!(hits[0]["detail"].as_str().unwrap().ends_with("– sash"), "{}", hits[0]);
+    let t = hits[0]["t"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 2.3, "{t}");
+    // Without the scene the same file passes.
+    let plain = kinema(&["traj", "check", "--robot", "lbr-iiwa-14-r820", out]);
+    assert!(plain.ok, "{}", plain.stdout);
+}

@@ -10,4 +10,5 @@ mod scene;
 mod self_collision;
 mod spheres;
 mod srdf;
+mod sweep;
 mod urdf;

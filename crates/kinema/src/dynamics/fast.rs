@@ -18,9 +18,10 @@
 
 use nalgebra::{DMatrix, Vector3};
 
-use super::{check_gravity, check_rates, joint_axis};
+use super::{check_gravity, check_rates};
 use crate::data::{Data, Spatial};
 use crate::error::{Error, InputError, Result};
+use crate::kin::joint_axis;
 use crate::math::Pose;
 use crate::model::{Inertial, JointType};
 use crate::robot::Robot;

@@ -26,8 +26,9 @@ mod aba;
 mod coriolis;
 
 use crate::error::{Error, InputError, Result};
+use crate::kin::joint_axis;
 use crate::math::Pose;
-use crate::model::{DhConvention, Inertial, Joint, JointType, LinkGeometry};
+use crate::model::{Inertial, JointType};
 use crate::robot::Robot;
 
 mod fast;
@@ -100,23 +101,6 @@ fn kinematics(robot: &Robot, q: &[f64]) -> Result<Kinematics> {
         inertia.push(spatial_inertia(bodies[i], &frames[i + 1]));
     }
     Ok(Kinematics { s, inertia })
-}
-
-/// Joint i's axis in the world frame: its unit direction and a point on it,
-/// from the link frames (`frames[i + 1]` is link i's). A standard DH joint
-/// turns about z of the previous frame (link i is Rz(θ)·… after frame i−1); a
-/// modified DH joint about z of its own frame (…·Rz(θ)); a general joint
-/// about `axis` of its own frame, which the joint's own motion leaves unchanged.
-fn joint_axis(j: &Joint, i: usize, frames: &[Pose]) -> (Vector3<f64>, Vector3<f64>) {
-    match j.geometry {
-        LinkGeometry::Dh { convention: DhConvention::Standard, .. } => {
-            (frames[i].rot.column(2).into_owned(), frames[i].pos)
-        }
-        LinkGeometry::Dh { convention: DhConvention::Modified, .. } => {
-            (frames[i + 1].rot.column(2).into_owned(), frames[i + 1].pos)
-        }
-        LinkGeometry::General { axis, .. } => (frames[i + 1].rot * axis, frames[i + 1].pos),
-    }
 }
 
 /// The mass properties of every link, or the error naming the first link without.

@@ -33,6 +33,11 @@ pub enum ViolationKind {
     /// A singular passage: the Jacobian's inverse condition number below
     /// the threshold (reported as a warning).
     Singular,
+    /// A configuration the admissibility test refuses (a scene's collision
+    /// check): at a sample, or on the straight joint-space step before it.
+    /// `value` is where in that step, as a fraction (0: at the previous
+    /// sample); `detail` says what collides.
+    Collision,
 }
 
 impl ViolationKind {
@@ -49,12 +54,13 @@ impl ViolationKind {
             ViolationKind::Jerk => 7,
             ViolationKind::NearSingular => 8,
             ViolationKind::Singular => 9,
+            ViolationKind::Collision => 10,
         }
     }
 
     /// The lower-case name (`malformed`, `position`, `velocity`,
     /// `acceleration`, `jump`, `branch`, `nearsingular`, `jerk`, `inconsistent`,
-    /// `singular`), as `kinema traj check --json` prints it.
+    /// `singular`, `collision`), as `kinema traj check --json` prints it.
     pub fn name(self) -> &'static str {
         match self {
             ViolationKind::Malformed => "malformed",
@@ -67,6 +73,7 @@ impl ViolationKind {
             ViolationKind::Jerk => "jerk",
             ViolationKind::Inconsistent => "inconsistent",
             ViolationKind::Singular => "singular",
+            ViolationKind::Collision => "collision",
         }
     }
 }
@@ -86,6 +93,8 @@ pub struct Violation {
     pub value: f64,
     /// The limit it broke.
     pub limit: f64,
+    /// What else there is to say (for a collision: the pair).
+    pub detail: Option<String>,
 }
 
 impl fmt::Display for Violation {
@@ -127,6 +136,14 @@ impl fmt::Display for Violation {
                 "singular passage: the Jacobian's inverse condition number {:.3e} is below {:.3e}",
                 self.value, self.limit
             ),
+            ViolationKind::Collision => {
+                let detail = self.detail.as_deref().unwrap_or("a configuration the check refuses");
+                if self.value > 0.0 {
+                    write!(f, "collision: {detail} (between samples {} and {})", self.sample - 1, self.sample)
+                } else {
+                    write!(f, "collision: {detail}")
+                }
+            }
         }
     }
 }

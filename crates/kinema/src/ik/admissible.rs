@@ -1,5 +1,6 @@
-//! A test every IK solution must pass besides meeting the target: a scene's
-//! collision check is the one kinema has. The core knows nothing of shapes;
+//! A test every IK solution (and every configuration of a checked motion)
+//! must pass besides meeting the target: a scene's collision check is the
+//! one kinema has. The core knows nothing of shapes;
 //! `kinema-geometry` implements [`Admissible`] and every door passes it in
 //! [`IkRequest::admissible`](super::IkRequest::admissible).
 //!
@@ -25,10 +26,27 @@ pub trait Admissible: Sync {
     /// `None` when the robot may stand at `q`; else why not.
     fn rejects(&self, q: &[f64]) -> Result<Option<Rejection>>;
 
-    /// How far `q` is from being rejected (for a scene: the smallest distance
-    /// between checked pairs less the safety margin \[m\]); the self-motion
-    /// search keeps the value whose solutions have the largest.
-    fn clearance(&self, q: &[f64]) -> Result<f64>;
+    /// [`rejects`](Admissible::rejects) and, when `q` passes, how far it is
+    /// from being rejected (for a scene: the smallest distance between
+    /// checked pairs less the safety margin \[m\]) in one evaluation; the
+    /// self-motion search keeps the value whose solutions have the largest.
+    fn assess(&self, q: &[f64]) -> Result<Assessment>;
+
+    /// The first configuration [`rejects`](Admissible::rejects) would refuse
+    /// on the straight joint-space segment q(s) = from + s·(to − from),
+    /// s ∈ \[0, 1\], as (s, why); `None` when there is none. It must not
+    /// miss one between samples (a scene: a continuous check), so that
+    /// [`traj::check`](crate::traj::check) can certify a whole motion.
+    fn first_rejection_between(&self, from: &[f64], to: &[f64]) -> Result<Option<(f64, Rejection)>>;
+}
+
+/// What [`Admissible::assess`] found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Assessment {
+    /// Not admissible, and why.
+    Rejected(Rejection),
+    /// Admissible, with this clearance.
+    Clear(f64),
 }
 
 impl fmt::Debug for dyn Admissible + '_ {
@@ -63,15 +81,20 @@ fn sort_out(answer: &mut IkAnswer, test: &dyn Admissible) -> Result<bool> {
     for s in answer.solutions.drain(..) {
         match test.rejects(&s.q)? {
             None => kept.push(s),
-            Some(rejection) => answer.discarded.push(Discarded {
-                residual: Residual { position: s.position_error, orientation: s.orientation_error },
-                branch: s.branch,
-                rejection: Some(rejection),
-            }),
+            Some(rejection) => answer.discarded.push(discard(s, rejection)),
         }
     }
     answer.solutions = kept;
     Ok(!answer.solutions.is_empty())
+}
+
+/// A rejected solution as a discarded candidate.
+fn discard(s: Solution, rejection: Rejection) -> Discarded {
+    Discarded {
+        residual: Residual { position: s.position_error, orientation: s.orientation_error },
+        branch: s.branch,
+        rejection: Some(rejection),
+    }
 }
 
 /// The refusal when every solution was rejected.
@@ -153,12 +176,15 @@ impl SelfMotionSearch<'_> {
                 Err(e) => return Err(e),
             };
             answer.solutions.retain(Solution::within_limits);
-            if !sort_out(&mut answer, test)? {
-                continue;
-            }
             let mut scored = Vec::with_capacity(answer.solutions.len());
             for s in answer.solutions.drain(..) {
-                scored.push((test.clearance(&s.q)?, s));
+                match test.assess(&s.q)? {
+                    Assessment::Clear(clearance) => scored.push((clearance, s)),
+                    Assessment::Rejected(rejection) => answer.discarded.push(discard(s, rejection)),
+                }
+            }
+            if scored.is_empty() {
+                continue;
             }
             scored.sort_by(|a, b| b.0.total_cmp(&a.0));
             let clearance = scored[0].0;

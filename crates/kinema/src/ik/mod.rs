@@ -39,7 +39,7 @@ mod target;
 mod two_link;
 
 pub use crate::error::{Closest, Tolerance, Unreachable};
-pub use admissible::{Admissible, Rejection};
+pub use admissible::{Admissible, Assessment, Rejection};
 pub use batch::solve_batch;
 pub use closed_form::ClosedForm;
 pub use contract::{Discarded, IkAnswer, Residual};

@@ -57,6 +57,7 @@ pub(super) fn branch_jumps(
                 joint,
                 value: joints,
                 limit: tool,
+                detail: None,
             });
         }
     }

@@ -14,6 +14,7 @@ use super::{joint_limits, JointTrajectory};
 use crate::analysis::{rows, yoshikawa, Axes};
 use crate::error::{Error, InputError, Result};
 pub use crate::error::{Violation, ViolationKind};
+use crate::ik::{Admissible, Rejection};
 use crate::kin::Frame;
 use crate::robot::Robot;
 
@@ -28,8 +29,8 @@ pub const SINGULAR_WARNING: f64 = 1e-3;
 const CONSISTENCY_SLACK: f64 = 0.05;
 
 /// Options of [`check`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct CheckOptions {
+#[derive(Debug, Clone)]
+pub struct CheckOptions<'a> {
     /// Relative slack on every limit (rounding), default 1e-9.
     pub tolerance: f64,
     /// Velocity limits to use instead of the robot's (1 or dof values).
@@ -55,9 +56,13 @@ pub struct CheckOptions {
     pub value_resolution: f64,
     /// The same for the times (5e-10 for kinema's 9 decimals).
     pub time_resolution: f64,
+    /// A test every configuration of the motion must pass (a scene's
+    /// collision check), at the samples and on the straight joint-space
+    /// steps between them.
+    pub admissible: Option<&'a dyn Admissible>,
 }
 
-impl Default for CheckOptions {
+impl Default for CheckOptions<'_> {
     fn default() -> Self {
         CheckOptions {
             tolerance: 1e-9,
@@ -69,6 +74,7 @@ impl Default for CheckOptions {
             singular_warning: None,
             value_resolution: 0.0,
             time_resolution: 0.0,
+            admissible: None,
         }
     }
 }
@@ -152,7 +158,7 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
     for k in 0..traj.len() {
         let t = traj.times()[k];
         let (q, qd, qdd) = (traj.q(k), traj.qd(k), traj.qdd(k));
-        let v = |kind, joint, value, limit| Violation { kind, sample: k, time: t, joint, value, limit };
+        let v = |kind, joint, value, limit| Violation { kind, sample: k, time: t, joint, value, limit, detail: None };
         let prev_t = if k > 0 { traj.times()[k - 1] } else { f64::NEG_INFINITY };
         if !finite(traj, k) || t <= prev_t {
             let bad = q.iter().chain(qd).chain(qdd).copied().find(|x| !x.is_finite()).unwrap_or(t);
@@ -205,12 +211,73 @@ pub fn check(robot: &Robot, traj: &JointTrajectory, opts: &CheckOptions) -> Resu
     if let Some(th) = opts.singular_warning {
         report.warnings = singular_passages(robot, traj, th, opts.manipulability_axes)?;
     }
+    if let Some(test) = opts.admissible {
+        report.violations.extend(rejections_along(traj, test)?);
+    }
     // In sample order, then joint, then kind; one violation per (sample, joint,
     // kind): the given derivative's before what q implies.
     report.violations.sort_by_key(|v| (v.sample, v.joint, v.kind.rank()));
     let mut seen = std::collections::HashSet::new();
     report.violations.retain(|v| seen.insert((v.sample, v.joint, v.kind)));
     Ok(report)
+}
+
+/// `Ok` when `test` admits every configuration of `traj`, at its samples
+/// and on the straight joint-space steps between them; else an
+/// [`Error::Trajectory`] listing where each refused stretch begins (what
+/// [`check`] reports with [`CheckOptions::admissible`], without the other
+/// checks).
+pub fn collision_free(traj: &JointTrajectory, test: &dyn Admissible) -> Result<()> {
+    let report = CheckReport {
+        samples: traj.len(),
+        peak_vel: Vec::new(),
+        peak_acc: Vec::new(),
+        peak_jerk: Vec::new(),
+        min_manipulability: None,
+        violations: rejections_along(traj, test)?,
+        warnings: Vec::new(),
+    };
+    report.into_result().map(|_| ())
+}
+
+/// One [`ViolationKind::Collision`] per stretch of the motion that `test`
+/// refuses, where the stretch begins: at a sample that starts the motion
+/// (or follows a malformed one), or on the straight step from the previous
+/// sample.
+fn rejections_along(traj: &JointTrajectory, test: &dyn Admissible) -> Result<Vec<Violation>> {
+    let t = traj.times();
+    let mut out = Vec::new();
+    let collision = |k: usize, fraction: f64, r: Rejection| Violation {
+        kind: ViolationKind::Collision,
+        sample: k,
+        time: if fraction > 0.0 { t[k - 1] + fraction * (t[k] - t[k - 1]) } else { t[k] },
+        joint: None,
+        value: fraction,
+        limit: 0.0,
+        detail: Some(r.detail),
+    };
+    // Whether the previous sample is refused (its stretch already reported).
+    let mut inside = false;
+    for k in 0..traj.len() {
+        if !finite(traj, k) {
+            inside = false;
+            continue;
+        }
+        let starts = k == 0 || !finite(traj, k - 1) || t[k] <= t[k - 1];
+        if starts || inside {
+            let refused = test.rejects(traj.q(k))?;
+            if let (Some(r), false) = (&refused, inside) {
+                out.push(collision(k, 0.0, r.clone()));
+            }
+            inside = refused.is_some();
+            continue;
+        }
+        if let Some((fraction, r)) = test.first_rejection_between(traj.q(k - 1), traj.q(k))? {
+            out.push(collision(k, fraction, r));
+            inside = test.rejects(traj.q(k))?.is_some();
+        }
+    }
+    Ok(out)
 }
 
 /// Whether sample `k` holds only finite values.
@@ -246,7 +313,7 @@ fn check_steps(
 ) {
     let t = traj.times();
     let mut push = |kind, k: usize, i: usize, value: f64, limit: f64| {
-        report.violations.push(Violation { kind, sample: k, time: t[k], joint: Some(i), value, limit });
+        report.violations.push(Violation { kind, sample: k, time: t[k], joint: Some(i), value, limit, detail: None });
     };
     for k in 1..traj.len() {
         if !(finite(traj, k - 1) && finite(traj, k) && t[k] > t[k - 1]) {
@@ -320,6 +387,7 @@ fn singular_passages(robot: &Robot, traj: &JointTrajectory, threshold: f64, axes
                 joint: None,
                 value: ratio,
                 limit: threshold,
+                detail: None,
             };
             match out.last_mut() {
                 Some(last) if inside => {

@@ -38,7 +38,7 @@ pub mod waypoints;
 pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};
 pub use cart::{Blend, CartesianLimits, CartesianMotion, CartesianState, Orientation, Segment, Waypoint};
 pub use cell::{Cell, CellMember, CellReport};
-pub use check::{check, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
+pub use check::{check, collision_free, CheckOptions, CheckReport, Violation, ViolationKind, SINGULAR_WARNING};
 pub use expr::{expression_trajectory, Expr};
 pub use law::{LawState, MotionLimits, Profile, TimeLaw, MIN_DURATION};
 pub use path_error::{distances_to_path, tracking_error, PathDistance, TrackingError};

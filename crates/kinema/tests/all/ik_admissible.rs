@@ -4,7 +4,7 @@
 //! solutions, and a redundant arm searches its self-motion for an admitted
 //! one before refusing.
 
-use kinema::ik::{solve_target, Admissible, IkRequest, IkTarget, Rejection, Unreachable};
+use kinema::ik::{solve_target, Admissible, Assessment, IkRequest, IkTarget, Rejection, Unreachable};
 use kinema::math::rot_to_axis_angle;
 use kinema::{Error, Robot};
 use rand::{Rng, SeedableRng};
@@ -17,14 +17,35 @@ struct AtLeast {
     min: f64,
 }
 
+impl AtLeast {
+    fn rejection(&self) -> Rejection {
+        Rejection { kind: "collision", detail: format!("q{} below {}", self.joint + 1, self.min) }
+    }
+}
+
 impl Admissible for AtLeast {
     fn rejects(&self, q: &[f64]) -> kinema::Result<Option<Rejection>> {
-        Ok((q[self.joint] < self.min)
-            .then(|| Rejection { kind: "collision", detail: format!("q{} below {}", self.joint + 1, self.min) }))
+        Ok((q[self.joint] < self.min).then(|| self.rejection()))
     }
 
-    fn clearance(&self, q: &[f64]) -> kinema::Result<f64> {
-        Ok(q[self.joint] - self.min)
+    fn assess(&self, q: &[f64]) -> kinema::Result<Assessment> {
+        Ok(match self.rejects(q)? {
+            Some(rejection) => Assessment::Rejected(rejection),
+            None => Assessment::Clear(q[self.joint] - self.min),
+        })
+    }
+
+    fn first_rejection_between(&self, from: &[f64], to: &[f64]) -> kinema::Result<Option<(f64, Rejection)>> {
+        // The joint moves linearly: below `min` from the start, or from where it crosses it.
+        let (a, b) = (from[self.joint], to[self.joint]);
+        let s = if a < self.min {
+            0.0
+        } else if b < self.min {
+            (a - self.min) / (a - b)
+        } else {
+            return Ok(None);
+        };
+        Ok(Some((s, self.rejection())))
     }
 }
 
@@ -125,4 +146,35 @@ fn a_fixed_q3_is_not_searched() {
     let free = IkRequest { admissible: Some(&test), ..Default::default() };
     let answer = solve_target(&robot, &target, &free).unwrap();
     assert!(answer.solutions.iter().all(|s| s.q[2] >= 0.5));
+}
+
+/// `traj::check` with an admissibility test: one violation per refused
+/// stretch, where it begins — between samples at the exact crossing time —
+/// and `collision_free` refuses the same motion.
+#[test]
+fn a_checked_motion_reports_where_each_refused_stretch_begins() {
+    use kinema::traj::{check, collision_free, CheckOptions, JointTrajectory, ViolationKind};
+    let robot = Robot::builtin("ur5").unwrap();
+    let test = AtLeast { joint: 0, min: 0.0 };
+    // q1 over time: 1, 0.5, −0.5 (crossing at t = 1.5), −1, 0.5 (out), −0.2 (back in at t = 4 + 5/7).
+    let q1 = [1.0, 0.5, -0.5, -1.0, 0.5, -0.2];
+    let t: Vec<f64> = (0..q1.len()).map(|k| k as f64).collect();
+    let q: Vec<f64> = q1.iter().flat_map(|&x| [x, -1.0, 1.0, 0.0, 0.0, 0.0]).collect();
+    let traj = JointTrajectory::from_positions(6, t, q).unwrap();
+    let opts = CheckOptions { admissible: Some(&test), ..CheckOptions::default() };
+    let report = check(&robot, &traj, &opts).unwrap();
+    let hits: Vec<_> = report.violations.iter().filter(|v| v.kind == ViolationKind::Collision).collect();
+    assert_eq!(hits.len(), 2, "{hits:?}");
+    assert_eq!(hits[0].sample, 2);
+    assert!((hits[0].time - 1.5).abs() < 1e-12, "{}", hits[0].time);
+    assert_eq!(hits[1].sample, 5);
+    assert!((hits[1].time - (4.0 + 5.0 / 7.0)).abs() < 1e-12, "{}", hits[1].time);
+    assert_eq!(hits[0].detail.as_deref(), Some("q1 below 0"));
+    assert!(hits[0].to_string().contains("collision: q1 below 0 (between samples 1 and 2)"), "{}", hits[0]);
+    let refused = collision_free(&traj, &test).unwrap_err();
+    assert!(matches!(refused, Error::Trajectory { count: 2, .. }), "{refused}");
+    // A motion that starts refused is reported at its first sample.
+    let start = JointTrajectory::from_positions(6, vec![0.0, 1.0], [[-0.1; 6], [0.3; 6]].concat()).unwrap();
+    let first = collision_free(&start, &test).unwrap_err().to_string();
+    assert!(first.contains("sample 0"), "{first}");
 }
