@@ -2,6 +2,7 @@
 
 use crate::stdout::{out, outln};
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::Result;
@@ -32,6 +33,8 @@ pub struct ProgramArgs {
     /// generated trajectory leaves out a point outside the workspace), instead of failing.
     #[arg(long)]
     pub(crate) skip_unreachable: bool,
+    #[command(flatten)]
+    pub(crate) body: crate::BodyArgs,
 }
 
 /// How long a program may compute by default \[s, wall clock\]: a bound on
@@ -105,7 +108,7 @@ impl Compiled {
 
 /// Reads, compiles, prints the diagnostics; the plan, or exit code 1.
 pub(crate) fn build(a: &ProgramArgs) -> Result<Compiled> {
-    let robot = a.robot.load()?;
+    let (robot, body) = a.body.robot_and_check(&a.robot)?;
     let src = crate::input::read_text_limited(&a.program, crate::input::MAX_TEXT_BYTES, "program")?;
     let start = match &a.start {
         Some(text) => Some(crate::input::parse_q(&robot, text, false)?),
@@ -115,7 +118,9 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<Compiled> {
     // ends the process at once.
     let _cancellable = crate::interrupt::cancellable();
     let stop = program_stop(a.time_limit)?;
-    let opts = Options { dt: a.dt, start, stop, skip_unreachable: a.skip_unreachable, ..Options::default() };
+    let admissible = body.map(|c| Arc::new(c) as Arc<dyn kinema::ik::Admissible>);
+    let opts =
+        Options { dt: a.dt, start, stop, skip_unreachable: a.skip_unreachable, admissible, ..Options::default() };
     let name = a.program.display().to_string();
     match kinema_lang::compile(&src, &robot, &opts) {
         Ok(plan) => {

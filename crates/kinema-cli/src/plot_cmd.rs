@@ -273,6 +273,7 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
                         start: None,
                         time_limit: lang_cmd::DEFAULT_TIME_LIMIT,
                         skip_unreachable: false,
+                        body: Default::default(),
                     })?
                     .plan;
                     (plan.robot, plan.trajectory)

@@ -16,6 +16,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::answer::to_python;
 use crate::args::{opt_real, parse_rpy, pose_arg, real, to_numpy};
 use crate::check::{check_resolutions, PyCheckReport};
+use crate::collision::Source;
 use crate::errors::{invalid, to_py};
 use crate::program::run_program;
 use crate::robot::{robot_arg, PyRobot};
@@ -54,7 +55,7 @@ pub(crate) struct PyCell {
 
 /// Check options of every member: the robot's limits, singular passages as
 /// warnings (as `kinema traj check` and `kinema cell`).
-fn check_options(resolution: f64, time_resolution: f64) -> CheckOptions {
+fn check_options(resolution: f64, time_resolution: f64) -> CheckOptions<'static> {
     CheckOptions {
         singular_warning: Some(kinema::traj::SINGULAR_WARNING),
         value_resolution: resolution,
@@ -139,6 +140,7 @@ impl PyCell {
         }
         check_resolutions(resolution, time_resolution)?;
         let spec: Option<String> = robot.extract().ok();
+        let source = Source::of(robot);
         let robot = robot_arg(robot)?;
         let spec = spec.unwrap_or_else(|| robot.name().to_string());
         let conv = parse_rpy(rpy)?;
@@ -162,9 +164,10 @@ impl PyCell {
         }
         let opts = check_options(resolution, time_resolution);
         let (robot, traj) = if let Some(text) = program {
-            let placed_py = Bound::new(py, PyRobot::new(Arc::clone(&placed)))?;
+            let placed_py = Bound::new(py, PyRobot::new(Arc::clone(&placed), source))?;
             let filename = filename.unwrap_or_else(|| format!("<program of {name}>"));
-            let plan = run_program(py, text, placed_py.as_any(), slf.dt, start, &filename, time_limit, false)?;
+            let plan =
+                run_program(py, text, placed_py.as_any(), slf.dt, start, &filename, time_limit, false, None, None)?;
             let robot = Arc::clone(&plan.robot.get().robot);
             let traj = traj_from_arrays(
                 n,

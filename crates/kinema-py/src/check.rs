@@ -2,6 +2,7 @@
 
 use std::sync::Arc;
 
+use kinema::ik::Admissible;
 use kinema::traj::{check, CheckOptions, CheckReport};
 use kinema_io::CheckAnswer;
 use numpy::PyArray1;
@@ -9,6 +10,7 @@ use pyo3::prelude::*;
 
 use crate::answer::to_python;
 use crate::args::{limit_values, opt_real, real};
+use crate::collision::PyScene;
 use crate::errors::{invalid, to_py};
 use crate::robot::PyRobot;
 use crate::traj::{sampled_arrays, traj_from_arrays};
@@ -127,13 +129,20 @@ impl PyRobot {
     /// written by ``kinema traj`` reads with
     /// ``np.genfromtxt(path, delimiter=",", names=True)``.
     ///
+    /// ``scene``: a :class:`Scene`; every configuration of the motion — the
+    /// samples and the straight joint steps between them, certified by a
+    /// continuous check — must keep the robot clear of itself and the
+    /// obstacles (by ``margin`` [m]); each stretch in collision is one
+    /// violation of kind ``collision`` at the time it begins, naming the pair.
+    ///
     /// Returns a :class:`CheckReport` (a trajectory that breaks a limit is
     /// reported, not raised; see :meth:`CheckReport.raise_if_violations`).
     ///
     /// Raises:
     ///     InvalidInput: arrays of the wrong shape, no samples, bad limits.
     #[pyo3(signature = (t, q=None, qd=None, qdd=None, *, vmax=None, amax=None, jmax=None, min_manip=None,
-                        singular=kinema::traj::SINGULAR_WARNING, resolution=0.0, time_resolution=0.0))]
+                        singular=kinema::traj::SINGULAR_WARNING, resolution=0.0, time_resolution=0.0, scene=None,
+                        margin=None))]
     #[allow(clippy::too_many_arguments)]
     fn check(
         &self,
@@ -149,6 +158,8 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] singular: f64,
         #[pyo3(from_py_with = real)] resolution: f64,
         #[pyo3(from_py_with = real)] time_resolution: f64,
+        scene: Option<PyRef<'_, PyScene>>,
+        #[pyo3(from_py_with = opt_real)] margin: Option<f64>,
     ) -> PyResult<PyCheckReport> {
         check_resolutions(resolution, time_resolution)?;
         let [q, qd, qdd] = [q, qd, qdd].map(|a| a.filter(|a| !a.is_none()));
@@ -164,6 +175,7 @@ impl PyRobot {
             return Err(invalid("`q` is missing: give the joint positions, shape (K, n), with the times `t`".into()));
         };
         let traj = traj_from_arrays(self.dof(), t, q, qd, qdd)?;
+        let body = self.collision_check_if_asked(scene.as_deref(), margin)?;
         let opts = CheckOptions {
             vel: limit_values(vmax, "vmax")?,
             acc: limit_values(amax, "amax")?,
@@ -172,6 +184,7 @@ impl PyRobot {
             singular_warning: (singular != 0.0).then_some(singular),
             value_resolution: resolution,
             time_resolution,
+            admissible: body.as_ref().map(|c| c as &dyn Admissible),
             ..CheckOptions::default()
         };
         let robot = Arc::clone(&self.robot);

@@ -65,6 +65,18 @@ impl<'py> IntoPyObject<'py> for UnreachableArgs {
     }
 }
 
+/// A collision-check error as a Python exception: the core's own as
+/// [`to_py`]; a bad margin or mismatched parts as `InvalidInput`; shapes,
+/// meshes, scenes and SRDFs that cannot be used as `DescriptionError`.
+pub(crate) fn geometry_to_py(e: kinema_geometry::Error) -> PyErr {
+    use kinema_geometry::Error as G;
+    match e {
+        G::Kinema(e) => to_py(e),
+        e @ (G::Margin { .. } | G::Mismatch { .. }) => InvalidInput::new_err(e.to_string()),
+        e => DescriptionError::new_err(e.to_string()),
+    }
+}
+
 /// An `InvalidInput` exception with `message`.
 pub(crate) fn invalid(message: String) -> PyErr {
     InvalidInput::new_err(message)

@@ -2,8 +2,11 @@
 
 use std::sync::Arc;
 
-use kinema::ik::{pick_one, solve_target_with, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance};
+use kinema::ik::{
+    pick_one, solve_target_with, Admissible, IkRequest, IkTarget, NumericOptions, Solution, SolverChoice, Tolerance,
+};
 use kinema::RpyConvention;
+use kinema_geometry::CollisionCheck;
 use kinema_io::SolutionAnswer;
 use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyArray1, PyArrayDyn};
@@ -13,6 +16,7 @@ use pyo3::types::PyInt;
 use crate::answer::to_python;
 use crate::args::{f64_array, opt_real, parse_rpy, pose_arg, real, to_numpy, vec3_arg};
 use crate::batch;
+use crate::collision::PyScene;
 use crate::errors::{invalid, to_py, KinemaError};
 use crate::robot::PyRobot;
 
@@ -210,6 +214,8 @@ struct IkCall {
     mask: Option<[bool; 6]>,
     tolerance: Tolerance,
     seed: u64,
+    /// The scene's collision check solutions must pass (`scene=`).
+    check: Option<CollisionCheck>,
 }
 
 /// What the solver found for an [`IkCall`]: its answer, and the solutions
@@ -234,7 +240,7 @@ impl PyRobot {
                 mask: call.mask,
                 tolerance: call.tolerance,
                 numeric: NumericOptions { seed: call.seed, ..Default::default() },
-                admissible: None,
+                admissible: call.check.as_ref().map(|c| c as &dyn Admissible),
             };
             let answer = solve_target_with(&robot, family.as_deref(), &call.target, &request)?;
             let chosen = if call.all {
@@ -285,6 +291,12 @@ impl PyRobot {
     /// only: ``q3`` solves with that fixed q3 (up to 8 solutions), ``psi`` at
     /// that arm angle (one solution per configuration).
     ///
+    /// ``scene``: a :class:`Scene`; a solution in which the robot collides
+    /// with itself or an obstacle (closer than ``margin`` [m], default 0) is
+    /// not a solution (``ik_dict`` lists it under ``discarded`` with reason
+    /// ``collision``), and a redundant arm searches its self-motion (q3 or ψ)
+    /// for a free one before raising Unreachable, as ``kinema ik --scene``.
+    ///
     /// ``mask``: with a full pose ``T``, six booleans (or 0/1) saying which of
     /// x, y, z, ωx, ωy, ωz (world frame) a solution must meet, e.g.
     /// ``[1, 1, 1, 0, 1, 1]`` frees the rotation about the world z axis (the
@@ -317,7 +329,7 @@ impl PyRobot {
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (T=None, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0, *, position=None,
         pitch=None, roll=None, approach=None, alpha=None, rpy="zyx", mask=None, tol_position=1e-6,
-        tol_orientation=1e-6))]
+        tol_orientation=1e-6, scene=None, margin=None))]
     fn ik(
         &self,
         py: Python<'_>,
@@ -337,6 +349,8 @@ impl PyRobot {
         #[pyo3(from_py_with = mask_arg)] mask: Option<[bool; 6]>,
         #[pyo3(from_py_with = real)] tol_position: f64,
         #[pyo3(from_py_with = real)] tol_orientation: f64,
+        scene: Option<PyRef<'_, PyScene>>,
+        #[pyo3(from_py_with = opt_real)] margin: Option<f64>,
     ) -> PyResult<PyObject> {
         let solver = solver_choice(solver)?;
         let convention = parse_rpy(rpy)?;
@@ -351,6 +365,7 @@ impl PyRobot {
             mask,
             tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
             seed,
+            check: self.collision_check_if_asked(scene.as_deref(), margin)?,
         };
         let found = self.solve_ik(py, &request)?;
         let free = request.target.orientation_free();
@@ -379,7 +394,7 @@ impl PyRobot {
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (T=None, all=false, q0=None, solver="auto", q3=None, psi=None, seed=0, *, position=None,
         pitch=None, roll=None, approach=None, alpha=None, rpy="zyx", mask=None, tol_position=1e-6,
-        tol_orientation=1e-6))]
+        tol_orientation=1e-6, scene=None, margin=None))]
     fn ik_dict<'py>(
         &self,
         py: Python<'py>,
@@ -399,6 +414,8 @@ impl PyRobot {
         #[pyo3(from_py_with = mask_arg)] mask: Option<[bool; 6]>,
         #[pyo3(from_py_with = real)] tol_position: f64,
         #[pyo3(from_py_with = real)] tol_orientation: f64,
+        scene: Option<PyRef<'_, PyScene>>,
+        #[pyo3(from_py_with = opt_real)] margin: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let solver = solver_choice(solver)?;
         let convention = parse_rpy(rpy)?;
@@ -413,6 +430,7 @@ impl PyRobot {
             mask,
             tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
             seed,
+            check: self.collision_check_if_asked(scene.as_deref(), margin)?,
         };
         let found = self.solve_ik(py, &request)?;
         let answer = kinema_io::IkAnswer {
@@ -431,7 +449,7 @@ impl PyRobot {
     /// ``T``: a (V, 4, 4) array of poses or (V, 6) rows x, y, z, roll, pitch,
     /// yaw (convention ``rpy``); or ``position``: a (V, 3) array of tool
     /// points, orientation free. ``q0``, ``solver``, ``mask``, ``seed`` and the
-    /// tolerances as in :meth:`ik`.
+    /// tolerances, ``scene`` and ``margin`` as in :meth:`ik`.
     ///
     /// Returns ``(Q, success, reasons)``: Q of shape (V, n) (a row of NaN where
     /// a target was not solved), ``success`` a (V,) bool array, ``reasons`` a
@@ -444,7 +462,7 @@ impl PyRobot {
     ///         ``solver``, ``mask``, tolerances or ``seed``.
     #[allow(non_snake_case, clippy::too_many_arguments)]
     #[pyo3(signature = (T=None, *, position=None, q0=None, solver="auto", mask=None, seed=0, rpy="zyx",
-        tol_position=1e-6, tol_orientation=1e-6))]
+        tol_position=1e-6, tol_orientation=1e-6, scene=None, margin=None))]
     fn ik_batch<'py>(
         &self,
         py: Python<'py>,
@@ -457,6 +475,8 @@ impl PyRobot {
         rpy: &str,
         #[pyo3(from_py_with = real)] tol_position: f64,
         #[pyo3(from_py_with = real)] tol_orientation: f64,
+        scene: Option<PyRef<'_, PyScene>>,
+        #[pyo3(from_py_with = opt_real)] margin: Option<f64>,
     ) -> PyResult<IkBatchResult<'py>> {
         let solver = solver_choice(solver)?;
         let targets = match (T.filter(|t| !t.is_none()), position.filter(|p| !p.is_none())) {
@@ -466,12 +486,14 @@ impl PyRobot {
             (None, None) => return Err(invalid("give the targets: `T` (V poses) or `position` (V points)".into())),
         };
         let q0 = self.optional_joint_vector(q0, "q0")?;
+        let check = self.collision_check_if_asked(scene.as_deref(), margin)?;
         let request = IkRequest {
             solver,
             q0: q0.as_deref(),
             mask,
             tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
             numeric: NumericOptions { seed, ..Default::default() },
+            admissible: check.as_ref().map(|c| c as &dyn Admissible),
             ..Default::default()
         };
         let (count, n) = (targets.len(), self.robot.dof());

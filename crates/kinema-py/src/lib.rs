@@ -17,7 +17,7 @@
 //!
 //! The files, by what they do: `answer` (answers as Python objects),
 //! `errors` (exceptions), `args` (argument conversion), `robot` (the `Robot` class: loading, forward kinematics,
-//! Jacobians), `dynamics`, `ik` (with `batch` for `ik_batch`), `traj`
+//! Jacobians), `collision` (the `Scene` class, collision and distance), `dynamics`, `ik` (with `batch` for `ik_batch`), `traj`
 //! (joint-space motions), `cartesian` (`lin`, `circ`), `check`, `time_law`,
 //! `program` (the robot language), `cell`; `npio` and `fast` are the per-call
 //! and batch paths of numpy arrays. The `Robot` class's methods are spread
@@ -29,6 +29,7 @@ mod batch;
 mod cartesian;
 mod cell;
 mod check;
+mod collision;
 mod dynamics;
 mod errors;
 mod fast;
@@ -56,6 +57,7 @@ fn _kinema(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<check::PyCheckReport>()?;
     m.add_class::<cell::PyCell>()?;
     m.add_class::<cell::PyCellReport>()?;
+    m.add_class::<collision::PyScene>()?;
     m.add_function(wrap_pyfunction!(time_law::time_law, m)?)?;
     m.add_function(wrap_pyfunction!(program::run_program, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

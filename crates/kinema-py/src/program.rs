@@ -11,7 +11,8 @@ use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use crate::answer::to_python;
-use crate::args::real;
+use crate::args::{opt_real, real};
+use crate::collision::{PyScene, Source};
 use crate::errors::{invalid, to_py, ProgramError};
 use crate::robot::{robot_arg, PyRobot};
 use crate::traj::traj_arrays;
@@ -108,6 +109,9 @@ impl PyPlan {
 /// and sample limits of ``docs/language.md`` hold either way.
 /// ``skip_unreachable``: skip motions to targets out of reach with a warning
 /// (seed 003 Fig. 9; ``kinema run --skip-unreachable``) instead of failing.
+/// ``scene``: a :class:`Scene`; a motion in which the robot collides with
+/// itself or an obstacle (closer than ``margin`` [m]) is an error at its
+/// line (``kinema run --scene``).
 ///
 /// The program runs on a worker thread with the GIL released; Ctrl-C
 /// (KeyboardInterrupt) stops it within about 50 ms and is raised again here.
@@ -126,7 +130,7 @@ impl PyPlan {
 ///     KeyboardInterrupt: Ctrl-C while the program ran.
 #[pyfunction]
 #[pyo3(signature = (text, robot, dt=0.01, start=None, filename="<program>", time_limit=None,
-    skip_unreachable=false))]
+    skip_unreachable=false, scene=None, margin=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run_program(
     py: Python<'_>,
@@ -137,12 +141,14 @@ pub(crate) fn run_program(
     filename: &str,
     time_limit: Option<&Bound<'_, PyAny>>,
     skip_unreachable: bool,
+    scene: Option<PyRef<'_, PyScene>>,
+    #[pyo3(from_py_with = opt_real)] margin: Option<f64>,
 ) -> PyResult<PyPlan> {
+    let source = Source::of(robot);
     let robot = robot_arg(robot)?;
-    let start = match start.filter(|s| !s.is_none()) {
-        Some(s) => Some(PyRobot::new(Arc::clone(&robot)).joint_vector(s, "start")?),
-        None => None,
-    };
+    let given = PyRobot::new(Arc::clone(&robot), source.clone());
+    let start = start.filter(|s| !s.is_none()).map(|s| given.joint_vector(s, "start")).transpose()?;
+    let collision = given.collision_check_if_asked(scene.as_deref(), margin)?;
     let stop = match time_limit.filter(|t| !t.is_none()) {
         Some(t) => {
             let seconds = real(t)?;
@@ -159,6 +165,7 @@ pub(crate) fn run_program(
         start,
         stop: stop.with_flag(Arc::clone(&cancel)),
         skip_unreachable,
+        admissible: collision.map(|c| Arc::new(c) as Arc<dyn kinema::ik::Admissible>),
         ..kinema_lang::Options::default()
     };
     let compiled = run_interruptibly(py, &cancel, {
@@ -175,7 +182,7 @@ pub(crate) fn run_program(
                 qdd,
                 answer: ProgramAnswer::new(&plan, filename, &text).map_err(to_py)?,
                 plan_listing: plan.listing(),
-                robot: Py::new(py, PyRobot::new(Arc::new(plan.robot)))?,
+                robot: Py::new(py, PyRobot::new(Arc::new(plan.robot), source))?,
             })
         }
         Err(diags) => {

@@ -1,14 +1,16 @@
 //! The `Robot` class: loading, properties, forward kinematics, Jacobians and manipulability.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use kinema::analysis;
 use kinema::{Frame, Robot};
+use kinema_geometry::CollisionCheck;
 use numpy::{PyArray1, PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::args::{check_shape, f64_array, parse_axes, push_pose, shape_text, to_numpy};
+use crate::collision::Source;
 use crate::errors::{invalid, to_py};
 use crate::{fast, npio};
 
@@ -24,12 +26,16 @@ pub(crate) struct PyRobot {
     /// The IK solver family fitted to the robot once (`ik::registry::fit`), so
     /// that each `ik` call does not fit it again.
     pub(crate) family: Option<Arc<dyn kinema::ik::family::Family>>,
+    /// The description it was loaded from (its shapes come from there too).
+    pub(crate) source: Source,
+    /// Its shapes and self-collision pairs, loaded at the first collision query.
+    pub(crate) body: OnceLock<CollisionCheck>,
 }
 
 impl PyRobot {
-    pub(crate) fn new(robot: Arc<Robot>) -> Self {
+    pub(crate) fn new(robot: Arc<Robot>, source: Source) -> Self {
         let family = kinema::ik::registry::fit(&robot).map(Arc::from);
-        PyRobot { robot, family }
+        PyRobot { robot, family, source, body: OnceLock::new() }
     }
 }
 
@@ -139,7 +145,8 @@ impl PyRobot {
     ///     UnknownRobot: the name is not a built-in robot (the message lists them).
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
-        Robot::builtin(name).map(|r| PyRobot::new(Arc::new(r))).map_err(to_py)
+        let source = Source { spec: name.to_string(), tip: None };
+        Robot::builtin(name).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
     }
 
     /// Names of the built-in robots, sorted.
@@ -159,7 +166,8 @@ impl PyRobot {
     #[staticmethod]
     #[pyo3(signature = (path, tip=None))]
     fn from_file(path: std::path::PathBuf, tip: Option<&str>) -> PyResult<Self> {
-        Robot::from_file(&path, tip).map(|r| PyRobot::new(Arc::new(r))).map_err(to_py)
+        let source = Source { spec: path.display().to_string(), tip: tip.map(str::to_string) };
+        Robot::from_file(&path, tip).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
     }
 
     /// Robot name, e.g. ``"puma560"``.

@@ -11,7 +11,7 @@ use kinema::traj::{
 use kinema::{Pose, Robot, RpyConvention};
 use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, RobotGeometry, Scene};
 use std::path::Path;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
 use kinema_lang::{Stop, StopReason};
@@ -296,6 +296,19 @@ impl App {
             .map_err(unprocessable)
     }
 
+    /// [`App::collision_check`] when a scene or a margin asks for one.
+    fn collision_check_if_asked(
+        &self,
+        name: &Option<String>,
+        scene: Option<&str>,
+        margin: Option<f64>,
+    ) -> Result<Option<CollisionCheck>> {
+        match (scene, margin) {
+            (None, None) => Ok(None),
+            (scene, margin) => self.collision_check(name, scene, margin).map(Some),
+        }
+    }
+
     fn collide(&self, body: &[u8]) -> Result<Value> {
         const SHAPE: &str = r#"{"robot": "NAME", "q": [joint values in rad and m], optional "scene" (a scene file's TOML text: [[obstacle]] tables), "margin" (m, ≥ 0)}"#;
         let req: CollideReq = parse(body, "/api/collide", SHAPE)?;
@@ -316,10 +329,7 @@ impl App {
             r.check_q(q0)?;
         }
         let solver = named("/api/ik", req.solver.as_deref(), SolverChoice::Auto)?;
-        let check = match (&req.scene, req.margin) {
-            (None, None) => None,
-            (scene, margin) => Some(self.collision_check(&req.robot, scene.as_deref(), margin)?),
-        };
+        let check = self.collision_check_if_asked(&req.robot, req.scene.as_deref(), req.margin)?;
         // Every solution (the viewer shows them all, `nearest` marks the one
         // nearest q0); for an iiwa-type arm the closed form at the request's q3
         // or ψ, else at q0's q3.
@@ -368,9 +378,10 @@ impl App {
     }
 
     fn traj(&self, body: &[u8]) -> Result<Value> {
-        const SHAPE: &str = r#"{"robot": "NAME", "kind": "ptp", "from": [q], "to": [q]} or {"robot": "NAME", "kind": "lin", "from": [q], "T": [[…] × 4] or "position" + "rpy"}, optional "dt" [s], "profile", "speed" [%], "duration" [s], "jvel", "jacc", "jjerk" (ptp: one value or one per joint, rad/s… or m/s…), "vmax" [m/s], "amax" [m/s²] (lin)"#;
+        const SHAPE: &str = r#"{"robot": "NAME", "kind": "ptp", "from": [q], "to": [q]} or {"robot": "NAME", "kind": "lin", "from": [q], "T": [[…] × 4] or "position" + "rpy"}, optional "dt" [s], "profile", "speed" [%], "duration" [s], "jvel", "jacc", "jjerk" (ptp: one value or one per joint, rad/s… or m/s…), "vmax" [m/s], "amax" [m/s²] (lin), "scene" (a scene file's TOML text: a motion that collides is refused), "margin" (m)"#;
         let req: TrajReq = parse(body, "/api/traj", SHAPE)?;
         let r = self.robot(&req.robot)?;
+        let collision = self.collision_check_if_asked(&req.robot, req.scene.as_deref(), req.margin)?;
         let dt = req.dt.unwrap_or(0.01);
         check_dt(dt)?;
         // PTP's default law is the core's choice for the robot, as `kinema traj ptp`'s.
@@ -424,13 +435,18 @@ impl App {
             }
             other => return Err(bad(format!("/api/traj: kind `{other}` is not ptp or lin; expected {SHAPE}"))),
         };
+        if let Some(check) = &collision {
+            kinema::traj::collision_free(&traj, check)?;
+        }
         to_value(TrajAnswer { summary, samples: TrajectoryAnswer(&traj) })
     }
 
     fn run(&self, body: &[u8], stop: &Stop) -> Result<Value> {
-        const SHAPE: &str = r#"{"robot": "NAME", "program": "TEXT", "dt": seconds, "start": [q]}"#;
+        const SHAPE: &str =
+            r#"{"robot": "NAME", "program": "TEXT", "dt": seconds, "start": [q], "scene": "TOML text", "margin": m}"#;
         let req: RunReq = parse(body, "/api/run", SHAPE)?;
         let r = self.robot(&req.robot)?;
+        let collision = self.collision_check_if_asked(&req.robot, req.scene.as_deref(), req.margin)?;
         let dt = req.dt.unwrap_or(0.01);
         check_dt(dt)?;
         if let Some(q) = &req.start {
@@ -441,6 +457,7 @@ impl App {
             start: req.start.clone(),
             max_samples: MAX_SAMPLES,
             stop: stop.clone(),
+            admissible: collision.map(|c| Arc::new(c) as Arc<dyn Admissible>),
             ..Default::default()
         };
         const FILE: &str = "program";
@@ -640,6 +657,8 @@ struct TrajReq {
     amax: Option<f64>,
     q3: Option<PolicyValue>,
     psi: Option<PolicyValue>,
+    scene: Option<String>,
+    margin: Option<f64>,
 }
 
 /// A self-motion policy of `/api/traj`: a name (`"hold"`, `"track"`, …) or an angle \[rad\].
@@ -690,6 +709,8 @@ struct RunReq {
     program: String,
     dt: Option<f64>,
     start: Option<Vec<f64>>,
+    scene: Option<String>,
+    margin: Option<f64>,
 }
 
 #[cfg(test)]

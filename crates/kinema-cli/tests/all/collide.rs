@@ -267,3 +267,23 @@ fn a_motion_through_the_sash_is_refused() {
     let plain = kinema(&["traj", "check", "--robot", "lbr-iiwa-14-r820", out]);
     assert!(plain.ok, "{}", plain.stdout);
 }
+
+/// `kinema run --scene`: the same swing as a program is refused at the line
+/// of its motion; without the scene it runs.
+#[test]
+fn a_program_through_the_sash_is_refused_at_its_line() {
+    let scene = example_scene("fume-hood.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("swing.krl");
+    std::fs::write(&program, "JVEL 50deg/s\nPTP JOINT(90deg, 60deg, 0, 0, 0, 0, 0)\n").unwrap();
+    let (program, out) = (program.to_str().unwrap(), dir.path().join("swing.csv"));
+    let out = out.to_str().unwrap();
+    let base = ["run", program, "--robot", "lbr-iiwa-14-r820", "--start", "-1.5708,1.047,0,0,0,0,0", "--out", out];
+    let plain = kinema(&base);
+    assert!(plain.ok, "{}", plain.stderr);
+    std::fs::remove_file(out).unwrap();
+    let refused = kinema(&[&base[..], &["--scene", &scene]].concat());
+    assert_eq!(refused.code, Some(1), "{}", refused.stderr);
+    assert!(refused.stderr.contains(":2:") && refused.stderr.contains("– sash"), "{}", refused.stderr);
+    assert!(!std::path::Path::new(out).exists(), "a refused program writes nothing");
+}

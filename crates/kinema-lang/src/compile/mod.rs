@@ -18,7 +18,9 @@ mod trajectory_check;
 
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
+use kinema::ik::Admissible;
 use kinema::math::Pose;
 use kinema::traj::{CartesianLimits, CartesianMotion, JointTrajectory, Profile, SelfMotion};
 use kinema::Robot;
@@ -33,7 +35,7 @@ use self::scara::Scara;
 use self::trajectory_check::outside_limits;
 
 /// How a program is compiled.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Options {
     /// Sample period \[s\] of the joint signals.
     pub dt: f64,
@@ -51,6 +53,10 @@ pub struct Options {
     /// Skip motions to targets the robot cannot reach, with a warning each
     /// (seed 003 Fig. 9), instead of failing on them.
     pub skip_unreachable: bool,
+    /// A test every configuration of the finished trajectory must pass (a
+    /// scene's collision check: samples and the steps between them), each
+    /// refused stretch reported at the line of its motion.
+    pub admissible: Option<Arc<dyn Admissible>>,
 }
 
 impl Default for Options {
@@ -62,6 +68,7 @@ impl Default for Options {
             max_steps: 1_000_000,
             stop: Stop::never(),
             skip_unreachable: false,
+            admissible: None,
         }
     }
 }

@@ -13,7 +13,8 @@ use super::Compiler;
 impl Compiler<'_> {
     /// The trajectory check; each violation at the line of its motion.
     pub(super) fn check_trajectory(&mut self) {
-        let report = match traj::check(self.robot, &self.traj, &CheckOptions::default()) {
+        let opts = CheckOptions { admissible: self.opts.admissible.as_deref(), ..CheckOptions::default() };
+        let report = match traj::check(self.robot, &self.traj, &opts) {
             Ok(r) => r,
             Err(e) => {
                 self.err(Diagnostic::error(0..0, format!("trajectory check: {e}")));

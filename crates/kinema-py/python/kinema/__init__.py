@@ -19,6 +19,8 @@ Example::
     plan = kinema.run_program(program_text, robot)  # Plan: t, q, qd, qdd like `kinema run`
     cell = kinema.Cell(dt=0.01).add("a", robot, tr).add("b", robot, tr, base=[1, 0, 0, 0, 0, 3.14])
     report = cell.run()                       # CellReport like `kinema cell`: distances, closest, checks
+    scene = kinema.Scene.from_file("examples/scenes/fume-hood.toml")
+    robot.collides(q, scene=scene)            # also distance, collide_dict, collides_batch; ik/check(scene=)
 
 Units are SI (metres, radians). Errors derive from :class:`KinemaError`;
 bad input also derives from ``ValueError``.
@@ -42,6 +44,7 @@ from ._kinema import (
     JointTrajectory,
     Plan,
     Robot,
+    Scene,
     TimeLaw,
     __version__,
     run_program,
@@ -50,6 +53,7 @@ from ._kinema import (
 
 __all__ = [
     "Robot",
+    "Scene",
     "IkSolution",
     "JointTrajectory",
     "TimeLaw",

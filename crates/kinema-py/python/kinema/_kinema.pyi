@@ -206,12 +206,27 @@ def run_program(
     filename: str = "<program>",
     time_limit: Optional[float] = None,
     skip_unreachable: bool = False,
+    scene: Optional[Scene] = None,
+    margin: Optional[float] = None,
 ) -> Plan:
     """Compiles and runs a robot program as `kinema run` does, on a worker thread without the GIL.
 
     time_limit: seconds after which the program is stopped (ProgramError "stopped here: the time
     budget of … s ran out"); None for no limit. Ctrl-C stops it and raises KeyboardInterrupt.
     Raises ProgramError."""
+
+class Scene:
+    """Obstacles with poses (a scene file's [[obstacle]] tables), for scene= of collides, distance, ik, check."""
+
+    @staticmethod
+    def from_file(path: Union[str, "os.PathLike[str]"]) -> "Scene":
+        """Reads a scene TOML file. Raises RobotFileError, DescriptionError."""
+    @staticmethod
+    def from_toml(text: str, base_dir: Optional[Union[str, "os.PathLike[str]"]] = None) -> "Scene":
+        """A scene from TOML text (mesh paths relative to base_dir). Raises DescriptionError."""
+    @property
+    def obstacles(self) -> List[str]:
+        """The obstacles' names, in file order."""
 
 class Robot:
     """A serial robot arm (immutable). SI units; Jacobian rows [vx vy vz wx wy wz]."""
@@ -306,6 +321,8 @@ class Robot:
         rpy: RpyName = "zyx",
         tol_position: float = 1e-6,
         tol_orientation: float = 1e-6,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> Tuple[F64Array, npt.NDArray[np.bool_], List[str]]:
         """V targets (T: (V, 4, 4) or (V, 6); or position: (V, 3)) -> (Q (V, n) with NaN rows where unsolved,
         success (V,), reasons), each solved as ik() would; GIL released, parallel."""
@@ -355,6 +372,8 @@ class Robot:
         singular: float = 1e-3,
         resolution: float = 0.0,
         time_resolution: float = 0.0,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> CheckReport:
         """Checks a trajectory against the robot's limits (kinema traj check). Raises InvalidInput."""
     @overload
@@ -372,6 +391,8 @@ class Robot:
         singular: float = 1e-3,
         resolution: float = 0.0,
         time_resolution: float = 0.0,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> CheckReport:
         """Checks samples t (K,), q (K, n) [qd, qdd estimated when absent]. Raises InvalidInput."""
     def lin(
@@ -445,6 +466,8 @@ class Robot:
         mask: Optional[Sequence[Union[bool, int]]] = None,
         tol_position: float = 1e-6,
         tol_orientation: float = 1e-6,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> IkSolution:
         """One solution within limits (nearest to q0 when given) of a pose T or of position=[x, y, z]
         (alone, or with pitch and roll: Scorbot; approach: ROMMEL; alpha: SCARA). Raises Unreachable, InvalidInput."""
@@ -468,6 +491,8 @@ class Robot:
         mask: Optional[Sequence[Union[bool, int]]] = None,
         tol_position: float = 1e-6,
         tol_orientation: float = 1e-6,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> List[IkSolution]:
         """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""
     @overload
@@ -490,6 +515,8 @@ class Robot:
         mask: Optional[Sequence[Union[bool, int]]] = None,
         tol_position: float = 1e-6,
         tol_orientation: float = 1e-6,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> List[IkSolution]:
         """Every solution found, also those outside the limits. Raises Unreachable, InvalidInput."""
     def ik_dict(
@@ -511,9 +538,22 @@ class Robot:
         mask: Optional[Sequence[Union[bool, int]]] = None,
         tol_position: float = 1e-6,
         tol_orientation: float = 1e-6,
+        scene: Optional[Scene] = None,
+        margin: Optional[float] = None,
     ) -> Dict[str, Any]:
         """The answer of ``kinema ik --json`` (``--all`` with all=True) to the request ik takes: solutions,
         tolerance, discarded candidates, folded copies. Raises Unreachable, InvalidInput."""
+
+    def collides(self, q: JointVector, scene: Optional[Scene] = None, margin: float = 0.0) -> bool:
+        """Whether the robot at q collides with itself or scene's obstacles (pairs closer than margin [m])."""
+    def distance(self, q: JointVector, scene: Optional[Scene] = None) -> float:
+        """The smallest distance [m] between checked pairs (negative: overlap depth; inf: no pair)."""
+    def collide_dict(self, q: JointVector, scene: Optional[Scene] = None, margin: float = 0.0) -> Dict[str, Any]:
+        """The answer of kinema collide --json: collision, pairs, min_distance, margin, q."""
+    def collides_batch(
+        self, Q: ArrayLike, scene: Optional[Scene] = None, margin: float = 0.0
+    ) -> npt.NDArray[np.bool_]:
+        """collides() for each row of Q (V, n), on all cores with the GIL released."""
 
 class CellReport:
     """What Cell.run computed (kinema cell's CSV and JSON); dicts keyed by robot name or (a, b) pair."""

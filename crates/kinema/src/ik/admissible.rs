@@ -22,7 +22,7 @@ use crate::math::Pose;
 use crate::robot::Robot;
 
 /// A test of configurations besides the target (a collision check).
-pub trait Admissible: Sync {
+pub trait Admissible: Send + Sync {
     /// `None` when the robot may stand at `q`; else why not.
     fn rejects(&self, q: &[f64]) -> Result<Option<Rejection>>;
 
