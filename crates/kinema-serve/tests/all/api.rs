@@ -921,7 +921,8 @@ fn motions_in_a_scene_are_refused_when_they_collide() {
     let scene_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/fume-hood.toml");
     let scene = std::fs::read_to_string(&scene_path).unwrap();
     let iiwa = "lbr-iiwa-14-r820";
-    let (a, b) = ([-1.5708, 1.047, 0.0, 0.0, 0.0, 0.0, 0.0], [1.5708, 1.047, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let (a, b) = ([-quarter, 1.047, 0.0, 0.0, 0.0, 0.0, 0.0], [quarter, 1.047, 0.0, 0.0, 0.0, 0.0, 0.0]);
     let ptp = json!({"robot": iiwa, "kind": "ptp", "from": a, "to": b});
     assert_eq!(post(addr, "/api/traj", &ptp).status, 200);
     let mut in_scene = ptp.clone();
