@@ -1,7 +1,9 @@
 //! `kinema cell FILE`: several robots in one world on a common clock (seed 004
 //! §VIII-E): each robot placed by its base pose, each running its own joint
 //! trajectory (a CSV file) or program, each checked as `kinema traj check`
-//! checks, and the distance between every two tools over time.
+//! checks, the distance between every two tools over time, and how close the
+//! robots' link shapes come to each other and to the file's `[[obstacle]]`s
+//! (between samples too).
 //!
 //! The cell file (TOML; every path in it relative to the file's folder):
 //!
@@ -30,6 +32,9 @@ use clap::Args;
 use kinema::traj::cell::{placed, Approach};
 use kinema::traj::{check, Cell, CellReport, CheckOptions, CheckReport, JointTrajectory, SINGULAR_WARNING};
 use kinema::{Pose, Robot, RpyConvention};
+use kinema_geometry::{
+    closest_approaches, load_robot_geometry, ros_package_path, Body, BodyApproach, RobotGeometry, Scene, UrdfOptions,
+};
 use kinema_io::{CellAnswer, CellMember};
 use kinema_lang::{render_all, Options, Stop};
 use serde::de::{self, Deserializer, Visitor};
@@ -155,6 +160,9 @@ struct CellFile {
     rpy: Option<RpyConvention>,
     #[serde(default)]
     robot: Vec<Spanned<MemberSpec>>,
+    /// Obstacles, read by the scene reader (`kinema_geometry::Scene`).
+    #[serde(default)]
+    obstacle: Vec<toml::Value>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -217,15 +225,18 @@ struct Member {
     motion: Motion,
     base: Pose,
     robot: Robot,
+    /// Its link shapes (none when its description has none).
+    geometry: RobotGeometry,
     traj: JointTrajectory,
     check: CheckReport,
 }
 
-/// The cell file read: the clock, the minimum distance and the members.
+/// The cell file read: the clock, the minimum distance, the members and the obstacles.
 struct Loaded {
     dt: f64,
     min_distance: Option<f64>,
     members: Vec<Member>,
+    scene: Option<Scene>,
 }
 
 /// Whether a signal arrived (then the error to return: nothing is written).
@@ -318,6 +329,7 @@ fn load(a: &CellArgs) -> Result<Loaded> {
         };
         let here = || format!("{file}: robot `{name}` (robot[{i}])");
         let robot = load_robot(&m.robot, m.tip.as_deref(), &dir).with_context(here)?;
+        let geometry = load_shapes(&m.robot, m.tip.as_deref(), &dir).with_context(here)?;
         let robot = placed(&robot, &world_from_robot).with_context(here)?;
         let (motion, robot, traj, opts) = match (&m.trajectory, &m.program) {
             (Some(t), None) => {
@@ -367,11 +379,14 @@ fn load(a: &CellArgs) -> Result<Loaded> {
             motion,
             base: world_from_robot,
             robot,
+            geometry,
             traj,
             check: report,
         });
     }
-    Ok(Loaded { dt, min_distance, members })
+    // The scene reader reads the file's obstacles (and ignores what is a cell's only).
+    let scene = if parsed.obstacle.is_empty() { None } else { Some(Scene::load(&a.file)?) };
+    Ok(Loaded { dt, min_distance, members, scene })
 }
 
 /// What every member is checked with: the robot's limits, singular passages
@@ -387,6 +402,24 @@ fn load_robot(spec: &str, tip: Option<&str>, dir: &Path) -> Result<Robot> {
     }
     let path = dir.join(spec);
     crate::load_robot(&path.to_string_lossy(), tip)
+}
+
+/// The link shapes of the robot `spec` (as [`load_robot`] finds it).
+fn load_shapes(spec: &str, tip: Option<&str>, dir: &Path) -> Result<RobotGeometry> {
+    let spec =
+        if kinema::builtin_source(spec).is_some() { spec.to_string() } else { dir.join(spec).to_string_lossy().into() };
+    let options = UrdfOptions { tip: tip.map(str::to_string), package_paths: ros_package_path(), skip_visual: true };
+    Ok(load_robot_geometry(&spec, &options)?.1)
+}
+
+/// How close the robots' link shapes come to each other and to the obstacles, over the run.
+fn body_approaches(cell: &Loaded, report: &CellReport) -> Result<Vec<BodyApproach>> {
+    let bodies = cell
+        .members
+        .iter()
+        .map(|m| Body::new(&m.name, m.robot.clone(), m.geometry.clone(), cell.scene.as_ref()))
+        .collect::<kinema_geometry::Result<Vec<Body>>>()?;
+    Ok(closest_approaches(&bodies, &report.times, &report.q)?)
 }
 
 /// Compiles and runs a program on the robot as placed in the cell (its
@@ -467,7 +500,13 @@ fn summary(a: &CellArgs, cell: &Loaded, report: &CellReport) -> CellAnswer {
     CellAnswer::new(Some(a.file.display().to_string()), cell.dt, cell.min_distance, &members, report)
 }
 
-fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Approach]) -> Result<()> {
+fn print_text(
+    a: &CellArgs,
+    cell: &Loaded,
+    report: &CellReport,
+    approaches: &[Approach],
+    bodies: &[BodyApproach],
+) -> Result<()> {
     let duration = report.times.last().copied().unwrap_or(0.0);
     outln!(
         "{}: {} robot(s), {duration:.4} s, {} samples every {} s",
@@ -516,6 +555,18 @@ fn print_text(a: &CellArgs, cell: &Loaded, report: &CellReport, approaches: &[Ap
         }
         outln!("{line}")?;
     }
+    for b in bodies {
+        let (i, j) = b.robots;
+        let other = j.map_or("the scene", |j| cell.members[j].name.as_str());
+        let (la, lb) = &b.closest;
+        outln!(
+            "  {} and {other}, link shapes: closest {:.4} m at t = {:.4} s ({la} – {lb}){}",
+            cell.members[i].name,
+            b.distance,
+            b.time,
+            if b.distance > 0.0 { "" } else { ": in contact" }
+        )?;
+    }
     Ok(())
 }
 
@@ -545,6 +596,7 @@ pub fn run(a: CellArgs) -> Result<()> {
     let report = cell.run(loaded.dt).with_context(|| format!("{}: the common clock", a.file.display()))?;
     check_interrupted()?;
     let approaches = report.approaches();
+    let bodies = body_approaches(&loaded, &report).with_context(|| format!("{}: link shapes", a.file.display()))?;
     if let Some(out) = &a.out {
         write_csv(out, &loaded.members, &report)?;
         if !crate::output::is_stdout(out) {
@@ -552,14 +604,24 @@ pub fn run(a: CellArgs) -> Result<()> {
         }
     }
     if a.json {
-        print_json(&summary(&a, &loaded, &report))?;
+        let names: Vec<&str> = loaded.members.iter().map(|m| m.name.as_str()).collect();
+        print_json(&summary(&a, &loaded, &report).with_bodies(&names, &bodies))?;
     } else if !a.out.as_deref().is_some_and(crate::output::is_stdout) {
-        print_text(&a, &loaded, &report, &approaches)?;
+        print_text(&a, &loaded, &report, &approaches, &bodies)?;
     }
     let violations = loaded.members.iter().filter(|m| !m.check.violations.is_empty()).count();
     if violations > 0 {
         eprintln!("error: the trajectory of {violations} robot(s) breaks its limits (see the check above)");
         return Err(Exit(1).into());
+    }
+    if let Some(b) = bodies.iter().filter(|b| b.distance <= 0.0).min_by(|x, y| x.time.total_cmp(&y.time)) {
+        let (i, j) = b.robots;
+        let other = j.map_or("the scene".to_string(), |j| format!("`{}`", loaded.members[j].name));
+        eprintln!(
+            "error: `{}` touches {other} at t = {:.4} s ({} – {})",
+            loaded.members[i].name, b.time, b.closest.0, b.closest.1
+        );
+        return Err(Exit(EXIT_TOO_CLOSE).into());
     }
     if let Some(min) = loaded.min_distance {
         let close: Vec<&Approach> = approaches.iter().filter(|ap| ap.distance < min).collect();

@@ -69,6 +69,7 @@
 // `!(x > 0.0)` is used on purpose: unlike `x <= 0.0` it is also true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod approach;
 mod check;
 mod error;
 mod geometry;
@@ -85,6 +86,7 @@ mod sweep;
 mod toml_shape;
 mod urdf;
 
+pub use approach::{closest_approaches, Body, BodyApproach, APPROACH_TOLERANCE};
 pub use check::{CheckOptions, CollisionCheck};
 pub use error::{Error, Result};
 pub use geometry::{LinkShape, RobotGeometry};

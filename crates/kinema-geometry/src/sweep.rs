@@ -89,7 +89,7 @@ impl LeverArms {
     }
 
     /// The farthest any point of shape `s` moves on a straight joint step `dq`.
-    fn sweep(&self, s: usize, dq: &[f64]) -> f64 {
+    pub(crate) fn sweep(&self, s: usize, dq: &[f64]) -> f64 {
         self.arms[s].iter().zip(dq).map(|(l, d)| l * d.abs()).sum()
     }
 }

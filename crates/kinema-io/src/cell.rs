@@ -3,6 +3,7 @@
 
 use kinema::traj::{CellReport, CheckReport};
 use kinema::{Pose, RpyConvention};
+use kinema_geometry::BodyApproach;
 use serde::Serialize;
 
 use crate::traj::{CheckAnswer, TimedValue};
@@ -83,6 +84,20 @@ pub struct CellPair {
     pub closer_than_minimum: Option<Vec<Span>>,
 }
 
+/// How close the bodies (link shapes) of two robots, or of a robot and the
+/// scene's obstacles, come over the run, between samples too.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CellBodies {
+    /// The two robots' names; the second is `scene` for the obstacles.
+    pub robots: [String; 2],
+    /// The closest approach of their shapes (0: in contact).
+    pub closest: ClosestApproach,
+    /// The closest shapes: `robot/link`, or the obstacle's name.
+    pub links: [String; 2],
+    /// Whether they stay apart (distance above 0).
+    pub ok: bool,
+}
+
 /// The answer of `kinema cell --json` (and of Python's `CellReport.to_dict`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CellAnswer {
@@ -103,6 +118,10 @@ pub struct CellAnswer {
     pub robots: Vec<CellRobot>,
     /// The pairs.
     pub pairs: Vec<CellPair>,
+    /// How close the robots' link shapes come to each other and to the
+    /// scene's obstacles (when the robots have shapes).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bodies: Vec<CellBodies>,
 }
 
 /// What a door knows of one robot of a cell besides the core's report.
@@ -184,6 +203,27 @@ impl CellAnswer {
             ok: members.iter().all(|m| m.check.violations.is_empty()) && pairs.iter().all(|p| p.ok.unwrap_or(true)),
             robots,
             pairs,
+            bodies: Vec::new(),
         }
+    }
+
+    /// The answer with the closest approaches of the robots' bodies (robots
+    /// by index into `names`, the cell's robots in order); `ok` turns false
+    /// when two bodies touch.
+    pub fn with_bodies(mut self, names: &[&str], approaches: &[BodyApproach]) -> CellAnswer {
+        self.bodies = approaches
+            .iter()
+            .map(|ap| {
+                let (i, j) = ap.robots;
+                CellBodies {
+                    robots: [names[i].to_string(), j.map_or("scene", |j| names[j]).to_string()],
+                    closest: ClosestApproach { t: ap.time, distance: ap.distance },
+                    links: [ap.closest.0.clone(), ap.closest.1.clone()],
+                    ok: ap.distance > 0.0,
+                }
+            })
+            .collect();
+        self.ok &= self.bodies.iter().all(|b| b.ok);
+        self
     }
 }

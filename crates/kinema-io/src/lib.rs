@@ -36,7 +36,7 @@ mod trajectory;
 pub mod trajectory_csv;
 
 pub use bench::{BenchAnswer, IkBench};
-pub use cell::{CellAnswer, CellMember, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
+pub use cell::{CellAnswer, CellBodies, CellMember, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
 pub use collide::{CollideAnswer, CollidePair, DistanceAnswer};
 pub use error::ErrorAnswer;
 pub use ik::{

@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use kinema::traj::{check, CheckOptions, CheckReport, JointTrajectory};
 use kinema::{Pose, Robot};
+use kinema_geometry::{closest_approaches, load_robot_geometry, Body, BodyApproach, UrdfOptions};
 use kinema_io::{CellAnswer, CellMember};
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -16,8 +17,8 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::answer::to_python;
 use crate::args::{opt_real, parse_rpy, pose_arg, real, to_numpy};
 use crate::check::{check_resolutions, PyCheckReport};
-use crate::collision::Source;
-use crate::errors::{invalid, to_py};
+use crate::collision::{PyScene, Source};
+use crate::errors::{geometry_to_py, invalid, to_py};
 use crate::program::run_program;
 use crate::robot::{robot_arg, PyRobot};
 use crate::traj::{sampled_arrays, traj_from_arrays};
@@ -30,6 +31,8 @@ struct Member {
     /// Where its own world frame sits in the cell's.
     base: Pose,
     robot: Arc<Robot>,
+    /// Where its description (and so its link shapes) comes from.
+    source: Source,
     traj: JointTrajectory,
     check: CheckReport,
 }
@@ -40,6 +43,8 @@ struct Member {
 /// ``dt``: the common clock's sample period [s] (programs are sampled at it
 /// too). ``min_distance``: the tools should stay at least this far apart [m]
 /// (see :attr:`CellReport.closer_than_minimum` and :attr:`CellReport.ok`).
+/// ``scene``: a :class:`Scene` whose obstacles the robots' link shapes are
+/// measured against (:attr:`CellReport.bodies`), besides each other.
 ///
 /// Add robots with :meth:`add`, then :meth:`run`. A robot whose trajectory
 /// ends before the others holds its last configuration until the end of the
@@ -47,6 +52,8 @@ struct Member {
 #[pyclass(name = "Cell", module = "kinema")]
 pub(crate) struct PyCell {
     members: Vec<Member>,
+    /// Obstacles the robots' link shapes are measured against.
+    scene: Option<Arc<kinema_geometry::Scene>>,
     #[pyo3(get)]
     dt: f64,
     #[pyo3(get)]
@@ -67,10 +74,11 @@ fn check_options(resolution: f64, time_resolution: f64) -> CheckOptions<'static>
 #[pymethods]
 impl PyCell {
     #[new]
-    #[pyo3(signature = (dt=0.01, min_distance=None))]
+    #[pyo3(signature = (dt=0.01, min_distance=None, scene=None))]
     fn new(
         #[pyo3(from_py_with = real)] dt: f64,
         #[pyo3(from_py_with = opt_real)] min_distance: Option<f64>,
+        scene: Option<PyRef<'_, PyScene>>,
     ) -> PyResult<Self> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(invalid(format!("`dt` must be a time > 0 [s], not {dt}")));
@@ -78,7 +86,7 @@ impl PyCell {
         if let Some(d) = min_distance.filter(|d| !(d.is_finite() && *d >= 0.0)) {
             return Err(invalid(format!("`min_distance` must be a finite distance ≥ 0 [m], not {d}")));
         }
-        Ok(PyCell { members: Vec::new(), dt, min_distance })
+        Ok(PyCell { members: Vec::new(), scene: scene.map(|s| Arc::clone(&s.scene)), dt, min_distance })
     }
 
     /// Adds a robot and its motion; returns the cell (calls chain).
@@ -164,7 +172,7 @@ impl PyCell {
         }
         let opts = check_options(resolution, time_resolution);
         let (robot, traj) = if let Some(text) = program {
-            let placed_py = Bound::new(py, PyRobot::new(Arc::clone(&placed), source))?;
+            let placed_py = Bound::new(py, PyRobot::new(Arc::clone(&placed), source.clone()))?;
             let filename = filename.unwrap_or_else(|| format!("<program of {name}>"));
             let plan =
                 run_program(py, text, placed_py.as_any(), slf.dt, start, &filename, time_limit, false, None, None)?;
@@ -196,7 +204,7 @@ impl PyCell {
         if traj.is_empty() {
             return Err(invalid(format!("robot `{name}`: the trajectory has no sample")));
         }
-        slf.members.push(Member { name, spec, base: world_from_robot, robot, traj, check });
+        slf.members.push(Member { name, spec, base: world_from_robot, robot, source, traj, check });
         Ok(slf)
     }
 
@@ -222,11 +230,29 @@ impl PyCell {
         }
         let dt = self.dt;
         let report = py.allow_threads(move || cell.run(dt)).map_err(to_py)?;
-        PyCellReport::new(py, self, &report)
+        let bodies = self.bodies()?;
+        let approaches =
+            py.allow_threads(|| closest_approaches(&bodies, &report.times, &report.q)).map_err(geometry_to_py)?;
+        PyCellReport::new(py, self, &report, &approaches)
     }
 
     fn __repr__(&self) -> String {
         format!("Cell({} robot(s), dt={} s)", self.members.len(), self.dt)
+    }
+}
+
+impl PyCell {
+    /// Every robot with its link shapes (none when its description has none) and the scene's obstacles.
+    fn bodies(&self) -> PyResult<Vec<Body>> {
+        self.members
+            .iter()
+            .map(|m| {
+                let options = UrdfOptions { tip: m.source.tip.clone(), skip_visual: true, ..Default::default() };
+                let (_, geometry) = load_robot_geometry(&m.source.spec, &options)?;
+                Body::new(&m.name, (*m.robot).clone(), geometry, self.scene.as_deref())
+            })
+            .collect::<kinema_geometry::Result<Vec<Body>>>()
+            .map_err(geometry_to_py)
     }
 }
 
@@ -252,8 +278,12 @@ impl PyCell {
 ///         it has none).
 ///     checks: per name, the :class:`CheckReport` of its trajectory.
 ///     min_distance: the cell's minimum distance, or ``None``.
-///     ok: no robot's check found a violation and no pair came closer than
-///         ``min_distance``.
+///     ok: no robot's check found a violation, no pair of tools came closer
+///         than ``min_distance`` and no two bodies touch.
+///     bodies: how close the robots' link shapes come to each other and to
+///         the cell's ``scene`` (between samples too, within 1e-4 m): the
+///         ``bodies`` list of :meth:`to_dict`, each with ``robots``,
+///         ``closest`` (``t``, ``distance``), ``links`` and ``ok``.
 #[pyclass(frozen, name = "CellReport", module = "kinema")]
 pub(crate) struct PyCellReport {
     #[pyo3(get)]
@@ -287,11 +317,10 @@ pub(crate) struct PyCellReport {
 }
 
 impl PyCellReport {
-    fn new(py: Python<'_>, cell: &PyCell, r: &kinema::traj::CellReport) -> PyResult<Self> {
+    fn new(py: Python<'_>, cell: &PyCell, r: &kinema::traj::CellReport, approaches: &[BodyApproach]) -> PyResult<Self> {
         let k = r.times.len();
         let [q, tool_positions, manipulability, ends, distances, closest, closer, checks] =
             std::array::from_fn(|_| PyDict::new(py));
-        let mut ok = true;
         for (m, member) in cell.members.iter().enumerate() {
             let n = member.robot.dof();
             let name = &member.name;
@@ -301,7 +330,6 @@ impl PyCellReport {
             manipulability.set_item(name, to_numpy(py, k, r.manipulability[m].clone())?)?;
             ends.set_item(name, r.ends[m])?;
             checks.set_item(name, Py::new(py, PyCheckReport::new(member.check.clone()))?)?;
-            ok &= member.check.violations.is_empty();
         }
         for ((i, j), d) in &r.distances {
             let key = PyTuple::new(py, [&cell.members[*i].name, &cell.members[*j].name])?;
@@ -313,7 +341,6 @@ impl PyCellReport {
                 Some(min) => r.closer_than(*i, *j, min),
                 None => Vec::new(),
             };
-            ok &= spans.is_empty();
             closer.set_item(&key, spans)?;
         }
         let members: Vec<CellMember<'_>> = cell
@@ -329,7 +356,9 @@ impl PyCellReport {
                 check: &m.check,
             })
             .collect();
-        let answer = CellAnswer::new(None, cell.dt, cell.min_distance, &members, r);
+        let names: Vec<&str> = cell.members.iter().map(|m| m.name.as_str()).collect();
+        let answer = CellAnswer::new(None, cell.dt, cell.min_distance, &members, r).with_bodies(&names, approaches);
+        let ok = answer.ok;
         Ok(PyCellReport {
             answer,
             names: cell.members.iter().map(|m| m.name.clone()).collect(),
@@ -360,6 +389,11 @@ impl PyCellReport {
     /// ``ok`` and ``closer_than_minimum``.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &self.answer)
+    }
+
+    #[getter]
+    fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.answer.bodies)
     }
 
     fn __len__(&self, py: Python<'_>) -> usize {

@@ -486,3 +486,48 @@ fn random_cell_files_end_cleanly_and_give_finite_answers() {
     }
     assert!(ok >= 2 && refused >= 10, "ok {ok}, refused {refused}");
 }
+
+/// Seed 004's two iiwas checked link to link: the closest pair of link
+/// shapes and when, never farther than the tools (they are on the links),
+/// and a file's `[[obstacle]]` in the holder's way makes the cell fail with
+/// code 3, naming the link and the obstacle.
+#[test]
+fn link_shapes_are_measured_between_robots_and_to_obstacles() {
+    let r = kinema(&["cell", &seed_cell(), "--json"]);
+    assert!(r.ok, "{}", r.stderr);
+    let summary: Value = serde_json::from_str(&r.stdout).unwrap();
+    let bodies = summary["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 1, "{summary}");
+    let b = &bodies[0];
+    assert_eq!(b["robots"], serde_json::json!(["holder", "drawer"]));
+    let links = b["links"].as_array().unwrap();
+    assert!(links[0].as_str().unwrap().starts_with("holder/link"), "{b}");
+    assert!(links[1].as_str().unwrap().starts_with("drawer/link"), "{b}");
+    let link_d = b["closest"]["distance"].as_f64().unwrap();
+    let tool_d = summary["pairs"][0]["closest"]["distance"].as_f64().unwrap();
+    assert!(link_d > 0.0 && link_d < tool_d, "links {link_d}, tools {tool_d}");
+    let text = kinema(&["cell", &seed_cell()]);
+    assert!(text.stdout.contains("holder and drawer, link shapes: closest"), "{}", text.stdout);
+
+    let dir = tempdir("obstacle");
+    for prg in ["seed004_holder.prg", "seed004_drawer.prg"] {
+        std::fs::copy(repo().join("examples/cells").join(prg), dir.path().join(prg)).unwrap();
+    }
+    let bench = "\n[[obstacle]]\nname = \"bench\"\nbox = [3, 2, 0.05]\npose = [0.6, 0, -0.025, 0, 0, 0]\n";
+    let part = "\n[[obstacle]]\nname = \"fixture\"\nsphere = { radius = 0.05 }\npose = [0.55, 0, 0.6, 0, 0, 0]\n";
+    let seed = std::fs::read_to_string(seed_cell()).unwrap();
+    let with_bench = dir.path().join("bench.toml");
+    std::fs::write(&with_bench, format!("{seed}{bench}")).unwrap();
+    let r = kinema(&["cell", with_bench.to_str().unwrap(), "--json"]);
+    assert!(r.ok, "the robots stand on the bench: {}", r.stderr);
+    let summary: Value = serde_json::from_str(&r.stdout).unwrap();
+    let scene: Vec<&Value> =
+        summary["bodies"].as_array().unwrap().iter().filter(|b| b["robots"][1] == "scene").collect();
+    assert_eq!(scene.len(), 2, "{summary}");
+    assert!(scene.iter().all(|b| b["links"][1] == "bench" && b["ok"] == true), "{summary}");
+    let with_part = dir.path().join("part.toml");
+    std::fs::write(&with_part, format!("{seed}{bench}{part}")).unwrap();
+    let r = kinema(&["cell", with_part.to_str().unwrap()]);
+    assert_eq!(r.code, Some(3), "{} {}", r.stdout, r.stderr);
+    assert!(r.stderr.contains("`holder` touches the scene") && r.stderr.contains("fixture"), "{}", r.stderr);
+}

@@ -1,6 +1,7 @@
 //! kinema-geometry's integration tests, one module per area, in one test
 //! binary. Run one area with `cargo test -p kinema-geometry --test all urdf::`.
 
+mod approach;
 mod builtin_shapes;
 mod coal;
 mod common;

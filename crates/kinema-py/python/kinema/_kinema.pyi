@@ -562,6 +562,9 @@ class CellReport:
     def names(self) -> List[str]:
         """The robots, in the order they were added."""
     @property
+    def bodies(self) -> List[Dict[str, Any]]:
+        """How close the robots' link shapes come to each other and to the scene (robots, closest, links, ok)."""
+    @property
     def t(self) -> F64Array:
         """The common clock's sample times, shape (K,) [s]."""
     @property
@@ -604,8 +607,9 @@ class CellReport:
 class Cell:
     """Several robots in one world on a common clock (kinema cell; seed 004 §VIII-E)."""
 
-    def __init__(self, dt: float = 0.01, min_distance: Optional[float] = None) -> None:
-        """dt: the clock's sample period [s] (programs too); min_distance [m]. Raises InvalidInput."""
+    def __init__(self, dt: float = 0.01, min_distance: Optional[float] = None, scene: Optional[Scene] = None) -> None:
+        """dt: the clock's sample period [s] (programs too); min_distance [m]; scene: obstacles for the link
+        distances. Raises InvalidInput."""
     @property
     def dt(self) -> float: ...
     @property
