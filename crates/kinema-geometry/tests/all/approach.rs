@@ -38,7 +38,7 @@ fn between_samples_the_approach_is_found_within_the_tolerance() {
     let ap = &found[0];
     assert_eq!(ap.robots, (0, Some(1)));
     // The same motion sampled 3000 times finds nothing closer than the tolerance below.
-    let dense_q = vec![line(&from, &to, 3000), vec![still.to_vec(); 3001]];
+    let dense_q = [line(&from, &to, 3000), vec![still.to_vec(); 3001]];
     let dense_t: Vec<f64> = (0..=3000).map(|k| k as f64 / 1000.0).collect();
     let mut dense = f64::INFINITY;
     for k in 0..=3000 {
