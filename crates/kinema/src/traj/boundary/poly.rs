@@ -45,8 +45,7 @@ fn roots_into(c: &[f64], lo: f64, hi: f64, roots: &mut [f64; MAX_DEGREE]) -> usi
     if fa == 0.0 {
         push(lo, roots);
     }
-    for i in 0..=nc {
-        let b = if i < nc { critical[i] } else { hi };
+    for (i, &b) in critical[..nc].iter().chain([hi].iter()).enumerate() {
         let mut fb = value(c, b);
         if fb != 0.0 && i < nc && fb.abs() <= rounding(c, b) {
             fb = 0.0; // a tangent: 0 within rounding at a root of the derivative
