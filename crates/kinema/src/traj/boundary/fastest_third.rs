@@ -4,12 +4,13 @@
 
 use super::problem::{Limits, Problem};
 use super::profile::{residual_of, JerkSegment, Profile};
-use super::roots;
+use super::roots::{self, Search};
+use super::valley::{held_roots, valley_roots};
 use super::velocity::{fall, rise};
 
 /// Time-optimal candidates of one frame (acceleration rises, falls, rises).
 pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profile>) {
-    let mut xs = Vec::new();
+    let (mut xs, mut found) = (Vec::new(), Vec::new());
     // Cruise at +v_max between the fastest changes to and from it.
     for ra in [true, false] {
         for rb in [true, false] {
@@ -49,10 +50,20 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
     // A falling root (a peak −√K ≤ 0) cannot start from a0 > 0: `rise`
     // refuses every such change, so its searches would find nothing.
     let roots_signs: &[bool] = if p.a0 > 1e-12 * l.acc { &[true] } else { &[true, false] };
-    for &root in roots_signs {
-        xs.clear();
-        roots::find(l.search, &|x| valley_residual(x, root), -l.acc, p.af, l.search.intervals(), &mut xs);
-        out.extend(xs.iter().filter_map(|&x| valley(x, root)));
+    match l.search {
+        Search::Fast => {
+            found.clear();
+            valley_roots(p, l.acc, j, &mut found);
+            let allowed = |&&(_, root): &&(f64, bool)| roots_signs.contains(&root);
+            out.extend(found.iter().filter(allowed).filter_map(|&(x, root)| valley(x, root)));
+        }
+        Search::Reference => {
+            for &root in roots_signs {
+                xs.clear();
+                roots::find(l.search, &|x| valley_residual(x, root), -l.acc, p.af, l.search.intervals(), &mut xs);
+                out.extend(xs.iter().filter_map(|&x| valley(x, root)));
+            }
+        }
     }
     // No cruise, valley held at −a_max for x seconds.
     let v7 = p.vf - (p.af * p.af - l.acc * l.acc) / (2.0 * j);
@@ -71,11 +82,22 @@ pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profi
         None => f64::NAN,
     };
     let hmax = (l.vel - v7) / l.acc;
-    if hmax > 0.0 {
-        for &root in roots_signs {
-            xs.clear();
-            roots::find(l.search, &|x| held_residual(x, root), 0.0, hmax, l.search.intervals(), &mut xs);
-            out.extend(xs.iter().filter_map(|&x| held(x, root)));
+    if !(hmax > 0.0) {
+        return;
+    }
+    match l.search {
+        Search::Fast => {
+            found.clear();
+            held_roots(p, l.acc, j, hmax, &mut found);
+            let allowed = |&&(_, root): &&(f64, bool)| roots_signs.contains(&root);
+            out.extend(found.iter().filter(allowed).filter_map(|&(x, root)| held(x, root)));
+        }
+        Search::Reference => {
+            for &root in roots_signs {
+                xs.clear();
+                roots::find(l.search, &|x| held_residual(x, root), 0.0, hmax, l.search.intervals(), &mut xs);
+                out.extend(xs.iter().filter_map(|&x| held(x, root)));
+            }
         }
     }
 }

@@ -14,8 +14,11 @@
 //! profiles whose acceleration rises, falls and rises again (or the mirror
 //! image), each phase either a jerk ramp or a hold at a limit — +a_max,
 //! −a_max or a cruise at ±v_max. Each family is reduced to one unknown
-//! (the acceleration at the valley, or the length of a hold), whose roots
-//! are isolated on a grid and refined by bisection; every candidate is then
+//! (the acceleration at the valley, or the length of a hold) whose end
+//! position is a polynomial of degree ≤ 4 (after squaring out the one
+//! square root), solved in closed form (`valley`, `poly`); the reference
+//! instead isolates the roots on a grid and refines them by bisection.
+//! Every candidate is then
 //! rebuilt from the start state and re-checked (end state within 1e-9
 //! relative, no limit exceeded by more than 1e-9 relative), and the fastest
 //! survivor is returned.
@@ -38,7 +41,8 @@
 //! The search is laid out as Ruckig lays out its steps: `brake` the
 //! pre-phase for a start beyond the limits, `profile`
 //! the segments of constant jerk and their integration, `roots` the
-//! one-unknown root search, `fastest_third` and `second` the time-optimal
+//! one-unknown root search on a grid, `poly` the real roots of a
+//! polynomial, `fastest_third`, `valley` and `second` the time-optimal
 //! families (step 1), `timed_third`, `cruise` and `second` the families of
 //! a prescribed duration (step 2), `sync` the synchronisation of several
 //! coordinates.
@@ -61,6 +65,7 @@ mod brake;
 mod cruise;
 mod fastest;
 mod fastest_third;
+mod poly;
 mod problem;
 mod profile;
 pub mod reference;
@@ -69,6 +74,7 @@ mod second;
 mod sync;
 mod timed;
 mod timed_third;
+mod valley;
 mod velocity;
 
 pub use sync::sync_duration;
