@@ -9,6 +9,13 @@ mod mutate;
 
 mod cell;
 mod cli;
+mod cli_dyn;
+mod cli_ik;
+mod cli_lang;
+mod cli_misuse;
+#[cfg(feature = "scorbot")]
+mod cli_scorbot;
+mod cli_traj;
 mod collide;
 #[cfg(feature = "serve")]
 mod doors;
