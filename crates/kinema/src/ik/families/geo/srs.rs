@@ -60,6 +60,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::kin::{distance_to_line, intersection, parallel};
 use super::subproblems::{rot, rotate, sp1, sp2, sp3, Angles};
+use super::srs_kernel::{Miss, Options, SrsKernel};
 use super::wrist::{perpendicular, SphericalWrist};
 use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
 use crate::error::{Error, InputError, Result};
@@ -116,6 +117,8 @@ pub struct SrsIk {
     u3: V3,
     /// Axes 5, 6, 7: the wrist's orientation solve.
     wrist: SphericalWrist,
+    /// The fixed-q₃ closed form, shared with `IiwaIk`.
+    arm: SrsKernel,
 }
 
 impl SrsIk {
@@ -146,7 +149,9 @@ impl SrsIk {
         }
         let u3 = perpendicular(&common.h(2));
         let wrist = SphericalWrist::new([common.h(4), common.h(5), common.h(6)], 0.0);
-        Ok(SrsIk { common, s, w, u3, wrist })
+        let axes = std::array::from_fn(|i| common.h(i));
+        let arm = SrsKernel::new(&axes, &s, &p4, &w);
+        Ok(SrsIk { common, s, w, u3, wrist, arm })
     }
 
     /// The robot this solver was built for.
@@ -202,45 +207,21 @@ impl SrsIk {
 
     /// The kernel: every candidate for a checked target and finite q₃.
     fn kernel(&self, target: &Pose, q3: f64, out: &mut Candidates<7, 8>) -> std::result::Result<(), Unreachable> {
-        let c = &self.common;
-        let h = |i| c.h(i);
-        let g = c.motion(target);
+        let g = self.common.motion(target);
         let wt = g.transform_point(&self.w);
         if let Some(u) = too_far(&wt) {
             return Err(u);
         }
-        let d = wt - self.s;
-        let elbows = self.elbows(&d)?;
-        let r3 = rot(&h(2), q3);
-        let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
-        for (ei, &q4) in elbows.as_slice().iter().enumerate() {
-            let x = r3 * self.upper_wrist(q4);
-            let (a1, a2) = sp2(&h(0), &d, &h(1), &x);
-            if !a1.exact {
-                arm_miss = arm_miss.min(a1.miss);
-                continue;
-            }
-            for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
-                let arm = [-t1, q2, q3, q4];
-                let r14 = rot(&h(0), arm[0]) * rot(&h(1), q2) * r3 * rot(&h(3), q4);
-                if let Err(miss) = self.wrist(&(r14.transpose() * g.rot), arm, (si, ei), out) {
-                    wrist_miss = wrist_miss.min(miss);
-                }
-            }
+        let goal = self.arm.goal(&(wt - self.s), &g.rot);
+        let options = Options { flip_singular_wrist: true, ..Options::default() };
+        let solutions = self.arm.solve_q3(&goal, q3, &options).map_err(|miss| unreachable(miss, q3))?;
+        for (q, (elbow, shoulder, wrist)) in solutions.iter() {
+            self.common.push(out, *q, label(shoulder, elbow, wrist));
         }
-        if !out.is_empty() {
-            return Ok(());
+        if out.is_empty() {
+            return Err(Unreachable::NotReached { detail: "the closed form gave no finite joint values".into() });
         }
-        Err(if wrist_miss.is_finite() {
-            Unreachable::Orientation {
-                // The miss is a chord between unit vectors; as an angle:
-                angle: 2.0 * (0.5 * wrist_miss).min(1.0).asin(),
-                detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
-            }
-        } else {
-            let region = format!("cones around axis 1 that the wrist centre cannot enter with joint 3 at {q3:.6} rad");
-            Unreachable::InsideExcluded { by: arm_miss, region }
-        })
+        Ok(())
     }
 
     /// Both elbow angles q₄ that put the wrist centre at distance |`d`|
@@ -556,6 +537,25 @@ impl SrsIk {
     /// The smallest distance of `q` to a joint limit ([`crate::ik::limit_margin`]).
     fn limit_margin(&self, q: &[f64; 7]) -> f64 {
         crate::ik::limit_margin(self.robot(), q)
+    }
+}
+
+/// The refusal for a kernel's miss at `q3` \[rad\].
+fn unreachable(miss: Miss, q3: f64) -> Unreachable {
+    match miss {
+        Miss::Outer(by) | Miss::Inner(by) => {
+            let boundary = "spherical shell around the shoulder point that the elbow lets the wrist centre reach";
+            Unreachable::OutsideReach { by, boundary: boundary.into() }
+        }
+        Miss::Arm(by) => {
+            let region = format!("cones around axis 1 that the wrist centre cannot enter with joint 3 at {q3:.6} rad");
+            Unreachable::InsideExcluded { by, region }
+        }
+        Miss::Wrist(chord) => Unreachable::Orientation {
+            // The miss is a chord between unit vectors; as an angle:
+            angle: 2.0 * (0.5 * chord).min(1.0).asin(),
+            detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
+        },
     }
 }
 

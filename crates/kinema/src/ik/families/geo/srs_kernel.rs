@@ -1,0 +1,495 @@
+//! The closed form of every SRS arm (spherical shoulder, elbow, spherical
+//! wrist) with joint 3 fixed, shared by [`SrsIk`](super::SrsIk) (axes read
+//! from any description) and [`IiwaIk`](crate::ik::iiwa::IiwaIk) (the
+//! iiwa's DH table): one set of formulas, specialised to each robot once.
+//!
+//! **Frames.** Everything is computed in the arm's canonical frame C: ẑ =
+//! h₁, ŷ along the part of h₂ normal to h₁, x̂ = ŷ × ẑ, origin at the
+//! shoulder point s. So rot(h₁, q) = Rz(q) and h₂ = (0, s₁₂, c₁₂) with
+//! c₁₂ = h₁·h₂. On the iiwa's DH frame 0, C is frame 0 itself (h₁ = z,
+//! h₂ = y), and every formula below reduces to seed 004 eq. 3–11.
+//!
+//! **Elbow.** With joints 1–3 at zero, the wrist centre relative to s is
+//! x₀(q₄) = k₀ + cos q₄·k₁ + sin q₄·k₂, where a = w − p₄ (p₄ on axis 4),
+//! k₀ = p₄ − s + h₄(h₄·a), k₁ = a − h₄(h₄·a), k₂ = h₄ × k₁ (k₁ ⊥ k₂,
+//! |k₁| = |k₂|). Hence |x₀|² = K + 2R·cos(q₄ − φ) with K = |k₀|² + |k₁|²,
+//! R = |k₁|·|k₀⊥h₄| and φ = atan2(k₀·k₂, k₀·k₁). Joints 1–3 do not change
+//! the distance, so r = |W − s| fixes cos θ = (r² − K)/(2R), θ = q₄ − φ.
+//! With r_out,in² = K ± 2R = |k₀·h₄|² + (|k₀⊥h₄| ± |k₁|)², 1 ∓ cos θ =
+//! (r_out,in² − r²)/(±2R) factor into (r_out − r)(r_out + r) and
+//! (r − r_in)(r + r_in): full precision at the stretched and folded arm.
+//! Two elbows, sin θ = ±√((1 − cos θ)(1 + cos θ)).
+//!
+//! **Shoulder.** x = R₃·x₀(q₄) is known once q₃ and q₄ are; rot(h₁, q₁)·
+//! rot(h₂, q₂)·x = d = W − s. The vector v = rot(h₂, q₂)·x = Rz(−q₁)·d has
+//! v_z = d_z (Rz keeps z) and h₂·v = h₂·x, i.e. s₁₂·v_y + c₁₂·v_z =
+//! s₁₂·x_y + c₁₂·x_z, so v_y = x_y + c₁₂(x_z − d_z)/s₁₂ =: p, and
+//! v_x = u = ±√(ρ² − p²) with ρ = |d_xy| (two shoulders; none when ρ < |p|).
+//! Then q₁ is the angle from (u, p) to (d_x, d_y) about z, one atan2 of
+//! their cross and dot products, and q₂ the angle from x to v about h₂,
+//! measured in the basis (s₁₂ẑ − c₁₂ŷ, x̂) of the plane normal to h₂, which
+//! rot(h₂, q₂) turns by q₂. On the iiwa this is seed 004 eq. 8–9 with the
+//! sign choice made by the atan2 instead of by an FK test.
+//!
+//! **Wrist.** M = R₀₄ᵀ·R_G = rot(h₅, q₅)·rot(h₆, q₆)·rot(h₇, q₇). The
+//! same two-axis solve in the wrist's frame (ẑ = h₅, ŷ along h₆ ⊥ h₅) with
+//! x = h₇ and d = M·h₇ gives q₅ and q₆. For q₇ take u₂ ⊥ h₇ along h₆'s part
+//! normal to h₇ and u = u₂ × h₇: then rot(h₇, q₇)·u = cos q₇·u + sin q₇·u₂,
+//! and with g = rot(h₅, q₅)·rot(h₆, q₆)·u₂, sin q₇ = g·M·u and cos q₇ =
+//! g·M·u₂. On the iiwa (h₅ = h₇ = z, h₆ = y) these are the ZYZ angles
+//! atan2(m₁₂, m₀₂), atan2(√(m₀₂² + m₁₂²), m₂₂) and row 1 of Rz(−q₅)·M,
+//! accurate near q₆ = 0. When h₇ ∥ h₅ and h₆ ⊥ h₇ the second wrist is
+//! (q₅ + π, −q₆, q₇ + π) without further atan2s, since rot(h₅, π)·rot(h₆,
+//! −q₆)·rot(h₅, −π) = rot(h₆, q₆).
+//!
+//! **Singular cases** (never NaN): a first axis of a pair along the vector
+//! it must turn (d on axis 1: the shoulder; M·h₇ on axis 5: the wrist), by
+//! less than 1e-12, leaves its angle free: it takes the caller's hint and
+//! the second angle follows.
+//!
+//! All angles of a call are independent once the sines and cosines are
+//! known, so their atan2s go in batches of eight (`atan2_x8`).
+
+use std::f64::consts::PI;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::ik::wrap_angle;
+use crate::math::{atan2_x8, FastMath};
+
+type V3 = Vector3<f64>;
+
+/// Below this distance from the first axis of a pair (in that pair's own
+/// length unit: m for the shoulder, 1 for the wrist's unit vectors) its
+/// angle is free and takes the hint.
+pub(crate) const SINGULAR: f64 = 1e-12;
+/// Below this |h₅ × h₇| and |h₆·h₇| the wrist's second branch is derived from its first.
+const ALIGNED_TOL: f64 = 1e-12;
+/// Relative tolerance for targets just outside a reach boundary (clamped onto it).
+const REACH_TOL: f64 = 1e-12;
+
+/// A fixed vector turning about a fixed unit axis h:
+/// rot(h, q)·v = `par` + cos q·`perp` + sin q·`cross`.
+#[derive(Debug, Clone, Copy)]
+struct Turn {
+    par: V3,
+    perp: V3,
+    cross: V3,
+}
+
+impl Turn {
+    fn new(h: &V3, v: &V3) -> Self {
+        let par = h * h.dot(v);
+        let perp = v - par;
+        Turn { par, perp, cross: h.cross(&perp) }
+    }
+
+    #[inline]
+    fn at(&self, (s, c): (f64, f64)) -> V3 {
+        self.par + self.perp * c + self.cross * s
+    }
+}
+
+/// Rotations about a fixed unit axis from a sine and cosine (Rodrigues).
+#[derive(Debug, Clone, Copy)]
+struct Axis {
+    k: Matrix3<f64>,
+    k2: Matrix3<f64>,
+}
+
+impl Axis {
+    fn new(h: &V3) -> Self {
+        let k = h.cross_matrix();
+        Axis { k, k2: k * k }
+    }
+
+    #[inline]
+    fn rot(&self, (s, c): (f64, f64)) -> Matrix3<f64> {
+        Matrix3::identity() + self.k * s + self.k2 * (1.0 - c)
+    }
+}
+
+/// Two unit axes through one point, seen in the frame where the first is
+/// ẑ and the second (0, `s`, `c`), `s` > 0: the solve of rot(a, q_a)·
+/// rot(b, q_b)·x = d (see the module documentation).
+#[derive(Debug, Clone, Copy)]
+struct Pair {
+    c: f64,
+    s: f64,
+}
+
+/// One root of a [`Pair`]: each angle's atan2 arguments (y, x) with its sine
+/// and cosine; `fixed` when the first angle was free and took the hint.
+#[derive(Debug, Clone, Copy)]
+struct PairRoot {
+    a: (f64, f64),
+    sa: (f64, f64),
+    fixed: bool,
+    b: (f64, f64),
+    sb: (f64, f64),
+}
+
+impl Pair {
+    /// The pair's frame (rows: its x̂, ŷ, ẑ in the outer frame) and the pair.
+    fn new(a: &V3, b: &V3) -> (Matrix3<f64>, Pair) {
+        let y = (b - a * a.dot(b)).normalize();
+        let x = y.cross(a);
+        let frame = Matrix3::from_rows(&[x.transpose(), y.transpose(), a.transpose()]);
+        (frame, Pair { c: a.dot(b), s: b.dot(&y) })
+    }
+
+    /// p = v_y and ρ = |d_xy|: the two shoulders exist when ρ ≥ |p|.
+    #[inline]
+    fn offsets(&self, x: &V3, d: &V3) -> (f64, f64) {
+        (x.y + self.c * (x.z - d.z) / self.s, d.x.fast_hypot(d.y))
+    }
+
+    /// The root with v_x = `u`; the first angle is `hint` = (sin, cos) when free.
+    #[inline]
+    fn root(&self, x: &V3, d: &V3, p: f64, u: f64, hint: (f64, f64)) -> PairRoot {
+        let (a, sa, fixed, u) = if u.fast_hypot(p) < SINGULAR {
+            ((0.0, 1.0), hint, true, hint.1 * d.x + hint.0 * d.y)
+        } else {
+            let (y, x) = (d.y * u - d.x * p, d.x * u + d.y * p);
+            let h = y.fast_hypot(x);
+            ((y, x), (y / h, x / h), false, u)
+        };
+        let (xa, xb) = (self.s * x.z - self.c * x.y, x.x);
+        let (va, vb) = (self.s * d.z - self.c * p, u);
+        let (y, xx) = (xa * vb - xb * va, xa * va + xb * vb);
+        let h = y.fast_hypot(xx);
+        let (b, sb) = if h > 0.0 { ((y, xx), (y / h, xx / h)) } else { ((0.0, 1.0), (0.0, 1.0)) };
+        PairRoot { a, sa, fixed, b, sb }
+    }
+}
+
+/// Why no solution exists for a q₃ (each with its miss).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Miss {
+    /// The wrist centre is farther from the shoulder than the arm reaches, by \[m\].
+    Outer(f64),
+    /// The wrist centre is nearer the shoulder than the arm folds, by \[m\].
+    Inner(f64),
+    /// The wrist centre lies in the region about axis 1 this q₃ cannot
+    /// enter, by \[m\] (the smallest over the elbows).
+    Arm(f64),
+    /// The wrist cannot turn axis 7 to the direction asked for; the chord
+    /// between unit vectors by which it misses.
+    Wrist(f64),
+}
+
+/// What the caller asks of a fixed-q₃ solve besides the target.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Options {
+    /// q₁ \[rad\] when the wrist centre is on axis 1.
+    pub(crate) q1_hint: f64,
+    /// At the wrist singularity the second wrist branch takes q₅ + π (and
+    /// q₇ + π) rather than repeating q₅ with −q₆.
+    pub(crate) flip_singular_wrist: bool,
+    /// Keep only the branches that can continue a path through this configuration.
+    pub(crate) near: Option<[f64; 7]>,
+}
+
+/// Up to 8 joint vectors with their (elbow, shoulder, wrist) root indices.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Solutions {
+    pub(crate) q: [[f64; 7]; 8],
+    pub(crate) branch: [(usize, usize, usize); 8],
+    pub(crate) len: usize,
+}
+
+impl Solutions {
+    /// The joint vectors and their (elbow, shoulder, wrist) indices.
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (&[f64; 7], (usize, usize, usize))> {
+        self.q[..self.len].iter().zip(self.branch[..self.len].iter().copied())
+    }
+}
+
+/// The target as the kernel takes it, in the canonical frame: the wrist
+/// centre relative to the shoulder and R_G applied to the wrist's h₇, u, u₂.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Goal {
+    pub(crate) d: V3,
+    g: [V3; 3],
+}
+
+/// The spherical wrist: axes 5, 6, 7 in their own frame.
+#[derive(Debug, Clone)]
+struct Wrist {
+    /// C → the wrist frame (ẑ = h₅), or `None` when they coincide.
+    frame: Option<Matrix3<f64>>,
+    pair: Pair,
+    /// h₇ in the wrist frame.
+    h7: V3,
+    /// u₂ turning about h₆ (wrist frame).
+    u2: Turn,
+    /// h₇, u, u₂ in C, the vectors whose images R_G takes.
+    vectors: [V3; 3],
+    /// h₇ ∥ h₅ and h₆ ⊥ h₇: the second branch follows from the first.
+    aligned: bool,
+}
+
+/// The SRS arm's constants, prepared once per robot (see the module documentation).
+#[derive(Debug, Clone)]
+pub(crate) struct SrsKernel {
+    /// Description frame → C, or `None` when they coincide.
+    frame: Option<Matrix3<f64>>,
+    shoulder: Pair,
+    /// k₀, k₁, k₂ turning about h₃ (C).
+    upper: [Turn; 3],
+    h2: Axis,
+    h3: Axis,
+    h4: Axis,
+    /// K, 2R, r_out, r_in and (sin φ, cos φ) of the elbow.
+    reach: (f64, f64, f64, f64, (f64, f64)),
+    wrist: Wrist,
+}
+
+/// The matrix, or `None` when it is the identity (to skip its products).
+fn unless_identity(m: Matrix3<f64>) -> Option<Matrix3<f64>> {
+    (m != Matrix3::identity()).then_some(m)
+}
+
+fn apply(m: &Option<Matrix3<f64>>, v: &V3) -> V3 {
+    match m {
+        Some(m) => m * v,
+        None => *v,
+    }
+}
+
+impl SrsKernel {
+    /// The kernel of the arm with unit axes `h` (at q = 0), shoulder point
+    /// `s`, a point `p4` on axis 4 and wrist centre `w`, all in one frame
+    /// (the description frame). The caller has checked the structure: axes
+    /// 1, 2, 3 through s, 5, 6, 7 through w, h₁ ∦ h₂, h₅ ∦ h₆, h₆ ∦ h₇,
+    /// axis 4 through neither point.
+    pub(crate) fn new(h: &[V3; 7], s: &V3, p4: &V3, w: &V3) -> Self {
+        let (to_c, shoulder) = Pair::new(&h[0], &h[1]);
+        let c = |v: &V3| to_c * v;
+        let (h3, h4) = (c(&h[2]), c(&h[3]));
+        let a = c(&(w - p4));
+        let k1 = a - h4 * h4.dot(&a);
+        let k0 = c(&(p4 - s)) + h4 * h4.dot(&a);
+        let k2 = h4.cross(&k1);
+        let k0_along = h4.dot(&k0);
+        let k0_across = (k0 - h4 * k0_along).norm();
+        let big_r = k1.norm() * k0_across;
+        let phi = (k0.dot(&k2) / big_r, k0.dot(&k1) / big_r);
+        let reach = (
+            k0.norm_squared() + k1.norm_squared(),
+            2.0 * big_r,
+            k0_along.fast_hypot(k0_across + k1.norm()),
+            k0_along.fast_hypot(k0_across - k1.norm()),
+            phi,
+        );
+        let (h5, h6, h7) = (c(&h[4]), c(&h[5]), c(&h[6]));
+        let (to_w, pair) = Pair::new(&h5, &h6);
+        let u2 = (h6 - h7 * h7.dot(&h6)).normalize();
+        let u = u2.cross(&h7);
+        let aligned = h5.cross(&h7).norm() <= ALIGNED_TOL && h6.dot(&h7).abs() <= ALIGNED_TOL;
+        let wrist = Wrist {
+            pair,
+            h7: to_w * h7,
+            u2: Turn::new(&(to_w * h6), &(to_w * u2)),
+            vectors: [h7, u, u2],
+            aligned,
+            frame: unless_identity(to_w),
+        };
+        SrsKernel {
+            frame: unless_identity(to_c),
+            shoulder,
+            upper: [Turn::new(&h3, &k0), Turn::new(&h3, &k1), Turn::new(&h3, &k2)],
+            h2: Axis::new(&c(&h[1])),
+            h3: Axis::new(&h3),
+            h4: Axis::new(&h4),
+            reach,
+            wrist,
+        }
+    }
+
+    /// The goal for a wrist centre at `d` from the shoulder point and a
+    /// motion whose rotation is `r` (R_G = R₁…R₇), both in the description frame.
+    pub(crate) fn goal(&self, d: &V3, r: &Matrix3<f64>) -> Goal {
+        let in_c = |v: &V3| apply(&self.frame, v);
+        let [a, b, c] = self.wrist.vectors;
+        match &self.frame {
+            None => Goal { d: *d, g: [r * a, r * b, r * c] },
+            Some(f) => {
+                let rc = f * r * f.transpose();
+                Goal { d: in_c(d), g: [rc * a, rc * b, rc * c] }
+            }
+        }
+    }
+
+    /// The largest and smallest distance \[m\] of the wrist centre from the shoulder point.
+    pub(crate) fn reach(&self) -> (f64, f64) {
+        (self.reach.2, self.reach.3)
+    }
+
+    /// (sin, cos) of the elbow's θ = q₄ − φ (|sin θ|), or the reach miss.
+    pub(crate) fn elbow(&self, r: f64) -> Result<(f64, f64), Miss> {
+        let (_, two_r, outer, inner, _) = self.reach;
+        if r > outer + REACH_TOL * (1.0 + outer) {
+            return Err(Miss::Outer(r - outer));
+        }
+        if r < inner - REACH_TOL * (1.0 + outer) {
+            return Err(Miss::Inner(inner - r));
+        }
+        let one_minus = ((outer - r) * (outer + r) / two_r).max(0.0);
+        let one_plus = ((r - inner) * (r + inner) / two_r).max(0.0);
+        Ok(((one_minus * one_plus).sqrt(), 0.5 * (one_plus - one_minus)))
+    }
+
+    /// sin(q₄ − φ) of a joint vector: the side of its elbow.
+    fn elbow_side(&self, q4: f64) -> f64 {
+        let (s, c) = q4.fast_sin_cos();
+        let (sp, cp) = self.reach.4;
+        s * cp - c * sp
+    }
+
+    /// All solutions with joint 3 at `q3` \[rad\] (see the module documentation).
+    pub(crate) fn solve_q3(&self, goal: &Goal, q3: f64, opt: &Options) -> Result<Solutions, Miss> {
+        let d = &goal.d;
+        let (st, ct) = self.elbow(d.norm())?;
+        let sc3 = q3.fast_sin_cos();
+        let [k0, k1, k2] = self.upper.map(|t| t.at(sc3));
+        let r3 = self.h3.rot(sc3);
+        let hint = opt.q1_hint.fast_sin_cos();
+        // The near configuration's shoulder offset v_x for this target, and its elbow side.
+        let (u_near, side_near) = match &opt.near {
+            Some(q) => {
+                let (s1, c1) = q[0].fast_sin_cos();
+                let side = self.elbow_side(q[3]);
+                (Some(c1 * d.x + s1 * d.y), if side.abs() > 0.05 { side.signum() } else { 0.0 })
+            }
+            None => (None, 0.0),
+        };
+        // Lanes: slot·5 + (q₁, q₂, q₅, q₆, q₇) for slot = 2·elbow + shoulder,
+        // 20 + elbow for q₄, 24 + slot·4 + (q₅, q₆, q₇) for a second wrist
+        // that is not derived from the first.
+        let (mut ys, mut xs) = ([0.0; 40], [1.0; 40]);
+        let mut roots: [Option<(PairRoot, [PairRoot; 2])>; 4] = [None; 4];
+        let mut arm_miss = f64::INFINITY;
+        let mut wrist_miss = f64::INFINITY;
+        let (sp, cp) = self.reach.4;
+        for (e, sign) in [1.0, -1.0].into_iter().enumerate() {
+            if sign * side_near < 0.0 {
+                continue;
+            }
+            let st = sign * st;
+            let sc4 = (sp * ct + cp * st, cp * ct - sp * st);
+            (ys[20 + e], xs[20 + e]) = sc4;
+            let x = k0 + k1 * sc4.1 + k2 * sc4.0;
+            let (p, rho) = self.shoulder.offsets(&x, d);
+            let gap = rho - p.abs();
+            if gap < -REACH_TOL * (1.0 + rho) {
+                arm_miss = arm_miss.min(-gap);
+                continue;
+            }
+            let u_abs = (gap.max(0.0) * (rho + p.abs())).sqrt();
+            let r34 = r3 * self.h4.rot(sc4);
+            for (sh, u) in [u_abs, -u_abs].into_iter().enumerate() {
+                if u_near.is_some_and(|un| u * un < 0.0 && un.abs() > 0.5 * u_abs) {
+                    continue;
+                }
+                let slot = 2 * e + sh;
+                let arm = self.shoulder.root(&x, d, p, u, hint);
+                (ys[5 * slot], xs[5 * slot]) = arm.a;
+                (ys[5 * slot + 1], xs[5 * slot + 1]) = arm.b;
+                let (s1, c1) = arm.sa;
+                let r2 = self.h2.rot(arm.sb);
+                let r12 = Matrix3::from_rows(&[
+                    r2.row(0) * c1 - r2.row(1) * s1,
+                    r2.row(0) * s1 + r2.row(1) * c1,
+                    r2.row(2).into_owned(),
+                ]);
+                let r04t = (r12 * r34).transpose();
+                match self.wrist_roots(&r04t, goal, opt, &mut ys, &mut xs, slot) {
+                    Ok(w) => roots[slot] = Some((arm, w)),
+                    Err(m) => wrist_miss = wrist_miss.min(m),
+                }
+            }
+        }
+        let batches = if self.wrist.aligned { 3 } else { 5 };
+        let mut angles = [0.0; 40];
+        for k in 0..batches {
+            let lanes = 8 * k..8 * k + 8;
+            let y = ys[lanes.clone()].try_into().unwrap_or([0.0; 8]);
+            let x = xs[lanes].try_into().unwrap_or([1.0; 8]);
+            angles[8 * k..8 * k + 8].copy_from_slice(&atan2_x8(y, x));
+        }
+        let mut out = Solutions { q: [[0.0; 7]; 8], branch: [(0, 0, 0); 8], len: 0 };
+        for (slot, root) in roots.iter().enumerate() {
+            let Some((arm, wrist)) = root else { continue };
+            let a = &angles[5 * slot..5 * slot + 5];
+            let q1 = if arm.fixed { opt.q1_hint } else { a[0] };
+            let head = [q1, a[1], q3, angles[20 + slot / 2]];
+            for (wi, [q5, q6, q7]) in self.wrist_angles(wrist, &angles, slot, opt).into_iter().enumerate() {
+                out.q[out.len] = [head[0], head[1], head[2], head[3], q5, q6, q7];
+                out.branch[out.len] = (slot / 2, slot % 2, wi);
+                out.len += 1;
+            }
+        }
+        if out.len > 0 {
+            return Ok(out);
+        }
+        Err(if wrist_miss.is_finite() { Miss::Wrist(wrist_miss) } else { Miss::Arm(arm_miss) })
+    }
+
+    /// The wrist's pair roots for R₀₄ᵀ (`r04t`), their atan2 arguments
+    /// written into the lanes of `slot`; the miss when it has none.
+    fn wrist_roots(
+        &self,
+        r04t: &Matrix3<f64>,
+        goal: &Goal,
+        opt: &Options,
+        ys: &mut [f64; 40],
+        xs: &mut [f64; 40],
+        slot: usize,
+    ) -> Result<[PairRoot; 2], f64> {
+        let wr = &self.wrist;
+        let m = goal.g.map(|g| apply(&wr.frame, &(r04t * g)));
+        let [mh, mu, mu2] = &m;
+        let (p, rho) = wr.pair.offsets(&wr.h7, mh);
+        let gap = rho - p.abs();
+        if gap < -REACH_TOL * (1.0 + rho) {
+            return Err(-gap);
+        }
+        let u_abs = (gap.max(0.0) * (rho + p.abs())).sqrt();
+        let hint = (0.0, 1.0);
+        let first = wr.pair.root(&wr.h7, mh, p, u_abs, hint);
+        let lanes = [5 * slot + 2, 24 + 4 * slot];
+        let mut out = [first; 2];
+        for (k, root) in out.iter_mut().enumerate() {
+            if k == 1 {
+                if wr.aligned {
+                    break;
+                }
+                let hint = if opt.flip_singular_wrist { (0.0, -1.0) } else { hint };
+                *root = wr.pair.root(&wr.h7, mh, p, -u_abs, hint);
+            }
+            let g = wr.u2.at(root.sb);
+            let (s5, c5) = root.sa;
+            let g = V3::new(c5 * g.x - s5 * g.y, s5 * g.x + c5 * g.y, g.z);
+            let l = lanes[k];
+            (ys[l], xs[l]) = root.a;
+            (ys[l + 1], xs[l + 1]) = root.b;
+            (ys[l + 2], xs[l + 2]) = (g.dot(mu), g.dot(mu2));
+        }
+        Ok(out)
+    }
+
+    /// Both wrists' (q₅, q₆, q₇) of `slot` from the batched angles.
+    fn wrist_angles(&self, roots: &[PairRoot; 2], angles: &[f64; 40], slot: usize, opt: &Options) -> [[f64; 3]; 2] {
+        let at = |l: usize, fixed: bool, free: f64| [if fixed { free } else { angles[l] }, angles[l + 1], angles[l + 2]];
+        let [q5, q6, q7] = at(5 * slot + 2, roots[0].fixed, 0.0);
+        if !self.wrist.aligned {
+            let second = at(24 + 4 * slot, roots[1].fixed, if opt.flip_singular_wrist { PI } else { 0.0 });
+            return [[q5, q6, q7], second];
+        }
+        if roots[0].fixed && !opt.flip_singular_wrist {
+            return [[q5, q6, q7], [q5, -q6, q7]];
+        }
+        [[q5, q6, q7], [wrap_angle(q5 + PI), -q6, wrap_angle(q7 + PI)]]
+    }
+}
