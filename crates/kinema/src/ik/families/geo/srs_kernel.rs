@@ -54,8 +54,10 @@ use std::f64::consts::PI;
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::wrist::perpendicular;
+use super::GEOM_TOL;
 use crate::ik::wrap_angle;
-use crate::math::{atan2_x8, FastMath};
+use crate::math::{atan2_x8, rot_z, FastMath};
 
 type V3 = Vector3<f64>;
 
@@ -116,6 +118,8 @@ impl Axis {
 struct Pair {
     c: f64,
     s: f64,
+    /// c / s.
+    cot: f64,
 }
 
 /// One root of a [`Pair`]: each angle's atan2 arguments (y, x) with its sine
@@ -135,30 +139,39 @@ impl Pair {
         let y = (b - a * a.dot(b)).normalize();
         let x = y.cross(a);
         let frame = Matrix3::from_rows(&[x.transpose(), y.transpose(), a.transpose()]);
-        (frame, Pair { c: a.dot(b), s: b.dot(&y) })
+        let (c, s) = (a.dot(b), b.dot(&y));
+        (frame, Pair { c, s, cot: c / s })
     }
 
     /// p = v_y and ρ = |d_xy|: the two shoulders exist when ρ ≥ |p|.
-    #[inline]
+    #[inline(always)]
     fn offsets(&self, x: &V3, d: &V3) -> (f64, f64) {
-        (x.y + self.c * (x.z - d.z) / self.s, d.x.fast_hypot(d.y))
+        (x.y + self.cot * (x.z - d.z), d.x.fast_hypot(d.y))
     }
 
-    /// The root with v_x = `u`; the first angle is `hint` = (sin, cos) when free.
-    #[inline]
-    fn root(&self, x: &V3, d: &V3, p: f64, u: f64, hint: (f64, f64)) -> PairRoot {
-        let (a, sa, fixed, u) = if u.fast_hypot(p) < SINGULAR {
-            ((0.0, 1.0), hint, true, hint.1 * d.x + hint.0 * d.y)
+    /// The root with v_x = `u` (u² + p² = ρ², ρ = `rho`); the first angle
+    /// is `hint` \[rad\] when free. (u, p) and (d_x, d_y) both have
+    /// length ρ, so the first angle's cross and dot products have length ρ².
+    #[inline(always)]
+    fn root(&self, x: &V3, d: &V3, (p, rho): (f64, f64), u: f64, hint: f64) -> PairRoot {
+        let (a, sa, fixed, u) = if rho < SINGULAR {
+            let (s, c) = hint.fast_sin_cos();
+            ((0.0, 1.0), (s, c), true, c * d.x + s * d.y)
         } else {
             let (y, x) = (d.y * u - d.x * p, d.x * u + d.y * p);
-            let h = y.fast_hypot(x);
-            ((y, x), (y / h, x / h), false, u)
+            let inv = 1.0 / (rho * rho);
+            ((y, x), (y * inv, x * inv), false, u)
         };
         let (xa, xb) = (self.s * x.z - self.c * x.y, x.x);
         let (va, vb) = (self.s * d.z - self.c * p, u);
         let (y, xx) = (xa * vb - xb * va, xa * va + xb * vb);
         let h = y.fast_hypot(xx);
-        let (b, sb) = if h > 0.0 { ((y, xx), (y / h, xx / h)) } else { ((0.0, 1.0), (0.0, 1.0)) };
+        let (b, sb) = if h > 0.0 {
+            let inv = 1.0 / h;
+            ((y, xx), (y * inv, xx * inv))
+        } else {
+            ((0.0, 1.0), (0.0, 1.0))
+        };
         PairRoot { a, sa, fixed, b, sb }
     }
 }
@@ -199,6 +212,17 @@ pub(crate) struct Solutions {
 }
 
 impl Solutions {
+    /// No solutions yet.
+    pub(crate) fn empty() -> Self {
+        Solutions { q: [[0.0; 7]; 8], branch: [(0, 0, 0); 8], len: 0 }
+    }
+
+    fn push(&mut self, q: [f64; 7], branch: (usize, usize, usize)) {
+        self.q[self.len] = q;
+        self.branch[self.len] = branch;
+        self.len += 1;
+    }
+
     /// The joint vectors and their (elbow, shoulder, wrist) indices.
     pub(crate) fn iter(&self) -> impl Iterator<Item = (&[f64; 7], (usize, usize, usize))> {
         self.q[..self.len].iter().zip(self.branch[..self.len].iter().copied())
@@ -213,20 +237,101 @@ pub(crate) struct Goal {
     g: [V3; 3],
 }
 
-/// The spherical wrist: axes 5, 6, 7 in their own frame.
+/// Three unit axes a, b, c through one point (the spherical wrist, or the
+/// shoulder in the arm-angle form): rot(a, q_a)·rot(b, q_b)·rot(c, q_c) = M
+/// from the images of c, u and u₂ under M (see the module documentation).
 #[derive(Debug, Clone)]
-struct Wrist {
-    /// C → the wrist frame (ẑ = h₅), or `None` when they coincide.
+struct Spherical {
+    /// C → the frame of the pair (a, b) (ẑ = a), or `None` when they coincide.
     frame: Option<Matrix3<f64>>,
     pair: Pair,
-    /// h₇ in the wrist frame.
-    h7: V3,
-    /// u₂ turning about h₆ (wrist frame).
+    /// c in the pair's frame.
+    hc: V3,
+    /// u₂ turning about b (pair's frame).
     u2: Turn,
-    /// h₇, u, u₂ in C, the vectors whose images R_G takes.
+    /// c, u, u₂ in C: the vectors whose images M takes.
     vectors: [V3; 3],
-    /// h₇ ∥ h₅ and h₆ ⊥ h₇: the second branch follows from the first.
+    /// c ∥ a and b ⊥ c: the second root follows from the first.
     aligned: bool,
+}
+
+/// A [`Spherical`] solve's roots: each pair root with the atan2 arguments
+/// of its q_c; the second is not used when the solve is aligned.
+#[derive(Debug, Clone, Copy)]
+struct Roots {
+    pair: [PairRoot; 2],
+    c: [(f64, f64); 2],
+}
+
+impl Spherical {
+    /// The solve for axes `ha`, `hb`, `hc` given in C.
+    fn new(ha: &V3, hb: &V3, hc: &V3) -> Self {
+        let (frame, pair) = Pair::new(ha, hb);
+        let u2 = (hb - hc * hc.dot(hb)).normalize();
+        let u = u2.cross(hc);
+        Spherical {
+            pair,
+            hc: frame * hc,
+            u2: Turn::new(&(frame * hb), &(frame * u2)),
+            vectors: [*hc, u, u2],
+            aligned: ha.cross(hc).norm() <= ALIGNED_TOL && hb.dot(hc).abs() <= ALIGNED_TOL,
+            frame: unless_identity(frame),
+        }
+    }
+
+    /// The roots for the images `m` (in C) of c, u, u₂; q_a takes 0 where
+    /// it is free (π on the second root when `flip`). The miss (a chord
+    /// between unit vectors) when b cannot turn c onto M·c.
+    #[inline(always)]
+    fn roots(&self, m: &[V3; 3], flip: bool) -> Result<Roots, f64> {
+        let [mh, mu, mu2] = m.map(|v| apply(&self.frame, &v));
+        let (p, rho) = self.pair.offsets(&self.hc, &mh);
+        let gap = rho - p.abs();
+        if gap < -REACH_TOL * (1.0 + rho) {
+            return Err(-gap);
+        }
+        // p = 0 for an orthogonal wrist: u = ρ without a square root.
+        let u_abs = if p == 0.0 { rho } else { (gap.max(0.0) * (rho + p.abs())).sqrt() };
+        let first = self.pair.root(&self.hc, &mh, (p, rho), u_abs, 0.0);
+        let mut out = Roots { pair: [first; 2], c: [(0.0, 1.0); 2] };
+        for k in 0..if self.aligned { 1 } else { 2 } {
+            if k == 1 {
+                let hint = if flip { PI } else { 0.0 };
+                out.pair[1] = self.pair.root(&self.hc, &mh, (p, rho), -u_abs, hint);
+            }
+            let root = &out.pair[k];
+            let g = self.u2.at(root.sb);
+            let (sa, ca) = root.sa;
+            let g = V3::new(ca * g.x - sa * g.y, sa * g.x + ca * g.y, g.z);
+            out.c[k] = (g.dot(&mu), g.dot(&mu2));
+        }
+        Ok(out)
+    }
+
+    /// Both roots' (q_a, q_b, q_c) from the atan2 of each root's arguments
+    /// (`second` is not read when aligned).
+    fn angles(&self, fixed: [bool; 2], first: [f64; 3], second: [f64; 3], flip: bool) -> [[f64; 3]; 2] {
+        let free = |fixed: bool, angle: f64, hint: f64| if fixed { hint } else { angle };
+        let [qa, qb, qc] = first;
+        let first = [free(fixed[0], qa, 0.0), qb, qc];
+        if !self.aligned {
+            let second = [free(fixed[1], second[0], if flip { PI } else { 0.0 }), second[1], second[2]];
+            return [first, second];
+        }
+        let [qa, qb, qc] = first;
+        if fixed[0] && !flip {
+            return [[qa, qb, qc], [qa, -qb, qc]];
+        }
+        [[wrap_angle(qa), qb, wrap_angle(qc)], [wrap_angle(qa + PI), -qb, wrap_angle(qc + PI)]]
+    }
+
+    /// Both roots' angles by scalar atan2s (the arm-angle form).
+    fn solve(&self, m: &[V3; 3], flip: bool) -> Result<[[f64; 3]; 2], f64> {
+        let r = self.roots(m, flip)?;
+        let at = |k: usize| [r.pair[k].a, r.pair[k].b, r.c[k]].map(|(y, x)| y.fast_atan2(x));
+        let second = if self.aligned { [0.0; 3] } else { at(1) };
+        Ok(self.angles([r.pair[0].fixed, r.pair[1].fixed], at(0), second, flip))
+    }
 }
 
 /// The SRS arm's constants, prepared once per robot (see the module documentation).
@@ -237,12 +342,36 @@ pub(crate) struct SrsKernel {
     shoulder: Pair,
     /// k₀, k₁, k₂ turning about h₃ (C).
     upper: [Turn; 3],
+    /// h₂ in C.
+    h2v: V3,
     h2: Axis,
     h3: Axis,
     h4: Axis,
     /// K, 2R, r_out, r_in and (sin φ, cos φ) of the elbow.
     reach: (f64, f64, f64, f64, (f64, f64)),
-    wrist: Wrist,
+    /// Axes 5, 6, 7.
+    wrist: Spherical,
+    /// Axes 1, 2, 3, for the arm-angle form.
+    joints123: Spherical,
+}
+
+/// The unit vector along `v`, or h₁ = ẑ when `v` is (numerically) zero.
+fn unit_or_z(v: &V3) -> V3 {
+    let n = v.norm();
+    if n > 1e-300 {
+        v / n
+    } else {
+        V3::z()
+    }
+}
+
+/// The right-handed orthonormal frame \[x̂, ŷ, x̂ × ŷ\] with x̂ the unit
+/// vector `x` and ŷ along the part of `y` normal to it (any unit vector ⊥ x̂
+/// when `y` ∥ x̂).
+fn frame(x: &V3, y: &V3) -> Matrix3<f64> {
+    let y = y - x * x.dot(y);
+    let y = if y.norm() > GEOM_TOL { y.normalize() } else { perpendicular(x) };
+    Matrix3::from_columns(&[*x, y, x.cross(&y)])
 }
 
 /// The matrix, or `None` when it is the identity (to skip its products).
@@ -282,28 +411,19 @@ impl SrsKernel {
             k0_along.fast_hypot(k0_across - k1.norm()),
             phi,
         );
-        let (h5, h6, h7) = (c(&h[4]), c(&h[5]), c(&h[6]));
-        let (to_w, pair) = Pair::new(&h5, &h6);
-        let u2 = (h6 - h7 * h7.dot(&h6)).normalize();
-        let u = u2.cross(&h7);
-        let aligned = h5.cross(&h7).norm() <= ALIGNED_TOL && h6.dot(&h7).abs() <= ALIGNED_TOL;
-        let wrist = Wrist {
-            pair,
-            h7: to_w * h7,
-            u2: Turn::new(&(to_w * h6), &(to_w * u2)),
-            vectors: [h7, u, u2],
-            aligned,
-            frame: unless_identity(to_w),
-        };
+        let wrist = Spherical::new(&c(&h[4]), &c(&h[5]), &c(&h[6]));
+        let joints123 = Spherical::new(&V3::z(), &c(&h[1]), &h3);
         SrsKernel {
             frame: unless_identity(to_c),
             shoulder,
             upper: [Turn::new(&h3, &k0), Turn::new(&h3, &k1), Turn::new(&h3, &k2)],
+            h2v: c(&h[1]),
             h2: Axis::new(&c(&h[1])),
             h3: Axis::new(&h3),
             h4: Axis::new(&h4),
             reach,
             wrist,
+            joints123,
         }
     }
 
@@ -348,13 +468,14 @@ impl SrsKernel {
     }
 
     /// All solutions with joint 3 at `q3` \[rad\] (see the module documentation).
-    pub(crate) fn solve_q3(&self, goal: &Goal, q3: f64, opt: &Options) -> Result<Solutions, Miss> {
+    /// `out` is cleared first.
+    pub(crate) fn solve_q3(&self, goal: &Goal, q3: f64, opt: &Options, out: &mut Solutions) -> Result<(), Miss> {
+        out.len = 0;
         let d = &goal.d;
         let (st, ct) = self.elbow(d.norm())?;
         let sc3 = q3.fast_sin_cos();
         let [k0, k1, k2] = self.upper.map(|t| t.at(sc3));
         let r3 = self.h3.rot(sc3);
-        let hint = opt.q1_hint.fast_sin_cos();
         // The near configuration's shoulder offset v_x for this target, and its elbow side.
         let (u_near, side_near) = match &opt.near {
             Some(q) => {
@@ -368,7 +489,8 @@ impl SrsKernel {
         // 20 + elbow for q₄, 24 + slot·4 + (q₅, q₆, q₇) for a second wrist
         // that is not derived from the first.
         let (mut ys, mut xs) = ([0.0; 40], [1.0; 40]);
-        let mut roots: [Option<(PairRoot, [PairRoot; 2])>; 4] = [None; 4];
+        // Per slot: whether q₁ and each wrist's q₅ took their hints.
+        let mut found: [Option<(bool, [bool; 2])>; 4] = [None; 4];
         let mut arm_miss = f64::INFINITY;
         let mut wrist_miss = f64::INFINITY;
         let (sp, cp) = self.reach.4;
@@ -393,7 +515,7 @@ impl SrsKernel {
                     continue;
                 }
                 let slot = 2 * e + sh;
-                let arm = self.shoulder.root(&x, d, p, u, hint);
+                let arm = self.shoulder.root(&x, d, (p, rho), u, opt.q1_hint);
                 (ys[5 * slot], xs[5 * slot]) = arm.a;
                 (ys[5 * slot + 1], xs[5 * slot + 1]) = arm.b;
                 let (s1, c1) = arm.sa;
@@ -405,7 +527,7 @@ impl SrsKernel {
                 ]);
                 let r04t = (r12 * r34).transpose();
                 match self.wrist_roots(&r04t, goal, opt, &mut ys, &mut xs, slot) {
-                    Ok(w) => roots[slot] = Some((arm, w)),
+                    Ok(w) => found[slot] = Some((arm.fixed, [w.pair[0].fixed, w.pair[1].fixed])),
                     Err(m) => wrist_miss = wrist_miss.min(m),
                 }
             }
@@ -418,26 +540,117 @@ impl SrsKernel {
             let x = xs[lanes].try_into().unwrap_or([1.0; 8]);
             angles[8 * k..8 * k + 8].copy_from_slice(&atan2_x8(y, x));
         }
-        let mut out = Solutions { q: [[0.0; 7]; 8], branch: [(0, 0, 0); 8], len: 0 };
-        for (slot, root) in roots.iter().enumerate() {
-            let Some((arm, wrist)) = root else { continue };
+        for (slot, root) in found.iter().enumerate() {
+            let Some((arm_fixed, wrist)) = *root else { continue };
             let a = &angles[5 * slot..5 * slot + 5];
-            let q1 = if arm.fixed { opt.q1_hint } else { a[0] };
+            let q1 = if arm_fixed { opt.q1_hint } else { a[0] };
             let head = [q1, a[1], q3, angles[20 + slot / 2]];
             for (wi, [q5, q6, q7]) in self.wrist_angles(wrist, &angles, slot, opt).into_iter().enumerate() {
-                out.q[out.len] = [head[0], head[1], head[2], head[3], q5, q6, q7];
-                out.branch[out.len] = (slot / 2, slot % 2, wi);
-                out.len += 1;
+                out.push([head[0], head[1], head[2], head[3], q5, q6, q7], (slot / 2, slot % 2, wi));
             }
         }
         if out.len > 0 {
-            return Ok(out);
+            return Ok(());
         }
         Err(if wrist_miss.is_finite() { Miss::Wrist(wrist_miss) } else { Miss::Arm(arm_miss) })
     }
 
-    /// The wrist's pair roots for R₀₄ᵀ (`r04t`), their atan2 arguments
-    /// written into the lanes of `slot`; the miss when it has none.
+    /// x₀(q₄) (see the module documentation) from sin and cos q₄.
+    fn upper_wrist(&self, (s4, c4): (f64, f64)) -> V3 {
+        let [k0, k1, k2] = self.upper.map(|t| t.par + t.perp);
+        k0 + k1 * c4 + k2 * s4
+    }
+
+    /// The upper arm's frame with joints 1–3 at zero: x̂₀ and the part of h₂
+    /// normal to it (the normal of the arm's plane on the iiwa).
+    fn arm_frame(&self, x0: &V3) -> Matrix3<f64> {
+        frame(&unit_or_z(x0), &self.h2v)
+    }
+
+    /// The arm angle's reference frame for the wrist centre at `d`: d̂ and
+    /// the normal h₁ × d of the plane through axis 1 and the wrist centre
+    /// (h₂ when the wrist centre is on axis 1, where that plane is undefined).
+    fn reference_frame(&self, d: &V3) -> Matrix3<f64> {
+        let normal = V3::new(-d.y, d.x, 0.0);
+        let normal = if normal.norm() < SINGULAR { self.h2v } else { normal };
+        frame(&unit_or_z(d), &normal)
+    }
+
+    /// The solutions at the arm angle `psi` \[rad\] (`SrsIk`'s module
+    /// documentation derives it), all 8 or only the (elbow, shoulder, wrist)
+    /// root `only`: the shoulder rotation Rot(d̂, ψ)·R° split by the
+    /// spherical solve of axes 1, 2, 3, then the wrist. `flip` as
+    /// [`Options::flip_singular_wrist`].
+    pub(crate) fn solve_psi(
+        &self,
+        goal: &Goal,
+        psi: f64,
+        flip: bool,
+        only: Option<[usize; 3]>,
+        out: &mut Solutions,
+    ) -> Result<(), Miss> {
+        out.len = 0;
+        let d = &goal.d;
+        let (st, ct) = self.elbow(d.norm())?;
+        let reference = self.reference_frame(d);
+        let (sp, cp) = psi.fast_sin_cos();
+        let (y, z) = (reference.column(1), reference.column(2));
+        let turned = Matrix3::from_columns(&[reference.column(0).into_owned(), y * cp + z * sp, z * cp - y * sp]);
+        let wanted = |k: usize, i: usize| only.is_none_or(|o| o[k] == i);
+        let (sphi, cphi) = self.reach.4;
+        let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
+        for (e, sign) in [1.0, -1.0].into_iter().enumerate() {
+            if !wanted(0, e) {
+                continue;
+            }
+            let st = sign * st;
+            let sc4 = (sphi * ct + cphi * st, cphi * ct - sphi * st);
+            let shoulder = turned * self.arm_frame(&self.upper_wrist(sc4)).transpose();
+            let arms = match self.joints123.solve(&self.joints123.vectors.map(|v| shoulder * v), false) {
+                Ok(arms) => arms,
+                Err(miss) => {
+                    arm_miss = arm_miss.min(miss);
+                    continue;
+                }
+            };
+            let (r4, q4) = (self.h4.rot(sc4), sc4.0.fast_atan2(sc4.1));
+            for (sh, [q1, q2, q3]) in arms.into_iter().enumerate() {
+                if !wanted(1, sh) {
+                    continue;
+                }
+                let r04t =
+                    (rot_z(q1) * self.h2.rot(q2.fast_sin_cos()) * self.h3.rot(q3.fast_sin_cos()) * r4).transpose();
+                match self.wrist.solve(&goal.g.map(|g| r04t * g), flip) {
+                    Ok(wrists) => {
+                        for (wi, [q5, q6, q7]) in wrists.into_iter().enumerate().filter(|(wi, _)| wanted(2, *wi)) {
+                            out.push([q1, q2, q3, q4, q5, q6, q7], (e, sh, wi));
+                        }
+                    }
+                    Err(miss) => wrist_miss = wrist_miss.min(miss),
+                }
+            }
+        }
+        if out.len > 0 {
+            return Ok(());
+        }
+        Err(if wrist_miss.is_finite() { Miss::Wrist(wrist_miss) } else { Miss::Arm(arm_miss) })
+    }
+
+    /// The arm angle ψ \[rad\] in (−π, π] of joint values `q` (7 finite
+    /// values), the inverse of [`SrsKernel::solve_psi`]; it depends on
+    /// q₁…q₄ only.
+    pub(crate) fn psi_of(&self, q: &[f64]) -> f64 {
+        let shoulder = rot_z(q[0]) * self.h2.rot(q[1].fast_sin_cos()) * self.h3.rot(q[2].fast_sin_cos());
+        let x0 = self.upper_wrist(q[3].fast_sin_cos());
+        let reference = self.reference_frame(&(shoulder * x0));
+        let carried = shoulder * self.arm_frame(&x0).column(1);
+        let (d, normal) = (reference.column(0), reference.column(1));
+        wrap_angle(d.dot(&normal.cross(&carried)).atan2(normal.dot(&carried)))
+    }
+
+    /// The wrist's roots for R₀₄ᵀ (`r04t`), their atan2 arguments written
+    /// into the lanes of `slot`; the miss when it has none.
+    #[inline(always)]
     fn wrist_roots(
         &self,
         r04t: &Matrix3<f64>,
@@ -446,50 +659,19 @@ impl SrsKernel {
         ys: &mut [f64; 40],
         xs: &mut [f64; 40],
         slot: usize,
-    ) -> Result<[PairRoot; 2], f64> {
-        let wr = &self.wrist;
-        let m = goal.g.map(|g| apply(&wr.frame, &(r04t * g)));
-        let [mh, mu, mu2] = &m;
-        let (p, rho) = wr.pair.offsets(&wr.h7, mh);
-        let gap = rho - p.abs();
-        if gap < -REACH_TOL * (1.0 + rho) {
-            return Err(-gap);
+    ) -> Result<Roots, f64> {
+        let roots = self.wrist.roots(&goal.g.map(|g| r04t * g), opt.flip_singular_wrist)?;
+        for (k, l) in [5 * slot + 2, 24 + 4 * slot].into_iter().enumerate() {
+            (ys[l], xs[l]) = roots.pair[k].a;
+            (ys[l + 1], xs[l + 1]) = roots.pair[k].b;
+            (ys[l + 2], xs[l + 2]) = roots.c[k];
         }
-        let u_abs = (gap.max(0.0) * (rho + p.abs())).sqrt();
-        let hint = (0.0, 1.0);
-        let first = wr.pair.root(&wr.h7, mh, p, u_abs, hint);
-        let lanes = [5 * slot + 2, 24 + 4 * slot];
-        let mut out = [first; 2];
-        for (k, root) in out.iter_mut().enumerate() {
-            if k == 1 {
-                if wr.aligned {
-                    break;
-                }
-                let hint = if opt.flip_singular_wrist { (0.0, -1.0) } else { hint };
-                *root = wr.pair.root(&wr.h7, mh, p, -u_abs, hint);
-            }
-            let g = wr.u2.at(root.sb);
-            let (s5, c5) = root.sa;
-            let g = V3::new(c5 * g.x - s5 * g.y, s5 * g.x + c5 * g.y, g.z);
-            let l = lanes[k];
-            (ys[l], xs[l]) = root.a;
-            (ys[l + 1], xs[l + 1]) = root.b;
-            (ys[l + 2], xs[l + 2]) = (g.dot(mu), g.dot(mu2));
-        }
-        Ok(out)
+        Ok(roots)
     }
 
     /// Both wrists' (q₅, q₆, q₇) of `slot` from the batched angles.
-    fn wrist_angles(&self, roots: &[PairRoot; 2], angles: &[f64; 40], slot: usize, opt: &Options) -> [[f64; 3]; 2] {
-        let at = |l: usize, fixed: bool, free: f64| [if fixed { free } else { angles[l] }, angles[l + 1], angles[l + 2]];
-        let [q5, q6, q7] = at(5 * slot + 2, roots[0].fixed, 0.0);
-        if !self.wrist.aligned {
-            let second = at(24 + 4 * slot, roots[1].fixed, if opt.flip_singular_wrist { PI } else { 0.0 });
-            return [[q5, q6, q7], second];
-        }
-        if roots[0].fixed && !opt.flip_singular_wrist {
-            return [[q5, q6, q7], [q5, -q6, q7]];
-        }
-        [[q5, q6, q7], [wrap_angle(q5 + PI), -q6, wrap_angle(q7 + PI)]]
+    fn wrist_angles(&self, fixed: [bool; 2], angles: &[f64; 40], slot: usize, opt: &Options) -> [[f64; 3]; 2] {
+        let at = |l: usize| [angles[l], angles[l + 1], angles[l + 2]];
+        self.wrist.angles(fixed, at(5 * slot + 2), at(24 + 4 * slot), opt.flip_singular_wrist)
     }
 }

@@ -20,6 +20,13 @@
 //! with S = (0, 0, d1) the shoulder, E = S + d3·R₀₂·ẑ the elbow and
 //! W = p − d7·R₀₇·ẑ the wrist point.
 //!
+//! The formulas of both forms live in the SRS kernel shared with
+//! [`SrsIk`](crate::ik::geo::SrsIk) (`ik/families/geo/srs_kernel.rs`),
+//! built here from d3 and d5 in frame 0 with the shoulder as origin, where
+//! they reduce to seed 004's; this type reads and checks the DH table,
+//! strips base, tool and d1, d7, and keeps the labels, errors and the
+//! selection and search over the self-motion.
+//!
 //! Two parameterisations of the one-dimensional self-motion are offered:
 //!
 //! * **q3 fixed** (seed 004 eq. 3–11, [`IiwaIk::solve_q3`]): up to 8
@@ -77,7 +84,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, InputError, Result};
 use crate::ik::family::{Choice, Redundancy, SelfMotionParameter};
-use crate::ik::geo::srs_kernel::{Miss, Options, SrsKernel};
+use crate::ik::geo::srs_kernel::{Miss, Options, Solutions, SrsKernel};
 use crate::ik::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::kin::Frame;
 use crate::math::FastMath;
@@ -87,11 +94,9 @@ use crate::robot::Robot;
 
 mod psi_search;
 mod redundancy;
-mod rotations;
 mod select;
 mod validation;
 
-use rotations::{axis_rotation, zyz};
 pub use validation::{ValidationCase, ValidationReport};
 
 /// Configuration bit: set when q2 < 0 (shoulder).
@@ -100,9 +105,6 @@ pub const SHOULDER: u8 = 1;
 pub const ELBOW: u8 = 2;
 /// Configuration bit: set when q6 < 0 (wrist).
 pub const WRIST: u8 = 4;
-
-/// Below this |sin| a ZYZ triple is treated as singular (first angle = hint).
-const SINGULAR_SIN: f64 = 1e-12;
 
 /// Half-width \[rad\] of the q3 window searched by [`IiwaIk::select`] around the previous q3.
 pub const SELECT_WINDOW: f64 = 0.05;
@@ -197,13 +199,6 @@ pub(crate) fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: 
     }
 }
 
-/// Elbow angle of a wrist distance: cos q4 and |sin q4|.
-#[derive(Clone, Copy)]
-struct Elbow {
-    c4: f64,
-    s4: f64,
-}
-
 /// The shared SRS kernel in the iiwa's frame 0 with the shoulder as origin:
 /// axes z, y, z, y, z, y, z (R₀₄ = Rz·Ry·Rz·Ry, R₄₇ = Rz·Ry·Rz), elbow at
 /// d3 and wrist point at d3 + d5 along z.
@@ -231,14 +226,6 @@ pub(crate) fn no_steps() -> Error {
 
 fn invalid(robot: &Robot, reason: String) -> Error {
     Error::UnsupportedStructure { solver: "iiwa".into(), robot: robot.name().into(), reason }
-}
-
-fn sign_of(config: u8, bit: u8) -> f64 {
-    if config & bit != 0 {
-        -1.0
-    } else {
-        1.0
-    }
 }
 
 /// The configuration bits of a joint vector (see the module documentation).
@@ -391,8 +378,8 @@ impl IiwaIk {
         Ok(ArmTarget { r07: t.rot, w })
     }
 
-    /// cos q4 and |sin q4| for a shoulder–wrist distance, or the reach error (seed 004 eq. 4).
-    fn elbow(&self, r: f64) -> Result<Elbow> {
+    /// The reach error (seed 004 eq. 4) when no elbow angle gives a shoulder–wrist distance `r` \[m\].
+    fn elbow(&self, r: f64) -> Result<()> {
         // Seed 004 eq. 4 gives q4 = π ± arccos((d3² + d5² − r²)/(2·d3·d5)); its
         // "+" branch lies in [π, 2π] and must be wrapped to (−π, π] (π + x ≡ x − π)
         // to be compared with the ±120° limit of joint 4. The shared kernel
@@ -400,7 +387,7 @@ impl IiwaIk {
         // form, which keeps full precision near the stretched and folded arm
         // where arccos loses half the digits.
         match self.kernel.elbow(r) {
-            Ok((s4, c4)) => Ok(Elbow { c4, s4 }),
+            Ok(_) => Ok(()),
             Err(miss) => Err(self.miss_error(miss, 0.0, 0.0)),
         }
     }
@@ -423,7 +410,11 @@ impl IiwaIk {
                     "cylinder of radius {:.4} m around the axis of joint 1, which the wrist point cannot enter with q3 = {q3:.6} rad",
                     self.d5 * (q3.sin() * s4).abs()
                 );
-                Error::Unreachable { solver: "iiwa".into(), reason: Unreachable::InsideExcluded { by, region }, closest: None }
+                Error::Unreachable {
+                    solver: "iiwa".into(),
+                    reason: Unreachable::InsideExcluded { by, region },
+                    closest: None,
+                }
             }
             Miss::Wrist(chord) => Error::Unreachable {
                 solver: "iiwa".into(),
@@ -457,7 +448,8 @@ impl IiwaIk {
         let goal = self.kernel.goal(&t.w, &t.r07);
         let near = near.and_then(|q| q.get(..7)).and_then(|q| q.try_into().ok());
         let options = Options { q1_hint, flip_singular_wrist: false, near };
-        let solutions = self.kernel.solve_q3(&goal, q3, &options).map_err(|miss| {
+        let mut solutions = Solutions::empty();
+        self.kernel.solve_q3(&goal, q3, &options, &mut solutions).map_err(|miss| {
             let s4 = self.kernel.elbow(t.w.norm()).map_or(0.0, |(s4, _)| s4);
             self.miss_error(miss, q3, s4)
         })?;
@@ -569,31 +561,18 @@ impl IiwaIk {
         bits(&full)
     }
 
-    /// The reference rotation R₀₃°·Rx(90°) = Rz(q1°)·Ry(q2°) of the arm with
-    /// q3 = 0 and the given elbow angle placing the wrist at `w`.
-    fn reference(&self, w: &Vector3<f64>, c4: f64, s4: f64) -> Matrix3<f64> {
-        let rho = w.x.fast_hypot(w.y);
-        let q1 = if rho < SINGULAR_SIN { 0.0 } else { w.y.fast_atan2(w.x) };
-        let (s1, c1) = q1.fast_sin_cos();
-        let u = c1 * w.x + s1 * w.y;
-        let q2 = u.fast_atan2(w.z) - (self.d5 * s4).fast_atan2(self.d3 + self.d5 * c4);
-        rot_z(q1) * rot_y(q2)
-    }
-
-    /// One solution from the arm angle (no FK evaluation).
+    /// One solution from the arm angle (no FK evaluation): the shared
+    /// kernel's root with the elbow, shoulder and wrist of `config` (root 1
+    /// is the one with q4, q2, q6 negative).
     fn solve_psi_raw(&self, t: &ArmTarget, psi: f64, config: u8) -> Result<[f64; 7]> {
-        let el = self.elbow(t.w.norm())?;
-        let s4 = sign_of(config, ELBOW) * el.s4;
-        let q4 = s4.fast_atan2(el.c4);
-        let m0 = self.reference(&t.w, el.c4, s4);
-        let n = t.w.norm();
-        let u = if n > 0.0 { t.w / n } else { Vector3::z() };
-        // R₀₃·Rx(90°) = Rz(q1)·Ry(q2)·Rz(q3) = Rot(û, ψ)·Rz(q1°)·Ry(q2°).
-        let m = axis_rotation(&u, psi) * m0;
-        let (q1, q2, q3) = zyz(&m, sign_of(config, SHOULDER), 0.0);
-        let r04 = rot_z(q1) * rot_y(q2) * rot_z(q3) * rot_y(q4);
-        let (q5, q6, q7) = zyz(&(r04.transpose() * t.r07), sign_of(config, WRIST), 0.0);
-        Ok([q1, q2, q3, q4, q5, q6, q7])
+        let goal = self.kernel.goal(&t.w, &t.r07);
+        let root = |bit: u8| usize::from(config & bit != 0);
+        let only = [root(ELBOW), root(SHOULDER), root(WRIST)];
+        let mut solutions = Solutions::empty();
+        self.kernel
+            .solve_psi(&goal, psi, false, Some(only), &mut solutions)
+            .map_err(|miss| self.miss_error(miss, 0.0, 0.0))?;
+        Ok(solutions.q[0])
     }
 
     /// The solution with arm angle `psi` \[rad\] and configuration bits
@@ -618,16 +597,7 @@ impl IiwaIk {
         if self.robot.check_q(q).is_err() {
             return f64::NAN;
         }
-        let m = rot_z(q[0]) * rot_y(q[1]) * rot_z(q[2]);
-        let (s4, c4) = q[3].fast_sin_cos();
-        let w = m * Vector3::new(self.d5 * s4, 0.0, self.d3 + self.d5 * c4);
-        let m0 = self.reference(&w, c4, s4);
-        let r = m * m0.transpose();
-        let n = w.norm();
-        let u = if n > 0.0 { w / n } else { Vector3::z() };
-        let s = 0.5 * Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]).dot(&u);
-        let c = 0.5 * (r.trace() - 1.0);
-        wrap_angle(s.fast_atan2(c))
+        self.kernel.psi_of(q)
     }
 
     /// The elbow (origin of DH frame 3) in world coordinates.
