@@ -203,11 +203,8 @@ impl SrsIk {
         }
         let goal = self.arm.goal(&(wt - self.s), &g.rot);
         let options = Options { flip_singular_wrist: true, ..Options::default() };
-        let mut solutions = Solutions::empty();
-        self.arm.solve_q3(&goal, q3, &options, &mut solutions).map_err(|miss| unreachable(miss, q3))?;
-        for (q, (elbow, shoulder, wrist)) in solutions.iter() {
-            self.common.push(out, *q, label(shoulder, elbow, wrist));
-        }
+        let push = |q, (elbow, shoulder, wrist)| self.common.push(out, q, label(shoulder, elbow, wrist));
+        self.arm.solve_q3(&goal, q3, &options, push).map_err(|miss| unreachable(miss, q3))?;
         if out.is_empty() {
             return Err(Unreachable::NotReached { detail: "the closed form gave no finite joint values".into() });
         }

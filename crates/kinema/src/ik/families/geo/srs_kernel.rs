@@ -123,7 +123,8 @@ struct Pair {
 }
 
 /// One root of a [`Pair`]: each angle's atan2 arguments (y, x) with its sine
-/// and cosine; `fixed` when the first angle was free and took the hint.
+/// and cosine (the second's left at (0, 1) by [`Spherical::aligned_roots`],
+/// which needs none); `fixed` when the first angle was free and took the hint.
 #[derive(Debug, Clone, Copy)]
 struct PairRoot {
     a: (f64, f64),
@@ -285,6 +286,9 @@ impl Spherical {
     #[inline(always)]
     fn roots(&self, m: &[V3; 3], flip: bool) -> Result<Roots, f64> {
         let [mh, mu, mu2] = m.map(|v| apply(&self.frame, &v));
+        if self.aligned {
+            return Ok(self.aligned_roots(&mh, &mu, &mu2));
+        }
         let (p, rho) = self.pair.offsets(&self.hc, &mh);
         let gap = rho - p.abs();
         if gap < -REACH_TOL * (1.0 + rho) {
@@ -308,8 +312,28 @@ impl Spherical {
         Ok(out)
     }
 
+    /// [`Spherical::roots`] for c = σ·a, b ⊥ c (the frame's ẑ and ŷ), where
+    /// the general formulas reduce to Z-Y-Z angles: p = 0, u = ρ, u₂ = b
+    /// (so rot(b, q_b)·u₂ = u₂ and g = Rz(q_a)·ŷ), q_b from (σρ, σ·(M·c)_z).
+    #[inline(always)]
+    fn aligned_roots(&self, mh: &V3, mu: &V3, mu2: &V3) -> Roots {
+        let rho = mh.x.fast_hypot(mh.y);
+        let sigma = self.hc.z.signum();
+        let (a, sa, fixed, u) = if rho < SINGULAR {
+            ((0.0, 1.0), (0.0, 1.0), true, mh.x)
+        } else {
+            let inv = 1.0 / rho;
+            ((mh.y, mh.x), (mh.y * inv, mh.x * inv), false, rho)
+        };
+        let (s, c) = sa;
+        let root = PairRoot { a, sa, fixed, b: (sigma * u, sigma * mh.z), sb: (0.0, 1.0) };
+        let qc = (c * mu.y - s * mu.x, c * mu2.y - s * mu2.x);
+        Roots { pair: [root; 2], c: [qc; 2] }
+    }
+
     /// Both roots' (q_a, q_b, q_c) from the atan2 of each root's arguments
     /// (`second` is not read when aligned).
+    #[inline]
     fn angles(&self, fixed: [bool; 2], first: [f64; 3], second: [f64; 3], flip: bool) -> [[f64; 3]; 2] {
         let free = |fixed: bool, angle: f64, hint: f64| if fixed { hint } else { angle };
         let [qa, qb, qc] = first;
@@ -468,9 +492,14 @@ impl SrsKernel {
     }
 
     /// All solutions with joint 3 at `q3` \[rad\] (see the module documentation).
-    /// `out` is cleared first.
-    pub(crate) fn solve_q3(&self, goal: &Goal, q3: f64, opt: &Options, out: &mut Solutions) -> Result<(), Miss> {
-        out.len = 0;
+    /// Each is handed to `push` with its (elbow, shoulder, wrist) root indices.
+    pub(crate) fn solve_q3(
+        &self,
+        goal: &Goal,
+        q3: f64,
+        opt: &Options,
+        mut push: impl FnMut([f64; 7], (usize, usize, usize)),
+    ) -> Result<(), Miss> {
         let d = &goal.d;
         let (st, ct) = self.elbow(d.norm())?;
         let sc3 = q3.fast_sin_cos();
@@ -540,16 +569,18 @@ impl SrsKernel {
             let x = xs[lanes].try_into().unwrap_or([1.0; 8]);
             angles[8 * k..8 * k + 8].copy_from_slice(&atan2_x8(y, x));
         }
+        let mut any = false;
         for (slot, root) in found.iter().enumerate() {
             let Some((arm_fixed, wrist)) = *root else { continue };
+            any = true;
             let a = &angles[5 * slot..5 * slot + 5];
             let q1 = if arm_fixed { opt.q1_hint } else { a[0] };
             let head = [q1, a[1], q3, angles[20 + slot / 2]];
             for (wi, [q5, q6, q7]) in self.wrist_angles(wrist, &angles, slot, opt).into_iter().enumerate() {
-                out.push([head[0], head[1], head[2], head[3], q5, q6, q7], (slot / 2, slot % 2, wi));
+                push([head[0], head[1], head[2], head[3], q5, q6, q7], (slot / 2, slot % 2, wi));
             }
         }
-        if out.len > 0 {
+        if any {
             return Ok(());
         }
         Err(if wrist_miss.is_finite() { Miss::Wrist(wrist_miss) } else { Miss::Arm(arm_miss) })

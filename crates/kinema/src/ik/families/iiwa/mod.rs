@@ -448,19 +448,18 @@ impl IiwaIk {
         let goal = self.kernel.goal(&t.w, &t.r07);
         let near = near.and_then(|q| q.get(..7)).and_then(|q| q.try_into().ok());
         let options = Options { q1_hint, flip_singular_wrist: false, near };
-        let mut solutions = Solutions::empty();
-        self.kernel.solve_q3(&goal, q3, &options, &mut solutions).map_err(|miss| {
+        let mut out = Candidates::<7, 8>::default();
+        // `/front` (shoulder root 0: the wrist point ahead of the shoulder
+        // along x of DH frame 1) or `/back`; coinciding solutions (singular
+        // cases) are kept once.
+        let push = |q: [f64; 7], (_, shoulder, _)| {
+            let side = if shoulder == 0 { 8 } else { 16 };
+            out.push_unique(q, LABELS[side + usize::from(bits(&q))], 1e-12, true);
+        };
+        self.kernel.solve_q3(&goal, q3, &options, push).map_err(|miss| {
             let s4 = self.kernel.elbow(t.w.norm()).map_or(0.0, |(s4, _)| s4);
             self.miss_error(miss, q3, s4)
         })?;
-        let mut out = Candidates::<7, 8>::default();
-        for (q, (_, shoulder, _)) in solutions.iter() {
-            // `/front` (shoulder root 0: the wrist point ahead of the
-            // shoulder along x of DH frame 1) or `/back`; coinciding
-            // solutions (singular cases) are kept once.
-            let side = if shoulder == 0 { 8 } else { 16 };
-            out.push_unique(*q, LABELS[side + usize::from(bits(q))], 1e-12, true);
-        }
         Ok(out)
     }
 
