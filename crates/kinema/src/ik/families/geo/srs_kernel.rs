@@ -1,5 +1,5 @@
 //! The closed form of every SRS arm (spherical shoulder, elbow, spherical
-//! wrist) with joint 3 fixed, shared by [`SrsIk`](super::SrsIk) (axes read
+//! wrist) with joint 3 fixed or at an arm angle, shared by [`SrsIk`](super::SrsIk) (axes read
 //! from any description) and [`IiwaIk`](crate::ik::iiwa::IiwaIk) (the
 //! iiwa's DH table): one set of formulas, specialised to each robot once.
 //!
@@ -41,6 +41,11 @@
 //! accurate near q₆ = 0. When h₇ ∥ h₅ and h₆ ⊥ h₇ the second wrist is
 //! (q₅ + π, −q₆, q₇ + π) without further atan2s, since rot(h₅, π)·rot(h₆,
 //! −q₆)·rot(h₅, −π) = rot(h₆, q₆).
+//!
+//! **Arm angle** ([`SrsKernel::solve_psi`], ψ as `SrsIk`'s documentation
+//! defines it): for each elbow the shoulder rotation R = R₁R₂R₃ =
+//! Rot(d̂, ψ)·R° is known, and axes 1, 2, 3 solve it as the wrist solves M
+//! (the same [`Spherical`] solve, with x = h₃ and d = R·h₃).
 //!
 //! **Singular cases** (never NaN): a first axis of a pair along the vector
 //! it must turn (d on axis 1: the shoulder; M·h₇ on axis 5: the wrist), by

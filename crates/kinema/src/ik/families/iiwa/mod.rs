@@ -156,7 +156,7 @@ pub struct IiwaIk {
     base_inv: Pose,
     tool_inv: Pose,
     q3: f64,
-    /// The fixed-q3 closed form, shared with `geo-srs`, built from the lengths.
+    /// The closed forms (fixed q3 and arm angle), shared with `geo-srs`, built from the lengths.
     kernel: SrsKernel,
 }
 
