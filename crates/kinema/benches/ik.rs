@@ -144,6 +144,12 @@ fn ik(c: &mut Criterion) {
             black_box(srs.solve_q3(black_box(&cases[i].0), cases[i].1).ok())
         })
     });
+    g.bench_function("iiwa14.urdf/geo-srs/solve_q3_candidates", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            black_box(srs.solve_q3_candidates(black_box(&cases[i].0), cases[i].1).ok())
+        })
+    });
     // The Scorbot's natural target (x, y, z, pitch, roll), seed 000 eq. 13–23.
     let robot = Robot::builtin("scorbot-er-v-plus").expect("built-in");
     let scorbot = kinema::ik::scorbot::ScorbotIk::new(&robot).expect("scorbot");

@@ -606,3 +606,59 @@ fn the_generic_self_motion_is_the_iiwas_and_works_from_urdf() {
     let family = urdf_family.redundancy().unwrap();
     assert!(kinema::ik::family::self_motion(&urdf, family, urdf.home(), 0).is_err());
 }
+
+/// The one SRS kernel behind `geo-srs` and `iiwa`, on thousands of random
+/// SRS arms (axes at random angles, so mostly not perpendicular) at random
+/// q: every candidate reaches the target to 1e-9 and q is among them
+/// (away from singular q). On the DH iiwa, generic q give 8 distinct
+/// candidates that all reach the target: at most 8 solutions exist for a
+/// fixed q3, so that is the complete set the former iiwa kernel returned,
+/// and its labels keep seed 004's meaning (the bits of each solution, a
+/// distinct `/front` or `/back` per shoulder).
+#[test]
+fn one_kernel_round_trips_random_srs_arms_and_keeps_the_iiwa_set() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5a11);
+    let (mut cases, mut missed) = (0, 0);
+    for _ in 0..2000 {
+        let robot = random_srs(&mut rng);
+        let ik = SrsIk::new(&robot).unwrap();
+        for _ in 0..2 {
+            let q = robot.random_q(&mut rng);
+            let target = robot.fk(&q).unwrap().world_from_tool;
+            let c = ik.solve_q3_candidates(&target, q[2]).unwrap_or_else(|e| panic!("{q:?}: {e}"));
+            for (s, _) in c.iter() {
+                let fk = robot.fk(s).unwrap().world_from_tool;
+                let (dp, dr) = ((fk.pos - target.pos).norm(), (fk.rot - target.rot).norm());
+                assert!(dp < TOL && dr < TOL, "{q:?} -> {s:?}: {dp:e} m, {dr:e}");
+            }
+            cases += 1;
+            if !c.qs().iter().any(|s| same_angles(s, &q, 1e-7)) {
+                assert!([1, 3, 5].iter().any(|&i| q[i].sin().abs() < 1e-3), "{q:?} not recovered");
+                missed += 1;
+            }
+        }
+    }
+    assert!(missed * 100 <= cases, "{missed} of {cases} singular misses");
+    let robot = dh_iiwa();
+    let ik = IiwaIk::new(&robot).unwrap();
+    for _ in 0..3000 {
+        let q = robot.random_q(&mut rng);
+        if [1, 3, 5].iter().any(|&i| q[i].sin().abs() < 1e-3) {
+            continue;
+        }
+        let target = robot.fk(&q).unwrap().world_from_tool;
+        let c = ik.solve_q3_candidates(&target, q[2]).unwrap();
+        assert_eq!(c.len(), 8, "{q:?}");
+        let mut labels: Vec<&str> = c.iter().map(|(_, b)| b).collect();
+        labels.sort_unstable();
+        labels.dedup();
+        assert_eq!(labels.len(), 8, "{labels:?}");
+        for (i, (s, branch)) in c.iter().enumerate() {
+            let fk = robot.fk(s).unwrap().world_from_tool;
+            assert!((fk.pos - target.pos).norm() < TOL && (fk.rot - target.rot).norm() < TOL, "{q:?} -> {s:?}");
+            assert!(branch.starts_with(kinema::ik::iiwa::config_label(ik.config_of(s))), "{branch} for {s:?}");
+            assert!(c.qs()[..i].iter().all(|o| !same_angles(o, s, 1e-6)), "{q:?}: repeated {s:?}");
+        }
+        assert!(c.qs().iter().any(|s| same_angles(s, &q, 1e-9)), "{q:?}");
+    }
+}

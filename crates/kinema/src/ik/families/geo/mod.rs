@@ -44,6 +44,7 @@ pub mod parallel_search;
 pub mod search;
 pub mod spherical;
 pub mod srs;
+pub(crate) mod srs_kernel;
 pub mod subproblems;
 pub(crate) mod wrist;
 pub mod wrist_search;

@@ -15,7 +15,7 @@
 //!
 //! **Wrist.** M = (R₁R₂R₃)ᵀ·R_G = R₄R₅R₆ gives q₄, q₅, q₆ by the shared
 //! spherical-wrist solve (`geo/wrist.rs`, *wrist* 1, 2), the one
-//! the DH solver `pieper` and [`SrsIk`](super::SrsIk) use too. At its
+//! the DH solver `pieper` uses too. At its
 //! singularity (axes 4 and 6 aligned) *wrist-1* takes q₄ = 0 and *wrist-2*
 //! q₄ = π (wrapped into the limits when possible).
 //! **Shoulder singularity** (W on axis 1 for axes 2 ∥ 3): q₁ is free; one

@@ -7,13 +7,15 @@
 //! spherical. E₅E₆E₇ fix w and E₁E₂E₃ turn about s, so the target's wrist
 //! centre W = G(w) (G = T·T₀⁻¹) satisfies W − s = R₁R₂R₃·(E₄(w) − s):
 //!
-//! * **Elbow**: |E₄(w) − s| = |W − s|, subproblem 3 in q₄ (*elbow* 1, 2).
+//! * **Elbow**: |E₄(w) − s| = |W − s| fixes q₄ (*elbow* 1, 2).
 //! * **Shoulder**: with x = R₃·(E₄(w) − s), rot(h₁, q₁)·rot(h₂, q₂)·x =
-//!   W − s, subproblem 2 in (q₁, q₂) (*shoulder* 1, 2).
-//! * **Wrist**: M = (R₁R₂R₃R₄)ᵀ·R_G = R₅R₆R₇ gives q₅, q₆, q₇ by the
-//!   shared spherical-wrist solve (`geo/wrist.rs`, *wrist* 1, 2),
-//!   which on the iiwa's orthogonal wrist takes the form that keeps full
-//!   accuracy near q₆ = 0.
+//!   W − s gives (q₁, q₂) (*shoulder* 1, 2).
+//! * **Wrist**: M = (R₁R₂R₃R₄)ᵀ·R_G = R₅R₆R₇ gives q₅, q₆, q₇ (*wrist* 1, 2).
+//!
+//! The formulas are the one SRS kernel (`geo/srs_kernel.rs`, which derives
+//! them), shared with `IiwaIk`: specialised to the axes once, in the frame
+//! where h₁ = ẑ, with the same two-axis solve for shoulder and wrist; on
+//! the iiwa's orthogonal wrist it keeps full accuracy near q₆ = 0.
 //!
 //! Up to 8 solutions for each q₃; the self-motion is q₃ itself, searched
 //! within the limits by [`SrsIk::solve_searching`].
@@ -44,10 +46,9 @@
 //! **Singular cases** (conventions, never NaN): at the wrist singularity
 //! (M·h₇ ∥ h₅ within 1e-12: axes 5 and 7 aligned) only a combination of q₅
 //! and q₇ is determined: *wrist-1* takes q₅ = 0 and *wrist-2* q₅ = π (moved
-//! into the limits when possible), q₆ by subproblem 1 and q₇ the rest. At the
+//! into the limits when possible), q₆ and q₇ follow. At the
 //! shoulder singularity (W − s on axis 1) q₁ = 0, and where W − s lies on
-//! axis 2's direction q₂ = 0 (subproblem 1's convention for a point on the
-//! axis). Coinciding branches (a stretched or folded elbow, a target on a
+//! axis 2's direction q₂ = 0. Coinciding branches (a stretched or folded elbow, a target on a
 //! boundary) are all returned, so the branch count stays fixed. For ψ: with
 //! W on axis 1 (within 1e-12 m) the plane through axis 1 and W is undefined
 //! and h₂ takes the place of its normal (`IiwaIk`'s q₁ = 0; ψ jumps there,
@@ -56,16 +57,15 @@
 
 use std::f64::consts::{PI, TAU};
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel};
-use super::subproblems::{rot, rotate, sp1, sp2, sp3, Angles};
-use super::wrist::{perpendicular, SphericalWrist};
+use super::srs_kernel::{Miss, Options, Solutions, SrsKernel};
 use super::{label, reject, too_far, Common, GEOM_TOL, LABELS};
 use crate::error::{Error, InputError, Result};
 use crate::ik::family::SelfMotionParameter;
 use crate::ik::iiwa::golden_max;
-use crate::ik::{check_target, wrap_angle, CandidateSet, Candidates, ClosedForm, Solution, Unreachable};
+use crate::ik::{check_target, CandidateSet, Candidates, ClosedForm, Solution, Unreachable};
 use crate::math::Pose;
 use crate::robot::Robot;
 
@@ -73,10 +73,6 @@ type V3 = Vector3<f64>;
 
 /// The solver's name.
 const NAME: &str = "geo-srs";
-
-/// Below this distance \[m\] of the wrist centre from axis 1 the arm angle's
-/// reference plane takes axis 2 at q₁ = 0 as its normal (as `IiwaIk` does).
-const SHOULDER_AXIS_TOL: f64 = 1e-12;
 
 /// Samples of q₃ over its range in [`SrsIk::solve_searching`].
 pub const SEARCH_SAMPLES: usize = 128;
@@ -112,10 +108,8 @@ pub struct SrsIk {
     s: V3,
     /// The wrist centre at q = 0 (axes 5, 6, 7 meet) \[m\].
     w: V3,
-    /// A unit vector ⊥ h₃, for q₃ in the arm-angle form.
-    u3: V3,
-    /// Axes 5, 6, 7: the wrist's orientation solve.
-    wrist: SphericalWrist,
+    /// The closed forms (fixed q₃ and arm angle), shared with `IiwaIk`.
+    arm: SrsKernel,
 }
 
 impl SrsIk {
@@ -144,9 +138,9 @@ impl SrsIk {
                     .into(),
             );
         }
-        let u3 = perpendicular(&common.h(2));
-        let wrist = SphericalWrist::new([common.h(4), common.h(5), common.h(6)], 0.0);
-        Ok(SrsIk { common, s, w, u3, wrist })
+        let axes = std::array::from_fn(|i| common.h(i));
+        let arm = SrsKernel::new(&axes, &s, &p4, &w);
+        Ok(SrsIk { common, s, w, arm })
     }
 
     /// The robot this solver was built for.
@@ -202,81 +196,19 @@ impl SrsIk {
 
     /// The kernel: every candidate for a checked target and finite q₃.
     fn kernel(&self, target: &Pose, q3: f64, out: &mut Candidates<7, 8>) -> std::result::Result<(), Unreachable> {
-        let c = &self.common;
-        let h = |i| c.h(i);
-        let g = c.motion(target);
+        let g = self.common.motion(target);
         let wt = g.transform_point(&self.w);
         if let Some(u) = too_far(&wt) {
             return Err(u);
         }
-        let d = wt - self.s;
-        let elbows = self.elbows(&d)?;
-        let r3 = rot(&h(2), q3);
-        let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
-        for (ei, &q4) in elbows.as_slice().iter().enumerate() {
-            let x = r3 * self.upper_wrist(q4);
-            let (a1, a2) = sp2(&h(0), &d, &h(1), &x);
-            if !a1.exact {
-                arm_miss = arm_miss.min(a1.miss);
-                continue;
-            }
-            for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
-                let arm = [-t1, q2, q3, q4];
-                let r14 = rot(&h(0), arm[0]) * rot(&h(1), q2) * r3 * rot(&h(3), q4);
-                if let Err(miss) = self.wrist(&(r14.transpose() * g.rot), arm, (si, ei), out) {
-                    wrist_miss = wrist_miss.min(miss);
-                }
-            }
+        let goal = self.arm.goal(&(wt - self.s), &g.rot);
+        let options = Options { flip_singular_wrist: true, ..Options::default() };
+        let push = |q, (elbow, shoulder, wrist)| self.common.push(out, q, label(shoulder, elbow, wrist));
+        self.arm.solve_q3(&goal, q3, &options, push).map_err(|miss| unreachable(miss, q3))?;
+        if out.is_empty() {
+            return Err(Unreachable::NotReached { detail: "the closed form gave no finite joint values".into() });
         }
-        if !out.is_empty() {
-            return Ok(());
-        }
-        Err(if wrist_miss.is_finite() {
-            Unreachable::Orientation {
-                // The miss is a chord between unit vectors; as an angle:
-                angle: 2.0 * (0.5 * wrist_miss).min(1.0).asin(),
-                detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
-            }
-        } else {
-            let region = format!("cones around axis 1 that the wrist centre cannot enter with joint 3 at {q3:.6} rad");
-            Unreachable::InsideExcluded { by: arm_miss, region }
-        })
-    }
-
-    /// Both elbow angles q₄ that put the wrist centre at distance |`d`|
-    /// from the shoulder point, or how far outside that shell it lies.
-    fn elbows(&self, d: &V3) -> std::result::Result<Angles, Unreachable> {
-        let (h4, p4) = (self.common.h(3), self.common.p(3));
-        let elbows = sp3(&h4, &(self.w - p4), &(self.s - p4), d.norm());
-        if !elbows.exact {
-            let boundary = "spherical shell around the shoulder point that the elbow lets the wrist centre reach";
-            return Err(Unreachable::OutsideReach { by: elbows.miss, boundary: boundary.into() });
-        }
-        Ok(elbows)
-    }
-
-    /// x₀ = E₄(q₄)(w) − s: the wrist centre relative to the shoulder point
-    /// with joints 1–3 at zero and joint 4 at `q4` \[m\].
-    fn upper_wrist(&self, q4: f64) -> V3 {
-        let (h4, p4) = (self.common.h(3), self.common.p(3));
-        p4 + rotate(&h4, q4, &(self.w - p4)) - self.s
-    }
-
-    /// The upper arm's frame with joints 1–3 at zero: x₀ and the part of
-    /// axis 2 normal to it (the normal of the arm's plane on the iiwa).
-    fn arm_frame(&self, x0: &V3) -> Matrix3<f64> {
-        frame(&unit_or(x0, &self.common.h(0)), &self.common.h(1))
-    }
-
-    /// The arm angle's reference frame for the wrist centre at `d` from the
-    /// shoulder point: d̂ and the normal h₁ × d of the plane through axis 1
-    /// and the wrist centre (axis 2 at q₁ = 0 when the wrist centre is on
-    /// axis 1, where that plane is undefined).
-    fn reference_frame(&self, d: &V3) -> Matrix3<f64> {
-        let (h1, h2) = (self.common.h(0), self.common.h(1));
-        let normal = h1.cross(d);
-        let normal = if normal.norm() < SHOULDER_AXIS_TOL { h2 } else { normal };
-        frame(&unit_or(d, &h1), &normal)
+        Ok(())
     }
 
     /// All (up to 8) solutions for the target pose `target`
@@ -326,54 +258,29 @@ impl SrsIk {
         Ok(out)
     }
 
-    /// The arm-angle kernel: for each elbow, the shoulder rotation
-    /// Rot(d̂, ψ)·R° split into q₁, q₂ (subproblem 2 on axis 3) and q₃
-    /// (subproblem 1), then the wrist as in the fixed-q₃ kernel.
+    /// The arm-angle kernel: every candidate for a checked target and finite ψ.
     fn psi_kernel(&self, target: &Pose, psi: f64, out: &mut Candidates<7, 8>) -> std::result::Result<(), Unreachable> {
-        let h = |i| self.common.h(i);
         let g = self.common.motion(target);
         let wt = g.transform_point(&self.w);
         if let Some(u) = too_far(&wt) {
             return Err(u);
         }
-        let d = wt - self.s;
-        let elbows = self.elbows(&d)?;
-        let reference = self.reference_frame(&d);
-        let turned = rot(&reference.column(0).into_owned(), psi) * reference;
-        let (mut arm_miss, mut wrist_miss) = (f64::INFINITY, f64::INFINITY);
-        for (ei, &q4) in elbows.as_slice().iter().enumerate() {
-            let shoulder = turned * self.arm_frame(&self.upper_wrist(q4)).transpose();
-            // rot(h₁, q₁)·rot(h₂, q₂)·h₃ = R·h₃, since joint 3 keeps its own axis.
-            let (a1, a2) = sp2(&h(0), &(shoulder * h(2)), &h(1), &h(2));
-            if !a1.exact {
-                arm_miss = arm_miss.min(a1.miss);
-                continue;
-            }
-            for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
-                let r12 = rot(&h(0), -t1) * rot(&h(1), q2);
-                let q3 = sp1(&h(2), &self.u3, &(r12.transpose() * shoulder * self.u3)).first();
-                let r14 = r12 * rot(&h(2), q3) * rot(&h(3), q4);
-                if let Err(miss) = self.wrist(&(r14.transpose() * g.rot), [-t1, q2, q3, q4], (si, ei), out) {
-                    wrist_miss = wrist_miss.min(miss);
-                }
-            }
-        }
-        if !out.is_empty() {
-            return Ok(());
-        }
-        // Both misses are chords between unit vectors; as angles:
-        let angle = |chord: f64| 2.0 * (0.5 * chord).min(1.0).asin();
-        Err(if wrist_miss.is_finite() {
-            Unreachable::Orientation {
-                angle: angle(wrist_miss),
-                detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
-            }
-        } else {
-            Unreachable::Orientation {
-                angle: angle(arm_miss),
+        let goal = self.arm.goal(&(wt - self.s), &g.rot);
+        let mut solutions = Solutions::empty();
+        self.arm.solve_psi(&goal, psi, true, None, &mut solutions).map_err(|miss| match miss {
+            Miss::Arm(chord) => Unreachable::Orientation {
+                angle: chord_angle(chord),
                 detail: format!("joints 1–3 cannot turn the upper arm to the arm angle ψ = {psi:.6} rad"),
-            }
-        })
+            },
+            other => unreachable(other, 0.0),
+        })?;
+        for (q, (elbow, shoulder, wrist)) in solutions.iter() {
+            self.common.push(out, *q, label(shoulder, elbow, wrist));
+        }
+        if out.is_empty() {
+            return Err(Unreachable::NotReached { detail: "the closed form gave no finite joint values".into() });
+        }
+        Ok(())
     }
 
     /// The arm angle ψ \[rad\] in (−π, π] of a configuration `q`, the
@@ -395,30 +302,7 @@ impl SrsIk {
         if self.robot().check_q(q).is_err() {
             return f64::NAN;
         }
-        let h = |i| self.common.h(i);
-        let shoulder = rot(&h(0), q[0]) * rot(&h(1), q[1]) * rot(&h(2), q[2]);
-        let x0 = self.upper_wrist(q[3]);
-        let reference = self.reference_frame(&(shoulder * x0));
-        let carried = shoulder * self.arm_frame(&x0).column(1);
-        let (d, normal) = (reference.column(0), reference.column(1));
-        wrap_angle(d.dot(&normal.cross(&carried)).atan2(normal.dot(&carried)))
-    }
-
-    /// The wrist joints for M = R₅R₆R₇ after the arm joints `arm`, pushed as
-    /// candidates; the subproblem's miss when the wrist cannot take M.
-    fn wrist(
-        &self,
-        m: &Matrix3<f64>,
-        arm: [f64; 4],
-        (si, ei): (usize, usize),
-        out: &mut Candidates<7, 8>,
-    ) -> std::result::Result<(), f64> {
-        let roots = self.wrist.solve(&(m * self.common.h(6)), &(m * self.wrist.u()))?;
-        for (wi, &[q5, q6, q7]) in roots.q[..roots.n].iter().enumerate() {
-            let [q1, q2, q3, q4] = arm;
-            self.common.push(out, [q1, q2, q3, q4, q5, q6, q7], label(si, ei, wi));
-        }
-        Ok(())
+        self.arm.psi_of(q)
     }
 
     /// The solutions within the joint limits for `target`
@@ -559,6 +443,30 @@ impl SrsIk {
     }
 }
 
+/// The refusal for a kernel's miss at `q3` \[rad\].
+fn unreachable(miss: Miss, q3: f64) -> Unreachable {
+    match miss {
+        Miss::Outer(by) | Miss::Inner(by) => {
+            let boundary = "spherical shell around the shoulder point that the elbow lets the wrist centre reach";
+            Unreachable::OutsideReach { by, boundary: boundary.into() }
+        }
+        Miss::Arm(by) => {
+            let region = format!("cones around axis 1 that the wrist centre cannot enter with joint 3 at {q3:.6} rad");
+            Unreachable::InsideExcluded { by, region }
+        }
+        Miss::Wrist(chord) => Unreachable::Orientation {
+            // The miss is a chord between unit vectors; as an angle:
+            angle: chord_angle(chord),
+            detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
+        },
+    }
+}
+
+/// A chord between unit vectors as the angle between them \[rad\].
+fn chord_angle(chord: f64) -> f64 {
+    2.0 * (0.5 * chord).min(1.0).asin()
+}
+
 /// The point where axes `first`, `first + 1` meet, checked to lie on axis
 /// `first + 2` too (a spherical shoulder or wrist, `what`).
 fn meeting_point(c: &Common, first: usize, what: &str) -> Result<V3> {
@@ -586,25 +494,6 @@ fn meeting_point(c: &Common, first: usize, what: &str) -> Result<V3> {
         );
     }
     Ok(x)
-}
-
-/// The unit vector along `v`, or `fallback` when `v` is (numerically) zero.
-fn unit_or(v: &V3, fallback: &V3) -> V3 {
-    let n = v.norm();
-    if n > 1e-300 {
-        v / n
-    } else {
-        *fallback
-    }
-}
-
-/// The right-handed orthonormal frame \[x̂, ŷ, x̂ × ŷ\] with x̂ the unit
-/// vector `x` and ŷ along the part of `y` normal to it (any unit vector ⊥ x̂
-/// when `y` ∥ x̂).
-fn frame(x: &V3, y: &V3) -> Matrix3<f64> {
-    let y = y - x * x.dot(y);
-    let y = if y.norm() > GEOM_TOL { y.normalize() } else { perpendicular(x) };
-    Matrix3::from_columns(&[*x, y, x.cross(&y)])
 }
 
 impl ClosedForm for SrsIk {

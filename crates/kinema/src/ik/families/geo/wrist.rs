@@ -1,8 +1,9 @@
 //! The orientation solve of a spherical wrist: three joint axes through one
 //! point, the last three joints of the spherical-wrist arms (`pieper`,
-//! [`SphericalWristIk`](super::SphericalWristIk)) and of the SRS arms
-//! ([`SrsIk`](super::SrsIk)). One function for all of them, so the wrist's
-//! branches and singular conventions are the same whichever solver asks.
+//! [`SphericalWristIk`](super::SphericalWristIk)). One function for both,
+//! so the wrist's branches and singular conventions are the same whichever
+//! solver asks. The SRS arms solve their wrist inside their own kernel
+//! (`srs_kernel.rs`), with the same branches and conventions.
 //!
 //! With axes h_a, h_b, h_c (unit, at q = 0) and the rotation the wrist must
 //! make, M = rot(h_a, q_a)·rot(h_b, q_b)·rot(h_c, q_c):

@@ -20,6 +20,13 @@
 //! with S = (0, 0, d1) the shoulder, E = S + d3·R₀₂·ẑ the elbow and
 //! W = p − d7·R₀₇·ẑ the wrist point.
 //!
+//! The formulas of both forms live in the SRS kernel shared with
+//! [`SrsIk`](crate::ik::geo::SrsIk) (`ik/families/geo/srs_kernel.rs`),
+//! built here from d3 and d5 in frame 0 with the shoulder as origin, where
+//! they reduce to seed 004's; this type reads and checks the DH table,
+//! strips base, tool and d1, d7, and keeps the labels, errors and the
+//! selection and search over the self-motion.
+//!
 //! Two parameterisations of the one-dimensional self-motion are offered:
 //!
 //! * **q3 fixed** (seed 004 eq. 3–11, [`IiwaIk::solve_q3`]): up to 8
@@ -77,6 +84,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::analysis::{manipulability_along, Axes};
 use crate::error::{Error, InputError, Result};
 use crate::ik::family::{Choice, Redundancy, SelfMotionParameter};
+use crate::ik::geo::srs_kernel::{Miss, Options, Solutions, SrsKernel};
 use crate::ik::{check_target, joint_distance, wrap_angle, Candidates, Solution, Unreachable};
 use crate::kin::Frame;
 use crate::math::FastMath;
@@ -86,11 +94,9 @@ use crate::robot::Robot;
 
 mod psi_search;
 mod redundancy;
-mod rotations;
 mod select;
 mod validation;
 
-use rotations::{axis_rotation, ry, rz, zyz, zyz_args, zyz_pair_of};
 pub use validation::{ValidationCase, ValidationReport};
 
 /// Configuration bit: set when q2 < 0 (shoulder).
@@ -99,11 +105,6 @@ pub const SHOULDER: u8 = 1;
 pub const ELBOW: u8 = 2;
 /// Configuration bit: set when q6 < 0 (wrist).
 pub const WRIST: u8 = 4;
-
-/// Below this |sin| a ZYZ triple is treated as singular (first angle = hint).
-const SINGULAR_SIN: f64 = 1e-12;
-/// Tolerance \[m\] for targets just outside a reach boundary (clamped onto it).
-const REACH_TOL: f64 = 1e-12;
 
 /// Half-width \[rad\] of the q3 window searched by [`IiwaIk::select`] around the previous q3.
 pub const SELECT_WINDOW: f64 = 0.05;
@@ -155,23 +156,14 @@ pub struct IiwaIk {
     base_inv: Pose,
     tool_inv: Pose,
     q3: f64,
+    /// The closed forms (fixed q3 and arm angle), shared with `geo-srs`, built from the lengths.
+    kernel: SrsKernel,
 }
 
 /// A target in the arm's own frame 0: flange rotation and wrist point relative to the shoulder.
 struct ArmTarget {
     r07: Matrix3<f64>,
     w: Vector3<f64>,
-}
-
-/// One (elbow, shoulder) branch of the fixed-q3 kernel, waiting for its angles.
-#[derive(Clone, Copy)]
-struct IiwaBranch {
-    /// q1 when it is not computed (wrist on the axis of joint 1: the hint).
-    q1_fixed: Option<f64>,
-    /// ⁴R₇ is a wrist singularity: q5 = 0 and q7 takes the sum.
-    singular: bool,
-    /// Offset of the `/front` (8) or `/back` (16) labels in `LABELS`.
-    side: usize,
 }
 
 /// What the ψ search found for one configuration.
@@ -207,11 +199,12 @@ pub(crate) fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: 
     }
 }
 
-/// Elbow angle of a wrist distance: cos q4 and |sin q4|.
-#[derive(Clone, Copy)]
-struct Elbow {
-    c4: f64,
-    s4: f64,
+/// The shared SRS kernel in the iiwa's frame 0 with the shoulder as origin:
+/// axes z, y, z, y, z, y, z (R₀₄ = Rz·Ry·Rz·Ry, R₄₇ = Rz·Ry·Rz), elbow at
+/// d3 and wrist point at d3 + d5 along z.
+fn kernel_of(d3: f64, d5: f64) -> SrsKernel {
+    let (z, y) = (Vector3::z(), Vector3::y());
+    SrsKernel::new(&[z, y, z, y, z, y, z], &Vector3::zeros(), &(z * d3), &(z * (d3 + d5)))
 }
 
 /// Refuses a configuration label that is not 3 bits.
@@ -233,14 +226,6 @@ pub(crate) fn no_steps() -> Error {
 
 fn invalid(robot: &Robot, reason: String) -> Error {
     Error::UnsupportedStructure { solver: "iiwa".into(), robot: robot.name().into(), reason }
-}
-
-fn sign_of(config: u8, bit: u8) -> f64 {
-    if config & bit != 0 {
-        -1.0
-    } else {
-        1.0
-    }
 }
 
 /// The configuration bits of a joint vector (see the module documentation).
@@ -356,6 +341,7 @@ impl IiwaIk {
             base_inv: robot.base().inverse(),
             tool_inv: robot.tool().inverse(),
             q3: 0.0,
+            kernel: kernel_of(d[2], d[4]),
         })
     }
 
@@ -392,33 +378,53 @@ impl IiwaIk {
         Ok(ArmTarget { r07: t.rot, w })
     }
 
-    /// cos q4 and |sin q4| for a shoulder–wrist distance, or the reach error (seed 004 eq. 4).
-    fn elbow(&self, r: f64) -> Result<Elbow> {
-        let (d3, d5) = (self.d3, self.d5);
-        let (outer, inner) = (d3 + d5, (d3 - d5).abs());
-        if r > outer + REACH_TOL {
-            return Err(self.unreachable(
-                r - outer,
-                format!("outer sphere of radius {outer:.4} m around the shoulder (reach of the wrist point)"),
-            ));
-        }
-        if r < inner - REACH_TOL {
-            return Err(self.unreachable(
-                inner - r,
-                format!("inner sphere of radius {inner:.4} m around the shoulder (the wrist point cannot come closer)"),
-            ));
-        }
+    /// The reach error (seed 004 eq. 4) when no elbow angle gives a shoulder–wrist distance `r` \[m\].
+    fn elbow(&self, r: f64) -> Result<()> {
         // Seed 004 eq. 4 gives q4 = π ± arccos((d3² + d5² − r²)/(2·d3·d5)); its
         // "+" branch lies in [π, 2π] and must be wrapped to (−π, π] (π + x ≡ x − π)
-        // to be compared with the ±120° limit of joint 4. The same angle is computed here as atan2(|s4|, c4) with 1 ∓ c4 in factored
+        // to be compared with the ±120° limit of joint 4. The shared kernel
+        // computes the same angle as atan2(|s4|, c4) with 1 ∓ c4 in factored
         // form, which keeps full precision near the stretched and folded arm
         // where arccos loses half the digits.
-        let k = 2.0 * d3 * d5;
-        let one_minus = ((outer - r) * (outer + r) / k).max(0.0);
-        let one_plus = ((r - inner) * (r + inner) / k).max(0.0);
-        let c4 = 0.5 * (one_plus - one_minus);
-        let s4 = (one_minus * one_plus).sqrt();
-        Ok(Elbow { c4, s4 })
+        match self.kernel.elbow(r) {
+            Ok(_) => Ok(()),
+            Err(miss) => Err(self.miss_error(miss, 0.0, 0.0)),
+        }
+    }
+
+    /// The error for a miss of the shared kernel at q3 with sin q3 = `s3` and
+    /// |sin q4| = `s4` (which size the excluded cylinder).
+    fn miss_error(&self, miss: Miss, q3: f64, s4: f64) -> Error {
+        let (outer, inner) = self.kernel.reach();
+        match miss {
+            Miss::Outer(by) => self.unreachable(
+                by,
+                format!("outer sphere of radius {outer:.4} m around the shoulder (reach of the wrist point)"),
+            ),
+            Miss::Inner(by) => self.unreachable(
+                by,
+                format!("inner sphere of radius {inner:.4} m around the shoulder (the wrist point cannot come closer)"),
+            ),
+            Miss::Arm(by) => {
+                let region = format!(
+                    "cylinder of radius {:.4} m around the axis of joint 1, which the wrist point cannot enter with q3 = {q3:.6} rad",
+                    self.d5 * (q3.sin() * s4).abs()
+                );
+                Error::Unreachable {
+                    solver: "iiwa".into(),
+                    reason: Unreachable::InsideExcluded { by, region },
+                    closest: None,
+                }
+            }
+            Miss::Wrist(chord) => Error::Unreachable {
+                solver: "iiwa".into(),
+                reason: Unreachable::Orientation {
+                    angle: 2.0 * (0.5 * chord).min(1.0).asin(),
+                    detail: "the wrist cannot turn axis 7 to the direction asked for".into(),
+                },
+                closest: None,
+            },
+        }
     }
 
     /// All solutions (joint vectors, without FK evaluation) for a fixed q3,
@@ -439,118 +445,21 @@ impl IiwaIk {
         q1_hint: f64,
         near: Option<&[f64]>,
     ) -> Result<Candidates<7, 8>> {
-        let w = &t.w;
-        let el = self.elbow(w.norm())?;
-        let (s3, c3) = q3.fast_sin_cos();
-        let rho = w.x.fast_hypot(w.y);
-        let mut worst = 0.0f64;
-        // Shoulder offset of `near`'s q1 for this wrist point, and its elbow side.
-        let (u_near, elbow_near) = match near {
-            Some(q) => {
-                let (s1, c1) = q[0].fast_sin_cos();
-                {
-                    let s4 = q[3].fast_sin_cos().0;
-                    (Some(c1 * w.x + s1 * w.y), if s4.abs() > 0.05 { s4.signum() } else { 0.0 })
-                }
-            }
-            None => (None, 0.0),
-        };
-        // Up to four (elbow, shoulder) branches, each with its q1, q2, q4 and
-        // the two ZYZ triples of ⁴R₇. No angle depends on another through an
-        // atan2, so all (at most 4 × 5 + 2) are gathered into one batch
-        // (`atan2_x8` × 3, lanes below) after the sines and cosines are known.
-        let (mut ys, mut xs) = ([0.0; 24], [1.0; 24]);
-        let mut branches: [Option<IiwaBranch>; 4] = [None; 4];
-        for (e, elbow) in [1.0, -1.0].into_iter().enumerate() {
-            if elbow * elbow_near < 0.0 {
-                continue;
-            }
-            let s4 = elbow * el.s4;
-            (ys[20 + e], xs[20 + e]) = (s4, el.c4); // q4
-                                                    // Wrist point in frame 2 (seed 004 eq. 5: ²p₅).
-            let (px, py, pz) = (self.d5 * c3 * s4, self.d5 * s3 * s4, self.d3 + self.d5 * el.c4);
-            // (wx, wy) = Rz(q1)·(u, py) and (u, wz) = the (x, z) part of Ry(q2)·²p₅:
-            // u² = ρ² − py², in factored form.
-            let gap = rho - py.abs();
-            if gap < -REACH_TOL {
-                worst = worst.max(-gap);
-                continue;
-            }
-            let u_abs = (gap.max(0.0) * (rho + py.abs())).sqrt();
-            // Rz(q3)·Ry(q4), shared by both shoulders.
-            let r24 = rz(s3, c3) * ry(s4, el.c4);
-            for (sh, shoulder) in [1.0, -1.0].into_iter().enumerate() {
-                let u = shoulder * u_abs;
-                if u_near.is_some_and(|un| u * un < 0.0 && un.abs() > 0.5 * u_abs) {
-                    continue;
-                }
-                let slot = 2 * e + sh;
-                let lane = 5 * slot;
-                // Seed 004 eq. 9 (q1 = α ± arccos(x_w/R), one of the two chosen
-                // by FK) and eq. 8 (q2 = α ± arccos((z_w − d1)/R)) are correct but
-                // leave the choice of sign to a later FK test; they are written
-                // here as the angle between two vectors of equal length,
-                // q1 = ∠(wx, wy) − ∠(u, py) and q2 = ∠(wz, u) − ∠(pz, px), one
-                // atan2 of cross and dot product each, which picks the matching
-                // pair directly and keeps full precision.
-                let (q1_fixed, s1, c1, u) = if u.fast_hypot(py) < SINGULAR_SIN {
-                    // Wrist on the axis of joint 1: q1 is free; recompute u for the chosen q1.
-                    let (s1, c1) = q1_hint.fast_sin_cos();
-                    (Some(q1_hint), s1, c1, c1 * w.x + s1 * w.y)
-                } else {
-                    let (y, x) = (w.y * u - w.x * py, w.x * u + w.y * py);
-                    let h = y.fast_hypot(x);
-                    (ys[lane], xs[lane]) = (y, x);
-                    (None, y / h, x / h, u)
-                };
-                let (y, x) = (u * pz - w.z * px, w.z * pz + u * px);
-                let h = y.fast_hypot(x);
-                let (s2, c2) = if h > 0.0 {
-                    (ys[lane + 1], xs[lane + 1]) = (y, x);
-                    (y / h, x / h)
-                } else {
-                    (0.0, 1.0)
-                };
-                let r04 = rz(s1, c1) * ry(s2, c2) * r24;
-                // ZYZ of ⁴R₇: the arguments of b, a and c (a = 0 when singular).
-                let (args, singular) = zyz_args(&r04.tr_mul(&t.r07), 0.0);
-                for (k, (y, x)) in args.into_iter().enumerate() {
-                    (ys[lane + 2 + k], xs[lane + 2 + k]) = (y, x);
-                }
-                branches[slot] = Some(IiwaBranch { q1_fixed, singular, side: if shoulder > 0.0 { 8 } else { 16 } });
-            }
-        }
-        let mut angles = [0.0; 24];
-        for k in 0..3 {
-            let lanes = 8 * k..8 * k + 8;
-            let (y, x) = (ys[lanes.clone()].try_into().unwrap_or([0.0; 8]), xs[lanes].try_into().unwrap_or([1.0; 8]));
-            angles[8 * k..8 * k + 8].copy_from_slice(&crate::math::atan2_x8(y, x));
-        }
+        let goal = self.kernel.goal(&t.w, &t.r07);
+        let near = near.and_then(|q| q.get(..7)).and_then(|q| q.try_into().ok());
+        let options = Options { q1_hint, flip_singular_wrist: false, near };
         let mut out = Candidates::<7, 8>::default();
-        for (slot, branch) in branches.iter().enumerate() {
-            let Some(b) = branch else { continue };
-            let a = &angles[5 * slot..5 * slot + 5];
-            let (q1, q2, q4) = (b.q1_fixed.unwrap_or(a[0]), a[1], angles[20 + slot / 2]);
-            // Seed 004 eq. 10–11 (ZYZ angles of ⁴T₇) are right up to a
-            // multiple of 2π: eq. 10's q5 = atan2(·) + π and eq. 11's
-            // q7 = atan2(·) − π leave (−π, π] (e.g. q5 = 190° instead of
-            // −170°, which is outside the ±170° limit though the pose is
-            // the same); every angle is wrapped to (−π, π] here.
-            let pair = zyz_pair_of([a[2], a[3], a[4]], b.singular, 0.0);
-            for (q5, q6, q7) in pair {
-                let q = [q1, q2, q3, q4, q5, q6, q7];
-                // Coinciding solutions (singular cases) are kept once.
-                out.push_unique(q, LABELS[b.side + usize::from(bits(&q))], 1e-12, true);
-            }
-        }
-        if out.is_empty() {
-            let region = format!(
-                "cylinder of radius {:.4} m around the axis of joint 1, which the wrist point cannot enter with q3 = {q3:.6} rad",
-                self.d5 * (s3 * el.s4).abs()
-            );
-            let reason = Unreachable::InsideExcluded { by: worst, region };
-            return Err(Error::Unreachable { solver: "iiwa".into(), reason, closest: None });
-        }
+        // `/front` (shoulder root 0: the wrist point ahead of the shoulder
+        // along x of DH frame 1) or `/back`; coinciding solutions (singular
+        // cases) are kept once.
+        let push = |q: [f64; 7], (_, shoulder, _)| {
+            let side = if shoulder == 0 { 8 } else { 16 };
+            out.push_unique(q, LABELS[side + usize::from(bits(&q))], 1e-12, true);
+        };
+        self.kernel.solve_q3(&goal, q3, &options, push).map_err(|miss| {
+            let s4 = self.kernel.elbow(t.w.norm()).map_or(0.0, |(s4, _)| s4);
+            self.miss_error(miss, q3, s4)
+        })?;
         Ok(out)
     }
 
@@ -651,31 +560,18 @@ impl IiwaIk {
         bits(&full)
     }
 
-    /// The reference rotation R₀₃°·Rx(90°) = Rz(q1°)·Ry(q2°) of the arm with
-    /// q3 = 0 and the given elbow angle placing the wrist at `w`.
-    fn reference(&self, w: &Vector3<f64>, c4: f64, s4: f64) -> Matrix3<f64> {
-        let rho = w.x.fast_hypot(w.y);
-        let q1 = if rho < SINGULAR_SIN { 0.0 } else { w.y.fast_atan2(w.x) };
-        let (s1, c1) = q1.fast_sin_cos();
-        let u = c1 * w.x + s1 * w.y;
-        let q2 = u.fast_atan2(w.z) - (self.d5 * s4).fast_atan2(self.d3 + self.d5 * c4);
-        rot_z(q1) * rot_y(q2)
-    }
-
-    /// One solution from the arm angle (no FK evaluation).
+    /// One solution from the arm angle (no FK evaluation): the shared
+    /// kernel's root with the elbow, shoulder and wrist of `config` (root 1
+    /// is the one with q4, q2, q6 negative).
     fn solve_psi_raw(&self, t: &ArmTarget, psi: f64, config: u8) -> Result<[f64; 7]> {
-        let el = self.elbow(t.w.norm())?;
-        let s4 = sign_of(config, ELBOW) * el.s4;
-        let q4 = s4.fast_atan2(el.c4);
-        let m0 = self.reference(&t.w, el.c4, s4);
-        let n = t.w.norm();
-        let u = if n > 0.0 { t.w / n } else { Vector3::z() };
-        // R₀₃·Rx(90°) = Rz(q1)·Ry(q2)·Rz(q3) = Rot(û, ψ)·Rz(q1°)·Ry(q2°).
-        let m = axis_rotation(&u, psi) * m0;
-        let (q1, q2, q3) = zyz(&m, sign_of(config, SHOULDER), 0.0);
-        let r04 = rot_z(q1) * rot_y(q2) * rot_z(q3) * rot_y(q4);
-        let (q5, q6, q7) = zyz(&(r04.transpose() * t.r07), sign_of(config, WRIST), 0.0);
-        Ok([q1, q2, q3, q4, q5, q6, q7])
+        let goal = self.kernel.goal(&t.w, &t.r07);
+        let root = |bit: u8| usize::from(config & bit != 0);
+        let only = [root(ELBOW), root(SHOULDER), root(WRIST)];
+        let mut solutions = Solutions::empty();
+        self.kernel
+            .solve_psi(&goal, psi, false, Some(only), &mut solutions)
+            .map_err(|miss| self.miss_error(miss, 0.0, 0.0))?;
+        Ok(solutions.q[0])
     }
 
     /// The solution with arm angle `psi` \[rad\] and configuration bits
@@ -700,16 +596,7 @@ impl IiwaIk {
         if self.robot.check_q(q).is_err() {
             return f64::NAN;
         }
-        let m = rot_z(q[0]) * rot_y(q[1]) * rot_z(q[2]);
-        let (s4, c4) = q[3].fast_sin_cos();
-        let w = m * Vector3::new(self.d5 * s4, 0.0, self.d3 + self.d5 * c4);
-        let m0 = self.reference(&w, c4, s4);
-        let r = m * m0.transpose();
-        let n = w.norm();
-        let u = if n > 0.0 { w / n } else { Vector3::z() };
-        let s = 0.5 * Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]).dot(&u);
-        let c = 0.5 * (r.trace() - 1.0);
-        wrap_angle(s.fast_atan2(c))
+        self.kernel.psi_of(q)
     }
 
     /// The elbow (origin of DH frame 3) in world coordinates.
