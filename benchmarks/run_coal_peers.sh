@@ -19,8 +19,11 @@ for a in "$@"; do
   if [ "$a" = "--no-timing" ]; then timing=0; else args+=("$a"); fi
 done
 set -- "${args[@]+"${args[@]}"}"
+caller_target="${CARGO_TARGET_DIR:-}"
 source "$here/peers_env.sh"
-unset CARGO_TARGET_DIR # peers_env.sh points it at the Python crate's target; the test is kinema-geometry's
+# peers_env.sh points CARGO_TARGET_DIR at the Python crate's target; the test and bench are
+# kinema-geometry's, so they build where the caller said, else in the workspace's target/.
+if [ -n "$caller_target" ]; then export CARGO_TARGET_DIR="$caller_target"; else unset CARGO_TARGET_DIR; fi
 
 pipi "pin==$PIN_VERSION" "example-robot-data==$ERD_VERSION"
 
@@ -49,3 +52,7 @@ for row in "collides computeCollisions $cc" "min_distance computeDistances $cd_"
   set -- $row
   awk -v name="$1 vs $2" -v k="$(us "$1")" -v c="$3" 'BEGIN { printf "%-44s %12.2f %12.2f %8.3f\n", name, k, c, k / c }'
 done
+# Where the exact queries spend: forward kinematics and placement alone, and min_distance's last
+# step (the closest pair's distance and witness points, placement included).
+printf '%-44s %12.2f\n' "place (FK and placement alone)" "$(us place)" \
+  "closest_pair (min_distance's last step)" "$(us closest_pair)"

@@ -1,5 +1,6 @@
-//! Self-collision per configuration: exact `collides` and `min_distance`
-//! (forward kinematics and placement included) and the sphere fast path
+//! Self-collision per configuration: forward kinematics and placement alone
+//! (`place`), exact `collides` and `min_distance` (forward kinematics and
+//! placement included) and the sphere fast path
 //! (`spheres_free`, and `collides_fast` with its exact fallback).
 //!
 //! ```text
@@ -20,8 +21,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use kinema::nalgebra::{UnitQuaternion, Vector3};
 use kinema::{Pose, Robot};
 use kinema_geometry::{
-    collides, collides_fast, load_urdf, min_distance, place, spheres_free, CollisionPairs, LinkShape, Placement,
-    RobotGeometry, Shape, Spheres, Srdf, UrdfOptions,
+    collides, collides_fast, load_urdf, min_distance, pair_distance, place, spheres_free, CollisionPairs, LinkShape,
+    Placement, RobotGeometry, Shape, Spheres, Srdf, UrdfOptions,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -75,17 +76,39 @@ fn capsule_panda() -> Case {
     (robot, geometry, pairs, qs)
 }
 
+/// Each configuration with the pair `min_distance` finds closest there.
+fn closest_pairs(
+    robot: &Robot,
+    geometry: &RobotGeometry,
+    pairs: &CollisionPairs,
+    qs: &[Vec<f64>],
+) -> Vec<(Vec<f64>, (usize, usize))> {
+    let mut placement = Placement::new(geometry);
+    qs.iter()
+        .filter_map(|q| {
+            place(robot, geometry, q, &mut placement).unwrap();
+            let p = min_distance(geometry, &placement, pairs).unwrap()?;
+            Some((q.clone(), (p.a, p.b)))
+        })
+        .collect()
+}
+
 fn bench(c: &mut Criterion) {
     let (robot, geometry, pairs, qs) = case();
     let spheres = Spheres::fit(&geometry, 4);
     let mut placement = Placement::new(&geometry);
     let mut sp = spheres.placement();
+    let free = qs.iter().filter(|q| spheres_free(&robot, &spheres, q, &pairs, 0.0, &mut sp).unwrap()).count();
+    println!("spheres prove {free} of {} configurations free", qs.len());
+    let closest = closest_pairs(&robot, &geometry, &pairs, &qs[..qs.len().min(100)]);
     let mut g = c.benchmark_group("panda-self");
     let mut i = 0;
     let mut next = || {
         i = (i + 1) % qs.len();
         &qs[i]
     };
+    // Forward kinematics and placement alone: what `collides` and `min_distance` spend before any pair.
+    g.bench_function("place", |b| b.iter(|| black_box(place(&robot, &geometry, next(), &mut placement).unwrap())));
     g.bench_function("collides", |b| {
         b.iter(|| {
             let q = next();
@@ -93,6 +116,8 @@ fn bench(c: &mut Criterion) {
             black_box(collides(&geometry, &placement, &pairs, 0.0).unwrap())
         })
     });
+    // Mesh–mesh distances take milliseconds: ten samples keep this one to seconds.
+    g.sample_size(10);
     g.bench_function("min_distance", |b| {
         b.iter(|| {
             let q = next();
@@ -100,6 +125,17 @@ fn bench(c: &mut Criterion) {
             black_box(min_distance(&geometry, &placement, &pairs).unwrap())
         })
     });
+    // The last step of `min_distance` alone: the closest pair's distance and witness points.
+    g.bench_function("closest_pair", |b| {
+        let mut k = 0;
+        b.iter(|| {
+            k = (k + 1) % closest.len();
+            let (q, (sa, sb)) = &closest[k];
+            place(&robot, &geometry, q, &mut placement).unwrap();
+            black_box(pair_distance(&geometry, &placement, *sa, *sb).unwrap())
+        })
+    });
+    g.sample_size(100);
     g.bench_function("spheres_free", |b| {
         b.iter(|| black_box(spheres_free(&robot, &spheres, next(), &pairs, 0.0, &mut sp).unwrap()))
     });
