@@ -134,6 +134,10 @@ fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool) -> R
 
 /// Generates the robot's allowed-collision pairs and writes them as an SRDF to `path`.
 fn write_srdf(c: &CollisionCheck, path: &Path, samples: usize, seed: u64) -> Result<()> {
+    if samples == 0 {
+        // With no sample every pair would read as never colliding, and be disabled.
+        bail!("--samples 0: at least one configuration is needed to call a pair `Never` or `Always` in collision");
+    }
     let srdf = generate_srdf(c.robot(), c.geometry(), samples, seed)?;
     crate::output::write_atomically(path, |out| Ok(out.write_all(srdf.to_xml().as_bytes())?))?;
     let mut reasons: BTreeMap<&str, usize> = BTreeMap::new();

@@ -164,7 +164,9 @@ impl Search<'_> {
     ) -> Result<()> {
         let reach = self.sweep(k) * (s1 - s0);
         let bound = if (d1 - d0).abs() <= reach { (d0 + d1 - reach) / 2.0 } else { d0.min(d1) };
-        if bound >= best.1 .0 - APPROACH_TOLERANCE || depth >= MAX_DEPTH {
+        // A step that may hold a contact not yet found is always looked into.
+        let may_touch = bound <= 0.0 && best.1 .0 > 0.0;
+        if (bound >= best.1 .0 - APPROACH_TOLERANCE && !may_touch) || depth >= MAX_DEPTH {
             return Ok(());
         }
         let s = (s0 + s1) / 2.0;

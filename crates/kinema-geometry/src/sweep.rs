@@ -43,6 +43,10 @@ impl LeverArms {
     /// The lever arms of every shape of `geometry` on `robot`.
     pub(crate) fn new(robot: &Robot, geometry: &RobotGeometry) -> Result<LeverArms> {
         let (n, joints) = (robot.dof(), robot.joints());
+        if geometry.is_empty() {
+            // Nothing moves: no slide needs a bound.
+            return Ok(LeverArms { arms: Vec::new() });
+        }
         let mut frames = vec![Pose::IDENTITY; n + 2];
         kin::link_frames_into(robot, robot.home(), &mut frames)?;
         let axis_point = |i: usize| kin::joint_axis(&joints[i], i, &frames).1;

@@ -247,10 +247,12 @@ pub fn collision_free(traj: &JointTrajectory, test: &dyn Admissible) -> Result<(
 fn rejections_along(traj: &JointTrajectory, test: &dyn Admissible) -> Result<Vec<Violation>> {
     let t = traj.times();
     let mut out = Vec::new();
+    // At sample k (fraction 0 of no step), or at `fraction` of the step k−1 → k:
+    // reported at sample k−1 when the step's own start is where it begins.
     let collision = |k: usize, fraction: f64, r: Rejection| Violation {
         kind: ViolationKind::Collision,
-        sample: k,
-        time: if fraction > 0.0 { t[k - 1] + fraction * (t[k] - t[k - 1]) } else { t[k] },
+        sample: if fraction == 0.0 && k > 0 { k - 1 } else { k },
+        time: if k > 0 { t[k - 1] + fraction * (t[k] - t[k - 1]) } else { t[k] },
         joint: None,
         value: fraction,
         limit: 0.0,
@@ -267,7 +269,7 @@ fn rejections_along(traj: &JointTrajectory, test: &dyn Admissible) -> Result<Vec
         if starts || inside {
             let refused = test.rejects(traj.q(k))?;
             if let (Some(r), false) = (&refused, inside) {
-                out.push(collision(k, 0.0, r.clone()));
+                out.push(Violation { sample: k, time: t[k], ..collision(k, 0.0, r.clone()) });
             }
             inside = refused.is_some();
             continue;

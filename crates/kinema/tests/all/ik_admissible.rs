@@ -173,6 +173,13 @@ fn a_checked_motion_reports_where_each_refused_stretch_begins() {
     assert!(hits[0].to_string().contains("collision: q1 below 0 (between samples 1 and 2)"), "{}", hits[0]);
     let refused = collision_free(&traj, &test).unwrap_err();
     assert!(matches!(refused, Error::Trajectory { count: 2, .. }), "{refused}");
+    // A step that begins refused right at its first sample (q1 exactly at the
+    // bound, then below) is reported at that sample and its time.
+    let edge =
+        JointTrajectory::from_positions(6, vec![0.0, 1.0, 2.0], [[0.5; 6], [0.0; 6], [-0.5; 6]].concat()).unwrap();
+    let report = check(&robot, &edge, &opts).unwrap();
+    let hit = report.violations.iter().find(|v| v.kind == ViolationKind::Collision).unwrap();
+    assert_eq!((hit.sample, hit.time), (1, 1.0), "{hit:?}");
     // A motion that starts refused is reported at its first sample.
     let start = JointTrajectory::from_positions(6, vec![0.0, 1.0], [[-0.1; 6], [0.3; 6]].concat()).unwrap();
     let first = collision_free(&start, &test).unwrap_err().to_string();
