@@ -1,26 +1,23 @@
 //! The request handler: routing, the JSON API and the embedded page, as pure
 //! functions of (method, path, body).
 
-use kinema::ik::family::SelfMotionParameter;
 use kinema::ik::{solve_target, Admissible, IkRequest, IkTarget, NumericOptions, SolverChoice};
-use kinema::nalgebra::Matrix4;
 use kinema::traj::{
     check, to_joints, Blend, CartesianLimits, CartesianMotion, CheckOptions, JointMethod, Orientation, Profile, Ptp,
-    PtpOptions, Segment, SelfMotion,
+    PtpOptions, Segment,
 };
-use kinema::{Pose, Robot, RpyConvention};
+use kinema::{Robot, RpyConvention};
 use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, RobotGeometry, Scene};
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
 use kinema_lang::{Stop, StopReason};
-use serde::de::DeserializeOwned;
-use serde::Deserialize;
 use serde::Serialize;
 use serde_json::Value;
 
 use crate::error::{Error, Result};
+use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, TrajReq};
 use kinema_io::{
     CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary,
     TrajectoryAnswer,
@@ -503,7 +500,11 @@ struct RunAnswer<'a> {
 
 /// An option value read by the core from its name (`default` when the request
 /// leaves it out); a wrong name is a bad request to `path`.
-fn named<T: std::str::FromStr<Err = kinema::Error>>(path: &str, name: Option<&str>, default: T) -> Result<T> {
+pub(crate) fn named<T: std::str::FromStr<Err = kinema::Error>>(
+    path: &str,
+    name: Option<&str>,
+    default: T,
+) -> Result<T> {
     name.map_or(Ok(default), |n| n.parse().map_err(|e: kinema::Error| bad(format!("{path}: {e}"))))
 }
 
@@ -513,7 +514,7 @@ fn to_value(answer: impl serde::Serialize) -> Result<Value> {
         .map_err(|e| Error::Internal { message: format!("an answer could not be written as JSON: {e}") })
 }
 
-fn bad(message: String) -> Error {
+pub(crate) fn bad(message: String) -> Error {
     Error::BadRequest { message }
 }
 
@@ -534,183 +535,6 @@ fn cap_samples(duration: f64, dt: f64) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Parses a JSON body, naming the endpoint and the expected shape on failure.
-fn parse<T: DeserializeOwned>(body: &[u8], endpoint: &str, shape: &str) -> Result<T> {
-    let text = std::str::from_utf8(body).map_err(|e| Error::NotUtf8 {
-        endpoint: endpoint.into(),
-        shape: shape.into(),
-        source: e,
-    })?;
-    if text.trim().is_empty() {
-        return Err(bad(format!("{endpoint}: the body is empty; expected JSON {shape}")));
-    }
-    serde_json::from_str(text).map_err(|e| Error::Json {
-        endpoint: endpoint.into(),
-        shape: shape.into(),
-        source: e.into(),
-    })
-}
-
-/// A body with a robot and joint values.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct QReq {
-    robot: Option<String>,
-    q: Vec<f64>,
-}
-
-/// A target pose: a 4×4 matrix or a position and roll-pitch-yaw angles
-/// (`rpy_convention`: `zyx`, the default, R = Rz·Ry·Rx, or `xyz`).
-struct Target<'a> {
-    t: &'a Option<[[f64; 4]; 4]>,
-    position: &'a Option<[f64; 3]>,
-    rpy: &'a Option<[f64; 3]>,
-    rpy_convention: &'a Option<String>,
-}
-
-impl Target<'_> {
-    fn pose(&self, path: &str, shape: &str) -> Result<Pose> {
-        match (self.t, self.position, self.rpy) {
-            (Some(t), None, None) => {
-                let m = Matrix4::from_fn(|r, c| t[r][c]);
-                if m.iter().any(|v| !v.is_finite()) {
-                    return Err(bad("T contains a non-finite value".into()));
-                }
-                Pose::from_matrix(&m).ok_or_else(|| Error::Unprocessable {
-                    message: "T is not a rigid transform: the last row must be 0 0 0 1 and the 3×3 block a rotation"
-                        .into(),
-                })
-            }
-            (None, Some(p), Some(rpy)) => {
-                let conv = named(path, self.rpy_convention.as_deref(), RpyConvention::Zyx)?;
-                Ok(Pose::from_xyz_rpy(*p, *rpy, conv))
-            }
-            _ => Err(bad(format!("give the target as \"T\" alone or as \"position\" and \"rpy\"; expected {shape}"))),
-        }
-    }
-}
-
-// The target fields are repeated in `IkReq` and `TrajReq`: serde's `flatten`
-// does not combine with `deny_unknown_fields`.
-impl IkReq {
-    fn target(&self) -> Target<'_> {
-        Target { t: &self.t, position: &self.position, rpy: &self.rpy, rpy_convention: &self.rpy_convention }
-    }
-}
-
-impl TrajReq {
-    fn target(&self) -> Target<'_> {
-        Target { t: &self.t, position: &self.position, rpy: &self.rpy, rpy_convention: &self.rpy_convention }
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct IkReq {
-    robot: Option<String>,
-    #[serde(rename = "T")]
-    t: Option<[[f64; 4]; 4]>,
-    position: Option<[f64; 3]>,
-    rpy: Option<[f64; 3]>,
-    rpy_convention: Option<String>,
-    q3: Option<f64>,
-    psi: Option<f64>,
-    q0: Option<Vec<f64>>,
-    solver: Option<String>,
-    seed: Option<u64>,
-    mask: Option<[bool; 6]>,
-    scene: Option<String>,
-    margin: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CollideReq {
-    robot: Option<String>,
-    q: Vec<f64>,
-    scene: Option<String>,
-    margin: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct TrajReq {
-    robot: Option<String>,
-    kind: String,
-    from: Vec<f64>,
-    to: Option<Vec<f64>>,
-    #[serde(rename = "T")]
-    t: Option<[[f64; 4]; 4]>,
-    position: Option<[f64; 3]>,
-    rpy: Option<[f64; 3]>,
-    rpy_convention: Option<String>,
-    dt: Option<f64>,
-    profile: Option<String>,
-    speed: Option<f64>,
-    duration: Option<f64>,
-    jvel: Option<OneOrMany>,
-    jacc: Option<OneOrMany>,
-    jjerk: Option<OneOrMany>,
-    vmax: Option<f64>,
-    amax: Option<f64>,
-    q3: Option<PolicyValue>,
-    psi: Option<PolicyValue>,
-    scene: Option<String>,
-    margin: Option<f64>,
-}
-
-/// A self-motion policy of `/api/traj`: a name (`"hold"`, `"track"`, …) or an angle \[rad\].
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum PolicyValue {
-    Text(String),
-    Angle(f64),
-}
-
-impl TrajReq {
-    /// The self-motion policy its `q3` or `psi` asks for (as `kinema traj lin --q3/--psi`).
-    fn self_motion(&self) -> Result<SelfMotion> {
-        let (parameter, value) = match (&self.q3, &self.psi) {
-            (Some(_), Some(_)) => return Err(bad("/api/traj: give \"q3\" or \"psi\", not both".into())),
-            (Some(v), None) => (SelfMotionParameter::Q3, v),
-            (None, Some(v)) => (SelfMotionParameter::ArmAngle, v),
-            (None, None) => return Ok(SelfMotion::Auto),
-        };
-        match value {
-            PolicyValue::Text(text) => Ok(SelfMotion::parse(parameter, text, 1.0)?),
-            PolicyValue::Angle(v) => Ok(SelfMotion::Fixed { parameter, value: Some(*v) }),
-        }
-    }
-}
-
-/// Joint limits: one value for every joint or one per joint.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum OneOrMany {
-    One(f64),
-    Many(Vec<f64>),
-}
-
-impl OneOrMany {
-    fn values(&self) -> Vec<f64> {
-        match self {
-            OneOrMany::One(v) => vec![*v],
-            OneOrMany::Many(v) => v.clone(),
-        }
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RunReq {
-    robot: Option<String>,
-    program: String,
-    dt: Option<f64>,
-    start: Option<Vec<f64>>,
-    scene: Option<String>,
-    margin: Option<f64>,
 }
 
 #[cfg(test)]

@@ -85,6 +85,7 @@
 
 mod api;
 mod error;
+mod request;
 // The only module that needs axum, hyper and tokio: without the `server`
 // feature the crate is the request handler `App`, with no sockets.
 #[cfg(feature = "server")]
