@@ -10,6 +10,7 @@ mod mutate;
 
 mod analysis;
 mod bad_input;
+mod bad_urdf;
 mod descriptions;
 mod dynamics;
 mod dynamics_fast;
