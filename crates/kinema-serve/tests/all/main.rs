@@ -5,4 +5,5 @@
 mod mutate;
 
 mod api;
+mod http;
 mod load;
