@@ -69,9 +69,9 @@ impl Body {
         }
     }
 
-    /// The farthest any point of the robot's own shapes moves on the joint step `dq`.
-    fn sweep(&self, dq: &[f64]) -> f64 {
-        (0..self.own).map(|s| self.arms.sweep(s, dq)).fold(0.0, f64::max)
+    /// The farthest any point of the robot's own shapes moves on the joint step `from` → `to`.
+    fn sweep(&self, from: &[f64], to: &[f64]) -> f64 {
+        self.arms.sweeps(from, to)[..self.own].iter().copied().fold(0.0, f64::max)
     }
 }
 
@@ -198,10 +198,7 @@ impl Search<'_> {
 
     /// How fast the pair's distance can change over step k−1 → k \[m per whole step\].
     fn sweep(&self, k: usize) -> f64 {
-        let moved = |b: usize| {
-            let dq: Vec<f64> = self.q[b][k].iter().zip(&self.q[b][k - 1]).map(|(x, y)| x - y).collect();
-            self.bodies[b].sweep(&dq)
-        };
+        let moved = |b: usize| self.bodies[b].sweep(&self.q[b][k - 1], &self.q[b][k]);
         let (i, j) = self.pair;
         moved(i) + j.map_or(0.0, moved)
     }
