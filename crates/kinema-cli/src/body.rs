@@ -1,7 +1,8 @@
 //! The options that give a command's robot a body to check: a scene of
 //! obstacles, an SRDF of pairs not to check, a safety margin and where
 //! meshes are. `kinema collide` always checks; `kinema ik` and `kinema
-//! traj` check when a scene or an SRDF is given.
+//! traj` check when a scene, an SRDF or a margin is given (a margin alone:
+//! self-collision), the rule Python's and the server's `scene=`/`margin=` follow.
 
 use std::path::PathBuf;
 
@@ -20,9 +21,10 @@ pub struct BodyArgs {
     /// An SRDF whose `<disable_collisions>` link pairs are not checked.
     #[arg(long, value_name = "FILE")]
     srdf: Option<PathBuf>,
-    /// Safety margin [m]: bodies closer than this count as colliding.
-    #[arg(long, default_value_t = 0.0, value_name = "METRES")]
-    margin: f64,
+    /// Safety margin [m]: bodies closer than this count as colliding (default 0). Alone, it asks for a
+    /// self-collision check.
+    #[arg(long, value_name = "METRES")]
+    margin: Option<f64>,
     /// For a URDF: directories holding the packages of `package://` meshes (ROS_PACKAGE_PATH is added).
     #[arg(long = "package-path", value_name = "DIR")]
     package_path: Vec<PathBuf>,
@@ -36,7 +38,7 @@ impl BodyArgs {
             package_paths: self.package_path.clone(),
             scene: self.scene.clone(),
             srdf: self.srdf.clone(),
-            margin: self.margin,
+            margin: self.margin.unwrap_or(0.0),
         };
         let check = CollisionCheck::load(&robot.robot, &options)?;
         crate::print_load_warnings(&robot.robot, check.robot());
@@ -45,13 +47,13 @@ impl BodyArgs {
 
     /// An error when any option that `flag` would ignore is given (`why`: what `flag` does instead).
     pub fn refuse_with(&self, flag: &str, why: &str) -> Result<()> {
-        if self.scene.is_some() || self.srdf.is_some() || self.margin != 0.0 {
+        if self.scene.is_some() || self.srdf.is_some() || self.margin.is_some() {
             anyhow::bail!("{flag} takes no --scene, --srdf or --margin: {why}");
         }
         Ok(())
     }
 
-    /// The robot, and its collision check when a scene or an SRDF asks for one
+    /// The robot, and its collision check when a scene, an SRDF or a margin asks for one
     /// (the check's robot then: loaded once).
     pub fn robot_and_check(&self, robot: &RobotArg) -> Result<(kinema::Robot, Option<CollisionCheck>)> {
         match self.load_if_asked(robot)? {
@@ -60,11 +62,11 @@ impl BodyArgs {
         }
     }
 
-    /// [`BodyArgs::load`] when a scene or an SRDF asks for collision checks.
+    /// [`BodyArgs::load`] when a scene, an SRDF or a margin asks for collision checks.
     pub fn load_if_asked(&self, robot: &RobotArg) -> Result<Option<CollisionCheck>> {
-        if self.scene.is_none() && self.srdf.is_none() {
-            if self.margin != 0.0 || !self.package_path.is_empty() {
-                anyhow::bail!("--margin and --package-path apply to collision checks; give --scene or --srdf too");
+        if self.scene.is_none() && self.srdf.is_none() && self.margin.is_none() {
+            if !self.package_path.is_empty() {
+                anyhow::bail!("--package-path applies to collision checks; give --scene, --srdf or --margin too");
             }
             return Ok(None);
         }

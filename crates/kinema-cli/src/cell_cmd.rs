@@ -32,9 +32,7 @@ use clap::Args;
 use kinema::traj::cell::{placed, Approach};
 use kinema::traj::{check, Cell, CellReport, CheckOptions, CheckReport, JointTrajectory, SINGULAR_WARNING};
 use kinema::{Pose, Robot, RpyConvention};
-use kinema_geometry::{
-    closest_approaches, load_robot_geometry, ros_package_path, Body, BodyApproach, RobotGeometry, Scene, UrdfOptions,
-};
+use kinema_geometry::{closest_approaches, load_shapes_or_none, Body, BodyApproach, RobotGeometry, Scene, UrdfOptions};
 use kinema_io::{CellAnswer, CellMember};
 use kinema_lang::{render_all, Options, Stop};
 use serde::de::{self, Deserializer, Visitor};
@@ -80,6 +78,10 @@ pub struct CellArgs {
     /// Ctrl-C stops them at any time.
     #[arg(long, value_name = "SECONDS", default_value_t = crate::lang_cmd::DEFAULT_TIME_LIMIT)]
     time_limit: f64,
+    /// For a URDF robot: directories holding the packages of its `package://` meshes
+    /// (ROS_PACKAGE_PATH is added). A robot whose meshes cannot be read gets no link distances.
+    #[arg(long = "package-path", value_name = "DIR")]
+    package_path: Vec<PathBuf>,
 }
 
 fn length_arg(text: &str) -> Result<f64, String> {
@@ -329,7 +331,7 @@ fn load(a: &CellArgs) -> Result<Loaded> {
         };
         let here = || format!("{file}: robot `{name}` (robot[{i}])");
         let robot = load_robot(&m.robot, m.tip.as_deref(), &dir).with_context(here)?;
-        let geometry = load_shapes(&m.robot, m.tip.as_deref(), &dir).with_context(here)?;
+        let geometry = load_shapes(&m.robot, m.tip.as_deref(), &dir, &a.package_path).with_context(here)?;
         let robot = placed(&robot, &world_from_robot).with_context(here)?;
         let (motion, robot, traj, opts) = match (&m.trajectory, &m.program) {
             (Some(t), None) => {
@@ -404,12 +406,18 @@ fn load_robot(spec: &str, tip: Option<&str>, dir: &Path) -> Result<Robot> {
     crate::load_robot(&path.to_string_lossy(), tip)
 }
 
-/// The link shapes of the robot `spec` (as [`load_robot`] finds it).
-fn load_shapes(spec: &str, tip: Option<&str>, dir: &Path) -> Result<RobotGeometry> {
+/// The link shapes of the robot `spec` (as [`load_robot`] finds it); none,
+/// with a warning, when a mesh of it cannot be read.
+fn load_shapes(spec: &str, tip: Option<&str>, dir: &Path, package_paths: &[PathBuf]) -> Result<RobotGeometry> {
     let spec =
         if kinema::builtin_source(spec).is_some() { spec.to_string() } else { dir.join(spec).to_string_lossy().into() };
-    let options = UrdfOptions { tip: tip.map(str::to_string), package_paths: ros_package_path(), skip_visual: true };
-    Ok(load_robot_geometry(&spec, &options)?.1)
+    let options =
+        UrdfOptions { tip: tip.map(str::to_string), package_paths: package_paths.to_vec(), skip_visual: true };
+    let (geometry, skipped) = load_shapes_or_none(&spec, &options)?;
+    if let Some(e) = skipped {
+        eprintln!("warning: `{spec}`: no link distances for this robot: {e}");
+    }
+    Ok(geometry)
 }
 
 /// How close the robots' link shapes come to each other and to the obstacles, over the run.
@@ -597,6 +605,8 @@ pub fn run(a: CellArgs) -> Result<()> {
     check_interrupted()?;
     let approaches = report.approaches();
     let bodies = body_approaches(&loaded, &report).with_context(|| format!("{}: link shapes", a.file.display()))?;
+    // The link search does not poll the flag; a Ctrl-C during it still writes nothing.
+    check_interrupted()?;
     if let Some(out) = &a.out {
         write_csv(out, &loaded.members, &report)?;
         if !crate::output::is_stdout(out) {

@@ -94,7 +94,7 @@ pub use mesh::{load_mesh, MAX_MESH_BYTES};
 pub use pairs::CollisionPairs;
 pub use placement::{place, Placement};
 pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
-pub use robot_toml::{load_robot_geometry, toml_geometry};
+pub use robot_toml::{load_robot_geometry, load_shapes_or_none, toml_geometry};
 pub use scene::{Obstacle, Scene, SceneRobot, MAX_SCENE_BYTES};
 pub use shape::{Mesh, Shape};
 pub use spheres::{collides_fast, spheres_free, SpherePlacement, Spheres};

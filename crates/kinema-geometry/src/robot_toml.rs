@@ -24,7 +24,7 @@ use kinema::{Robot, RpyConvention};
 use crate::error::{Error, Result};
 use crate::geometry::{LinkShape, RobotGeometry};
 use crate::toml_shape::{ShapeSpec, Src};
-use crate::urdf::{load_urdf, UrdfOptions};
+use crate::urdf::{load_urdf, ros_package_path, UrdfOptions};
 
 /// The parts of a robot file this module reads; the core checks the rest.
 #[derive(Deserialize)]
@@ -119,6 +119,24 @@ pub fn load_robot_geometry(spec: &str, options: &UrdfOptions) -> Result<(Robot, 
     let dir = path.parent().unwrap_or(Path::new("."));
     let geometry = toml_geometry(&robot, &text, spec, dir)?;
     Ok((robot, geometry))
+}
+
+/// The link shapes of robot `spec` for a check that can go without them
+/// (a cell's link distances): [`load_robot_geometry`]'s, with the
+/// directories of `ROS_PACKAGE_PATH` after `options`' own; or, when a mesh is
+/// missing or unreadable, no shapes and that error, for the caller to show as
+/// a warning. Any other error is returned.
+pub fn load_shapes_or_none(spec: &str, options: &UrdfOptions) -> Result<(RobotGeometry, Option<Error>)> {
+    let mut options = options.clone();
+    options.package_paths.extend(ros_package_path());
+    match load_robot_geometry(spec, &options) {
+        Ok((_, geometry)) => Ok((geometry, None)),
+        Err(e @ (Error::MeshNotFound { .. } | Error::Mesh { .. })) => {
+            let robot = Robot::load(spec, options.tip.as_deref())?;
+            Ok((RobotGeometry::new(&robot, Vec::new())?, Some(e)))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// Whether `spec` names a URDF file (by its extension, as [`Robot::load`] decides).

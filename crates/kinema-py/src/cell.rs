@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use kinema::traj::{check, CheckOptions, CheckReport, JointTrajectory};
 use kinema::{Pose, Robot};
-use kinema_geometry::{closest_approaches, load_robot_geometry, Body, BodyApproach, UrdfOptions};
+use kinema_geometry::{closest_approaches, load_shapes_or_none, Body, BodyApproach, UrdfOptions};
 use kinema_io::{CellAnswer, CellMember};
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -230,7 +230,7 @@ impl PyCell {
         }
         let dt = self.dt;
         let report = py.allow_threads(move || cell.run(dt)).map_err(to_py)?;
-        let bodies = self.bodies()?;
+        let bodies = self.bodies(py)?;
         let approaches =
             py.allow_threads(|| closest_approaches(&bodies, &report.times, &report.q)).map_err(geometry_to_py)?;
         PyCellReport::new(py, self, &report, &approaches)
@@ -242,17 +242,23 @@ impl PyCell {
 }
 
 impl PyCell {
-    /// Every robot with its link shapes (none when its description has none) and the scene's obstacles.
-    fn bodies(&self) -> PyResult<Vec<Body>> {
-        self.members
-            .iter()
-            .map(|m| {
-                let options = UrdfOptions { tip: m.source.tip.clone(), skip_visual: true, ..Default::default() };
-                let (_, geometry) = load_robot_geometry(&m.source.spec, &options)?;
-                Body::new(&m.name, (*m.robot).clone(), geometry, self.scene.as_deref())
-            })
-            .collect::<kinema_geometry::Result<Vec<Body>>>()
-            .map_err(geometry_to_py)
+    /// Every robot with its link shapes and the scene's obstacles. A robot
+    /// has none when its description has none, and none with a warning when
+    /// a mesh of it cannot be read (`ROS_PACKAGE_PATH` is searched, as by
+    /// ``kinema cell``).
+    fn bodies(&self, py: Python<'_>) -> PyResult<Vec<Body>> {
+        let mut bodies = Vec::with_capacity(self.members.len());
+        for m in &self.members {
+            let options = UrdfOptions { tip: m.source.tip.clone(), skip_visual: true, ..Default::default() };
+            let (geometry, skipped) = load_shapes_or_none(&m.source.spec, &options).map_err(geometry_to_py)?;
+            if let Some(e) = skipped {
+                let message = format!("robot `{}`: no link distances for it: {e}", m.name);
+                PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &std::ffi::CString::new(message)?, 1)?;
+            }
+            let body = Body::new(&m.name, (*m.robot).clone(), geometry, self.scene.as_deref());
+            bodies.push(body.map_err(geometry_to_py)?);
+        }
+        Ok(bodies)
     }
 }
 

@@ -531,3 +531,65 @@ fn link_shapes_are_measured_between_robots_and_to_obstacles() {
     assert_eq!(r.code, Some(3), "{} {}", r.stdout, r.stderr);
     assert!(r.stderr.contains("`holder` touches the scene") && r.stderr.contains("fixture"), "{}", r.stderr);
 }
+
+/// A URDF arm whose collision mesh is a `package://` path: without the
+/// package's directory the cell still runs, with a warning and no link
+/// distances for it; with `--package-path` its link is measured.
+#[test]
+fn a_cell_robot_whose_mesh_is_missing_warns_and_package_path_finds_it() {
+    let dir = tempdir("package");
+    let meshes = dir.path().join("pkgs/arm/meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    let facets =
+        [[[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0]], [[0.0, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.1]]];
+    let mut stl = String::from("solid wedge\n");
+    for f in facets {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for v in f {
+            stl += &format!("vertex {} {} {}\n", v[0], v[1], v[2]);
+        }
+        stl += "endloop\nendfacet\n";
+    }
+    stl += "endsolid wedge\n";
+    std::fs::write(meshes.join("link.stl"), stl).unwrap();
+    let urdf = r#"<?xml version="1.0"?>
+<robot name="arm">
+  <link name="base"/>
+  <link name="link1">
+    <collision><geometry><mesh filename="package://arm/meshes/link.stl"/></geometry></collision>
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="link1"/>
+    <origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"#;
+    std::fs::write(dir.path().join("arm.urdf"), urdf).unwrap();
+    std::fs::write(dir.path().join("arm.csv"), "t,q1\n0,0\n1,0.5\n").unwrap();
+    std::fs::write(dir.path().join("ur5.csv"), "t,q1,q2,q3,q4,q5,q6\n0,0,-1.5,1.5,0,1.5,0\n1,0.5,-1.5,1.5,0,1.5,0\n")
+        .unwrap();
+    let cell = dir.path().join("cell.toml");
+    let text =
+        "[[robot]]\nname = \"arm\"\nrobot = \"arm.urdf\"\ntrajectory = \"arm.csv\"\n\n[[robot]]\nname = \"ur\"\n\
+                robot = \"ur5\"\nbase = { xyz = [1.5, 0, 0] }\ntrajectory = \"ur5.csv\"\n";
+    std::fs::write(&cell, text).unwrap();
+    let cell = cell.to_str().unwrap();
+
+    let r = kinema(&["cell", cell, "--json"]);
+    assert!(r.ok, "{}", r.stderr);
+    assert!(r.stderr.contains("warning") && r.stderr.contains("no link distances for this robot"), "{}", r.stderr);
+    assert!(r.stderr.contains("link.stl"), "the warning names the mesh: {}", r.stderr);
+    let summary: Value = serde_json::from_str(&r.stdout).unwrap();
+    assert!(summary.get("bodies").is_none(), "one robot without shapes: no pair to measure: {summary}");
+
+    let packages = dir.path().join("pkgs");
+    let r = kinema(&["cell", cell, "--json", "--package-path", packages.to_str().unwrap()]);
+    assert!(r.ok && !r.stderr.contains("warning"), "{}", r.stderr);
+    let summary: Value = serde_json::from_str(&r.stdout).unwrap();
+    let b = &summary["bodies"][0];
+    assert_eq!(b["links"][0], "arm/link1", "{summary}");
+    let (links, tools) =
+        (b["closest"]["distance"].as_f64().unwrap(), summary["pairs"][0]["closest"]["distance"].as_f64().unwrap());
+    assert!(links > 0.5 && links < tools, "links {links} m, tools {tools} m: {summary}");
+}

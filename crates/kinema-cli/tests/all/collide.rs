@@ -175,10 +175,14 @@ fn ik_in_the_fume_hood_turns_the_elbow_out_of_the_way() {
     let fixed = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--scene", &scene, "--q3", "0"]);
     assert_eq!(fixed.code, Some(2), "{}", fixed.stdout);
     assert!(fixed.stderr.contains("every solution is rejected") && fixed.stderr.contains("sash"), "{}", fixed.stderr);
-    // A margin without a scene would be ignored.
-    let r = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--margin", "0.1"]);
+    // A margin alone asks for a self-collision check, as `margin=` does in Python and
+    // on the server: 10 m around every link rejects every solution.
+    let r = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--q3", "0", "--margin", "10"]);
+    assert_eq!(r.code, Some(2), "{}", r.stdout);
+    assert!(r.stderr.contains("every solution is rejected"), "{}", r.stderr);
+    let r = kinema(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--package-path", "."]);
     assert_eq!(r.code, Some(1));
-    assert!(r.stderr.contains("--scene"), "{}", r.stderr);
+    assert!(r.stderr.contains("--package-path applies to collision checks"), "{}", r.stderr);
 }
 
 #[test]
