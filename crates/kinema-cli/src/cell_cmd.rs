@@ -351,10 +351,9 @@ fn load(a: &CellArgs) -> Result<Loaded> {
             (None, Some(p)) => {
                 let path = dir.join(p.get_ref());
                 let start = match &m.start {
-                    Some(s) => Some(
-                        crate::input::parse_q(&robot, s.get_ref(), false)
-                            .map_err(|e| src.err(s.span(), &field("start"), e))?,
-                    ),
+                    Some(s) => {
+                        Some(robot.parse_q(s.get_ref(), false).map_err(|e| src.err(s.span(), &field("start"), e))?)
+                    }
                     None => None,
                 };
                 let plan = run_program(&path, &robot, dt, start, stop.clone()).with_context(here)?;

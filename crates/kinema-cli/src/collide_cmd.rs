@@ -75,7 +75,7 @@ pub fn run(a: CollideArgs) -> Result<()> {
     let checked = a.body.load(&a.robot)?;
     let collided = match (&a.q, &a.input) {
         (Some(text), _) => {
-            let q = crate::input::parse_q(checked.robot(), text, a.deg)?;
+            let q = checked.robot().parse_q(text, a.deg)?;
             let answer = CollideAnswer::of(&checked, q, &mut checked.placement())?;
             print(&answer, None, a.json)?;
             answer.collision

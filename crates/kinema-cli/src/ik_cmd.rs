@@ -269,7 +269,7 @@ pub fn ik(a: IkArgs) -> Result<()> {
         return batch::run(&a, &robot, input, output, admissible);
     }
     let target = target(&a)?;
-    let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(&robot, t, a.deg)).transpose()?;
+    let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
     let (result, target) = solve(&a, &robot, target, q0.as_deref(), admissible).map_err(request_flag)?;
     let orientation_free = target.orientation_free();
     let answer = match result {
@@ -434,7 +434,7 @@ pub fn selfmotion(a: SelfMotionArgs) -> Result<()> {
             robot.name()
         );
     };
-    let q = crate::input::parse_q(&robot, &a.q, a.deg)?;
+    let q = robot.parse_q(&a.q, a.deg)?;
     let samples = kinema::ik::family::self_motion(&robot, redundancy, &q, a.steps)?;
     if a.json {
         return print_json(&SelfMotionAnswer::new(&robot, &samples));

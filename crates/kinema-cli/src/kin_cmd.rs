@@ -81,7 +81,7 @@ pub fn fk(a: FkArgs) -> Result<()> {
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
         return fk_batch_file(&r, input, output, a.deg, conv);
     }
-    let q = crate::input::parse_q(&r, a.q.as_deref().expect("clap requires --q without --input"), a.deg)?;
+    let q = r.parse_q(a.q.as_deref().expect("clap requires --q without --input"), a.deg)?;
     let fk = r.fk(&q)?;
     let p = fk.world_from_tool;
     if a.json {
@@ -177,7 +177,7 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
 
 pub fn jacobian(a: JacobianArgs) -> Result<()> {
     let r = a.robot.load()?;
-    let q = crate::input::parse_q(&r, &a.q.q, a.q.deg)?;
+    let q = r.parse_q(&a.q.q, a.q.deg)?;
     let answer = match a.analytic {
         Some(c) => JacobianAnswer::analytic(&r, &q, c)?,
         None => JacobianAnswer::geometric(&r, &q, a.frame)?,
@@ -201,7 +201,7 @@ pub fn jacobian(a: JacobianArgs) -> Result<()> {
 
 pub fn manip(a: ManipArgs) -> Result<()> {
     let r = a.robot.load()?;
-    let q = crate::input::parse_q(&r, &a.q.q, a.q.deg)?;
+    let q = r.parse_q(&a.q.q, a.q.deg)?;
     let direction = a.direction.as_deref().map(direction_arg).transpose()?;
     let m = ManipAnswer::new(&r, &q, direction)?;
     if a.json {

@@ -111,7 +111,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<Compiled> {
     let (robot, body) = a.body.robot_and_check(&a.robot)?;
     let src = crate::input::read_text_limited(&a.program, crate::input::MAX_TEXT_BYTES, "program")?;
     let start = match &a.start {
-        Some(text) => Some(crate::input::parse_q(&robot, text, false)?),
+        Some(text) => Some(robot.parse_q(text, false)?),
         None => None,
     };
     // The first Ctrl-C asks the program to stop (it reports where); a second one

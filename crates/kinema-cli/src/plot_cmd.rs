@@ -234,7 +234,7 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
     match cmd {
         PlotCmd::Robot { robot, q, three_d, out } => {
             let r = robot.load()?;
-            let q = crate::input::parse_q(&r, &q.q, q.deg)?;
+            let q = r.parse_q(&q.q, q.deg)?;
             if three_d {
                 out.write(&Robot3d::new(&r, &q)?, (900, 800))
             } else {
@@ -289,12 +289,12 @@ pub fn plot(cmd: PlotCmd) -> Result<()> {
         }
         PlotCmd::Ellipsoid { robot, q, out } => {
             let r = robot.load()?;
-            let q = crate::input::parse_q(&r, &q.q, q.deg)?;
+            let q = r.parse_q(&q.q, q.deg)?;
             out.write(&EllipsoidView::new(&r, &q)?, (1400, 700))
         }
         PlotCmd::Selfmotion { robot, q, steps, out } => {
             let r = robot.load()?;
-            let q = crate::input::parse_q(&r, &q.q, q.deg)?;
+            let q = r.parse_q(&q.q, q.deg)?;
             out.write(&SelfMotionView::new(&r, &q, steps)?, (1400, 700))
         }
         PlotCmd::IkError { robot, cases, seed, out } => {

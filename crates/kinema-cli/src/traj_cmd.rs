@@ -388,8 +388,8 @@ fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Resul
 
 fn ptp(a: PtpArgs) -> Result<()> {
     let (robot, body) = a.body.robot_and_check(&a.robot)?;
-    let from = crate::input::parse_q(&robot, &a.from, a.deg)?;
-    let to = crate::input::parse_q(&robot, &a.to, a.deg)?;
+    let from = robot.parse_q(&a.from, a.deg)?;
+    let to = robot.parse_q(&a.to, a.deg)?;
     if !(a.speed > 0.0 && a.speed <= 100.0) {
         bail!("--speed {}: the override must be a percentage in (0, 100]", a.speed);
     }
@@ -585,7 +585,7 @@ fn cart_motion(
     blend: Blend,
     skipped: &[SkippedPoint],
 ) -> Result<()> {
-    let q0 = crate::input::parse_q(robot, &c.from, c.deg)?;
+    let q0 = robot.parse_q(&c.from, c.deg)?;
     let start = robot.fk(&q0)?.world_from_tool;
     let limits = CartesianLimits {
         vel: c.vmax,
@@ -673,7 +673,7 @@ fn circ(a: CircArgs) -> Result<()> {
 
 fn expr(a: ExprArgs) -> Result<()> {
     let (robot, body) = a.body.robot_and_check(&a.robot)?;
-    let q0 = crate::input::parse_q(&robot, &a.q0, false)?;
+    let q0 = robot.parse_q(&a.q0, false)?;
     if a.joint.is_empty() {
         bail!("give at least one --joint N EXPR");
     }

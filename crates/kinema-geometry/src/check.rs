@@ -70,7 +70,9 @@ impl CollisionCheck {
 
     /// Loads robot `spec` (a built-in name, a `.toml` or a `.urdf`) with its
     /// collision shapes, checks its self-collision pairs (less those an SRDF
-    /// disables) and, with a scene, every moving link against every obstacle.
+    /// disables) and, with a scene, every moving link against every obstacle
+    /// and every scene robot where it stands ([`Scene::standing`]). `spec`
+    /// may name one of the scene's robots: that robot, on its base there.
     /// A robot without shapes is an error: there would be nothing to check.
     ///
     /// # Examples
@@ -85,7 +87,14 @@ impl CollisionCheck {
         let mut package_paths = options.package_paths.clone();
         package_paths.extend(ros_package_path());
         let urdf = UrdfOptions { tip: options.tip.clone(), package_paths, skip_visual: true };
-        let (robot, geometry) = load_robot_geometry(spec, &urdf)?;
+        let scene = options.scene.as_deref().map(Scene::load).transpose()?;
+        // A robot named as one of the scene's stands on its base there.
+        let member = scene.as_ref().and_then(|s| s.member(spec));
+        let (robot, geometry) = match member {
+            Some(m) => m.load(&urdf)?,
+            None => load_robot_geometry(spec, &urdf)?,
+        };
+        let description = member.map_or(spec, |m| m.robot.as_str());
         if geometry.is_empty() {
             return Err(Error::Shape {
                 name: robot.name().to_string(),
@@ -96,15 +105,16 @@ impl CollisionCheck {
         }
         let mut pairs = CollisionPairs::self_collision(&geometry);
         if let Some(path) = &options.srdf {
-            let links = if is_urdf(spec) { load_urdf(spec, &urdf)?.links } else { Vec::new() };
+            let links = if is_urdf(description) { load_urdf(description, &urdf)?.links } else { Vec::new() };
             Srdf::load(path)?.apply(&geometry, &links, &mut pairs)?;
         }
-        let scene = options.scene.as_deref().map(Scene::load).transpose()?;
-        CollisionCheck::with_scene(robot, geometry, pairs, scene.as_ref(), options.margin)
+        let standing = scene.as_ref().map(|s| s.standing(member.map(|m| m.name.as_str()), &urdf)).transpose()?;
+        CollisionCheck::with_scene(robot, geometry, pairs, standing.as_ref(), options.margin)
     }
 
     /// The check of the robot's `pairs` and, with a scene, of every moving
-    /// link against every obstacle of it.
+    /// link against every obstacle of it (its robots count once
+    /// [`Scene::standing`] has made them obstacles).
     pub fn with_scene(
         robot: Robot,
         geometry: RobotGeometry,

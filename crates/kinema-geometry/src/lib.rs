@@ -79,6 +79,7 @@ mod placement;
 mod query;
 mod robot_toml;
 mod scene;
+mod scene_robots;
 mod shape;
 mod spheres;
 mod srdf;

@@ -64,8 +64,8 @@ struct RobotSpec {
     _trajectory: Option<toml::Value>,
     #[serde(rename = "program")]
     _program: Option<toml::Value>,
-    #[serde(rename = "start")]
-    _start: Option<toml::Value>,
+    /// Where it stands in a check of another robot (a program's start in a cell).
+    start: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -80,6 +80,9 @@ struct BaseSpec {
 pub struct Obstacle {
     /// Its name (unique within the scene).
     pub name: String,
+    /// The body it is part of, by which pairs are reported: its own name, or
+    /// `robot/link` for a shape of a scene robot standing as an obstacle.
+    pub body: String,
     /// The shape's frame in the world.
     pub world_from_shape: Pose,
     /// The shape, in its own frame.
@@ -97,6 +100,10 @@ pub struct SceneRobot {
     pub tip: Option<String>,
     /// Its base frame in the world.
     pub world_from_base: Pose,
+    /// Where it stands when another robot is checked among the scene's
+    /// (joint values in rad and m, or a named pose; `None`: home). In a
+    /// `kinema cell` file, a program's start.
+    pub start: Option<String>,
 }
 
 /// Obstacles and robots of one scene file.
@@ -153,7 +160,7 @@ impl Scene {
                 Error::Shape { message, .. } => src.err(o.span(), &field, format!("obstacle `{name}`: {message}")),
                 other => other,
             })?;
-            scene.obstacles.push(Obstacle { name: name.clone(), world_from_shape, shape });
+            scene.obstacles.push(Obstacle { name: name.clone(), body: name.clone(), world_from_shape, shape });
         }
         for (i, r) in parsed.robot.iter().enumerate() {
             let field = format!("robot[{i}]");
@@ -177,6 +184,7 @@ impl Scene {
                 robot,
                 tip: spec.tip.clone(),
                 world_from_base: Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], src.rpy),
+                start: spec.start.clone(),
             });
         }
         Ok(scene)
@@ -187,8 +195,9 @@ impl Scene {
     /// it), and the pairs to check: `robot_pairs` (its self-collision pairs)
     /// and every shape of a moving link against every obstacle. Shapes of the
     /// base link (0) are not checked against obstacles: a base stands on
-    /// something. Obstacles keep their names as link names, so pairs are
-    /// reported by link or obstacle name.
+    /// something. Obstacles keep their body names as link names, so pairs are
+    /// reported by link or obstacle name. The scene's robots are not used
+    /// here; [`Scene::standing`] turns them into obstacles.
     pub fn with_robot(
         &self,
         robot: &Robot,
@@ -216,7 +225,7 @@ impl Scene {
             }
             let base_from_shape = world_from_base.inverse() * o.world_from_shape;
             shapes.push(
-                LinkShape::new(o.name.clone(), 0, base_from_shape, o.shape.clone())?.with_link_name(o.name.clone()),
+                LinkShape::new(o.name.clone(), 0, base_from_shape, o.shape.clone())?.with_link_name(o.body.clone()),
             );
         }
         let combined = RobotGeometry::new(robot, shapes)?;

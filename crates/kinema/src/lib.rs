@@ -65,6 +65,7 @@ mod desc;
 pub mod dynamics;
 mod error;
 pub mod ik;
+mod joint_text;
 pub mod kin;
 mod lanes;
 pub mod math;

@@ -29,7 +29,7 @@ pub(super) fn run(
     admissible: Option<&dyn kinema::ik::Admissible>,
 ) -> Result<()> {
     let rows = read_targets(a, input)?;
-    let q0 = a.q0.as_deref().map(|t| crate::input::parse_q(robot, t, a.deg)).transpose()?;
+    let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
     let request = request(a, q0.as_deref(), admissible)?;
     let targets: Vec<IkTarget> = rows.iter().filter_map(|(_, t)| t.clone().ok()).collect();
     let bar = crate::progress_bar(targets.len(), "targets", 2_000);

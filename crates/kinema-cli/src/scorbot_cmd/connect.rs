@@ -41,7 +41,7 @@ pub(super) fn connect(a: ConnectArgs) -> Result<()> {
             eprintln!("aborted");
         }
         Action::Move { q, deg, time } => {
-            let q = crate::input::parse_q(&robot, &q, deg)?;
+            let q = robot.parse_q(&q, deg)?;
             let outside = limits_text(&robot, &q);
             if !outside.is_empty() {
                 bail!("not sent: {}", outside.join("; "));

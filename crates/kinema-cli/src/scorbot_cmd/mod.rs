@@ -377,7 +377,7 @@ fn limits_text(robot: &Robot, q: &[f64]) -> Vec<String> {
 fn counts(a: CountsArgs) -> Result<()> {
     let robot = robot()?;
     let c = a.constants.load()?;
-    let q = crate::input::parse_q(&robot, &a.q, a.deg)?;
+    let q = robot.parse_q(&a.q, a.deg)?;
     let exact = c.counts(&q)?;
     let counts = c.counts_rounded(&q)?;
     let u = c.tool_uncertainty(&robot, &q)?;

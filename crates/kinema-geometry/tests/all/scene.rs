@@ -84,3 +84,69 @@ fn errors_name_the_key_and_what_is_expected() {
     let e = scene("wind = 3\n").unwrap_err().to_string();
     assert!(e.contains("wind") && e.contains("obstacle"), "{e}");
 }
+
+/// Seed 004's two iiwas facing each other 1.2 m apart, the drawer robot
+/// standing with its arm stretched towards the holder (`start`, rad).
+const TWO_IIWAS: &str = r#"
+[[robot]]
+name = "holder"
+robot = "lbr-iiwa-14-r820"
+
+[[robot]]
+name = "drawer"
+robot = "lbr-iiwa-14-r820"
+base = { xyz = ["1200mm", 0, 0], rpy = [0, 0, "180deg"] }
+start = "0, 1.5707963267948966, 0, 0, 0, 0, 0"
+"#;
+
+fn two_iiwas() -> (tempfile::TempDir, kinema_geometry::CheckOptions) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("two.toml");
+    std::fs::write(&path, TWO_IIWAS).unwrap();
+    (dir, kinema_geometry::CheckOptions { scene: Some(path), ..Default::default() })
+}
+
+#[test]
+fn a_scene_robot_stands_at_its_start_as_an_obstacle() {
+    use kinema_geometry::CollisionCheck;
+    use std::f64::consts::FRAC_PI_2;
+    let (_dir, options) = two_iiwas();
+    let scene = Scene::load(options.scene.as_ref().unwrap()).unwrap();
+    // Each obstacle of the drawer robot sits where the core's FK of the placed robot puts its link.
+    let standing = scene.standing(Some("holder"), &Default::default()).unwrap();
+    let drawer = scene.member("drawer").unwrap();
+    let (placed, geometry) = drawer.load(&Default::default()).unwrap();
+    let frames = placed.link_frames(&drawer.standing_q(&placed).unwrap()).unwrap();
+    assert_eq!(standing.obstacles.len(), geometry.len());
+    for (o, s) in standing.obstacles.iter().zip(geometry.shapes()) {
+        let expected = frames[s.link()] * *s.link_from_shape();
+        assert!((o.world_from_shape.pos - expected.pos).norm() < 1e-12, "{}", o.name);
+        assert!((o.world_from_shape.rot - expected.rot).norm() < 1e-12, "{}", o.name);
+        assert_eq!(o.body, format!("drawer/{}", s.link_name()));
+    }
+    // The holder, named as in the scene, reaching towards the drawer's arm hits it; turned away it is free.
+    let check = CollisionCheck::load("holder", &options).unwrap();
+    let reach = [0.0, FRAC_PI_2, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let (_, b) = check.first_collision(&reach).unwrap().expect("the two arms overlap");
+    assert!(check.body(b).starts_with("drawer/link"), "{}", check.body(b));
+    assert_eq!(check.first_collision(&[FRAC_PI_2, FRAC_PI_2, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap(), None);
+    // It is not its own obstacle: at home it is free. The same arm not named as a member
+    // stands at the origin too, inside the holder standing there.
+    assert_eq!(check.first_collision(&[0.0; 7]).unwrap(), None);
+    let stranger = CollisionCheck::load("lbr-iiwa-14-r820", &options).unwrap();
+    let (_, b) = stranger.first_collision(&[0.0; 7]).unwrap().expect("inside the holder");
+    assert!(stranger.body(b).starts_with("holder/"), "{}", stranger.body(b));
+}
+
+#[test]
+fn a_bad_start_or_member_name_is_an_error_naming_it() {
+    let text = TWO_IIWAS.replace("start = \"0, 1.5707963267948966", "start = \"0, x");
+    let s = scene(&text).unwrap();
+    let e = s.standing(None, &Default::default()).unwrap_err().to_string();
+    assert!(e.contains("drawer") && e.contains("start") && e.contains("`x`"), "{e}");
+    let e = scene(TWO_IIWAS).unwrap().standing(Some("nobody"), &Default::default()).unwrap_err().to_string();
+    assert!(e.contains("nobody") && e.contains("holder, drawer"), "{e}");
+    let e = scene(&TWO_IIWAS.replace("start = \"0, 1.57", "start = \"qq")).unwrap();
+    let e = e.standing(None, &Default::default()).unwrap_err().to_string();
+    assert!(e.contains("drawer") && e.contains("qq"), "{e}");
+}
