@@ -14,8 +14,9 @@ use crate::RobotArg;
 
 #[derive(Args, Clone, Default)]
 pub struct BodyArgs {
-    /// A scene file: `[[obstacle]]`s checked against the robot's moving links (its `[[robot]]`s, as in a
-    /// `kinema cell` file, are not used here).
+    /// A scene file: `[[obstacle]]`s checked against the robot's moving links, and `[[robot]]`s (as in a
+    /// `kinema cell` file) standing as obstacles at their `start` (else home). `--robot` may name one of
+    /// them: that robot, on its base there.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
     /// An SRDF whose `<disable_collisions>` link pairs are not checked.

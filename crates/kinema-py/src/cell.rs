@@ -253,7 +253,12 @@ impl PyCell {
             let (geometry, skipped) = load_shapes_or_none(&m.source.spec, &options).map_err(geometry_to_py)?;
             if let Some(e) = skipped {
                 let message = format!("robot `{}`: no link distances for it: {e}", m.name);
-                PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &std::ffi::CString::new(message)?, 1)?;
+                PyErr::warn(
+                    py,
+                    &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+                    &std::ffi::CString::new(message)?,
+                    1,
+                )?;
             }
             let body = Body::new(&m.name, (*m.robot).clone(), geometry, self.scene.as_deref());
             bodies.push(body.map_err(geometry_to_py)?);

@@ -3,9 +3,9 @@
 //! of `kinema-geometry` as `kinema collide` builds it.
 
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
-use kinema_geometry::{CheckOptions, CollisionCheck, Scene};
+use kinema_geometry::{CheckOptions, CollisionCheck, Scene, UrdfOptions};
 use kinema_io::CollideAnswer;
 use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyArrayDyn};
@@ -18,11 +18,38 @@ use crate::robot::PyRobot;
 
 /// Obstacles with poses (a scene file's ``[[obstacle]]`` tables, as
 /// ``kinema collide --scene`` reads them): boxes, spheres, cylinders,
-/// capsules and meshes. Pass it as ``scene=`` to :meth:`Robot.collides`,
-/// :meth:`Robot.distance`, :meth:`Robot.ik` and :meth:`Robot.check`.
+/// capsules and meshes; and robots on their bases (``[[robot]]`` tables, as
+/// in a ``kinema cell`` file), which stand as obstacles at their ``start``
+/// (else home) when another robot is checked. Pass it as ``scene=`` to
+/// :meth:`Robot.collides`, :meth:`Robot.distance`, :meth:`Robot.ik` and
+/// :meth:`Robot.check`; :meth:`Scene.robot` gives one of its robots, which
+/// is then not its own obstacle.
 #[pyclass(frozen, name = "Scene", module = "kinema")]
 pub(crate) struct PyScene {
     pub(crate) scene: Arc<Scene>,
+    /// The scene with all its robots as obstacles, made at the first check.
+    standing: OnceLock<Arc<Scene>>,
+}
+
+impl PyScene {
+    fn new(scene: Scene) -> PyScene {
+        PyScene { scene: Arc::new(scene), standing: OnceLock::new() }
+    }
+
+    /// The scene for a check of the robot that is its robot `member` (or of
+    /// another robot): every other robot an obstacle where it stands.
+    pub(crate) fn standing(&self, member: Option<&str>) -> PyResult<Arc<Scene>> {
+        let member = member.filter(|m| self.scene.member(m).is_some());
+        let options = UrdfOptions { package_paths: kinema_geometry::ros_package_path(), ..Default::default() };
+        if member.is_some() {
+            return Ok(Arc::new(self.scene.standing(member, &options).map_err(geometry_to_py)?));
+        }
+        if let Some(s) = self.standing.get() {
+            return Ok(s.clone());
+        }
+        let all = Arc::new(self.scene.standing(None, &options).map_err(geometry_to_py)?);
+        Ok(self.standing.get_or_init(|| all).clone())
+    }
 }
 
 #[pymethods]
@@ -34,7 +61,7 @@ impl PyScene {
     ///     DescriptionError: a key or value is wrong (file, line and key in the message).
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
-        Scene::load(&path).map(|s| PyScene { scene: Arc::new(s) }).map_err(geometry_to_py)
+        Scene::load(&path).map(PyScene::new).map_err(geometry_to_py)
     }
 
     /// A scene from TOML text; mesh paths are relative to ``base_dir``
@@ -43,7 +70,7 @@ impl PyScene {
     #[pyo3(signature = (text, base_dir=None))]
     fn from_toml(text: &str, base_dir: Option<PathBuf>) -> PyResult<Self> {
         let dir = base_dir.unwrap_or_else(|| PathBuf::from("."));
-        Scene::from_toml(text, "scene", &dir).map(|s| PyScene { scene: Arc::new(s) }).map_err(geometry_to_py)
+        Scene::from_toml(text, "scene", &dir).map(PyScene::new).map_err(geometry_to_py)
     }
 
     /// The obstacles' names, in file order.
@@ -52,8 +79,39 @@ impl PyScene {
         self.scene.obstacles.iter().map(|o| o.name.clone()).collect()
     }
 
+    /// The robots' names, in file order.
+    #[getter]
+    fn robots(&self) -> Vec<String> {
+        self.scene.robots.iter().map(|r| r.name.clone()).collect()
+    }
+
+    /// The scene's robot ``name``, on its base in the scene's world; in a
+    /// check with this scene it is not its own obstacle.
+    ///
+    /// Raises:
+    ///     InvalidInput: the scene has no robot of that name.
+    ///     RobotFileError, DescriptionError: its description cannot be read.
+    fn robot(&self, name: &str) -> PyResult<PyRobot> {
+        let Some(member) = self.scene.member(name) else {
+            return Err(to_py(kinema::Error::Input(kinema::InputError::UnknownName {
+                what: "scene robot".into(),
+                name: name.to_string(),
+                known: self.robots().join(", "),
+            })));
+        };
+        let robot = kinema::Robot::load(&member.robot, member.tip.as_deref()).map_err(to_py)?;
+        let placed = kinema::traj::cell::placed(&robot, &member.world_from_base).map_err(to_py)?;
+        let source = Source { spec: member.robot.clone(), tip: member.tip.clone(), member: Some(name.to_string()) };
+        Ok(PyRobot::new(Arc::new(placed), source))
+    }
+
     fn __repr__(&self) -> String {
-        format!("Scene({} obstacle(s): {})", self.scene.obstacles.len(), self.obstacles().join(", "))
+        let robots = if self.scene.robots.is_empty() {
+            String::new()
+        } else {
+            format!("; robots: {}", self.robots().join(", "))
+        };
+        format!("Scene({} obstacle(s): {}{robots})", self.scene.obstacles.len(), self.obstacles().join(", "))
     }
 }
 
@@ -65,6 +123,8 @@ pub(crate) struct Source {
     pub spec: String,
     /// A URDF's tip link.
     pub tip: Option<String>,
+    /// The scene robot it is (from `Scene.robot`), not its own obstacle.
+    pub member: Option<String>,
 }
 
 impl Source {
@@ -73,7 +133,7 @@ impl Source {
     pub(crate) fn of(robot: &Bound<'_, PyAny>) -> Source {
         match robot.downcast::<PyRobot>() {
             Ok(r) => r.get().source.clone(),
-            Err(_) => Source { spec: robot.extract().unwrap_or_default(), tip: None },
+            Err(_) => Source { spec: robot.extract().unwrap_or_default(), tip: None, member: None },
         }
     }
 }
@@ -93,10 +153,10 @@ impl PyRobot {
     /// `kinema collide --scene --margin` checks).
     pub(crate) fn collision_check(&self, scene: Option<&PyScene>, margin: f64) -> PyResult<CollisionCheck> {
         let bare = self.bare_check()?;
-        let scene = scene.map(|s| s.scene.as_ref());
-        // This robot, not the description's: a cell places it on another base.
+        let scene = scene.map(|s| s.standing(self.source.member.as_deref())).transpose()?;
+        // This robot, not the description's: a cell or a scene places it on another base.
         let robot = (*self.robot).clone();
-        CollisionCheck::with_scene(robot, bare.geometry().clone(), bare.pairs().clone(), scene, margin)
+        CollisionCheck::with_scene(robot, bare.geometry().clone(), bare.pairs().clone(), scene.as_deref(), margin)
             .map_err(geometry_to_py)
     }
 

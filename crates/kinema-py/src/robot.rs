@@ -145,7 +145,7 @@ impl PyRobot {
     ///     UnknownRobot: the name is not a built-in robot (the message lists them).
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
-        let source = Source { spec: name.to_string(), tip: None };
+        let source = Source { spec: name.to_string(), tip: None, member: None };
         Robot::builtin(name).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
     }
 
@@ -166,7 +166,7 @@ impl PyRobot {
     #[staticmethod]
     #[pyo3(signature = (path, tip=None))]
     fn from_file(path: std::path::PathBuf, tip: Option<&str>) -> PyResult<Self> {
-        let source = Source { spec: path.display().to_string(), tip: tip.map(str::to_string) };
+        let source = Source { spec: path.display().to_string(), tip: tip.map(str::to_string), member: None };
         Robot::from_file(&path, tip).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
     }
 

@@ -96,3 +96,37 @@ def test_a_program_through_the_sash_is_refused(hood):
     kinema.run_program(program, robot, start=start)
     with pytest.raises(kinema.ProgramError, match="sash"):
         kinema.run_program(program, robot, start=start, scene=hood)
+
+
+TWO_IIWAS = """
+[[robot]]
+name = "holder"
+robot = "lbr-iiwa-14-r820"
+
+[[robot]]
+name = "drawer"
+robot = "lbr-iiwa-14-r820"
+base = { xyz = ["1200mm", 0, 0], rpy = [0, 0, "180deg"] }
+start = "0, 1.5707963267948966, 0, 0, 0, 0, 0"
+"""
+
+
+@needs_cli
+def test_scene_robots_stand_as_obstacles_as_on_the_cli(tmp_path):
+    path = tmp_path / "two.toml"
+    path.write_text(TWO_IIWAS)
+    scene = kinema.Scene.from_file(path)
+    assert scene.robots == ["holder", "drawer"]
+    holder = scene.robot("holder")
+    reach, away = [0, np.pi / 2, 0, 0, 0, 0, 0], [np.pi / 2, np.pi / 2, 0, 0, 0, 0, 0]
+    assert holder.collides(reach, scene=scene)
+    assert any(p["b"].startswith("drawer/link") for p in holder.collide_dict(reach, scene=scene)["pairs"])
+    assert not holder.collides(away, scene=scene)
+    assert not holder.collides(np.zeros(7), scene=scene), "not its own obstacle"
+    assert kinema.Robot.builtin(IIWA).collides(np.zeros(7), scene=scene), "inside the holder standing there"
+    for q, code in ((reach, 3), (away, 0)):
+        text = ",".join(repr(float(v)) for v in q)
+        cli = cli_json(["collide", "--robot", "holder", "--scene", str(path), "--q", text, "--json"], code)
+        assert holder.collide_dict(q, scene=scene) == cli
+    with pytest.raises(kinema.InvalidInput, match="nobody"):
+        scene.robot("nobody")

@@ -286,8 +286,10 @@ impl App {
             }
         })?;
         let unprocessable = |e: kinema_geometry::Error| Error::Unprocessable { message: e.to_string() };
-        let scene =
-            scene.map(|text| Scene::from_toml(text, "scene", Path::new("."))).transpose().map_err(unprocessable)?;
+        // The scene's robots stand as obstacles; the robot checked is one the server serves.
+        let standing =
+            |text: &str| Scene::from_toml(text, "scene", Path::new("."))?.standing(None, &Default::default());
+        let scene = scene.map(standing).transpose().map_err(unprocessable)?;
         let pairs = CollisionPairs::self_collision(geometry);
         CollisionCheck::with_scene(robot.clone(), geometry.clone(), pairs, scene.as_ref(), margin.unwrap_or(0.0))
             .map_err(unprocessable)

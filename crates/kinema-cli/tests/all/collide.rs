@@ -291,3 +291,42 @@ fn a_program_through_the_sash_is_refused_at_its_line() {
     assert!(refused.stderr.contains(":2:") && refused.stderr.contains("– sash"), "{}", refused.stderr);
     assert!(!std::path::Path::new(out).exists(), "a refused program writes nothing");
 }
+
+/// A scene's robots stand as obstacles at their `start`; `--robot` may name
+/// one of them, which then stands on its base there (the same scene as the
+/// geometry crate's and Python's tests).
+#[test]
+fn scene_robots_stand_as_obstacles_and_robot_may_name_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("two.toml");
+    let text = "[[robot]]\nname = \"holder\"\nrobot = \"lbr-iiwa-14-r820\"\n\n[[robot]]\nname = \"drawer\"\n\
+                robot = \"lbr-iiwa-14-r820\"\nbase = { xyz = [\"1200mm\", 0, 0], rpy = [0, 0, \"180deg\"] }\n\
+                start = \"0, 1.5707963267948966, 0, 0, 0, 0, 0\"\n";
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.to_str().unwrap();
+    let reach = kinema(&["collide", "--robot", "holder", "--scene", scene, "--q", "0,90,0,0,0,0,0", "--deg", "--json"]);
+    assert_eq!(reach.code, Some(3), "{}", reach.stderr);
+    assert!(json(&reach.stdout)["pairs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|p| p["b"].as_str().unwrap().starts_with("drawer/")));
+    let away = kinema(&["collide", "--robot", "holder", "--scene", scene, "--q", "90,90,0,0,0,0,0", "--deg"]);
+    assert!(away.ok, "{}", away.stdout);
+    // The drawer robot answers IK in the scene's world: its solution reaches the target from its base.
+    let target = "0.9,0.2,0.6,180,0,0";
+    let ik = kinema(&["ik", "--robot", "drawer", "--scene", scene, "--pose", target, "--deg", "--json"]);
+    assert!(ik.ok, "{}", ik.stderr);
+    let q: Vec<String> =
+        json(&ik.stdout)["solutions"][0]["q"].as_array().unwrap().iter().map(|v| v.to_string()).collect();
+    let drawer = kinema::traj::cell::placed(
+        &kinema::Robot::builtin("lbr-iiwa-14-r820").unwrap(),
+        &kinema::Pose::from_xyz_rpy([1.2, 0.0, 0.0], [0.0, 0.0, std::f64::consts::PI], kinema::RpyConvention::Zyx),
+    )
+    .unwrap();
+    let qv: Vec<f64> = q.iter().map(|v| v.parse::<f64>().unwrap().to_radians()).collect();
+    let tool = drawer.fk(&qv).unwrap().world_from_tool.pos;
+    assert!((tool - kinema::nalgebra::Vector3::new(0.9, 0.2, 0.6)).norm() < 1e-9, "{tool}");
+    let nobody = kinema(&["collide", "--robot", "nobody", "--scene", scene, "--q", "home"]);
+    assert_eq!(nobody.code, Some(1), "{}", nobody.stderr);
+}

@@ -552,6 +552,13 @@ fn collide_and_ik_in_a_scene() {
         post(addr, "/api/collide", &json!({"robot": iiwa, "q": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], "margin": -1.0}));
     assert_eq!(margin.status, 422, "{}", margin.json);
     assert!(margin.json["error"].as_str().unwrap().contains("margin"), "{}", margin.json);
+
+    // A scene's robots stand as obstacles: an iiwa at the base of one standing at home hits it.
+    let neighbour = "[[robot]]\nname = \"other\"\nrobot = \"lbr-iiwa-14-r820\"\n";
+    let home = json!({"robot": iiwa, "q": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], "scene": neighbour});
+    let inside = post(addr, "/api/collide", &home);
+    assert_eq!(inside.json["collision"], true, "{}", inside.json);
+    assert!(inside.json["pairs"][0]["b"].as_str().unwrap().starts_with("other/link"), "{}", inside.json);
 }
 
 /// `scene` on `/api/traj` and `/api/run`: the iiwa's tilted arm swung past
