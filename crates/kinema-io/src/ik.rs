@@ -156,11 +156,19 @@ impl IkAnswer {
         }
     }
 
-    /// Revolute joint values of every solution in degrees (`kinema ik --deg`).
+    /// The angles of `kinema ik --deg`: revolute joint values of every
+    /// solution, and the request's angles it echoes (the target's roll,
+    /// pitch and yaw, a revolute q3, ψ), in degrees.
     pub fn in_degrees(mut self, robot: &Robot) -> IkAnswer {
         for s in &mut self.solutions {
             s.q = shown_q(robot, &s.q, true);
         }
+        if let Some(t) = &mut self.target {
+            t.rpy = t.rpy.map(f64::to_degrees);
+        }
+        let third_revolute = robot.joints().get(2).is_some_and(|j| j.kind == JointType::Revolute);
+        self.q3 = self.q3.map(|v| if third_revolute { v.to_degrees() } else { v });
+        self.psi = self.psi.map(f64::to_degrees);
         self
     }
 }

@@ -303,3 +303,33 @@ fn ik_validate_and_selfmotion() {
         assert!((p.pos - want.pos).norm() < 1e-9 && (p.rot - want.rot).norm() < 1e-9);
     }
 }
+
+/// With `--deg`, the JSON's angles are degrees throughout: the solutions and
+/// the target's rpy, q3 and ψ it echoes; without it, radians.
+#[test]
+fn ik_json_angles_follow_deg() {
+    let pose = "0.5,0.1,0.5,180,0,30";
+    let iiwa = "lbr-iiwa-14-r820";
+    let deg = json(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--q3", "30", "--json"]);
+    let rad = json(&[
+        "ik",
+        "--robot",
+        iiwa,
+        "--pose",
+        "0.5,0.1,0.5,3.141592653589793,0,0.5235987755982988",
+        "--q3",
+        "0.5235987755982988",
+        "--json",
+    ]);
+    assert!((deg["q3"].as_f64().unwrap() - 30.0).abs() < 1e-9, "{deg}");
+    assert!((rad["q3"].as_f64().unwrap() - 30f64.to_radians()).abs() < 1e-12, "{rad}");
+    for k in 0..3 {
+        let (d, r) = (deg["target"]["rpy"][k].as_f64().unwrap(), rad["target"]["rpy"][k].as_f64().unwrap());
+        assert!((d - r.to_degrees()).abs() < 1e-9, "rpy[{k}]: {d} ° against {r} rad");
+        let (d, r) = (&deg["solutions"][0]["q"], &rad["solutions"][0]["q"]);
+        assert!((d[k].as_f64().unwrap() - r[k].as_f64().unwrap().to_degrees()).abs() < 1e-9, "q[{k}]");
+    }
+    assert!((deg["target"]["rpy"][2].as_f64().unwrap() - 30.0).abs() < 1e-9, "{deg}");
+    let psi = json(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--psi", "20", "--json"]);
+    assert!((psi["psi"].as_f64().unwrap() - 20.0).abs() < 1e-9, "{psi}");
+}
