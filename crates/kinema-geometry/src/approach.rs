@@ -96,8 +96,15 @@ type Instant<'a> = Vec<&'a [f64]>;
 /// scene's obstacles, over the samples `q[body][k]` at `times[k]` (linear in
 /// the joints between samples).
 pub fn closest_approaches(bodies: &[Body], times: &[f64], q: &[Vec<Vec<f64>>]) -> Result<Vec<BodyApproach>> {
-    if q.len() != bodies.len() || q.iter().any(|qs| qs.len() != times.len()) {
-        return Err(Error::Mismatch { what: "the samples of the bodies".into(), got: q.len(), expected: bodies.len() });
+    let wrong = |what: &str, got: usize, expected: usize, of: &str| {
+        let (what, of) = (what.to_string(), of.to_string());
+        Err(Error::Kinema(kinema::Error::Input(kinema::InputError::WrongLength { what, got, expected, of })))
+    };
+    if q.len() != bodies.len() {
+        return wrong("q", q.len(), bodies.len(), "one sample list per body");
+    }
+    if let Some((b, qs)) = q.iter().enumerate().find(|(_, qs)| qs.len() != times.len()) {
+        return wrong(&format!("q[{b}]"), qs.len(), times.len(), "one sample per time");
     }
     let mut placements: Vec<Placement> = bodies.iter().map(|b| Placement::new(&b.geometry)).collect();
     let mut out = Vec::new();

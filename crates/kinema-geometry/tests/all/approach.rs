@@ -77,3 +77,13 @@ fn a_scene_is_a_body_and_the_base_on_the_bench_does_not_count() {
     assert_eq!(found[0].closest.1, "bench");
     assert!(found[0].time < 1.0, "contact before the end sample: {}", found[0].time);
 }
+
+#[test]
+fn samples_that_do_not_fit_the_bodies_or_times_are_named() {
+    let bodies = [ur5("a", [0.0, 0.0, 0.0], 0.0, None), ur5("b", [1.0, 0.0, 0.0], 0.0, None)];
+    let home = vec![0.0, -1.2, 1.0, 0.0, 0.0, 0.0];
+    let e = closest_approaches(&bodies, &[0.0], &[vec![home.clone()]]).unwrap_err().to_string();
+    assert!(e.contains("`q` has 1 values; 2 expected") && e.contains("per body"), "{e}");
+    let e = closest_approaches(&bodies, &[0.0, 1.0], &[vec![home.clone(); 2], vec![home]]).unwrap_err().to_string();
+    assert!(e.contains("`q[1]` has 1 values; 2 expected") && e.contains("per time"), "{e}");
+}
