@@ -326,3 +326,15 @@ pub(super) fn exit_and_stdout(args: &[&str]) -> (Option<i32>, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_kinema")).args(args).output().unwrap();
     (out.status.code(), String::from_utf8_lossy(&out.stdout).into_owned())
 }
+
+/// The analytic Jacobian's lower rows are roll-pitch-yaw rates and are
+/// labelled so; the geometric one's are ω.
+#[test]
+fn jacobian_rows_are_labelled_by_what_they_are() {
+    let analytic = kinema(&["jacobian", "--robot", "ur5", "--q", "home", "--analytic", "zyx"]);
+    assert!(analytic.ok, "{}", analytic.stderr);
+    assert!(analytic.stdout.contains("rows vx vy vz roll' pitch' yaw'"), "{}", analytic.stdout);
+    assert!(!analytic.stdout.contains('ω'), "{}", analytic.stdout);
+    let geometric = kinema(&["jacobian", "--robot", "ur5", "--q", "home"]);
+    assert!(geometric.stdout.contains("rows vx vy vz ωx ωy ωz") && geometric.stdout.contains("  ωz ["));
+}

@@ -6,6 +6,8 @@ use kinema::Robot;
 use rand::SeedableRng;
 use serde_json::Value;
 
+use crate::common::kinema;
+
 use super::cli::{data, exit_and_stdout, fails, json, tempdir};
 
 #[test]
@@ -332,4 +334,52 @@ fn ik_json_angles_follow_deg() {
     assert!((deg["target"]["rpy"][2].as_f64().unwrap() - 30.0).abs() < 1e-9, "{deg}");
     let psi = json(&["ik", "--robot", iiwa, "--pose", pose, "--deg", "--psi", "20", "--json"]);
     assert!((psi["psi"].as_f64().unwrap() - 20.0).abs() < 1e-9, "{psi}");
+}
+
+/// Issue 34, items 5, 6 and 8 through the binary: on a KR 16-like arm
+/// (A4, A6 ±350°), `--q0` gets the within-limit solution nearest it (the
+/// configuration itself) and `--all` lists it; a configuration with A2 on
+/// its 35° limit is solved, strictly within limits; an absurdly far target is
+/// refused without quoting a figure that is not a distance.
+#[test]
+fn ik_q0_turns_limits_and_unreachable_messages() {
+    let urdf = data("kr16-like.urdf");
+    let robot = Robot::load(&urdf, Some("tool0")).unwrap();
+    let matrix_of = |q_deg: &[f64]| {
+        let q: Vec<f64> = q_deg.iter().map(|v| v.to_radians()).collect();
+        let rows = robot.fk(&q).unwrap().world_from_tool.to_rows();
+        rows.iter().flatten().map(|v| format!("{v:.17}")).collect::<Vec<_>>().join(",")
+    };
+    let q_of = |s: &Value| s["q"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<f64>>();
+    let close = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-6);
+    for q0 in [[0.0, -30.0, 20.0, 200.0, 30.0, 10.0], [40.0, -60.0, 50.0, -300.0, -45.0, 250.0]] {
+        let t = matrix_of(&q0);
+        let q0s = q0.map(|v| v.to_string()).join(",");
+        let base = ["ik", "--robot", urdf.as_str(), "--tip", "tool0", "--T", t.as_str(), "--q0", q0s.as_str(), "--deg"];
+        let v = json(&[&base[..], &["--json"]].concat());
+        assert!(close(&q_of(&v["solutions"][0]), &q0), "{v}");
+        let all = json(&[&base[..], &["--all", "--json"]].concat());
+        assert!(all["solutions"].as_array().unwrap().iter().any(|s| close(&q_of(s), &q0)), "{all}");
+        assert_eq!(all["folded"], 0);
+    }
+    // A2 on its limit (35°).
+    let q = [17.0, 35.0, 20.0, 10.0, 30.0, 40.0];
+    let t = matrix_of(&q);
+    let v = json(&["ik", "--robot", &urdf, "--tip", "tool0", "--T", &t, "--deg", "--json"]);
+    let s = &v["solutions"][0];
+    assert_eq!(s["within_limits"], true, "{v}");
+    let v =
+        json(&["ik", "--robot", &urdf, "--tip", "tool0", "--T", &t, "--q0", "17,35,20,10,30,40", "--deg", "--json"]);
+    assert!(close(&q_of(&v["solutions"][0]), &q), "{v}");
+    // Absurdly far: no "inf m", no figure.
+    let far = "1,0,0,1e200,0,1,0,0,0,0,1,0,0,0,0,1";
+    for robot in ["puma560", "lbr-iiwa-14-r820", urdf.as_str()] {
+        let mut args = vec!["ik", "--robot", robot, "--T", far, "--solver", "analytic"];
+        if robot == urdf {
+            args.extend(["--tip", "tool0"]);
+        }
+        let r = kinema(&args);
+        assert!(!r.ok && r.stderr.contains("unreachable"), "{robot}: {}", r.stderr);
+        assert!(!r.stderr.contains("inf m") && !r.stderr.contains("NaN"), "{robot}: {}", r.stderr);
+    }
 }

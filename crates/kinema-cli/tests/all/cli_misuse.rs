@@ -1,6 +1,8 @@
-//! End-to-end tests of the `kinema` binary: misuse: random command lines never panic or leave partial output; signals.
+//! End-to-end tests of the `kinema` binary: misuse: random command lines never panic or leave partial output; signals; usage errors; negative numbers.
 
 use std::process::Command;
+
+use crate::common::kinema;
 
 use super::cli::{data, tempdir};
 
@@ -334,5 +336,74 @@ fn serve_stops_gracefully_on_sigterm_and_ctrl_c() {
         assert!(stderr.contains("stopped"), "{stderr}");
         let answered = answer(running);
         assert!(answered.starts_with("HTTP/1.1 503") && answered.contains("shutting down"), "{answered}");
+    }
+}
+
+/// Issue 34 item 13: `--seed -1` and `--tol-position -1` were "unexpected
+/// argument" errors unless written with `=`. A negative number is now the
+/// option's value, and the error says what is wrong with it.
+#[test]
+fn negative_numbers_are_values_and_refused_by_what_checks_them() {
+    // Unsigned: the seed parser says what a seed is (usage error).
+    for args in [
+        &["ik", "--robot", "puma560", "--position", "0.5,0.2,0.3", "--seed", "-1"][..],
+        &["ik-validate", "--robot", "puma560", "--n", "10", "--seed", "-1"][..],
+        &["bench", "--robot", "puma560", "--seed", "-1"][..],
+    ] {
+        let r = kinema(args);
+        assert_eq!(r.code, Some(64), "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains("`-1` is not a seed: a seed is a whole number from 0 to"), "{args:?}: {}", r.stderr);
+        assert!(!r.stderr.contains("unexpected argument"), "{}", r.stderr);
+    }
+    // Tolerances and times: the core's validation, naming the option.
+    for (args, needle) in [
+        (&["ik", "--robot", "puma560", "--position", "0.5,0.2,0.3", "--tol-position", "-1"][..], "--tol-position"),
+        (
+            &["ik", "--robot", "puma560", "--pose", "0.5,0.2,0.3,0,0,0", "--tol-orientation", "-1e-3"][..],
+            "--tol-orientation",
+        ),
+        (&["traj", "ptp", "--robot", "ur5", "--from", "home", "--to", "qz", "--dt", "-0.01"][..], "`dt`"),
+        (&["traj", "ptp", "--robot", "ur5", "--from", "home", "--to", "qz", "--duration", "-2"][..], "duration"),
+    ] {
+        let r = kinema(args);
+        assert_eq!(r.code, Some(1), "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains(needle) && !r.stderr.contains("unexpected argument"), "{args:?}: {}", r.stderr);
+    }
+    let r = kinema(&["ik", "--robot", "puma560", "--position", "0.5,0.2,0.3", "--tol-position", "-1"]);
+    assert!(r.stderr.contains("positive tolerance"), "{}", r.stderr);
+    // Combinations only the core refuses, named by their flags.
+    let pose = "0.5,0.1,0.5,3.14159,0,0";
+    for (args, flag) in [
+        (&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", pose, "--q3", "0.1", "--solver", "numeric"][..], "--solver"),
+        (&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", pose, "--q3", "0.1", "--mask", "1,1,1,1,1,0"][..], "--mask"),
+        (&["ik", "--robot", "lbr-iiwa-14-r820", "--position", "0.5,0.1,0.5", "--q3", "0.1"][..], "the target"),
+    ] {
+        let r = kinema(args);
+        assert_eq!(r.code, Some(1), "{args:?}: {}", r.stderr);
+        assert!(r.stderr.contains(flag) && r.stderr.contains("invalid `"), "{args:?}: {}", r.stderr);
+    }
+    // A valid negative value is taken as it is: --q3 of the iiwa.
+    let r = kinema(&["ik", "--robot", "lbr-iiwa-14-r820", "--pose", "0.5,0.1,0.5,3.14159,0,0", "--q3", "-0.3"]);
+    assert!(r.ok, "{}", r.stderr);
+}
+
+/// Issue 34 item 13: `ik`/`fk --output` without `--input` wrote nothing and
+/// exited 0 (clap skips `requires` when a flag that conflicts with the
+/// required one is given); now a usage error that says what --output is for.
+#[test]
+fn output_without_input_is_a_usage_error() {
+    let dir = tempdir("output-alone");
+    let out = dir.join("answer.csv");
+    let out = out.to_str().unwrap();
+    for args in [
+        &["ik", "--robot", "puma560", "--position", "0.5,0.2,0.3", "--output", out][..],
+        &["ik", "--robot", "ur5", "--pose", "0.4,0.1,0.3,3.14159,0,0", "--output", out][..],
+        &["fk", "--robot", "puma560", "--q", "home", "--output", out][..],
+    ] {
+        let r = kinema(args);
+        assert_eq!(r.code, Some(64), "{args:?}: {} {}", r.stdout, r.stderr);
+        assert!(r.stderr.contains("--output needs --input"), "{args:?}: {}", r.stderr);
+        assert!(r.stdout.is_empty(), "{args:?}: {}", r.stdout);
+        assert!(!std::path::Path::new(out).exists());
     }
 }

@@ -318,3 +318,52 @@ fn traj_lin_circ_expr_and_check_from_the_command_line() {
     let e = fails(&["traj", "expr", "-r", "rommel", "--joint", "9", "t", "--duration", "1"]);
     assert!(e.contains("invalid `joint`: 9; expected a joint of `rommel`, 1 to 5"), "{e}");
 }
+
+/// Seed 003 Fig. 9's LIN from `home`, on the SCARA without its rate limits:
+/// the zone rule puts the first sample on
+/// another rail position and elbow (the rail 0.24 m, the elbow 0.84 rad in
+/// 10 ms while the tool moves 19 µm). It is not emitted, and `traj check`
+/// reports the branch jump even with no velocity limit to break.
+#[test]
+fn a_branch_jump_is_refused_and_reported_without_limits() {
+    let dir = tempdir("branch-jump");
+    let csv = dir.join("jump.csv");
+    let scara = common::builtin_without_rate_limits(&dir, "scara5");
+    let r = kinema(&[
+        "traj",
+        "lin",
+        "-r",
+        &scara,
+        "--from",
+        "home",
+        "--to",
+        "0.35,-0.1,0.2,0,0,0",
+        "--vmax",
+        "0.2",
+        "--amax",
+        "1",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(!r.ok && r.stderr.contains("not emitted") && r.stderr.contains("jump"), "{}", r.stderr);
+    assert!(!csv.exists(), "a refused trajectory was written");
+    std::fs::write(
+        &csv,
+        "t,q1,q2,q3,q4,q5\n\
+         0,0.5,0.523598775598,1.570796326795,0.1,0\n\
+         0.01,0.738561026299,-0.085252903048,2.407183474292,0.1,-0.227585468851\n\
+         0.02,0.738513068640,-0.085305507695,2.407179723496,0.1,-0.227679113408\n",
+    )
+    .unwrap();
+    let r = kinema(&["traj", "check", "-r", &scara, csv.to_str().unwrap(), "--json"]);
+    assert!(!r.ok, "a branch jump passed the check");
+    let v: Value = serde_json::from_str(&r.stdout).unwrap();
+    let kinds: Vec<(&str, u64)> = v["violations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| (v["kind"].as_str().unwrap(), v["sample"].as_u64().unwrap()))
+        .collect();
+    assert_eq!(kinds, [("branch", 1)], "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
