@@ -184,7 +184,7 @@ impl PyRobot {
             singular_warning: (singular != 0.0).then_some(singular),
             value_resolution: resolution,
             time_resolution,
-            admissible: body.as_ref().map(|c| c as &dyn Admissible),
+            admissible: body.as_deref().map(|c| c as &dyn Admissible),
             ..CheckOptions::default()
         };
         let robot = Arc::clone(&self.robot);

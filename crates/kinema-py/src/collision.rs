@@ -138,6 +138,25 @@ impl Source {
     }
 }
 
+/// A robot's last collision check, with the scene and margin it was built for.
+pub(crate) struct KeptCheck {
+    /// The scene (held, so that its address cannot be reused by another).
+    scene: Option<Arc<Scene>>,
+    margin: f64,
+    check: Arc<CollisionCheck>,
+}
+
+impl KeptCheck {
+    fn fits(&self, scene: Option<&Arc<Scene>>, margin: f64) -> bool {
+        let same_scene = match (&self.scene, scene) {
+            (None, None) => true,
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        };
+        same_scene && self.margin.to_bits() == margin.to_bits()
+    }
+}
+
 impl PyRobot {
     /// The robot's self-collision check, loaded once from its description.
     fn bare_check(&self) -> PyResult<&CollisionCheck> {
@@ -150,14 +169,30 @@ impl PyRobot {
     }
 
     /// The robot's check with `scene`'s obstacles and `margin` \[m\] (what
-    /// `kinema collide --scene --margin` checks).
-    pub(crate) fn collision_check(&self, scene: Option<&PyScene>, margin: f64) -> PyResult<CollisionCheck> {
+    /// `kinema collide --scene --margin` checks). The last one built is kept
+    /// and reused while the scene and margin stay the same, so a loop of
+    /// single calls does not build it each time.
+    pub(crate) fn collision_check(&self, scene: Option<&PyScene>, margin: f64) -> PyResult<Arc<CollisionCheck>> {
+        let scene_key = scene.map(|s| Arc::clone(&s.scene));
+        let mut last = self.last_check.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some(kept) = last.as_ref().filter(|k| k.fits(scene_key.as_ref(), margin)) {
+            return Ok(Arc::clone(&kept.check));
+        }
         let bare = self.bare_check()?;
-        let scene = scene.map(|s| s.standing(self.source.member.as_deref())).transpose()?;
+        let standing = scene.map(|s| s.standing(self.source.member.as_deref())).transpose()?;
         // This robot, not the description's: a cell or a scene places it on another base.
         let robot = (*self.robot).clone();
-        CollisionCheck::with_scene(robot, bare.geometry().clone(), bare.pairs().clone(), scene.as_deref(), margin)
-            .map_err(geometry_to_py)
+        let check = CollisionCheck::with_scene(
+            robot,
+            bare.geometry().clone(),
+            bare.pairs().clone(),
+            standing.as_deref(),
+            margin,
+        )
+        .map_err(geometry_to_py)?;
+        let check = Arc::new(check);
+        *last = Some(KeptCheck { scene: scene_key, margin, check: Arc::clone(&check) });
+        Ok(check)
     }
 
     /// [`PyRobot::collision_check`] when a scene or a margin asks for one.
@@ -165,7 +200,7 @@ impl PyRobot {
         &self,
         scene: Option<&PyScene>,
         margin: Option<f64>,
-    ) -> PyResult<Option<CollisionCheck>> {
+    ) -> PyResult<Option<Arc<CollisionCheck>>> {
         match (scene, margin) {
             (None, None) => Ok(None),
             (scene, margin) => self.collision_check(scene, margin.unwrap_or(0.0)).map(Some),

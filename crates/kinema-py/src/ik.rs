@@ -215,7 +215,7 @@ struct IkCall {
     tolerance: Tolerance,
     seed: u64,
     /// The scene's collision check solutions must pass (`scene=`).
-    check: Option<CollisionCheck>,
+    check: Option<Arc<CollisionCheck>>,
 }
 
 /// What the solver found for an [`IkCall`]: its answer, and the solutions
@@ -240,7 +240,7 @@ impl PyRobot {
                 mask: call.mask,
                 tolerance: call.tolerance,
                 numeric: NumericOptions { seed: call.seed, ..Default::default() },
-                admissible: call.check.as_ref().map(|c| c as &dyn Admissible),
+                admissible: call.check.as_deref().map(|c| c as &dyn Admissible),
             };
             let answer = solve_target_with(&robot, family.as_deref(), &call.target, &request)?;
             let chosen = if call.all {
@@ -493,7 +493,7 @@ impl PyRobot {
             mask,
             tolerance: Tolerance { position: tol_position, orientation: tol_orientation },
             numeric: NumericOptions { seed, ..Default::default() },
-            admissible: check.as_ref().map(|c| c as &dyn Admissible),
+            admissible: check.as_deref().map(|c| c as &dyn Admissible),
             ..Default::default()
         };
         let (count, n) = (targets.len(), self.robot.dof());

@@ -165,7 +165,7 @@ pub(crate) fn run_program(
         start,
         stop: stop.with_flag(Arc::clone(&cancel)),
         skip_unreachable,
-        admissible: collision.map(|c| Arc::new(c) as Arc<dyn kinema::ik::Admissible>),
+        admissible: collision.map(|c| c as Arc<dyn kinema::ik::Admissible>),
         ..kinema_lang::Options::default()
     };
     let compiled = run_interruptibly(py, &cancel, {

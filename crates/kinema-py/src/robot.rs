@@ -1,6 +1,6 @@
 //! The `Robot` class: loading, properties, forward kinematics, Jacobians and manipulability.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use kinema::analysis;
 use kinema::{Frame, Robot};
@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::args::{check_shape, f64_array, parse_axes, push_pose, shape_text, to_numpy};
-use crate::collision::Source;
+use crate::collision::{KeptCheck, Source};
 use crate::errors::{invalid, to_py};
 use crate::{fast, npio};
 
@@ -30,12 +30,14 @@ pub(crate) struct PyRobot {
     pub(crate) source: Source,
     /// Its shapes and self-collision pairs, loaded at the first collision query.
     pub(crate) body: OnceLock<CollisionCheck>,
+    /// The last check with a scene and margin, reused by the next query of the same.
+    pub(crate) last_check: Mutex<Option<KeptCheck>>,
 }
 
 impl PyRobot {
     pub(crate) fn new(robot: Arc<Robot>, source: Source) -> Self {
         let family = kinema::ik::registry::fit(&robot).map(Arc::from);
-        PyRobot { robot, family, source, body: OnceLock::new() }
+        PyRobot { robot, family, source, body: OnceLock::new(), last_check: Mutex::new(None) }
     }
 }
 

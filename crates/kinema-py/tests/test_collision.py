@@ -130,3 +130,24 @@ def test_scene_robots_stand_as_obstacles_as_on_the_cli(tmp_path):
         assert holder.collide_dict(q, scene=scene) == cli
     with pytest.raises(kinema.InvalidInput, match="nobody"):
         scene.robot("nobody")
+
+
+def test_queries_alternating_scenes_and_margins_answer_each_their_own(hood):
+    """The robot keeps its last check: switching scene or margin between calls must not reuse it."""
+    robot = kinema.Robot.builtin(IIWA)
+    rng = np.random.default_rng(11)
+    Q = random_q(robot, rng, 40)
+    fresh = [kinema.Robot.builtin(IIWA) for _ in range(3)]
+    expected = [
+        fresh[0].collides_batch(Q),
+        fresh[1].collides_batch(Q, scene=hood),
+        fresh[2].collides_batch(Q, margin=0.05),
+    ]
+    other = kinema.Scene.from_file(HOOD)
+    assert expected[1].any() and not expected[1].all()
+    for i, q in enumerate(Q):
+        assert robot.collides(q) == expected[0][i]
+        assert robot.collides(q, scene=hood) == expected[1][i]
+        assert robot.collides(q, margin=0.05) == expected[2][i]
+        assert robot.collides(q, scene=other) == expected[1][i]
+        assert robot.collides(q, scene=hood, margin=0.0) == expected[1][i]
