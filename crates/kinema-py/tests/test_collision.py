@@ -98,23 +98,12 @@ def test_a_program_through_the_sash_is_refused(hood):
         kinema.run_program(program, robot, start=start, scene=hood)
 
 
-TWO_IIWAS = """
-[[robot]]
-name = "holder"
-robot = "lbr-iiwa-14-r820"
-
-[[robot]]
-name = "drawer"
-robot = "lbr-iiwa-14-r820"
-base = { xyz = ["1200mm", 0, 0], rpy = [0, 0, "180deg"] }
-start = "0, 1.5707963267948966, 0, 0, 0, 0, 0"
-"""
+TWO_IIWAS = ROOT / "examples" / "scenes" / "two-iiwas.toml"
 
 
 @needs_cli
-def test_scene_robots_stand_as_obstacles_as_on_the_cli(tmp_path):
-    path = tmp_path / "two.toml"
-    path.write_text(TWO_IIWAS)
+def test_scene_robots_stand_as_obstacles_as_on_the_cli():
+    path = TWO_IIWAS
     scene = kinema.Scene.from_file(path)
     assert scene.robots == ["holder", "drawer"]
     holder = scene.robot("holder")

@@ -293,17 +293,12 @@ fn a_program_through_the_sash_is_refused_at_its_line() {
 }
 
 /// A scene's robots stand as obstacles at their `start`; `--robot` may name
-/// one of them, which then stands on its base there (the same scene as the
-/// geometry crate's and Python's tests).
+/// one of them, which then stands on its base there (examples/scenes/two-iiwas.toml,
+/// as in the geometry crate's and Python's tests).
 #[test]
 fn scene_robots_stand_as_obstacles_and_robot_may_name_one() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("two.toml");
-    let text = "[[robot]]\nname = \"holder\"\nrobot = \"lbr-iiwa-14-r820\"\n\n[[robot]]\nname = \"drawer\"\n\
-                robot = \"lbr-iiwa-14-r820\"\nbase = { xyz = [\"1200mm\", 0, 0], rpy = [0, 0, \"180deg\"] }\n\
-                start = \"0, 1.5707963267948966, 0, 0, 0, 0, 0\"\n";
-    std::fs::write(&scene, text).unwrap();
-    let scene = scene.to_str().unwrap();
+    let scene = example_scene("two-iiwas.toml");
+    let scene = scene.as_str();
     let reach = kinema(&["collide", "--robot", "holder", "--scene", scene, "--q", "0,90,0,0,0,0,0", "--deg", "--json"]);
     assert_eq!(reach.code, Some(3), "{}", reach.stderr);
     assert!(json(&reach.stdout)["pairs"]

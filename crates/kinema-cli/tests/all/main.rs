@@ -22,6 +22,7 @@ mod doors;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
 mod readme;
+#[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
 mod readme_seeds;
 mod robust;
 #[cfg(feature = "serve")]

@@ -85,33 +85,23 @@ fn errors_name_the_key_and_what_is_expected() {
     assert!(e.contains("wind") && e.contains("obstacle"), "{e}");
 }
 
-/// Seed 004's two iiwas facing each other 1.2 m apart, the drawer robot
-/// standing with its arm stretched towards the holder (`start`, rad).
-const TWO_IIWAS: &str = r#"
-[[robot]]
-name = "holder"
-robot = "lbr-iiwa-14-r820"
+/// examples/scenes/two-iiwas.toml: seed 004's two iiwas facing each other
+/// 1.2 m apart, the drawer robot standing with its arm stretched towards the
+/// holder.
+fn two_iiwas_path() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/two-iiwas.toml")
+}
 
-[[robot]]
-name = "drawer"
-robot = "lbr-iiwa-14-r820"
-base = { xyz = ["1200mm", 0, 0], rpy = [0, 0, "180deg"] }
-start = "0, 1.5707963267948966, 0, 0, 0, 0, 0"
-"#;
-
-fn two_iiwas() -> (tempfile::TempDir, kinema_geometry::CheckOptions) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("two.toml");
-    std::fs::write(&path, TWO_IIWAS).unwrap();
-    (dir, kinema_geometry::CheckOptions { scene: Some(path), ..Default::default() })
+fn two_iiwas_text() -> String {
+    std::fs::read_to_string(two_iiwas_path()).unwrap()
 }
 
 #[test]
 fn a_scene_robot_stands_at_its_start_as_an_obstacle() {
     use kinema_geometry::CollisionCheck;
     use std::f64::consts::FRAC_PI_2;
-    let (_dir, options) = two_iiwas();
-    let scene = Scene::load(options.scene.as_ref().unwrap()).unwrap();
+    let options = kinema_geometry::CheckOptions { scene: Some(two_iiwas_path()), ..Default::default() };
+    let scene = Scene::load(two_iiwas_path()).unwrap();
     // Each obstacle of the drawer robot sits where the core's FK of the placed robot puts its link.
     let standing = scene.standing(Some("holder"), &Default::default()).unwrap();
     let drawer = scene.member("drawer").unwrap();
@@ -140,13 +130,13 @@ fn a_scene_robot_stands_at_its_start_as_an_obstacle() {
 
 #[test]
 fn a_bad_start_or_member_name_is_an_error_naming_it() {
-    let text = TWO_IIWAS.replace("start = \"0, 1.5707963267948966", "start = \"0, x");
+    let text = two_iiwas_text().replace("start = \"0, 1.5707963267948966", "start = \"0, x");
     let s = scene(&text).unwrap();
     let e = s.standing(None, &Default::default()).unwrap_err().to_string();
     assert!(e.contains("drawer") && e.contains("start") && e.contains("`x`"), "{e}");
-    let e = scene(TWO_IIWAS).unwrap().standing(Some("nobody"), &Default::default()).unwrap_err().to_string();
+    let e = scene(&two_iiwas_text()).unwrap().standing(Some("nobody"), &Default::default()).unwrap_err().to_string();
     assert!(e.contains("nobody") && e.contains("holder, drawer"), "{e}");
-    let e = scene(&TWO_IIWAS.replace("start = \"0, 1.57", "start = \"qq")).unwrap();
+    let e = scene(&two_iiwas_text().replace("start = \"0, 1.57", "start = \"qq")).unwrap();
     let e = e.standing(None, &Default::default()).unwrap_err().to_string();
     assert!(e.contains("drawer") && e.contains("qq"), "{e}");
 }
