@@ -29,13 +29,13 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use kinema::quantity::{parse_with_unit, Dim, Quantity};
 use kinema::traj::cell::{placed, Approach};
 use kinema::traj::{check, Cell, CellReport, CheckOptions, CheckReport, JointTrajectory, SINGULAR_WARNING};
 use kinema::{Pose, Robot, RpyConvention};
 use kinema_geometry::{closest_approaches, load_shapes_or_none, Body, BodyApproach, RobotGeometry, Scene, UrdfOptions};
 use kinema_io::{CellAnswer, CellMember};
 use kinema_lang::{render_all, Options, Stop};
-use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -85,72 +85,11 @@ pub struct CellArgs {
 }
 
 fn length_arg(text: &str) -> Result<f64, String> {
-    let v = quantity(text, Dim::Length)?;
-    if v.is_finite() && v >= 0.0 {
+    let v = parse_with_unit(text, Dim::Length)?;
+    if v >= 0.0 {
         Ok(v)
     } else {
         Err(format!("`{text}` must be a finite length ≥ 0"))
-    }
-}
-
-/// What a value in the cell file measures.
-#[derive(Clone, Copy)]
-enum Dim {
-    Length,
-    Angle,
-    Time,
-}
-
-/// A number in SI units, or a number glued to a unit of `dim`.
-fn quantity(text: &str, dim: Dim) -> Result<f64, String> {
-    let t = text.trim();
-    let split = t.find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E').unwrap_or(t.len());
-    // `1e-3m`: an exponent is part of the number; `inf`/`nan` are refused below.
-    let (num, unit) = t.split_at(split);
-    let (units, what): (&[(&str, f64)], &str) = match dim {
-        Dim::Length => (&[("", 1.0), ("m", 1.0), ("cm", 1e-2), ("mm", 1e-3)], "a length (m, cm, mm)"),
-        Dim::Angle => (&[("", 1.0), ("rad", 1.0), ("deg", std::f64::consts::PI / 180.0)], "an angle (rad, deg)"),
-        Dim::Time => (&[("", 1.0), ("s", 1.0), ("ms", 1e-3)], "a time (s, ms)"),
-    };
-    let v: f64 = num.trim().parse().map_err(|_| format!("`{t}` is not {what}"))?;
-    if !v.is_finite() {
-        return Err(format!("`{t}` is not a finite number"));
-    }
-    match units.iter().find(|(u, _)| *u == unit.trim()) {
-        Some((_, scale)) => Ok(v * scale),
-        None => Err(format!("`{t}`: unknown unit `{}`; expected {what}", unit.trim())),
-    }
-}
-
-/// A value of the file: a number (SI) or a string with a unit.
-#[derive(Debug, Clone)]
-enum Quantity {
-    Number(f64),
-    Text(String),
-}
-
-impl<'de> Deserialize<'de> for Quantity {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Quantity;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a number in SI units (m, rad, s) or a string with a unit such as \"100mm\" or \"90deg\"")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Quantity, E> {
-                Ok(Quantity::Number(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Quantity, E> {
-                Ok(Quantity::Number(v as f64))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Quantity, E> {
-                Ok(Quantity::Number(v as f64))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Quantity, E> {
-                Ok(Quantity::Text(v.to_string()))
-            }
-        }
-        d.deserialize_any(V)
     }
 }
 
@@ -205,12 +144,7 @@ impl Src<'_> {
     }
 
     fn value(&self, q: &Spanned<Quantity>, dim: Dim, field: &str) -> Result<f64> {
-        let v = match q.get_ref() {
-            Quantity::Number(v) if v.is_finite() => Ok(*v),
-            Quantity::Number(v) => Err(format!("{v} is not a finite number")),
-            Quantity::Text(t) => quantity(t, dim),
-        };
-        v.map_err(|m| self.err(q.span(), field, m))
+        q.get_ref().si(dim, 1.0).map_err(|m| self.err(q.span(), field, m))
     }
 }
 

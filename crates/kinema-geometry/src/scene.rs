@@ -25,13 +25,14 @@ use std::path::Path;
 use serde::Deserialize;
 use toml::Spanned;
 
+use kinema::quantity::{Dim, Quantity};
 use kinema::{Pose, Robot, RpyConvention};
 
 use crate::error::{Error, Result};
 use crate::geometry::{LinkShape, RobotGeometry};
 use crate::pairs::CollisionPairs;
 use crate::shape::Shape;
-use crate::toml_shape::{Dim, Quantity, ShapeSpec, Src};
+use crate::toml_shape::{ShapeSpec, Src};
 
 /// The largest scene file read \[bytes\] (meshes are read separately).
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;

@@ -18,54 +18,15 @@ use std::path::Path;
 use std::sync::Arc;
 
 use nalgebra::Vector3;
-use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
+use kinema::quantity::{Dim, Quantity};
 use kinema::{Pose, RpyConvention};
 
 use crate::error::{Error, Result};
 use crate::mesh::load_mesh;
 use crate::shape::Shape;
-
-/// What a value measures.
-#[derive(Clone, Copy)]
-pub(crate) enum Dim {
-    Length,
-    Angle,
-}
-
-/// A number in the file's unit, or a string with a unit.
-#[derive(Debug, Clone)]
-pub(crate) enum Quantity {
-    Number(f64),
-    Text(String),
-}
-
-impl<'de> Deserialize<'de> for Quantity {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Quantity;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a number or a string with a unit such as \"100mm\" or \"90deg\"")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> std::result::Result<Quantity, E> {
-                Ok(Quantity::Number(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> std::result::Result<Quantity, E> {
-                Ok(Quantity::Number(v as f64))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> std::result::Result<Quantity, E> {
-                Ok(Quantity::Number(v as f64))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> std::result::Result<Quantity, E> {
-                Ok(Quantity::Text(v.to_string()))
-            }
-        }
-        d.deserialize_any(V)
-    }
-}
 
 /// `sphere = { radius = … }`.
 #[derive(Deserialize)]
@@ -146,30 +107,12 @@ impl Src<'_> {
 
     /// A value in SI units: a plain number times the file's unit, or a string with a unit.
     pub fn value(&self, q: &Spanned<Quantity>, dim: Dim, field: &str) -> Result<f64> {
-        let (plain, units, what): (f64, &[(&str, f64)], &str) = match dim {
-            Dim::Length => (self.length_unit, &[("m", 1.0), ("cm", 1e-2), ("mm", 1e-3)], "a length (m, cm, mm)"),
-            Dim::Angle => {
-                (self.angle_unit, &[("rad", 1.0), ("deg", std::f64::consts::PI / 180.0)], "an angle (rad, deg)")
-            }
+        let plain = match dim {
+            Dim::Length => self.length_unit,
+            Dim::Angle => self.angle_unit,
+            Dim::Time => 1.0,
         };
-        let v = match q.get_ref() {
-            Quantity::Number(v) => Ok(v * plain),
-            Quantity::Text(t) => {
-                let t = t.trim();
-                let split = t.find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E').unwrap_or(t.len());
-                let (num, unit) = t.split_at(split);
-                match (num.trim().parse::<f64>(), units.iter().find(|(u, _)| *u == unit.trim())) {
-                    (Ok(v), Some((_, scale))) => Ok(v * scale),
-                    (Err(_), _) => Err(format!("`{t}` is not {what}")),
-                    (_, None) => Err(format!("`{t}`: unknown unit `{}`; expected {what}", unit.trim())),
-                }
-            }
-        };
-        match v {
-            Ok(v) if v.is_finite() => Ok(v),
-            Ok(v) => Err(self.err(q.span(), field, format!("{v} is not a finite number"))),
-            Err(m) => Err(self.err(q.span(), field, m)),
-        }
+        q.get_ref().si(dim, plain).map_err(|m| self.err(q.span(), field, m))
     }
 
     /// A pose `[x, y, z, roll, pitch, yaw]` (identity when absent).

@@ -71,6 +71,7 @@ mod lanes;
 pub mod math;
 pub mod model;
 mod names;
+pub mod quantity;
 mod read;
 pub mod reference;
 mod registry;

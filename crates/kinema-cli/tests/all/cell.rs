@@ -362,7 +362,7 @@ fn bad_cells_name_the_file_the_key_and_what_was_expected() {
         ),
         (
             format!("{iiwa}program = \"seed004_holder.prg\"\nbase = {{ xyz = [true, 0, 0] }}\n"),
-            &["`robot[0].base.xyz[0]`", "a number in SI units"][..],
+            &["`robot[0].base.xyz[0]`", "a number or a string with a unit"][..],
         ),
         ("rpy = \"abc\"\n".into(), &["`rpy`", "zyx", "xyz"][..]),
         (
