@@ -13,6 +13,7 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::{SegmentPointLocation, Shape as ParryShape};
 
+use crate::convex::hulls_of;
 use crate::error::{Error, Result};
 use crate::geometry::RobotGeometry;
 use crate::pairs::CollisionPairs;
@@ -85,13 +86,29 @@ pub(crate) fn pair_hits(
     b: usize,
     margin: f64,
 ) -> Result<bool> {
+    if let Some(p) = round_pair(geometry, placement, a, b) {
+        return Ok(p.distance < margin || p.distance <= 0.0);
+    }
+    let err = |_| unsupported(geometry, a, b);
+    if let Some(h) = hulls_of(geometry, placement, a, b) {
+        // Hulls apart (by more than the margin) keep the shapes apart; exact
+        // hulls apart decide; hulls that meet may hold surfaces that do not.
+        if margin == 0.0 {
+            if !h.intersect().map_err(err)? {
+                return Ok(false);
+            }
+        } else {
+            let d = h.distance().map_err(err)?;
+            if d >= margin || (h.exact && d > 0.0) {
+                return Ok(d < margin);
+            }
+        }
+    }
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-    Ok(if let Some(p) = round_pair(geometry, placement, a, b) {
-        p.distance < margin || p.distance <= 0.0
-    } else if margin == 0.0 {
-        query::intersection_test(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?
+    Ok(if margin == 0.0 {
+        query::intersection_test(pa, sa, pb, sb).map_err(err)?
     } else {
-        query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))? < margin
+        query::distance(pa, sa, pb, sb).map_err(err)? < margin
     })
 }
 
@@ -154,32 +171,74 @@ pub fn min_distance(
     pairs: &CollisionPairs,
 ) -> Result<Option<Proximity>> {
     check(geometry, placement, pairs, 0.0)?;
-    let mut best: Option<(usize, usize, f64)> = None;
-    for (a, b) in pairs.iter() {
-        let bound = best.map_or(f64::INFINITY, |(_, _, d)| d);
-        let gap = aabb_gap(placement.aabb(a), placement.aabb(b));
+    // Nearest boxes first, so that the best distance so far soon bounds the rest.
+    let mut order: Vec<(f64, usize)> =
+        pairs.iter().enumerate().map(|(n, (a, b))| (aabb_gap(placement.aabb(a), placement.aabb(b)), n)).collect();
+    order.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let mut best: Option<Proximity> = None;
+    for (gap, n) in order {
+        let bound = best.map_or(f64::INFINITY, |p| p.distance);
         // Once a pair overlaps, only pairs whose boxes overlap can be deeper.
         if gap >= bound.max(0.0) && (gap > 0.0 || bound > 0.0) {
-            continue;
+            break;
         }
-        if let Some(p) = round_pair(geometry, placement, a, b) {
-            if p.distance < bound {
-                best = Some((a, b, p.distance));
-            }
-            continue;
-        }
-        let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-        let mut d = query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?;
-        if d <= 0.0 {
-            // Overlapping: the depth orders overlapping pairs.
-            let c = query::contact(pa, sa, pb, sb, 0.0).map_err(|_| unsupported(geometry, a, b))?;
-            d = c.map_or(0.0, |c| c.dist.min(0.0));
-        }
-        if d < bound {
-            best = Some((a, b, d));
+        let (a, b) = pairs.get(n);
+        if let Some(p) = closer_than(geometry, placement, a, b, bound)? {
+            best = Some(p);
         }
     }
-    best.map(|(a, b, _)| pair_distance(geometry, placement, a, b)).transpose()
+    Ok(best)
+}
+
+/// The proximity of shapes `a` and `b` (as [`pair_distance`] gives it) if
+/// their distance is below `bound` \[m\], else `None`.
+fn closer_than(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    a: usize,
+    b: usize,
+    bound: f64,
+) -> Result<Option<Proximity>> {
+    if let Some(p) = round_pair(geometry, placement, a, b) {
+        return Ok((p.distance < bound).then_some(p));
+    }
+    let err = |_| unsupported(geometry, a, b);
+    if let Some(h) = hulls_of(geometry, placement, a, b) {
+        // Apart, a convex solid is nearest at its surface: exact hulls' distance
+        // is the shapes'; other hulls' is a lower bound of it.
+        let d = h.distance().map_err(err)?;
+        if d > 0.0 && d >= bound {
+            return Ok(None);
+        }
+        if d > 0.0 && h.exact {
+            return separated(a, b, d, h.pose_a, h.a, h.pose_b, h.b).map(Some).map_err(err);
+        }
+    }
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let d = query::distance(pa, sa, pb, sb).map_err(err)?;
+    if d >= bound.max(0.0) && d > 0.0 {
+        return Ok(None);
+    }
+    let p = proximity(geometry, placement, a, b, d)?;
+    Ok((p.distance < bound).then_some(p))
+}
+
+/// The closest pair of `pairs` by visiting every pair in order, each
+/// measured in full: the plain reference [`min_distance`] is tested against.
+pub fn min_distance_reference(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    pairs: &CollisionPairs,
+) -> Result<Option<Proximity>> {
+    check(geometry, placement, pairs, 0.0)?;
+    let mut best: Option<Proximity> = None;
+    for (a, b) in pairs.iter() {
+        let p = pair_distance(geometry, placement, a, b)?;
+        if best.is_none_or(|q| p.distance < q.distance) {
+            best = Some(p);
+        }
+    }
+    Ok(best)
 }
 
 /// The signed distance between shapes `a` and `b` and their witness points.
@@ -195,15 +254,68 @@ pub fn pair_distance(geometry: &RobotGeometry, placement: &Placement, a: usize, 
         return Ok(p);
     }
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let d = query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?;
+    proximity(geometry, placement, a, b, d)
+}
+
+/// The proximity of shapes `a` and `b` (not balls or capsules both) whose
+/// distance parry measured as `d`: witness points, and the depth when they overlap.
+fn proximity(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize, d: f64) -> Result<Proximity> {
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
     let err = |_| unsupported(geometry, a, b);
-    let d = query::distance(pa, sa, pb, sb).map_err(err)?;
-    // A prediction just above the distance makes parry return the closest points.
-    let prediction = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
+    if d > 0.0 {
+        return separated(a, b, d, pa, sa, pb, sb).map_err(err);
+    }
+    // Overlapping: the depth orders overlapping pairs.
+    let prediction = 1e-12;
     if let Some(c) = query::contact(pa, sa, pb, sb, prediction).map_err(err)? {
-        let distance = if d > 0.0 { d } else { c.dist.min(0.0) };
+        return Ok(Proximity {
+            a,
+            b,
+            distance: c.dist.min(0.0),
+            point_a: c.point1,
+            point_b: c.point2,
+            normal: c.normal1.into_inner(),
+        });
+    }
+    witnessed(a, b, d, pa, sa, pb, sb, 2.0 * prediction).map_err(err)
+}
+
+/// The proximity of two shapes `d` \[m, > 0\] apart, with their witness points.
+#[allow(clippy::too_many_arguments)] // a pair: each shape with its pose
+fn separated(
+    a: usize,
+    b: usize,
+    d: f64,
+    pa: &Isometry3<f64>,
+    sa: &dyn ParryShape,
+    pb: &Isometry3<f64>,
+    sb: &dyn ParryShape,
+) -> std::result::Result<Proximity, query::Unsupported> {
+    // A prediction just above the distance makes parry return the closest points.
+    let prediction = d * (1.0 + 1e-9) + 1e-12;
+    if let Some(c) = query::contact(pa, sa, pb, sb, prediction)? {
+        // The witness points' distance: the same for a mesh and its hull, where
+        // the two distance queries stop at their own tolerances.
+        let distance = (c.point2 - c.point1).norm();
         return Ok(Proximity { a, b, distance, point_a: c.point1, point_b: c.point2, normal: c.normal1.into_inner() });
     }
-    let (point_a, point_b) = match query::closest_points(pa, sa, pb, sb, 2.0 * prediction).map_err(err)? {
+    witnessed(a, b, d, pa, sa, pb, sb, 2.0 * prediction)
+}
+
+/// The proximity of two shapes `d` apart from their closest points within `margin`.
+#[allow(clippy::too_many_arguments)] // a pair: each shape with its pose
+fn witnessed(
+    a: usize,
+    b: usize,
+    d: f64,
+    pa: &Isometry3<f64>,
+    sa: &dyn ParryShape,
+    pb: &Isometry3<f64>,
+    sb: &dyn ParryShape,
+    margin: f64,
+) -> std::result::Result<Proximity, query::Unsupported> {
+    let (point_a, point_b) = match query::closest_points(pa, sa, pb, sb, margin)? {
         ClosestPoints::WithinMargin(p, q) => (p, q),
         _ => (pa.translation.vector.into(), pb.translation.vector.into()),
     };
@@ -218,8 +330,15 @@ pub(crate) fn pair_gap(geometry: &RobotGeometry, placement: &Placement, a: usize
     if let Some(p) = round_pair(geometry, placement, a, b) {
         return Ok(p.distance.max(0.0));
     }
+    let err = |_| unsupported(geometry, a, b);
+    if let Some(h) = hulls_of(geometry, placement, a, b).filter(|h| h.exact) {
+        let d = h.distance().map_err(err)?;
+        if d > 0.0 {
+            return Ok(d);
+        }
+    }
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-    query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))
+    query::distance(pa, sa, pb, sb).map_err(err)
 }
 
 pub(crate) fn shapes_of<'g>(
