@@ -34,8 +34,8 @@ pub(crate) struct MeshHull {
     pub exact: bool,
 }
 
-/// The mesh's convex hull (`None` for a flat mesh, whose hull has no
-/// volume), marked exact when the mesh's surface is that hull's boundary:
+/// The mesh's convex hull (`None` if parry makes none, as for fewer than
+/// three distinct vertices), marked exact when the mesh's surface is that hull's boundary:
 /// every triangle lies in a supporting plane of the vertices, and the
 /// triangles cover the hull's area once.
 pub(crate) fn mesh_hull(mesh: &Mesh) -> Option<MeshHull> {
@@ -172,7 +172,7 @@ mod tests {
     }
 
     #[test]
-    fn an_open_cube_is_not_its_hull_and_a_flat_mesh_has_none() {
+    fn open_and_flat_meshes_are_not_their_hulls() {
         let mut open = cube(0.0);
         open.triangles.drain(..4);
         assert!(!mesh_hull(&open).unwrap().exact);
@@ -181,6 +181,6 @@ mod tests {
             vec![[0, 1, 2]],
             "flat",
         );
-        assert!(mesh_hull(&flat.unwrap()).is_none());
+        assert!(!mesh_hull(&flat.unwrap()).is_some_and(|h| h.exact));
     }
 }

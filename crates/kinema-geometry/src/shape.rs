@@ -93,7 +93,7 @@ impl Shape {
     }
 
     /// A triangle mesh's convex hull, marked exact if the mesh is convex
-    /// (`None` for other shapes and flat meshes).
+    /// (`None` for other shapes).
     pub(crate) fn surface_hull(&self) -> Option<MeshHull> {
         match self {
             Shape::TriangleMesh(mesh) => mesh_hull(mesh),
