@@ -77,7 +77,17 @@ pub(crate) fn hulls_of<'g>(
     a: usize,
     b: usize,
 ) -> Option<Hulls<'g>> {
-    let (sa, sb) = (&geometry.shapes()[a], &geometry.shapes()[b]);
+    let shapes = geometry.shapes();
+    hulls_of_shapes(placement.world_from_collider(a), &shapes[a], placement.world_from_collider(b), &shapes[b])
+}
+
+/// [`hulls_of`] for two shapes at their collision forms' world poses.
+pub(crate) fn hulls_of_shapes<'g>(
+    pose_a: &'g Isometry3<f64>,
+    sa: &'g LinkShape,
+    pose_b: &'g Isometry3<f64>,
+    sb: &'g LinkShape,
+) -> Option<Hulls<'g>> {
     if sa.hull().is_none() && sb.hull().is_none() {
         return None;
     }
@@ -91,13 +101,7 @@ pub(crate) fn hulls_of<'g>(
         }
     };
     let ((ha, exact_a), (hb, exact_b)) = (convex(sa)?, convex(sb)?);
-    Some(Hulls {
-        pose_a: placement.world_from_collider(a),
-        a: ha,
-        pose_b: placement.world_from_collider(b),
-        b: hb,
-        exact: exact_a && exact_b,
-    })
+    Some(Hulls { pose_a, a: ha, pose_b, b: hb, exact: exact_a && exact_b })
 }
 
 /// Whether the mesh's surface is the boundary of the hull given by

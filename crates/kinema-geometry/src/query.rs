@@ -13,9 +13,9 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::{SegmentPointLocation, Shape as ParryShape};
 
-use crate::convex::hulls_of;
+use crate::convex::{hulls_of, hulls_of_shapes};
 use crate::error::{Error, Result};
-use crate::geometry::RobotGeometry;
+use crate::geometry::{LinkShape, RobotGeometry};
 use crate::pairs::CollisionPairs;
 use crate::placement::Placement;
 
@@ -347,18 +347,32 @@ fn witnessed(
 /// The distance \[m\] between shapes `a` and `b` in `placement` (0 when they
 /// touch or overlap): [`pair_distance`] without the witness points.
 pub(crate) fn pair_gap(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Result<f64> {
-    if let Some(p) = round_pair(geometry, placement, a, b) {
-        return Ok(p.distance.max(0.0));
+    let (sa, sb) = (&geometry.shapes()[a], &geometry.shapes()[b]);
+    placed_gap(placement.world_from_collider(a), sa, placement.world_from_collider(b), sb)
+        .map_err(|_| unsupported(geometry, a, b))
+}
+
+/// The distance \[m\] between shapes `a` and `b`, each's collision form at
+/// the given world pose (0 when they touch or overlap): balls and capsules
+/// in closed form, convex meshes as their hulls when apart, else parry's
+/// distance. For shapes of two geometries (two robots) as of one.
+pub(crate) fn placed_gap(
+    pose_a: &Isometry3<f64>,
+    a: &LinkShape,
+    pose_b: &Isometry3<f64>,
+    b: &LinkShape,
+) -> std::result::Result<f64, query::Unsupported> {
+    let (sa, sb) = (a.collider().as_ref(), b.collider().as_ref());
+    if let Some((distance, ..)) = round_placed(pose_a, sa, pose_b, sb) {
+        return Ok(distance.max(0.0));
     }
-    let err = |_| unsupported(geometry, a, b);
-    if let Some(h) = hulls_of(geometry, placement, a, b).filter(|h| h.exact) {
-        let d = h.distance().map_err(err)?;
+    if let Some(h) = hulls_of_shapes(pose_a, a, pose_b, b).filter(|h| h.exact) {
+        let d = h.distance()?;
         if d > 0.0 {
             return Ok(d);
         }
     }
-    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-    query::distance(pa, sa, pb, sb).map_err(err)
+    query::distance(pose_a, sa, pose_b, sb)
 }
 
 pub(crate) fn shapes_of<'g>(
@@ -392,6 +406,21 @@ fn round(shape: &dyn ParryShape, pose: &Isometry3<f64>) -> Option<(Point3<f64>, 
 /// not, such as capsules overlapping along a common axis.
 fn round_pair(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Option<Proximity> {
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let (distance, point_a, point_b, normal) = round_placed(pa, sa, pb, sb)?;
+    Some(Proximity { a, b, distance, point_a, point_b, normal })
+}
+
+/// Two round shapes' signed distance, point of a, point of b and unit normal from a to b.
+type RoundProximity = (f64, Point3<f64>, Point3<f64>, Vector3<f64>);
+
+/// [`round_pair`] on two placed parry shapes: (signed distance, point of a,
+/// point of b, unit normal from a to b), or `None` unless both are round.
+fn round_placed(
+    pa: &Isometry3<f64>,
+    sa: &dyn ParryShape,
+    pb: &Isometry3<f64>,
+    sb: &dyn ParryShape,
+) -> Option<RoundProximity> {
     let (a0, a1, ra) = round(sa, pa)?;
     let (b0, b1, rb) = round(sb, pb)?;
     let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD((&a0, &a1), (&b0, &b1));
@@ -413,7 +442,7 @@ fn round_pair(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usiz
             .or_else(|| axis.cross(&Vector3::y()).try_normalize(0.0))
             .unwrap_or(Vector3::x())
     };
-    Some(Proximity { a, b, distance: gap - ra - rb, point_a: ca + normal * ra, point_b: cb - normal * rb, normal })
+    Some((gap - ra - rb, ca + normal * ra, cb - normal * rb, normal))
 }
 
 /// The distance between two boxes (0 when they overlap): a lower bound of
