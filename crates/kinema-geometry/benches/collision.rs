@@ -21,8 +21,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use kinema::nalgebra::{UnitQuaternion, Vector3};
 use kinema::{Pose, Robot};
 use kinema_geometry::{
-    collides, collides_fast, load_urdf, min_distance, pair_distance, place, spheres_free, CollisionPairs, LinkShape,
-    Placement, RobotGeometry, Shape, Spheres, Srdf, UrdfOptions,
+    collides, collides_fast, load_urdf, min_distance, min_distance_reference, pair_distance, place, spheres_free,
+    CollisionPairs, LinkShape, Placement, RobotGeometry, Shape, Spheres, Srdf, UrdfOptions,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -125,7 +125,15 @@ fn bench(c: &mut Criterion) {
             black_box(min_distance(&geometry, &placement, &pairs).unwrap())
         })
     });
-    // The last step of `min_distance` alone: the closest pair's distance and witness points.
+    // The plain all-pairs scan `min_distance` is tested against: every pair's distance in full.
+    g.bench_function("min_distance_reference", |b| {
+        b.iter(|| {
+            let q = next();
+            place(&robot, &geometry, q, &mut placement).unwrap();
+            black_box(min_distance_reference(&geometry, &placement, &pairs).unwrap())
+        })
+    });
+    // One exact pair alone: the closest pair's distance and witness points.
     g.bench_function("closest_pair", |b| {
         let mut k = 0;
         b.iter(|| {

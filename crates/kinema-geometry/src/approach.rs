@@ -8,13 +8,12 @@
 //! needs no look, and the others are halved until it is.
 
 use kinema::Robot;
-use parry3d_f64::query;
 
 use crate::error::{Error, Result};
 use crate::geometry::RobotGeometry;
 use crate::pairs::CollisionPairs;
 use crate::placement::{place, Placement};
-use crate::query::aabb_gap;
+use crate::query::{aabb_gap, placed_gap};
 use crate::scene::Scene;
 use crate::sweep::LeverArms;
 
@@ -234,21 +233,14 @@ impl Search<'_> {
                 if aabb_gap(pa.aabb(sa), pb.aabb(sb)) >= limit {
                     continue;
                 }
-                let d = query::distance(
-                    pa.world_from_collider(sa),
-                    a.geometry.shapes()[sa].collider().as_ref(),
-                    pb.world_from_collider(sb),
-                    body_b.geometry.shapes()[sb].collider().as_ref(),
-                )
-                .map_err(|_| Error::UnsupportedPair {
-                    a: a.label(sa),
-                    b: body_b.label(sb),
-                    kinds: format!(
-                        "{} – {}",
-                        a.geometry.shapes()[sa].shape().kind(),
-                        body_b.geometry.shapes()[sb].shape().kind()
-                    ),
-                })?;
+                let (shape_a, shape_b) = (&a.geometry.shapes()[sa], &body_b.geometry.shapes()[sb]);
+                let d = placed_gap(pa.world_from_collider(sa), shape_a, pb.world_from_collider(sb), shape_b).map_err(
+                    |_| Error::UnsupportedPair {
+                        a: a.label(sa),
+                        b: body_b.label(sb),
+                        kinds: format!("{} – {}", shape_a.shape().kind(), shape_b.shape().kind()),
+                    },
+                )?;
                 if d < limit {
                     best = Some((d, sa, sb));
                 }

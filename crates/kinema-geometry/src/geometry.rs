@@ -7,6 +7,7 @@ use parry3d_f64::shape::SharedShape;
 
 use kinema::{Pose, Robot};
 
+use crate::convex::MeshHull;
 use crate::error::{Error, Result};
 use crate::shape::Shape;
 
@@ -24,6 +25,8 @@ pub struct LinkShape {
     link_from_shape: Pose,
     shape: Shape,
     collider: SharedShape,
+    /// A triangle mesh's convex hull (see `convex.rs`).
+    hull: Option<MeshHull>,
     link_from_collider: Isometry3<f64>,
 }
 
@@ -46,6 +49,7 @@ impl LinkShape {
             name,
             link,
             link_from_shape,
+            hull: shape.surface_hull(),
             shape,
             collider,
             link_from_collider,
@@ -86,6 +90,19 @@ impl LinkShape {
 
     pub(crate) fn collider(&self) -> &SharedShape {
         &self.collider
+    }
+
+    /// Whether the shape is a triangle mesh found convex when it was made
+    /// (its surface is its convex hull's boundary): such a mesh is measured
+    /// as the hull wherever the two give the same answer.
+    pub fn is_convex_mesh(&self) -> bool {
+        self.hull.as_ref().is_some_and(|h| h.exact)
+    }
+
+    /// A triangle mesh's convex hull: a bound of its distances, and the
+    /// mesh's own distance to what it is apart from when marked exact.
+    pub(crate) fn hull(&self) -> Option<&MeshHull> {
+        self.hull.as_ref()
     }
 
     pub(crate) fn link_from_collider(&self) -> &Isometry3<f64> {

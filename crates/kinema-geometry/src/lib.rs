@@ -71,6 +71,7 @@
 
 mod approach;
 mod check;
+mod convex;
 mod error;
 mod geometry;
 mod mesh;
@@ -94,7 +95,7 @@ pub use geometry::{LinkShape, RobotGeometry};
 pub use mesh::{load_mesh, MAX_MESH_BYTES};
 pub use pairs::CollisionPairs;
 pub use placement::{place, Placement};
-pub use query::{collides, contacts, min_distance, pair_distance, Proximity};
+pub use query::{collides, contacts, min_distance, min_distance_reference, pair_distance, Proximity};
 pub use robot_toml::{load_robot_geometry, load_shapes_or_none, toml_geometry};
 pub use scene::{Obstacle, Scene, SceneRobot, MAX_SCENE_BYTES};
 pub use shape::{Mesh, Shape};

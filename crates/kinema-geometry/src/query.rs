@@ -13,8 +13,9 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::{SegmentPointLocation, Shape as ParryShape};
 
+use crate::convex::{hulls_of, hulls_of_shapes};
 use crate::error::{Error, Result};
-use crate::geometry::RobotGeometry;
+use crate::geometry::{LinkShape, RobotGeometry};
 use crate::pairs::CollisionPairs;
 use crate::placement::Placement;
 
@@ -85,13 +86,29 @@ pub(crate) fn pair_hits(
     b: usize,
     margin: f64,
 ) -> Result<bool> {
+    if let Some(p) = round_pair(geometry, placement, a, b) {
+        return Ok(p.distance < margin || p.distance <= 0.0);
+    }
+    let err = |_| unsupported(geometry, a, b);
+    if let Some(h) = hulls_of(geometry, placement, a, b) {
+        // Hulls apart (by more than the margin) keep the shapes apart; exact
+        // hulls apart decide; hulls that meet may hold surfaces that do not.
+        if margin == 0.0 {
+            if !h.intersect().map_err(err)? {
+                return Ok(false);
+            }
+        } else {
+            let d = h.distance().map_err(err)?;
+            if d >= margin || (h.exact && d > 0.0) {
+                return Ok(d < margin);
+            }
+        }
+    }
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-    Ok(if let Some(p) = round_pair(geometry, placement, a, b) {
-        p.distance < margin || p.distance <= 0.0
-    } else if margin == 0.0 {
-        query::intersection_test(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?
+    Ok(if margin == 0.0 {
+        query::intersection_test(pa, sa, pb, sb).map_err(err)?
     } else {
-        query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))? < margin
+        query::distance(pa, sa, pb, sb).map_err(err)? < margin
     })
 }
 
@@ -133,6 +150,9 @@ pub fn contacts(
 
 /// The closest pair of `pairs` with its signed distance and witness points
 /// (`None` if `pairs` is empty). Overlapping pairs come first, deepest first.
+/// Pairs are visited nearest bounding box first and skipped once a lower
+/// bound of their distance (the boxes' gap, a mesh's convex hull) reaches
+/// the best so far; allocates the visiting order.
 ///
 /// # Examples
 /// ```
@@ -154,32 +174,91 @@ pub fn min_distance(
     pairs: &CollisionPairs,
 ) -> Result<Option<Proximity>> {
     check(geometry, placement, pairs, 0.0)?;
-    let mut best: Option<(usize, usize, f64)> = None;
-    for (a, b) in pairs.iter() {
-        let bound = best.map_or(f64::INFINITY, |(_, _, d)| d);
-        let gap = aabb_gap(placement.aabb(a), placement.aabb(b));
+    // Nearest boxes first, so that the best distance so far soon bounds the rest.
+    let mut order: Vec<(f64, usize)> =
+        pairs.iter().enumerate().map(|(n, (a, b))| (aabb_gap(placement.aabb(a), placement.aabb(b)), n)).collect();
+    order.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let mut best: Option<Proximity> = None;
+    for (gap, n) in order {
+        let bound = best.map_or(f64::INFINITY, |p| p.distance);
         // Once a pair overlaps, only pairs whose boxes overlap can be deeper.
         if gap >= bound.max(0.0) && (gap > 0.0 || bound > 0.0) {
-            continue;
+            break;
         }
-        if let Some(p) = round_pair(geometry, placement, a, b) {
-            if p.distance < bound {
-                best = Some((a, b, p.distance));
-            }
-            continue;
-        }
-        let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-        let mut d = query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?;
-        if d <= 0.0 {
-            // Overlapping: the depth orders overlapping pairs.
-            let c = query::contact(pa, sa, pb, sb, 0.0).map_err(|_| unsupported(geometry, a, b))?;
-            d = c.map_or(0.0, |c| c.dist.min(0.0));
-        }
-        if d < bound {
-            best = Some((a, b, d));
+        let (a, b) = pairs.get(n);
+        if let Some(p) = closer_than(geometry, placement, a, b, bound)? {
+            best = Some(p);
         }
     }
-    best.map(|(a, b, _)| pair_distance(geometry, placement, a, b)).transpose()
+    Ok(best)
+}
+
+/// The proximity of shapes `a` and `b` (as [`pair_distance`] gives it) if
+/// their distance is below `bound` \[m\], else `None`.
+fn closer_than(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    a: usize,
+    b: usize,
+    bound: f64,
+) -> Result<Option<Proximity>> {
+    if let Some(p) = round_pair(geometry, placement, a, b) {
+        return Ok((p.distance < bound).then_some(p));
+    }
+    let err = |_| unsupported(geometry, a, b);
+    if let Some(h) = hulls_of(geometry, placement, a, b) {
+        // Apart, a convex solid is nearest at its surface: exact hulls' distance
+        // is the shapes'; other hulls' is a lower bound of it.
+        let d = h.distance().map_err(err)?;
+        if d > 0.0 && d >= bound {
+            return Ok(None);
+        }
+        if d > 0.0 && h.exact {
+            return separated(a, b, d, h.pose_a, h.a, h.pose_b, h.b).map(Some).map_err(err);
+        }
+    }
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let d = query::distance(pa, sa, pb, sb).map_err(err)?;
+    if d >= bound.max(0.0) && d > 0.0 {
+        return Ok(None);
+    }
+    let p = proximity(geometry, placement, a, b, d)?;
+    Ok((p.distance < bound).then_some(p))
+}
+
+/// The closest pair of `pairs` by visiting every pair in order, each
+/// measured in full: the plain reference [`min_distance`] is tested against
+/// (the same distance within 1e-9 m, at the same pair or one as close).
+///
+/// # Examples
+/// ```
+/// use kinema::{Pose, Robot};
+/// use kinema_geometry::{min_distance, min_distance_reference, CollisionPairs, LinkShape, Placement, RobotGeometry, Shape};
+/// let robot = Robot::builtin("ur5")?;
+/// let shapes = (0..=6)
+///     .map(|link| LinkShape::new(format!("s{link}"), link, Pose::IDENTITY, Shape::Box { size: [0.1; 3].into() }))
+///     .collect::<Result<Vec<_>, _>>()?;
+/// let geometry = RobotGeometry::new(&robot, shapes)?;
+/// let (pairs, placement) = (CollisionPairs::all(&geometry), Placement::of(&robot, &geometry, robot.home())?);
+/// let plain = min_distance_reference(&geometry, &placement, &pairs)?.unwrap();
+/// let fast = min_distance(&geometry, &placement, &pairs)?.unwrap();
+/// assert!((plain.distance - fast.distance).abs() < 1e-9);
+/// # Ok::<(), kinema_geometry::Error>(())
+/// ```
+pub fn min_distance_reference(
+    geometry: &RobotGeometry,
+    placement: &Placement,
+    pairs: &CollisionPairs,
+) -> Result<Option<Proximity>> {
+    check(geometry, placement, pairs, 0.0)?;
+    let mut best: Option<Proximity> = None;
+    for (a, b) in pairs.iter() {
+        let p = pair_distance(geometry, placement, a, b)?;
+        if best.is_none_or(|q| p.distance < q.distance) {
+            best = Some(p);
+        }
+    }
+    Ok(best)
 }
 
 /// The signed distance between shapes `a` and `b` and their witness points.
@@ -195,15 +274,68 @@ pub fn pair_distance(geometry: &RobotGeometry, placement: &Placement, a: usize, 
         return Ok(p);
     }
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let d = query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))?;
+    proximity(geometry, placement, a, b, d)
+}
+
+/// The proximity of shapes `a` and `b` (not balls or capsules both) whose
+/// distance parry measured as `d`: witness points, and the depth when they overlap.
+fn proximity(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize, d: f64) -> Result<Proximity> {
+    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
     let err = |_| unsupported(geometry, a, b);
-    let d = query::distance(pa, sa, pb, sb).map_err(err)?;
-    // A prediction just above the distance makes parry return the closest points.
-    let prediction = d.max(0.0) * (1.0 + 1e-9) + 1e-12;
+    if d > 0.0 {
+        return separated(a, b, d, pa, sa, pb, sb).map_err(err);
+    }
+    // Overlapping: the depth orders overlapping pairs.
+    let prediction = 1e-12;
     if let Some(c) = query::contact(pa, sa, pb, sb, prediction).map_err(err)? {
-        let distance = if d > 0.0 { d } else { c.dist.min(0.0) };
+        return Ok(Proximity {
+            a,
+            b,
+            distance: c.dist.min(0.0),
+            point_a: c.point1,
+            point_b: c.point2,
+            normal: c.normal1.into_inner(),
+        });
+    }
+    witnessed(a, b, d, pa, sa, pb, sb, 2.0 * prediction).map_err(err)
+}
+
+/// The proximity of two shapes `d` \[m, > 0\] apart, with their witness points.
+#[allow(clippy::too_many_arguments)] // a pair: each shape with its pose
+fn separated(
+    a: usize,
+    b: usize,
+    d: f64,
+    pa: &Isometry3<f64>,
+    sa: &dyn ParryShape,
+    pb: &Isometry3<f64>,
+    sb: &dyn ParryShape,
+) -> std::result::Result<Proximity, query::Unsupported> {
+    // A prediction just above the distance makes parry return the closest points.
+    let prediction = d * (1.0 + 1e-9) + 1e-12;
+    if let Some(c) = query::contact(pa, sa, pb, sb, prediction)? {
+        // The witness points' distance: the same for a mesh and its hull, where
+        // the two distance queries stop at their own tolerances.
+        let distance = (c.point2 - c.point1).norm();
         return Ok(Proximity { a, b, distance, point_a: c.point1, point_b: c.point2, normal: c.normal1.into_inner() });
     }
-    let (point_a, point_b) = match query::closest_points(pa, sa, pb, sb, 2.0 * prediction).map_err(err)? {
+    witnessed(a, b, d, pa, sa, pb, sb, 2.0 * prediction)
+}
+
+/// The proximity of two shapes `d` apart from their closest points within `margin`.
+#[allow(clippy::too_many_arguments)] // a pair: each shape with its pose
+fn witnessed(
+    a: usize,
+    b: usize,
+    d: f64,
+    pa: &Isometry3<f64>,
+    sa: &dyn ParryShape,
+    pb: &Isometry3<f64>,
+    sb: &dyn ParryShape,
+    margin: f64,
+) -> std::result::Result<Proximity, query::Unsupported> {
+    let (point_a, point_b) = match query::closest_points(pa, sa, pb, sb, margin)? {
         ClosestPoints::WithinMargin(p, q) => (p, q),
         _ => (pa.translation.vector.into(), pb.translation.vector.into()),
     };
@@ -215,11 +347,32 @@ pub fn pair_distance(geometry: &RobotGeometry, placement: &Placement, a: usize, 
 /// The distance \[m\] between shapes `a` and `b` in `placement` (0 when they
 /// touch or overlap): [`pair_distance`] without the witness points.
 pub(crate) fn pair_gap(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Result<f64> {
-    if let Some(p) = round_pair(geometry, placement, a, b) {
-        return Ok(p.distance.max(0.0));
+    let (sa, sb) = (&geometry.shapes()[a], &geometry.shapes()[b]);
+    placed_gap(placement.world_from_collider(a), sa, placement.world_from_collider(b), sb)
+        .map_err(|_| unsupported(geometry, a, b))
+}
+
+/// The distance \[m\] between shapes `a` and `b`, each's collision form at
+/// the given world pose (0 when they touch or overlap): balls and capsules
+/// in closed form, convex meshes as their hulls when apart, else parry's
+/// distance. For shapes of two geometries (two robots) as of one.
+pub(crate) fn placed_gap(
+    pose_a: &Isometry3<f64>,
+    a: &LinkShape,
+    pose_b: &Isometry3<f64>,
+    b: &LinkShape,
+) -> std::result::Result<f64, query::Unsupported> {
+    let (sa, sb) = (a.collider().as_ref(), b.collider().as_ref());
+    if let Some((distance, ..)) = round_placed(pose_a, sa, pose_b, sb) {
+        return Ok(distance.max(0.0));
     }
-    let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
-    query::distance(pa, sa, pb, sb).map_err(|_| unsupported(geometry, a, b))
+    if let Some(h) = hulls_of_shapes(pose_a, a, pose_b, b).filter(|h| h.exact) {
+        let d = h.distance()?;
+        if d > 0.0 {
+            return Ok(d);
+        }
+    }
+    query::distance(pose_a, sa, pose_b, sb)
 }
 
 pub(crate) fn shapes_of<'g>(
@@ -253,6 +406,21 @@ fn round(shape: &dyn ParryShape, pose: &Isometry3<f64>) -> Option<(Point3<f64>, 
 /// not, such as capsules overlapping along a common axis.
 fn round_pair(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usize) -> Option<Proximity> {
     let (pa, sa, pb, sb) = shapes_of(geometry, placement, a, b);
+    let (distance, point_a, point_b, normal) = round_placed(pa, sa, pb, sb)?;
+    Some(Proximity { a, b, distance, point_a, point_b, normal })
+}
+
+/// Two round shapes' signed distance, point of a, point of b and unit normal from a to b.
+type RoundProximity = (f64, Point3<f64>, Point3<f64>, Vector3<f64>);
+
+/// [`round_pair`] on two placed parry shapes: (signed distance, point of a,
+/// point of b, unit normal from a to b), or `None` unless both are round.
+fn round_placed(
+    pa: &Isometry3<f64>,
+    sa: &dyn ParryShape,
+    pb: &Isometry3<f64>,
+    sb: &dyn ParryShape,
+) -> Option<RoundProximity> {
     let (a0, a1, ra) = round(sa, pa)?;
     let (b0, b1, rb) = round(sb, pb)?;
     let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD((&a0, &a1), (&b0, &b1));
@@ -274,7 +442,7 @@ fn round_pair(geometry: &RobotGeometry, placement: &Placement, a: usize, b: usiz
             .or_else(|| axis.cross(&Vector3::y()).try_normalize(0.0))
             .unwrap_or(Vector3::x())
     };
-    Some(Proximity { a, b, distance: gap - ra - rb, point_a: ca + normal * ra, point_b: cb - normal * rb, normal })
+    Some((gap - ra - rb, ca + normal * ra, cb - normal * rb, normal))
 }
 
 /// The distance between two boxes (0 when they overlap): a lower bound of

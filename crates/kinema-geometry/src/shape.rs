@@ -11,6 +11,7 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use parry3d_f64::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, SharedShape, TriMesh};
 
+use crate::convex::{mesh_hull, MeshHull};
 use crate::error::{Error, Result};
 
 /// A solid, in its own frame. Lengths in metres. Round shapes are centred on
@@ -88,6 +89,15 @@ impl Shape {
             Shape::Capsule { .. } => "capsule",
             Shape::ConvexMesh(_) => "convex mesh",
             Shape::TriangleMesh(_) => "triangle mesh",
+        }
+    }
+
+    /// A triangle mesh's convex hull, marked exact if the mesh is convex
+    /// (`None` for other shapes).
+    pub(crate) fn surface_hull(&self) -> Option<MeshHull> {
+        match self {
+            Shape::TriangleMesh(mesh) => mesh_hull(mesh),
+            _ => None,
         }
     }
 

@@ -11,7 +11,13 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-use kinema_geometry::{collides, load_urdf, pair_distance, CollisionPairs, Placement, Srdf, UrdfOptions, UrdfRobot};
+use kinema_geometry::{
+    collides, collides_fast, load_urdf, pair_distance, CollisionPairs, Placement, Spheres, Srdf, UrdfOptions, UrdfRobot,
+};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::fast_paths::{assert_same_closest, first_closer};
 
 /// How close to touching a pair may be for the two libraries to differ on
 /// its verdict, and how far their distances may differ \[m\].
@@ -144,3 +150,40 @@ fn matches_coal() {
     }
     assert!(worst.is_empty(), "{} disagreements with coal outside {BAND:e} m (first ones above)", worst.len());
 }
+
+/// The fast paths on coal's Panda (example-robot-data's collision meshes, the
+/// pairs its SRDF leaves): which meshes are convex, and `min_distance` and
+/// `collides_fast` against their references at seeded configurations.
+#[test]
+#[ignore = "needs KINEMA_COAL_CSV from benchmarks/coal_peers.py (benchmarks/run_coal_peers.sh)"]
+fn fast_paths_match_the_references_on_the_panda_meshes() {
+    let path = std::env::var("KINEMA_COAL_CSV").expect("KINEMA_COAL_CSV: the CSV of benchmarks/coal_peers.py");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let header: Vec<&str> = text.lines().find(|l| l.starts_with("#robot,panda,")).unwrap().split(',').collect();
+    let options =
+        UrdfOptions { tip: Some(header[5].into()), package_paths: vec![PathBuf::from(header[4])], skip_visual: true };
+    let urdf = load_urdf(header[2], &options).unwrap();
+    let (kin, g) = (&urdf.robot, &urdf.collision);
+    let mut pairs = CollisionPairs::all(g);
+    Srdf::load(header[3]).unwrap().apply(g, &urdf.links, &mut pairs).unwrap();
+    let convex: Vec<&str> = g.shapes().iter().filter(|s| s.is_convex_mesh()).map(|s| s.name()).collect();
+    println!("panda: {} of {} collision meshes convex: {convex:?}", convex.len(), g.len());
+    let spheres = Spheres::fit(g, 4);
+    let (mut sp, mut scratch) = (spheres.placement(), Placement::new(g));
+    let mut rng = ChaCha8Rng::seed_from_u64(37);
+    let mut hits = 0;
+    for _ in 0..FAST_PATH_CONFIGURATIONS {
+        let q = kin.random_q(&mut rng);
+        let placement = Placement::of(kin, g, &q).unwrap();
+        assert_same_closest(g, &placement, &pairs, &format!("panda q {q:?}"));
+        let exact = first_closer(g, &placement, &pairs, 0.0);
+        assert_eq!(collides(g, &placement, &pairs, 0.0).unwrap(), exact, "panda q {q:?}");
+        let fast = collides_fast(kin, g, &spheres, &q, &pairs, 0.0, &mut sp, &mut scratch).unwrap();
+        assert_eq!(fast, exact, "panda q {q:?}");
+        hits += usize::from(exact.is_some());
+    }
+    println!("panda: {FAST_PATH_CONFIGURATIONS} configurations, {hits} in collision, fast paths as the references");
+}
+
+/// Seeded configurations of the fast-path test on the Panda meshes.
+const FAST_PATH_CONFIGURATIONS: usize = 2000;

@@ -5,6 +5,7 @@ mod approach;
 mod builtin_shapes;
 mod coal;
 mod common;
+mod fast_paths;
 mod meshes;
 mod primitives;
 mod scene;
