@@ -7,7 +7,9 @@ use kinema::traj::{
     PtpOptions, Segment,
 };
 use kinema::{Robot, RpyConvention};
-use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, RobotGeometry, Scene};
+use kinema_geometry::{
+    load_robot_geometry, ros_package_path, CollisionCheck, CollisionPairs, RobotGeometry, Scene, UrdfOptions,
+};
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
 use std::time::Duration;
@@ -287,8 +289,8 @@ impl App {
         })?;
         let unprocessable = |e: kinema_geometry::Error| Error::Unprocessable { message: e.to_string() };
         // The scene's robots stand as obstacles; the robot checked is one the server serves.
-        let standing =
-            |text: &str| Scene::from_toml(text, "scene", Path::new("."))?.standing(None, &Default::default());
+        let meshes = UrdfOptions { package_paths: ros_package_path(), ..Default::default() };
+        let standing = |text: &str| Scene::from_toml(text, "scene", Path::new("."))?.standing(None, &meshes);
         let scene = scene.map(standing).transpose().map_err(unprocessable)?;
         let pairs = CollisionPairs::self_collision(geometry);
         CollisionCheck::with_scene(robot.clone(), geometry.clone(), pairs, scene.as_ref(), margin.unwrap_or(0.0))
