@@ -35,13 +35,13 @@ pub struct IkArgs {
     #[arg(long, default_value = "auto", value_parser = crate::by_name::<SolverChoice>())]
     solver: SolverChoice,
     /// Scorbot: pitch β of the tool (seed 000 eq. 13), with --position and --roll.
-    #[arg(long, allow_hyphen_values = true, requires_all = ["position", "roll"], conflicts_with_all = ["approach", "alpha"])]
+    #[arg(long, allow_hyphen_values = true, requires = "position")]
     pitch: Option<f64>,
     /// Scorbot: roll γ of the tool (seed 000 eq. 13), with --position and --pitch.
-    #[arg(long, allow_hyphen_values = true, requires_all = ["position", "pitch"])]
+    #[arg(long, allow_hyphen_values = true, requires = "position")]
     roll: Option<f64>,
     /// ROMMEL: tool approach direction ax,ay,az, with --position.
-    #[arg(long, allow_hyphen_values = true, requires = "position", conflicts_with = "alpha")]
+    #[arg(long, allow_hyphen_values = true, requires = "position")]
     approach: Option<String>,
     /// SCARA: tool angle α = q2 + q3 + q5, with --position (the zone rule picks the rail).
     #[arg(long, allow_hyphen_values = true, requires = "position")]
@@ -187,15 +187,16 @@ fn solve(
     }
     let target = match target {
         IkTarget::Position(position) => {
-            if let (Some(pitch), Some(roll)) = (a.pitch, a.roll) {
-                IkTarget::PositionPitchRoll { position, pitch: ang(pitch), roll: ang(roll) }
-            } else if let Some(ap) = &a.approach {
-                IkTarget::PositionApproach { position, approach: triple(ap, "--approach")? }
-            } else if let Some(alpha) = a.alpha {
-                IkTarget::PositionAlpha { position, alpha: ang(alpha) }
-            } else {
-                target
-            }
+            // The components of a typed target, by name; the core says which target they make.
+            let approach = a.approach.as_deref().map(|text| triple(text, "--approach")).transpose()?;
+            let [pitch, roll, alpha] = [a.pitch, a.roll, a.alpha].map(|v| v.map(ang));
+            let given = [
+                ("pitch", pitch.as_ref().map(std::slice::from_ref)),
+                ("roll", roll.as_ref().map(std::slice::from_ref)),
+                ("alpha", alpha.as_ref().map(std::slice::from_ref)),
+                ("approach", approach.as_ref().map(|d| &d[..])),
+            ];
+            kinema::ik::registry::typed_target(position, &given)?.map_or(target, IkTarget::Typed)
         }
         other => other,
     };

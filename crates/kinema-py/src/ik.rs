@@ -167,7 +167,7 @@ fn ik_target(
     let T = T.filter(|t| !t.is_none());
     let position = position.filter(|p| !p.is_none());
     let approach = approach.filter(|a| !a.is_none());
-    let typed = [pitch.is_some() || roll.is_some(), approach.is_some(), alpha.is_some()];
+    let any_typed = pitch.is_some() || roll.is_some() || approach.is_some() || alpha.is_some();
     let position = match (T, position) {
         (Some(_), Some(_)) => return Err(invalid("give `T` or `position`, not both".into())),
         (None, None) => {
@@ -175,30 +175,23 @@ fn ik_target(
                 "give a target: `T` (a 4×4 pose or x, y, z, roll, pitch, yaw) or `position` (x, y, z)".into(),
             ))
         }
-        (Some(_), None) if typed.iter().any(|&t| t) => {
+        (Some(_), None) if any_typed => {
             return Err(invalid("`pitch`/`roll`, `approach` and `alpha` go with `position` (x, y, z), not `T`".into()))
         }
         (Some(t), None) => return pose_arg(t, "T", conv).map(IkTarget::Pose),
         (None, Some(p)) => p,
     };
-    if typed.iter().filter(|&&t| t).count() > 1 {
-        return Err(invalid(
-            "give one typed target: `pitch` and `roll` (Scorbot), `approach` (ROMMEL) or `alpha` (SCARA)".into(),
-        ));
-    }
     let position = vec3_arg(position, "position")?;
-    Ok(match (pitch, roll, approach, alpha) {
-        (Some(pitch), Some(roll), _, _) => IkTarget::PositionPitchRoll { position, pitch, roll },
-        (Some(_), None, _, _) => {
-            return Err(invalid("`pitch` needs `roll` too (Scorbot: position, pitch and roll)".into()))
-        }
-        (None, Some(_), _, _) => {
-            return Err(invalid("`roll` needs `pitch` too (Scorbot: position, pitch and roll)".into()))
-        }
-        (_, _, Some(a), _) => IkTarget::PositionApproach { position, approach: vec3_arg(a, "approach")? },
-        (_, _, _, Some(alpha)) => IkTarget::PositionAlpha { position, alpha },
-        _ => IkTarget::Position(position),
-    })
+    let approach = approach.map(|a| vec3_arg(a, "approach")).transpose()?;
+    // The components of a typed target, by name; the core says which target they make.
+    let given = [
+        ("pitch", pitch.as_ref().map(std::slice::from_ref)),
+        ("roll", roll.as_ref().map(std::slice::from_ref)),
+        ("alpha", alpha.as_ref().map(std::slice::from_ref)),
+        ("approach", approach.as_ref().map(|d| &d[..])),
+    ];
+    let typed = kinema::ik::registry::typed_target(position, &given).map_err(crate::errors::to_py)?;
+    Ok(typed.map_or(IkTarget::Position(position), IkTarget::Typed))
 }
 
 /// One request of :meth:`Robot.ik` or :meth:`Robot.ik_dict`, its arguments converted.

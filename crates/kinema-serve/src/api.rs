@@ -321,11 +321,13 @@ impl App {
     }
 
     fn ik(&self, body: &[u8]) -> Result<Value> {
-        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]}, optional "q3" or "psi" (arm angle), "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet), "scene" (a scene file's TOML text; solutions in collision are discarded), "margin" (m)"#;
+        const SHAPE: &str = r#"{"robot": "NAME", "T": [[4 numbers] × 4 rows]} or {"robot": "NAME", "position": [x, y, z], "rpy": [roll, pitch, yaw]} or {"robot": "NAME", "position": [x, y, z]} (orientation free), with "pitch" and "roll" (Scorbot), "approach": [x, y, z] (ROMMEL) or "alpha" (SCARA) for a typed target; optional "q3" or "psi" (arm angle), "q0", "solver" ("auto" | "analytic" | "numeric"), "seed", "mask" ([6 booleans]: x, y, z, ωx, ωy, ωz to meet), "scene" (a scene file's TOML text; solutions in collision are discarded), "margin" (m)"#;
         let req: IkReq = parse(body, "/api/ik", SHAPE)?;
         let r = self.robot(&req.robot)?;
-        let target = req.target().pose("/api/ik", SHAPE)?;
-        kinema::ik::check_target(&target)?;
+        let target = req.ik_target(SHAPE)?;
+        if let IkTarget::Pose(pose) = &target {
+            kinema::ik::check_target(pose)?;
+        }
         if let Some(q0) = &req.q0 {
             r.check_q(q0)?;
         }
@@ -345,7 +347,6 @@ impl App {
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
             admissible: check.as_ref().map(|c| c as &dyn Admissible),
         };
-        let target = IkTarget::Pose(target);
         let answer = solve_target(r, &target, &request)?;
         let mut solutions = answer.solutions.clone();
         let redundant = kinema::ik::registry::fit(r).is_some_and(|f| f.redundancy().is_some());

@@ -3,6 +3,7 @@
 //! self-motion policy read from them.
 
 use kinema::ik::family::SelfMotionParameter;
+use kinema::ik::IkTarget;
 use kinema::nalgebra::Matrix4;
 use kinema::traj::SelfMotion;
 use kinema::{Pose, RpyConvention};
@@ -76,6 +77,29 @@ impl IkReq {
     }
 }
 
+impl IkReq {
+    /// The target of `/api/ik`: a pose, a position alone, or a position with
+    /// the components of a family's typed target (as `kinema ik --position`
+    /// with `--pitch`/`--roll`, `--approach` or `--alpha`).
+    pub(crate) fn ik_target(&self, shape: &str) -> Result<IkTarget> {
+        let given = [
+            ("pitch", self.pitch.as_ref().map(std::slice::from_ref)),
+            ("roll", self.roll.as_ref().map(std::slice::from_ref)),
+            ("alpha", self.alpha.as_ref().map(std::slice::from_ref)),
+            ("approach", self.approach.as_ref().map(|d| &d[..])),
+        ];
+        match (self.t, self.position, self.rpy) {
+            (None, Some(position), None) => {
+                Ok(kinema::ik::registry::typed_target(position, &given)?.map_or(IkTarget::Position(position), IkTarget::Typed))
+            }
+            _ if given.iter().any(|(_, v)| v.is_some()) => Err(bad(format!(
+                "\"pitch\"/\"roll\", \"approach\" and \"alpha\" complete a \"position\" target; they do not apply to \"T\" or \"rpy\"; expected {shape}"
+            ))),
+            _ => Ok(IkTarget::Pose(self.target().pose("/api/ik", shape)?)),
+        }
+    }
+}
+
 impl TrajReq {
     pub(crate) fn target(&self) -> Target<'_> {
         Target { t: &self.t, position: &self.position, rpy: &self.rpy, rpy_convention: &self.rpy_convention }
@@ -91,6 +115,10 @@ pub(crate) struct IkReq {
     pub(crate) position: Option<[f64; 3]>,
     pub(crate) rpy: Option<[f64; 3]>,
     pub(crate) rpy_convention: Option<String>,
+    pub(crate) pitch: Option<f64>,
+    pub(crate) roll: Option<f64>,
+    pub(crate) alpha: Option<f64>,
+    pub(crate) approach: Option<[f64; 3]>,
     pub(crate) q3: Option<f64>,
     pub(crate) psi: Option<f64>,
     pub(crate) q0: Option<Vec<f64>>,

@@ -94,6 +94,61 @@ fn the_cli_and_the_server_answer_ik_alike() {
 }
 
 #[test]
+fn the_cli_and_the_server_answer_position_and_typed_targets_alike() {
+    let app = App::new(None).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(362);
+    let mut solved = 0;
+    for name in ["scorbot-er-v-plus", "rommel", "scara5", "puma560"] {
+        let robot = Robot::builtin(name).unwrap();
+        for _ in 0..3 {
+            let q = random_q(&robot, &mut rng);
+            let pose = robot.fk(&q).unwrap().world_from_tool;
+            let p = [pose.pos.x, pose.pos.y, pose.pos.z];
+            let approach = pose.rot.column(2);
+            // The components each family's arm controls, as flags and as JSON fields.
+            let (flags, fields) = match name {
+                "scorbot-er-v-plus" => {
+                    let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
+                    (
+                        vec!["--pitch".to_string(), format!("{pitch:?}"), "--roll".into(), format!("{roll:?}")],
+                        json!({"pitch": pitch, "roll": roll}),
+                    )
+                }
+                "rommel" => {
+                    let a = [approach.x, approach.y, approach.z];
+                    (vec!["--approach".to_string(), list(&a)], json!({"approach": a}))
+                }
+                "scara5" => {
+                    let alpha = q[1] + q[2] + q[4];
+                    (vec!["--alpha".to_string(), format!("{alpha:?}")], json!({"alpha": alpha}))
+                }
+                _ => (vec![], json!({})),
+            };
+            let mut args = vec!["ik", "--robot", name, "--position"];
+            let position = list(&p);
+            args.push(&position);
+            args.extend(flags.iter().map(String::as_str));
+            args.extend(["--all", "--json"]);
+            let mut body = json!({"robot": name, "position": p});
+            body.as_object_mut().unwrap().extend(fields.as_object().unwrap().clone());
+            let run = kinema(&args);
+            let (status, mut server) = app.api("POST", "/api/ik", &serde_json::to_vec(&body).unwrap());
+            if !run.ok {
+                // Out of the typed target's reach (e.g. the SCARA's zone rule): both doors refuse.
+                assert_eq!(status, 422, "{body}: {server}");
+                continue;
+            }
+            assert_eq!(status, 200, "{body}: {server}");
+            let cli: Value = serde_json::from_str(&run.stdout).unwrap();
+            server.as_object_mut().unwrap().remove("picked");
+            assert_eq!(cli, server, "ik of {name}: {body}");
+            solved += 1;
+        }
+    }
+    assert!(solved >= 9, "only {solved} of 12 targets solved");
+}
+
+#[test]
 fn the_cli_and_the_server_answer_ptp_and_a_program_alike() {
     let app = App::new(None).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(362);

@@ -6,7 +6,6 @@ use std::rc::Rc;
 
 use kinema::ik::family::{Family, ToolAngleJoints};
 use kinema::ik::registry;
-use kinema::ik::TypedKind;
 use kinema::ik::{self, IkTarget};
 use kinema::nalgebra::Vector3;
 use kinema::traj::{Profile, TimeLaw};
@@ -38,9 +37,8 @@ impl Scara {
     /// The family that owns tool-angle targets on `robot`, if one does and
     /// says what its joints move.
     pub(super) fn fit(robot: &Robot) -> Scara {
-        let Ok(family) = registry::for_typed(robot, TypedKind::Alpha) else { return Scara::No };
-        match family.tool_angle_joints() {
-            Some(joints) => Scara::Solver(Rc::from(family), joints),
+        match registry::for_tool_angle(robot) {
+            Some((family, joints)) => Scara::Solver(Rc::from(family), joints),
             None => Scara::No,
         }
     }
@@ -60,7 +58,7 @@ impl Compiler<'_> {
     /// MOVEXY/MOVEZ/MOVETITA after it are errors (they did nothing).
     pub(super) fn refit_scara(&mut self, with_tool: &Robot, t: &Target) {
         let Some(joints) = self.scara.joints() else { return };
-        match registry::for_typed(with_tool, TypedKind::Alpha) {
+        match registry::for_typed(with_tool, joints.kind) {
             Ok(f) => self.scara = Scara::Solver(Rc::from(f), joints),
             Err(e) => {
                 let why = match e {
@@ -138,11 +136,12 @@ impl Compiler<'_> {
             q[joints.roll] += delta[3];
             q
         } else {
-            let typed = IkTarget::PositionAlpha { position: [target[0], target[1], target[2]], alpha: target[3] };
             // The request every door makes, so the point is held to the contract and picked alike.
             let request = ik::IkRequest { q0: Some(&self.q), ..Default::default() };
             let robot = &self.robot_tool;
-            let solved = ik::solve_target_with(robot, Some(&*ik), &typed, &request)
+            let solved = joints
+                .target([target[0], target[1], target[2]], target[3])
+                .and_then(|typed| ik::solve_target_with(robot, Some(&*ik), &IkTarget::Typed(typed), &request))
                 .and_then(|answer| ik::pick_one(robot, answer.solver, answer.solutions, Some(&self.q)));
             match solved {
                 Ok(sol) => {

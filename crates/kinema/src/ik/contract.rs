@@ -77,12 +77,11 @@ fn residual_with(
     Ok(match target {
         IkTarget::Pose(pose) => pose_residual(pose, reached, mask.unwrap_or([true; 6])),
         IkTarget::Position(p) => Residual { position: position_of(p), orientation: 0.0 },
-        typed => {
-            let kind = typed.typed_kind().expect("neither a pose nor a position");
-            let position = typed.position().expect("typed targets have a position");
-            let orientation =
-                super::registry::with_owner(robot, fitted, kind, |f| Ok(f.typed_orientation_error(typed, reached)))?;
-            Residual { position: position_of(&position), orientation }
+        IkTarget::Typed(typed) => {
+            let orientation = super::registry::with_owner(robot, fitted, typed.kind, |f| {
+                Ok(f.typed_orientation_error(typed, reached))
+            })?;
+            Residual { position: position_of(&typed.position), orientation }
         }
     })
 }

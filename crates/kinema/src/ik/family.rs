@@ -6,7 +6,7 @@
 //! target is written once, in the [`registry`].
 
 use super::registry;
-use super::target::{IkTarget, TypedKind};
+use super::target::{TypedKind, TypedTarget};
 use super::{CandidateSet, IkSolver, Solution};
 use crate::error::{InputError, Result};
 use crate::math::Pose;
@@ -33,24 +33,24 @@ pub trait Family: IkSolver {
     /// in [`FAMILIES`](registry::FAMILIES) lists (the one place it is
     /// written). A family registered elsewhere ([`registry::fit_in`]) may
     /// override it.
-    fn owns(&self, kind: TypedKind) -> bool {
+    fn owns(&self, kind: &TypedKind) -> bool {
         registry::lists(self.name(), kind)
     }
 
     /// Every solution of a typed target this family owns (see
     /// [`Entry::typed`](registry::Entry::typed)); `q0` is the previous configuration, for families
     /// that keep a branch or a side from it.
-    fn solve_typed(&self, target: &IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+    fn solve_typed(&self, target: &TypedTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
         let _ = q0;
         Err(crate::Error::Input(crate::InputError::DoesNotFit {
             what: "target".into(),
-            reason: format!("the {} solver takes no {:?} target", self.name(), target.typed_kind()),
+            reason: format!("the {} solver takes no {}", self.name(), target.kind.described()),
         }))
     }
 
     /// The orientation error \[rad\] of `reached` against a typed target of
     /// this family, on the components that target fixes.
-    fn typed_orientation_error(&self, target: &IkTarget, reached: &Pose) -> f64 {
+    fn typed_orientation_error(&self, target: &TypedTarget, reached: &Pose) -> f64 {
         let _ = (target, reached);
         f64::INFINITY
     }
@@ -60,8 +60,9 @@ pub trait Family: IkSolver {
         None
     }
 
-    /// For a family owning tool-angle targets ([`TypedKind::Alpha`]): which
-    /// joints move the tool in the plane, along the vertical and about it.
+    /// For a family owning tool-angle targets (a point and the tool's angle
+    /// about the vertical): their kind, and which joints move the tool in
+    /// the plane, along the vertical and about it.
     fn tool_angle_joints(&self) -> Option<ToolAngleJoints> {
         None
     }
@@ -78,6 +79,16 @@ pub struct ToolAngleJoints {
     pub vertical: usize,
     /// The joint that turns the tool about the vertical alone.
     pub roll: usize,
+    /// The kind of the family's tool-angle targets: one angle component.
+    pub kind: &'static TypedKind,
+}
+
+impl ToolAngleJoints {
+    /// The tool-angle target at `position` \[m\] with the tool's angle about
+    /// the vertical \[rad\].
+    pub fn target(&self, position: [f64; 3], angle: f64) -> Result<TypedTarget> {
+        TypedTarget::new(self.kind, position, &[angle])
+    }
 }
 
 /// The redundancy parameters of a family whose arm has a self-motion (a

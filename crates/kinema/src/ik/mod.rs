@@ -53,7 +53,7 @@ pub use solution::{CandidateSet, Candidates, NumericInfo, Solution, Solutions, S
 pub use solver::{
     analytic_solver, check_target, round_trip, round_trip_cases, IkSolver, RoundTripCase, RoundTripReport,
 };
-pub use target::{IkTarget, TypedKind};
+pub use target::{Component, IkTarget, Quantity, TypedKind, TypedTarget};
 pub(crate) use two_link::{two_link_elbow, two_link_elbow_terms, AnnulusMiss};
 
 /// The error for a task mask that selects no component.

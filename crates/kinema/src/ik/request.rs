@@ -232,7 +232,8 @@ fn solve_request_with(
 /// let reached = robot.fk(&q)?.world_from_tool;
 /// let p = reached.pos;
 /// // Seed 000 eq. 13: pitch β = −(θ2 + θ3 + θ4), roll γ = θ5.
-/// let target = IkTarget::PositionPitchRoll { position: [p.x, p.y, p.z], pitch: -(1.2 - 1.0 - 0.6), roll: 0.4 };
+/// let given: [(&str, Option<&[f64]>); 2] = [("pitch", Some(&[-(1.2 - 1.0 - 0.6)])), ("roll", Some(&[0.4]))];
+/// let target = IkTarget::Typed(kinema::ik::registry::typed_target([p.x, p.y, p.z], &given)?.unwrap());
 /// let answer = solve_target(&robot, &target, &IkRequest::default())?;
 /// assert_eq!(answer.solver, "scorbot");
 /// let one = pick_one(&robot, answer.solver, answer.solutions, Some(&q))?;
@@ -257,7 +258,7 @@ fn solve_request_with(
 /// let numeric = IkRequest { solver: SolverChoice::Numeric, ..Default::default() };
 /// assert!(solve_target(&robot, &target, &numeric).is_err());
 /// // A typed target of another family: that solver's own error.
-/// let alpha = IkTarget::PositionAlpha { position: [p.x, p.y, p.z], alpha: 0.0 };
+/// let alpha = IkTarget::Typed(kinema::ik::scara::TOOL_ANGLE.target([p.x, p.y, p.z], &[("alpha", &[0.0])])?);
 /// assert!(solve_target(&robot, &alpha, &IkRequest::default()).unwrap_err().to_string().contains("SCARA"));
 /// # Ok::<(), kinema::Error>(())
 /// ```
@@ -336,7 +337,7 @@ pub(crate) fn check_request(robot: &Robot, target: &IkTarget, request: &IkReques
     if let Some(q0) = request.q0 {
         robot.check_q(q0)?;
     }
-    if (target.is_typed() || iiwa) && request.solver == SolverChoice::Numeric {
+    if (target.typed().is_some() || iiwa) && request.solver == SolverChoice::Numeric {
         return invalid(
             "solver",
             "pitch/roll, approach and alpha targets, q3 and psi select an analytic solver; drop the numeric solver",
@@ -392,9 +393,8 @@ fn propose(
             masked.mask = Some(POSITION_MASK);
             solve_request_with(robot, fitted, &position_pose(robot, p)?, &masked)
         }
-        _ => {
-            let kind = target.typed_kind().expect("neither a pose nor a position");
-            registry::with_owner(robot, fitted, kind, |f| Ok((f.name(), f.solve_typed(target, request.q0)?)))
+        IkTarget::Typed(ref typed) => {
+            registry::with_owner(robot, fitted, typed.kind, |f| Ok((f.name(), f.solve_typed(typed, request.q0)?)))
         }
     }
 }
@@ -485,6 +485,8 @@ pub fn pick_one(robot: &Robot, solver: &str, solutions: Vec<Solution>, q0: Optio
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ik::target::TypedTarget;
+    use crate::ik::{rommel::APPROACH, scara::TOOL_ANGLE, scorbot::PITCH_ROLL};
     use crate::ik::{scara::ScaraIk, scorbot::ScorbotIk, IiwaIk};
     use crate::ik::{scorbot::R_H, wrap_angle};
     use crate::math::{rot_x, rot_y};
@@ -556,7 +558,7 @@ mod tests {
             let q = robot.random_q(&mut rng);
             let p = xyz(&robot.fk(&q).unwrap().world_from_tool);
             let (pitch, roll) = (-(q[1] + q[2] + q[3]), q[4]);
-            let target = IkTarget::PositionPitchRoll { position: p, pitch, roll };
+            let target = IkTarget::Typed(TypedTarget::new(&PITCH_ROLL, p, &[pitch, roll]).unwrap());
             let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
             assert_eq!(name, "scorbot");
             // The solver's candidates, each kept (the residuals are the contract's own measure),
@@ -587,7 +589,7 @@ mod tests {
             let q = robot.random_q(&mut rng);
             let fk = robot.fk(&q).unwrap().world_from_tool;
             let a = fk.rot.column(2) * 2.5; // any length
-            let target = IkTarget::PositionApproach { position: xyz(&fk), approach: [a.x, a.y, a.z] };
+            let target = IkTarget::Typed(TypedTarget::new(&APPROACH, xyz(&fk), &[a.x, a.y, a.z]).unwrap());
             let IkAnswer { solver: name, solutions: sols, .. } = solve_target(&robot, &target, &all()).unwrap();
             assert_eq!(name, "rommel");
             assert!(!sols.is_empty());
@@ -609,7 +611,7 @@ mod tests {
             let q = robot.random_q(&mut rng);
             let p = xyz(&robot.fk(&q).unwrap().world_from_tool);
             let alpha = q[1] + q[2] + q[4];
-            let target = IkTarget::PositionAlpha { position: p, alpha };
+            let target = IkTarget::Typed(TypedTarget::new(&TOOL_ANGLE, p, &[alpha]).unwrap());
             let request = IkRequest { q0: Some(&q), ..Default::default() };
             let zone = ik.solve_zone([p[0], p[1], p[2], alpha], Some(&q));
             match solve_target(&robot, &target, &request) {
@@ -686,7 +688,7 @@ mod tests {
     fn wrong_combinations_are_refused() {
         let scorbot = Robot::builtin("scorbot-er-v-plus").unwrap();
         let iiwa = Robot::builtin("lbr-iiwa-14-r820").unwrap();
-        let typed = IkTarget::PositionPitchRoll { position: [0.4, 0.1, 0.3], pitch: 0.5, roll: 0.0 };
+        let typed = IkTarget::Typed(TypedTarget::new(&PITCH_ROLL, [0.4, 0.1, 0.3], &[0.5, 0.0]).unwrap());
         let message = |r: &Robot, t: &IkTarget, q: &IkRequest| solve_target(r, t, q).unwrap_err().to_string();
         let numeric = IkRequest { solver: SolverChoice::Numeric, ..Default::default() };
         assert!(message(&scorbot, &typed, &numeric).contains("select an analytic solver"));
@@ -699,7 +701,7 @@ mod tests {
             IkRequest { q3: Some(0.0), mask: Some([true, true, true, true, true, false]), ..Default::default() };
         assert!(message(&iiwa, &IkTarget::Pose(pose), &masked).contains("invalid `mask`"));
         assert!(message(&iiwa, &typed, &IkRequest::default()).contains("Scorbot solver needs 5 revolute joints"));
-        let approach = IkTarget::PositionApproach { position: [0.4, 0.1, 0.3], approach: [0.0, 0.0, 1.0] };
+        let approach = IkTarget::Typed(TypedTarget::new(&APPROACH, [0.4, 0.1, 0.3], &[0.0, 0.0, 1.0]).unwrap());
         assert!(message(&scorbot, &approach, &IkRequest::default()).contains("modified-DH"));
         let short = [0.0, 1.0];
         assert!(message(&scorbot, &typed, &IkRequest { q0: Some(&short), ..Default::default() }).contains("5 joints"));
@@ -709,7 +711,7 @@ mod tests {
         let analytic = IkRequest { solver: SolverChoice::Analytic, ..Default::default() };
         assert!(message(&scorbot, &IkTarget::Position([0.4, 0.1, 0.3]), &analytic).contains("no analytic solver"));
         // Out of reach: the solver's reason.
-        let far = IkTarget::PositionPitchRoll { position: [2.0, 0.0, 0.3], pitch: 0.0, roll: 0.0 };
+        let far = IkTarget::Typed(TypedTarget::new(&PITCH_ROLL, [2.0, 0.0, 0.3], &[0.0, 0.0]).unwrap());
         assert!(matches!(
             solve_target(&scorbot, &far, &IkRequest::default()),
             Err(Error::Unreachable { ref solver, .. }) if solver == "scorbot"

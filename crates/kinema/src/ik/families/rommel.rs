@@ -47,11 +47,21 @@ use std::f64::consts::PI;
 use nalgebra::Vector3;
 
 use crate::error::{Error, InputError, Result};
+use crate::ik::target::{Component, Quantity, TypedKind, TypedTarget};
 use crate::ik::{check_target, wrap_angle, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::Pose;
 use crate::model::{DhConvention, LinkGeometry};
 use crate::robot::Robot;
+
+/// ROMMEL's typed target (seed 001): the tool point with the tool z axis
+/// along `approach` (any non-zero vector, normalised), q5 = 0
+/// ([`RommelIk::solve_position_approach`], up to four solutions).
+pub static APPROACH: TypedKind = TypedKind {
+    name: "approach",
+    components: &[Component { name: "approach", quantity: Quantity::Direction }],
+    summary: "ROMMEL: position and approach direction",
+};
 
 /// Name of the solver in errors.
 const NAME: &str = "rommel";
@@ -369,22 +379,11 @@ impl crate::ik::ClosedForm for RommelIk {
 }
 
 impl crate::ik::family::Family for RommelIk {
-    fn solve_typed(&self, target: &crate::ik::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
-        match *target {
-            crate::ik::IkTarget::PositionApproach { position, approach } => {
-                self.solve_position_approach(position, approach)
-            }
-            _ => Err(Error::Input(InputError::DoesNotFit {
-                what: "target".into(),
-                reason: "ROMMEL's typed target is a position with an approach direction".into(),
-            })),
-        }
+    fn solve_typed(&self, target: &TypedTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+        self.solve_position_approach(target.position, target.direction("approach"))
     }
 
-    fn typed_orientation_error(&self, target: &crate::ik::IkTarget, reached: &Pose) -> f64 {
-        match *target {
-            crate::ik::IkTarget::PositionApproach { approach, .. } => Self::approach_error(reached, approach),
-            _ => f64::INFINITY,
-        }
+    fn typed_orientation_error(&self, target: &TypedTarget, reached: &Pose) -> f64 {
+        Self::approach_error(reached, target.direction("approach"))
     }
 }

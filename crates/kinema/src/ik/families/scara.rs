@@ -74,11 +74,22 @@ use std::f64::consts::PI;
 use nalgebra::Vector3;
 
 use crate::error::{Error, InputError, Result};
+use crate::ik::target::{Component, Quantity, TypedKind, TypedTarget};
 use crate::ik::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::{rot_z, Pose};
 use crate::model::LinkGeometry;
 use crate::robot::Robot;
+
+/// The SCARA's typed target (seed 003): the tool point with the tool angle
+/// α = q2 + q3 + q5 about the vertical \[rad\], the rail placed by the zone
+/// rule; elbow side and q5 follow the request's `q0` when given
+/// ([`ScaraIk::solve_zone`], one solution).
+pub static TOOL_ANGLE: TypedKind = TypedKind {
+    name: "tool-angle",
+    components: &[Component { name: "alpha", quantity: Quantity::Angle }],
+    summary: "SCARA: position and tool angle alpha",
+};
 
 /// Name of the solver in errors.
 const NAME: &str = "scara";
@@ -686,27 +697,16 @@ impl crate::ik::family::Family for ScaraIk {
     /// slides it along the vertical and joint 5 turns it (the "PRRPR" chain
     /// [`ScaraIk::new`] requires).
     fn tool_angle_joints(&self) -> Option<crate::ik::family::ToolAngleJoints> {
-        Some(crate::ik::family::ToolAngleJoints { planar: &[0, 1, 2], vertical: 3, roll: 4 })
+        Some(crate::ik::family::ToolAngleJoints { planar: &[0, 1, 2], vertical: 3, roll: 4, kind: &TOOL_ANGLE })
     }
 
-    fn solve_typed(&self, target: &crate::ik::IkTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
-        match *target {
-            crate::ik::IkTarget::PositionAlpha { position: [x, y, z], alpha } => {
-                Ok(vec![self.solve_zone([x, y, z, alpha], q0)?])
-            }
-            _ => Err(Error::Input(InputError::DoesNotFit {
-                what: "target".into(),
-                reason: "the SCARA's typed target is a position with the tool angle α".into(),
-            })),
-        }
+    fn solve_typed(&self, target: &TypedTarget, q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+        let [x, y, z] = target.position;
+        Ok(vec![self.solve_zone([x, y, z, target.angle("alpha")], q0)?])
     }
 
-    fn typed_orientation_error(&self, target: &crate::ik::IkTarget, reached: &Pose) -> f64 {
-        match *target {
-            crate::ik::IkTarget::PositionAlpha { position, alpha } => {
-                crate::math::pose_error(&Self::alpha_pose(position, alpha), reached).rotation_angle()
-            }
-            _ => f64::INFINITY,
-        }
+    fn typed_orientation_error(&self, target: &TypedTarget, reached: &Pose) -> f64 {
+        let wanted = Self::alpha_pose(target.position, target.angle("alpha"));
+        crate::math::pose_error(&wanted, reached).rotation_angle()
     }
 }

@@ -68,11 +68,25 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, InputError, Result};
+use crate::ik::target::{Component, Quantity, TypedKind, TypedTarget};
 use crate::ik::{check_target, wrap_angle, Candidates, Solution, Unreachable};
 use crate::math::FastMath;
 use crate::math::{rot_x, rot_y, Pose, RpyConvention};
 use crate::model::{DhConvention, LinkGeometry};
 use crate::robot::Robot;
+
+/// The Scorbot's typed target (seed 000 eq. 13): the tool point with pitch
+/// β = −(θ2 + θ3 + θ4) (positive points the approach downwards) and roll
+/// γ = θ5, angles \[rad\]; the yaw follows from the position
+/// ([`ScorbotIk::solve_xyz_pitch_roll`], up to four solutions).
+pub static PITCH_ROLL: TypedKind = TypedKind {
+    name: "pitch-roll",
+    components: &[
+        Component { name: "pitch", quantity: Quantity::Angle },
+        Component { name: "roll", quantity: Quantity::Angle },
+    ],
+    summary: "Scorbot: position, pitch and roll",
+};
 
 /// Name of the solver in errors.
 const NAME: &str = "scorbot";
@@ -517,22 +531,11 @@ impl ScorbotIk {
 }
 
 impl crate::ik::family::Family for ScorbotIk {
-    fn solve_typed(&self, target: &crate::ik::IkTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
-        match *target {
-            crate::ik::IkTarget::PositionPitchRoll { position, pitch, roll } => {
-                self.solve_xyz_pitch_roll(position, pitch, roll)
-            }
-            _ => Err(Error::Input(InputError::DoesNotFit {
-                what: "target".into(),
-                reason: "the Scorbot solver's typed target is a position with pitch and roll".into(),
-            })),
-        }
+    fn solve_typed(&self, target: &TypedTarget, _q0: Option<&[f64]>) -> Result<Vec<Solution>> {
+        self.solve_xyz_pitch_roll(target.position, target.angle("pitch"), target.angle("roll"))
     }
 
-    fn typed_orientation_error(&self, target: &crate::ik::IkTarget, reached: &Pose) -> f64 {
-        match *target {
-            crate::ik::IkTarget::PositionPitchRoll { pitch, roll, .. } => self.pitch_roll_error(reached, pitch, roll),
-            _ => f64::INFINITY,
-        }
+    fn typed_orientation_error(&self, target: &TypedTarget, reached: &Pose) -> f64 {
+        self.pitch_roll_error(reached, target.angle("pitch"), target.angle("roll"))
     }
 }
