@@ -33,11 +33,25 @@ pub(super) fn matrix(v: &Value) -> Vec<Vec<f64>> {
     v.as_array().unwrap().iter().map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()).collect()
 }
 
-pub(super) fn tempdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kinema-cli-test-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh directory for one test's files, removed when the test ends (pass or fail).
+pub(super) struct TestDir(tempfile::TempDir);
+
+impl std::ops::Deref for TestDir {
+    type Target = std::path::Path;
+
+    fn deref(&self) -> &std::path::Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<std::path::Path> for TestDir {
+    fn as_ref(&self) -> &std::path::Path {
+        self.0.path()
+    }
+}
+
+pub(super) fn tempdir(tag: &str) -> TestDir {
+    TestDir(tempfile::Builder::new().prefix(&format!("kinema-cli-test-{tag}-")).tempdir().unwrap())
 }
 
 #[test]
@@ -230,7 +244,6 @@ fn fk_batch_file_round_trip_and_atomic_failure() {
         .filter(|e| e.file_name().to_string_lossy().contains("tmp"))
         .collect();
     assert!(leftovers.is_empty(), "temporary files left behind");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

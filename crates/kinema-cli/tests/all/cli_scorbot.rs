@@ -74,7 +74,6 @@ fn scorbot_square_runs_seed_000_fig_6_in_the_xz_plane() {
     assert!(xy["path"].as_str().unwrap().contains("xy plane"), "{xy}");
     assert!(fails(&["scorbot", "square", "--plane", "xw"]).contains("xw"));
     assert!(fails(&["scorbot", "square", "--models", "nope"]).contains("nope"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `kinema scorbot sim --tcp` in the background, killed when dropped.
