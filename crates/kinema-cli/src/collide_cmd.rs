@@ -59,6 +59,10 @@ pub struct CollideArgs {
     /// Print JSON (one object per configuration, one per line with --input).
     #[arg(long)]
     json: bool,
+    /// With --input: check only shard i of n (`2/4`: the second of four contiguous blocks of its
+    /// configurations); the shards' outputs, concatenated in order, are the unsharded output byte for byte.
+    #[arg(long, requires = "input")]
+    shard: Option<kinema_io::Shard>,
 }
 
 pub fn run(a: CollideArgs) -> Result<()> {
@@ -80,7 +84,7 @@ pub fn run(a: CollideArgs) -> Result<()> {
             print(&answer, None, a.json)?;
             answer.collision
         }
-        (None, Some(path)) => batch(&checked, path, a.deg, a.json)?,
+        (None, Some(path)) => batch(&checked, path, a.deg, a.json, a.shard.unwrap_or(kinema_io::Shard::ALL))?,
         (None, None) => unreachable!("clap requires --q, --input or --generate-srdf"),
     };
     if collided {
@@ -89,39 +93,38 @@ pub fn run(a: CollideArgs) -> Result<()> {
     Ok(())
 }
 
-/// Checks every line of `path` on all cores, chunk by chunk; prints in input order.
-fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool) -> Result<bool> {
+/// Checks the lines of `path` that `shard` takes on all cores, chunk by chunk; prints in input
+/// order. Every line is read and checked first, so a bad one fails every shard before any output.
+fn batch(c: &CollisionCheck, path: &std::path::Path, deg: bool, json: bool, shard: kinema_io::Shard) -> Result<bool> {
     let rows = crate::numeric_rows(path)?;
     if rows.is_empty() {
         bail!("`{}` holds no configurations", path.display());
     }
-    let dof = c.robot().dof();
-    for (line, v) in &rows {
+    let robot = c.robot();
+    let dof = robot.dof();
+    let mut configurations = Vec::with_capacity(rows.len());
+    for (line, v) in rows {
         if v.len() != dof {
             bail!(
                 "`{}` line {line}: {} values; expected one per joint of `{}` ({dof})",
                 path.display(),
                 v.len(),
-                c.robot().name()
+                robot.name()
             );
         }
+        let q: Vec<f64> = v
+            .iter()
+            .zip(robot.joints())
+            .map(|(x, j)| if deg && j.kind == kinema::JointType::Revolute { x.to_radians() } else { *x })
+            .collect();
+        robot.check_q(&q).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", path.display()))?;
+        configurations.push((line, q));
     }
     let mut any = false;
-    for chunk in rows.chunks(CHUNK) {
-        let answers: Vec<Result<CollideAnswer>> = chunk
+    for chunk in shard.take(configurations).chunks(CHUNK) {
+        let answers: Vec<kinema_geometry::Result<CollideAnswer>> = chunk
             .par_iter()
-            .map_init(
-                || c.placement(),
-                |placement, (line, v)| {
-                    let q = v
-                        .iter()
-                        .zip(c.robot().joints())
-                        .map(|(x, j)| if deg && j.kind == kinema::JointType::Revolute { x.to_radians() } else { *x })
-                        .collect::<Vec<f64>>();
-                    c.robot().check_q(&q).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", path.display()))?;
-                    Ok(CollideAnswer::of(c, q, placement)?)
-                },
-            )
+            .map_init(|| c.placement(), |placement, (_, q)| CollideAnswer::of(c, q.clone(), placement))
             .collect();
         for ((line, _), answer) in chunk.iter().zip(answers) {
             let answer = answer?;

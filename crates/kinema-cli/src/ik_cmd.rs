@@ -72,6 +72,10 @@ pub struct IkArgs {
     /// Batch: where to write the solutions (CSV; written in full or not at all).
     #[arg(long, requires = "input")]
     output: Option<std::path::PathBuf>,
+    /// Batch: solve only shard i of n (`2/4`: the second of four contiguous blocks of the input's
+    /// targets); the shards' outputs, concatenated in order, are the unsharded output byte for byte.
+    #[arg(long, requires = "input")]
+    shard: Option<kinema_io::Shard>,
     /// Previous / initial configuration (comma-separated or a named pose).
     #[arg(long, allow_hyphen_values = true)]
     q0: Option<String>,

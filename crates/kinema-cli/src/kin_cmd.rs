@@ -34,6 +34,10 @@ pub struct FkArgs {
     /// Batch mode: where to write the poses (CSV; `-` for standard output); written completely or not at all.
     #[arg(long, requires = "input")]
     output: Option<PathBuf>,
+    /// Batch mode: only shard i of n (`2/4`: the second of four contiguous blocks of the input's
+    /// configurations); the shards' outputs, concatenated in order, are the unsharded output byte for byte.
+    #[arg(long, requires = "input")]
+    shard: Option<kinema_io::Shard>,
 }
 
 #[derive(Args)]
@@ -79,7 +83,7 @@ pub fn fk(a: FkArgs) -> Result<()> {
     let r = a.robot.load()?;
     let conv = a.rpy;
     if let (Some(input), Some(output)) = (&a.input, &a.output) {
-        return fk_batch_file(&r, input, output, a.deg, conv);
+        return fk_batch_file(&r, input, output, a.deg, conv, a.shard.unwrap_or(kinema_io::Shard::ALL));
     }
     let q = r.parse_q(a.q.as_deref().expect("clap requires --q without --input"), a.deg)?;
     let fk = r.fk(&q)?;
@@ -127,7 +131,14 @@ pub fn fk(a: FkArgs) -> Result<()> {
 
 /// Reads configurations from `input`, writes poses to `output` through a
 /// temporary file that is renamed only when everything succeeded.
-fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyConvention) -> Result<()> {
+fn fk_batch_file(
+    r: &Robot,
+    input: &Path,
+    output: &Path,
+    deg: bool,
+    conv: RpyConvention,
+    shard: kinema_io::Shard,
+) -> Result<()> {
     let n = r.dof();
     let mut qs: Vec<f64> = Vec::new();
     for (line, vals) in numeric_rows(input)? {
@@ -140,10 +151,12 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
         }
         r.check_q(&qs[start..]).map_err(|e| anyhow::anyhow!("`{}` line {line}: {e}", input.display()))?;
     }
-    let rows = qs.len() / n;
-    if rows == 0 {
+    if qs.is_empty() {
         bail!("`{}` holds no configurations", input.display());
     }
+    let block = shard.range(qs.len() / n);
+    let rows = block.len();
+    let qs = &qs[block.start * n..block.end * n];
     let bar = progress_bar(rows, "configurations", 200_000);
     let result = write_atomically(output, |out| {
         let mut w = csv::Writer::from_writer(out);
@@ -152,7 +165,9 @@ fn fk_batch_file(r: &Robot, input: &Path, output: &Path, deg: bool, conv: RpyCon
             RpyConvention::Xyz => ["rx", "ry", "rz"],
         };
         let header = ["x", "y", "z", rpy_names[0], rpy_names[1], rpy_names[2], "qw", "qx", "qy", "qz", "within_limits"];
-        w.write_record(header)?;
+        if shard.writes_header() {
+            w.write_record(header)?;
+        }
         const CHUNK: usize = 65_536;
         for chunk in qs.chunks(CHUNK * n) {
             for fk in r.fk_batch(chunk)? {

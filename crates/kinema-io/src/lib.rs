@@ -30,6 +30,7 @@ mod kinematics;
 mod pose;
 mod program;
 mod robot;
+mod shard;
 mod solution;
 mod traj;
 mod trajectory;
@@ -44,6 +45,7 @@ pub use ik::{
     ToleranceAnswer, UnreachableAnswer, ValidateAnswer, DISCARD_REASON, MISSED,
 };
 pub use program::{MotionAnswer, ProgramAnswer};
+pub use shard::Shard;
 pub use traj::{
     CheckAnswer, JointExpression, LawAnswer, LawSamples, SkippedPoint, TimedValue, TrajSummary, ViolationAnswer,
 };

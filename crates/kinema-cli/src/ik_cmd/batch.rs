@@ -9,6 +9,7 @@ use anyhow::{bail, Result};
 use kinema::ik::{IkTarget, Solution};
 use kinema::nalgebra::Matrix4;
 use kinema::{Error, JointType, Pose, Robot};
+use kinema_io::Shard;
 
 use super::{request, IkArgs};
 use crate::{numeric_rows, write_atomically, Exit};
@@ -28,7 +29,8 @@ pub(super) fn run(
     output: &Path,
     admissible: Option<&dyn kinema::ik::Admissible>,
 ) -> Result<()> {
-    let rows = read_targets(a, input)?;
+    let shard = a.shard.unwrap_or(Shard::ALL);
+    let rows = shard.take(read_targets(a, input)?);
     let q0 = a.q0.as_deref().map(|t| robot.parse_q(t, a.deg)).transpose()?;
     let request = request(a, q0.as_deref(), admissible)?;
     let targets: Vec<IkTarget> = rows.iter().filter_map(|(_, t)| t.clone().ok()).collect();
@@ -54,7 +56,7 @@ pub(super) fn run(
             (line, result)
         })
         .collect();
-    write_atomically(output, |out| write_results(out, robot, a.deg, &results))?;
+    write_atomically(output, |out| write_results(out, robot, a.deg, &results, shard.writes_header()))?;
     let failed = results.iter().filter(|(_, r)| r.is_err()).count();
     eprintln!("solved {} of {} targets; wrote {}", results.len() - failed, results.len(), output.display());
     if failed > 0 {
@@ -103,14 +105,17 @@ fn read_targets(a: &IkArgs, input: &Path) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-/// The output CSV: one line per input line, a solution or the reason there is none.
-fn write_results(out: &mut impl Write, robot: &Robot, deg: bool, results: &[Answer]) -> Result<()> {
+/// The output CSV: one line per input line, a solution or the reason there is none; the header
+/// line first when `header` (the first shard's output, or the whole batch's).
+fn write_results(out: &mut impl Write, robot: &Robot, deg: bool, results: &[Answer], header: bool) -> Result<()> {
     let n = robot.dof();
     let mut w = csv::Writer::from_writer(out);
-    let mut header = vec!["line".to_string(), "status".into(), "solver".into()];
-    header.extend((1..=n).map(|i| format!("q{i}")));
-    header.extend(["position_error", "orientation_error", "within_limits", "reason"].map(String::from));
-    w.write_record(&header)?;
+    if header {
+        let mut names = vec!["line".to_string(), "status".into(), "solver".into()];
+        names.extend((1..=n).map(|i| format!("q{i}")));
+        names.extend(["position_error", "orientation_error", "within_limits", "reason"].map(String::from));
+        w.write_record(&names)?;
+    }
     for (line, result) in results {
         let mut rec = vec![line.to_string()];
         match result {

@@ -27,4 +27,5 @@ mod readme_seeds;
 mod robust;
 #[cfg(feature = "serve")]
 mod serve_browser;
+mod shard;
 mod traj_limits;
