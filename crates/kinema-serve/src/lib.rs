@@ -86,6 +86,7 @@
 mod api;
 mod error;
 mod request;
+mod shapes;
 // The only module that needs axum, hyper and tokio: without the `server`
 // feature the crate is the request handler `App`, with no sockets.
 #[cfg(feature = "server")]
@@ -95,3 +96,4 @@ pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
 pub use error::{Error, JsonError, Result};
 #[cfg(feature = "server")]
 pub use server::{Limits, Running, Server};
+pub use shapes::{GeometryAnswer, MeshAnswer, SceneAnswer, ShapeAnswer};
