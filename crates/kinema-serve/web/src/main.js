@@ -129,6 +129,8 @@ window.kinemaViewer = {
   // Window CSS pixels [x, y] (and depth) of world point p [m].
   project: (p) => view.project(p),
   setQ: (q) => setQ(q),
+  // Draws the view again at the next animation frame.
+  redraw: () => view.requestRender(),
   measure: (count) => view.measure(count),
   screenshot: () => view.screenshot(),
 };

@@ -104,9 +104,10 @@ export class View {
 
   // Draws `count` frames, turning the camera a little each time, and
   // resolves with the median time per frame from one animation frame to the
-  // next, and the median time to draw and finish one [ms].
+  // next, and the median time to draw one completely [ms].
   measure(count) {
     const gl = this.renderer.getContext();
+    const pixel = new Uint8Array(4);
     const intervals = [], draws = [];
     return new Promise((resolve) => {
       let last = null, k = 0;
@@ -117,7 +118,8 @@ export class View {
         this.controls.update();
         const start = performance.now();
         this.renderer.render(this.scene, this.camera);
-        gl.finish();
+        // Reading a pixel waits until the frame is really drawn (finish() may not).
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
         draws.push(performance.now() - start);
         this.frames += 1;
         if (++k < count) { requestAnimationFrame(step); return; }
