@@ -492,6 +492,7 @@ const STL_ARM: &str = r#"<?xml version="1.0"?>
   </joint>
   <link name="upper">
     <visual><origin xyz="0.2 0 0"/><geometry><mesh filename="cube.stl" scale="0.52 0.09 0.09"/></geometry></visual>
+    <collision><origin xyz="0.2 0 0"/><geometry><box size="0.6 0.25 0.25"/></geometry></collision>
   </link>
   <joint name="j3" type="revolute">
     <parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/>
@@ -517,6 +518,20 @@ fn link_origins_fall_on_the_drawn_meshes_of_an_stl_arm() {
     // The frame triads off: only the meshes (and the tool's triad) are drawn.
     viewer.script("document.getElementById('show-frames').click(); return 1");
     silhouettes_follow_fk(&viewer, &[[0.0, 0.0, 0.0], [1.2, -0.7, 1.3]], 0, 0, "stl-arm");
+    // The collision box, larger than the upper arm's mesh, covers more of the view when shown.
+    let drawn = |name: &str| {
+        let (img, [x0, y0, w, h]) = viewer.screenshot(name);
+        let (xs, ys) = (x0..(x0 + w).min(img.width()), y0..(y0 + h).min(img.height()));
+        ys.flat_map(|y| xs.clone().map(move |x| (x, y))).filter(|&(x, y)| !is_background(img.get_pixel(x, y))).count()
+    };
+    let without = drawn("stl-arm-visual");
+    viewer.script("document.getElementById('show-collision').click(); window.kinemaViewer.redraw(); return 1");
+    std::thread::sleep(Duration::from_millis(300));
+    let with = drawn("stl-arm-collision");
+    assert!(with > without + 500, "{without} drawn pixels without the collision box, {with} with it");
+    // The screenshot button's picture.
+    let png = viewer.script("return window.kinemaViewer.screenshot()");
+    assert!(png.as_str().is_some_and(|p| p.starts_with("data:image/png;base64,") && p.len() > 10_000), "{png}");
     viewer.assert_webgl_and_no_errors();
 }
 

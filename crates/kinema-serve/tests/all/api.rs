@@ -471,7 +471,7 @@ fn random_request_bodies_are_answered_never_with_a_500() {
         ("/api/run", json!({"robot": "scara5", "program": "HOME 1\nMOVEZ -50, 1\nWAIT 0.5s\n", "dt": 0.05})),
         (
             "/api/scene",
-            json!({"scene": "[[obstacle]]\nname = \"ball\"\nsphere = 0.1\npose = [0.5, 0, 0.2, 0, 0, 0]\n"}),
+            json!({"scene": "[[obstacle]]\nname = \"block\"\nbox = [0.2, 0.3, 0.1]\npose = [0.5, 0, 0.2, 0, 0, 0]\n"}),
         ),
     ];
     let sources: Vec<(&str, String)> = valid.iter().map(|(path, body)| (*path, body.to_string())).collect();
