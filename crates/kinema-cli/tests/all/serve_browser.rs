@@ -409,6 +409,8 @@ fn print_frame_time(viewer: &Viewer, what: &str) {
     viewer.script("window.kinemaViewer.measured = null; window.kinemaViewer.measure(60).then((m) => { window.kinemaViewer.measured = m; }); return 1");
     let m = viewer.wait_for("return window.kinemaViewer.measured", 60, "the frame time", |v| v.is_object());
     let (frame, draw) = (m["frame_ms"].as_f64().unwrap(), m["draw_ms"].as_f64().unwrap());
+    // SwiftShader is recognised, so the view is drawn without multisampling.
+    assert_eq!(viewer.script("return window.kinemaViewer.software"), true);
     println!(
         "viewer frame time, {what}: median {frame:.1} ms per frame ({:.0} fps), {draw:.1} ms to draw one completely \
          (headless Chromium, SwiftShader)",

@@ -123,6 +123,8 @@ window.kinemaViewer = {
   errors,
   get q() { return state.q.slice(); },
   get context() { return view.contextKind; },
+  // Whether WebGL runs on the CPU (then without multisampling).
+  get software() { return view.software; },
   get frames() { return view.frames; },
   get frameTimes() { return view.frameTimes.slice(); },
   get live() { return poses.live; },
