@@ -4,6 +4,7 @@ use std::io::Write;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use kinema_geometry::{load_robot_geometry, load_urdf, ros_package_path, RobotGeometry, UrdfOptions};
 
 #[derive(Args)]
 pub struct ServeArgs {
@@ -21,7 +22,9 @@ pub struct ServeArgs {
 
 pub(crate) fn run(a: ServeArgs) -> Result<()> {
     let robot = crate::load_robot(&a.robot, a.tip.as_deref())?;
+    let (visual, collision) = link_shapes(&a.robot, a.tip.as_deref());
     let server = kinema_serve::Server::bind(("127.0.0.1", a.port), Some(robot))
+        .and_then(|s| s.with_link_shapes(visual, collision))
         .with_context(|| format!("cannot start the viewer on port {}", a.port))?;
     let mut out = std::io::stdout().lock();
     writeln!(out, "kinema serve: {}", server.url())?;
@@ -33,4 +36,26 @@ pub(crate) fn run(a: ServeArgs) -> Result<()> {
     server.run_until_signal();
     eprintln!("kinema serve: stopped");
     Ok(())
+}
+
+/// The shapes the page draws for robot `spec` from a file: a URDF's
+/// `<visual>` and `<collision>` elements (meshes found beside it and in
+/// `ROS_PACKAGE_PATH`), a robot file's `[[shape]]`s. A built-in robot's come
+/// with the server. Shapes that cannot be loaded are left out with a
+/// warning: the page then draws the link frames.
+fn link_shapes(spec: &str, tip: Option<&str>) -> (Option<RobotGeometry>, Option<RobotGeometry>) {
+    if kinema::builtin_source(spec).is_some() {
+        return (None, None);
+    }
+    let options = UrdfOptions { tip: tip.map(str::to_string), package_paths: ros_package_path(), skip_visual: false };
+    let lower = spec.to_ascii_lowercase();
+    let loaded = if lower.ends_with(".urdf") || lower.ends_with(".xml") {
+        load_urdf(spec, &options).map(|u| (Some(u.visual), Some(u.collision)))
+    } else {
+        load_robot_geometry(spec, &options).map(|(_, collision)| (None, Some(collision)))
+    };
+    loaded.unwrap_or_else(|e| {
+        eprintln!("warning: {spec}: the viewer draws no link shapes: {e}");
+        (None, None)
+    })
 }

@@ -19,7 +19,8 @@ use serde::Serialize;
 use serde_json::Value;
 
 use crate::error::{Error, Result};
-use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, TrajReq};
+use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, SceneReq, TrajReq};
+use crate::shapes::{GeometryAnswer, SceneAnswer};
 use kinema_io::{
     CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary,
     TrajectoryAnswer,
@@ -37,7 +38,8 @@ pub const MAX_SAMPLES: usize = 200_000;
 pub const RUN_BUDGET: Duration = Duration::from_secs(10);
 
 const INDEX_HTML: &str = include_str!("../assets/index.html");
-const APP_JS: &str = include_str!("../assets/app.js");
+/// The page's script: `web/src/*.js` and three.js, bundled by `build.rs`.
+const VIEWER_JS: &str = include_str!(concat!(env!("OUT_DIR"), "/viewer.js"));
 const STYLE_CSS: &str = include_str!("../assets/style.css");
 
 /// An answer: status, content type, extra headers and body.
@@ -98,7 +100,16 @@ pub struct App {
     /// The built-in robots' link shapes, by robot name, loaded at the first
     /// collision check.
     bodies: OnceLock<Vec<(String, RobotGeometry)>>,
+    /// The default robot's shapes when they were given ([`App::with_link_shapes`]).
+    default_shapes: Option<LinkShapes>,
     default: usize,
+}
+
+/// A robot's shapes to draw: visual ones and collision ones, either may be missing.
+#[derive(Debug, Clone, Default)]
+struct LinkShapes {
+    visual: Option<RobotGeometry>,
+    collision: Option<RobotGeometry>,
 }
 
 impl App {
@@ -122,7 +133,32 @@ impl App {
         if robots.is_empty() {
             return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
         }
-        Ok(App { robots, bodies: OnceLock::new(), default })
+        Ok(App { robots, bodies: OnceLock::new(), default_shapes: None, default })
+    }
+
+    /// The default robot's shapes for the page to draw: `visual` (a URDF's
+    /// `<visual>` elements) and `collision` (its `<collision>` elements or a
+    /// robot file's `[[shape]]`s). Without them the page draws a built-in
+    /// robot's `[[shape]]`s, or else only the link frames (as when both are
+    /// `None`). Both must belong
+    /// to the default robot (its name and number of joints).
+    pub fn with_link_shapes(mut self, visual: Option<RobotGeometry>, collision: Option<RobotGeometry>) -> Result<App> {
+        let robot = self.default_robot();
+        for g in visual.iter().chain(collision.iter()) {
+            if g.robot() != robot.name() || g.dof() != robot.dof() {
+                return Err(Error::Unprocessable {
+                    message: format!(
+                        "shapes of robot `{}` ({} joints) given for robot `{}` ({} joints)",
+                        g.robot(),
+                        g.dof(),
+                        robot.name(),
+                        robot.dof()
+                    ),
+                });
+            }
+        }
+        self.default_shapes = (visual.is_some() || collision.is_some()).then_some(LinkShapes { visual, collision });
+        Ok(self)
     }
 
     /// The link shapes of the built-in robots this server serves.
@@ -163,7 +199,7 @@ impl App {
         let path = path.split(['?', '#']).next().unwrap_or("");
         let asset = match path {
             "/" | "/index.html" => Some(("text/html; charset=utf-8", INDEX_HTML)),
-            "/app.js" => Some(("text/javascript; charset=utf-8", APP_JS)),
+            "/viewer.js" => Some(("text/javascript; charset=utf-8", VIEWER_JS)),
             "/style.css" => Some(("text/css; charset=utf-8", STYLE_CSS)),
             _ => None,
         };
@@ -223,6 +259,10 @@ impl App {
                 self.robots.iter().enumerate().map(|(i, r)| RobotSummary::new(r, i == self.default)).collect();
             return to_value(summaries);
         }
+        if let Some(name) = path.strip_prefix("/api/robots/").and_then(|p| p.strip_suffix("/geometry")) {
+            get(is_get)?;
+            return self.geometry(name);
+        }
         if let Some(name) = path.strip_prefix("/api/robots/") {
             get(is_get)?;
             return to_value(RobotInfo::new(self.robot_named(name, true)?));
@@ -234,6 +274,7 @@ impl App {
             "/api/run" => App::run,
             "/api/manip" => |a, b, _| a.manip(b),
             "/api/collide" => |a, b, _| a.collide(b),
+            "/api/scene" => |a, b, _| a.scene(b),
             _ => return Err(Error::NotFound { path: path.into() }),
         };
         if method != "POST" {
@@ -261,6 +302,38 @@ impl App {
         let req: QReq = parse(body, "/api/fk", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
         let r = self.robot(&req.robot)?;
         to_value(FkAnswer::new(r, &req.q, RpyConvention::Zyx)?)
+    }
+
+    /// A pose update asked on the WebSocket: the FK answer of a
+    /// `{"robot": NAME, "q": [...]}` message (the body of `/api/fk`), or
+    /// `{"error": …}`.
+    pub fn pose_update(&self, message: &[u8]) -> Value {
+        self.fk(message).unwrap_or_else(|e| error_json(&e).1)
+    }
+
+    /// The shapes of robot `name` to draw, in its link frames.
+    fn geometry(&self, name: &str) -> Result<Value> {
+        let robot = self.robot_named(name, true)?;
+        let given = self.default_shapes.as_ref().filter(|_| robot == self.default_robot());
+        let answer = match given {
+            Some(s) => GeometryAnswer::new(robot.name(), robot.dof(), s.visual.as_ref(), s.collision.as_ref()),
+            None => {
+                let builtin = self.bodies()?.iter().find(|(n, _)| n == robot.name()).map(|(_, g)| g);
+                GeometryAnswer::new(robot.name(), robot.dof(), None, builtin)
+            }
+        };
+        to_value(answer)
+    }
+
+    /// A scene's obstacles in the world frame, its robots standing as obstacles.
+    fn scene(&self, body: &[u8]) -> Result<Value> {
+        const SHAPE: &str = r#"{"scene": "a scene file's TOML text"}"#;
+        let req: SceneReq = parse(body, "/api/scene", SHAPE)?;
+        let meshes = UrdfOptions { package_paths: ros_package_path(), ..Default::default() };
+        let scene = Scene::from_toml(&req.scene, "scene", Path::new("."))
+            .and_then(|s| s.standing(None, &meshes))
+            .map_err(|e| Error::Unprocessable { message: e.to_string() })?;
+        to_value(SceneAnswer::new(&scene.obstacles))
     }
 
     fn manip(&self, body: &[u8]) -> Result<Value> {
@@ -556,7 +629,7 @@ mod tests {
         for (path, kind) in [
             ("/", "text/html"),
             ("/index.html?x=1", "text/html"),
-            ("/app.js", "javascript"),
+            ("/viewer.js", "javascript"),
             ("/style.css", "text/css"),
         ] {
             let r = a.handle("GET", path, b"");
@@ -564,7 +637,7 @@ mod tests {
             assert!(r.content_type.contains(kind));
             assert!(!r.body.is_empty());
         }
-        let r = a.handle("POST", "/app.js", b"");
+        let r = a.handle("POST", "/viewer.js", b"");
         assert_eq!(r.status, 405);
         assert!(r.headers.iter().any(|(h, v)| *h == "Allow" && v.contains("GET")));
     }

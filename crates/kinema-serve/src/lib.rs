@@ -2,9 +2,10 @@
 //!
 //! A local HTTP/1.1 server (axum's router on hyper, on a tokio runtime of its
 //! own) with a JSON API backed by the `kinema` and `kinema-lang` libraries,
-//! and a web page embedded in the binary that draws the robot on a 2D canvas
-//! with its own 3D projection (no JavaScript library, nothing downloaded at
-//! run time).
+//! and a web page embedded in the binary that draws the robot with three.js
+//! (bundled from npm by `build.rs`; nothing is downloaded at run time). The
+//! page gets a robot's link shapes once (`GET /api/robots/{name}/geometry`)
+//! and its link poses as the joints move (the WebSocket `/api/ws`).
 //!
 //! * [`Server`] — binds a TCP address ([`Server::bind`]), tells its
 //!   [`Server::url`], and serves requests, either in the calling thread
@@ -33,6 +34,9 @@
 //! | `POST /api/ik` | `{robot?, T}` or `{robot?, position, rpy}`, optional `q3` or `psi`, `q0`, `solver`, `scene`, `margin` | every solution: `q`, `branch`, `within_limits`, residuals |
 //! | `POST /api/traj` | `{robot?, kind: "ptp", from, to}` or `{kind: "lin", from, T \| position+rpy}` | `t`, `q`, `qd`, `qdd` |
 //! | `POST /api/run` | `{robot?, program, dt?, start?}` | `t`, `q`, `qd`, `qdd`, `motions`, `warnings` |
+//! | `GET /api/robots/{name}/geometry` | — | `{robot, links, visual, collision}`: shapes in link frames ([`GeometryAnswer`]) |
+//! | `POST /api/scene` | `{scene}` (TOML text) | `{obstacles}` in the world frame ([`SceneAnswer`]) |
+//! | `GET /api/ws` (WebSocket) | messages `{robot?, q}` | one message each: the `/api/fk` answer or `{"error": …}`; at most 64 KiB a message |
 //! | `POST /api/manip` | `{robot?, q}` | manipulability, translational and rotational ellipsoids |
 //! | `POST /api/collide` | `{robot?, q}`, optional `scene` (TOML text), `margin` | `collision`, `pairs`, `min_distance` |
 //!
@@ -86,6 +90,7 @@
 mod api;
 mod error;
 mod request;
+mod shapes;
 // The only module that needs axum, hyper and tokio: without the `server`
 // feature the crate is the request handler `App`, with no sockets.
 #[cfg(feature = "server")]
@@ -95,3 +100,4 @@ pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
 pub use error::{Error, JsonError, Result};
 #[cfg(feature = "server")]
 pub use server::{Limits, Running, Server};
+pub use shapes::{GeometryAnswer, MeshAnswer, SceneAnswer, ShapeAnswer};

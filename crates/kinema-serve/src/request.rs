@@ -140,6 +140,12 @@ pub(crate) struct CollideReq {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
+pub(crate) struct SceneReq {
+    pub(crate) scene: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(crate) struct TrajReq {
     pub(crate) robot: Option<String>,
     pub(crate) kind: String,

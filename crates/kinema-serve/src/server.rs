@@ -52,6 +52,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use axum::body::Body;
+use axum::extract::ws::rejection::WebSocketUpgradeRejection;
+use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::extract::{Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::Response;
@@ -59,6 +61,7 @@ use axum::Router;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use hyper_util::service::TowerToHyperService;
 use kinema::Robot;
+use kinema_geometry::RobotGeometry;
 use kinema_lang::Stop;
 use tokio::sync::{watch, Semaphore};
 use tokio::task::JoinSet;
@@ -165,6 +168,13 @@ impl Server {
             addr: local,
             limits: Limits::default(),
         })
+    }
+
+    /// Gives the default robot's shapes for the page to draw (see
+    /// [`App::with_link_shapes`]).
+    pub fn with_link_shapes(self, visual: Option<RobotGeometry>, collision: Option<RobotGeometry>) -> Result<Server> {
+        let app = Arc::unwrap_or_clone(self.app).with_link_shapes(visual, collision)?;
+        Ok(Server { app: Arc::new(app), ..self })
     }
 
     /// Sets the server's limits (see [`Limits`]).
@@ -344,7 +354,10 @@ async fn serve(listener: TcpListener, app: Arc<App>, limits: Limits, shutdown: i
         limits,
         shutdown: shutdown_rx.clone(),
     });
-    let router = Router::new().fallback(handle).with_state(Arc::clone(&shared));
+    let router = Router::new()
+        .route("/api/ws", axum::routing::get(pose_socket))
+        .fallback(handle)
+        .with_state(Arc::clone(&shared));
     let mut tasks = JoinSet::new();
     let mut shutdown = std::pin::pin!(shutdown);
     loop {
@@ -382,7 +395,7 @@ async fn serve(listener: TcpListener, app: Arc<App>, limits: Limits, shutdown: i
                 }
             })
         };
-        let connection = http.serve_connection(TokioIo::new(stream), service);
+        let connection = http.serve_connection(TokioIo::new(stream), service).with_upgrades();
         let mut stopping = shutdown_rx.clone();
         tasks.spawn(async move {
             let _slot = slot;
@@ -415,6 +428,57 @@ async fn serve(listener: TcpListener, app: Arc<App>, limits: Limits, shutdown: i
     if drained.is_err() {
         tasks.shutdown().await;
     }
+}
+
+/// `GET /api/ws`: a WebSocket on which the page sends `{"robot", "q"}` as
+/// its sliders move and gets each configuration's FK answer (the link
+/// poses), or `{"error": …}`; one answer per message, in order.
+async fn pose_socket(
+    State(shared): State<Arc<Shared>>,
+    upgrade: std::result::Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
+) -> Response {
+    match upgrade {
+        Ok(upgrade) => upgrade
+            .max_message_size(MAX_WS_MESSAGE)
+            .max_frame_size(MAX_WS_MESSAGE)
+            .on_upgrade(move |socket| answer_poses(socket, shared)),
+        Err(e) => {
+            let message = format!("/api/ws is a WebSocket (GET with `Upgrade: websocket`): {e}");
+            response(Reply::json(e.status().as_u16(), &serde_json::json!({ "error": message })), false)
+        }
+    }
+}
+
+/// Largest message on the pose WebSocket \[bytes\]; a larger one closes it.
+const MAX_WS_MESSAGE: usize = 64 * 1024;
+/// A pose WebSocket with no message for this long is closed.
+const WS_IDLE: Duration = Duration::from_secs(600);
+
+async fn answer_poses(mut socket: WebSocket, shared: Arc<Shared>) {
+    let mut stopping = shared.shutdown.clone();
+    loop {
+        let received = tokio::select! {
+            received = tokio::time::timeout(WS_IDLE, socket.recv()) => received,
+            () = stopped(&mut stopping) => break,
+        };
+        let answer = match received {
+            Ok(Some(Ok(Message::Text(text)))) => {
+                let app = Arc::clone(&shared.app);
+                let reply = guarded(move || Reply::json(200, &app.pose_update(text.as_bytes())));
+                String::from_utf8(reply.body).unwrap_or_default()
+            }
+            Ok(Some(Ok(Message::Binary(_)))) => {
+                serde_json::json!({"error": "/api/ws: send JSON text {\"robot\": NAME, \"q\": [...]}"}).to_string()
+            }
+            Ok(Some(Ok(Message::Ping(_) | Message::Pong(_)))) => continue,
+            // Closed, broken, too large, or idle.
+            _ => break,
+        };
+        if socket.send(Message::Text(answer.into())).await.is_err() {
+            break;
+        }
+    }
+    let _ = socket.send(Message::Close(None)).await;
 }
 
 /// Whether a request goes to the CPU-heavy endpoints.

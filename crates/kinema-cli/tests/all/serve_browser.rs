@@ -1,11 +1,14 @@
 //! `kinema serve` in a real browser: the binary serves the page, headless
-//! Chromium loads it through chromedriver (the WebDriver HTTP protocol), a
-//! joint slider moves, the FK readout follows, the IK panel, the ellipsoid
-//! and the program player answer, and a screenshot shows a drawn robot.
+//! Chromium (WebGL by SwiftShader, no GPU) loads it through chromedriver (the
+//! WebDriver HTTP protocol). On the iiwa a joint slider moves, the FK readout
+//! follows, the IK panel, the ellipsoid and the program player answer, and
+//! the median frame time is printed; on a URDF arm whose STL meshes the test
+//! writes, the link origins from kinema's FK, projected by the page's camera,
+//! fall on the drawn meshes at two configurations, and the silhouette changes.
 //!
 //! Skipped (passes, printing `skipped: …`) when /usr/bin/chromium or
-//! /usr/bin/chromedriver is missing. Set KINEMA_SERVE_SCREENSHOT=/path.png to
-//! keep the screenshot.
+//! /usr/bin/chromedriver is missing. Set KINEMA_SERVE_SCREENSHOT=/path (a
+//! prefix) to keep the screenshots.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -104,80 +107,205 @@ fn base64_decode(text: &str) -> Vec<u8> {
     out
 }
 
+/// A browser session on a `kinema serve` page, and what to stop afterwards.
+struct Viewer {
+    agent: ureq::Agent,
+    session: String,
+    _guard: Guard,
+}
+
+impl Viewer {
+    /// `kinema serve --robot ROBOT` (and `args`), chromedriver and a headless
+    /// Chromium on its page, once the page says it is ready; `None` (the test
+    /// skipped) without Chromium.
+    fn open(robot: &str, args: &[&str], env: &[(&str, &Path)]) -> Option<Viewer> {
+        for p in [CHROMIUM, CHROMEDRIVER] {
+            if !Path::new(p).exists() {
+                println!("skipped: {p} is missing (apt-get install chromium chromium-driver)");
+                return None;
+            }
+        }
+        let agent = ureq::AgentBuilder::new().timeout(Duration::from_secs(120)).build();
+        let profile = std::env::temp_dir().join(format!("kinema-serve-browser-{}-{}", std::process::id(), free_port()));
+        let _ = std::fs::remove_dir_all(&profile);
+        std::fs::create_dir_all(&profile).unwrap();
+        let mut guard =
+            Guard { agent: agent.clone(), session: None, children: Vec::new(), profile: Some(profile.clone()) };
+
+        // The server: its URL is the one line it prints on stdout.
+        let mut command = Command::new(env!("CARGO_BIN_EXE_kinema"));
+        command
+            .args(["serve", "--robot", robot, "--port", "0"])
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit());
+        for (k, v) in env {
+            command.env(k, v);
+        }
+        let mut server = command.spawn().expect("kinema serve starts");
+        let stdout = server.stdout.take().unwrap();
+        guard.children.push(server);
+        let mut lines = BufReader::new(stdout).lines();
+        let first = lines.next().expect("a line on stdout").expect("readable stdout");
+        let url = first
+            .strip_prefix("kinema serve: ")
+            .unwrap_or_else(|| panic!("unexpected first line `{first}`"))
+            .to_string();
+        assert!(url.starts_with("http://127.0.0.1:") && url.ends_with('/'), "{url}");
+        // Keep draining stdout so the server never blocks on it.
+        std::thread::spawn(move || for _ in lines {});
+
+        // chromedriver on a free port.
+        let port = free_port();
+        let driver = Command::new(CHROMEDRIVER)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromedriver starts");
+        guard.children.push(driver);
+        let base = format!("http://127.0.0.1:{port}");
+        let start = Instant::now();
+        loop {
+            let ready = agent.get(&format!("{base}/status")).call().ok().and_then(|r| r.into_string().ok());
+            if ready.is_some_and(|t| t.contains("\"ready\":true")) {
+                break;
+            }
+            assert!(start.elapsed() < Duration::from_secs(30), "chromedriver did not become ready");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        // WebGL without a GPU: ANGLE on SwiftShader, the software renderer.
+        let caps = json!({"capabilities": {"alwaysMatch": {"goog:chromeOptions": {
+            "binary": CHROMIUM,
+            "args": ["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                     "--ignore-gpu-blocklist", "--disable-background-networking", "--disable-quic",
+                     "--disable-component-update", "--disable-sync", "--no-first-run", "--window-size=1400,950",
+                     format!("--user-data-dir={}", profile.display())],
+        }}}});
+        let created = wd(&agent, "POST", &format!("{base}/session"), Some(caps));
+        let session = format!("{base}/session/{}", created["sessionId"].as_str().expect("a session id"));
+        guard.session = Some(session.clone());
+
+        // Load the page; it sets data-ready once the robot is drawn.
+        wd(&agent, "POST", &format!("{session}/url"), Some(json!({"url": url})));
+        let viewer = Viewer { agent, session, _guard: guard };
+        viewer.wait_for("return document.body.dataset.ready || null", 60, "the page to be ready", |v| v == "1");
+        Some(viewer)
+    }
+
+    fn script(&self, js: &str) -> Value {
+        script(&self.agent, &self.session, js)
+    }
+
+    fn wait_for(&self, js: &str, secs: u64, what: &str, ok: impl Fn(&Value) -> bool) -> Value {
+        wait_for(&self.agent, &self.session, js, secs, what, ok)
+    }
+
+    /// The page uses WebGL and has met no error.
+    fn assert_webgl_and_no_errors(&self) {
+        let context = self.script("return window.kinemaViewer.context");
+        assert!(context == "webgl2" || context == "webgl", "the view's context is {context}");
+        let errors = self.script("return window.kinemaViewer.errors");
+        assert_eq!(errors, json!([]), "the page met errors");
+    }
+
+    /// Moves the robot to `q` and waits until the view has drawn it.
+    fn show_q(&self, q: &[f64]) {
+        let q = json!(q).to_string();
+        self.script(&format!("window.kinemaViewer.setQ({q}); return 1"));
+        let js = format!(
+            "const v = window.kinemaViewer; return v.state.fk && JSON.stringify(v.state.fk.q) === JSON.stringify({q})"
+        );
+        self.wait_for(&js, 10, "the pose's link frames", |v| *v == true);
+        let drawn = self.script("const v = window.kinemaViewer; v.redraw(); return v.frames").as_u64().unwrap();
+        self.wait_for("return window.kinemaViewer.frames", 10, "a frame after the pose", |v| {
+            v.as_u64().is_some_and(|n| n > drawn)
+        });
+    }
+
+    /// A screenshot of the window, and the 3D view's rectangle in its pixels.
+    fn screenshot(&self, name: &str) -> (image::RgbaImage, [u32; 4]) {
+        let png = base64_decode(
+            wd(&self.agent, "GET", &format!("{}/screenshot", self.session), None).as_str().expect("base64 PNG"),
+        );
+        if let Some(prefix) = std::env::var_os("KINEMA_SERVE_SCREENSHOT") {
+            let mut path = prefix;
+            path.push(format!("{name}.png"));
+            std::fs::write(path, &png).unwrap();
+        }
+        let img = image::load_from_memory(&png).expect("a PNG").to_rgba8();
+        let rect = self.script(
+            "const r = document.getElementById('view').getBoundingClientRect(); \
+             return [r.left, r.top, r.width, r.height, window.devicePixelRatio]",
+        );
+        let f = |i: usize| rect[i].as_f64().unwrap();
+        let rect = [f(0) * f(4), f(1) * f(4), f(2) * f(4), f(3) * f(4)].map(|v| v as u32);
+        assert!(rect[2] > 200 && rect[3] > 200, "the view is {}×{}", rect[2], rect[3]);
+        (img, rect)
+    }
+
+    /// The link frame origins of the robot as drawn (kinema's FK, from the
+    /// server) and where the page's camera projects them, in screenshot pixels.
+    fn projected_origins(&self) -> Vec<([f64; 3], [f64; 2])> {
+        let v = self.script(
+            "const v = window.kinemaViewer; return v.state.fk.frames.map((f) => \
+             [f.position, v.project(f.position).slice(0, 2).map((c) => c * window.devicePixelRatio)])",
+        );
+        let num = |v: &Value| v.as_f64().expect("a number");
+        v.as_array()
+            .expect("frames")
+            .iter()
+            .map(|f| {
+                let p = f[0].as_array().unwrap();
+                ([num(&p[0]), num(&p[1]), num(&p[2])], [num(&f[1][0]), num(&f[1][1])])
+            })
+            .collect()
+    }
+}
+
+/// The view's background colour (scene.js), and whether a pixel differs from it.
+const BACKGROUND: [u8; 3] = [0xee, 0xf2, 0xf6];
+
+fn is_background(p: &image::Rgba<u8>) -> bool {
+    (0..3).all(|k| p.0[k].abs_diff(BACKGROUND[k]) <= 6)
+}
+
+/// Whether the 5×5 pixels around (x, y) are all drawn (not background): a
+/// solid, not a one-pixel grid line or frame axis.
+fn solid_at(img: &image::RgbaImage, x: f64, y: f64) -> bool {
+    let (x, y) = (x.round() as i64, y.round() as i64);
+    (-2..=2).all(|dy| {
+        (-2..=2).all(|dx| {
+            let (px, py) = (x + dx, y + dy);
+            px >= 0
+                && py >= 0
+                && (px as u32) < img.width()
+                && (py as u32) < img.height()
+                && !is_background(img.get_pixel(px as u32, py as u32))
+        })
+    })
+}
+
 #[test]
 fn the_viewer_works_in_headless_chromium() {
-    for p in [CHROMIUM, CHROMEDRIVER] {
-        if !Path::new(p).exists() {
-            println!("skipped: {p} is missing (apt-get install chromium chromium-driver)");
-            return;
-        }
-    }
-    let agent = ureq::AgentBuilder::new().timeout(Duration::from_secs(60)).build();
-    let profile = std::env::temp_dir().join(format!("kinema-serve-browser-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&profile);
-    std::fs::create_dir_all(&profile).unwrap();
-    let mut guard = Guard { agent: agent.clone(), session: None, children: Vec::new(), profile: Some(profile.clone()) };
-
-    // The server: its URL is the one line it prints on stdout.
-    let mut server = Command::new(env!("CARGO_BIN_EXE_kinema"))
-        .args(["serve", "--robot", "lbr-iiwa-14-r820", "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("kinema serve starts");
-    let stdout = server.stdout.take().unwrap();
-    guard.children.push(server);
-    let mut lines = BufReader::new(stdout).lines();
-    let first = lines.next().expect("a line on stdout").expect("readable stdout");
-    let url =
-        first.strip_prefix("kinema serve: ").unwrap_or_else(|| panic!("unexpected first line `{first}`")).to_string();
-    assert!(url.starts_with("http://127.0.0.1:") && url.ends_with('/'), "{url}");
-    // Keep draining stdout so the server never blocks on it.
-    std::thread::spawn(move || for _ in lines {});
-
-    // chromedriver on a free port.
-    let port = free_port();
-    let driver = Command::new(CHROMEDRIVER)
-        .arg(format!("--port={port}"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("chromedriver starts");
-    guard.children.push(driver);
-    let base = format!("http://127.0.0.1:{port}");
-    let start = Instant::now();
-    loop {
-        let ready = agent.get(&format!("{base}/status")).call().ok().and_then(|r| r.into_string().ok());
-        if ready.is_some_and(|t| t.contains("\"ready\":true")) {
-            break;
-        }
-        assert!(start.elapsed() < Duration::from_secs(30), "chromedriver did not become ready");
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    let caps = json!({"capabilities": {"alwaysMatch": {"goog:chromeOptions": {
-        "binary": CHROMIUM,
-        "args": ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-quic",
-                 "--disable-component-update", "--disable-sync", "--no-first-run", "--window-size=1400,950",
-                 format!("--user-data-dir={}", profile.display())],
-    }}}});
-    let created = wd(&agent, "POST", &format!("{base}/session"), Some(caps));
-    let session = format!("{base}/session/{}", created["sessionId"].as_str().expect("a session id"));
-    guard.session = Some(session.clone());
-    let s = session.as_str();
-
-    // Load the page; it sets data-ready once the robot is drawn.
-    wd(&agent, "POST", &format!("{s}/url"), Some(json!({"url": url})));
-    wait_for(&agent, s, "return document.body.dataset.ready || null", 30, "the page to be ready", |v| v == "1");
-    let sliders = script(&agent, s, "return document.querySelectorAll('#sliders input[type=range]').length");
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    let (agent, s) = (&viewer.agent, viewer.session.as_str());
+    viewer.assert_webgl_and_no_errors();
+    let sliders = script(agent, s, "return document.querySelectorAll('#sliders input[type=range]').length");
     assert_eq!(sliders, 7, "one slider per joint");
-    let before = script(&agent, s, "return document.getElementById('fk-readout').textContent");
+    let before = script(agent, s, "return document.getElementById('fk-readout').textContent");
     let before = before.as_str().unwrap().to_string();
     assert!(before.contains("z 1.3060"), "home readout: {before}");
+    // The built-in iiwa's `[[shape]]`s are drawn (sent once, in link frames).
+    let shapes = script(agent, s, "return window.kinemaViewer.state.geometry.collision.length");
+    assert!(shapes.as_u64().is_some_and(|n| n >= 7), "{shapes}");
+    // The pose updates come over the WebSocket.
+    viewer.wait_for("return window.kinemaViewer.live", 10, "the pose WebSocket", |v| *v == true);
 
     // Move joint 2 as a user would (value + input event); the readout follows.
     // (The slider snaps to its step, so the value it took is read back.)
     let q2 = script(
-        &agent,
+        agent,
         s,
         "const el = document.querySelector('input[data-joint=\"2\"]'); el.value = '0.8'; \
          el.dispatchEvent(new Event('input', {bubbles: true})); return el.value;",
@@ -185,7 +313,7 @@ fn the_viewer_works_in_headless_chromium() {
     let q2: f64 = q2.as_str().and_then(|v| v.parse().ok()).expect("the slider's value");
     assert!((q2 - 0.8).abs() < 0.002, "{q2}");
     let after =
-        wait_for(&agent, s, "return document.getElementById('fk-readout').textContent", 10, "the FK readout", |v| {
+        wait_for(agent, s, "return document.getElementById('fk-readout').textContent", 10, "the FK readout", |v| {
             v.as_str().is_some_and(|t| t != before)
         });
     let after = after.as_str().unwrap();
@@ -196,23 +324,23 @@ fn the_viewer_works_in_headless_chromium() {
 
     // Bend the elbow and the wrist (away from the stretched, singular arm).
     script(
-        &agent,
+        agent,
         s,
         "for (const [j, v] of [[4, '-1.2'], [6, '0.6']]) { const el = document.querySelector(`input[data-joint=\"${j}\"]`); \
          el.value = v; el.dispatchEvent(new Event('input', {bubbles: true})); } return 1",
     );
-    wait_for(&agent, s, "return window.kinemaViewer.fk.q[3]", 10, "the bent elbow", |v| {
+    wait_for(agent, s, "return window.kinemaViewer.state.fk.q[3]", 10, "the bent elbow", |v| {
         v.as_f64().is_some_and(|q| q < -1.0)
     });
 
     // IK at the current tool pose: every solution listed.
     script(
-        &agent,
+        agent,
         s,
         "document.getElementById('ik-from-tool').click(); document.getElementById('ik-solve').click(); return 1",
     );
     let rows = wait_for(
-        &agent,
+        agent,
         s,
         "return [document.querySelectorAll('#ik-solutions tbody tr').length, document.getElementById('ik-message').textContent]",
         10,
@@ -221,18 +349,18 @@ fn the_viewer_works_in_headless_chromium() {
     );
     assert!(rows[0].as_u64().unwrap() >= 2, "the iiwa has several branches at one q3: {rows}");
     // Pick the last solution: the robot moves there (the readout's joint values change).
-    let q_before = script(&agent, s, "return window.kinemaViewer.q.join(',')");
+    let q_before = script(agent, s, "return window.kinemaViewer.q.join(',')");
     script(
-        &agent,
+        agent,
         s,
         "const r = document.querySelectorAll('#ik-solutions tbody tr'); r[r.length - 1].cells[1].click(); return 1",
     );
-    wait_for(&agent, s, "return window.kinemaViewer.fk.q.join(',')", 10, "the picked branch", |v| *v != q_before);
+    wait_for(agent, s, "return window.kinemaViewer.state.fk.q.join(',')", 10, "the picked branch", |v| *v != q_before);
 
     // The manipulability ellipsoid.
-    script(&agent, s, "document.getElementById('show-ellipsoid').click(); return 1");
+    script(agent, s, "document.getElementById('show-ellipsoid').click(); return 1");
     wait_for(
-        &agent,
+        agent,
         s,
         "return document.getElementById('manip-readout').textContent",
         10,
@@ -241,12 +369,12 @@ fn the_viewer_works_in_headless_chromium() {
     );
 
     // The player: run the default program, jump to the middle.
-    script(&agent, s, "document.getElementById('run-program').click(); return 1");
-    wait_for(&agent, s, "return document.getElementById('play').disabled", 60, "the program's trajectory", |v| {
+    script(agent, s, "document.getElementById('run-program').click(); return 1");
+    wait_for(agent, s, "return document.getElementById('play').disabled", 60, "the program's trajectory", |v| {
         *v == false
     });
     let label = script(
-        &agent,
+        agent,
         s,
         "const t = document.getElementById('time-slider'); t.value = String((+t.max) / 2); \
          t.dispatchEvent(new Event('input', {bubbles: true})); return document.getElementById('time-label').textContent",
@@ -255,21 +383,7 @@ fn the_viewer_works_in_headless_chromium() {
     std::thread::sleep(Duration::from_millis(500));
 
     // A screenshot: the 3D view is drawn (many colours, robot-coloured pixels).
-    let png = base64_decode(wd(&agent, "GET", &format!("{s}/screenshot"), None).as_str().expect("base64 PNG"));
-    if let Some(path) = std::env::var_os("KINEMA_SERVE_SCREENSHOT") {
-        std::fs::write(path, &png).unwrap();
-    }
-    let img = image::load_from_memory(&png).expect("a PNG").to_rgba8();
-    let rect = script(
-        &agent,
-        s,
-        "const r = document.getElementById('view').getBoundingClientRect(); \
-         return [r.left, r.top, r.width, r.height, window.devicePixelRatio]",
-    );
-    let f = |i: usize| rect[i].as_f64().unwrap();
-    let (x0, y0) = ((f(0) * f(4)) as u32, (f(1) * f(4)) as u32);
-    let (w, h) = ((f(2) * f(4)) as u32, (f(3) * f(4)) as u32);
-    assert!(w > 200 && h > 200, "the view is {w}×{h}");
+    let (img, [x0, y0, w, h]) = viewer.screenshot("iiwa");
     let mut colours = std::collections::HashSet::new();
     let mut coloured = 0usize;
     for y in y0..(y0 + h).min(img.height()) {
@@ -283,6 +397,232 @@ fn the_viewer_works_in_headless_chromium() {
         }
     }
     assert!(colours.len() > 200, "only {} distinct colours in the 3D view", colours.len());
-    assert!(coloured > 2000, "only {coloured} strongly coloured pixels (links, joints, frames) in the 3D view");
-    drop(guard);
+    assert!(coloured > 2000, "only {coloured} strongly coloured pixels (links, frames) in the 3D view");
+
+    // The frame time, drawing as fast as the browser lets the page.
+    print_frame_time(&viewer, "the built-in iiwa (its [[shape]] capsules and spheres)");
+    viewer.assert_webgl_and_no_errors();
+}
+
+/// Prints the median frame time of 60 frames with the camera turning.
+fn print_frame_time(viewer: &Viewer, what: &str) {
+    viewer.script("window.kinemaViewer.measured = null; window.kinemaViewer.measure(60).then((m) => { window.kinemaViewer.measured = m; }); return 1");
+    let m = viewer.wait_for("return window.kinemaViewer.measured", 60, "the frame time", |v| v.is_object());
+    let (frame, draw) = (m["frame_ms"].as_f64().unwrap(), m["draw_ms"].as_f64().unwrap());
+    // SwiftShader is recognised, so the view is drawn without multisampling.
+    assert_eq!(viewer.script("return window.kinemaViewer.software"), true);
+    println!(
+        "viewer frame time, {what}: median {frame:.1} ms per frame ({:.0} fps), {draw:.1} ms to draw one completely \
+         (headless Chromium, SwiftShader)",
+        1000.0 / frame
+    );
+    assert!(frame > 0.0 && draw > 0.0, "{m}");
+}
+
+/// A binary STL of `triangles` (each three vertices).
+fn write_stl(path: &Path, triangles: &[[[f32; 3]; 3]]) {
+    let mut bytes = vec![0u8; 80];
+    bytes.extend((triangles.len() as u32).to_le_bytes());
+    for t in triangles {
+        let (a, b, c) = (t[0], t[1], t[2]);
+        let (u, v) = ([b[0] - a[0], b[1] - a[1], b[2] - a[2]], [c[0] - a[0], c[1] - a[1], c[2] - a[2]]);
+        let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-12);
+        for x in n.iter().map(|x| x / len).chain(t.iter().flatten().copied()) {
+            bytes.extend(x.to_le_bytes());
+        }
+        bytes.extend([0, 0]);
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// The unit cube centred on the origin, outward-facing triangles.
+fn cube() -> Vec<[[f32; 3]; 3]> {
+    let mut out = Vec::new();
+    for axis in 0..3 {
+        for sign in [-0.5f32, 0.5] {
+            let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+            let corner = |a: f32, b: f32| {
+                let mut p = [0.0; 3];
+                p[axis] = sign;
+                p[i] = a;
+                p[j] = b;
+                p
+            };
+            let (p00, p10, p11, p01) = (corner(-0.5, -0.5), corner(0.5, -0.5), corner(0.5, 0.5), corner(-0.5, 0.5));
+            if sign > 0.0 {
+                out.extend([[p00, p10, p11], [p00, p11, p01]]);
+            } else {
+                out.extend([[p00, p11, p10], [p00, p01, p11]]);
+            }
+        }
+    }
+    out
+}
+
+/// A cylinder of radius 1 and length 1 along z, centred on the origin.
+fn cylinder(segments: usize) -> Vec<[[f32; 3]; 3]> {
+    let at = |k: usize, z: f32| {
+        let a = 2.0 * std::f32::consts::PI * k as f32 / segments as f32;
+        [a.cos(), a.sin(), z]
+    };
+    let mut out = Vec::new();
+    for k in 0..segments {
+        let (a0, a1, b0, b1) = (at(k, -0.5), at(k + 1, -0.5), at(k, 0.5), at(k + 1, 0.5));
+        out.extend([[a0, a1, b1], [a0, b1, b0], [[0.0, 0.0, 0.5], b0, b1], [[0.0, 0.0, -0.5], a1, a0]]);
+    }
+    out
+}
+
+/// A three-joint arm whose visual elements are STL meshes; every link frame
+/// origin lies inside its link's mesh.
+const STL_ARM: &str = r#"<?xml version="1.0"?>
+<robot name="stl-arm">
+  <link name="base">
+    <visual><geometry><mesh filename="cube.stl" scale="0.3 0.3 0.1"/></geometry></visual>
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="column"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="10" velocity="1"/>
+  </joint>
+  <link name="column">
+    <visual><origin xyz="0 0 -0.1"/><geometry><mesh filename="cylinder.stl" scale="0.06 0.06 0.5"/></geometry></visual>
+  </link>
+  <joint name="j2" type="revolute">
+    <parent link="column"/><child link="upper"/><origin xyz="0 0 0.12"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="10" velocity="1"/>
+  </joint>
+  <link name="upper">
+    <visual><origin xyz="0.2 0 0"/><geometry><mesh filename="cube.stl" scale="0.52 0.09 0.09"/></geometry></visual>
+    <collision><origin xyz="0.2 0 0"/><geometry><box size="0.6 0.25 0.25"/></geometry></collision>
+  </link>
+  <joint name="j3" type="revolute">
+    <parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2.5" upper="2.5" effort="10" velocity="1"/>
+  </joint>
+  <link name="fore">
+    <visual><origin xyz="0.1 0 0"/><geometry><mesh filename="cube.stl" scale="0.32 0.07 0.07"/></geometry></visual>
+  </link>
+</robot>
+"#;
+
+#[test]
+fn link_origins_fall_on_the_drawn_meshes_of_an_stl_arm() {
+    let dir = tempfile::tempdir().unwrap();
+    write_stl(&dir.path().join("cube.stl"), &cube());
+    write_stl(&dir.path().join("cylinder.stl"), &cylinder(32));
+    let urdf = dir.path().join("stl-arm.urdf");
+    std::fs::write(&urdf, STL_ARM).unwrap();
+    let Some(viewer) = Viewer::open(urdf.to_str().unwrap(), &[], &[]) else { return };
+    viewer.assert_webgl_and_no_errors();
+    let status = viewer.script("return document.getElementById('status').textContent");
+    assert!(status.as_str().is_some_and(|t| t.contains("visual meshes")), "{status}");
+    // The frame triads off: only the meshes (and the tool's triad) are drawn.
+    viewer.script("document.getElementById('show-frames').click(); return 1");
+    silhouettes_follow_fk(&viewer, &[[0.0, 0.0, 0.0], [1.2, -0.7, 1.3]], 0, 0, "stl-arm");
+    // The collision box, larger than the upper arm's mesh, covers more of the view when shown.
+    let drawn = |name: &str| {
+        let (img, [x0, y0, w, h]) = viewer.screenshot(name);
+        let (xs, ys) = (x0..(x0 + w).min(img.width()), y0..(y0 + h).min(img.height()));
+        ys.flat_map(|y| xs.clone().map(move |x| (x, y))).filter(|&(x, y)| !is_background(img.get_pixel(x, y))).count()
+    };
+    let without = drawn("stl-arm-visual");
+    viewer.script("document.getElementById('show-collision').click(); window.kinemaViewer.redraw(); return 1");
+    std::thread::sleep(Duration::from_millis(300));
+    let with = drawn("stl-arm-collision");
+    assert!(with > without + 500, "{without} drawn pixels without the collision box, {with} with it");
+    // The screenshot button's picture.
+    let png = viewer.script("return window.kinemaViewer.screenshot()");
+    assert!(png.as_str().is_some_and(|p| p.starts_with("data:image/png;base64,") && p.len() > 10_000), "{png}");
+    viewer.assert_webgl_and_no_errors();
+}
+
+/// At each configuration, every link origin from link `first` on (kinema's
+/// FK, the page's camera) falls on drawn pixels (a solid within `near`
+/// pixels: a mesh's frame origin may lie on its surface), and the silhouette
+/// differs between the two.
+fn silhouettes_follow_fk<const N: usize>(viewer: &Viewer, qs: &[[f64; N]; 2], first: usize, near: i64, name: &str) {
+    let mut shots = Vec::new();
+    for (k, q) in qs.iter().enumerate() {
+        viewer.show_q(q);
+        let origins = viewer.projected_origins();
+        let (img, rect) = viewer.screenshot(&format!("{name}-{k}"));
+        // The tool frame is not a link of its own.
+        for (i, (p, [x, y])) in origins[..origins.len() - 1].iter().enumerate().skip(first) {
+            let on_solid = (-near..=near).any(|dy| {
+                (-near..=near)
+                    .any(|dx| dx * dx + dy * dy <= near * near && solid_at(&img, x + dx as f64, y + dy as f64))
+            });
+            assert!(on_solid, "q = {q:?}: link {i}'s origin {p:?}, drawn at ({x:.0}, {y:.0}), is background");
+        }
+        shots.push((img, rect));
+    }
+    let ([x0, y0, w, h], (a, b)) = (shots[0].1, (&shots[0].0, &shots[1].0));
+    let mut changed = 0usize;
+    for y in y0..(y0 + h).min(a.height()) {
+        for x in x0..(x0 + w).min(a.width()) {
+            if is_background(a.get_pixel(x, y)) != is_background(b.get_pixel(x, y)) {
+                changed += 1;
+            }
+        }
+    }
+    let share = changed as f64 / f64::from(w * h);
+    assert!(share > 0.01, "the silhouette hardly changed: {changed} pixels ({:.2} %)", 100.0 * share);
+}
+
+/// The version of example-robot-data the real-mesh test downloads (as the coal benchmarks pin it).
+const ERD_VERSION: &str = "6.0.0";
+
+/// example-robot-data's Panda with its visual meshes (Collada, about 135 000
+/// triangles): link origins on the drawn meshes at two configurations, and
+/// the frame time. Needs the network (pip downloads the package into a
+/// throwaway directory) or KINEMA_ERD_SHARE, a directory holding
+/// `example-robot-data/robots/`; run by .ci/run.
+#[test]
+#[ignore = "downloads example-robot-data with pip (130 MB)"]
+fn real_meshes_of_example_robot_data_s_panda() {
+    let dir = tempfile::tempdir().unwrap();
+    let share = match std::env::var_os("KINEMA_ERD_SHARE") {
+        Some(share) => PathBuf::from(share),
+        None => download_panda(dir.path()),
+    };
+    let urdf = share.join("example-robot-data/robots/panda_description/urdf/panda.urdf");
+    assert!(urdf.is_file(), "{} is missing", urdf.display());
+    let Some(viewer) =
+        Viewer::open(urdf.to_str().unwrap(), &["--tip", "panda_hand"], &[("ROS_PACKAGE_PATH", share.as_path())])
+    else {
+        return;
+    };
+    viewer.assert_webgl_and_no_errors();
+    let visual = viewer.script("return window.kinemaViewer.state.geometry.visual.length");
+    assert!(visual.as_u64().is_some_and(|n| n >= 8), "{visual}");
+    viewer.script("document.getElementById('show-frames').click(); return 1");
+    // The base's origin is on its bottom face, at the floor: links 1… are
+    // checked, each within 6 pixels (link 7's origin is on its mesh's top face).
+    let qs = [[0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8], [1.1, 0.5, -0.4, -1.4, 0.6, 1.2, -0.5]];
+    silhouettes_follow_fk(&viewer, &qs, 1, 6, "panda");
+    print_frame_time(&viewer, "example-robot-data's Panda (visual meshes)");
+    viewer.assert_webgl_and_no_errors();
+}
+
+/// pip downloads example-robot-data into `dir`; its Panda is extracted
+/// there. Returns the directory holding `example-robot-data/`.
+fn download_panda(dir: &Path) -> PathBuf {
+    let status = Command::new("python3")
+        .args(["-m", "pip", "download", "--no-deps", "--disable-pip-version-check", "-q", "-d"])
+        .arg(dir)
+        .arg(format!("example-robot-data=={ERD_VERSION}"))
+        .status()
+        .expect("python3 runs");
+    assert!(status.success(), "pip download example-robot-data=={ERD_VERSION} failed");
+    let wheel = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|x| x == "whl"))
+        .expect("a wheel");
+    let extract = "import sys, zipfile; z = zipfile.ZipFile(sys.argv[1]); \
+                   z.extractall(sys.argv[2], [n for n in z.namelist() if '/panda_description/' in n])";
+    let status = Command::new("python3").args(["-c", extract]).arg(&wheel).arg(dir).status().expect("python3 runs");
+    assert!(status.success(), "extracting the Panda from {}", wheel.display());
+    dir.join("cmeel.prefix/share")
 }

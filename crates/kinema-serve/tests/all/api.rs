@@ -473,6 +473,10 @@ fn random_request_bodies_are_answered_never_with_a_500() {
             json!({"kind": "lin", "from": from, "position": [p.pos.x, p.pos.y + 0.1, p.pos.z], "rpy": rpy, "vmax": 0.2, "amax": 1.0}),
         ),
         ("/api/run", json!({"robot": "scara5", "program": "HOME 1\nMOVEZ -50, 1\nWAIT 0.5s\n", "dt": 0.05})),
+        (
+            "/api/scene",
+            json!({"scene": "[[obstacle]]\nname = \"block\"\nbox = [0.2, 0.3, 0.1]\npose = [0.5, 0, 0.2, 0, 0, 0]\n"}),
+        ),
     ];
     let sources: Vec<(&str, String)> = valid.iter().map(|(path, body)| (*path, body.to_string())).collect();
     for (path, body) in &sources {

@@ -7,3 +7,4 @@ mod mutate;
 mod api;
 mod http;
 mod load;
+mod viewer;

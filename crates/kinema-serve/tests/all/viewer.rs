@@ -1,0 +1,200 @@
+//! What the 3D page is sent: a robot's link geometry once (primitives and
+//! base64 meshes in link frames), a scene's obstacles, and link poses on the
+//! WebSocket `/api/ws` as the sliders move.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::sync::Arc;
+use std::time::Duration;
+
+use kinema::{Pose, Robot};
+use kinema_geometry::parry3d_f64::na::Point3;
+use kinema_geometry::{LinkShape, Mesh, RobotGeometry, Shape};
+use kinema_serve::{App, Server};
+use serde_json::{json, Value};
+
+use crate::api::{call, post, start};
+
+#[test]
+fn a_builtin_robot_s_shapes_come_in_its_link_frames() {
+    let app = App::new(None).unwrap();
+    let (status, v) = app.api("GET", "/api/robots/panda/geometry", b"");
+    assert_eq!(status, 200, "{v}");
+    assert_eq!((v["robot"].as_str(), v["links"].as_u64()), (Some("panda"), Some(8)));
+    assert_eq!(v["visual"], json!([]));
+    let shapes = v["collision"].as_array().unwrap();
+    assert!(shapes.len() >= 7, "{v}");
+    for s in shapes {
+        assert!(s["link"].as_u64().is_some_and(|l| l < 8), "{s}");
+        assert_eq!(s["pose"][3], json!([0.0, 0.0, 0.0, 1.0]), "{s}");
+        match s["kind"].as_str().unwrap() {
+            "sphere" => assert!(s["radius"].as_f64().unwrap() > 0.0),
+            "capsule" | "cylinder" => assert!(s["radius"].as_f64().unwrap() > 0.0 && s["length"].is_f64()),
+            "box" => assert_eq!(s["size"].as_array().map(Vec::len), Some(3)),
+            other => panic!("a built-in robot has no {other} shapes: {s}"),
+        }
+    }
+    let (status, v) = app.api("GET", "/api/robots/nope/geometry", b"");
+    assert_eq!(status, 404, "{v}");
+    assert_eq!(app.api("POST", "/api/robots/panda/geometry", b"").0, 405);
+}
+
+#[test]
+fn given_meshes_are_sent_as_base64_arrays() {
+    let robot = Robot::builtin("ur5").unwrap();
+    let vertices = vec![Point3::new(0.0, 0.0, 0.0), Point3::new(0.1, 0.0, 0.0), Point3::new(0.0, 0.2, 0.0)];
+    let mesh = Arc::new(Mesh::new(vertices, vec![[0, 1, 2]], "triangle").unwrap());
+    let shape = LinkShape::new("tri", 3, Pose::translation(0.0, 0.0, 0.5), Shape::TriangleMesh(mesh)).unwrap();
+    let visual = RobotGeometry::new(&robot, vec![shape]).unwrap();
+    let app = App::new(Some(robot.clone())).unwrap().with_link_shapes(Some(visual), None).unwrap();
+    let (status, v) = app.api("GET", "/api/robots/ur5/geometry", b"");
+    assert_eq!(status, 200, "{v}");
+    let s = &v["visual"][0];
+    assert_eq!((s["kind"].as_str(), s["link"].as_u64(), s["pose"][2][3].as_f64()), (Some("mesh"), Some(3), Some(0.5)));
+    assert_eq!((s["mesh"]["vertex_count"].as_u64(), s["mesh"]["triangle_count"].as_u64()), (Some(3), Some(1)));
+    // 9 f32 are 36 bytes, 48 base64 characters; 3 u32 are 12 bytes, 16 characters.
+    assert_eq!(s["mesh"]["vertices"].as_str().map(str::len), Some(48));
+    assert_eq!(s["mesh"]["triangles"].as_str(), Some("AAAAAAEAAAACAAAA"));
+    assert_eq!(v["collision"], json!([]));
+    // Other robots keep their built-in shapes.
+    let (_, panda) = app.api("GET", "/api/robots/panda/geometry", b"");
+    assert!(!panda["collision"].as_array().unwrap().is_empty());
+    // Shapes of another robot are refused.
+    let puma = Robot::builtin("puma560").unwrap();
+    let other = RobotGeometry::new(&puma, Vec::new()).unwrap();
+    let e = App::new(Some(robot)).unwrap().with_link_shapes(None, Some(other)).unwrap_err();
+    assert!(e.to_string().contains("puma560"), "{e}");
+}
+
+#[test]
+fn a_scene_s_obstacles_come_in_the_world_frame() {
+    let app = App::new(None).unwrap();
+    let scene = "[[obstacle]]\nname = \"table\"\nbox = [1.0, 0.8, 0.05]\npose = [0.6, 0, -0.025, 0, 0, 0]\n";
+    let (status, v) = app.api("POST", "/api/scene", json!({ "scene": scene }).to_string().as_bytes());
+    assert_eq!(status, 200, "{v}");
+    let table = &v["obstacles"][0];
+    assert_eq!((table["name"].as_str(), table["kind"].as_str()), (Some("table"), Some("box")));
+    assert_eq!(table["size"], json!([1.0, 0.8, 0.05]));
+    assert_eq!((table["pose"][0][3].as_f64(), table["pose"][2][3].as_f64()), (Some(0.6), Some(-0.025)));
+    assert!(table.get("link").is_none());
+    let (status, v) = app.api("POST", "/api/scene", br#"{"scene": "[[obstacle]]\nname = 3\n"}"#);
+    assert_eq!(status, 422, "{v}");
+    assert_eq!(app.api("POST", "/api/scene", br#"{"scene": 1}"#).0, 400);
+}
+
+/// A WebSocket client enough for the tests: the handshake, masked text
+/// frames out, unmasked frames in.
+struct Socket(TcpStream);
+
+impl Socket {
+    fn open(addr: SocketAddr) -> Socket {
+        let mut s = TcpStream::connect(addr).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+        let head = format!(
+            "GET /api/ws HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+             Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+        );
+        s.write_all(head.as_bytes()).unwrap();
+        let mut answer = Vec::new();
+        let mut byte = [0u8];
+        while !answer.ends_with(b"\r\n\r\n") {
+            s.read_exact(&mut byte).unwrap();
+            answer.push(byte[0]);
+        }
+        let answer = String::from_utf8(answer).unwrap();
+        assert!(answer.starts_with("HTTP/1.1 101"), "{answer}");
+        // RFC 6455's example key and accept value.
+        assert!(answer.contains("s3pPLMBiTxaQ9kYGzzhZRbK+xOo="), "{answer}");
+        Socket(s)
+    }
+
+    fn send(&mut self, text: &str) {
+        let mask = [0x37u8, 0xfa, 0x21, 0x3d];
+        let mut frame = vec![0x81u8];
+        let n = text.len();
+        if n < 126 {
+            frame.push(0x80 | n as u8);
+        } else if n < 65536 {
+            frame.push(0x80 | 126);
+            frame.extend((n as u16).to_be_bytes());
+        } else {
+            frame.push(0x80 | 127);
+            frame.extend((n as u64).to_be_bytes());
+        }
+        frame.extend(mask);
+        frame.extend(text.bytes().enumerate().map(|(i, b)| b ^ mask[i % 4]));
+        let _ = self.0.write_all(&frame);
+    }
+
+    /// The next frame: its opcode and payload; `None` when the connection ended.
+    fn receive(&mut self) -> Option<(u8, Vec<u8>)> {
+        let mut head = [0u8; 2];
+        self.0.read_exact(&mut head).ok()?;
+        let mut n = u64::from(head[1] & 0x7f);
+        if n == 126 {
+            let mut b = [0u8; 2];
+            self.0.read_exact(&mut b).ok()?;
+            n = u64::from(u16::from_be_bytes(b));
+        } else if n == 127 {
+            let mut b = [0u8; 8];
+            self.0.read_exact(&mut b).ok()?;
+            n = u64::from_be_bytes(b);
+        }
+        let mut payload = vec![0u8; n as usize];
+        self.0.read_exact(&mut payload).ok()?;
+        Some((head[0] & 0x0f, payload))
+    }
+
+    fn json(&mut self) -> Value {
+        let (opcode, payload) = self.receive().expect("a frame");
+        assert_eq!(opcode, 1, "a text frame");
+        serde_json::from_slice(&payload).unwrap()
+    }
+}
+
+#[test]
+fn the_websocket_answers_joint_values_with_link_poses() {
+    let server = start();
+    let addr = server.local_addr();
+    let mut ws = Socket::open(addr);
+    let q = json!([0.1, 0.4, -0.2, -1.1, 0.3, 0.7, 0.2]);
+    ws.send(&json!({ "q": q }).to_string());
+    let live = ws.json();
+    // The same numbers as POST /api/fk.
+    let fk = post(addr, "/api/fk", &json!({ "q": q }));
+    assert_eq!(fk.status, 200);
+    assert_eq!(live, fk.json);
+    assert_eq!(live["frames"].as_array().map(Vec::len), Some(9), "base, 7 links, tool");
+    // Errors are answered and the socket stays open.
+    ws.send(r#"{"q": [0, 0]}"#);
+    assert!(ws.json()["error"].as_str().unwrap().contains("7 joints"));
+    ws.send("{");
+    assert!(ws.json()["error"].is_string());
+    ws.send(&json!({"robot": "ur5", "q": [0, -1.57, 1.57, 0, 1.57, 0]}).to_string());
+    assert_eq!(ws.json()["robot"], "ur5");
+    // A message over 64 KiB closes the socket.
+    ws.send(&format!("{{\"q\": [{}0]}}", "0,".repeat(40_000)));
+    match ws.receive() {
+        None | Some((8, _)) => {}
+        Some((opcode, payload)) => panic!("frame {opcode} after an oversized message: {payload:?}"),
+    }
+    // A plain GET is told what the path is, as JSON.
+    let a = call(addr, "GET", "/api/ws", b"");
+    assert!((400..500).contains(&a.status), "{}", a.status);
+    assert!(a.json["error"].as_str().unwrap().contains("WebSocket"), "{}", a.json);
+    server.stop();
+}
+
+#[test]
+fn the_server_takes_shapes_for_its_default_robot() {
+    let robot = Robot::builtin("scara5").unwrap();
+    let box_shape = Shape::Box { size: [0.1, 0.2, 0.3].into() };
+    let shape = LinkShape::new("b", 1, Pose::IDENTITY, box_shape).unwrap();
+    let collision = RobotGeometry::new(&robot, vec![shape]).unwrap();
+    let server = Server::bind("127.0.0.1:0", Some(robot)).unwrap().with_link_shapes(None, Some(collision)).unwrap();
+    let running = server.spawn();
+    let a = call(running.local_addr(), "GET", "/api/robots/scara5/geometry", b"");
+    assert_eq!(a.status, 200);
+    assert_eq!(a.json["collision"][0]["size"], json!([0.1, 0.2, 0.3]));
+    running.stop();
+}

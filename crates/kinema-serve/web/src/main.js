@@ -1,0 +1,140 @@
+// kinema viewer: every number comes from the server (the kinema library);
+// the page draws. Modules: state.js (what the page knows), api.js (HTTP and
+// the pose WebSocket), scene.js (renderer, camera, controls), robot.js (link
+// shapes placed by FK), panels.js (joints, FK readout, IK), player.js.
+import { $, state, setStatus, dist3 } from './state.js';
+import { api, PoseLink } from './api.js';
+import { View } from './scene.js';
+import { RobotModel } from './robot.js';
+import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool } from './panels.js';
+import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
+
+// Errors the page met (uncaught ones and console.error), for the tests to read.
+const errors = [];
+window.addEventListener('error', (e) => errors.push(String(e.message || e)));
+window.addEventListener('unhandledrejection', (e) => errors.push(String(e.reason)));
+const consoleError = console.error.bind(console);
+console.error = (...args) => { errors.push(args.map(String).join(' ')); consoleError(...args); };
+
+const view = new View($('view'));
+const robot = new RobotModel(view);
+const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
+
+function redraw() {
+  robot.showFrames($('show-frames').checked);
+  robot.showCollision($('show-collision').checked);
+  robot.setTarget(state.ikTarget);
+  robot.setEllipsoid($('show-ellipsoid').checked ? state.manip : null, parseFloat($('ellipsoid-scale').value) * state.reach);
+  view.requestRender();
+}
+
+function applyFk(fk) {
+  if (!state.robot || fk.robot !== state.robot.name) return;
+  state.fk = fk;
+  robot.setPose(fk);
+  showFk(fk);
+  if ($('show-ellipsoid').checked) fetchManip(fk.q); else redraw();
+}
+
+async function fetchManip(q) {
+  const res = await api('/api/manip', { robot: state.robot.name, q });
+  if (!res.ok) { setStatus(res.data.error, true); return; }
+  state.manip = res.data;
+  const m = res.data, e = m.ellipsoid_translation;
+  $('manip-readout').textContent =
+    `Yoshikawa      ${m.yoshikawa.toExponential(4)}\n` +
+    `translational  ${m.yoshikawa_translation.toExponential(4)}\n` +
+    `condition      ${m.condition === null ? '∞ (singular)' : m.condition.toFixed(2)}\n` +
+    `rank           ${m.rank}\n` +
+    `radii [m/s per rad/s]\n  ${e.radii.map((x) => x.toFixed(4)).join('  ')}`;
+  redraw();
+}
+
+async function loadRobot(name) {
+  stopPlayer();
+  const [info, shapes] = await Promise.all([
+    api(`/api/robots/${encodeURIComponent(name)}`),
+    api(`/api/robots/${encodeURIComponent(name)}/geometry`),
+  ]);
+  if (!info.ok) { setStatus(info.data.error, true); return; }
+  if (!shapes.ok) { setStatus(shapes.data.error, true); return; }
+  const r = info.data;
+  state.robot = r; state.geometry = shapes.data;
+  state.q = r.home.slice();
+  state.manip = null; state.q3Anchor = null; state.ikTarget = null; state.fk = null;
+  const summary = state.robots.find((x) => x.name === name);
+  $('robot-description').textContent = summary ? summary.description : '';
+  buildJointPanel(r);
+  resetPlayer(r);
+  // The robot's size from its home configuration frames the view.
+  const fk = await api('/api/fk', { robot: r.name, q: state.q });
+  if (!fk.ok) { setStatus(fk.data.error, true); return; }
+  const pts = fk.data.frames.map((f) => f.position);
+  let reach = 0;
+  for (let i = 1; i < pts.length; i++) reach += dist3(pts[i], pts[i - 1]);
+  state.reach = Math.max(reach, 0.2);
+  view.frame(state.reach);
+  robot.load(shapes.data, state.reach);
+  applyFk(fk.data);
+  fillIkFromTool();
+  const drawn = shapes.data.visual.length ? 'visual meshes' : shapes.data.collision.length ? 'collision shapes' : 'link frames only';
+  setStatus(`${r.name}: ${r.dof} joints, ${drawn}`);
+}
+
+function bindView() {
+  $('reset-view').addEventListener('click', () => view.resetCamera(state.reach));
+  for (const id of ['show-frames', 'show-collision']) $(id).addEventListener('change', redraw);
+  $('ellipsoid-scale').addEventListener('input', redraw);
+  $('show-ellipsoid').addEventListener('change', () => {
+    $('manip-readout').hidden = !$('show-ellipsoid').checked;
+    if ($('show-ellipsoid').checked) fetchManip(state.q.slice()); else redraw();
+  });
+  $('screenshot').addEventListener('click', () => {
+    const a = document.createElement('a');
+    a.href = view.screenshot();
+    a.download = `kinema-${state.robot ? state.robot.name : 'view'}.png`;
+    a.click();
+  });
+}
+
+async function init() {
+  const list = await api('/api/robots');
+  if (!list.ok) { setStatus(list.data.error, true); return; }
+  state.robots = list.data;
+  const sel = $('robot-select');
+  for (const r of state.robots) {
+    const o = document.createElement('option');
+    o.value = r.name; o.textContent = `${r.name} (${r.dof})`;
+    sel.appendChild(o);
+  }
+  const def = state.robots.find((r) => r.default) || state.robots[0];
+  sel.value = def.name;
+  sel.addEventListener('change', () => loadRobot(sel.value));
+  bindPanels({ requestPose: (q) => poses.request(state.robot.name, q), redraw });
+  bindPlayer();
+  bindView();
+  await loadRobot(def.name);
+  document.body.dataset.ready = '1';
+}
+
+// What tests (and the browser console) may read and ask.
+window.kinemaViewer = {
+  state,
+  errors,
+  get q() { return state.q.slice(); },
+  get context() { return view.contextKind; },
+  // Whether WebGL runs on the CPU (then without multisampling).
+  get software() { return view.software; },
+  get frames() { return view.frames; },
+  get frameTimes() { return view.frameTimes.slice(); },
+  get live() { return poses.live; },
+  // Window CSS pixels [x, y] (and depth) of world point p [m].
+  project: (p) => view.project(p),
+  setQ: (q) => setQ(q),
+  // Draws the view again at the next animation frame.
+  redraw: () => view.requestRender(),
+  measure: (count) => view.measure(count),
+  screenshot: () => view.screenshot(),
+};
+
+init().catch((e) => { setStatus(String(e), true); errors.push(String(e)); });
