@@ -230,6 +230,7 @@ pub(crate) fn request<'a>(
         tolerance: Tolerance { position: a.tol_position, orientation: a.tol_orientation },
         numeric: NumericOptions { seed: a.seed, ..Default::default() },
         admissible,
+        ..Default::default()
     })
 }
 

@@ -27,6 +27,7 @@ mod lang_cmd;
 mod output;
 #[cfg(feature = "plot")]
 mod plot_cmd;
+mod reach_cmd;
 #[cfg(feature = "scorbot")]
 mod scorbot_cmd;
 #[cfg(feature = "serve")]
@@ -97,6 +98,9 @@ enum Cmd {
     /// Self-collision and collision with a scene's obstacles at a configuration (or a CSV of them):
     /// the colliding pairs and the closest pair (exit code 3 on a collision).
     Collide(collide_cmd::CollideArgs),
+    /// A capability map: per voxel around the robot, how many sampled tool orientations it reaches
+    /// within its limits (collision-free with --scene), on all cores.
+    Reach(reach_cmd::ReachArgs),
     /// Check a robot program: every diagnostic, nothing written (exit code 1 on errors).
     Check(lang_cmd::ProgramArgs),
     /// Run a robot program: write its joint signals as CSV (nothing is written on any error).
@@ -377,6 +381,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Dyn(a) => dyn_cmd::run(a),
         Cmd::Cell(a) => cell_cmd::run(a),
         Cmd::Collide(a) => collide_cmd::run(a),
+        Cmd::Reach(a) => reach_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
         Cmd::Compile(a) => lang_cmd::compile(a),

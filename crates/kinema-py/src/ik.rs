@@ -234,6 +234,7 @@ impl PyRobot {
                 tolerance: call.tolerance,
                 numeric: NumericOptions { seed: call.seed, ..Default::default() },
                 admissible: call.check.as_deref().map(|c| c as &dyn Admissible),
+                ..Default::default()
             };
             let answer = solve_target_with(&robot, family.as_deref(), &call.target, &request)?;
             let chosen = if call.all {

@@ -419,6 +419,7 @@ impl App {
             tolerance: Default::default(),
             numeric: NumericOptions { seed: req.seed.unwrap_or(0), ..Default::default() },
             admissible: check.as_ref().map(|c| c as &dyn Admissible),
+            ..Default::default()
         };
         let answer = solve_target(r, &target, &request)?;
         let mut solutions = answer.solutions.clone();

@@ -72,6 +72,7 @@ pub mod math;
 pub mod model;
 mod names;
 pub mod quantity;
+pub mod reach;
 mod read;
 pub mod reference;
 mod registry;

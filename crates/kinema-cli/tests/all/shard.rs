@@ -89,3 +89,51 @@ fn shards_of_every_batch_command_concatenate_into_the_whole_output() {
     }
     assert!(fails(&["fk", "--robot", "ur5", "--q", "home", "--shard", "1/2"]).contains("--input"));
 }
+
+#[test]
+fn reach_maps_shard_and_a_scene_only_removes_poses() {
+    let dir = tempdir("reach");
+    let d = dir.as_ref();
+    shards_concatenate(
+        &["reach", "--robot", "puma560", "--resolution", "0.3", "--orientations", "4", "--out", "{out}"],
+        d,
+    );
+    // The iiwa on the fume-hood bench: the bench and the hood take voxels away, none is gained.
+    let map = |scene: Option<&str>| -> Vec<(String, u32)> {
+        let out = dir.join("map.csv");
+        let mut args = vec!["reach", "--robot", "lbr-iiwa-14-r820", "--resolution", "0.25", "--orientations", "6"];
+        args.extend(scene.map(|s| ["--scene", s]).into_iter().flatten());
+        let o = out.to_str().unwrap();
+        args.extend(["--out", o]);
+        let (code, _) = run(&args);
+        assert_eq!(code, Some(0), "{args:?}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        text.lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f[..3].join(","), f[3].parse().unwrap())
+            })
+            .collect()
+    };
+    let free = map(None);
+    let hood = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/scenes/fume-hood.toml");
+    let in_scene = map(Some(hood));
+    assert_eq!(free.len(), in_scene.len());
+    let below_bench = |v: &str| v.split(',').nth(2).unwrap().parse::<f64>().unwrap() < -0.1;
+    let (mut lost, mut reached) = (0, 0);
+    for ((voxel, n), (same, m)) in free.iter().zip(&in_scene) {
+        assert_eq!(voxel, same);
+        assert!(m <= n, "{voxel}: {m} orientations in the scene, {n} without");
+        assert!(!below_bench(voxel) || *m == 0, "{voxel}: reached under the bench");
+        lost += n - m;
+        reached += n;
+    }
+    assert!(lost > 0 && lost < reached, "{lost} of {reached} lost to the scene");
+    for bad in [["--resolution", "0"], ["--orientations", "0"]] {
+        let mut args = vec!["reach", "--robot", "puma560", "--out", "-"];
+        args.extend(bad);
+        let e = fails(&args);
+        assert!(e.contains(&bad[0][2..]), "{bad:?}: {e}");
+    }
+}

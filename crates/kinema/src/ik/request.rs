@@ -61,6 +61,11 @@ pub struct IkRequest<'a> {
     /// arm's self-motion is searched before the target is refused (see
     /// [`Admissible`]).
     pub admissible: Option<&'a dyn Admissible>,
+    /// Keep an analytic solver's refusal as it is: no bounded numeric search
+    /// for the closest configuration (or for a solution the closed form
+    /// missed) behind it. For callers that ask many targets whether they are
+    /// reachable at all, such as [`capability_map`](crate::reach::capability_map).
+    pub skip_closest: bool,
 }
 
 impl IkRequest<'_> {
@@ -284,7 +289,7 @@ pub fn solve_target_with(
     let answer = match propose(robot, fitted, target, request) {
         // A fixed q3 or ψ is a constraint the numeric solver does not keep.
         Err(Error::Unreachable { solver, reason, closest: None })
-            if solver != "numeric" && request.q3.is_none() && request.psi.is_none() =>
+            if solver != "numeric" && request.q3.is_none() && request.psi.is_none() && !request.skip_closest =>
         {
             closest_by_numeric(robot, target, mask, request, solver, reason)?
         }

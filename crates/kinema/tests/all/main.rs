@@ -29,6 +29,7 @@ mod ik_toy_family;
 mod jacobian;
 mod module_graph;
 mod random_chains;
+mod reach;
 mod reference;
 mod seeds;
 mod traj_boundary;
