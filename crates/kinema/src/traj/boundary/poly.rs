@@ -44,6 +44,9 @@ pub(super) fn real_roots(c: &[f64], lo: f64, hi: f64) -> Roots {
         return roots;
     }
     let c = &c[..=deg];
+    if deg >= 3 && clearly_without_roots(c, lo, hi) {
+        return roots; // most of the valley families' quartics, without their pieces
+    }
     let critical = critical_points(c, lo, hi);
     let critical = critical.as_slice();
     let (mut a, mut fa) = (lo, value(c, lo));
@@ -63,6 +66,26 @@ pub(super) fn real_roots(c: &[f64], lo: f64, hi: f64) -> Roots {
         (a, fa) = (b, fb);
     }
     roots
+}
+
+/// Whether `c` is clearly far from 0 throughout \[`lo`, `hi`\]: in its
+/// Taylor expansion about the middle, the value there outweighs the other
+/// terms at the half-width, with room (1e-12 of the coefficients' size) for
+/// rounding, so no root and no tangent within rounding can be missed.
+fn clearly_without_roots(c: &[f64], lo: f64, hi: f64) -> bool {
+    let (m, r) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    let n = c.len() - 1;
+    let mut b = [0.0; MAX_DEGREE + 1];
+    b[..=n].copy_from_slice(c);
+    for i in 0..n {
+        for k in (i..n).rev() {
+            b[k] += m * b[k + 1];
+        }
+    }
+    let tail = b[1..=n].iter().rev().fold(0.0, |s, &bk| (s + bk.abs()) * r);
+    let reach = lo.abs().max(hi.abs());
+    let size = c.iter().rev().fold(0.0, |s, &ck| s * reach + ck.abs());
+    b[0].abs() > tail + 1e-12 * size
 }
 
 /// The roots of the derivative of `c` (degree ≥ 1) in \[`lo`, `hi`\]: the
