@@ -24,10 +24,11 @@ fn cruise_segments(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<[JerkSegm
     let mut g = [JerkSegment::default(); 7];
     let (da, db) = match l.jerk {
         Some(j) => {
-            let (a, b) = (fastest_change(p.v0, p.a0, vc, 0.0, l, j)?, fastest_change(vc, 0.0, p.vf, p.af, l, j)?);
+            let (a, da) = fastest_change(p.v0, p.a0, vc, 0.0, l, j)?;
+            let (b, db) = fastest_change(vc, 0.0, p.vf, p.af, l, j)?;
             g[..3].copy_from_slice(&a.segments());
             g[4..].copy_from_slice(&b.segments());
-            (a.duration(), b.duration())
+            (da, db)
         }
         None => {
             let ramp = |from: f64, to: f64| JerkSegment {
@@ -54,7 +55,7 @@ fn cruise_segments(p: &Problem, l: &Limits, t: f64, vc: f64) -> Option<[JerkSegm
 /// the position residual.
 pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profile>) {
     let slack = |vc: f64| -> f64 {
-        let f = |a: Option<Change>| a.map_or(f64::INFINITY, |s| s.duration());
+        let f = |a: Option<(Change, f64)>| a.map_or(f64::INFINITY, |(_, d)| d);
         match l.jerk {
             Some(j) => t - f(fastest_change(p.v0, p.a0, vc, 0.0, l, j)) - f(fastest_change(vc, 0.0, p.vf, p.af, l, j)),
             None => t - ((vc - p.v0).abs() + (p.vf - vc).abs()) / l.acc,
@@ -64,7 +65,7 @@ pub(super) fn timed_cruise(p: &Problem, l: &Limits, t: f64, out: &mut Vec<Profil
         Search::Fast => feasible_by_shape(p, l, &slack),
         Search::Reference => feasible_by_scan(l, &slack),
     };
-    let mut rs = Vec::new();
+    let mut rs = Vec::with_capacity(8);
     for (lo, hi) in intervals {
         rs.clear();
         roots::find(l.search, &|vc| cruise_residual(p, l, t, vc), lo, hi, l.search.intervals(), &mut rs);

@@ -13,7 +13,7 @@ impl BoundaryLaw {
     /// re-check), fastest first.
     pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<BoundaryLaw> {
         let p = Problem::new(&from, &to);
-        let mut cands = Vec::new();
+        let mut cands = Vec::with_capacity(32);
         for sym in &SYMMETRIES[..if l.jerk.is_some() { 4 } else { 2 }] {
             let q = sym.problem(&p);
             let start = cands.len();

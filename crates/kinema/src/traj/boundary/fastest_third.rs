@@ -10,7 +10,7 @@ use super::velocity::{fall, rise};
 
 /// Time-optimal candidates of one frame (acceleration rises, falls, rises).
 pub(super) fn fastest_third(p: &Problem, l: &Limits, j: f64, out: &mut Vec<Profile>) {
-    let (mut xs, mut found) = (Vec::new(), Vec::new());
+    let (mut xs, mut found) = (Vec::new(), Vec::with_capacity(16));
     // Cruise at +v_max between the fastest changes to and from it.
     for ra in [true, false] {
         for rb in [true, false] {

@@ -238,13 +238,44 @@ impl BoundaryLaw {
         l: &Limits,
         cands: &[Profile],
     ) -> Vec<BoundaryLaw> {
-        let mut laws: Vec<BoundaryLaw> = cands
-            .iter()
-            .filter(|s| s.segments().iter().all(|g| g.dt.is_finite() && g.dt >= 0.0))
-            .map(|s| Self::build(from, to, s, l.jerk.is_some()))
-            .filter(|law| law.valid(l))
-            .collect();
-        laws.sort_by(|a, b| a.duration.total_cmp(&b.duration));
-        laws
+        // Sorted as (duration, index) pairs, then copied once in that order:
+        // a law is a kilobyte, and a sort would move each several times.
+        let mut order: Vec<(f64, usize)> = Vec::with_capacity(cands.len());
+        let mut valid = Vec::with_capacity(cands.len());
+        for s in cands.iter().filter(|s| Self::lengths_usable(s)) {
+            let law = Self::build(from, to, s, l.jerk.is_some());
+            if law.valid(l) {
+                order.push((law.duration, valid.len()));
+                valid.push(law);
+            }
+        }
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        order.iter().map(|&(_, i)| valid[i]).collect()
+    }
+
+    /// The fastest of the candidates that build into valid laws lasting
+    /// `t` (1e-12 relative): the first such law in [`Self::from_candidates`]'s
+    /// order, found without building the others' peaks.
+    pub(super) fn first_lasting(
+        from: BoundaryState,
+        to: BoundaryState,
+        l: &Limits,
+        cands: &[Profile],
+        t: f64,
+    ) -> Option<BoundaryLaw> {
+        let mut best: Option<BoundaryLaw> = None;
+        for s in cands.iter().filter(|s| Self::lengths_usable(s)) {
+            let law = Self::build(from, to, s, l.jerk.is_some());
+            let lasts = (law.duration - t).abs() <= 1e-12 * t.max(1.0);
+            if lasts && best.is_none_or(|b| law.duration < b.duration) && law.valid(l) {
+                best = Some(law);
+            }
+        }
+        best
+    }
+
+    /// Whether every segment length of `s` is finite and ≥ 0.
+    fn lengths_usable(s: &Profile) -> bool {
+        s.segments().iter().all(|g| g.dt.is_finite() && g.dt >= 0.0)
     }
 }

@@ -32,14 +32,10 @@ impl BoundaryLaw {
         }
         let still = from.v == 0.0 && from.a == 0.0 && to.v == 0.0 && to.a == 0.0 && from.p == to.p;
         let p = Problem::new(&from, &to);
-        let lasting = |cands: &[Profile]| {
-            Self::from_candidates(from, to, &l, cands)
-                .into_iter()
-                .find(|c| (c.duration - duration).abs() <= 1e-12 * duration.max(1.0))
-        };
+        let lasting = |cands: &[Profile]| Self::first_lasting(from, to, &l, cands, duration);
         // The cheaper families first: a cruise (every rest-to-rest and most
         // other cases), then the held accelerations.
-        let mut cands = Vec::new();
+        let mut cands = Vec::with_capacity(32);
         if still {
             // At rest at the target: stay there.
             let mut s = Profile::default();

@@ -80,11 +80,9 @@ pub(super) fn valley_roots(p: &Problem, acc: f64, j: f64, out: &mut Vec<(f64, bo
         return;
     }
     let clamp = |x: f64| x.clamp(lo, hi.max(lo)) * acc;
-    let mut xs = Vec::with_capacity(poly::MAX_DEGREE);
     // Peak below a_max: the squared-out quartic, each root given its sign.
     let s = [p0 * p0 - c * (c + w) * (c + w), -2.0 * p0 * (2.0 * c + w), c * c, -2.0 * p0, c];
-    poly::real_roots(&s, lo - PAD, hi + PAD, &mut xs);
-    for &x0 in &xs {
+    for &x0 in poly::real_roots(&s, lo - PAD, hi + PAD).as_slice() {
         if c + x0 * x0 > 1.0 + PAD {
             continue;
         }
@@ -96,10 +94,9 @@ pub(super) fn valley_roots(p: &Problem, acc: f64, j: f64, out: &mut Vec<(f64, bo
         }
     }
     // Peak held at a_max.
-    xs.clear();
     let t = [0.5 * (c + 1.0) * (c + w) + p0, -(2.0 * c + w), 0.5 * (2.0 * c + w + 1.0), -1.0, 0.5];
-    poly::real_roots(&t, lo - PAD, hi + PAD, &mut xs);
-    out.extend(xs.iter().filter(|&&x| c + x * x >= 1.0 - PAD).map(|&x| (clamp(x), true)));
+    let xs = poly::real_roots(&t, lo - PAD, hi + PAD);
+    out.extend(xs.as_slice().iter().filter(|&&x| c + x * x >= 1.0 - PAD).map(|&x| (clamp(x), true)));
 }
 
 /// The hold lengths h ∈ \[0, `hmax`\] \[s\] of a valley held at −a_max (with
@@ -109,11 +106,9 @@ pub(super) fn held_roots(p: &Problem, acc: f64, j: f64, hmax: f64, out: &mut Vec
     let (c, w, p0) = (u.c, u.w, u.p0);
     let hi = hmax * j / acc;
     let to_seconds = |h: f64| h.clamp(0.0, hi) * acc / j;
-    let mut xs = Vec::with_capacity(poly::MAX_DEGREE);
     // Peak a_p below a_max, the unknown.
     let q = [p0 - 0.5 * (c - 1.0) * (c + w), w, 0.5 * (w + 1.0), 1.0, 0.5];
-    poly::real_roots(&q, -1.0 - PAD, 1.0 + PAD, &mut xs);
-    for &ap in &xs {
+    for &ap in poly::real_roots(&q, -1.0 - PAD, 1.0 + PAD).as_slice() {
         let h = ap * ap - 1.0 - c;
         if h >= -PAD && h <= hi + PAD {
             if ap >= -PAD {
@@ -125,10 +120,9 @@ pub(super) fn held_roots(p: &Problem, acc: f64, j: f64, hmax: f64, out: &mut Vec
         }
     }
     // Peak held at a_max for h + C.
-    xs.clear();
     let d = [p0 + 0.5 * (c * c + c * w + 7.0 * c + 4.0 * w + 4.0), 2.0 * c + w + 3.0, 1.0];
-    poly::real_roots(&d, (-c).max(0.0) - PAD, hi + PAD, &mut xs);
-    out.extend(xs.iter().map(|&h| (to_seconds(h), true)));
+    let hs = poly::real_roots(&d, (-c).max(0.0) - PAD, hi + PAD);
+    out.extend(hs.as_slice().iter().map(|&h| (to_seconds(h), true)));
 }
 
 /// A few Newton steps on `f` (value and slope) from `x`, each kept only if it

@@ -77,15 +77,78 @@ pub(super) fn fall(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64, root:
     rise(-v0, -a0, -v1, -a1, l, j, root).map(Change::mirrored)
 }
 
-/// The fastest velocity change (v0, a0) → (v1, a1), ignoring position.
-pub(super) fn fastest_change(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64) -> Option<Change> {
-    let mut best: Option<Change> = None;
+/// The fastest velocity change (v0, a0) → (v1, a1), ignoring position, and
+/// its duration. Of changes equally fast the first of rise and fall with
+/// the peak +√K, then with −√K, is kept.
+///
+/// Where one boundary acceleration is 0 (every change of a cruise) and the
+/// target velocity is clearly above the velocity the other acceleration
+/// carries the motion to when ramped to 0 (v₀ + a₀|a₀|/(2j) from the start,
+/// v₁ − a₁|a₁|/(2j) back from the target), only the rise with the peak +√K
+/// exists (the others need K or a peak within rounding of 0); clearly below
+/// it, only the fall. Only near that velocity are all four tried.
+pub(super) fn fastest_change(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64) -> Option<(Change, f64)> {
+    if a0 == 0.0 || a1 == 0.0 {
+        let gap = j * (v1 - v0) - 0.5 * (a0 * a0.abs() + a1 * a1.abs());
+        let margin = 1e-9 * l.acc * l.acc + 64.0 * f64::EPSILON * (j * (v0.abs() + v1.abs()) + a0 * a0 + a1 * a1);
+        let timed = |c: Change| (c, c.duration());
+        if gap > margin {
+            return rise(v0, a0, v1, a1, l, j, true).map(timed);
+        }
+        if gap < -margin {
+            return fall(v0, a0, v1, a1, l, j, true).map(timed);
+        }
+    }
+    fastest_of_four(v0, a0, v1, a1, l, j)
+}
+
+/// [`fastest_change`] by trying rise and fall with either peak.
+fn fastest_of_four(v0: f64, a0: f64, v1: f64, a1: f64, l: &Limits, j: f64) -> Option<(Change, f64)> {
+    let mut best: Option<(Change, f64)> = None;
     for root in [true, false] {
         for s in [rise(v0, a0, v1, a1, l, j, root), fall(v0, a0, v1, a1, l, j, root)].into_iter().flatten() {
-            if best.is_none_or(|b| s.duration() < b.duration()) {
-                best = Some(s);
+            let d = s.duration();
+            if best.is_none_or(|(_, b)| d < b) {
+                best = Some((s, d));
             }
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::roots::Search;
+    use super::*;
+    use crate::traj::law::MotionLimits;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The shortcut gives the very change the four candidates give (to the
+    /// bit), for changes to and from a cruise, many of them with the cruise
+    /// velocity within rounding of the velocity where rise turns to fall.
+    #[test]
+    fn the_shortcut_is_the_fastest_of_four() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3605);
+        for case in 0..200_000 {
+            let (vel, acc, j) =
+                (rng.random_range(0.1..10.0), rng.random_range(0.1..100.0), rng.random_range(1.0..1000.0));
+            let l = Limits::new(&MotionLimits::with_jerk(vel, acc, j), Search::Fast).unwrap();
+            let v = rng.random_range(-vel..vel);
+            let a = if rng.random_bool(0.1) { 0.0 } else { rng.random_range(-acc..acc) };
+            let natural = v + a * a.abs() / (2.0 * j);
+            let vc = match rng.random_range(0..3) {
+                0 => natural,
+                1 => natural * (1.0 + rng.random_range(-1e-8..1e-8)),
+                _ => rng.random_range(-vel..vel),
+            };
+            let key = |c: Option<(Change, f64)>| c.map(|(c, d)| (c.ramp_up, c.hold, c.ramp_down, c.jerk, d));
+            let to_cruise = (fastest_change(v, a, vc, 0.0, &l, j), fastest_of_four(v, a, vc, 0.0, &l, j));
+            assert_eq!(key(to_cruise.0), key(to_cruise.1), "case {case}: ({v}, {a}) to {vc} {l:?}");
+            let back = 2.0 * v - natural; // v − a|a|/(2j): the target's natural velocity
+            let from = if rng.random_bool(0.5) { back } else { vc };
+            let from_cruise = (fastest_change(from, 0.0, v, a, &l, j), fastest_of_four(from, 0.0, v, a, &l, j));
+            assert_eq!(key(from_cruise.0), key(from_cruise.1), "case {case}: {from} to ({v}, {a}) {l:?}");
+        }
+    }
 }
