@@ -62,6 +62,7 @@ pub mod analysis;
 mod chain;
 mod data;
 mod desc;
+pub mod description;
 pub mod dynamics;
 mod error;
 pub mod ik;
