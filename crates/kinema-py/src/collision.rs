@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
-use kinema_geometry::{CheckOptions, CollisionCheck, Scene, UrdfOptions};
+use kinema_geometry::{load_shapes_or_none, CheckOptions, CollisionCheck, RobotGeometry, Scene, UrdfOptions};
 use kinema_io::CollideAnswer;
 use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyArrayDyn};
@@ -144,6 +144,37 @@ impl Source {
         Source { spec: spec.to_string(), tip, member: None, inline: None }
     }
 
+    /// The collision shapes of an inline URDF `text` (meshes searched in
+    /// `ROS_PACKAGE_PATH`, relative paths from the working directory).
+    fn inline_urdf(&self, text: &str) -> kinema_geometry::Result<kinema_geometry::UrdfRobot> {
+        let options = UrdfOptions {
+            tip: self.tip.clone(),
+            package_paths: kinema_geometry::ros_package_path(),
+            skip_visual: true,
+        };
+        kinema_geometry::urdf_from_str(text, "<string>", std::path::Path::new("."), &options)
+    }
+
+    /// The link shapes of `robot` (loaded from this source) for a check that
+    /// can go without them, as `load_shapes_or_none`: none for DH rows; none
+    /// and the error, for a warning, when an inline URDF's shapes cannot be read.
+    pub(crate) fn shapes_or_none(
+        &self,
+        robot: &kinema::Robot,
+    ) -> kinema_geometry::Result<(RobotGeometry, Option<kinema_geometry::Error>)> {
+        match &self.inline {
+            None => {
+                let options = UrdfOptions { tip: self.tip.clone(), skip_visual: true, ..Default::default() };
+                load_shapes_or_none(&self.spec, &options)
+            }
+            Some(Inline::Description(_)) => Ok((RobotGeometry::new(robot, Vec::new())?, None)),
+            Some(Inline::Urdf(text)) => match self.inline_urdf(text) {
+                Ok(u) => Ok((u.collision, None)),
+                Err(e) => Ok((RobotGeometry::new(robot, Vec::new())?, Some(e))),
+            },
+        }
+    }
+
     /// The source of a robot defined in code; `name` stands for it in messages.
     pub(crate) fn inline(name: &str, inline: Inline) -> Source {
         Source { spec: format!("<{name}, defined in code>"), tip: None, member: None, inline: Some(inline) }
@@ -200,12 +231,7 @@ impl PyRobot {
     fn inline_check(&self, inline: &Inline) -> kinema_geometry::Result<CollisionCheck> {
         let (robot, geometry) = match inline {
             Inline::Urdf(text) => {
-                let options = UrdfOptions {
-                    tip: self.source.tip.clone(),
-                    package_paths: kinema_geometry::ros_package_path(),
-                    skip_visual: true,
-                };
-                let u = kinema_geometry::urdf_from_str(text, "<string>", std::path::Path::new("."), &options)?;
+                let u = self.source.inline_urdf(text)?;
                 (u.robot, u.collision)
             }
             Inline::Description(desc) => {

@@ -155,3 +155,15 @@ def test_a_urdf_string_brings_its_collision_shapes():
     assert not robot.collides([0.0, 0.0])
     assert robot.collides([0.0, 3.1])  # the forearm folded back onto the base
     assert robot.distance([0.0, 0.0]) > 0
+
+
+def test_code_robots_run_in_a_cell():
+    """A cell reads each robot's shapes from where it came from: none for DH rows, the URDF string's own."""
+    dh = kinema.Robot.from_dh([RevoluteDH(a=1.0, qlim=[-3, 3]), RevoluteDH(a=0.8, qlim=[-3, 3])], name="planar")
+    urdf = kinema.Robot.from_urdf_string(TWO_LINKS)
+    tr_dh = dh.ptp(dh.home, [0.5, 0.5], 0.05, vmax=1.0, amax=2.0)
+    tr_urdf = urdf.ptp(urdf.home, [0.5, 1.0], 0.05, vmax=1.0, amax=2.0)
+    report = kinema.Cell(dt=0.05).add("dh", dh, tr_dh).add("urdf", urdf, tr_urdf, base=[3, 0, 0, 0, 0, 0]).run()
+    np.testing.assert_allclose(report.tool_positions["urdf"][0], urdf.fkine(urdf.home)[:3, 3] + [3, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(report.tool_positions["dh"][-1], dh.fkine([0.5, 0.5])[:3, 3], atol=1e-12)
+    assert report.ok and [b["robots"] for b in report.bodies] == [["urdf", "urdf"]]

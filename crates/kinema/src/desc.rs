@@ -36,7 +36,7 @@ use nalgebra::Vector3;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::description::Description;
+use crate::description::{self, Description, Problem};
 use crate::error::{Error, ModelError, Result};
 use crate::math::{Pose, RpyConvention};
 use crate::model::{DhConvention, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose};
@@ -232,12 +232,34 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
                 field => field.strip_prefix("poses.").and_then(|name| f.poses.get(name)).map_or(0..0, Spanned::span),
             },
         };
-        return Err(ctx.err(span, problem.field, problem.message));
+        let message = match problem.joint {
+            Some(i) => in_file_units(&problem, i, f.joint[i].get_ref()),
+            None => problem.message,
+        };
+        return Err(ctx.err(span, problem.field, message));
     }
     desc.build().map_err(|e| match e {
         Error::Model(ModelError::InvalidModel { message, .. }) => ctx.err(0..0, "(model)", message),
         other => other,
     })
+}
+
+/// A problem of joint `i` with its limits quoted as the file writes them (in
+/// its `[units]`), not converted to SI as the description holds them.
+fn in_file_units(problem: &Problem, i: usize, j: &JointSpec) -> String {
+    let field = problem.field.rsplit('.').next().unwrap_or_default();
+    let rate = match field {
+        "vel" => j.vel,
+        "acc" => j.acc,
+        "jerk" => j.jerk,
+        _ => None,
+    };
+    let said = match (field, rate) {
+        ("min", _) => description::not_an_interval(j.min, j.max),
+        (name, Some(v)) if v <= 0.0 => description::not_positive(name, v),
+        _ => return problem.message.clone(),
+    };
+    format!("joint {} (`{}`): {said}", i + 1, j.name)
 }
 
 /// Joint `i` of the file in SI units, with the mass properties of its link;

@@ -160,6 +160,16 @@ impl Description {
     }
 }
 
+/// What is wrong with position limits `min` > `max` (or NaN), in the units given.
+pub(crate) fn not_an_interval(min: f64, max: f64) -> String {
+    format!("limits min = {min} and max = {max} are not an interval (need min ≤ max)")
+}
+
+/// What is wrong with a rate limit `value` ≤ 0 named `name`, in the unit given.
+pub(crate) fn not_positive(name: &str, value: f64) -> String {
+    format!("{value}: a {name} limit must be positive (leave it out if unknown)")
+}
+
 /// The problems of joint `i`, pushed onto `found`.
 fn joint_problems(i: usize, j: &Joint, kind: GeometryKind, found: &mut Vec<Problem>) {
     let mut push = |name: &str, message: String| {
@@ -215,11 +225,11 @@ fn joint_problems(i: usize, j: &Joint, kind: GeometryKind, found: &mut Vec<Probl
         }
     }
     if l.min.is_nan() || l.max.is_nan() || l.min > l.max {
-        push("min", format!("limits min = {} and max = {} are not an interval (need min ≤ max)", l.min, l.max));
+        push("min", not_an_interval(l.min, l.max));
     }
     for (name, v) in optional {
         if let Some(v) = v.filter(|v| *v <= 0.0) {
-            push(name, format!("{v}: a {name} limit must be positive (leave it out if unknown)"));
+            push(name, not_positive(name, v));
         }
     }
 }
