@@ -12,9 +12,10 @@
 # --require-toolbox. Then, in the same venv, benchmarks/dyn_corke.py (kinema's Python dynamics,
 # rne/inertia/coriolis/gravload/accel, against the toolbox's, 1e-9 relative) and
 # benchmarks/iiwa_inertials.py (the iiwa built-in's inertials against Drake's, with Pinocchio), at
-# their defaults; benchmarks/run_dyn_corke.sh runs those two alone. Exits non-zero if any of the
-# three fails (an FK/Jacobian difference over 1e-12, a wrong IK solution, a dynamics difference over
-# 1e-9) or if a required peer does not install; 0 with a SKIP line if KINEMA_PEERS_IF_ONLINE=1 and
+# their defaults; benchmarks/run_dyn_corke.sh runs those two alone. Last benchmarks/toolbox_names.py:
+# Robot.from_dh against the toolbox's DHRobot on random arms, ctraj and jtraj against the toolbox's
+# (1e-12). Exits non-zero if any of the four fails (an FK/Jacobian difference over 1e-12, a wrong IK
+# solution, a dynamics difference over 1e-9) or if a required peer does not install; 0 with a SKIP line if KINEMA_PEERS_IF_ONLINE=1 and
 # PyPI cannot be reached (peers_env.sh).
 set -euo pipefail
 
@@ -40,4 +41,6 @@ echo "== python benchmarks/dyn_corke.py"
 echo "== python benchmarks/iiwa_inertials.py"
 "$py" "$here/iiwa_inertials.py" || status=$?
 echo "== the dynamics checks took $((SECONDS - dyn_start)) s"
+echo "== python benchmarks/toolbox_names.py"
+"$py" "$here/toolbox_names.py" || status=$?
 exit "$status"

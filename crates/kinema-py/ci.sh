@@ -9,7 +9,8 @@
 # against Pinocchio and Corke's toolbox (FK, Jacobian, IK, and the Python dynamics calls), or a
 # SKIP line if PyPI cannot be reached.
 # Needs Rust (cargo), a C compiler and Python ≥ 3.9 with pip and venv (python3,
-# or $PYTHON). Downloads pinned maturin/numpy/pytest from PyPI and the crates in
+# or $PYTHON). Downloads pinned maturin/numpy/pytest (and matplotlib, spatialmath-python for the
+# tests of the optional plots and SE3 poses) from PyPI and the crates in
 # Cargo.lock. Cargo output goes to crates/kinema-py/target (gitignored; reused
 # between runs), or to $KINEMA_PY_TARGET_DIR. Exits non-zero on any failure.
 set -euo pipefail
@@ -21,6 +22,9 @@ export CARGO_TARGET_DIR="${KINEMA_PY_TARGET_DIR:-$here/target}"
 MATURIN_VERSION=1.16.0
 NUMPY_VERSION=2.4.6
 PYTEST_VERSION=9.2.0
+# Optional dependencies of kinema that its tests use: plots and spatialmath poses.
+MATPLOTLIB_VERSION=3.11.2
+SPATIALMATH_VERSION=1.1.18
 
 start=$(date +%s)
 step_start=$start
@@ -38,7 +42,8 @@ step "venv in $tmp with $("$python" --version 2>&1)"
 "$python" -m venv "$tmp/venv"
 py="$tmp/venv/bin/python"
 "$py" -m pip install --quiet --disable-pip-version-check \
-  "maturin==$MATURIN_VERSION" "numpy==$NUMPY_VERSION" "pytest==$PYTEST_VERSION"
+  "maturin==$MATURIN_VERSION" "numpy==$NUMPY_VERSION" "pytest==$PYTEST_VERSION" \
+  "matplotlib==$MATPLOTLIB_VERSION" "spatialmath-python==$SPATIALMATH_VERSION"
 
 step "maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
 "$tmp/venv/bin/maturin" build --release --locked --quiet \

@@ -29,6 +29,9 @@ pub(crate) fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Py
     if obj.is_instance_of::<PyString>() {
         return Err(invalid(format!("`{what}` must be an array of numbers, not a string")));
     }
+    if let Some(matrices) = se3_matrices(obj)? {
+        return f64_array(&matrices, what);
+    }
     let unreadable = |e: String| invalid(format!("`{what}` cannot be read as an array of float64 numbers: {e}"));
     let np = obj.py().import("numpy")?;
     // First as numpy reads it, so that what float64 would silently change is refused:
@@ -62,6 +65,17 @@ pub(crate) fn f64_array<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Py
     kwargs.set_item("order", "C")?;
     let converted = np.call_method("asarray", (natural,), Some(&kwargs)).map_err(|e| unreadable(e.to_string()))?;
     Ok(converted.downcast_into::<PyArrayDyn<f64>>()?.readonly())
+}
+
+/// The matrices of a spatialmath `SE3` (anything with the attributes `A`
+/// and `t`): one 4×4 array, or (N, 4, 4) for a sequence of N poses, so that a
+/// sequence is a batch and never silently its first pose.
+fn se3_matrices<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyAny>>> {
+    if obj.downcast::<PyUntypedArray>().is_ok() || !obj.hasattr("A")? || !obj.hasattr("t")? {
+        return Ok(None);
+    }
+    let a = obj.getattr("A")?;
+    Ok(Some(obj.py().import("numpy")?.call_method1("asarray", (a,))?))
 }
 
 /// A real-number argument: what Python's `float()` takes, but for complex numbers, which

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use kinema::traj::{check, CheckOptions, CheckReport, JointTrajectory};
 use kinema::{Pose, Robot};
-use kinema_geometry::{closest_approaches, load_shapes_or_none, Body, BodyApproach, UrdfOptions};
+use kinema_geometry::{closest_approaches, Body, BodyApproach};
 use kinema_io::{CellAnswer, CellMember};
 use numpy::{PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -249,8 +249,7 @@ impl PyCell {
     fn bodies(&self, py: Python<'_>) -> PyResult<Vec<Body>> {
         let mut bodies = Vec::with_capacity(self.members.len());
         for m in &self.members {
-            let options = UrdfOptions { tip: m.source.tip.clone(), skip_visual: true, ..Default::default() };
-            let (geometry, skipped) = load_shapes_or_none(&m.source.spec, &options).map_err(geometry_to_py)?;
+            let (geometry, skipped) = m.source.shapes_or_none(&m.robot).map_err(geometry_to_py)?;
             if let Some(e) = skipped {
                 let message = format!("robot `{}`: no link distances for it: {e}", m.name);
                 PyErr::warn(

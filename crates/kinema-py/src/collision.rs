@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
-use kinema_geometry::{CheckOptions, CollisionCheck, Scene, UrdfOptions};
+use kinema_geometry::{load_shapes_or_none, CheckOptions, CollisionCheck, RobotGeometry, Scene, UrdfOptions};
 use kinema_io::CollideAnswer;
 use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyArrayDyn};
@@ -101,7 +101,7 @@ impl PyScene {
         };
         let robot = kinema::Robot::load(&member.robot, member.tip.as_deref()).map_err(to_py)?;
         let placed = kinema::traj::cell::placed(&robot, &member.world_from_base).map_err(to_py)?;
-        let source = Source { spec: member.robot.clone(), tip: member.tip.clone(), member: Some(name.to_string()) };
+        let source = Source { member: Some(name.to_string()), ..Source::named(&member.robot, member.tip.clone()) };
         Ok(PyRobot::new(Arc::new(placed), source))
     }
 
@@ -125,15 +125,67 @@ pub(crate) struct Source {
     pub tip: Option<String>,
     /// The scene robot it is (from `Scene.robot`), not its own obstacle.
     pub member: Option<String>,
+    /// The description itself, for a robot defined in code rather than read from `spec`.
+    pub inline: Option<Inline>,
+}
+
+/// A description given in code (`Robot.from_dh`, `Robot.from_urdf_string`), kept with its robot.
+#[derive(Debug, Clone)]
+pub(crate) enum Inline {
+    /// DH rows, base, tool and poses: no link shapes.
+    Description(Arc<kinema::description::Description>),
+    /// A URDF document, with its `<collision>` shapes.
+    Urdf(Arc<str>),
 }
 
 impl Source {
+    /// The source of a robot read from `spec` (a built-in name or a path).
+    pub(crate) fn named(spec: &str, tip: Option<String>) -> Source {
+        Source { spec: spec.to_string(), tip, member: None, inline: None }
+    }
+
+    /// The collision shapes of an inline URDF `text` (meshes searched in
+    /// `ROS_PACKAGE_PATH`, relative paths from the working directory).
+    fn inline_urdf(&self, text: &str) -> kinema_geometry::Result<kinema_geometry::UrdfRobot> {
+        let options = UrdfOptions {
+            tip: self.tip.clone(),
+            package_paths: kinema_geometry::ros_package_path(),
+            skip_visual: true,
+        };
+        kinema_geometry::urdf_from_str(text, "<string>", std::path::Path::new("."), &options)
+    }
+
+    /// The link shapes of `robot` (loaded from this source) for a check that
+    /// can go without them, as `load_shapes_or_none`: none for DH rows; none
+    /// and the error, for a warning, when an inline URDF's shapes cannot be read.
+    pub(crate) fn shapes_or_none(
+        &self,
+        robot: &kinema::Robot,
+    ) -> kinema_geometry::Result<(RobotGeometry, Option<kinema_geometry::Error>)> {
+        match &self.inline {
+            None => {
+                let options = UrdfOptions { tip: self.tip.clone(), skip_visual: true, ..Default::default() };
+                load_shapes_or_none(&self.spec, &options)
+            }
+            Some(Inline::Description(_)) => Ok((RobotGeometry::new(robot, Vec::new())?, None)),
+            Some(Inline::Urdf(text)) => match self.inline_urdf(text) {
+                Ok(u) => Ok((u.collision, None)),
+                Err(e) => Ok((RobotGeometry::new(robot, Vec::new())?, Some(e))),
+            },
+        }
+    }
+
+    /// The source of a robot defined in code; `name` stands for it in messages.
+    pub(crate) fn inline(name: &str, inline: Inline) -> Source {
+        Source { spec: format!("<{name}, defined in code>"), tip: None, member: None, inline: Some(inline) }
+    }
+
     /// The source of a `robot` argument: a `Robot`'s own, or the built-in
     /// name or path given instead.
     pub(crate) fn of(robot: &Bound<'_, PyAny>) -> Source {
         match robot.downcast::<PyRobot>() {
             Ok(r) => r.get().source.clone(),
-            Err(_) => Source { spec: robot.extract().unwrap_or_default(), tip: None, member: None },
+            Err(_) => Source::named(&robot.extract::<String>().unwrap_or_default(), None),
         }
     }
 }
@@ -163,9 +215,43 @@ impl PyRobot {
         if let Some(check) = self.body.get() {
             return Ok(check);
         }
-        let options = CheckOptions { tip: self.source.tip.clone(), ..Default::default() };
-        let check = CollisionCheck::load(&self.source.spec, &options).map_err(geometry_to_py)?;
+        let check = match &self.source.inline {
+            None => {
+                let options = CheckOptions { tip: self.source.tip.clone(), ..Default::default() };
+                CollisionCheck::load(&self.source.spec, &options)
+            }
+            Some(inline) => self.inline_check(inline),
+        };
+        let check = check.map_err(geometry_to_py)?;
         Ok(self.body.get_or_init(|| check))
+    }
+
+    /// The self-collision check of a robot defined in code: a URDF's
+    /// `<collision>` shapes; DH rows have none, which is an error as for a file.
+    fn inline_check(&self, inline: &Inline) -> kinema_geometry::Result<CollisionCheck> {
+        let (robot, geometry) = match inline {
+            Inline::Urdf(text) => {
+                let u = self.source.inline_urdf(text)?;
+                (u.robot, u.collision)
+            }
+            Inline::Description(desc) => {
+                return Err(kinema_geometry::Error::Shape {
+                    name: desc.name.clone(),
+                    message: format!(
+                        "robot `{}` is made of DH rows, which have no link shapes to check; use a URDF with <collision> elements or a robot file with [[shape]] tables",
+                        desc.name
+                    ),
+                })
+            }
+        };
+        if geometry.is_empty() {
+            return Err(kinema_geometry::Error::Shape {
+                name: robot.name().to_string(),
+                message: format!("robot `{}` has no link shapes to check; add <collision> elements", robot.name()),
+            });
+        }
+        let pairs = kinema_geometry::CollisionPairs::self_collision(&geometry);
+        CollisionCheck::new(robot, geometry, pairs, 0.0)
     }
 
     /// The robot's check with `scene`'s obstacles and `margin` \[m\] (what

@@ -17,8 +17,8 @@
 //!
 //! The files, by what they do: `answer` (answers as Python objects),
 //! `errors` (exceptions), `args` (argument conversion), `robot` (the `Robot` class: loading, forward kinematics,
-//! Jacobians), `collision` (the `Scene` class, collision and distance), `dynamics`, `ik` (with `batch` for `ik_batch`), `traj`
-//! (joint-space motions), `cartesian` (`lin`, `circ`), `check`, `time_law`,
+//! Jacobians), `describe` (robots defined in code: `from_dh`, `from_urdf_string`), `collision` (the `Scene` class, collision and distance), `dynamics`, `ik` (with `batch` for `ik_batch`), `traj`
+//! (joint-space motions), `cartesian` (`lin`, `circ`), `check`, `time_law`, `toolbox` (the toolbox's `ctraj` and spatialmath poses), `plot` (matplotlib figures),
 //! `program` (the robot language), `cell`; `npio` and `fast` are the per-call
 //! and batch paths of numpy arrays. The `Robot` class's methods are spread
 //! over these files (PyO3's `multiple-pymethods`).
@@ -30,14 +30,17 @@ mod cartesian;
 mod cell;
 mod check;
 mod collision;
+mod describe;
 mod dynamics;
 mod errors;
 mod fast;
 mod ik;
 mod npio;
+mod plot;
 mod program;
 mod robot;
 mod time_law;
+mod toolbox;
 mod traj;
 
 use pyo3::prelude::*;
@@ -60,6 +63,8 @@ fn _kinema(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<collision::PyScene>()?;
     m.add_function(wrap_pyfunction!(time_law::time_law, m)?)?;
     m.add_function(wrap_pyfunction!(program::run_program, m)?)?;
+    m.add_function(wrap_pyfunction!(toolbox::interpolate_poses, m)?)?;
+    m.add_function(wrap_pyfunction!(toolbox::to_se3_py, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

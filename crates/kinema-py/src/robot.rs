@@ -12,6 +12,7 @@ use pyo3::types::{PyDict, PyString};
 use crate::args::{check_shape, f64_array, parse_axes, push_pose, shape_text, to_numpy};
 use crate::collision::{KeptCheck, Source};
 use crate::errors::{invalid, to_py};
+use crate::toolbox::maybe_se3;
 use crate::{fast, npio};
 
 /// A serial robot arm (immutable). Load one with :meth:`Robot.builtin` or
@@ -147,7 +148,7 @@ impl PyRobot {
     ///     UnknownRobot: the name is not a built-in robot (the message lists them).
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
-        let source = Source { spec: name.to_string(), tip: None, member: None };
+        let source = Source::named(name, None);
         Robot::builtin(name).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
     }
 
@@ -168,7 +169,7 @@ impl PyRobot {
     #[staticmethod]
     #[pyo3(signature = (path, tip=None))]
     fn from_file(path: std::path::PathBuf, tip: Option<&str>) -> PyResult<Self> {
-        let source = Source { spec: path.display().to_string(), tip: tip.map(str::to_string), member: None };
+        let source = Source::named(&path.display().to_string(), tip.map(str::to_string));
         Robot::from_file(&path, tip).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
     }
 
@@ -238,22 +239,29 @@ impl PyRobot {
     /// write the result into (and return) instead of a new array.
     ///
     /// Raises:
+    /// ``as_se3=True``: a spatialmath ``SE3`` instead (spatialmath imported
+    /// only then; ``pip install spatialmath-python``).
+    ///
+    /// Raises:
     ///     InvalidInput: wrong number of values, NaN/inf, or not 1-D; an
-    ///         ``out`` of the wrong type, dtype, shape or layout, or read-only.
-    #[pyo3(signature = (q, out=None))]
+    ///         ``out`` of the wrong type, dtype, shape or layout, or read-only;
+    ///         ``as_se3=True`` without spatialmath.
+    #[pyo3(signature = (q, out=None, as_se3=false))]
     fn fkine<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         out: Option<&Bound<'py, PyAny>>,
+        as_se3: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         // The matrix rows are written by the core straight into the result;
         // on bad input it writes nothing.
-        self.with_q_py(q, |q| {
+        let matrix = self.with_q_py(q, |q| {
             npio::result_array(py, out, [4, 4], |o| {
                 kinema::kin::fk_matrix_into_uninit(&self.robot, q, o).map(|_| ()).map_err(to_py)
             })
-        })
+        })?;
+        maybe_se3(py, matrix, as_se3)
     }
 
     /// All frames along the chain as an (n+2)×4×4 array: index 0 the base
@@ -312,17 +320,19 @@ impl PyRobot {
     /// ``out``, ``Q`` is not copied and the call holds the GIL (still running
     /// in parallel over all cores), so that no Python thread can use ``out``
     /// while it is written. A bad row leaves ``out`` partly written.
+    /// ``as_se3=True``: one spatialmath ``SE3`` holding the N poses.
     #[allow(non_snake_case)]
-    #[pyo3(signature = (Q, out=None))]
+    #[pyo3(signature = (Q, out=None, as_se3=false))]
     fn fkine_batch<'py>(
         &self,
         py: Python<'py>,
         Q: &Bound<'py, PyAny>,
         out: Option<&Bound<'py, PyAny>>,
+        as_se3: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         let robot = &*self.robot;
         let row = |q: &[f64], o: &mut _| kinema::kin::fk_matrix_into_uninit(robot, q, o).map(|_| ());
-        fast::batch(py, robot, Q, "Q", out, [4, 4], row)
+        maybe_se3(py, fast::batch(py, robot, Q, "Q", out, [4, 4], row)?, as_se3)
     }
 
     /// Base-frame Jacobians of N configurations, an (N, n) array → (N, 6, n).

@@ -25,8 +25,10 @@
 //! ```
 //!
 //! Everything is converted to SI (m, rad) on load. Errors name the file, the
-//! line and column, and the field. `[[shape]]` tables (link geometry) belong
-//! to kinema-geometry, which reads them from the same text; the core skips them.
+//! line and column, and the field; the values are checked by
+//! [`Description::problems`], the validation that robots built in code share.
+//! `[[shape]]` tables (link geometry) belong to kinema-geometry, which reads
+//! them from the same text; the core skips them.
 
 use std::collections::BTreeMap;
 
@@ -34,11 +36,10 @@ use nalgebra::Vector3;
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::description::{self, Description, Problem};
 use crate::error::{Error, ModelError, Result};
 use crate::math::{Pose, RpyConvention};
-use crate::model::{
-    DhConvention, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, Model, NamedPose,
-};
+use crate::model::{DhConvention, GeometryKind, Inertial, Joint, JointType, Limits, LinkGeometry, Metadata, NamedPose};
 use crate::robot::Robot;
 
 #[derive(Deserialize)]
@@ -190,160 +191,170 @@ fn build(f: RobotFile, ctx: &Ctx) -> Result<Robot> {
         AngleUnit::Rad => 1.0,
         AngleUnit::Deg => std::f64::consts::PI / 180.0,
     };
-    let frame = |s: &Option<Spanned<FrameSpec>>, field: &str| -> Result<Pose> {
-        let Some(s) = s else {
-            return Ok(Pose::IDENTITY);
-        };
-        let v = s.get_ref();
-        if v.xyz.iter().chain(&v.rpy).any(|x| !x.is_finite()) {
-            return Err(ctx.err(s.span(), field, "values must be finite numbers"));
-        }
-        Ok(Pose::from_xyz_rpy(v.xyz.map(|x| x * len), v.rpy.map(|x| x * ang), RpyConvention::Zyx))
+    let frame = |s: &Option<Spanned<FrameSpec>>| {
+        s.as_ref().map_or(Pose::IDENTITY, |s| {
+            let v = s.get_ref();
+            Pose::from_xyz_rpy(v.xyz.map(|x| x * len), v.rpy.map(|x| x * ang), RpyConvention::Zyx)
+        })
     };
-    let base = frame(&f.base, "base")?;
-    let tool = frame(&f.tool, "tool")?;
-    if f.joint.is_empty() {
-        return Err(ctx.err(0..0, "joint", "no [[joint]] tables: a robot needs at least one joint"));
-    }
     let mut joints = Vec::with_capacity(f.joint.len());
     let mut inertials = Vec::with_capacity(f.joint.len());
     for (i, sj) in f.joint.iter().enumerate() {
-        let span = sj.span();
-        let j = sj.get_ref();
-        let field = |name: &str| format!("joint[{i}].{name}");
-        let e = |name: &str, msg: String| {
-            ctx.err(span.clone(), field(name), format!("joint {} (`{}`): {msg}", i + 1, j.name))
-        };
-        let prismatic = j.kind == JointType::Prismatic;
-        // Joint-value unit: angle for revolute joints, length for prismatic ones.
-        let qunit = if prismatic { len } else { ang };
-        let geometry = match f.convention {
-            GeometryKind::Standard | GeometryKind::Modified => {
-                for (name, v) in [("xyz", j.xyz.is_some()), ("rpy", j.rpy.is_some()), ("axis", j.axis.is_some())] {
-                    if v {
-                        return Err(e(name, "`xyz`/`rpy`/`axis` belong to convention = \"general\"; a DH row has d, a, alpha (and theta for prismatic joints)".into()));
-                    }
-                }
-                if prismatic && j.d.is_some() {
-                    return Err(e("d", "a prismatic joint's d is its joint variable (d = q + offset); put a constant part into `offset`".into()));
-                }
-                if !prismatic && j.theta.is_some() {
-                    return Err(e("theta", "a revolute joint's θ is its joint variable (θ = q + offset); put a constant part into `offset`".into()));
-                }
-                let a = j.a.ok_or_else(|| e("a", "missing DH link length `a`".into()))?;
-                let alpha = j.alpha.ok_or_else(|| e("alpha", "missing DH link twist `alpha`".into()))?;
-                let convention = if f.convention == GeometryKind::Standard {
-                    DhConvention::Standard
-                } else {
-                    DhConvention::Modified
-                };
-                LinkGeometry::Dh {
-                    convention,
-                    d: j.d.unwrap_or(0.0) * len,
-                    a: a * len,
-                    alpha: alpha * ang,
-                    theta: j.theta.unwrap_or(0.0) * ang,
-                }
-            }
-            GeometryKind::General => {
-                for (name, v) in [("d", j.d), ("a", j.a), ("alpha", j.alpha), ("theta", j.theta)] {
-                    if v.is_some() {
-                        return Err(e(name, "DH fields belong to convention = \"standard\" or \"modified\"; a general joint has xyz, rpy and axis".into()));
-                    }
-                }
-                let axis = j.axis.ok_or_else(|| {
-                    e("axis", "missing joint `axis` (a direction in the joint frame, e.g. [0, 0, 1])".into())
-                })?;
-                let axis = Vector3::from(axis);
-                let norm = axis.norm();
-                if !(norm > 1e-12 && norm.is_finite()) {
-                    return Err(e("axis", format!("axis {:?} has no direction", axis.as_slice())));
-                }
-                let xyz = j.xyz.unwrap_or([0.0; 3]).map(|x| x * len);
-                let rpy = j.rpy.unwrap_or([0.0; 3]).map(|x| x * ang);
-                LinkGeometry::General { origin: Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx), axis: axis / norm }
-            }
-        };
-        let values =
-            [("offset", Some(j.offset)), ("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk), ("effort", j.effort)];
-        for (name, v) in values {
-            if let Some(v) = v {
-                if !v.is_finite() {
-                    return Err(e(name, format!("{v} is not a finite number")));
-                }
-            }
-        }
-        if j.min.is_nan() || j.max.is_nan() || j.min > j.max {
-            return Err(e(
-                "min",
-                format!("limits min = {} and max = {} are not an interval (need min ≤ max)", j.min, j.max),
-            ));
-        }
-        for (name, v) in [("vel", j.vel), ("acc", j.acc), ("jerk", j.jerk), ("effort", j.effort)] {
-            if let Some(v) = v {
-                if v <= 0.0 {
-                    return Err(e(name, format!("{v}: a {name} limit must be positive (leave it out if unknown)")));
-                }
-            }
-        }
-        let inertial = match &j.inertial {
-            None => None,
-            Some(b) => Some(
-                Inertial::new(b.mass, Vector3::from(b.com) * len, b.inertia.map(|v| v * len * len))
-                    .map_err(|err| e("inertial", err.to_string()))?,
-            ),
-        };
+        let (joint, inertial) = joint_of(i, sj, f.convention, len, ang, ctx)?;
+        joints.push(joint);
         inertials.push(inertial);
-        joints.push(Joint {
-            name: j.name.clone(),
-            kind: j.kind,
-            geometry,
-            offset: j.offset * qunit,
-            limits: Limits {
-                min: j.min * qunit,
-                max: j.max * qunit,
-                vel: j.vel.map(|v| v * qunit),
-                acc: j.acc.map(|v| v * qunit),
-                jerk: j.jerk.map(|v| v * qunit),
-                effort: j.effort,
-            },
-        });
     }
-    let mut poses = Vec::new();
-    if !f.poses.contains_key("home") {
-        return Err(ctx.err(0..0, "poses.home", "every robot needs a named pose `home` in [poses]"));
-    }
-    // `home` first, then the others alphabetically.
-    let mut names: Vec<&String> = f.poses.keys().collect();
-    names.sort_by_key(|n| (n.as_str() != "home", n.as_str()));
-    for name in names {
-        let sp = &f.poses[name];
-        let v = sp.get_ref();
-        if v.len() != joints.len() {
-            return Err(ctx.err(
-                sp.span(),
-                format!("poses.{name}"),
-                format!("{} values, expected one per joint ({})", v.len(), joints.len()),
-            ));
-        }
-        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(ctx.err(sp.span(), format!("poses.{name}"), format!("{x} is not a finite number")));
-        }
-        let q =
-            v.iter().zip(&joints).map(|(x, j)| x * if j.kind == JointType::Prismatic { len } else { ang }).collect();
-        poses.push(NamedPose { name: name.clone(), q });
-    }
+    let poses = f
+        .poses
+        .iter()
+        .map(|(name, sp)| {
+            // Joint-value unit: angle for revolute joints, length for prismatic ones.
+            let unit = |k: usize| if joints.get(k).is_some_and(|j| j.kind == JointType::Prismatic) { len } else { ang };
+            let q = sp.get_ref().iter().enumerate().map(|(k, x)| x * unit(k)).collect();
+            NamedPose { name: name.clone(), q }
+        })
+        .collect();
     let meta = Metadata { manufacturer: f.manufacturer, source: f.source, notes: f.notes, warnings: Vec::new() };
-    let to_desc = |e| match e {
+    let mut desc = Description::new(f.name, f.convention, joints);
+    desc.metadata = meta;
+    desc.base = frame(&f.base);
+    desc.tool = frame(&f.tool);
+    desc.poses = poses;
+    if inertials.iter().any(Option::is_some) {
+        desc.inertials = inertials;
+    }
+    if let Some(problem) = desc.problems().into_iter().next() {
+        let span = match problem.joint {
+            Some(i) => f.joint[i].span(),
+            None => match problem.field.as_str() {
+                "base" => f.base.as_ref().map_or(0..0, Spanned::span),
+                "tool" => f.tool.as_ref().map_or(0..0, Spanned::span),
+                field => field.strip_prefix("poses.").and_then(|name| f.poses.get(name)).map_or(0..0, Spanned::span),
+            },
+        };
+        let message = match problem.joint {
+            Some(i) => in_file_units(&problem, i, f.joint[i].get_ref()),
+            None => problem.message,
+        };
+        return Err(ctx.err(span, problem.field, message));
+    }
+    desc.build().map_err(|e| match e {
         Error::Model(ModelError::InvalidModel { message, .. }) => ctx.err(0..0, "(model)", message),
         other => other,
+    })
+}
+
+/// A problem of joint `i` with its limits quoted as the file writes them (in
+/// its `[units]`), not converted to SI as the description holds them.
+fn in_file_units(problem: &Problem, i: usize, j: &JointSpec) -> String {
+    let field = problem.field.rsplit('.').next().unwrap_or_default();
+    let rate = match field {
+        "vel" => j.vel,
+        "acc" => j.acc,
+        "jerk" => j.jerk,
+        _ => None,
     };
-    let mut model =
-        Model::builder(f.name, f.convention).metadata(meta).joints(joints).base(base).tool(tool).poses(poses);
-    if inertials.iter().any(Option::is_some) {
-        model = model.inertials(inertials);
-    }
-    Ok(Robot::new(model.build().map_err(to_desc)?))
+    let said = match (field, rate) {
+        ("min", _) => description::not_an_interval(j.min, j.max),
+        (name, Some(v)) if v <= 0.0 => description::not_positive(name, v),
+        _ => return problem.message.clone(),
+    };
+    format!("joint {} (`{}`): {said}", i + 1, j.name)
+}
+
+/// Joint `i` of the file in SI units, with the mass properties of its link;
+/// errors for what a DH row or a general joint may not hold (the values
+/// themselves are checked by [`Description::problems`]).
+fn joint_of(
+    i: usize,
+    sj: &Spanned<JointSpec>,
+    convention: GeometryKind,
+    len: f64,
+    ang: f64,
+    ctx: &Ctx,
+) -> Result<(Joint, Option<Inertial>)> {
+    let span = sj.span();
+    let j = sj.get_ref();
+    let e = |name: &str, msg: String| {
+        ctx.err(span.clone(), format!("joint[{i}].{name}"), format!("joint {} (`{}`): {msg}", i + 1, j.name))
+    };
+    let prismatic = j.kind == JointType::Prismatic;
+    // Joint-value unit: angle for revolute joints, length for prismatic ones.
+    let qunit = if prismatic { len } else { ang };
+    let geometry = match convention {
+        GeometryKind::Standard | GeometryKind::Modified => {
+            for (name, v) in [("xyz", j.xyz.is_some()), ("rpy", j.rpy.is_some()), ("axis", j.axis.is_some())] {
+                if v {
+                    return Err(e(name, "`xyz`/`rpy`/`axis` belong to convention = \"general\"; a DH row has d, a, alpha (and theta for prismatic joints)".into()));
+                }
+            }
+            if prismatic && j.d.is_some() {
+                return Err(e(
+                    "d",
+                    "a prismatic joint's d is its joint variable (d = q + offset); put a constant part into `offset`"
+                        .into(),
+                ));
+            }
+            if !prismatic && j.theta.is_some() {
+                return Err(e(
+                    "theta",
+                    "a revolute joint's θ is its joint variable (θ = q + offset); put a constant part into `offset`"
+                        .into(),
+                ));
+            }
+            let a = j.a.ok_or_else(|| e("a", "missing DH link length `a`".into()))?;
+            let alpha = j.alpha.ok_or_else(|| e("alpha", "missing DH link twist `alpha`".into()))?;
+            let convention =
+                if convention == GeometryKind::Standard { DhConvention::Standard } else { DhConvention::Modified };
+            LinkGeometry::Dh {
+                convention,
+                d: j.d.unwrap_or(0.0) * len,
+                a: a * len,
+                alpha: alpha * ang,
+                theta: j.theta.unwrap_or(0.0) * ang,
+            }
+        }
+        GeometryKind::General => {
+            for (name, v) in [("d", j.d), ("a", j.a), ("alpha", j.alpha), ("theta", j.theta)] {
+                if v.is_some() {
+                    return Err(e(name, "DH fields belong to convention = \"standard\" or \"modified\"; a general joint has xyz, rpy and axis".into()));
+                }
+            }
+            let axis = j.axis.ok_or_else(|| {
+                e("axis", "missing joint `axis` (a direction in the joint frame, e.g. [0, 0, 1])".into())
+            })?;
+            let axis = Vector3::from(axis);
+            let norm = axis.norm();
+            if !(norm > 1e-12 && norm.is_finite()) {
+                return Err(e("axis", format!("axis {:?} has no direction", axis.as_slice())));
+            }
+            let xyz = j.xyz.unwrap_or([0.0; 3]).map(|x| x * len);
+            let rpy = j.rpy.unwrap_or([0.0; 3]).map(|x| x * ang);
+            LinkGeometry::General { origin: Pose::from_xyz_rpy(xyz, rpy, RpyConvention::Zyx), axis: axis / norm }
+        }
+    };
+    let inertial = match &j.inertial {
+        None => None,
+        Some(b) => Some(
+            Inertial::new(b.mass, Vector3::from(b.com) * len, b.inertia.map(|v| v * len * len))
+                .map_err(|err| e("inertial", err.to_string()))?,
+        ),
+    };
+    let joint = Joint {
+        name: j.name.clone(),
+        kind: j.kind,
+        geometry,
+        offset: j.offset * qunit,
+        limits: Limits {
+            min: j.min * qunit,
+            max: j.max * qunit,
+            vel: j.vel.map(|v| v * qunit),
+            acc: j.acc.map(|v| v * qunit),
+            jerk: j.jerk.map(|v| v * qunit),
+            effort: j.effort,
+        },
+    };
+    Ok((joint, inertial))
 }
 
 #[cfg(test)]

@@ -5,7 +5,8 @@
 //! * [`Model`] — the plain description of a serial chain of revolute and
 //!   prismatic joints, and [`Robot`], a model compiled for computing; described by a standard-DH table, a modified-DH table or per-joint fixed
 //!   transforms and axes (URDF). Load one with [`Robot::builtin`],
-//!   [`Robot::from_file`] (`.toml` or `.urdf`) or build it in code.
+//!   [`Robot::from_file`] (`.toml` or `.urdf`) or build it in code
+//!   ([`description::Description`], validated as a file is, every problem named at once).
 //! * Forward kinematics ([`Robot::fk`], [`Robot::link_frames`],
 //!   [`Robot::fk_batch`]) and Jacobians ([`Robot::jacobian`],
 //!   [`Robot::analytic_jacobian`]) in [`kin`]; the hot paths do not allocate.
@@ -62,6 +63,7 @@ pub mod analysis;
 mod chain;
 mod data;
 mod desc;
+pub mod description;
 pub mod dynamics;
 mod error;
 pub mod ik;

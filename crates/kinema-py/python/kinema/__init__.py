@@ -21,6 +21,10 @@ Example::
     report = cell.run()                       # CellReport like `kinema cell`: distances, closest, checks
     scene = kinema.Scene.from_file("examples/scenes/fume-hood.toml")
     robot.collides(q, scene=scene)            # also distance, collide_dict, collides_batch; ik/check(scene=)
+    arm = kinema.Robot.from_dh([kinema.RevoluteDH(a=1.0), kinema.RevoluteDH(a=0.8)], name="planar2")
+    Ts = kinema.ctraj(T0, T1, 50)             # (50, 4, 4); as_se3=True for a spatialmath SE3
+    q, qd, qdd = kinema.jtraj(q0, q1, 50)     # quintic, as the toolbox's jtraj
+    robot.plot(tr, file="arm.png")            # matplotlib Figure; also plot_joints, plot_cartesian
 
 Units are SI (metres, radians). Errors derive from :class:`KinemaError`;
 bad input also derives from ``ValueError``.
@@ -36,6 +40,7 @@ from ._errors import (
     UnknownRobot,
     Unreachable,
 )
+from ._dh import PrismaticDH, PrismaticMDH, RevoluteDH, RevoluteMDH
 from ._kinema import (
     Cell,
     CellReport,
@@ -50,6 +55,7 @@ from ._kinema import (
     run_program,
     time_law,
 )
+from ._toolbox import JointPath, ctraj, jtraj
 
 __all__ = [
     "Robot",
@@ -63,6 +69,13 @@ __all__ = [
     "CellReport",
     "time_law",
     "run_program",
+    "RevoluteDH",
+    "PrismaticDH",
+    "RevoluteMDH",
+    "PrismaticMDH",
+    "ctraj",
+    "jtraj",
+    "JointPath",
     "KinemaError",
     "InvalidInput",
     "UnknownRobot",

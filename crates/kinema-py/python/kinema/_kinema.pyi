@@ -240,6 +240,27 @@ class Robot:
     @staticmethod
     def from_file(path: Union[str, "os.PathLike[str]"], tip: Optional[str] = None) -> "Robot":
         """Loads a .toml or .urdf description. Raises RobotFileError, DescriptionError, InvalidInput."""
+    @staticmethod
+    def from_dh(
+        links: Sequence[Any],
+        name: str = "robot",
+        base: Optional[Any] = None,
+        tool: Optional[Any] = None,
+        poses: Optional[Dict[str, ArrayLike]] = None,
+    ) -> "Robot":
+        """A robot from RevoluteDH/PrismaticDH (or RevoluteMDH/PrismaticMDH) links, as the toolbox's
+        DHRobot; base/tool 4x4 or SE3; ``home`` zeros unless in ``poses``. Raises DescriptionError
+        listing every problem, InvalidInput for a link or argument of the wrong kind."""
+    @staticmethod
+    def from_urdf_string(text: str, tip: Optional[str] = None) -> "Robot":
+        """A robot from URDF text (its <collision> shapes serve collides/distance). Raises DescriptionError."""
+    def plot(self, q: Any, *, frames: bool = True, file: Optional[Any] = None, ax: Optional[Any] = None) -> Any:
+        """3D stick figure with link frames at q (a configuration, pose name, (N, n) array or
+        trajectory), with matplotlib; returns the Figure, saved to ``file`` when given."""
+    def plot_joints(self, trajectory: Any, *, file: Optional[Any] = None) -> Any:
+        """Joint positions, velocities, accelerations against time (matplotlib Figure)."""
+    def plot_cartesian(self, trajectory: Any, *, file: Optional[Any] = None) -> Any:
+        """Tool position and linear velocity against time (matplotlib Figure)."""
     @property
     def name(self) -> str:
         """Robot name."""
@@ -273,9 +294,10 @@ class Robot:
         """The Jacobian as ``kinema jacobian --json`` prints it (analytic: of the roll-pitch-yaw rates)."""
     def manip_dict(self, q: JointVector, direction: Optional[ArrayLike] = None) -> Dict[str, Any]:
         """Manipulability measures as ``kinema manip --json`` prints them and ``POST /api/manip`` returns them."""
-    def fkine(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
+    def fkine(self, q: JointVector, out: Optional[F64Array] = None, as_se3: bool = False) -> Any:
         """Tool pose world_from_tool, shape (4, 4); written into ``out`` (a writeable C-contiguous
-        float64 (4, 4) array, returned) when given. Raises InvalidInput for a bad ``q`` or ``out``."""
+        float64 (4, 4) array, returned) when given; a spatialmath SE3 with ``as_se3=True``.
+        Raises InvalidInput for a bad ``q`` or ``out``."""
     def fkine_all(self, q: JointVector) -> F64Array:
         """Base, link 1..n and tool frames, shape (n + 2, 4, 4)."""
     def jacob0(self, q: JointVector, out: Optional[F64Array] = None) -> F64Array:
@@ -284,9 +306,10 @@ class Robot:
         """Geometric Jacobian in the tool frame, shape (6, n); into ``out`` as in fkine."""
     def manipulability(self, q: JointVector, axes: Literal["all", "trans", "rot"] = "all") -> float:
         """Yoshikawa manipulability of the selected Jacobian rows."""
-    def fkine_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
+    def fkine_batch(self, Q: ArrayLike, out: Optional[F64Array] = None, as_se3: bool = False) -> Any:
         """(N, n) configurations -> (N, 4, 4) poses; GIL released, parallel. With ``out`` (a
-        writeable C-contiguous float64 (N, 4, 4) array, returned): no copies, GIL held, parallel."""
+        writeable C-contiguous float64 (N, 4, 4) array, returned): no copies, GIL held, parallel.
+        ``as_se3=True``: one spatialmath SE3 of N poses."""
     def jacob0_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
         """(N, n) configurations -> (N, 6, n) base-frame Jacobians; GIL released, parallel; ``out`` as in fkine_batch."""
     def jacobe_batch(self, Q: ArrayLike, out: Optional[F64Array] = None) -> F64Array:
@@ -641,3 +664,9 @@ class Cell:
     def run(self) -> CellReport:
         """Every robot on the common clock to the end of the longest; a finished robot holds. Raises InvalidInput."""
     def __len__(self) -> int: ...
+
+def _interpolate_poses(T0: ArrayLike, T1: ArrayLike, s: ArrayLike) -> F64Array:
+    """Poses at fractions s of the line from T0 to T1 (slerp), (N, 4, 4); kinema.ctraj's core."""
+
+def _to_se3(matrices: F64Array) -> Any:
+    """A (4, 4) or (N, 4, 4) array as a spatialmath SE3 (imported now)."""

@@ -1,0 +1,33 @@
+"""Every script in crates/kinema-py/examples runs and says what it should."""
+
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
+SAYS = {
+    "01_robot_from_dh.py": "largest difference from the built-in puma560: 0.0",
+    "02_ik.py": "shoulder-left/elbow-up",
+    "03_trajectory_plot.py": "IK along the line: all found: True",
+    "04_collision_scene.py": "random configurations collide",
+}
+
+
+def test_every_example_is_listed():
+    assert sorted(p.name for p in EXAMPLES.glob("*.py")) == sorted(SAYS)
+
+
+@pytest.mark.parametrize("name", sorted(SAYS))
+def test_example_runs(name, tmp_path):
+    env = dict(os.environ, MPLBACKEND="Agg")
+    done = subprocess.run(
+        [sys.executable, str(EXAMPLES / name), str(tmp_path)],
+        capture_output=True, text=True, env=env, timeout=300, cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stderr
+    assert SAYS[name] in done.stdout, done.stdout
+    if name == "03_trajectory_plot.py":
+        assert {p.name for p in tmp_path.glob("*.png")} == {"puma-lin.png", "puma-lin-joints.png", "puma-lin-cartesian.png"}
