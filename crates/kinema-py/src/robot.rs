@@ -238,7 +238,6 @@ impl PyRobot {
     /// ``out``: a writeable C-contiguous float64 array of shape (4, 4) to
     /// write the result into (and return) instead of a new array.
     ///
-    /// Raises:
     /// ``as_se3=True``: a spatialmath ``SE3`` instead (spatialmath imported
     /// only then; ``pip install spatialmath-python``).
     ///

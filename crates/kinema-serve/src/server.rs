@@ -91,10 +91,12 @@ pub struct Limits {
     /// Time a `/api/run` program may run ([`RUN_BUDGET`]) → 422.
     pub run_budget: Duration,
     /// Requests to the CPU-heavy endpoints (`/api/ik`, `/api/traj`,
-    /// `/api/run`) computed at once (the number of CPUs, at least 2).
+    /// `/api/run`, `/api/collide`, `/api/scene`) computed at once (the number
+    /// of CPUs, at least 2).
     pub heavy_concurrency: usize,
-    /// Connections served at once (1024); further ones wait in the listen
-    /// backlog until one closes.
+    /// Connections served at once (1024), open WebSockets included; further
+    /// ones wait in the listen backlog until one closes (a WebSocket upgrade
+    /// beyond it → 503).
     pub max_connections: usize,
     /// On stop: time requests in progress get to finish (2 s).
     pub shutdown_grace: Duration,
@@ -329,6 +331,9 @@ struct Shared {
     limits: Limits,
     /// Slots of the CPU-heavy endpoints.
     heavy: Arc<Semaphore>,
+    /// Connection slots ([`Limits::max_connections`]): an upgraded WebSocket
+    /// keeps one of its own, since its HTTP connection ends at the upgrade.
+    connections: Arc<Semaphore>,
     /// Becomes true when the server shuts down.
     shutdown: watch::Receiver<bool>,
 }
@@ -350,6 +355,7 @@ async fn serve(listener: TcpListener, app: Arc<App>, limits: Limits, shutdown: i
         .half_close(true);
     let shared = Arc::new(Shared {
         heavy: Arc::new(Semaphore::new(limits.heavy_concurrency)),
+        connections: Arc::clone(&connections),
         app,
         limits,
         shutdown: shutdown_rx.clone(),
@@ -438,10 +444,18 @@ async fn pose_socket(
     upgrade: std::result::Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Response {
     match upgrade {
-        Ok(upgrade) => upgrade
-            .max_message_size(MAX_WS_MESSAGE)
-            .max_frame_size(MAX_WS_MESSAGE)
-            .on_upgrade(move |socket| answer_poses(socket, shared)),
+        Ok(upgrade) => {
+            let Ok(slot) = Arc::clone(&shared.connections).try_acquire_owned() else {
+                let message = "/api/ws: the server holds its most connections; try again later";
+                return response(Reply::json(503, &serde_json::json!({ "error": message })), false);
+            };
+            upgrade.max_message_size(MAX_WS_MESSAGE).max_frame_size(MAX_WS_MESSAGE).on_upgrade(
+                move |socket| async move {
+                    let _slot = slot;
+                    answer_poses(socket, shared).await
+                },
+            )
+        }
         Err(e) => {
             let message = format!("/api/ws is a WebSocket (GET with `Upgrade: websocket`): {e}");
             response(Reply::json(e.status().as_u16(), &serde_json::json!({ "error": message })), false)
@@ -485,7 +499,7 @@ async fn answer_poses(mut socket: WebSocket, shared: Arc<Shared>) {
 fn heavy(method: &str, path: &str) -> bool {
     let path = path.split(['?', '#']).next().unwrap_or("");
     let path = path.strip_suffix('/').unwrap_or(path);
-    method == "POST" && matches!(path, "/api/ik" | "/api/traj" | "/api/run" | "/api/collide")
+    method == "POST" && matches!(path, "/api/ik" | "/api/traj" | "/api/run" | "/api/collide" | "/api/scene")
 }
 
 /// The one handler: the body read within its limits, then [`App::handle`].
@@ -685,7 +699,7 @@ mod tests {
     #[test]
     fn heavy_endpoints_are_told_apart() {
         assert!(heavy("POST", "/api/run") && heavy("POST", "/api/ik/?x=1") && heavy("POST", "/api/traj"));
-        assert!(heavy("POST", "/api/collide"));
+        assert!(heavy("POST", "/api/collide") && heavy("POST", "/api/scene"));
         assert!(!heavy("GET", "/api/run") && !heavy("POST", "/api/fk") && !heavy("GET", "/api/robots"));
     }
 

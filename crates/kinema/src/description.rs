@@ -87,8 +87,9 @@ impl Description {
     }
 
     /// Every problem of the description, in order: frames, joints, poses.
-    /// Empty when [`Description::build`] would only meet the model's bounds
-    /// on magnitudes.
+    /// [`Description::build`] may still refuse a description without any:
+    /// for the model's bounds on magnitudes, more joints than the model
+    /// holds, or inertial parameters that are not physical.
     pub fn problems(&self) -> Vec<Problem> {
         let mut found = Vec::new();
         if self.joints.is_empty() {

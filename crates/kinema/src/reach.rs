@@ -37,9 +37,9 @@ pub fn voxel_centres(robot: &Robot, resolution: f64) -> Result<Vec<[f64; 3]>> {
     }
     let centre = robot.base().pos;
     let radius = reach_bound(robot)? + resolution * 3f64.sqrt() / 2.0;
-    let cells = (radius / resolution).ceil() as i64 + 1;
-    let count = (2 * cells + 1) as f64;
-    if count.powi(3) > MAX_GRID_CELLS {
+    // Counted in floating point first: a tiny edge must be refused, not overflow an integer.
+    let cells = (radius / resolution).ceil() + 1.0;
+    if !((2.0 * cells + 1.0).powi(3) <= MAX_GRID_CELLS) {
         return Err(Error::Input(InputError::OutOfRange {
             what: "resolution".into(),
             value: resolution,
@@ -49,6 +49,7 @@ pub fn voxel_centres(robot: &Robot, resolution: f64) -> Result<Vec<[f64; 3]>> {
             ),
         }));
     }
+    let cells = cells as i64;
     let index = |c: f64| (c / resolution).round() as i64;
     let (ix, iy, iz) = (index(centre.x), index(centre.y), index(centre.z));
     let mut centres = Vec::new();
@@ -65,8 +66,10 @@ pub fn voxel_centres(robot: &Robot, resolution: f64) -> Result<Vec<[f64; 3]>> {
     Ok(centres)
 }
 
-/// The most grid cells [`voxel_centres`] scans (a 1-cm grid around a 2-m arm is 6.4·10⁷).
-const MAX_GRID_CELLS: f64 = 1e8;
+/// The most grid cells [`voxel_centres`] scans: about half are kept, 24 bytes
+/// each, so a map holds at most a few hundred MB (a 2-cm grid around a 2-m arm
+/// is 8·10⁶ cells).
+const MAX_GRID_CELLS: f64 = 2e7;
 
 /// A distance from the base origin no tool point of `robot` exceeds \[m\]:
 /// the sum of the distances between successive frames along the chain at
@@ -120,9 +123,11 @@ pub fn orientation_samples(count: usize, seed: u64) -> Vec<Matrix3<f64>> {
 /// to a request for one solution (`request.all` is ignored), so an arm with
 /// a self-motion searches it for one within the limits — a request for all
 /// lists the closed form's solutions at one value of its parameter only. A
-/// closed form's refusal is final ([`IkRequest::skip_closest`]): the
-/// families are complete, and the numeric look behind a refusal would cost
-/// most of a map's time on the voxels out of reach.
+/// closed form's refusal is final ([`IkRequest::skip_closest`]): the numeric
+/// look behind a refusal would cost most of a map's time on the voxels out of
+/// reach. So the map is as complete as the robot's family (the closed forms
+/// list every branch; a family that searches, such as `geo-general`, may
+/// miss a pose the numeric solver would find).
 pub fn reaches(
     robot: &Robot,
     family: Option<&dyn crate::ik::family::Family>,
@@ -204,7 +209,7 @@ mod tests {
             let cell = p.map(|v| (v / 0.1).round() * 0.1);
             assert!(centres.iter().any(|c| (Vector3::from(*c) - cell).norm() < 1e-9), "{p:?}");
         }
-        for bad in [0.0, -0.1, f64::NAN, 1e-4] {
+        for bad in [0.0, -0.1, f64::NAN, 1e-4, 1e-19, 2e-19, 1e-300, f64::MIN_POSITIVE] {
             assert!(voxel_centres(&robot, bad).unwrap_err().to_string().contains("resolution"), "{bad}");
         }
     }

@@ -10,7 +10,7 @@ use std::time::Duration;
 use kinema::{Pose, Robot};
 use kinema_geometry::parry3d_f64::na::Point3;
 use kinema_geometry::{LinkShape, Mesh, RobotGeometry, Shape};
-use kinema_serve::{App, Server};
+use kinema_serve::{App, Limits, Server};
 use serde_json::{json, Value};
 
 use crate::api::{call, post, start};
@@ -182,6 +182,51 @@ fn the_websocket_answers_joint_values_with_link_poses() {
     let a = call(addr, "GET", "/api/ws", b"");
     assert!((400..500).contains(&a.status), "{}", a.status);
     assert!(a.json["error"].as_str().unwrap().contains("WebSocket"), "{}", a.json);
+    server.stop();
+}
+
+/// The status line of a WebSocket upgrade request to `addr`.
+fn upgrade_status(addr: SocketAddr) -> String {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    let head = format!(
+        "GET /api/ws HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+         Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+    );
+    s.write_all(head.as_bytes()).unwrap();
+    let mut line = Vec::new();
+    let mut byte = [0u8];
+    while !line.ends_with(b"\r\n") && s.read_exact(&mut byte).is_ok() {
+        line.push(byte[0]);
+    }
+    String::from_utf8_lossy(&line).trim().to_string()
+}
+
+#[test]
+fn open_websockets_count_against_the_connection_limit() {
+    let robot = Robot::builtin("lbr-iiwa-14-r820").unwrap();
+    // Three slots: the accept loop holds one ready for the next connection, the first socket
+    // takes one, and the second socket's upgrade request the last.
+    let limits = Limits { max_connections: 3, ..Limits::default() };
+    let server = Server::bind("127.0.0.1:0", Some(robot)).unwrap().with_limits(limits).spawn();
+    let addr = server.local_addr();
+    let mut first = Socket::open(addr);
+    first.send(&json!({ "q": [0, 0, 0, 0, 0, 0, 0] }).to_string());
+    assert!(first.json()["frames"].is_array());
+    // No slot is left for a second socket once its upgrade request holds one.
+    let refused = upgrade_status(addr);
+    assert!(refused.starts_with("HTTP/1.1 503"), "{refused}");
+    // Once the first socket is closed, its slot serves a new one.
+    drop(first);
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    loop {
+        let status = upgrade_status(addr);
+        if status.starts_with("HTTP/1.1 101") {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "no slot came back: {status}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
     server.stop();
 }
 

@@ -127,9 +127,29 @@ impl TypedKind {
         self.components.iter().map(|c| c.quantity.value_count()).sum()
     }
 
+    /// A kind whose components take more than [`MAX_TYPED_VALUES`] values
+    /// cannot be stored: said, not a panic.
+    fn check_size(&self) -> Result<()> {
+        if self.value_count() > MAX_TYPED_VALUES {
+            return Err(invalid(
+                "target",
+                format!(
+                    "a {} takes {} values; a typed target holds at most {MAX_TYPED_VALUES}",
+                    self.described(),
+                    self.value_count()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// The target of this kind at `position` with its components' values,
     /// given by name in any order; every component once, nothing else.
     pub fn target(&'static self, position: [f64; 3], given: &[(&str, &[f64])]) -> Result<TypedTarget> {
+        self.check_size()?;
+        if let Some((name, _)) = given.iter().enumerate().find_map(|(i, g)| given[..i].iter().find(|h| h.0 == g.0)) {
+            return Err(invalid(name, format!("given twice for a {}", self.described())));
+        }
         let mut values = [0.0; MAX_TYPED_VALUES];
         for c in self.components {
             let Some((_, v)) = given.iter().find(|(name, _)| *name == c.name) else {
@@ -168,6 +188,7 @@ impl TypedTarget {
     /// The target of `kind` at `position` with `values` in the order of its
     /// components; all finite, a direction not zero.
     pub fn new(kind: &'static TypedKind, position: [f64; 3], values: &[f64]) -> Result<TypedTarget> {
+        kind.check_size()?;
         if values.len() != kind.value_count() {
             return Err(Error::Input(InputError::WrongLength {
                 what: format!("{} target values", kind.name),
@@ -254,6 +275,23 @@ mod tests {
         assert!(message(&[("heading", &[0.5]), ("axis", &[0.0; 3])]).contains("zero vector"));
         assert!(message(&[("heading", &[f64::NAN]), ("axis", &[1.0, 0.0, 0.0])]).contains("heading"));
         let extra: [(&str, &[f64]); 3] = [("heading", &[0.5]), ("axis", &[1.0, 0.0, 0.0]), ("roll", &[0.0])];
-        assert!(message(&extra).contains("`roll`") || message(&extra).contains("roll"));
+        assert!(message(&extra).contains("invalid `roll`: not a component"), "{}", message(&extra));
+        let twice: [(&str, &[f64]); 3] = [("heading", &[0.5]), ("axis", &[1.0, 0.0, 0.0]), ("heading", &[0.1])];
+        assert!(message(&twice).contains("invalid `heading`: given twice"), "{}", message(&twice));
+    }
+
+    #[test]
+    fn a_kind_too_large_to_store_is_refused() {
+        static WIDE: TypedKind = TypedKind {
+            name: "wide",
+            components: &[
+                Component { name: "a", quantity: Quantity::Direction },
+                Component { name: "b", quantity: Quantity::Direction },
+            ],
+            summary: "two directions",
+        };
+        let given: [(&str, &[f64]); 2] = [("a", &[1.0, 0.0, 0.0]), ("b", &[0.0, 1.0, 0.0])];
+        assert!(WIDE.target([0.0; 3], &given).unwrap_err().to_string().contains("at most 4"));
+        assert!(TypedTarget::new(&WIDE, [0.0; 3], &[0.0; 6]).is_err());
     }
 }
