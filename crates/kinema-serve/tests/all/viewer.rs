@@ -88,20 +88,7 @@ struct Socket(TcpStream);
 
 impl Socket {
     fn open(addr: SocketAddr) -> Socket {
-        let mut s = TcpStream::connect(addr).unwrap();
-        s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
-        let head = format!(
-            "GET /api/ws HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
-             Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
-        );
-        s.write_all(head.as_bytes()).unwrap();
-        let mut answer = Vec::new();
-        let mut byte = [0u8];
-        while !answer.ends_with(b"\r\n\r\n") {
-            s.read_exact(&mut byte).unwrap();
-            answer.push(byte[0]);
-        }
-        let answer = String::from_utf8(answer).unwrap();
+        let (s, answer) = request_upgrade(addr);
         assert!(answer.starts_with("HTTP/1.1 101"), "{answer}");
         // RFC 6455's example key and accept value.
         assert!(answer.contains("s3pPLMBiTxaQ9kYGzzhZRbK+xOo="), "{answer}");
@@ -185,8 +172,8 @@ fn the_websocket_answers_joint_values_with_link_poses() {
     server.stop();
 }
 
-/// The status line of a WebSocket upgrade request to `addr`.
-fn upgrade_status(addr: SocketAddr) -> String {
+/// Sends a WebSocket upgrade request to `addr`: the connection and the answer's head.
+fn request_upgrade(addr: SocketAddr) -> (TcpStream, String) {
     let mut s = TcpStream::connect(addr).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
     let head = format!(
@@ -194,12 +181,17 @@ fn upgrade_status(addr: SocketAddr) -> String {
          Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
     );
     s.write_all(head.as_bytes()).unwrap();
-    let mut line = Vec::new();
+    let mut answer = Vec::new();
     let mut byte = [0u8];
-    while !line.ends_with(b"\r\n") && s.read_exact(&mut byte).is_ok() {
-        line.push(byte[0]);
+    while !answer.ends_with(b"\r\n\r\n") && s.read_exact(&mut byte).is_ok() {
+        answer.push(byte[0]);
     }
-    String::from_utf8_lossy(&line).trim().to_string()
+    (s, String::from_utf8_lossy(&answer).into_owned())
+}
+
+/// The status line of a WebSocket upgrade request to `addr`.
+fn upgrade_status(addr: SocketAddr) -> String {
+    request_upgrade(addr).1.lines().next().unwrap_or("").to_string()
 }
 
 #[test]
