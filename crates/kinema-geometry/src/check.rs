@@ -183,14 +183,23 @@ impl CollisionCheck {
     ) -> Result<Option<SweptContact>> {
         self.robot.check_q(from)?;
         self.robot.check_q(to)?;
-        let segment = Segment {
+        self.segment().first_contact(from, to, placement)
+    }
+
+    /// The lever arms bounding how far each shape moves on a joint step.
+    pub(crate) fn arms(&self) -> &LeverArms {
+        &self.arms
+    }
+
+    /// What the continuous check of one segment needs.
+    pub(crate) fn segment(&self) -> Segment<'_> {
+        Segment {
             robot: &self.robot,
             geometry: &self.geometry,
             pairs: &self.pairs,
             arms: &self.arms,
             margin: self.margin,
-        };
-        segment.first_contact(from, to, placement)
+        }
     }
 
     /// Every body pair closer than the margin in the placed configuration,

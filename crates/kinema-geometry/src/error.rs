@@ -91,6 +91,34 @@ pub enum Error {
         /// The geometry's shape count.
         expected: usize,
     },
+    /// A planning request whose start or goal configuration already collides.
+    #[error(
+        "the {which} configuration collides: `{a}` – `{b}` are closer than the margin; a path must start and end clear"
+    )]
+    Blocked {
+        /// `start` or `goal`.
+        which: &'static str,
+        /// One body of the pair (link or obstacle name).
+        a: String,
+        /// The other body.
+        b: String,
+    },
+    /// A planner that used up its budget without joining start and goal.
+    #[error(
+        "no collision-free path found within {budget} ({iterations} iterations, {nodes} configurations); \
+         raise the budget, or check that start and goal lie in one free region"
+    )]
+    NoPath {
+        /// Which budget ran out (`the time limit of 1 s`, `5000 iterations`).
+        budget: String,
+        /// Iterations run.
+        iterations: usize,
+        /// Configurations in both trees.
+        nodes: usize,
+    },
+    /// A run stopped by its caller (Ctrl-C).
+    #[error("planning interrupted")]
+    Interrupted,
 }
 
 fn list(paths: &[PathBuf]) -> String {

@@ -77,6 +77,7 @@ mod geometry;
 mod mesh;
 mod pairs;
 mod placement;
+pub mod plan;
 mod query;
 mod robot_toml;
 mod scene;

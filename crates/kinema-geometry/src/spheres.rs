@@ -98,6 +98,17 @@ impl Spheres {
         (a..b).map(|i| (self.link[i], self.centre[i], self.radius[i]))
     }
 
+    /// The index range of shape `index`'s spheres.
+    pub(crate) fn range_of(&self, index: usize) -> std::ops::Range<usize> {
+        let (a, b) = self.of_shape[index];
+        a..b
+    }
+
+    /// Every sphere's radius \[m\].
+    pub(crate) fn radii(&self) -> &[f64] {
+        &self.radius
+    }
+
     /// Empty buffers for [`spheres_free`].
     pub fn placement(&self) -> SpherePlacement {
         SpherePlacement { frames: vec![Pose::IDENTITY; self.dof + 2], centres: vec![Point3::origin(); self.len()] }
@@ -186,12 +197,19 @@ fn first_maybe(
             expected: spheres.len(),
         });
     }
+    place_spheres(robot, spheres, q, out)?;
+    Ok(maybe_from(spheres, pairs, margin, out, from))
+}
+
+/// Forward kinematics at `q` and every sphere's world centre into `out`
+/// (sized for `spheres` by the caller).
+pub(crate) fn place_spheres(robot: &Robot, spheres: &Spheres, q: &[f64], out: &mut SpherePlacement) -> Result<()> {
     kin::link_frames_into(robot, q, &mut out.frames)?;
     for ((c, &link), local) in out.centres.iter_mut().zip(&spheres.link).zip(&spheres.centre) {
         let f = &out.frames[link];
         *c = Point3::from(f.rot * local + f.pos);
     }
-    Ok(maybe_from(spheres, pairs, margin, out, from))
+    Ok(())
 }
 
 fn maybe_from(

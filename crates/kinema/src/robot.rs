@@ -117,6 +117,27 @@ impl Robot {
         })
     }
 
+    /// [`Robot::check_q`] and every value within its joint's position
+    /// limits: else an error naming the joint, its value as `what` (`from`,
+    /// `start`) and the limits.
+    pub fn check_within_limits(&self, q: &[f64], what: &str) -> Result<()> {
+        self.check_q(q)?;
+        match self.limit_flags(q).indices().next() {
+            None => Ok(()),
+            Some(i) => {
+                let l = self.joints()[i].limits;
+                Err(self.for_joint(
+                    i,
+                    Error::Input(InputError::OutOfRange {
+                        what: what.into(),
+                        value: q[i],
+                        expected: format!("a value within the joint's limits [{}, {}]", l.min, l.max),
+                    }),
+                ))
+            }
+        }
+    }
+
     /// `source` as the error of joint `i` (0-based), named as the model names it.
     pub(crate) fn for_joint(&self, i: usize, source: Error) -> Error {
         Error::ForJoint { joint: i + 1, name: self.joints()[i].name.clone(), source: Box::new(source) }

@@ -7,6 +7,7 @@ mod coal;
 mod common;
 mod fast_paths;
 mod meshes;
+mod plan;
 mod primitives;
 mod scene;
 mod self_collision;

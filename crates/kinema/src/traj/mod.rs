@@ -33,6 +33,7 @@ pub mod path_error;
 mod ptp;
 pub mod self_motion;
 pub mod to_joints;
+pub mod via;
 pub mod waypoints;
 
 pub use boundary::{sync_duration, BoundaryLaw, BoundaryState};

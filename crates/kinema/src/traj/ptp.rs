@@ -152,21 +152,8 @@ impl Ptp {
     /// (or, for the S-curve, jerk) limit in the robot or the options; a
     /// non-positive limit or a `speed` outside (0, 1].
     pub fn new(robot: &Robot, from: &[f64], to: &[f64], opts: &PtpOptions) -> Result<Ptp> {
-        robot.check_q(from)?;
-        robot.check_q(to)?;
-        for (what, q) in [("from", from), ("to", to)] {
-            if let Some(i) = robot.limit_flags(q).indices().next() {
-                let l = robot.joints()[i].limits;
-                return Err(robot.for_joint(
-                    i,
-                    Error::Input(InputError::OutOfRange {
-                        what: what.into(),
-                        value: q[i],
-                        expected: format!("a value within the joint's limits [{}, {}]", l.min, l.max),
-                    }),
-                ));
-            }
-        }
+        robot.check_within_limits(from, "from")?;
+        robot.check_within_limits(to, "to")?;
         if !(opts.speed > 0.0 && opts.speed <= 1.0) {
             return Err(Error::Input(InputError::OutOfRange {
                 what: "speed".into(),

@@ -1,0 +1,49 @@
+//! When a planner must stop: a deadline, an iteration count, or its caller.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crate::error::{Error, Result};
+
+/// The limits of one planning run.
+#[derive(Debug)]
+pub(crate) struct Budget<'a> {
+    started: Instant,
+    time_limit: Duration,
+    max_iterations: usize,
+    cancel: Option<&'a AtomicBool>,
+}
+
+impl<'a> Budget<'a> {
+    pub(crate) fn new(time_limit: Duration, max_iterations: usize, cancel: Option<&'a AtomicBool>) -> Budget<'a> {
+        Budget { started: Instant::now(), time_limit, max_iterations, cancel }
+    }
+
+    /// Time since the run started.
+    pub(crate) fn elapsed(&self) -> Duration {
+        self.started.elapsed()
+    }
+
+    /// `Ok(true)` while iteration `iteration` may run; `Ok(false)` when a
+    /// budget is spent; an error when the caller interrupted the run.
+    pub(crate) fn allows(&self, iteration: usize) -> Result<bool> {
+        if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return Err(Error::Interrupted);
+        }
+        Ok(iteration < self.max_iterations && self.elapsed() < self.time_limit)
+    }
+
+    /// `Ok(true)` while time is left; an error when the caller interrupted.
+    pub(crate) fn has_time(&self) -> Result<bool> {
+        self.allows(0)
+    }
+
+    /// Which budget ran out, in words.
+    pub(crate) fn spent(&self, iteration: usize) -> String {
+        if iteration >= self.max_iterations {
+            format!("{} iterations", self.max_iterations)
+        } else {
+            format!("the time limit of {} s", self.time_limit.as_secs_f64())
+        }
+    }
+}
