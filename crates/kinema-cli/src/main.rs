@@ -25,6 +25,7 @@ mod interrupt;
 mod kin_cmd;
 mod lang_cmd;
 mod output;
+mod plan_cmd;
 #[cfg(feature = "plot")]
 mod plot_cmd;
 mod reach_cmd;
@@ -98,6 +99,9 @@ enum Cmd {
     /// Self-collision and collision with a scene's obstacles at a configuration (or a CSV of them):
     /// the colliding pairs and the closest pair (exit code 3 on a collision).
     Collide(collide_cmd::CollideArgs),
+    /// A collision-free joint motion to a configuration or a tool pose, around the robot itself and a
+    /// scene's obstacles (RRT-Connect, shortcut, timed within the limits).
+    Plan(plan_cmd::PlanArgs),
     /// A capability map: per voxel around the robot, how many sampled tool orientations it reaches
     /// within its limits (collision-free with --scene), on all cores.
     Reach(reach_cmd::ReachArgs),
@@ -381,6 +385,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Dyn(a) => dyn_cmd::run(a),
         Cmd::Cell(a) => cell_cmd::run(a),
         Cmd::Collide(a) => collide_cmd::run(a),
+        Cmd::Plan(a) => plan_cmd::run(a),
         Cmd::Reach(a) => reach_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),

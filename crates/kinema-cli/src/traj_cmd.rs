@@ -446,7 +446,7 @@ fn boundary_arg(robot: &Robot, given: Option<&JointValues>, deg: bool, flag: &st
 
 /// Writes a checked trajectory: CSV to `out` (atomically) and/or a JSON
 /// summary (with the rows when there is no file) or CSV on stdout.
-fn emit(
+pub(crate) fn emit(
     robot: &Robot,
     traj: &JointTrajectory,
     conv: RpyConvention,
@@ -538,7 +538,7 @@ impl serde::Serialize for Rows<'_> {
 }
 
 /// x,y,z,roll,pitch,yaw → a pose.
-fn pose_arg(text: &str, conv: RpyConvention, what: &str) -> Result<Pose> {
+pub(crate) fn pose_arg(text: &str, conv: RpyConvention, what: &str) -> Result<Pose> {
     Ok(*waypoint_arg(text, conv, what)?.pose())
 }
 

@@ -105,11 +105,11 @@ pub enum Error {
     },
     /// A planner that used up its budget without joining start and goal.
     #[error(
-        "no collision-free path found within {budget} ({iterations} iterations, {nodes} configurations); \
-         raise the budget, or check that start and goal lie in one free region"
+        "no collision-free path found before {budget} ran out ({iterations} iteration(s), {nodes} configurations in \
+         the search trees); raise it, or check that start and goal lie in one free region"
     )]
     NoPath {
-        /// Which budget ran out (`the time limit of 1 s`, `5000 iterations`).
+        /// Which budget ran out (`the time limit of 1 s`, `the limit of 5000 iteration(s)`).
         budget: String,
         /// Iterations run.
         iterations: usize,

@@ -47,7 +47,8 @@ pub use ik::{
 pub use program::{MotionAnswer, ProgramAnswer};
 pub use shard::Shard;
 pub use traj::{
-    CheckAnswer, JointExpression, LawAnswer, LawSamples, SkippedPoint, TimedValue, TrajSummary, ViolationAnswer,
+    CheckAnswer, JointExpression, LawAnswer, LawSamples, PlanAnswer, SkippedPoint, TimedValue, TrajSummary,
+    ViolationAnswer,
 };
 
 pub use kinematics::{

@@ -67,6 +67,52 @@ pub struct TrajSummary {
     /// Expression trajectories: each joint's expression.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub expressions: Option<Vec<JointExpression>>,
+    /// A planned motion around obstacles: its path and how it was found.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plan: Option<PlanAnswer>,
+}
+
+/// How a collision-free motion was found ([`kinema_geometry::plan::Plan`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlanAnswer {
+    /// The path's via points, start first \[rad, m\].
+    pub via_points: Vec<Vec<f64>>,
+    /// Via points of the search's path before shortening.
+    pub found_via_points: usize,
+    /// Goal configurations aimed at (a pose goal's IK solutions).
+    pub goals: usize,
+    /// Search iterations (0: the straight segment was free).
+    pub iterations: usize,
+    /// Configurations in both search trees.
+    pub nodes: usize,
+    /// The path's length \[joint-space norm\].
+    pub length: f64,
+    /// Planning time \[s\].
+    pub planning_time: f64,
+    /// Segments checked for collision.
+    pub segments_checked: u64,
+    /// Configurations the spheres were placed at.
+    pub sphere_checks: u64,
+    /// Intervals the spheres could not clear, decided on the exact shapes.
+    pub exact_checks: u64,
+}
+
+impl PlanAnswer {
+    /// The answer for `plan`.
+    pub fn new(plan: &kinema_geometry::plan::Plan) -> PlanAnswer {
+        PlanAnswer {
+            via_points: plan.path.clone(),
+            found_via_points: plan.found_via_points,
+            goals: plan.goals,
+            iterations: plan.iterations,
+            nodes: plan.nodes,
+            length: plan.length(),
+            planning_time: plan.elapsed.as_secs_f64(),
+            segments_checked: plan.counts.segments,
+            sphere_checks: plan.counts.sphere_checks,
+            exact_checks: plan.counts.exact_checks,
+        }
+    }
 }
 
 impl TrajSummary {
@@ -91,6 +137,7 @@ impl TrajSummary {
             blend_times: None,
             skipped: None,
             expressions: None,
+            plan: None,
         }
     }
 

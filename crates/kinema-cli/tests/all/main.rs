@@ -21,6 +21,7 @@ mod collide;
 mod doors;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
+mod plan;
 mod readme;
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
 mod readme_seeds;

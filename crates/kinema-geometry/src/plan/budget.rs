@@ -41,7 +41,7 @@ impl<'a> Budget<'a> {
     /// Which budget ran out, in words.
     pub(crate) fn spent(&self, iteration: usize) -> String {
         if iteration >= self.max_iterations {
-            format!("{} iterations", self.max_iterations)
+            format!("the limit of {} iteration(s)", self.max_iterations)
         } else {
             format!("the time limit of {} s", self.time_limit.as_secs_f64())
         }

@@ -191,7 +191,7 @@ fn errors_name_the_colliding_pair_the_joint_and_the_budget() {
     let starved = PlanOptions { max_iterations: 1, ..Default::default() };
     let e = plan(&check, &from, &Goal::Joints(to.clone()), &starved).unwrap_err();
     assert!(matches!(e, Error::NoPath { iterations: 1, .. }), "{e}");
-    assert!(e.to_string().contains("1 iterations"), "{e}");
+    assert!(e.to_string().contains("before the limit of 1 iteration(s) ran out"), "{e}");
     let stop = AtomicBool::new(true);
     let e =
         plan(&check, &from, &Goal::Joints(to), &PlanOptions { cancel: Some(&stop), ..Default::default() }).unwrap_err();

@@ -1,0 +1,154 @@
+//! `kinema plan`: a motion around a post that the straight one would hit,
+//! accepted by `kinema traj check --scene`; a pose goal; the same seed gives
+//! the same file; errors for a colliding start, a spent budget and a
+//! missing goal.
+
+use crate::common::kinema;
+
+const POST: &str = "[[obstacle]]\nname = \"bench\"\nbox = [1.6, 1.6, 0.05]\npose = [0, 0, -0.03, 0, 0, 0]\n\n\
+                    [[obstacle]]\nname = \"post\"\ncylinder = { radius = 0.06, length = 1.2 }\npose = [0.55, 0, 0.6, 0, 0, 0]\n";
+
+/// The arm stretched out sideways at shoulder height, 57° either side of the post.
+const LEFT: &str = "-1,1.5708,0,0,0,0,0";
+const RIGHT: &str = "1,1.5708,0,0,0,0,0";
+const IIWA: &str = "lbr-iiwa-14-r820";
+
+fn json(text: &str) -> serde_json::Value {
+    serde_json::from_str(text).unwrap_or_else(|e| panic!("not JSON ({e}): {text}"))
+}
+
+#[test]
+fn a_planned_motion_goes_around_the_post_and_passes_the_scene_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("post.toml");
+    std::fs::write(&scene, POST).unwrap();
+    let (scene, out) = (scene.to_str().unwrap(), dir.path().join("plan.csv"));
+    let out_s = out.to_str().unwrap();
+
+    // The straight motion hits the post.
+    let straight = dir.path().join("straight.csv");
+    let ptp = kinema(&[
+        "traj",
+        "ptp",
+        "--robot",
+        IIWA,
+        "--scene",
+        scene,
+        "--from",
+        LEFT,
+        "--to",
+        RIGHT,
+        "--out",
+        straight.to_str().unwrap(),
+    ]);
+    assert!(!ptp.ok && ptp.stderr.contains("post"), "{}", ptp.stderr);
+
+    let planned =
+        kinema(&["plan", "--robot", IIWA, "--scene", scene, "--from", LEFT, "--to", RIGHT, "--out", out_s, "--json"]);
+    assert!(planned.ok, "{}", planned.stderr);
+    let answer = json(&planned.stdout);
+    assert_eq!(answer["motion"], "plan");
+    let vias = answer["plan"]["via_points"].as_array().unwrap();
+    assert!(vias.len() >= 3, "{answer}");
+    assert!(answer["plan"]["iterations"].as_u64().unwrap() >= 1);
+    let check = kinema(&["traj", "check", "--robot", IIWA, "--scene", scene, out_s]);
+    assert!(check.ok, "{}{}", check.stdout, check.stderr);
+    assert!(check.stdout.contains("0 violation(s)"), "{}", check.stdout);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let last: Vec<f64> = text.lines().last().unwrap().split(',').skip(1).take(7).map(|v| v.parse().unwrap()).collect();
+    assert_eq!(last, [1.0, 1.5708, 0.0, 0.0, 0.0, 0.0, 0.0]);
+
+    // The same seed, the same bytes; another seed, another search.
+    let again = dir.path().join("again.csv");
+    let rerun = kinema(&[
+        "plan",
+        "--robot",
+        IIWA,
+        "--scene",
+        scene,
+        "--from",
+        LEFT,
+        "--to",
+        RIGHT,
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(rerun.ok, "{}", rerun.stderr);
+    assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
+}
+
+#[test]
+fn a_pose_goal_ends_on_the_pose() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("post.toml");
+    std::fs::write(&scene, POST).unwrap();
+    let fk = kinema(&["fk", "--robot", IIWA, "--q", RIGHT, "--json"]);
+    assert!(fk.ok, "{}", fk.stderr);
+    let fk = json(&fk.stdout);
+    let numbers =
+        |v: &serde_json::Value| v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<f64>>();
+    let pose: Vec<String> =
+        [numbers(&fk["position"]), numbers(&fk["rpy"])].concat().iter().map(f64::to_string).collect();
+    let planned = kinema(&[
+        "plan",
+        "--robot",
+        IIWA,
+        "--scene",
+        scene.to_str().unwrap(),
+        "--from",
+        LEFT,
+        "--pose",
+        &pose.join(","),
+        "--json",
+    ]);
+    assert!(planned.ok, "{}", planned.stderr);
+    let answer = json(&planned.stdout);
+    assert!(answer["plan"]["goals"].as_u64().unwrap() >= 8, "{answer}");
+    let end: Vec<String> =
+        numbers(answer["plan"]["via_points"].as_array().unwrap().last().unwrap()).iter().map(f64::to_string).collect();
+    let end_fk = json(&kinema(&["fk", "--robot", IIWA, "--q", &end.join(","), "--json"]).stdout);
+    let (p, p_goal) = (numbers(&end_fk["position"]), numbers(&fk["position"]));
+    assert!(p.iter().zip(&p_goal).all(|(a, b)| (a - b).abs() < 1e-6), "{p:?} vs {p_goal:?}");
+    // The same rotation: quaternions equal up to sign.
+    let (r, r_goal) = (numbers(&end_fk["quaternion_wxyz"]), numbers(&fk["quaternion_wxyz"]));
+    let dot: f64 = r.iter().zip(&r_goal).map(|(a, b)| a * b).sum();
+    assert!(dot.abs() > 1.0 - 1e-9, "{r:?} vs {r_goal:?}");
+}
+
+#[test]
+fn a_colliding_start_a_spent_budget_and_a_missing_goal_are_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("post.toml");
+    std::fs::write(&scene, POST).unwrap();
+    let scene = scene.to_str().unwrap();
+    let folded = kinema(&["plan", "--robot", IIWA, "--scene", scene, "--from", "0,2.0,0,0,0,0,0", "--to", RIGHT]);
+    assert_eq!(folded.code, Some(1));
+    assert!(folded.stderr.contains("the start configuration collides: `link 1` – `link 3`"), "{}", folded.stderr);
+    let out = dir.path().join("never.csv");
+    let starved = kinema(&[
+        "plan",
+        "--robot",
+        IIWA,
+        "--scene",
+        scene,
+        "--from",
+        LEFT,
+        "--to",
+        RIGHT,
+        "--iterations",
+        "1",
+        "--step",
+        "0.01",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(starved.code, Some(1));
+    assert!(
+        starved.stderr.contains("no collision-free path found before the limit of 1 iteration(s) ran out"),
+        "{}",
+        starved.stderr
+    );
+    assert!(!out.exists(), "nothing is written on an error");
+    let no_goal = kinema(&["plan", "--robot", IIWA, "--from", LEFT]);
+    assert_eq!(no_goal.code, Some(64), "{}", no_goal.stderr);
+}
