@@ -116,6 +116,11 @@ impl Spheres {
 }
 
 impl SpherePlacement {
+    /// The link frames of the last placement (base, links, tool).
+    pub(crate) fn frames(&self) -> &[Pose] {
+        &self.frames
+    }
+
     /// The world centre of every sphere at the last [`spheres_free`], in the
     /// order of [`Spheres::of_shape`] over the shapes.
     pub fn centres(&self) -> &[Point3<f64>] {

@@ -23,6 +23,7 @@
 mod budget;
 mod goal;
 mod motion;
+mod round;
 mod rrt;
 mod sampler;
 mod shortcut;

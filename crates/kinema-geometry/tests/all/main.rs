@@ -8,6 +8,7 @@ mod common;
 mod fast_paths;
 mod meshes;
 mod plan;
+mod plan_problems;
 mod primitives;
 mod scene;
 mod self_collision;
