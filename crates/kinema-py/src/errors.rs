@@ -14,6 +14,7 @@ pyo3::import_exception!(kinema._errors, RobotFileError);
 pyo3::import_exception!(kinema._errors, Unreachable);
 pyo3::import_exception!(kinema._errors, TrajectoryError);
 pyo3::import_exception!(kinema._errors, ProgramError);
+pyo3::import_exception!(kinema._errors, PlanningError);
 
 /// A core error as a Python exception with the core's message.
 pub(crate) fn to_py(e: Error) -> PyErr {

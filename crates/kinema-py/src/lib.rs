@@ -36,6 +36,7 @@ mod errors;
 mod fast;
 mod ik;
 mod npio;
+mod plan;
 mod plot;
 mod program;
 mod robot;

@@ -208,7 +208,7 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 /// Runs `work` on a worker thread with the GIL released, looking for Python signals every
 /// [`SIGNAL_POLL`]. On one (KeyboardInterrupt from Ctrl-C, or whatever a handler raises),
 /// raises `cancel`, which `work` must watch, waits for it to finish, and returns the error.
-fn run_interruptibly<T: Send + 'static>(
+pub(crate) fn run_interruptibly<T: Send + 'static>(
     py: Python<'_>,
     cancel: &AtomicBool,
     work: impl FnOnce() -> T + Send + 'static,
@@ -216,7 +216,7 @@ fn run_interruptibly<T: Send + 'static>(
     let (tx, rx) = std::sync::mpsc::channel();
     // The main thread's usual stack: the compiler's recursion is bounded, not small.
     let worker = std::thread::Builder::new()
-        .name("kinema-run_program".into())
+        .name("kinema-worker".into())
         .stack_size(8 << 20)
         .spawn(move || {
             let _ = tx.send(work());
@@ -245,9 +245,7 @@ fn run_interruptibly<T: Send + 'static>(
             // The worker panicked (a bug): say so rather than hang.
             Err(RecvTimeoutError::Disconnected) => {
                 let _ = py.allow_threads(|| worker.join());
-                return Err(pyo3::exceptions::PyRuntimeError::new_err(
-                    "the program's worker thread stopped without a result",
-                ));
+                return Err(pyo3::exceptions::PyRuntimeError::new_err("the worker thread stopped without a result"));
             }
         }
     }

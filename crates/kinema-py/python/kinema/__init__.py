@@ -34,6 +34,7 @@ from ._errors import (
     DescriptionError,
     InvalidInput,
     KinemaError,
+    PlanningError,
     ProgramError,
     RobotFileError,
     TrajectoryError,
@@ -84,5 +85,6 @@ __all__ = [
     "Unreachable",
     "TrajectoryError",
     "ProgramError",
+    "PlanningError",
     "__version__",
 ]

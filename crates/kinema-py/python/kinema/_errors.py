@@ -76,6 +76,12 @@ class TrajectoryError(KinemaError):
 
 
 
+class PlanningError(KinemaError):
+    """A collision-free motion that was not found within the planner's
+    budget (``Robot.plan``'s ``time_limit`` or ``max_iterations``); the
+    message says which budget ran out and how far the search got."""
+
+
 class ProgramError(KinemaError, ValueError):
     """A robot program that does not compile or run (:func:`kinema.run_program`).
 

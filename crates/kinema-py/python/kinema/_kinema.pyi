@@ -577,6 +577,26 @@ class Robot:
         self, Q: ArrayLike, scene: Optional[Scene] = None, margin: float = 0.0
     ) -> npt.NDArray[np.bool_]:
         """collides() for each row of Q (V, n), on all cores with the GIL released."""
+    def plan(
+        self,
+        q0: JointVector,
+        qf: Optional[JointVector] = None,
+        *,
+        pose: Optional[PoseLike] = None,
+        scene: Optional[Scene] = None,
+        margin: float = 0.0,
+        seed: int = 0,
+        time_limit: float = 1.0,
+        max_iterations: int = 100_000,
+        step: Optional[float] = None,
+        dt: float = 0.01,
+        profile: Optional[ProfileName] = None,
+        speed: float = 1.0,
+        rpy: str = "zyx",
+    ) -> JointTrajectory:
+        """A collision-free motion to qf or to any collision-free IK solution of pose (kinema plan):
+        RRT-Connect, shortened, timed with a PTP per segment; to_dict()["plan"] holds the via points and
+        counts. Raises InvalidInput (a colliding start or goal names the pair), Unreachable, PlanningError."""
 
 class CellReport:
     """What Cell.run computed (kinema cell's CSV and JSON); dicts keyed by robot name or (a, b) pair."""
