@@ -19,9 +19,9 @@ mod cli_traj;
 mod collide;
 #[cfg(feature = "serve")]
 mod doors;
+mod plan;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
-mod plan;
 mod readme;
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]
 mod readme_seeds;

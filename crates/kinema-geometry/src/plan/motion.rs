@@ -120,8 +120,11 @@ pub struct MotionCounts {
     pub segments: u64,
 }
 
-/// The planner's collision test on one [`CollisionCheck`] (see the
-/// [module documentation](self)), with its reusable buffers.
+/// The planner's collision test on one [`CollisionCheck`], with its
+/// reusable buffers: exact answers for a configuration and for a straight
+/// joint-space segment, the spheres (grown by how far each link can move
+/// within an interval of the segment) deciding most of them and the real
+/// shapes the rest (see [`plan`](super) for the steps).
 #[derive(Debug, Clone)]
 pub struct MotionCheck<'c> {
     check: &'c CollisionCheck,
