@@ -626,3 +626,102 @@ fn download_panda(dir: &Path) -> PathBuf {
     assert!(status.success(), "extracting the Panda from {}", wheel.display());
     dir.join("cmeel.prefix/share")
 }
+
+/// Pixels of the 3D view drawn in the colliding red (robot.js), not the
+/// orange or grey of the links nor the obstacles' brown.
+fn red_pixels(img: &image::RgbaImage, [x0, y0, w, h]: [u32; 4]) -> usize {
+    let mut n = 0;
+    for y in y0..(y0 + h).min(img.height()) {
+        for x in x0..(x0 + w).min(img.width()) {
+            let [r, g, b, _] = img.get_pixel(x, y).0;
+            let r = f64::from(r);
+            if r >= 120.0 && f64::from(g) < 0.35 * r && f64::from(b) < 0.35 * r {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// The page's last collision answer once it is the one of the configuration shown.
+fn collide_answer(viewer: &Viewer, q: &[f64]) -> Value {
+    let js = format!(
+        "const c = window.kinemaViewer.collide; return c && JSON.stringify(c.q) === JSON.stringify({}) ? c : null",
+        json!(q)
+    );
+    let answer = viewer.wait_for(&js, 20, "the collision check of the configuration", |v| v.is_object());
+    // One more frame, drawn after the colours changed.
+    let drawn = viewer.script("const v = window.kinemaViewer; v.redraw(); return v.frames").as_u64().unwrap();
+    viewer.wait_for("return window.kinemaViewer.frames", 10, "a frame after the check", |v| {
+        v.as_u64().is_some_and(|n| n > drawn)
+    });
+    answer
+}
+
+#[test]
+fn a_colliding_configuration_turns_the_pair_red_with_the_server_s_distance() {
+    let dir = std::env::temp_dir().join(format!("kinema-serve-collide-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, "[[obstacle]]\nname = \"block\"\nbox = [0.2, 0.2, 0.2]\npose = [0.5, 0, 0.6, 0, 0, 0]\n")
+        .unwrap();
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--scene", scene.to_str().unwrap()], &[]) else { return };
+    viewer.assert_webgl_and_no_errors();
+    assert_eq!(viewer.script("return window.kinemaViewer.state.obstacles"), 1, "the scene's block is drawn");
+
+    // Free: nothing red, no pair.
+    let free = [0.0, 0.3, 0.0, -1.2, 0.0, 0.6, 0.0];
+    viewer.show_q(&free);
+    let c = collide_answer(&viewer, &free);
+    assert_eq!((&c["collision"], &c["pairs"]), (&json!(false), &json!([])), "{c}");
+    assert_eq!(viewer.script("return window.kinemaViewer.red"), json!([]));
+    let (img, rect) = viewer.screenshot("collide-free");
+    let red_free = red_pixels(&img, rect);
+
+    // Bent forward into the block: the pair's link and the block turn red.
+    let hit = [0.0, 1.0, 0.0, -1.2, 0.0, 0.6, 0.0];
+    viewer.show_q(&hit);
+    let c = collide_answer(&viewer, &hit);
+    assert_eq!(c["collision"], true, "{c}");
+    let mut expected: Vec<String> = Vec::new();
+    for p in c["pairs"].as_array().unwrap() {
+        for body in [&p["a"], &p["b"]] {
+            let body = body.as_str().unwrap().to_string();
+            if !expected.contains(&body) {
+                expected.push(body);
+            }
+        }
+    }
+    assert!(expected.iter().any(|b| b == "block"), "{c}");
+    let mut red: Vec<String> = serde_json::from_value(viewer.script("return window.kinemaViewer.red")).unwrap();
+    red.sort();
+    expected.sort();
+    assert_eq!(red, expected, "the bodies drawn red are the colliding pairs'");
+    let (img, rect) = viewer.screenshot("collide-hit");
+    let red_hit = red_pixels(&img, rect);
+    println!("red pixels: {red_free} free, {red_hit} in collision");
+    assert!(red_free < 50 && red_hit > 1000, "red pixels: {red_free} free, {red_hit} in collision");
+
+    // The distance shown is the one `kinema collide` computes for the same robot and scene.
+    let q = hit.map(|v| v.to_string()).join(",");
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["collide", "--robot", "lbr-iiwa-14-r820", "--q", &q, "--scene", scene.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    // Status 3: the configuration collides.
+    assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
+    let cli: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let expected = cli["min_distance"]["distance"].as_f64().unwrap();
+    let text = viewer.script("return document.getElementById('collide-readout').textContent");
+    let text = text.as_str().unwrap();
+    let shown_mm: f64 = text
+        .split("min distance ")
+        .nth(1)
+        .and_then(|t| t.split(" mm").next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no distance in the readout: {text}"));
+    assert!((shown_mm / 1000.0 - expected).abs() <= 1e-9, "shown {shown_mm} mm, kinema collide {expected} m");
+    assert_eq!(c["min_distance"]["distance"].as_f64(), Some(expected), "{c}");
+    viewer.assert_webgl_and_no_errors();
+    let _ = std::fs::remove_dir_all(&dir);
+}

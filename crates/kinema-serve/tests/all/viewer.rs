@@ -235,3 +235,85 @@ fn the_server_takes_shapes_for_its_default_robot() {
     assert_eq!(a.json["collision"][0]["size"], json!([0.1, 0.2, 0.3]));
     running.stop();
 }
+
+/// A scene with one box obstacle, as a scene file's text.
+const BOX_SCENE: &str = "[[obstacle]]\nname = \"block\"\nbox = [0.2, 0.2, 0.2]\npose = [0.5, 0, 0.6, 0, 0, 0]\n";
+
+#[test]
+fn the_server_s_scene_is_drawn_and_checked_when_a_request_gives_none() {
+    let plain = App::new(None).unwrap();
+    assert_eq!(plain.api("GET", "/api/scene", b""), (200, json!({"obstacles": []})));
+    let scene = kinema_geometry::Scene::from_toml(BOX_SCENE, "scene", std::path::Path::new(".")).unwrap();
+    let app = App::new(None).unwrap().with_scene(&scene).unwrap();
+    let (status, v) = app.api("GET", "/api/scene", b"");
+    assert_eq!(status, 200, "{v}");
+    let block = &v["obstacles"][0];
+    assert_eq!((block["name"].as_str(), block["body"].as_str()), (Some("block"), Some("block")));
+    assert_eq!(block["pose"][2][3].as_f64(), Some(0.6));
+
+    // The iiwa bent forward into the block: the server's scene is checked,
+    // and the answer is the library's check of the same robot and scene.
+    let q = [0.0, 1.0, 0.0, -1.2, 0.0, 0.6, 0.0];
+    let check = kinema_geometry::CollisionCheck::load("lbr-iiwa-14-r820", &Default::default()).unwrap();
+    let with_scene = kinema_geometry::CollisionCheck::with_scene(
+        check.robot().clone(),
+        check.geometry().clone(),
+        check.pairs().clone(),
+        Some(&scene),
+        0.0,
+    )
+    .unwrap();
+    let mut placement = with_scene.placement();
+    let expected = kinema_io::CollideAnswer::of(&with_scene, q.to_vec(), &mut placement).unwrap();
+    let body = json!({"robot": "lbr-iiwa-14-r820", "q": q}).to_string();
+    let (status, v) = app.api("POST", "/api/collide", body.as_bytes());
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v, serde_json::to_value(&expected).unwrap());
+    assert_eq!(v["collision"], true, "{v}");
+    assert!(v["pairs"].as_array().unwrap().iter().any(|p| p["b"] == "block"), "{v}");
+    // Without the server's scene the same configuration is free.
+    let (_, free) = plain.api("POST", "/api/collide", body.as_bytes());
+    assert_eq!(free["collision"], false, "{free}");
+    // A request's own scene replaces the server's.
+    let empty = json!({"robot": "lbr-iiwa-14-r820", "q": q, "scene": ""}).to_string();
+    let (status, own) = app.api("POST", "/api/collide", empty.as_bytes());
+    assert_eq!((status, &own["collision"]), (200, &json!(false)), "{own}");
+    // The robot's shapes name the bodies of the pairs the page colours.
+    let (_, shapes) = app.api("GET", "/api/robots/lbr-iiwa-14-r820/geometry", b"");
+    let bodies: Vec<&str> = shapes["collision"].as_array().unwrap().iter().filter_map(|s| s["body"].as_str()).collect();
+    for p in v["pairs"].as_array().unwrap() {
+        assert!(bodies.contains(&p["a"].as_str().unwrap()), "{p} not among {bodies:?}");
+    }
+}
+
+#[test]
+fn the_given_collision_meshes_of_the_default_robot_are_checked() {
+    // A UR5 whose only shapes are given: a tetrahedron mesh at the tool and
+    // a ball on the base, on links named as a URDF would name them.
+    let robot = Robot::builtin("ur5").unwrap();
+    let tetra = vec![
+        Point3::new(0.0, 0.0, 0.0),
+        Point3::new(0.1, 0.0, 0.0),
+        Point3::new(0.0, 0.1, 0.0),
+        Point3::new(0.0, 0.0, 0.1),
+    ];
+    let mesh = Arc::new(Mesh::new(tetra, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], "tetra").unwrap());
+    let tool =
+        LinkShape::new("tip", 6, Pose::IDENTITY, Shape::TriangleMesh(mesh)).unwrap().with_link_name("wrist_3_link");
+    let base =
+        LinkShape::new("foot", 0, Pose::IDENTITY, Shape::Sphere { radius: 0.05 }).unwrap().with_link_name("base_link");
+    let collision = RobotGeometry::new(&robot, vec![tool, base]).unwrap();
+    let app = App::new(Some(robot.clone())).unwrap().with_link_shapes(None, Some(collision)).unwrap();
+    let home = robot.home().to_vec();
+    let tip = robot.fk(&home).unwrap().world_from_tool.pos;
+    let scene = format!(
+        "[[obstacle]]\nname = \"post\"\nsphere = {{ radius = 0.03 }}\npose = [{}, {}, {}, 0, 0, 0]\n",
+        tip[0], tip[1], tip[2]
+    );
+    let body = json!({"q": home, "scene": scene}).to_string();
+    let (status, v) = app.api("POST", "/api/collide", body.as_bytes());
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["pairs"], json!([{"a": "wrist_3_link", "b": "post"}]), "{v}");
+    let (_, shapes) = app.api("GET", "/api/robots/ur5/geometry", b"");
+    assert_eq!(shapes["collision"][0]["body"], "wrist_3_link");
+}
