@@ -22,8 +22,8 @@ use crate::error::{Error, Result};
 use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, SceneReq, TrajReq};
 use crate::shapes::{GeometryAnswer, SceneAnswer};
 use kinema_io::{
-    CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary,
-    TrajectoryAnswer,
+    ClosestAnswer, CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary,
+    TrajSummary, TrajectoryAnswer,
 };
 
 /// Largest request body accepted \[bytes\] (1 MiB); larger ones get 413.
@@ -86,7 +86,15 @@ fn error_json(e: &Error) -> (u16, Value) {
         _ => (None, None),
     };
     let body = ErrorAnswer { error: e.to_string(), diagnostics, budget_s };
-    (e.status(), serde_json::to_value(body).unwrap_or(Value::Null))
+    let mut value = serde_json::to_value(body).unwrap_or(Value::Null);
+    // An unreachable IK target: the configuration that came closest, as
+    // `kinema ik --json` reports it (the page shows it, saying so).
+    if let (Error::Core(kinema::Error::Unreachable { closest: Some(c), .. }), Value::Object(fields)) = (e, &mut value) {
+        let closest =
+            ClosestAnswer { q: c.q.clone(), position_error: c.position_error, orientation_error: c.orientation_error };
+        fields.insert("closest".into(), serde_json::to_value(closest).unwrap_or(Value::Null));
+    }
+    (e.status(), value)
 }
 
 /// The robots a server knows and its request handler.

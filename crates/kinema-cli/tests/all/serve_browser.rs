@@ -725,3 +725,93 @@ fn a_colliding_configuration_turns_the_pair_red_with_the_server_s_distance() {
     viewer.assert_webgl_and_no_errors();
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Drags with the mouse, as a user would, from window CSS pixel `from` to `to`.
+fn drag(viewer: &Viewer, from: [f64; 2], to: [f64; 2]) {
+    let [x0, y0, x1, y1] = [from[0], from[1], to[0], to[1]].map(|v| v.round() as i64);
+    let actions = json!({"actions": [{"type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"}, "actions": [
+        {"type": "pointerMove", "x": x0, "y": y0, "origin": "viewport", "duration": 0},
+        {"type": "pointerDown", "button": 0},
+        {"type": "pause", "duration": 100},
+        {"type": "pointerMove", "x": x1, "y": y1, "origin": "viewport", "duration": 600},
+        {"type": "pause", "duration": 100},
+        {"type": "pointerUp", "button": 0},
+    ]}]});
+    wd(&viewer.agent, "POST", &format!("{}/actions", viewer.session), Some(actions));
+}
+
+/// The gizmo's last IK outcome once it is settled and the robot drawn at it.
+fn gizmo_outcome(viewer: &Viewer) -> Value {
+    viewer.wait_for(
+        "const v = window.kinemaViewer, g = v.gizmo; \
+         return g.target && !g.pending && v.state.fk && JSON.stringify(v.state.fk.q) === JSON.stringify(v.q) ? g : null",
+        20,
+        "the gizmo's IK answer",
+        |v| v.is_object(),
+    )
+}
+
+/// kinema's FK (the CLI) of the iiwa at `q`: the tool position.
+fn iiwa_tool(q: &[f64]) -> [f64; 3] {
+    let q = q.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["fk", "--robot", "lbr-iiwa-14-r820", "--q", &q, "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    serde_json::from_value(v["position"].clone()).unwrap()
+}
+
+#[test]
+fn a_gizmo_drag_moves_the_tool_to_the_dropped_point_or_says_it_is_unreachable() {
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    viewer.show_q(&[0.0, 0.4, 0.0, 1.4, 0.0, -1.0, 0.0]);
+    viewer.script("document.getElementById('gizmo-on').click(); window.kinemaViewer.redraw(); return 1");
+    std::thread::sleep(Duration::from_millis(300));
+    let tool = |v: &Viewer| -> [f64; 2] {
+        serde_json::from_value(
+            v.script("const v = window.kinemaViewer; return v.project(v.state.fk.position).slice(0, 2)"),
+        )
+        .unwrap()
+    };
+    let target_pixel = |g: &Value| -> ([f64; 3], [f64; 2]) {
+        let p = [0, 1, 2].map(|r| g["target"][r][3].as_f64().unwrap());
+        let px = viewer.script(&format!("return window.kinemaViewer.project({}).slice(0, 2)", json!(p)));
+        (p, serde_json::from_value(px).unwrap())
+    };
+
+    // Drag the handle's centre (it moves in the plane facing the camera) a little.
+    let start = tool(&viewer);
+    let drop = [start[0] - 25.0, start[1] + 20.0];
+    drag(&viewer, start, drop);
+    let g = gizmo_outcome(&viewer);
+    assert_eq!(g["reached"], true, "{g}");
+    let (target, pixel) = target_pixel(&g);
+    assert!(
+        (pixel[0] - drop[0]).abs() < 2.0 && (pixel[1] - drop[1]).abs() < 2.0,
+        "dropped at {drop:?}, handle at {pixel:?}"
+    );
+    let q: Vec<f64> = serde_json::from_value(viewer.script("return window.kinemaViewer.q")).unwrap();
+    let reached = iiwa_tool(&q);
+    let miss = ((0..3).map(|k| (reached[k] - target[k]).powi(2)).sum::<f64>()).sqrt();
+    println!("gizmo: dropped at {target:?}, kinema's FK of the page's q puts the tool {:.3e} m from it", miss);
+    assert!(miss < 1e-3, "the tool is {miss} m from the dropped point");
+    assert!((target[0] - 0.6435).abs() + (target[2] - 0.7437).abs() > 0.05, "the handle moved: {target:?}");
+    assert_eq!(q[2], 0.0, "the redundant arm keeps its q3");
+
+    // Far out of reach: said so, and the robot shows the server's closest configuration.
+    let start = tool(&viewer);
+    drag(&viewer, start, [start[0] + 200.0, start[1] - 150.0]);
+    let g = gizmo_outcome(&viewer);
+    assert_eq!(g["reached"], false, "{g}");
+    assert!(g["message"].as_str().unwrap().starts_with("UNREACHABLE"), "{g}");
+    let shown = viewer.script("return document.getElementById('ik-message').textContent");
+    assert_eq!(shown, g["message"]);
+    assert_eq!(
+        viewer.script("return window.kinemaViewer.q"),
+        g["closest"]["q"],
+        "the page shows the closest configuration"
+    );
+    viewer.assert_webgl_and_no_errors();
+}

@@ -317,3 +317,23 @@ fn the_given_collision_meshes_of_the_default_robot_are_checked() {
     let (_, shapes) = app.api("GET", "/api/robots/ur5/geometry", b"");
     assert_eq!(shapes["collision"][0]["body"], "wrist_3_link");
 }
+
+#[test]
+fn an_unreachable_ik_target_comes_with_the_closest_configuration() {
+    let app = App::new(None).unwrap();
+    let body = br#"{"robot": "ur5", "position": [2.0, 0, 0.5], "rpy": [0, 3.14, 0], "q0": [0, -1, 1, 0, 1, 0]}"#;
+    let (status, v) = app.api("POST", "/api/ik", body);
+    assert_eq!(status, 422, "{v}");
+    assert!(v["error"].as_str().unwrap().starts_with("unreachable target"), "{v}");
+    let q: Vec<f64> = serde_json::from_value(v["closest"]["q"].clone()).unwrap();
+    assert_eq!(q.len(), 6, "{v}");
+    // The miss it reports is the distance of its tool from the target.
+    let tool = Robot::builtin("ur5").unwrap().fk(&q).unwrap().world_from_tool.pos;
+    let miss = ((tool[0] - 2.0).powi(2) + tool[1].powi(2) + (tool[2] - 0.5).powi(2)).sqrt();
+    assert!((v["closest"]["position_error"].as_f64().unwrap() - miss).abs() < 1e-9, "{v}; FK misses by {miss}");
+    // Errors that are not an unreachable target carry no `closest`.
+    let (status, v) = app.api("POST", "/api/ik", br#"{"robot": "ur5", "position": [0.4, 0, 0.5]}"#);
+    assert!(status == 200 || v.get("closest").is_none(), "{v}");
+    let (_, v) = app.api("POST", "/api/fk", br#"{"robot": "ur5", "q": [0]}"#);
+    assert!(v.get("closest").is_none(), "{v}");
+}

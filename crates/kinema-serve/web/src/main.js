@@ -8,6 +8,7 @@ import { api, PoseLink, latestOnly } from './api.js';
 import { View } from './scene.js';
 import { RobotModel, COLLIDING } from './robot.js';
 import { World } from './world.js';
+import { Gizmo } from './gizmo.js';
 import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool } from './panels.js';
 import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
 
@@ -21,6 +22,7 @@ console.error = (...args) => { errors.push(args.map(String).join(' ')); consoleE
 const view = new View($('view'));
 const robot = new RobotModel(view);
 const world = new World(view);
+const gizmo = new Gizmo(view);
 const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
 
 function redraw() {
@@ -35,6 +37,7 @@ function applyFk(fk) {
   if (!state.robot || fk.robot !== state.robot.name) return;
   state.fk = fk;
   robot.setPose(fk);
+  gizmo.place(fk.T);
   showFk(fk);
   if ($('show-collide').checked) checkCollisions({ robot: fk.robot, q: fk.q });
   if ($('show-ellipsoid').checked) fetchManip(fk.q); else redraw();
@@ -90,6 +93,7 @@ async function loadRobot(name) {
   if (!shapes.ok) { setStatus(shapes.data.error, true); return; }
   const r = info.data;
   state.robot = r; state.geometry = shapes.data;
+  gizmo.release();
   state.q = r.home.slice();
   state.manip = null; state.q3Anchor = null; state.ikTarget = null; state.fk = null; state.collide = null;
   showCollisions(null, '');
@@ -115,6 +119,11 @@ async function loadRobot(name) {
 function bindView() {
   $('reset-view').addEventListener('click', () => view.resetCamera(state.reach));
   for (const id of ['show-frames', 'show-collision']) $(id).addEventListener('change', redraw);
+  // Moving the joints otherwise lets the handle go back to the tool.
+  for (const id of ['sliders', 'poses']) $(id).addEventListener('input', () => gizmo.release());
+  $('poses').addEventListener('click', () => gizmo.release());
+  $('gizmo-on').addEventListener('change', () => gizmo.enable($('gizmo-on').checked));
+  $('gizmo-mode').addEventListener('change', () => gizmo.setMode($('gizmo-mode').value));
   $('show-collide').addEventListener('change', () => {
     if ($('show-collide').checked && state.fk) checkCollisions({ robot: state.robot.name, q: state.fk.q });
     else { state.collide = null; showCollisions(null, ''); }
@@ -169,6 +178,8 @@ window.kinemaViewer = {
   get live() { return poses.live; },
   // The last /api/collide answer shown (null while none).
   get collide() { return state.collide; },
+  // The tool gizmo: {target (T rows), pending, reached, closest, message} of its last IK request.
+  get gizmo() { return gizmo.status; },
   // The bodies drawn red (links and obstacles, by name), each once.
   get red() {
     const red = [...robot.drawn, ...world.obstacles].filter((m) => m.material === COLLIDING);
