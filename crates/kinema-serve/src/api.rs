@@ -18,6 +18,7 @@ use kinema_lang::{Stop, StopReason};
 use serde::Serialize;
 use serde_json::Value;
 
+use crate::cell::{CellAnswer, CellMotion};
 use crate::error::{Error, Result};
 use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, SceneReq, TrajReq};
 use crate::shapes::{GeometryAnswer, SceneAnswer};
@@ -113,6 +114,8 @@ pub struct App {
     /// The server's scene ([`App::with_scene`]), its robots standing as
     /// obstacles: drawn by the page and checked when a request gives none.
     scene: Option<Scene>,
+    /// The cell the page plays ([`App::with_cell`]), as its JSON answer.
+    cell: Option<Arc<Value>>,
     default: usize,
 }
 
@@ -144,7 +147,7 @@ impl App {
         if robots.is_empty() {
             return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
         }
-        Ok(App { robots, bodies: OnceLock::new(), default_shapes: None, scene: None, default })
+        Ok(App { robots, bodies: OnceLock::new(), default_shapes: None, scene: None, cell: None, default })
     }
 
     /// The default robot's shapes for the page to draw: `visual` (a URDF's
@@ -179,6 +182,14 @@ impl App {
         let meshes = UrdfOptions { package_paths: ros_package_path(), ..Default::default() };
         let standing = scene.standing(None, &meshes).map_err(|e| Error::Unprocessable { message: e.to_string() })?;
         self.scene = Some(standing);
+        Ok(self)
+    }
+
+    /// A cell for the page to play (`kinema serve --cell`): robots sampled on
+    /// one clock, answered by `GET /api/cell` with their link poses at
+    /// every sample. At most [`MAX_SAMPLES`] robot samples.
+    pub fn with_cell(mut self, times: &[f64], members: &[CellMotion]) -> Result<App> {
+        self.cell = Some(Arc::new(to_value(CellAnswer::new(times, members)?)?));
         Ok(self)
     }
 
@@ -287,6 +298,11 @@ impl App {
         if let Some(name) = path.strip_prefix("/api/robots/") {
             get(is_get)?;
             return to_value(RobotInfo::new(self.robot_named(name, true)?));
+        }
+        if path == "/api/cell" {
+            get(is_get)?;
+            let none = || to_value(CellAnswer::new(&[], &[])?);
+            return self.cell.as_ref().map_or_else(none, |c| Ok(Value::clone(c)));
         }
         if path == "/api/scene" && is_get {
             let obstacles = self.scene.as_ref().map_or(&[][..], |s| &s.obstacles[..]);

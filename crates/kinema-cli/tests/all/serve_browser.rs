@@ -815,3 +815,68 @@ fn a_gizmo_drag_moves_the_tool_to_the_dropped_point_or_says_it_is_unreachable() 
     );
     viewer.assert_webgl_and_no_errors();
 }
+
+#[test]
+fn cell_playback_reaches_the_last_configuration_of_both_robots() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cells/seed004_two_iiwa.toml");
+    let file = file.to_str().unwrap();
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--cell", file], &[]) else { return };
+    viewer.assert_webgl_and_no_errors();
+    let c = viewer.script("return window.kinemaViewer.cell");
+    assert_eq!((c["sample"].as_u64(), c["members"].as_array().map(Vec::len)), (Some(0), Some(2)), "{c}");
+    let samples = c["samples"].as_u64().unwrap();
+
+    // Scrub to the middle: the robots are shown there, paused.
+    let middle = samples / 2;
+    viewer.script(&format!(
+        "const t = document.getElementById('cell-time'); t.value = '{middle}'; \
+         t.dispatchEvent(new Event('input', {{bubbles: true}})); return 1"
+    ));
+    let c = viewer.script("return window.kinemaViewer.cell");
+    assert_eq!((c["sample"].as_u64(), &c["playing"]), (Some(middle), &json!(false)), "{c}");
+    // Play and pause: time goes on, then stands.
+    viewer.script("document.getElementById('cell-play').click(); return 1");
+    std::thread::sleep(Duration::from_millis(400));
+    viewer.script("document.getElementById('cell-play').click(); return 1");
+    let paused = viewer.script("return window.kinemaViewer.cell");
+    assert!(paused["sample"].as_u64().unwrap() > middle && paused["playing"] == false, "{paused}");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(viewer.script("return window.kinemaViewer.cell.sample"), paused["sample"]);
+
+    // Play to the end at 4×.
+    viewer.script(
+        "const s = document.getElementById('cell-speed'); s.value = '4'; \
+         document.getElementById('cell-play').click(); return 1",
+    );
+    let end = viewer
+        .wait_for("const c = window.kinemaViewer.cell; return c.playing ? null : c", 60, "the end", |v| v.is_object());
+    assert_eq!(end["sample"].as_u64(), Some(samples - 1), "{end}");
+
+    // The last configurations are those `kinema cell` writes for the same file.
+    let csv = std::env::temp_dir().join(format!("kinema-serve-cell-{}.csv", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["cell", file, "--out", csv.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let _ = std::fs::remove_file(&csv);
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let last: Vec<f64> = text.lines().last().unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(text.lines().count() as u64 - 1, samples, "one CSV row per sample");
+    for m in end["members"].as_array().unwrap() {
+        let name = m["name"].as_str().unwrap();
+        let q = m["q"].as_array().unwrap();
+        for (k, v) in q.iter().enumerate() {
+            let col = header.iter().position(|h| *h == format!("{name}_q{}", k + 1)).unwrap();
+            assert!((v.as_f64().unwrap() - last[col]).abs() < 1e-9, "{name} q{}: {v} vs {}", k + 1, last[col]);
+        }
+    }
+    let (img, rect) = viewer.screenshot("cell");
+    let drawn = (rect[1]..rect[1] + rect[3])
+        .flat_map(|y| (rect[0]..rect[0] + rect[2]).map(move |x| (x, y)))
+        .filter(|&(x, y)| x < img.width() && y < img.height() && !is_background(img.get_pixel(x, y)))
+        .count();
+    assert!(drawn > 5000, "only {drawn} drawn pixels");
+    viewer.assert_webgl_and_no_errors();
+}

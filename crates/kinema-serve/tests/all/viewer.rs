@@ -337,3 +337,48 @@ fn an_unreachable_ik_target_comes_with_the_closest_configuration() {
     let (_, v) = app.api("POST", "/api/fk", br#"{"robot": "ur5", "q": [0]}"#);
     assert!(v.get("closest").is_none(), "{v}");
 }
+
+#[test]
+fn a_cell_is_sent_with_every_sample_s_link_poses() {
+    let app = App::new(None).unwrap();
+    assert_eq!(app.api("GET", "/api/cell", b""), (200, json!({"times": [], "members": []})));
+    let ur5 = Robot::builtin("ur5").unwrap();
+    let moved = kinema::traj::cell::placed(&ur5, &Pose::translation(1.0, 0.0, 0.0)).unwrap();
+    let geometry = |r: &Robot| RobotGeometry::new(r, Vec::new()).unwrap();
+    let qs = |a: f64| vec![vec![0.0; 6], vec![a, -1.0, 1.0, 0.0, 0.5, 0.0]];
+    let members = [
+        kinema_serve::CellMotion { name: "left".into(), robot: ur5.clone(), geometry: geometry(&ur5), q: qs(0.3) },
+        kinema_serve::CellMotion {
+            name: "right".into(),
+            robot: moved.clone(),
+            geometry: geometry(&moved),
+            q: qs(-0.3),
+        },
+    ];
+    let app = app.with_cell(&[0.0, 0.5], &members).unwrap();
+    let (status, v) = app.api("GET", "/api/cell", b"");
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["times"], json!([0.0, 0.5]));
+    for (m, member) in members.iter().enumerate() {
+        let answer = &v["members"][m];
+        assert_eq!(answer["name"].as_str(), Some(member.name.as_str()));
+        assert_eq!(answer["q"], json!(member.q));
+        for (k, q) in member.q.iter().enumerate() {
+            let frames = member.robot.link_frames(q).unwrap();
+            assert_eq!(answer["frames"][k].as_array().unwrap().len(), frames.len());
+            let tool = &answer["frames"][k][frames.len() - 1];
+            let p = frames.last().unwrap().pos;
+            assert_eq!([&tool[9], &tool[10], &tool[11]], [&json!(p[0]), &json!(p[1]), &json!(p[2])], "{tool}");
+            assert_eq!(tool[0].as_f64(), Some(frames.last().unwrap().rot[(0, 0)]));
+        }
+    }
+    // The second robot stands 1 m along x.
+    assert!((v["members"][1]["frames"][0][0][9].as_f64().unwrap() - 1.0).abs() < 1e-12, "{v}");
+    // Samples that do not match the clock, and too many samples, are refused.
+    let e = App::new(None).unwrap().with_cell(&[0.0], &members).unwrap_err();
+    assert!(e.to_string().contains("2 samples for 1 times"), "{e}");
+    let times: Vec<f64> = (0..kinema_serve::MAX_SAMPLES).map(|k| k as f64).collect();
+    let e = App::new(None).unwrap().with_cell(&times, &members).unwrap_err();
+    assert!(e.to_string().contains("give a larger dt"), "{e}");
+    assert_eq!(app.api("POST", "/api/cell", b"{}").0, 405);
+}

@@ -9,6 +9,7 @@ import { View } from './scene.js';
 import { RobotModel, COLLIDING } from './robot.js';
 import { World } from './world.js';
 import { Gizmo } from './gizmo.js';
+import { CellPlayer } from './cell.js';
 import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool } from './panels.js';
 import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
 
@@ -23,6 +24,7 @@ const view = new View($('view'));
 const robot = new RobotModel(view);
 const world = new World(view);
 const gizmo = new Gizmo(view);
+const cell = new CellPlayer(view);
 const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
 
 function redraw() {
@@ -116,6 +118,16 @@ async function loadRobot(name) {
   setStatus(`${r.name}: ${r.dof} joints, ${drawn}`);
 }
 
+// The cell's robots instead of the robot of the panels, or the other way round.
+function showCell(on) {
+  $('cell-show').checked = on;
+  cell.setVisible(on);
+  robot.root.visible = !on;
+  // The collision check is the panels' robot's: off while it is hidden.
+  if ($('show-collide').checked === on) { $('show-collide').checked = !on; $('show-collide').dispatchEvent(new Event('change')); }
+  view.requestRender();
+}
+
 function bindView() {
   $('reset-view').addEventListener('click', () => view.resetCamera(state.reach));
   for (const id of ['show-frames', 'show-collision']) $(id).addEventListener('change', redraw);
@@ -162,6 +174,11 @@ async function init() {
   world.load(scene.data);
   state.obstacles = scene.data.obstacles.length;
   await loadRobot(def.name);
+  const played = await api('/api/cell');
+  if (!played.ok) { setStatus(played.data.error, true); return; }
+  cell.load(played.data, state.reach);
+  if (cell.loaded) showCell(true);
+  $('cell-show').addEventListener('change', () => showCell($('cell-show').checked));
   document.body.dataset.ready = '1';
 }
 
@@ -180,6 +197,8 @@ window.kinemaViewer = {
   get collide() { return state.collide; },
   // The tool gizmo: {target (T rows), pending, reached, closest, message} of its last IK request.
   get gizmo() { return gizmo.status; },
+  // The cell's timeline: {sample, samples, time, playing, members: [{name, q}]}, or null.
+  get cell() { return cell.status; },
   // The bodies drawn red (links and obstacles, by name), each once.
   get red() {
     const red = [...robot.drawn, ...world.obstacles].filter((m) => m.material === COLLIDING);
