@@ -534,10 +534,15 @@ fn simulate(a: &CellArgs) -> Result<(Loaded, CellReport)> {
     Ok((loaded, report))
 }
 
+/// A cell's robot as the viewer draws it: its name, the robot placed on its base, its link shapes.
+#[cfg(feature = "serve")]
+pub(crate) type ViewerMember = (String, Robot, RobotGeometry);
+
 /// A cell file as `kinema serve --cell` plays it: each robot (placed on its
 /// base) with its link shapes, the report of the common clock, and the
 /// file's obstacles (its robots are the members, not obstacles).
-pub(crate) fn for_viewer(file: &Path) -> Result<(Vec<(String, Robot, RobotGeometry)>, CellReport, Option<Scene>)> {
+#[cfg(feature = "serve")]
+pub(crate) fn for_viewer(file: &Path) -> Result<(Vec<ViewerMember>, CellReport, Option<Scene>)> {
     let a = CellArgs {
         file: file.to_path_buf(),
         out: None,
