@@ -880,3 +880,63 @@ fn cell_playback_reaches_the_last_configuration_of_both_robots() {
     assert!(drawn > 5000, "only {drawn} drawn pixels");
     viewer.assert_webgl_and_no_errors();
 }
+
+#[test]
+fn a_point_cloud_csv_is_drawn_coloured_by_its_values() {
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    // A grid in front of the robot in `kinema reach`'s columns; fraction rises with x.
+    let mut csv = String::from("x,y,z,reached,fraction\n");
+    let mut count = 0;
+    for i in 0..8 {
+        for j in 0..8 {
+            for k in 0..4 {
+                let (x, y, z) = (0.4 + 0.05 * f64::from(i), -0.2 + 0.05 * f64::from(j), 0.2 + 0.05 * f64::from(k));
+                csv += &format!("{x},{y},{z},{},{}\n", u8::from(i > 0), f64::from(i) / 7.0);
+                count += 1;
+            }
+        }
+    }
+    let path = std::env::temp_dir().join(format!("kinema-serve-points-{}.csv", std::process::id()));
+    std::fs::write(&path, csv).unwrap();
+    let input = wd(
+        &viewer.agent,
+        "POST",
+        &format!("{}/element", viewer.session),
+        Some(json!({"using": "css selector", "value": "#points-file"})),
+    );
+    let id = input.as_object().and_then(|o| o.values().next()).and_then(Value::as_str).unwrap().to_string();
+    wd(
+        &viewer.agent,
+        "POST",
+        &format!("{}/element/{id}/value", viewer.session),
+        Some(json!({"text": path.to_str().unwrap()})),
+    );
+    let s = viewer.wait_for("return window.kinemaViewer.points", 10, "the point cloud", |v| v.is_object());
+    let _ = std::fs::remove_file(&path);
+    assert_eq!((s["count"].as_u64(), s["valued"].as_u64()), (Some(count), Some(count)), "{s}");
+    assert_eq!((s["min"].as_f64(), s["max"].as_f64()), (Some(0.0), Some(1.0)), "{s}");
+    let drawn = viewer.script("const v = window.kinemaViewer; v.redraw(); return v.frames").as_u64().unwrap();
+    viewer.wait_for("return window.kinemaViewer.frames", 10, "a frame", |v| v.as_u64().is_some_and(|n| n > drawn));
+    // The low end (x = 0.4) is drawn blue, the high end (x = 0.75) red.
+    let (img, _) = viewer.screenshot("points");
+    let colour_near = |p: [f64; 3]| {
+        let px: [f64; 2] = serde_json::from_value(
+            viewer.script(&format!("return window.kinemaViewer.project({}).slice(0, 2)", json!(p))),
+        )
+        .unwrap();
+        let (mut red, mut blue) = (0, 0);
+        for dy in -4..=4 {
+            for dx in -4..=4 {
+                let [r, g, b, _] = img.get_pixel((px[0] as i64 + dx) as u32, (px[1] as i64 + dy) as u32).0;
+                red += usize::from(r > 150 && g < 90 && b < 90);
+                blue += usize::from(b > 150 && r < 90 && g < 120);
+            }
+        }
+        (red, blue)
+    };
+    let (red_low, blue_low) = colour_near([0.4, -0.2, 0.2]);
+    let (red_high, blue_high) = colour_near([0.75, 0.15, 0.35]);
+    assert!(blue_low > 3 && red_low == 0, "low end: {blue_low} blue, {red_low} red pixels");
+    assert!(red_high > 3 && blue_high == 0, "high end: {red_high} red, {blue_high} blue pixels");
+    viewer.assert_webgl_and_no_errors();
+}

@@ -10,6 +10,7 @@ import { RobotModel, COLLIDING } from './robot.js';
 import { World } from './world.js';
 import { Gizmo } from './gizmo.js';
 import { CellPlayer } from './cell.js';
+import { PointCloud } from './points.js';
 import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool } from './panels.js';
 import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
 
@@ -25,6 +26,7 @@ const robot = new RobotModel(view);
 const world = new World(view);
 const gizmo = new Gizmo(view);
 const cell = new CellPlayer(view);
+const cloud = new PointCloud(view);
 const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
 
 function redraw() {
@@ -134,6 +136,14 @@ function bindView() {
   // Moving the joints otherwise lets the handle go back to the tool.
   for (const id of ['sliders', 'poses']) $(id).addEventListener('input', () => gizmo.release());
   $('poses').addEventListener('click', () => gizmo.release());
+  $('points-file').addEventListener('change', async () => {
+    const file = $('points-file').files[0];
+    if (!file) { cloud.clear(); return; }
+    try {
+      const s = cloud.load(await file.text(), state.reach);
+      setStatus(`${file.name}: ${s.count} points` + (s.valued ? `, values ${s.min} (blue) to ${s.max} (red)` : ''));
+    } catch (e) { setStatus(String(e.message || e), true); }
+  });
   $('gizmo-on').addEventListener('change', () => gizmo.enable($('gizmo-on').checked));
   $('gizmo-mode').addEventListener('change', () => gizmo.setMode($('gizmo-mode').value));
   $('show-collide').addEventListener('change', () => {
@@ -199,6 +209,8 @@ window.kinemaViewer = {
   get gizmo() { return gizmo.status; },
   // The cell's timeline: {sample, samples, time, playing, members: [{name, q}]}, or null.
   get cell() { return cell.status; },
+  // The point cloud layer: {count, valued, min, max}, or null.
+  get points() { return cloud.summary; },
   // The bodies drawn red (links and obstacles, by name), each once.
   get red() {
     const red = [...robot.drawn, ...world.obstacles].filter((m) => m.material === COLLIDING);
