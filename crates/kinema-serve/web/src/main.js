@@ -52,7 +52,8 @@ function applyFk(fk) {
 // colliding pair in red, the closest pair's segment and distance.
 const checkCollisions = latestOnly(async (req) => {
   const res = await api('/api/collide', req);
-  if (!state.robot || req.robot !== state.robot.name) return;
+  // An answer for another robot, or arriving after the check was turned off, is not shown.
+  if (!state.robot || req.robot !== state.robot.name || !$('show-collide').checked) return;
   state.collide = res.ok ? res.data : null;
   showCollisions(res.ok ? res.data : null, res.ok ? '' : res.data.error);
 }, (e) => setStatus(String(e), true));
