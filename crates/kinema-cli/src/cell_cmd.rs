@@ -511,13 +511,9 @@ fn print_text(
     Ok(())
 }
 
-pub fn run(a: CellArgs) -> Result<()> {
-    if a.json && a.out.as_deref().is_some_and(crate::output::is_stdout) {
-        bail!("--json with --out -: the JSON summary and the CSV would both go to standard output; write the CSV to a file");
-    }
-    // The first Ctrl-C stops a program run or the cell between steps; a second one ends the process.
-    let _cancellable = crate::interrupt::cancellable();
-    let loaded = load(&a)?;
+/// The cell file read and run on its common clock.
+fn simulate(a: &CellArgs) -> Result<(Loaded, CellReport)> {
+    let loaded = load(a)?;
     let mut cell = Cell::new();
     for m in &loaded.members {
         cell.add(m.name.clone(), m.robot.clone(), m.traj.clone())
@@ -535,6 +531,40 @@ pub fn run(a: CellArgs) -> Result<()> {
         );
     }
     let report = cell.run(loaded.dt).with_context(|| format!("{}: the common clock", a.file.display()))?;
+    Ok((loaded, report))
+}
+
+/// A cell's robot as the viewer draws it: its name, the robot placed on its base, its link shapes.
+#[cfg(feature = "serve")]
+pub(crate) type ViewerMember = (String, Robot, RobotGeometry);
+
+/// A cell file as `kinema serve --cell` plays it: each robot (placed on its
+/// base) with its link shapes, the report of the common clock, and the
+/// file's obstacles (its robots are the members, not obstacles).
+#[cfg(feature = "serve")]
+pub(crate) fn for_viewer(file: &Path) -> Result<(Vec<ViewerMember>, CellReport, Option<Scene>)> {
+    let a = CellArgs {
+        file: file.to_path_buf(),
+        out: None,
+        json: false,
+        min_distance: None,
+        dt: None,
+        time_limit: crate::lang_cmd::DEFAULT_TIME_LIMIT,
+        package_path: Vec::new(),
+    };
+    let (loaded, report) = simulate(&a)?;
+    let scene = loaded.scene.map(|s| Scene { robots: Vec::new(), ..s });
+    let members = loaded.members.into_iter().map(|m| (m.name, m.robot, m.geometry)).collect();
+    Ok((members, report, scene))
+}
+
+pub fn run(a: CellArgs) -> Result<()> {
+    if a.json && a.out.as_deref().is_some_and(crate::output::is_stdout) {
+        bail!("--json with --out -: the JSON summary and the CSV would both go to standard output; write the CSV to a file");
+    }
+    // The first Ctrl-C stops a program run or the cell between steps; a second one ends the process.
+    let _cancellable = crate::interrupt::cancellable();
+    let (loaded, report) = simulate(&a)?;
     check_interrupted()?;
     let approaches = report.approaches();
     let bodies = body_approaches(&loaded, &report).with_context(|| format!("{}: link shapes", a.file.display()))?;

@@ -4,7 +4,8 @@ use std::io::Write;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use kinema_geometry::{load_robot_geometry, load_urdf, ros_package_path, RobotGeometry, UrdfOptions};
+use kinema_geometry::{load_robot_geometry, load_urdf, ros_package_path, RobotGeometry, Scene, UrdfOptions};
+use kinema_serve::CellMotion;
 
 #[derive(Args)]
 pub struct ServeArgs {
@@ -15,6 +16,14 @@ pub struct ServeArgs {
     /// For a URDF: the tip link of the chain (default: the only leaf link).
     #[arg(long)]
     tip: Option<String>,
+    /// A scene file: its obstacles (and robots, standing) are drawn, and the
+    /// page's collision checks and distances are taken against them.
+    #[arg(long)]
+    scene: Option<std::path::PathBuf>,
+    /// A cell file (as `kinema cell` reads): its robots are run on their common clock and played on
+    /// the page (play, pause, scrub, speed), among its obstacles.
+    #[arg(long, conflicts_with = "scene")]
+    cell: Option<std::path::PathBuf>,
     /// TCP port on 127.0.0.1 (0 picks a free one).
     #[arg(long, default_value_t = 8080)]
     port: u16,
@@ -23,8 +32,28 @@ pub struct ServeArgs {
 pub(crate) fn run(a: ServeArgs) -> Result<()> {
     let robot = crate::load_robot(&a.robot, a.tip.as_deref())?;
     let (visual, collision) = link_shapes(&a.robot, a.tip.as_deref());
+    let mut scene = a.scene.as_deref().map(Scene::load).transpose()?;
+    let mut cell = None;
+    if let Some(file) = &a.cell {
+        let (members, report, obstacles) = crate::cell_cmd::for_viewer(file)?;
+        let motions: Vec<CellMotion> = members
+            .into_iter()
+            .zip(report.q)
+            .map(|((name, robot, geometry), q)| CellMotion { name, robot, geometry, q })
+            .collect();
+        cell = Some((report.times, motions));
+        scene = obstacles;
+    }
     let server = kinema_serve::Server::bind(("127.0.0.1", a.port), Some(robot))
         .and_then(|s| s.with_link_shapes(visual, collision))
+        .and_then(|s| match &scene {
+            Some(scene) => s.with_scene(scene),
+            None => Ok(s),
+        })
+        .and_then(|s| match &cell {
+            Some((times, motions)) => s.with_cell(times, motions),
+            None => Ok(s),
+        })
         .with_context(|| format!("cannot start the viewer on port {}", a.port))?;
     let mut out = std::io::stdout().lock();
     writeln!(out, "kinema serve: {}", server.url())?;

@@ -18,12 +18,13 @@ use kinema_lang::{Stop, StopReason};
 use serde::Serialize;
 use serde_json::Value;
 
+use crate::cell::{CellAnswer, CellMotion};
 use crate::error::{Error, Result};
 use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, SceneReq, TrajReq};
 use crate::shapes::{GeometryAnswer, SceneAnswer};
 use kinema_io::{
-    CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary, TrajSummary,
-    TrajectoryAnswer,
+    ClosestAnswer, CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary,
+    TrajSummary, TrajectoryAnswer,
 };
 
 /// Largest request body accepted \[bytes\] (1 MiB); larger ones get 413.
@@ -86,7 +87,15 @@ fn error_json(e: &Error) -> (u16, Value) {
         _ => (None, None),
     };
     let body = ErrorAnswer { error: e.to_string(), diagnostics, budget_s };
-    (e.status(), serde_json::to_value(body).unwrap_or(Value::Null))
+    let mut value = serde_json::to_value(body).unwrap_or(Value::Null);
+    // An unreachable IK target: the configuration that came closest, as
+    // `kinema ik --json` reports it (the page shows it, saying so).
+    if let (Error::Core(kinema::Error::Unreachable { closest: Some(c), .. }), Value::Object(fields)) = (e, &mut value) {
+        let closest =
+            ClosestAnswer { q: c.q.clone(), position_error: c.position_error, orientation_error: c.orientation_error };
+        fields.insert("closest".into(), serde_json::to_value(closest).unwrap_or(Value::Null));
+    }
+    (e.status(), value)
 }
 
 /// The robots a server knows and its request handler.
@@ -102,6 +111,11 @@ pub struct App {
     bodies: OnceLock<Vec<(String, RobotGeometry)>>,
     /// The default robot's shapes when they were given ([`App::with_link_shapes`]).
     default_shapes: Option<LinkShapes>,
+    /// The server's scene ([`App::with_scene`]), its robots standing as
+    /// obstacles: drawn by the page and checked when a request gives none.
+    scene: Option<Scene>,
+    /// The cell the page plays ([`App::with_cell`]), as its JSON answer.
+    cell: Option<Arc<Value>>,
     default: usize,
 }
 
@@ -133,7 +147,7 @@ impl App {
         if robots.is_empty() {
             return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
         }
-        Ok(App { robots, bodies: OnceLock::new(), default_shapes: None, default })
+        Ok(App { robots, bodies: OnceLock::new(), default_shapes: None, scene: None, cell: None, default })
     }
 
     /// The default robot's shapes for the page to draw: `visual` (a URDF's
@@ -158,6 +172,24 @@ impl App {
             }
         }
         self.default_shapes = (visual.is_some() || collision.is_some()).then_some(LinkShapes { visual, collision });
+        Ok(self)
+    }
+
+    /// The scene the page draws and collision checks use when a request
+    /// gives none (`kinema serve --scene`): its obstacles, and its robots
+    /// standing where it puts them ([`Scene::standing`]).
+    pub fn with_scene(mut self, scene: &Scene) -> Result<App> {
+        let meshes = UrdfOptions { package_paths: ros_package_path(), ..Default::default() };
+        let standing = scene.standing(None, &meshes).map_err(|e| Error::Unprocessable { message: e.to_string() })?;
+        self.scene = Some(standing);
+        Ok(self)
+    }
+
+    /// A cell for the page to play (`kinema serve --cell`): robots sampled on
+    /// one clock, answered by `GET /api/cell` with their link poses at
+    /// every sample. At most [`MAX_SAMPLES`] robot samples.
+    pub fn with_cell(mut self, times: &[f64], members: &[CellMotion]) -> Result<App> {
+        self.cell = Some(Arc::new(to_value(CellAnswer::new(times, members)?)?));
         Ok(self)
     }
 
@@ -267,6 +299,15 @@ impl App {
             get(is_get)?;
             return to_value(RobotInfo::new(self.robot_named(name, true)?));
         }
+        if path == "/api/cell" {
+            get(is_get)?;
+            let none = || to_value(CellAnswer::new(&[], &[])?);
+            return self.cell.as_ref().map_or_else(none, |c| Ok(Value::clone(c)));
+        }
+        if path == "/api/scene" && is_get {
+            let obstacles = self.scene.as_ref().map_or(&[][..], |s| &s.obstacles[..]);
+            return to_value(SceneAnswer::new(obstacles));
+        }
         let post: fn(&App, &[u8], &Stop) -> Result<Value> = match path {
             "/api/fk" => |a, b, _| a.fk(b),
             "/api/ik" => |a, b, _| a.ik(b),
@@ -342,8 +383,10 @@ impl App {
         to_value(ManipAnswer::new(r, &req.q, None)?)
     }
 
-    /// The collision check of robot `name` (a built-in's shapes) with the
-    /// obstacles of `scene` (a scene file's TOML text) and `margin` \[m\].
+    /// The collision check of robot `name` (the default robot's collision
+    /// shapes when they were given, else a built-in's) with the obstacles of
+    /// `scene` (a scene file's TOML text; the server's scene when `None`) and
+    /// `margin` \[m\].
     fn collision_check(
         &self,
         name: &Option<String>,
@@ -351,23 +394,33 @@ impl App {
         margin: Option<f64>,
     ) -> Result<CollisionCheck> {
         let robot = self.robot(name)?;
-        let geometry = self.bodies()?.iter().find(|(n, _)| n == robot.name()).map(|(_, g)| g).ok_or_else(|| {
-            Error::Unprocessable {
-                message: format!(
-                    "robot `{}` has no link shapes known to the server (collision checks use the built-in robots' \
-                     shapes)",
-                    robot.name()
-                ),
-            }
+        let geometry = self.collision_shapes(robot)?.ok_or_else(|| Error::Unprocessable {
+            message: format!(
+                "robot `{}` has no link shapes known to the server (collision checks use a built-in robot's \
+                 shapes or the collision shapes of the robot the server was started with)",
+                robot.name()
+            ),
         })?;
         let unprocessable = |e: kinema_geometry::Error| Error::Unprocessable { message: e.to_string() };
         // The scene's robots stand as obstacles; the robot checked is one the server serves.
         let meshes = UrdfOptions { package_paths: ros_package_path(), ..Default::default() };
         let standing = |text: &str| Scene::from_toml(text, "scene", Path::new("."))?.standing(None, &meshes);
-        let scene = scene.map(standing).transpose().map_err(unprocessable)?;
+        let given = scene.map(standing).transpose().map_err(unprocessable)?;
+        let scene = given.as_ref().or(self.scene.as_ref());
         let pairs = CollisionPairs::self_collision(geometry);
-        CollisionCheck::with_scene(robot.clone(), geometry.clone(), pairs, scene.as_ref(), margin.unwrap_or(0.0))
+        CollisionCheck::with_scene(robot.clone(), geometry.clone(), pairs, scene, margin.unwrap_or(0.0))
             .map_err(unprocessable)
+    }
+
+    /// The shapes collisions of `robot` are checked with: the default
+    /// robot's collision shapes when they were given (a URDF's `<collision>`
+    /// meshes included), else a built-in robot's `[[shape]]`s.
+    fn collision_shapes(&self, robot: &Robot) -> Result<Option<&RobotGeometry>> {
+        let given = self.default_shapes.as_ref().filter(|_| robot == self.default_robot());
+        if let Some(collision) = given.and_then(|s| s.collision.as_ref()).filter(|g| !g.is_empty()) {
+            return Ok(Some(collision));
+        }
+        Ok(self.bodies()?.iter().find(|(n, _)| n == robot.name()).map(|(_, g)| g))
     }
 
     /// [`App::collision_check`] when a scene or a margin asks for one.

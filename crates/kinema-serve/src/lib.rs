@@ -36,6 +36,8 @@
 //! | `POST /api/run` | `{robot?, program, dt?, start?}` | `t`, `q`, `qd`, `qdd`, `motions`, `warnings` |
 //! | `GET /api/robots/{name}/geometry` | — | `{robot, links, visual, collision}`: shapes in link frames ([`GeometryAnswer`]) |
 //! | `POST /api/scene` | `{scene}` (TOML text) | `{obstacles}` in the world frame ([`SceneAnswer`]) |
+//! | `GET /api/scene` | — | the server's scene ([`App::with_scene`]): `{obstacles}` |
+//! | `GET /api/cell` | — | the server's cell ([`App::with_cell`]): `{times, members}` with every sample's link poses ([`CellAnswer`]) |
 //! | `GET /api/ws` (WebSocket) | messages `{robot?, q}` | one message each: the `/api/fk` answer or `{"error": …}`; at most 64 KiB a message |
 //! | `POST /api/manip` | `{robot?, q}` | manipulability, translational and rotational ellipsoids |
 //! | `POST /api/collide` | `{robot?, q}`, optional `scene` (TOML text), `margin` | `collision`, `pairs`, `min_distance` |
@@ -88,6 +90,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod api;
+mod cell;
 mod error;
 mod request;
 mod shapes;
@@ -97,6 +100,7 @@ mod shapes;
 mod server;
 
 pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
+pub use cell::{CellAnswer, CellMemberAnswer, CellMotion};
 pub use error::{Error, JsonError, Result};
 #[cfg(feature = "server")]
 pub use server::{Limits, Running, Server};

@@ -179,6 +179,19 @@ impl Server {
         Ok(Server { app: Arc::new(app), ..self })
     }
 
+    /// The scene the page draws and collision checks use (see
+    /// [`App::with_scene`]).
+    pub fn with_scene(self, scene: &kinema_geometry::Scene) -> Result<Server> {
+        let app = Arc::unwrap_or_clone(self.app).with_scene(scene)?;
+        Ok(Server { app: Arc::new(app), ..self })
+    }
+
+    /// The cell the page plays (see [`App::with_cell`]).
+    pub fn with_cell(self, times: &[f64], members: &[crate::CellMotion]) -> Result<Server> {
+        let app = Arc::unwrap_or_clone(self.app).with_cell(times, members)?;
+        Ok(Server { app: Arc::new(app), ..self })
+    }
+
     /// Sets the server's limits (see [`Limits`]).
     pub fn with_limits(mut self, limits: Limits) -> Server {
         self.limits = limits.clamped();

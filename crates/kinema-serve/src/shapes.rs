@@ -40,6 +40,9 @@ pub struct ShapeAnswer {
     /// The link it is fixed to (absent for an obstacle).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub link: Option<usize>,
+    /// The body it belongs to as `/api/collide` names pairs: its link's
+    /// name (a URDF link's, else `link i`) or its obstacle's body.
+    pub body: String,
     /// `sphere`, `box`, `cylinder`, `capsule` or `mesh`.
     pub kind: &'static str,
     /// The shape's frame: 4 rows of 4 numbers, translation in metres.
@@ -82,7 +85,7 @@ impl GeometryAnswer {
             g.map_or_else(Vec::new, |g| {
                 g.shapes()
                     .iter()
-                    .map(|s| ShapeAnswer::new(s.name(), Some(s.link()), s.link_from_shape(), s.shape()))
+                    .map(|s| ShapeAnswer::new(s.name(), Some(s.link()), s.link_name(), s.link_from_shape(), s.shape()))
                     .collect()
             })
         };
@@ -99,16 +102,17 @@ impl SceneAnswer {
     /// A scene's obstacles.
     pub fn new(obstacles: &[Obstacle]) -> SceneAnswer {
         let obstacles =
-            obstacles.iter().map(|o| ShapeAnswer::new(&o.name, None, &o.world_from_shape, &o.shape)).collect();
+            obstacles.iter().map(|o| ShapeAnswer::new(&o.name, None, &o.body, &o.world_from_shape, &o.shape)).collect();
         SceneAnswer { obstacles }
     }
 }
 
 impl ShapeAnswer {
-    fn new(name: &str, link: Option<usize>, pose: &Pose, shape: &Shape) -> ShapeAnswer {
+    fn new(name: &str, link: Option<usize>, body: &str, pose: &Pose, shape: &Shape) -> ShapeAnswer {
         let mut answer = ShapeAnswer {
             name: name.to_string(),
             link,
+            body: body.to_string(),
             kind: "mesh",
             pose: rows(pose),
             size: None,
@@ -191,7 +195,7 @@ mod tests {
         let vertices = vec![Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 0.5, 0.25)];
         let mesh = Mesh::new(vertices, vec![[0, 1, 2]], "test").unwrap();
         let pose = Pose::translation(0.1, 0.2, 0.3);
-        let s = ShapeAnswer::new("m", Some(2), &pose, &Shape::TriangleMesh(Arc::new(mesh)));
+        let s = ShapeAnswer::new("m", Some(2), "link 2", &pose, &Shape::TriangleMesh(Arc::new(mesh)));
         assert_eq!((s.kind, s.link, s.pose[1][3]), ("mesh", Some(2), 0.2));
         let m = s.mesh.unwrap();
         assert_eq!((m.vertex_count, m.triangle_count), (3, 1));

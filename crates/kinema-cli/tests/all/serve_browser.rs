@@ -626,3 +626,317 @@ fn download_panda(dir: &Path) -> PathBuf {
     assert!(status.success(), "extracting the Panda from {}", wheel.display());
     dir.join("cmeel.prefix/share")
 }
+
+/// Pixels of the 3D view drawn in the colliding red (robot.js), not the
+/// orange or grey of the links nor the obstacles' brown.
+fn red_pixels(img: &image::RgbaImage, [x0, y0, w, h]: [u32; 4]) -> usize {
+    let mut n = 0;
+    for y in y0..(y0 + h).min(img.height()) {
+        for x in x0..(x0 + w).min(img.width()) {
+            let [r, g, b, _] = img.get_pixel(x, y).0;
+            let r = f64::from(r);
+            if r >= 120.0 && f64::from(g) < 0.35 * r && f64::from(b) < 0.35 * r {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// The page's last collision answer once it is the one of the configuration shown.
+fn collide_answer(viewer: &Viewer, q: &[f64]) -> Value {
+    let js = format!(
+        "const c = window.kinemaViewer.collide; return c && JSON.stringify(c.q) === JSON.stringify({}) ? c : null",
+        json!(q)
+    );
+    let answer = viewer.wait_for(&js, 20, "the collision check of the configuration", |v| v.is_object());
+    // One more frame, drawn after the colours changed.
+    let drawn = viewer.script("const v = window.kinemaViewer; v.redraw(); return v.frames").as_u64().unwrap();
+    viewer.wait_for("return window.kinemaViewer.frames", 10, "a frame after the check", |v| {
+        v.as_u64().is_some_and(|n| n > drawn)
+    });
+    answer
+}
+
+#[test]
+fn a_colliding_configuration_turns_the_pair_red_with_the_server_s_distance() {
+    let dir = std::env::temp_dir().join(format!("kinema-serve-collide-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, "[[obstacle]]\nname = \"block\"\nbox = [0.2, 0.2, 0.2]\npose = [0.5, 0, 0.6, 0, 0, 0]\n")
+        .unwrap();
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--scene", scene.to_str().unwrap()], &[]) else { return };
+    viewer.assert_webgl_and_no_errors();
+    assert_eq!(viewer.script("return window.kinemaViewer.state.obstacles"), 1, "the scene's block is drawn");
+
+    // Free: nothing red, no pair.
+    let free = [0.0, 0.3, 0.0, -1.2, 0.0, 0.6, 0.0];
+    viewer.show_q(&free);
+    let c = collide_answer(&viewer, &free);
+    assert_eq!((&c["collision"], &c["pairs"]), (&json!(false), &json!([])), "{c}");
+    assert_eq!(viewer.script("return window.kinemaViewer.red"), json!([]));
+    let (img, rect) = viewer.screenshot("collide-free");
+    let red_free = red_pixels(&img, rect);
+
+    // Bent forward into the block: the pair's link and the block turn red.
+    let hit = [0.0, 1.0, 0.0, -1.2, 0.0, 0.6, 0.0];
+    viewer.show_q(&hit);
+    let c = collide_answer(&viewer, &hit);
+    assert_eq!(c["collision"], true, "{c}");
+    let mut expected: Vec<String> = Vec::new();
+    for p in c["pairs"].as_array().unwrap() {
+        for body in [&p["a"], &p["b"]] {
+            let body = body.as_str().unwrap().to_string();
+            if !expected.contains(&body) {
+                expected.push(body);
+            }
+        }
+    }
+    assert!(expected.iter().any(|b| b == "block"), "{c}");
+    let mut red: Vec<String> = serde_json::from_value(viewer.script("return window.kinemaViewer.red")).unwrap();
+    red.sort();
+    expected.sort();
+    assert_eq!(red, expected, "the bodies drawn red are the colliding pairs'");
+    let (img, rect) = viewer.screenshot("collide-hit");
+    let red_hit = red_pixels(&img, rect);
+    println!("red pixels: {red_free} free, {red_hit} in collision");
+    assert!(red_free < 50 && red_hit > 1000, "red pixels: {red_free} free, {red_hit} in collision");
+
+    // The distance shown is the one `kinema collide` computes for the same robot and scene.
+    let q = hit.map(|v| v.to_string()).join(",");
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["collide", "--robot", "lbr-iiwa-14-r820", "--q", &q, "--scene", scene.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    // Status 3: the configuration collides.
+    assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
+    let cli: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let expected = cli["min_distance"]["distance"].as_f64().unwrap();
+    let text = viewer.script("return document.getElementById('collide-readout').textContent");
+    let text = text.as_str().unwrap();
+    let shown_mm: f64 = text
+        .split("min distance ")
+        .nth(1)
+        .and_then(|t| t.split(" mm").next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no distance in the readout: {text}"));
+    assert!((shown_mm / 1000.0 - expected).abs() <= 1e-9, "shown {shown_mm} mm, kinema collide {expected} m");
+    assert_eq!(c["min_distance"]["distance"].as_f64(), Some(expected), "{c}");
+    viewer.assert_webgl_and_no_errors();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Drags with the mouse, as a user would, from window CSS pixel `from` to `to`.
+fn drag(viewer: &Viewer, from: [f64; 2], to: [f64; 2]) {
+    let [x0, y0, x1, y1] = [from[0], from[1], to[0], to[1]].map(|v| v.round() as i64);
+    let actions = json!({"actions": [{"type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"}, "actions": [
+        {"type": "pointerMove", "x": x0, "y": y0, "origin": "viewport", "duration": 0},
+        {"type": "pointerDown", "button": 0},
+        {"type": "pause", "duration": 100},
+        {"type": "pointerMove", "x": x1, "y": y1, "origin": "viewport", "duration": 600},
+        {"type": "pause", "duration": 100},
+        {"type": "pointerUp", "button": 0},
+    ]}]});
+    wd(&viewer.agent, "POST", &format!("{}/actions", viewer.session), Some(actions));
+}
+
+/// The gizmo's last IK outcome once it is settled and the robot drawn at it.
+fn gizmo_outcome(viewer: &Viewer) -> Value {
+    viewer.wait_for(
+        "const v = window.kinemaViewer, g = v.gizmo; \
+         return g.target && !g.pending && v.state.fk && JSON.stringify(v.state.fk.q) === JSON.stringify(v.q) ? g : null",
+        20,
+        "the gizmo's IK answer",
+        |v| v.is_object(),
+    )
+}
+
+/// kinema's FK (the CLI) of the iiwa at `q`: the tool position.
+fn iiwa_tool(q: &[f64]) -> [f64; 3] {
+    let q = q.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["fk", "--robot", "lbr-iiwa-14-r820", "--q", &q, "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    serde_json::from_value(v["position"].clone()).unwrap()
+}
+
+#[test]
+fn a_gizmo_drag_moves_the_tool_to_the_dropped_point_or_says_it_is_unreachable() {
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    viewer.show_q(&[0.0, 0.4, 0.0, 1.4, 0.0, -1.0, 0.0]);
+    viewer.script("document.getElementById('gizmo-on').click(); window.kinemaViewer.redraw(); return 1");
+    std::thread::sleep(Duration::from_millis(300));
+    let tool = |v: &Viewer| -> [f64; 2] {
+        serde_json::from_value(
+            v.script("const v = window.kinemaViewer; return v.project(v.state.fk.position).slice(0, 2)"),
+        )
+        .unwrap()
+    };
+    let target_pixel = |g: &Value| -> ([f64; 3], [f64; 2]) {
+        let p = [0, 1, 2].map(|r| g["target"][r][3].as_f64().unwrap());
+        let px = viewer.script(&format!("return window.kinemaViewer.project({}).slice(0, 2)", json!(p)));
+        (p, serde_json::from_value(px).unwrap())
+    };
+
+    // Drag the handle's centre (it moves in the plane facing the camera) a little.
+    let start = tool(&viewer);
+    let drop = [start[0] - 25.0, start[1] + 20.0];
+    drag(&viewer, start, drop);
+    let g = gizmo_outcome(&viewer);
+    assert_eq!(g["reached"], true, "{g}");
+    let (target, pixel) = target_pixel(&g);
+    assert!(
+        (pixel[0] - drop[0]).abs() < 2.0 && (pixel[1] - drop[1]).abs() < 2.0,
+        "dropped at {drop:?}, handle at {pixel:?}"
+    );
+    let q: Vec<f64> = serde_json::from_value(viewer.script("return window.kinemaViewer.q")).unwrap();
+    let reached = iiwa_tool(&q);
+    let miss = ((0..3).map(|k| (reached[k] - target[k]).powi(2)).sum::<f64>()).sqrt();
+    println!("gizmo: dropped at {target:?}, kinema's FK of the page's q puts the tool {:.3e} m from it", miss);
+    assert!(miss < 1e-3, "the tool is {miss} m from the dropped point");
+    assert!((target[0] - 0.6435).abs() + (target[2] - 0.7437).abs() > 0.05, "the handle moved: {target:?}");
+    assert_eq!(q[2], 0.0, "the redundant arm keeps its q3");
+
+    // Far out of reach: said so, and the robot shows the server's closest configuration.
+    let start = tool(&viewer);
+    drag(&viewer, start, [start[0] + 200.0, start[1] - 150.0]);
+    let g = gizmo_outcome(&viewer);
+    assert_eq!(g["reached"], false, "{g}");
+    assert!(g["message"].as_str().unwrap().starts_with("UNREACHABLE"), "{g}");
+    let shown = viewer.script("return document.getElementById('ik-message').textContent");
+    assert_eq!(shown, g["message"]);
+    assert_eq!(
+        viewer.script("return window.kinemaViewer.q"),
+        g["closest"]["q"],
+        "the page shows the closest configuration"
+    );
+    viewer.assert_webgl_and_no_errors();
+}
+
+#[test]
+fn cell_playback_reaches_the_last_configuration_of_both_robots() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cells/seed004_two_iiwa.toml");
+    let file = file.to_str().unwrap();
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--cell", file], &[]) else { return };
+    viewer.assert_webgl_and_no_errors();
+    let c = viewer.script("return window.kinemaViewer.cell");
+    assert_eq!((c["sample"].as_u64(), c["members"].as_array().map(Vec::len)), (Some(0), Some(2)), "{c}");
+    let samples = c["samples"].as_u64().unwrap();
+
+    // Scrub to the middle: the robots are shown there, paused.
+    let middle = samples / 2;
+    viewer.script(&format!(
+        "const t = document.getElementById('cell-time'); t.value = '{middle}'; \
+         t.dispatchEvent(new Event('input', {{bubbles: true}})); return 1"
+    ));
+    let c = viewer.script("return window.kinemaViewer.cell");
+    assert_eq!((c["sample"].as_u64(), &c["playing"]), (Some(middle), &json!(false)), "{c}");
+    // Play and pause: time goes on, then stands.
+    viewer.script("document.getElementById('cell-play').click(); return 1");
+    std::thread::sleep(Duration::from_millis(400));
+    viewer.script("document.getElementById('cell-play').click(); return 1");
+    let paused = viewer.script("return window.kinemaViewer.cell");
+    assert!(paused["sample"].as_u64().unwrap() > middle && paused["playing"] == false, "{paused}");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(viewer.script("return window.kinemaViewer.cell.sample"), paused["sample"]);
+
+    // Play to the end at 4×.
+    viewer.script(
+        "const s = document.getElementById('cell-speed'); s.value = '4'; \
+         document.getElementById('cell-play').click(); return 1",
+    );
+    let end = viewer
+        .wait_for("const c = window.kinemaViewer.cell; return c.playing ? null : c", 60, "the end", |v| v.is_object());
+    assert_eq!(end["sample"].as_u64(), Some(samples - 1), "{end}");
+
+    // The last configurations are those `kinema cell` writes for the same file.
+    let csv = std::env::temp_dir().join(format!("kinema-serve-cell-{}.csv", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["cell", file, "--out", csv.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let _ = std::fs::remove_file(&csv);
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let last: Vec<f64> = text.lines().last().unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(text.lines().count() as u64 - 1, samples, "one CSV row per sample");
+    for m in end["members"].as_array().unwrap() {
+        let name = m["name"].as_str().unwrap();
+        let q = m["q"].as_array().unwrap();
+        for (k, v) in q.iter().enumerate() {
+            let col = header.iter().position(|h| *h == format!("{name}_q{}", k + 1)).unwrap();
+            assert!((v.as_f64().unwrap() - last[col]).abs() < 1e-9, "{name} q{}: {v} vs {}", k + 1, last[col]);
+        }
+    }
+    let (img, rect) = viewer.screenshot("cell");
+    let drawn = (rect[1]..rect[1] + rect[3])
+        .flat_map(|y| (rect[0]..rect[0] + rect[2]).map(move |x| (x, y)))
+        .filter(|&(x, y)| x < img.width() && y < img.height() && !is_background(img.get_pixel(x, y)))
+        .count();
+    assert!(drawn > 5000, "only {drawn} drawn pixels");
+    viewer.assert_webgl_and_no_errors();
+}
+
+#[test]
+fn a_point_cloud_csv_is_drawn_coloured_by_its_values() {
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    // A grid in front of the robot in `kinema reach`'s columns; fraction rises with x.
+    let mut csv = String::from("x,y,z,reached,fraction\n");
+    let mut count = 0;
+    for i in 0..8 {
+        for j in 0..8 {
+            for k in 0..4 {
+                let (x, y, z) = (0.4 + 0.05 * f64::from(i), -0.2 + 0.05 * f64::from(j), 0.2 + 0.05 * f64::from(k));
+                csv += &format!("{x},{y},{z},{},{}\n", u8::from(i > 0), f64::from(i) / 7.0);
+                count += 1;
+            }
+        }
+    }
+    let path = std::env::temp_dir().join(format!("kinema-serve-points-{}.csv", std::process::id()));
+    std::fs::write(&path, csv).unwrap();
+    let input = wd(
+        &viewer.agent,
+        "POST",
+        &format!("{}/element", viewer.session),
+        Some(json!({"using": "css selector", "value": "#points-file"})),
+    );
+    let id = input.as_object().and_then(|o| o.values().next()).and_then(Value::as_str).unwrap().to_string();
+    wd(
+        &viewer.agent,
+        "POST",
+        &format!("{}/element/{id}/value", viewer.session),
+        Some(json!({"text": path.to_str().unwrap()})),
+    );
+    let s = viewer.wait_for("return window.kinemaViewer.points", 10, "the point cloud", |v| v.is_object());
+    let _ = std::fs::remove_file(&path);
+    assert_eq!((s["count"].as_u64(), s["valued"].as_u64()), (Some(count), Some(count)), "{s}");
+    assert_eq!((s["min"].as_f64(), s["max"].as_f64()), (Some(0.0), Some(1.0)), "{s}");
+    let drawn = viewer.script("const v = window.kinemaViewer; v.redraw(); return v.frames").as_u64().unwrap();
+    viewer.wait_for("return window.kinemaViewer.frames", 10, "a frame", |v| v.as_u64().is_some_and(|n| n > drawn));
+    // The low end (x = 0.4) is drawn blue, the high end (x = 0.75) red.
+    let (img, _) = viewer.screenshot("points");
+    let colour_near = |p: [f64; 3]| {
+        let px: [f64; 2] = serde_json::from_value(
+            viewer.script(&format!("return window.kinemaViewer.project({}).slice(0, 2)", json!(p))),
+        )
+        .unwrap();
+        let (mut red, mut blue) = (0, 0);
+        for dy in -4..=4 {
+            for dx in -4..=4 {
+                let [r, g, b, _] = img.get_pixel((px[0] as i64 + dx) as u32, (px[1] as i64 + dy) as u32).0;
+                red += usize::from(r > 150 && g < 90 && b < 90);
+                blue += usize::from(b > 150 && r < 90 && g < 120);
+            }
+        }
+        (red, blue)
+    };
+    let (red_low, blue_low) = colour_near([0.4, -0.2, 0.2]);
+    let (red_high, blue_high) = colour_near([0.75, 0.15, 0.35]);
+    assert!(blue_low > 3 && red_low == 0, "low end: {blue_low} blue, {red_low} red pixels");
+    assert!(red_high > 3 && blue_high == 0, "high end: {red_high} red, {blue_high} blue pixels");
+    viewer.assert_webgl_and_no_errors();
+}

@@ -235,3 +235,150 @@ fn the_server_takes_shapes_for_its_default_robot() {
     assert_eq!(a.json["collision"][0]["size"], json!([0.1, 0.2, 0.3]));
     running.stop();
 }
+
+/// A scene with one box obstacle, as a scene file's text.
+const BOX_SCENE: &str = "[[obstacle]]\nname = \"block\"\nbox = [0.2, 0.2, 0.2]\npose = [0.5, 0, 0.6, 0, 0, 0]\n";
+
+#[test]
+fn the_server_s_scene_is_drawn_and_checked_when_a_request_gives_none() {
+    let plain = App::new(None).unwrap();
+    assert_eq!(plain.api("GET", "/api/scene", b""), (200, json!({"obstacles": []})));
+    let scene = kinema_geometry::Scene::from_toml(BOX_SCENE, "scene", std::path::Path::new(".")).unwrap();
+    let app = App::new(None).unwrap().with_scene(&scene).unwrap();
+    let (status, v) = app.api("GET", "/api/scene", b"");
+    assert_eq!(status, 200, "{v}");
+    let block = &v["obstacles"][0];
+    assert_eq!((block["name"].as_str(), block["body"].as_str()), (Some("block"), Some("block")));
+    assert_eq!(block["pose"][2][3].as_f64(), Some(0.6));
+
+    // The iiwa bent forward into the block: the server's scene is checked,
+    // and the answer is the library's check of the same robot and scene.
+    let q = [0.0, 1.0, 0.0, -1.2, 0.0, 0.6, 0.0];
+    let check = kinema_geometry::CollisionCheck::load("lbr-iiwa-14-r820", &Default::default()).unwrap();
+    let with_scene = kinema_geometry::CollisionCheck::with_scene(
+        check.robot().clone(),
+        check.geometry().clone(),
+        check.pairs().clone(),
+        Some(&scene),
+        0.0,
+    )
+    .unwrap();
+    let mut placement = with_scene.placement();
+    let expected = kinema_io::CollideAnswer::of(&with_scene, q.to_vec(), &mut placement).unwrap();
+    let body = json!({"robot": "lbr-iiwa-14-r820", "q": q}).to_string();
+    let (status, v) = app.api("POST", "/api/collide", body.as_bytes());
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v, serde_json::to_value(&expected).unwrap());
+    assert_eq!(v["collision"], true, "{v}");
+    assert!(v["pairs"].as_array().unwrap().iter().any(|p| p["b"] == "block"), "{v}");
+    // Without the server's scene the same configuration is free.
+    let (_, free) = plain.api("POST", "/api/collide", body.as_bytes());
+    assert_eq!(free["collision"], false, "{free}");
+    // A request's own scene replaces the server's.
+    let empty = json!({"robot": "lbr-iiwa-14-r820", "q": q, "scene": ""}).to_string();
+    let (status, own) = app.api("POST", "/api/collide", empty.as_bytes());
+    assert_eq!((status, &own["collision"]), (200, &json!(false)), "{own}");
+    // The robot's shapes name the bodies of the pairs the page colours.
+    let (_, shapes) = app.api("GET", "/api/robots/lbr-iiwa-14-r820/geometry", b"");
+    let bodies: Vec<&str> = shapes["collision"].as_array().unwrap().iter().filter_map(|s| s["body"].as_str()).collect();
+    for p in v["pairs"].as_array().unwrap() {
+        assert!(bodies.contains(&p["a"].as_str().unwrap()), "{p} not among {bodies:?}");
+    }
+}
+
+#[test]
+fn the_given_collision_meshes_of_the_default_robot_are_checked() {
+    // A UR5 whose only shapes are given: a tetrahedron mesh at the tool and
+    // a ball on the base, on links named as a URDF would name them.
+    let robot = Robot::builtin("ur5").unwrap();
+    let tetra = vec![
+        Point3::new(0.0, 0.0, 0.0),
+        Point3::new(0.1, 0.0, 0.0),
+        Point3::new(0.0, 0.1, 0.0),
+        Point3::new(0.0, 0.0, 0.1),
+    ];
+    let mesh = Arc::new(Mesh::new(tetra, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], "tetra").unwrap());
+    let tool =
+        LinkShape::new("tip", 6, Pose::IDENTITY, Shape::TriangleMesh(mesh)).unwrap().with_link_name("wrist_3_link");
+    let base =
+        LinkShape::new("foot", 0, Pose::IDENTITY, Shape::Sphere { radius: 0.05 }).unwrap().with_link_name("base_link");
+    let collision = RobotGeometry::new(&robot, vec![tool, base]).unwrap();
+    let app = App::new(Some(robot.clone())).unwrap().with_link_shapes(None, Some(collision)).unwrap();
+    let home = robot.home().to_vec();
+    let tip = robot.fk(&home).unwrap().world_from_tool.pos;
+    let scene = format!(
+        "[[obstacle]]\nname = \"post\"\nsphere = {{ radius = 0.03 }}\npose = [{}, {}, {}, 0, 0, 0]\n",
+        tip[0], tip[1], tip[2]
+    );
+    let body = json!({"q": home, "scene": scene}).to_string();
+    let (status, v) = app.api("POST", "/api/collide", body.as_bytes());
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["pairs"], json!([{"a": "wrist_3_link", "b": "post"}]), "{v}");
+    let (_, shapes) = app.api("GET", "/api/robots/ur5/geometry", b"");
+    assert_eq!(shapes["collision"][0]["body"], "wrist_3_link");
+}
+
+#[test]
+fn an_unreachable_ik_target_comes_with_the_closest_configuration() {
+    let app = App::new(None).unwrap();
+    let body = br#"{"robot": "ur5", "position": [2.0, 0, 0.5], "rpy": [0, 3.14, 0], "q0": [0, -1, 1, 0, 1, 0]}"#;
+    let (status, v) = app.api("POST", "/api/ik", body);
+    assert_eq!(status, 422, "{v}");
+    assert!(v["error"].as_str().unwrap().starts_with("unreachable target"), "{v}");
+    let q: Vec<f64> = serde_json::from_value(v["closest"]["q"].clone()).unwrap();
+    assert_eq!(q.len(), 6, "{v}");
+    // The miss it reports is the distance of its tool from the target.
+    let tool = Robot::builtin("ur5").unwrap().fk(&q).unwrap().world_from_tool.pos;
+    let miss = ((tool[0] - 2.0).powi(2) + tool[1].powi(2) + (tool[2] - 0.5).powi(2)).sqrt();
+    assert!((v["closest"]["position_error"].as_f64().unwrap() - miss).abs() < 1e-9, "{v}; FK misses by {miss}");
+    // Errors that are not an unreachable target carry no `closest`.
+    let (status, v) = app.api("POST", "/api/ik", br#"{"robot": "ur5", "position": [0.4, 0, 0.5]}"#);
+    assert!(status == 200 || v.get("closest").is_none(), "{v}");
+    let (_, v) = app.api("POST", "/api/fk", br#"{"robot": "ur5", "q": [0]}"#);
+    assert!(v.get("closest").is_none(), "{v}");
+}
+
+#[test]
+fn a_cell_is_sent_with_every_sample_s_link_poses() {
+    let app = App::new(None).unwrap();
+    assert_eq!(app.api("GET", "/api/cell", b""), (200, json!({"times": [], "members": []})));
+    let ur5 = Robot::builtin("ur5").unwrap();
+    let moved = kinema::traj::cell::placed(&ur5, &Pose::translation(1.0, 0.0, 0.0)).unwrap();
+    let geometry = |r: &Robot| RobotGeometry::new(r, Vec::new()).unwrap();
+    let qs = |a: f64| vec![vec![0.0; 6], vec![a, -1.0, 1.0, 0.0, 0.5, 0.0]];
+    let members = [
+        kinema_serve::CellMotion { name: "left".into(), robot: ur5.clone(), geometry: geometry(&ur5), q: qs(0.3) },
+        kinema_serve::CellMotion {
+            name: "right".into(),
+            robot: moved.clone(),
+            geometry: geometry(&moved),
+            q: qs(-0.3),
+        },
+    ];
+    let app = app.with_cell(&[0.0, 0.5], &members).unwrap();
+    let (status, v) = app.api("GET", "/api/cell", b"");
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["times"], json!([0.0, 0.5]));
+    for (m, member) in members.iter().enumerate() {
+        let answer = &v["members"][m];
+        assert_eq!(answer["name"].as_str(), Some(member.name.as_str()));
+        assert_eq!(answer["q"], json!(member.q));
+        for (k, q) in member.q.iter().enumerate() {
+            let frames = member.robot.link_frames(q).unwrap();
+            assert_eq!(answer["frames"][k].as_array().unwrap().len(), frames.len());
+            let tool = &answer["frames"][k][frames.len() - 1];
+            let p = frames.last().unwrap().pos;
+            assert_eq!([&tool[9], &tool[10], &tool[11]], [&json!(p[0]), &json!(p[1]), &json!(p[2])], "{tool}");
+            assert_eq!(tool[0].as_f64(), Some(frames.last().unwrap().rot[(0, 0)]));
+        }
+    }
+    // The second robot stands 1 m along x.
+    assert!((v["members"][1]["frames"][0][0][9].as_f64().unwrap() - 1.0).abs() < 1e-12, "{v}");
+    // Samples that do not match the clock, and too many samples, are refused.
+    let e = App::new(None).unwrap().with_cell(&[0.0], &members).unwrap_err();
+    assert!(e.to_string().contains("2 samples for 1 times"), "{e}");
+    let times: Vec<f64> = (0..kinema_serve::MAX_SAMPLES).map(|k| k as f64).collect();
+    let e = App::new(None).unwrap().with_cell(&times, &members).unwrap_err();
+    assert!(e.to_string().contains("give a larger dt"), "{e}");
+    assert_eq!(app.api("POST", "/api/cell", b"{}").0, 405);
+}

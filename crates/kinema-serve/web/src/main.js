@@ -1,11 +1,16 @@
 // kinema viewer: every number comes from the server (the kinema library);
 // the page draws. Modules: state.js (what the page knows), api.js (HTTP and
 // the pose WebSocket), scene.js (renderer, camera, controls), robot.js (link
-// shapes placed by FK), panels.js (joints, FK readout, IK), player.js.
+// shapes placed by FK), world.js (scene obstacles, collisions and the
+// minimum distance), panels.js (joints, FK readout, IK), player.js.
 import { $, state, setStatus, dist3 } from './state.js';
-import { api, PoseLink } from './api.js';
+import { api, PoseLink, latestOnly } from './api.js';
 import { View } from './scene.js';
-import { RobotModel } from './robot.js';
+import { RobotModel, COLLIDING } from './robot.js';
+import { World } from './world.js';
+import { Gizmo } from './gizmo.js';
+import { CellPlayer } from './cell.js';
+import { PointCloud } from './points.js';
 import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool } from './panels.js';
 import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
 
@@ -18,6 +23,10 @@ console.error = (...args) => { errors.push(args.map(String).join(' ')); consoleE
 
 const view = new View($('view'));
 const robot = new RobotModel(view);
+const world = new World(view);
+const gizmo = new Gizmo(view);
+const cell = new CellPlayer(view);
+const cloud = new PointCloud(view);
 const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
 
 function redraw() {
@@ -32,8 +41,37 @@ function applyFk(fk) {
   if (!state.robot || fk.robot !== state.robot.name) return;
   state.fk = fk;
   robot.setPose(fk);
+  gizmo.place(fk.T);
   showFk(fk);
+  if ($('show-collide').checked) checkCollisions({ robot: fk.robot, q: fk.q });
   if ($('show-ellipsoid').checked) fetchManip(fk.q); else redraw();
+}
+
+// The server's collision check at a configuration (the robot's collision
+// shapes against themselves and the server's scene): the bodies of every
+// colliding pair in red, the closest pair's segment and distance.
+const checkCollisions = latestOnly(async (req) => {
+  const res = await api('/api/collide', req);
+  // An answer for another robot, or arriving after the check was turned off, is not shown.
+  if (!state.robot || req.robot !== state.robot.name || !$('show-collide').checked) return;
+  state.collide = res.ok ? res.data : null;
+  showCollisions(res.ok ? res.data : null, res.ok ? '' : res.data.error);
+}, (e) => setStatus(String(e), true));
+
+function showCollisions(c, error) {
+  const bodies = new Set();
+  if (c) for (const p of c.pairs) { bodies.add(p.a); bodies.add(p.b); }
+  robot.highlight(bodies);
+  world.highlight(bodies);
+  const d = c && c.min_distance;
+  world.setSegment(d, 0.006 * state.reach);
+  const out = $('collide-readout');
+  if (!c) { out.textContent = error || ''; out.className = 'message'; view.requestRender(); return; }
+  const pairs = c.pairs.map((p) => `${p.a} – ${p.b}`).join('\n  ');
+  out.textContent = (c.collision ? `COLLISION:\n  ${pairs}\n` : 'no collision\n') +
+    (d ? `min distance ${(d.distance * 1000).toFixed(6)} mm\n  ${d.a} – ${d.b}` : 'no pair checked');
+  out.className = c.collision ? 'message' : 'message ok';
+  view.requestRender();
 }
 
 async function fetchManip(q) {
@@ -60,8 +98,10 @@ async function loadRobot(name) {
   if (!shapes.ok) { setStatus(shapes.data.error, true); return; }
   const r = info.data;
   state.robot = r; state.geometry = shapes.data;
+  gizmo.release();
   state.q = r.home.slice();
-  state.manip = null; state.q3Anchor = null; state.ikTarget = null; state.fk = null;
+  state.manip = null; state.q3Anchor = null; state.ikTarget = null; state.fk = null; state.collide = null;
+  showCollisions(null, '');
   const summary = state.robots.find((x) => x.name === name);
   $('robot-description').textContent = summary ? summary.description : '';
   buildJointPanel(r);
@@ -81,9 +121,36 @@ async function loadRobot(name) {
   setStatus(`${r.name}: ${r.dof} joints, ${drawn}`);
 }
 
+// The cell's robots instead of the robot of the panels, or the other way round.
+function showCell(on) {
+  $('cell-show').checked = on;
+  cell.setVisible(on);
+  robot.root.visible = !on;
+  // The collision check is the panels' robot's: off while it is hidden.
+  if ($('show-collide').checked === on) { $('show-collide').checked = !on; $('show-collide').dispatchEvent(new Event('change')); }
+  view.requestRender();
+}
+
 function bindView() {
   $('reset-view').addEventListener('click', () => view.resetCamera(state.reach));
   for (const id of ['show-frames', 'show-collision']) $(id).addEventListener('change', redraw);
+  // Moving the joints otherwise lets the handle go back to the tool.
+  for (const id of ['sliders', 'poses']) $(id).addEventListener('input', () => gizmo.release());
+  $('poses').addEventListener('click', () => gizmo.release());
+  $('points-file').addEventListener('change', async () => {
+    const file = $('points-file').files[0];
+    if (!file) { cloud.clear(); return; }
+    try {
+      const s = cloud.load(await file.text(), state.reach);
+      setStatus(`${file.name}: ${s.count} points` + (s.valued ? `, values ${s.min} (blue) to ${s.max} (red)` : ''));
+    } catch (e) { setStatus(String(e.message || e), true); }
+  });
+  $('gizmo-on').addEventListener('change', () => gizmo.enable($('gizmo-on').checked));
+  $('gizmo-mode').addEventListener('change', () => gizmo.setMode($('gizmo-mode').value));
+  $('show-collide').addEventListener('change', () => {
+    if ($('show-collide').checked && state.fk) checkCollisions({ robot: state.robot.name, q: state.fk.q });
+    else { state.collide = null; showCollisions(null, ''); }
+  });
   $('ellipsoid-scale').addEventListener('input', redraw);
   $('show-ellipsoid').addEventListener('change', () => {
     $('manip-readout').hidden = !$('show-ellipsoid').checked;
@@ -113,7 +180,16 @@ async function init() {
   bindPanels({ requestPose: (q) => poses.request(state.robot.name, q), redraw });
   bindPlayer();
   bindView();
+  const scene = await api('/api/scene');
+  if (!scene.ok) { setStatus(scene.data.error, true); return; }
+  world.load(scene.data);
+  state.obstacles = scene.data.obstacles.length;
   await loadRobot(def.name);
+  const played = await api('/api/cell');
+  if (!played.ok) { setStatus(played.data.error, true); return; }
+  cell.load(played.data, state.reach);
+  if (cell.loaded) showCell(true);
+  $('cell-show').addEventListener('change', () => showCell($('cell-show').checked));
   document.body.dataset.ready = '1';
 }
 
@@ -128,6 +204,19 @@ window.kinemaViewer = {
   get frames() { return view.frames; },
   get frameTimes() { return view.frameTimes.slice(); },
   get live() { return poses.live; },
+  // The last /api/collide answer shown (null while none).
+  get collide() { return state.collide; },
+  // The tool gizmo: {target (T rows), pending, reached, closest, message} of its last IK request.
+  get gizmo() { return gizmo.status; },
+  // The cell's timeline: {sample, samples, time, playing, members: [{name, q}]}, or null.
+  get cell() { return cell.status; },
+  // The point cloud layer: {count, valued, min, max}, or null.
+  get points() { return cloud.summary; },
+  // The bodies drawn red (links and obstacles, by name), each once.
+  get red() {
+    const red = [...robot.drawn, ...world.obstacles].filter((m) => m.material === COLLIDING);
+    return [...new Set(red.map((m) => m.userData.body))];
+  },
   // Window CSS pixels [x, y] (and depth) of world point p [m].
   project: (p) => view.project(p),
   setQ: (q) => setQ(q),

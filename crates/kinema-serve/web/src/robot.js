@@ -7,6 +7,8 @@ const VISUAL = new THREE.MeshStandardMaterial({ color: 0xb8c2cc, metalness: 0.15
 const LINK_COLOURS = [0x5b6673, 0xe0812a, 0xc9d1d9];
 const COLLISION = new THREE.MeshBasicMaterial({ color: 0xd0452f, transparent: true, opacity: 0.3, depthWrite: false });
 const ROD = new THREE.MeshStandardMaterial({ color: 0x4f7cad, metalness: 0.1, roughness: 0.6 });
+// A body in collision (a link or an obstacle), whatever its own colour.
+export const COLLIDING = new THREE.MeshStandardMaterial({ color: 0xff1a1a, metalness: 0.05, roughness: 0.7 });
 
 export class RobotModel {
   constructor(view) {
@@ -16,6 +18,7 @@ export class RobotModel {
     this.links = [];      // one group per link, placed at its frame
     this.axes = [];       // one triad per frame (base, links, tool)
     this.collision = [];  // the collision shapes' objects
+    this.drawn = [];      // the shapes drawn solid, each with its body's name
     this.rods = null;     // the stand-in for a robot without shapes
     this.tool = null;
     this.target = null;
@@ -25,7 +28,7 @@ export class RobotModel {
   // Builds the links from GET /api/robots/{name}/geometry; `reach` [m] sizes the frame triads.
   load(geometry, reach) {
     this.root.clear();
-    this.links = []; this.axes = []; this.collision = []; this.rods = null;
+    this.links = []; this.axes = []; this.collision = []; this.drawn = []; this.rods = null;
     for (let i = 0; i < geometry.links; i++) {
       const g = new THREE.Group();
       g.matrixAutoUpdate = false;
@@ -35,7 +38,8 @@ export class RobotModel {
     const drawn = geometry.visual.length ? geometry.visual : geometry.collision;
     for (const s of drawn) {
       const material = geometry.visual.length ? VISUAL : linkMaterial(s.link, geometry.links);
-      this.addShape(s, material);
+      const object = this.addShape(s, material);
+      if (object) this.drawn.push(object);
     }
     if (geometry.visual.length) {
       for (const s of geometry.collision) this.collision.push(this.addShape(s, COLLISION));
@@ -76,6 +80,12 @@ export class RobotModel {
     this.root.updateMatrixWorld(true);
   }
 
+  // Draws the links named in `bodies` (a Set of link names, as /api/collide
+  // names pairs) in red, the others in their own colours.
+  highlight(bodies) {
+    for (const m of this.drawn) m.material = bodies.has(m.userData.body) ? COLLIDING : m.userData.material;
+  }
+
   showFrames(on) {
     // The tool's triad stays: it is what IK targets.
     this.axes.forEach((a, i) => { a.visible = on || i === this.axes.length - 1; });
@@ -103,8 +113,9 @@ export class RobotModel {
   }
 }
 
-// Shape objects in their link frame; for a shape kind the page does not know, none.
-function shapeObject(s, material) {
+// Shape objects in their link frame (an obstacle's: the world frame); for a
+// shape kind the page does not know, none.
+export function shapeObject(s, material) {
   let geometry;
   switch (s.kind) {
     case 'sphere': geometry = new THREE.SphereGeometry(s.radius, 32, 16); break;
@@ -119,6 +130,7 @@ function shapeObject(s, material) {
   mesh.matrixAutoUpdate = false;
   mesh.matrix.copy(rowsMatrix(s.pose));
   mesh.name = s.name;
+  mesh.userData = { body: s.body, material };
   return mesh;
 }
 
@@ -144,7 +156,7 @@ function linkMaterial(link, links) {
 }
 
 // A 4×4 matrix from 4 rows of 4 numbers.
-function rowsMatrix(T) {
+export function rowsMatrix(T) {
   const m = new THREE.Matrix4();
   m.set(...T[0], ...T[1], ...T[2], 0, 0, 0, 1);
   return m;

@@ -11,6 +11,8 @@ export const state = {
   q: [],
   fk: null,           // last FK answer (WebSocket or POST /api/fk)
   manip: null,        // last POST /api/manip answer
+  collide: null,      // last POST /api/collide answer shown
+  obstacles: 0,       // obstacles of the server's scene (GET /api/scene)
   reach: 1,
   ikTarget: null,     // pose of the last IK request (T rows)
   q3Anchor: null,     // tool pose kept while the q3 slider moves
