@@ -4,14 +4,14 @@
 
 use super::fastest_third::fastest_third;
 use super::problem::{Limits, Problem, SYMMETRIES};
-use super::profile::Profile;
+use super::profile::{Candidate, Profile};
 use super::second::fastest_second;
 use super::{BoundaryLaw, BoundaryState};
 
 impl BoundaryLaw {
-    /// Every locally time-optimal law (the candidates that survive the
+    /// Every locally time-optimal profile (the candidates that survive the
     /// re-check), fastest first.
-    pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<BoundaryLaw> {
+    pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<Candidate> {
         let p = Problem::new(&from, &to);
         let mut cands = Vec::with_capacity(32);
         for sym in &SYMMETRIES[..if l.jerk.is_some() { 4 } else { 2 }] {
@@ -27,7 +27,7 @@ impl BoundaryLaw {
         }
         let mut laws = Self::from_candidates(from, to, l, &cands);
         if from == to {
-            laws.insert(0, Self::build(from, to, &Profile::default(), l.jerk.is_some()));
+            laws.insert(0, Candidate { duration: 0.0, profile: Profile::default() });
         }
         laws
     }

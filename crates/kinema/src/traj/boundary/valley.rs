@@ -267,7 +267,7 @@ mod tests {
                 let mut cands = Vec::new();
                 fastest_third(&sym.problem(&p), &l, lim.jerk.unwrap_or(1.0), &mut cands);
                 let cands: Vec<_> = cands.iter().map(|s| sym.back(s)).collect();
-                BoundaryLaw::from_candidates(from, to, &l, &cands).iter().map(|law| law.duration()).collect()
+                BoundaryLaw::from_candidates(from, to, &l, &cands).iter().map(|c| c.duration).collect()
             })
             .collect()
     }
