@@ -13,7 +13,7 @@ impl BoundaryLaw {
     /// re-check), fastest first.
     pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<Candidate> {
         let p = Problem::new(&from, &to);
-        let mut cands = Vec::with_capacity(32);
+        let mut cands = Vec::with_capacity(16);
         for sym in &SYMMETRIES[..if l.jerk.is_some() { 4 } else { 2 }] {
             let q = sym.problem(&p);
             let start = cands.len();
@@ -22,7 +22,7 @@ impl BoundaryLaw {
                 None => fastest_second(&q, l, &mut cands),
             }
             for s in &mut cands[start..] {
-                *s = sym.back(s);
+                sym.turn_back(s);
             }
         }
         let mut laws = Self::from_candidates(from, to, l, &cands);

@@ -62,21 +62,27 @@ impl Profile {
     /// The mirror image: every jerk and set acceleration negated.
     pub fn mirrored(&self) -> Profile {
         let mut out = *self;
-        for s in &mut out.segments[..out.len] {
-            s.jerk = -s.jerk;
-            s.set_acc = s.set_acc.map(|a| -a);
-        }
+        out.mirror();
         out
     }
 
-    /// The same motion run backwards in time: segments reversed, jerk
-    /// negated (only for third-order profiles, whose acceleration is continuous).
-    pub fn reversed(&self) -> Profile {
-        let mut out = Profile::default();
-        for s in self.segments().iter().rev() {
-            out.push(s.dt, -s.jerk, None);
+    /// Turns this profile into its mirror image.
+    pub fn mirror(&mut self) {
+        for s in &mut self.segments[..self.len] {
+            s.jerk = -s.jerk;
+            s.set_acc = s.set_acc.map(|a| -a);
         }
-        out
+    }
+
+    /// Turns this profile into the same motion run backwards in time:
+    /// segments reversed, jerk negated (only for third-order profiles,
+    /// whose acceleration is continuous).
+    pub fn reverse(&mut self) {
+        self.segments[..self.len].reverse();
+        for s in &mut self.segments[..self.len] {
+            s.jerk = -s.jerk;
+            s.set_acc = None;
+        }
     }
 
     /// Position, velocity and acceleration at the end, from (0, v, a).

@@ -57,7 +57,7 @@ impl BoundaryLaw {
                 let start = cands.len();
                 timed_third(&q, &l, j, duration, &mut cands);
                 for s in &mut cands[start..] {
-                    *s = sym.back(s);
+                    sym.turn_back(s);
                 }
             }
             if let Some(s) = lasting(&cands) {
