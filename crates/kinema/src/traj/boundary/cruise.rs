@@ -232,7 +232,8 @@ mod tests {
             let scale = p.dp.abs() + vel * t;
             for (lo, hi) in feasible_by_shape(&p, &l, &|x| slack(&p, &l, t, x)) {
                 intervals += 1;
-                let r: Vec<f64> = (0..=200).map(|i| cruise_residual(&p, &l, t, lo + (hi - lo) * i as f64 / 200.0)).collect();
+                let r: Vec<f64> =
+                    (0..=200).map(|i| cruise_residual(&p, &l, t, lo + (hi - lo) * i as f64 / 200.0)).collect();
                 for (i, w) in r.windows(2).enumerate() {
                     assert!(
                         w[1] >= w[0] - 1e-9 * scale,
