@@ -225,7 +225,7 @@ mod tests {
             let ((v0, a0), (vf, af)) = (state(), state());
             let p = Problem { v0, a0, vf, af, dp: rng.random_range(-5.0..5.0) };
             let vc = rng.random_range(-vel..=vel);
-            let t = (slack(&p, &l, 0.0, vc) * -1.0) * (1.0 + rng.random_range(0.0..2.0));
+            let t = -slack(&p, &l, 0.0, vc) * (1.0 + rng.random_range(0.0..2.0));
             if !t.is_finite() {
                 continue;
             }
