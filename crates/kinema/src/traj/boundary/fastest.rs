@@ -4,16 +4,16 @@
 
 use super::fastest_third::fastest_third;
 use super::problem::{Limits, Problem, SYMMETRIES};
-use super::profile::Profile;
+use super::profile::{Candidate, Profile};
 use super::second::fastest_second;
 use super::{BoundaryLaw, BoundaryState};
 
 impl BoundaryLaw {
-    /// Every locally time-optimal law (the candidates that survive the
+    /// Every locally time-optimal profile (the candidates that survive the
     /// re-check), fastest first.
-    pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<BoundaryLaw> {
+    pub(super) fn candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> Vec<Candidate> {
         let p = Problem::new(&from, &to);
-        let mut cands = Vec::with_capacity(32);
+        let mut cands = Vec::with_capacity(16);
         for sym in &SYMMETRIES[..if l.jerk.is_some() { 4 } else { 2 }] {
             let q = sym.problem(&p);
             let start = cands.len();
@@ -22,12 +22,12 @@ impl BoundaryLaw {
                 None => fastest_second(&q, l, &mut cands),
             }
             for s in &mut cands[start..] {
-                *s = sym.back(s);
+                sym.turn_back(s);
             }
         }
         let mut laws = Self::from_candidates(from, to, l, &cands);
         if from == to {
-            laws.insert(0, Self::build(from, to, &Profile::default(), l.jerk.is_some()));
+            laws.insert(0, Candidate { duration: 0.0, profile: Profile::default() });
         }
         laws
     }

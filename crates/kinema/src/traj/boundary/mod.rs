@@ -56,7 +56,7 @@
 
 use self::brake::Brake;
 use self::problem::Limits;
-use self::profile::{Phase, MAX_SEGMENTS};
+use self::profile::{peaks_of, Candidate, Phase, Profile, MAX_SEGMENTS};
 use self::roots::Search;
 use super::law::{MotionLimits, MIN_DURATION};
 use crate::error::{Error, InputError, Result};
@@ -157,31 +157,28 @@ impl BoundaryLaw {
         let l = Limits::new(limits, search)?;
         l.check_states(&from, &to)?;
         let (brake, optimal) = Self::braked_candidates(from, to, &l);
-        let law = optimal.first().ok_or_else(|| no_profile(&brake.braked, &to, None))?.after(&brake, from);
+        let fastest = optimal.first().ok_or_else(|| no_profile(&brake.braked, &to, None))?;
+        let law = Self::after(&brake, from, to, &fastest.profile, l.jerk.is_some());
         check_min(law.duration)?;
         Ok(law)
     }
 
-    /// The brake of the start state, and every locally time-optimal law
-    /// from the braked state, fastest first.
-    fn braked_candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> (Brake, Vec<BoundaryLaw>) {
+    /// The brake of the start state, and every locally time-optimal
+    /// profile from the braked state, fastest first.
+    fn braked_candidates(from: BoundaryState, to: BoundaryState, l: &Limits) -> (Brake, Vec<Candidate>) {
         let brake = Brake::of(&from, l);
         let optimal = Self::candidates(brake.braked, to, l);
         (brake, optimal)
     }
 
-    /// This law (from the braked state) preceded by `brake` from `from`.
-    fn after(&self, brake: &Brake, from: BoundaryState) -> BoundaryLaw {
+    /// The law of `profile` from the braked state, preceded by `brake` from `from`.
+    fn after(brake: &Brake, from: BoundaryState, to: BoundaryState, profile: &Profile, jerk_limited: bool) -> Self {
         if brake.profile.segments().is_empty() {
-            return *self;
+            return Self::build(brake.braked, to, profile, jerk_limited);
         }
-        let mut law = Self::build(from, self.to, &brake.profile, self.jerk_limited);
-        for phase in &self.phases[..self.n] {
-            law.phases[law.n] = Phase { t0: phase.t0 + law.duration, ..*phase };
-            law.n += 1;
-        }
+        let mut law = Self::build(from, to, &brake.profile, jerk_limited);
         law.braking = law.duration;
-        law.duration += self.duration;
+        law.append(profile, brake.braked);
         law
     }
 
@@ -241,7 +238,7 @@ impl BoundaryLaw {
         to: BoundaryState,
         l: &Limits,
         duration: f64,
-        optimal: &[BoundaryLaw],
+        optimal: &[Candidate],
     ) -> Result<BoundaryLaw> {
         let tb = brake.duration();
         if let Some(fast) = optimal.first() {
@@ -257,7 +254,8 @@ impl BoundaryLaw {
             }
         }
         let rest = if tb > 0.0 { (duration - tb).max(optimal.first().map_or(0.0, |c| c.duration)) } else { duration };
-        Ok(Self::timed(brake.braked, to, l, rest, optimal)?.after(brake, from))
+        let profile = Self::timed(brake.braked, to, l, rest, optimal)?;
+        Ok(Self::after(brake, from, to, &profile, l.jerk.is_some()))
     }
 
     /// The start state.
@@ -327,33 +325,7 @@ impl BoundaryLaw {
     /// extrema inside a phase where the acceleration crosses 0). |j| is
     /// infinite for a second-order law with an acceleration step.
     pub fn peaks(&self) -> (f64, f64, f64) {
-        let (mut v, mut a, mut j) =
-            (self.from.v.abs().max(self.to.v.abs()), self.from.a.abs().max(self.to.a.abs()), 0.0f64);
-        for pc in &self.phases[..self.n] {
-            let e = pc.at(pc.dt);
-            v = v.max(pc.v.abs()).max(e.v.abs());
-            a = a.max(pc.a.abs()).max(e.a.abs());
-            j = j.max(pc.j.abs());
-            if pc.j != 0.0 {
-                let u = -pc.a / pc.j;
-                if u > 0.0 && u < pc.dt {
-                    v = v.max(pc.at(u).v.abs());
-                }
-            }
-        }
-        if !self.jerk_limited {
-            let mut prev = self.from.a;
-            for pc in &self.phases[..self.n] {
-                if pc.a != prev {
-                    j = f64::INFINITY;
-                }
-                prev = pc.a;
-            }
-            if prev != self.to.a {
-                j = f64::INFINITY;
-            }
-        }
-        (v, a, j)
+        peaks_of(&self.from, &self.to, self.jerk_limited, self.phases[..self.n].iter().copied())
     }
 }
 

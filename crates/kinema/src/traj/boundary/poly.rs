@@ -73,6 +73,11 @@ pub(super) fn real_roots(c: &[f64], lo: f64, hi: f64) -> Roots {
 /// terms at the half-width, with room (1e-12 of the coefficients' size) for
 /// rounding, so no root and no tangent within rounding can be missed.
 fn clearly_without_roots(c: &[f64], lo: f64, hi: f64) -> bool {
+    with_known_len(c, |c| clearly_without_roots_of(c, lo, hi))
+}
+
+#[inline(always)]
+fn clearly_without_roots_of(c: &[f64], lo: f64, hi: f64) -> bool {
     let (m, r) = (0.5 * (lo + hi), 0.5 * (hi - lo));
     let n = c.len() - 1;
     let mut b = [0.0; MAX_DEGREE + 1];
@@ -140,12 +145,26 @@ fn quadratic_roots(c: &[f64]) -> [Option<f64>; 2] {
     [Some(q / c[2]), Some(c[0] / q)]
 }
 
+/// `f(c)` with the length of `c` known to the compiler for the lengths the
+/// families use (degree 2 to 4), so that the loops over the coefficients
+/// are unrolled and kept in registers; the same arithmetic either way.
+#[inline(always)]
+fn with_known_len<R>(c: &[f64], f: impl Fn(&[f64]) -> R) -> R {
+    match c.len() {
+        5 => f(&c[..5]),
+        4 => f(&c[..4]),
+        3 => f(&c[..3]),
+        _ => f(c),
+    }
+}
+
 /// The polynomial's value at `x` (Horner).
 fn value(c: &[f64], x: f64) -> f64 {
-    c.iter().rev().fold(0.0, |p, &ci| p * x + ci)
+    with_known_len(c, |c| c.iter().rev().fold(0.0, |p, &ci| p * x + ci))
 }
 
 /// The value and the derivative at `x`.
+#[inline(always)]
 fn value_and_slope(c: &[f64], x: f64) -> (f64, f64) {
     let (mut p, mut d) = (0.0, 0.0);
     for &ci in c.iter().rev() {
@@ -157,7 +176,7 @@ fn value_and_slope(c: &[f64], x: f64) -> (f64, f64) {
 
 /// A bound on the rounding error of [`value`] at `x`.
 fn rounding(c: &[f64], x: f64) -> f64 {
-    let size = c.iter().rev().fold(0.0, |s, &ci| s * x.abs() + ci.abs());
+    let size = with_known_len(c, |c| c.iter().rev().fold(0.0, |s, &ci| s * x.abs() + ci.abs()));
     4.0 * c.len() as f64 * f64::EPSILON * size
 }
 
@@ -165,7 +184,12 @@ fn rounding(c: &[f64], x: f64) -> f64 {
 /// there (`fa` at `a`, `fb` at `b`): Newton steps from the secant's root,
 /// bisection where a step would leave the bracket, until a step or the
 /// bracket reaches the resolution of f64.
-fn bracketed_root(c: &[f64], mut a: f64, fa: f64, mut b: f64, fb: f64) -> f64 {
+fn bracketed_root(c: &[f64], a: f64, fa: f64, b: f64, fb: f64) -> f64 {
+    with_known_len(c, |c| bracketed_root_of(c, a, fa, b, fb))
+}
+
+#[inline(always)]
+fn bracketed_root_of(c: &[f64], mut a: f64, fa: f64, mut b: f64, fb: f64) -> f64 {
     let rising = fa < 0.0;
     let mut x = a - fa * (b - a) / (fb - fa);
     if !(x > a && x < b) {

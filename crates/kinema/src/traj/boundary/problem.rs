@@ -156,11 +156,18 @@ impl Symmetry {
 
     /// A profile found for the transformed problem, back in the original frame.
     pub fn back(self, s: &super::profile::Profile) -> super::profile::Profile {
-        let s = if self.mirror { s.mirrored() } else { *s };
+        let mut s = *s;
+        self.turn_back(&mut s);
+        s
+    }
+
+    /// [`Symmetry::back`] in place.
+    pub fn turn_back(self, s: &mut super::profile::Profile) {
+        if self.mirror {
+            s.mirror();
+        }
         if self.reverse {
-            s.reversed()
-        } else {
-            s
+            s.reverse();
         }
     }
 }

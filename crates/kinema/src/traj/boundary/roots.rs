@@ -102,7 +102,7 @@ fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64) -> f64 {
 /// signs) by regula falsi, the retained end's value halved when the same
 /// end is kept twice (Illinois) so that both ends converge. Falls back to
 /// bisection where `f` is NaN.
-fn illinois(f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
+pub(super) fn illinois(f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
     let mut side = 0;
     for _ in 0..100 {
         if !(b - a > 4.0 * f64::EPSILON * a.abs().max(b.abs())) {

@@ -50,13 +50,14 @@ pub(super) fn sync_by(
     for i in 0..from.len() {
         let l = Limits::new(&limits[i], search)?;
         l.check_states(&from[i], &to[i])?;
-        let (brake, laws) = BoundaryLaw::braked_candidates(from[i], to[i], &l);
-        let law = laws.first().ok_or_else(|| no_profile(&brake.braked, &to[i], None))?.after(&brake, from[i]);
+        let (brake, cands) = BoundaryLaw::braked_candidates(from[i], to[i], &l);
+        let first = cands.first().ok_or_else(|| no_profile(&brake.braked, &to[i], None))?;
+        let law = BoundaryLaw::after(&brake, from[i], to[i], &first.profile, l.jerk.is_some());
         check_min(law.duration)?;
         t0 = t0.max(law.duration);
         fastest.push(law);
-        critical.extend(laws.iter().map(|c| brake.duration() + c.duration));
-        optimal.push((brake, laws));
+        critical.extend(cands.iter().map(|c| brake.duration() + c.duration));
+        optimal.push((brake, cands));
         lims.push(l);
     }
     let mut tries: Vec<f64> = critical.into_iter().filter(|&t| t > t0).collect();
@@ -64,16 +65,17 @@ pub(super) fn sync_by(
     tries.sort_by(f64::total_cmp);
     tries.dedup();
     let mut last_err = None;
+    // The laws of one try, replaced in place by the next try's.
+    let mut laws = fastest.clone();
     'outer: for &t in &tries {
-        let mut laws = Vec::with_capacity(from.len());
         for i in 0..from.len() {
             if fastest[i].duration == t {
-                laws.push(fastest[i]);
+                laws[i] = fastest[i];
                 continue;
             }
             let (brake, optimal_i) = &optimal[i];
             match BoundaryLaw::timed_after(brake, from[i], to[i], &lims[i], t, optimal_i) {
-                Ok(l) => laws.push(l),
+                Ok(l) => laws[i] = l,
                 Err(e) => {
                     last_err = Some(e);
                     continue 'outer;

@@ -4,38 +4,39 @@
 
 use super::cruise::{cruise_at, timed_cruise};
 use super::problem::{Limits, Problem, SYMMETRIES};
-use super::profile::Profile;
+use super::profile::{Candidate, Profile, Trial};
 use super::second::timed_second;
 use super::timed_third::{held_peak, timed_third};
 use super::{check_min, no_profile, roots, BoundaryLaw, BoundaryState};
 use crate::error::{Error, InputError, Result};
 
 impl BoundaryLaw {
-    /// [`BoundaryLaw::with_duration`] with the limits checked and the locally
-    /// optimal laws (`optimal`, fastest first) already known.
+    /// The profile of [`BoundaryLaw::with_duration`]'s law, with the limits
+    /// checked and the locally optimal profiles (`optimal`, fastest first)
+    /// already known.
     pub(super) fn timed(
         from: BoundaryState,
         to: BoundaryState,
         l: &Limits,
         duration: f64,
-        optimal: &[BoundaryLaw],
-    ) -> Result<BoundaryLaw> {
+        optimal: &[Candidate],
+    ) -> Result<Profile> {
         let l = *l;
         check_duration(duration, optimal)?;
         if from == to && duration == 0.0 {
-            return Ok(Self::build(from, to, &Profile::default(), l.jerk.is_some()));
+            return Ok(Profile::default());
         }
         check_min(duration)?;
         // A locally optimal law of this very duration (a limit of the families below).
         if let Some(c) = optimal.iter().find(|c| (c.duration - duration).abs() <= 1e-12 * duration) {
-            return Ok(*c);
+            return Ok(c.profile);
         }
         let still = from.v == 0.0 && from.a == 0.0 && to.v == 0.0 && to.a == 0.0 && from.p == to.p;
         let p = Problem::new(&from, &to);
         let lasting = |cands: &[Profile]| Self::first_lasting(from, to, &l, cands, duration);
         // The cheaper families first: a cruise (every rest-to-rest and most
         // other cases), then the held accelerations.
-        let mut cands = Vec::with_capacity(32);
+        let mut cands = Vec::with_capacity(8);
         if still {
             // At rest at the target: stay there.
             let mut s = Profile::default();
@@ -46,8 +47,8 @@ impl BoundaryLaw {
         if l.jerk.is_none() {
             timed_second(&p, &l, duration, &mut cands);
         }
-        if let Some(law) = lasting(&cands) {
-            return Ok(law);
+        if let Some(s) = lasting(&cands) {
+            return Ok(s);
         }
         if let Some(j) = l.jerk {
             cands.clear();
@@ -56,16 +57,16 @@ impl BoundaryLaw {
                 let start = cands.len();
                 timed_third(&q, &l, j, duration, &mut cands);
                 for s in &mut cands[start..] {
-                    *s = sym.back(s);
+                    sym.turn_back(s);
                 }
             }
-            if let Some(law) = lasting(&cands) {
-                return Ok(law);
+            if let Some(s) = lasting(&cands) {
+                return Ok(s);
             }
         }
         if let Some(j) = l.jerk {
-            if let Some(law) = Self::blend(from, to, &l, j, duration) {
-                return Ok(law);
+            if let Some(s) = Self::blend(from, to, &l, j, duration) {
+                return Ok(s);
             }
         }
         Err(no_profile(&from, &to, Some(duration)))
@@ -76,7 +77,7 @@ impl BoundaryLaw {
     /// target position and one past it, blended. The limits are convex
     /// (|v|, |a|, |j| bounded) and the motion is linear in the jerk, so
     /// λ·j₁(t) + (1 − λ)·j₂(t) keeps them and ends at λ·p₁ + (1 − λ)·p₂.
-    fn blend(from: BoundaryState, to: BoundaryState, l: &Limits, j: f64, t: f64) -> Option<BoundaryLaw> {
+    fn blend(from: BoundaryState, to: BoundaryState, l: &Limits, j: f64, t: f64) -> Option<Profile> {
         let p = Problem::new(&from, &to);
         let mut below: Option<(f64, Profile)> = None;
         let mut above: Option<(f64, Profile)> = None;
@@ -85,11 +86,11 @@ impl BoundaryLaw {
             if (s.duration() - t).abs() > 1e-12 * t.max(1.0) || s.segments().iter().any(|g| !(g.dt >= 0.0)) {
                 return;
             }
-            let law = Self::build(from, to, &s, true);
-            if !law.valid_but_position(l) {
+            let trial = Trial::new(from, to, &s, true);
+            if !trial.valid_but_position(l) {
                 return;
             }
-            let r = law.end_state().p - to.p;
+            let r = trial.residual();
             if r <= 0.0 && below.is_none_or(|(b, _)| r > b) {
                 below = Some((r, s));
             }
@@ -115,13 +116,14 @@ impl BoundaryLaw {
         }
         let ((r1, s1), (r2, s2)) = (below?, above?);
         let lambda = if r2 == r1 { 0.0 } else { r2 / (r2 - r1) }; // weight of s1
-        let law = Self::build(from, to, &mix(&s1, &s2, lambda, t), true);
-        (law.valid(l) && (law.duration - t).abs() <= 1e-12 * t.max(1.0)).then_some(law)
+        let mixed = mix(&s1, &s2, lambda, t);
+        let trial = Trial::new(from, to, &mixed, true);
+        (trial.valid(l) && (trial.duration() - t).abs() <= 1e-12 * t.max(1.0)).then_some(mixed)
     }
 }
 
 /// Refuses a duration that is not finite and ≥ 0, or shorter than the fastest law's.
-fn check_duration(duration: f64, optimal: &[BoundaryLaw]) -> Result<()> {
+fn check_duration(duration: f64, optimal: &[Candidate]) -> Result<()> {
     if !(duration.is_finite() && duration >= 0.0) {
         return Err(Error::Input(InputError::OutOfRange {
             what: "duration".into(),

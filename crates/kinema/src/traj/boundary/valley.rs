@@ -80,9 +80,16 @@ pub(super) fn valley_roots(p: &Problem, acc: f64, j: f64, out: &mut Vec<(f64, bo
         return;
     }
     let clamp = |x: f64| x.clamp(lo, hi.max(lo)) * acc;
+    // The smallest and largest x² on the searched interval: a quartic whose
+    // every root would fail its family's test on a_p² = C + x² is not solved
+    // (x² is monotone in |x|, so the skip drops only roots the test drops).
+    let (a, b) = (lo - PAD, hi + PAD);
+    let least_sq = if a <= 0.0 && b >= 0.0 { 0.0 } else { (a * a).min(b * b) };
+    let most_sq = (a * a).max(b * b);
     // Peak below a_max: the squared-out quartic, each root given its sign.
     let s = [p0 * p0 - c * (c + w) * (c + w), -2.0 * p0 * (2.0 * c + w), c * c, -2.0 * p0, c];
-    for &x0 in poly::real_roots(&s, lo - PAD, hi + PAD).as_slice() {
+    let below = if c + least_sq > 1.0 + PAD { poly::Roots::default() } else { poly::real_roots(&s, a, b) };
+    for &x0 in below.as_slice() {
         if c + x0 * x0 > 1.0 + PAD {
             continue;
         }
@@ -94,8 +101,11 @@ pub(super) fn valley_roots(p: &Problem, acc: f64, j: f64, out: &mut Vec<(f64, bo
         }
     }
     // Peak held at a_max.
+    if c + most_sq < 1.0 - PAD {
+        return;
+    }
     let t = [0.5 * (c + 1.0) * (c + w) + p0, -(2.0 * c + w), 0.5 * (2.0 * c + w + 1.0), -1.0, 0.5];
-    let xs = poly::real_roots(&t, lo - PAD, hi + PAD);
+    let xs = poly::real_roots(&t, a, b);
     out.extend(xs.as_slice().iter().filter(|&&x| c + x * x >= 1.0 - PAD).map(|&x| (clamp(x), true)));
 }
 
@@ -106,9 +116,16 @@ pub(super) fn held_roots(p: &Problem, acc: f64, j: f64, hmax: f64, out: &mut Vec
     let (c, w, p0) = (u.c, u.w, u.p0);
     let hi = hmax * j / acc;
     let to_seconds = |h: f64| h.clamp(0.0, hi) * acc / j;
-    // Peak a_p below a_max, the unknown.
+    // Peak a_p below a_max, the unknown; not solved where every a_p in its
+    // range gives a hold h = a_p² − 1 − C outside [0, hi] (h is monotone in a_p²).
     let q = [p0 - 0.5 * (c - 1.0) * (c + w), w, 0.5 * (w + 1.0), 1.0, 0.5];
-    for &ap in poly::real_roots(&q, -1.0 - PAD, 1.0 + PAD).as_slice() {
+    let (most_h, least_h) = ((1.0 + PAD) * (1.0 + PAD) - 1.0 - c, -1.0 - c);
+    let peaks = if most_h < -PAD || least_h > hi + PAD {
+        poly::Roots::default()
+    } else {
+        poly::real_roots(&q, -1.0 - PAD, 1.0 + PAD)
+    };
+    for &ap in peaks.as_slice() {
         let h = ap * ap - 1.0 - c;
         if h >= -PAD && h <= hi + PAD {
             if ap >= -PAD {
@@ -267,7 +284,7 @@ mod tests {
                 let mut cands = Vec::new();
                 fastest_third(&sym.problem(&p), &l, lim.jerk.unwrap_or(1.0), &mut cands);
                 let cands: Vec<_> = cands.iter().map(|s| sym.back(s)).collect();
-                BoundaryLaw::from_candidates(from, to, &l, &cands).iter().map(|law| law.duration()).collect()
+                BoundaryLaw::from_candidates(from, to, &l, &cands).iter().map(|c| c.duration).collect()
             })
             .collect()
     }
