@@ -43,6 +43,7 @@ pub mod parallel;
 pub mod parallel_search;
 pub mod search;
 pub mod spherical;
+pub(crate) mod spherical_arm;
 pub mod srs;
 pub(crate) mod srs_kernel;
 pub mod subproblems;

@@ -3,29 +3,28 @@
 //! E₄E₅E₆ fix w, so the target's wrist centre W = G(w) (G = T·T₀⁻¹) depends
 //! on q₁…q₃ only: W = E₁E₂E₃(w).
 //!
-//! * **Axes 2 ∥ 3** ([`ShoulderKind::Parallel23`]): turning about lines
-//!   parallel to h₂ keeps the component along h₂, so
-//!   h₂ᵀ·E₁⁻¹(W) = h₂ᵀ·w — subproblem 4 in q₁ (*shoulder* 1, 2). Then
-//!   V = E₁⁻¹(W) = E₂E₃(w) and E₂ fixes p₂: |E₃(w) − p₂| = |V − p₂|,
-//!   subproblem 3 in q₃ (*elbow* 1, 2); q₂ by subproblem 1.
-//! * **Axes 1 and 2 meet at c** ([`ShoulderKind::Intersecting12`]): E₁, E₂
-//!   fix c, so |E₃(w) − c| = |W − c| gives q₃ by subproblem 3 (*elbow*
-//!   1, 2), and rot(h₁, q₁)·rot(h₂, q₂)·(E₃(w) − c) = W − c gives (q₁, q₂) by
-//!   subproblem 2 (*shoulder* 1, 2).
+//! **Arm** (q₁, q₂, q₃: the arm's closed form, `geo/spherical_arm.rs`):
+//! with axes 2 ∥ 3 ([`ShoulderKind::Parallel23`]) subproblem 4 gives q₁
+//! (*shoulder* 1, 2), subproblem 3 q₃ (*elbow* 1, 2) and subproblem 1 q₂;
+//! with axes 1 and 2 meeting ([`ShoulderKind::Intersecting12`]) subproblem 3
+//! gives q₃ (*elbow* 1, 2) and subproblem 2 (q₁, q₂) (*shoulder* 1, 2).
 //!
 //! **Wrist.** M = (R₁R₂R₃)ᵀ·R_G = R₄R₅R₆ gives q₄, q₅, q₆ by the shared
 //! spherical-wrist solve (`geo/wrist.rs`, *wrist* 1, 2), the one
 //! the DH solver `pieper` uses too. At its
 //! singularity (axes 4 and 6 aligned) *wrist-1* takes q₄ = 0 and *wrist-2*
 //! q₄ = π (wrapped into the limits when possible).
-//! **Shoulder singularity** (W on axis 1 for axes 2 ∥ 3): q₁ is free; one
-//! solution with q₁ = 0 per elbow and wrist branch. Coinciding branches of a
-//! target on a reach boundary are both returned.
+//! **Shoulder singularity** (W on axis 1): q₁ is free. For axes 2 ∥ 3 both
+//! shoulder branches are returned, q₁ = 0 and q₁ = π (the arm reaching
+//! either way), each with its elbow and wrist branches; for axes 1 and 2
+//! meeting, q₁ = 0. E₃(w) on axis 2 leaves q₂ free: q₂ = 0. Coinciding
+//! branches of a target on a reach boundary are both returned.
 
 use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel};
-use super::subproblems::{rotate, rotate_sc, sp1, sp2, sp3, sp4};
+use super::spherical_arm::{ArmMiss, SphericalArm};
+use super::subproblems::rotate_sc;
 use super::wrist::SphericalWrist;
 use super::{candidates_with, label, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
@@ -64,7 +63,8 @@ pub enum ShoulderKind {
 #[derive(Debug, Clone)]
 pub struct SphericalWristIk {
     common: Common,
-    shoulder: ShoulderKind,
+    /// Axes 1, 2, 3: the arm's closed form.
+    arm: SphericalArm,
     /// The wrist centre at q = 0 \[m\].
     w: V3,
     /// Axes 4, 5, 6: the wrist's orientation solve.
@@ -127,12 +127,13 @@ impl SphericalWristIk {
             );
         }
         let wrist = SphericalWrist::new([h(3), h(4), h(5)], 0.0);
-        Ok(SphericalWristIk { common, shoulder, w, wrist })
+        let arm = SphericalArm::new([h(0), h(1), h(2)], [p(0), p(1), p(2)], shoulder, [0.0; 2]);
+        Ok(SphericalWristIk { common, arm, w, wrist })
     }
 
     /// The arrangement of the first three axes that was detected.
     pub fn shoulder_kind(&self) -> ShoulderKind {
-        self.shoulder
+        self.arm.shoulder()
     }
 
     /// The robot this solver was built for.
@@ -151,7 +152,7 @@ impl SphericalWristIk {
             return Err(u);
         }
         let mut arms = [([0.0; 3], 0, 0); 4];
-        let n = arm(c, self.shoulder, &self.w, &wt, &mut arms)?;
+        let n = self.arm.solve(&self.w, &wt, &mut arms).map_err(arm_unreachable)?;
         let mut worst_wrist = f64::INFINITY;
         let (gh6, gu6) = (g.rot * h(5), g.rot * self.wrist.u());
         for &(q, si, ei) in &arms[..n] {
@@ -180,70 +181,19 @@ impl SphericalWristIk {
     }
 }
 
-/// The arm branches of the first three joints that carry the point `w`
-/// (at q = 0) to `wt` — E₁E₂E₃(w) = wt — as (\[q₁, q₂, q₃\], shoulder,
-/// elbow) in `arms`; returns how many, or why there is none.
-pub(super) fn arm(
-    c: &Common,
-    shoulder: ShoulderKind,
-    w: &V3,
-    wt: &V3,
-    arms: &mut [([f64; 3], usize, usize); 4],
-) -> std::result::Result<usize, Unreachable> {
-    let (h, p) = (|i| c.h(i), |i| c.p(i));
-    let mut n = 0;
-    let mut miss = f64::INFINITY;
-    let boundary;
-    match shoulder {
-        ShoulderKind::Parallel23 => {
-            boundary = "region the wrist centre reaches at the required distance from axis 2";
-            let s1 = sp4(&h(1), &h(0), &(wt - p(0)), h(1).dot(&(w - p(0))));
-            if !s1.exact {
-                return Err(Unreachable::OutsideReach {
-                    by: s1.miss,
-                    boundary: "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)".into(),
-                });
-            }
-            for (si, &t1) in s1.as_slice().iter().enumerate() {
-                // V = E1⁻¹(W): rot(h1, −q1) = rot(h1, t1).
-                let v = p(0) + rotate(&h(0), t1, &(wt - p(0)));
-                let s3 = sp3(&h(2), &(w - p(2)), &(p(1) - p(2)), (v - p(1)).norm());
-                if !s3.exact {
-                    miss = miss.min(s3.miss);
-                    continue;
-                }
-                for (ei, &q3) in s3.as_slice().iter().enumerate() {
-                    let x = p(2) + rotate(&h(2), q3, &(w - p(2)));
-                    let q2 = sp1(&h(1), &(x - p(1)), &(v - p(1))).first();
-                    arms[n] = ([-t1, q2, q3], si, ei);
-                    n += 1;
-                }
-            }
+/// The arm's miss in this solver's words: each case an [`Unreachable::OutsideReach`]
+/// with the arm kernel's figure.
+pub(super) fn arm_unreachable(miss: ArmMiss) -> Unreachable {
+    let boundary = match miss {
+        ArmMiss::LateralOffset { .. } => {
+            "cylinder around axis 1 the wrist centre cannot enter (the arm's lateral offset)"
         }
-        ShoulderKind::Intersecting12 { c: cp } => {
-            boundary = "spherical shell around the shoulder point that the wrist centre reaches";
-            let s3 = sp3(&h(2), &(w - p(2)), &(cp - p(2)), (wt - cp).norm());
-            if !s3.exact {
-                return Err(Unreachable::OutsideReach { by: s3.miss, boundary: boundary.into() });
-            }
-            for (ei, &q3) in s3.as_slice().iter().enumerate() {
-                let x = p(2) + rotate(&h(2), q3, &(w - p(2)));
-                let (a1, a2) = sp2(&h(0), &(wt - cp), &h(1), &(x - cp));
-                if !a1.exact {
-                    miss = miss.min(a1.miss);
-                    continue;
-                }
-                for (si, (&t1, &q2)) in a1.as_slice().iter().zip(a2.as_slice()).enumerate() {
-                    arms[n] = ([-t1, q2, q3], si, ei);
-                    n += 1;
-                }
-            }
+        ArmMiss::Elbow { .. } => "region the wrist centre reaches at the required distance from axis 2",
+        ArmMiss::Shell { .. } | ArmMiss::Shoulder { .. } => {
+            "spherical shell around the shoulder point that the wrist centre reaches"
         }
-    }
-    if n == 0 {
-        return Err(Unreachable::OutsideReach { by: miss, boundary: boundary.into() });
-    }
-    Ok(n)
+    };
+    Unreachable::OutsideReach { by: miss.by(), boundary: boundary.into() }
 }
 
 impl ClosedForm for SphericalWristIk {

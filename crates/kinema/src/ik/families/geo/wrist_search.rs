@@ -18,7 +18,8 @@ use nalgebra::Vector3;
 
 use super::kin::{distance_to_line, intersection, parallel, screw};
 use super::search::{find_zeros, LABELS};
-use super::spherical::{arm, ShoulderKind};
+use super::spherical::ShoulderKind;
+use super::spherical_arm::SphericalArm;
 use super::subproblems::{rot, sp1};
 use super::{candidates_with, reject, too_far, Common, GEOM_TOL};
 use crate::error::Result;
@@ -53,7 +54,8 @@ type V3 = Vector3<f64>;
 #[derive(Debug, Clone)]
 pub struct TwoIntersectingSearchIk {
     common: Common,
-    shoulder: ShoulderKind,
+    /// Axes 1, 2, 3: the arm's closed form.
+    arm: SphericalArm,
     /// Where axes 5 and 6 meet at q = 0 \[m\].
     x: V3,
     /// A unit vector ⊥ h₆, for q₆.
@@ -107,7 +109,8 @@ impl TwoIntersectingSearchIk {
         let h6 = h(5);
         let seed = if h6.x.abs() < 0.9 { V3::x() } else { V3::y() };
         let u6 = (seed - h6 * h6.dot(&seed)).normalize();
-        Ok(TwoIntersectingSearchIk { common, shoulder, x, u6 })
+        let arm = SphericalArm::new([h(0), h(1), h(2)], [p(0), p(1), p(2)], shoulder, [0.0; 2]);
+        Ok(TwoIntersectingSearchIk { common, arm, x, u6 })
     }
 
     /// The robot this solver was built for.
@@ -122,10 +125,7 @@ impl TwoIntersectingSearchIk {
         let h = |i| c.h(i);
         let x4 = screw(&h(3), &c.p(3), q4).transform_point(&self.x);
         let mut arms = [([0.0; 3], 0, 0); 4];
-        let n = arm(c, self.shoulder, &x4, &g.transform_point(&self.x), &mut arms).map_err(|u| match u {
-            Unreachable::OutsideReach { by, .. } => by,
-            _ => f64::INFINITY,
-        })?;
+        let n = self.arm.solve(&x4, &g.transform_point(&self.x), &mut arms).map_err(|miss| miss.by())?;
         let Some(&(q, ..)) = arms[..n].iter().find(|(_, si, ei)| si * 2 + ei == b) else { return Err(0.0) };
         let m = self.m(g, q, q4);
         Ok((h(4).dot(&(m * h(5))) - h(4).dot(&h(5)), q))
