@@ -13,6 +13,13 @@ const LEFT: &str = "-1,1.5708,0,0,0,0,0";
 const RIGHT: &str = "1,1.5708,0,0,0,0,0";
 const IIWA: &str = "lbr-iiwa-14-r820";
 
+/// `kinema plan` of the iiwa from LEFT to RIGHT in `scene`, with `extra` options.
+fn plan_left_to_right(scene: &str, extra: &[&str]) -> crate::common::Run {
+    let mut args = vec!["plan", "--robot", IIWA, "--scene", scene, "--from", LEFT, "--to", RIGHT];
+    args.extend_from_slice(extra);
+    kinema(&args)
+}
+
 fn json(text: &str) -> serde_json::Value {
     serde_json::from_str(text).unwrap_or_else(|e| panic!("not JSON ({e}): {text}"))
 }
@@ -43,8 +50,7 @@ fn a_planned_motion_goes_around_the_post_and_passes_the_scene_check() {
     ]);
     assert!(!ptp.ok && ptp.stderr.contains("post"), "{}", ptp.stderr);
 
-    let planned =
-        kinema(&["plan", "--robot", IIWA, "--scene", scene, "--from", LEFT, "--to", RIGHT, "--out", out_s, "--json"]);
+    let planned = plan_left_to_right(scene, &["--out", out_s, "--json"]);
     assert!(planned.ok, "{}", planned.stderr);
     let answer = json(&planned.stdout);
     assert_eq!(answer["motion"], "plan");
@@ -61,19 +67,7 @@ fn a_planned_motion_goes_around_the_post_and_passes_the_scene_check() {
 
     // The same seed, the same bytes; another seed, another search.
     let again = dir.path().join("again.csv");
-    let rerun = kinema(&[
-        "plan",
-        "--robot",
-        IIWA,
-        "--scene",
-        scene,
-        "--from",
-        LEFT,
-        "--to",
-        RIGHT,
-        "--out",
-        again.to_str().unwrap(),
-    ]);
+    let rerun = plan_left_to_right(scene, &["--out", again.to_str().unwrap()]);
     assert!(rerun.ok, "{}", rerun.stderr);
     assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
 }
@@ -126,23 +120,7 @@ fn a_colliding_start_a_spent_budget_and_a_missing_goal_are_errors() {
     assert_eq!(folded.code, Some(1));
     assert!(folded.stderr.contains("the start configuration collides: `link 1` – `link 3`"), "{}", folded.stderr);
     let out = dir.path().join("never.csv");
-    let starved = kinema(&[
-        "plan",
-        "--robot",
-        IIWA,
-        "--scene",
-        scene,
-        "--from",
-        LEFT,
-        "--to",
-        RIGHT,
-        "--iterations",
-        "1",
-        "--step",
-        "0.01",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let starved = plan_left_to_right(scene, &["--iterations", "1", "--step", "0.01", "--out", out.to_str().unwrap()]);
     assert_eq!(starved.code, Some(1));
     assert!(
         starved.stderr.contains("no collision-free path found before the limit of 1 iteration(s) ran out"),
