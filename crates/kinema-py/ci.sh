@@ -9,8 +9,8 @@
 # against Pinocchio and Corke's toolbox (FK, Jacobian, IK, and the Python dynamics calls), or a
 # SKIP line if PyPI cannot be reached.
 # Needs Rust (cargo), a C compiler and Python ≥ 3.9 with pip and venv (python3,
-# or $PYTHON). Downloads pinned maturin/numpy/pytest (and matplotlib, spatialmath-python for the
-# tests of the optional plots and SE3 poses) from PyPI and the crates in
+# or $PYTHON). Downloads pinned maturin/numpy/pytest (and matplotlib, spatialmath-python, dask[distributed]
+# for the tests of the optional plots, SE3 poses and kinema.dask) from PyPI and the crates in
 # Cargo.lock. Cargo output goes to crates/kinema-py/target (gitignored; reused
 # between runs), or to $KINEMA_PY_TARGET_DIR. Exits non-zero on any failure.
 set -euo pipefail
@@ -25,6 +25,8 @@ PYTEST_VERSION=9.2.0
 # Optional dependencies of kinema that its tests use: plots and spatialmath poses.
 MATPLOTLIB_VERSION=3.11.2
 SPATIALMATH_VERSION=1.1.18
+# kinema.dask's tests run on a LocalCluster of two worker processes.
+DASK_VERSION=2026.8.0
 
 start=$(date +%s)
 step_start=$start
@@ -43,7 +45,8 @@ step "venv in $tmp with $("$python" --version 2>&1)"
 py="$tmp/venv/bin/python"
 "$py" -m pip install --quiet --disable-pip-version-check \
   "maturin==$MATURIN_VERSION" "numpy==$NUMPY_VERSION" "pytest==$PYTEST_VERSION" \
-  "matplotlib==$MATPLOTLIB_VERSION" "spatialmath-python==$SPATIALMATH_VERSION"
+  "matplotlib==$MATPLOTLIB_VERSION" "spatialmath-python==$SPATIALMATH_VERSION" \
+  "dask[distributed]==$DASK_VERSION"
 
 step "maturin build --release (CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
 "$tmp/venv/bin/maturin" build --release --locked --quiet \

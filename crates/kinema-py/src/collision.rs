@@ -27,13 +27,17 @@ use crate::robot::PyRobot;
 #[pyclass(frozen, name = "Scene", module = "kinema")]
 pub(crate) struct PyScene {
     pub(crate) scene: Arc<Scene>,
+    /// The TOML text it was read from, which it pickles as.
+    pub(crate) text: Arc<SceneText>,
     /// The scene with all its robots as obstacles, made at the first check.
     standing: OnceLock<Arc<Scene>>,
 }
 
 impl PyScene {
-    fn new(scene: Scene) -> PyScene {
-        PyScene { scene: Arc::new(scene), standing: OnceLock::new() }
+    /// The scene of TOML `text`, named `file` in errors, with paths relative to `dir`.
+    pub(crate) fn parse(text: SceneText) -> PyResult<PyScene> {
+        let scene = Scene::from_toml(&text.text, &text.file, &text.dir).map_err(geometry_to_py)?;
+        Ok(PyScene { scene: Arc::new(scene), text: Arc::new(text), standing: OnceLock::new() })
     }
 
     /// The scene for a check of the robot that is its robot `member` (or of
@@ -61,7 +65,9 @@ impl PyScene {
     ///     DescriptionError: a key or value is wrong (file, line and key in the message).
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
-        Scene::load(&path).map(PyScene::new).map_err(geometry_to_py)
+        let text = kinema::read_bounded_text(&path, "a scene", kinema_geometry::MAX_SCENE_BYTES).map_err(to_py)?;
+        let dir = path.parent().unwrap_or(std::path::Path::new(".")).to_path_buf();
+        PyScene::parse(SceneText { text, file: path.display().to_string(), dir })
     }
 
     /// A scene from TOML text; mesh paths are relative to ``base_dir``
@@ -70,7 +76,7 @@ impl PyScene {
     #[pyo3(signature = (text, base_dir=None))]
     fn from_toml(text: &str, base_dir: Option<PathBuf>) -> PyResult<Self> {
         let dir = base_dir.unwrap_or_else(|| PathBuf::from("."));
-        Scene::from_toml(text, "scene", &dir).map(PyScene::new).map_err(geometry_to_py)
+        PyScene::parse(SceneText { text: text.to_string(), file: "scene".into(), dir })
     }
 
     /// The obstacles' names, in file order.
@@ -91,7 +97,7 @@ impl PyScene {
     /// Raises:
     ///     InvalidInput: the scene has no robot of that name.
     ///     RobotFileError, DescriptionError: its description cannot be read.
-    fn robot(&self, name: &str) -> PyResult<PyRobot> {
+    pub(crate) fn robot(&self, name: &str) -> PyResult<PyRobot> {
         let Some(member) = self.scene.member(name) else {
             return Err(to_py(kinema::Error::Input(kinema::InputError::UnknownName {
                 what: "scene robot".into(),
@@ -101,7 +107,11 @@ impl PyScene {
         };
         let robot = kinema::Robot::load(&member.robot, member.tip.as_deref()).map_err(to_py)?;
         let placed = kinema::traj::cell::placed(&robot, &member.world_from_base).map_err(to_py)?;
-        let source = Source { member: Some(name.to_string()), ..Source::named(&member.robot, member.tip.clone()) };
+        let source = Source {
+            member: Some(name.to_string()),
+            scene: Some(Arc::clone(&self.text)),
+            ..Source::named(&member.robot, member.tip.clone())
+        };
         Ok(PyRobot::new(Arc::new(placed), source))
     }
 
@@ -125,34 +135,57 @@ pub(crate) struct Source {
     pub tip: Option<String>,
     /// The scene robot it is (from `Scene.robot`), not its own obstacle.
     pub member: Option<String>,
+    /// The text of that scene, which such a robot pickles with.
+    pub scene: Option<Arc<SceneText>>,
     /// The description itself, for a robot defined in code rather than read from `spec`.
     pub inline: Option<Inline>,
 }
 
-/// A description given in code (`Robot.from_dh`, `Robot.from_urdf_string`), kept with its robot.
+/// A description given in code (`Robot.from_dh`, `Robot.from_urdf_string`) or
+/// unpickled, kept with its robot.
 #[derive(Debug, Clone)]
 pub(crate) enum Inline {
     /// DH rows, base, tool and poses: no link shapes.
     Description(Arc<kinema::description::Description>),
     /// A URDF document, with its `<collision>` shapes.
-    Urdf(Arc<str>),
+    Urdf(Arc<DescriptionText>),
+    /// A kinema TOML description, with its `[[shape]]` tables.
+    Toml(Arc<DescriptionText>),
+}
+
+/// The text of a robot description and where its relative mesh paths start.
+#[derive(Debug, Clone)]
+pub(crate) struct DescriptionText {
+    pub text: String,
+    /// The name of the text in messages (the file it was read from, if any).
+    pub file: String,
+    /// Where relative mesh paths start.
+    pub dir: PathBuf,
+    /// Where `package://` meshes are searched, before `ROS_PACKAGE_PATH`.
+    pub package_paths: Vec<PathBuf>,
+}
+
+/// The text of a scene file, named `file` in errors; its paths are relative to `dir`.
+#[derive(Debug, Clone)]
+pub(crate) struct SceneText {
+    pub text: String,
+    pub file: String,
+    pub dir: PathBuf,
 }
 
 impl Source {
     /// The source of a robot read from `spec` (a built-in name or a path).
     pub(crate) fn named(spec: &str, tip: Option<String>) -> Source {
-        Source { spec: spec.to_string(), tip, member: None, inline: None }
+        Source { spec: spec.to_string(), tip, member: None, scene: None, inline: None }
     }
 
-    /// The collision shapes of an inline URDF `text` (meshes searched in
-    /// `ROS_PACKAGE_PATH`, relative paths from the working directory).
-    fn inline_urdf(&self, text: &str) -> kinema_geometry::Result<kinema_geometry::UrdfRobot> {
-        let options = UrdfOptions {
-            tip: self.tip.clone(),
-            package_paths: kinema_geometry::ros_package_path(),
-            skip_visual: true,
-        };
-        kinema_geometry::urdf_from_str(text, "<string>", std::path::Path::new("."), &options)
+    /// The collision shapes of an inline URDF (meshes searched in its
+    /// package paths, then `ROS_PACKAGE_PATH`; relative paths from its `dir`).
+    fn inline_urdf(&self, urdf: &DescriptionText) -> kinema_geometry::Result<kinema_geometry::UrdfRobot> {
+        let mut package_paths = urdf.package_paths.clone();
+        package_paths.extend(kinema_geometry::ros_package_path());
+        let options = UrdfOptions { tip: self.tip.clone(), package_paths, skip_visual: true };
+        kinema_geometry::urdf_from_str(&urdf.text, &urdf.file, &urdf.dir, &options)
     }
 
     /// The link shapes of `robot` (loaded from this source) for a check that
@@ -172,12 +205,27 @@ impl Source {
                 Ok(u) => Ok((u.collision, None)),
                 Err(e) => Ok((RobotGeometry::new(robot, Vec::new())?, Some(e))),
             },
+            Some(Inline::Toml(toml)) => {
+                match kinema_geometry::toml_geometry(robot, &toml.text, &toml.file, &toml.dir) {
+                    Ok(geometry) => Ok((geometry, None)),
+                    Err(e @ (kinema_geometry::Error::MeshNotFound { .. } | kinema_geometry::Error::Mesh { .. })) => {
+                        Ok((RobotGeometry::new(robot, Vec::new())?, Some(e)))
+                    }
+                    Err(e) => Err(e),
+                }
+            }
         }
     }
 
     /// The source of a robot defined in code; `name` stands for it in messages.
     pub(crate) fn inline(name: &str, inline: Inline) -> Source {
-        Source { spec: format!("<{name}, defined in code>"), tip: None, member: None, inline: Some(inline) }
+        Source {
+            spec: format!("<{name}, defined in code>"),
+            tip: None,
+            member: None,
+            scene: None,
+            inline: Some(inline),
+        }
     }
 
     /// The source of a `robot` argument: a `Robot`'s own, or the built-in
@@ -233,6 +281,11 @@ impl PyRobot {
             Inline::Urdf(text) => {
                 let u = self.source.inline_urdf(text)?;
                 (u.robot, u.collision)
+            }
+            Inline::Toml(toml) => {
+                let robot = (*self.robot).clone();
+                let geometry = kinema_geometry::toml_geometry(&robot, &toml.text, &toml.file, &toml.dir)?;
+                (robot, geometry)
             }
             Inline::Description(desc) => {
                 return Err(kinema_geometry::Error::Shape {

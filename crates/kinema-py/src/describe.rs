@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::args::{check_shape, f64_array, pose_from_rows};
-use crate::collision::{Inline, Source};
+use crate::collision::{DescriptionText, Inline, Source};
 use crate::errors::{invalid, to_py};
 use crate::robot::PyRobot;
 
@@ -140,7 +140,13 @@ impl PyRobot {
     #[pyo3(signature = (text, tip=None))]
     fn from_urdf_string(text: &str, tip: Option<&str>) -> PyResult<Self> {
         let robot = Robot::from_urdf_str(text, "<string>", tip).map_err(to_py)?;
-        let mut source = Source::inline(robot.name(), Inline::Urdf(Arc::from(text)));
+        let urdf = DescriptionText {
+            text: text.to_string(),
+            file: "<string>".into(),
+            dir: ".".into(),
+            package_paths: Vec::new(),
+        };
+        let mut source = Source::inline(robot.name(), Inline::Urdf(Arc::new(urdf)));
         source.tip = tip.map(str::to_string);
         Ok(PyRobot::new(Arc::new(robot), source))
     }

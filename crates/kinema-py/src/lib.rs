@@ -19,7 +19,7 @@
 //! `errors` (exceptions), `args` (argument conversion), `robot` (the `Robot` class: loading, forward kinematics,
 //! Jacobians), `describe` (robots defined in code: `from_dh`, `from_urdf_string`), `collision` (the `Scene` class, collision and distance), `dynamics`, `ik` (with `batch` for `ik_batch`), `traj`
 //! (joint-space motions), `cartesian` (`lin`, `circ`), `check`, `time_law`, `toolbox` (the toolbox's `ctraj` and spatialmath poses), `plot` (matplotlib figures),
-//! `program` (the robot language), `cell`; `npio` and `fast` are the per-call
+//! `program` (the robot language), `cell`, `pickle` (robots and scenes pickled by description); `npio` and `fast` are the per-call
 //! and batch paths of numpy arrays. The `Robot` class's methods are spread
 //! over these files (PyO3's `multiple-pymethods`).
 
@@ -36,6 +36,7 @@ mod errors;
 mod fast;
 mod ik;
 mod npio;
+mod pickle;
 mod plan;
 mod plot;
 mod program;
