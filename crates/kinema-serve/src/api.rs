@@ -18,6 +18,10 @@ use kinema_lang::{Stop, StopReason};
 use serde::Serialize;
 use serde_json::Value;
 
+mod plan;
+
+pub use plan::MAX_PLAN_TIME;
+
 use crate::cell::{CellAnswer, CellMotion};
 use crate::error::{Error, Result};
 use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, SceneReq, TrajReq};
@@ -313,6 +317,7 @@ impl App {
             "/api/ik" => |a, b, _| a.ik(b),
             "/api/traj" => |a, b, _| a.traj(b),
             "/api/run" => App::run,
+            "/api/plan" => App::plan,
             "/api/manip" => |a, b, _| a.manip(b),
             "/api/collide" => |a, b, _| a.collide(b),
             "/api/scene" => |a, b, _| a.scene(b),

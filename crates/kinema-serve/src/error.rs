@@ -56,7 +56,7 @@ pub enum Error {
         message: String,
     },
     /// A path the server does not serve.
-    #[error("no such path `{path}`; the page is at / and the API under /api/ (robots, robots/NAME, fk, ik, traj, run, manip)")]
+    #[error("no such path `{path}`; the page is at / and the API under /api/ (robots, robots/NAME, fk, ik, traj, run, plan, manip, collide, scene, cell)")]
     NotFound {
         /// The path asked for.
         path: String,
@@ -129,7 +129,7 @@ pub enum Error {
     /// No answer within the request timeout: the request waited too long for
     /// one of the slots of the CPU-heavy endpoints, or took too long (503,
     /// with `Retry-After`).
-    #[error("no answer within {} s: the server is busy with other CPU-heavy requests (ik, traj, run) or this one takes too long; try again", timeout.as_secs_f64())]
+    #[error("no answer within {} s: the server is busy with other CPU-heavy requests (ik, traj, run, plan) or this one takes too long; try again", timeout.as_secs_f64())]
     Busy {
         /// The request timeout.
         timeout: std::time::Duration,

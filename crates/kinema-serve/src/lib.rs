@@ -34,6 +34,7 @@
 //! | `POST /api/ik` | `{robot?, T}` or `{robot?, position, rpy}`, optional `q3` or `psi`, `q0`, `solver`, `scene`, `margin` | every solution: `q`, `branch`, `within_limits`, residuals |
 //! | `POST /api/traj` | `{robot?, kind: "ptp", from, to}` or `{kind: "lin", from, T \| position+rpy}` | `t`, `q`, `qd`, `qdd` |
 //! | `POST /api/run` | `{robot?, program, dt?, start?}` | `t`, `q`, `qd`, `qdd`, `motions`, `warnings` |
+//! | `POST /api/plan` | `{robot?, from, to \| pose}`, optional `scene`, `margin`, `seed`, `time_limit`, `dt`, `profile`, `speed` | the fields of `kinema plan --json` (`plan`: via points, counts) and `t`, `q`, `qd`, `qdd` |
 //! | `GET /api/robots/{name}/geometry` | — | `{robot, links, visual, collision}`: shapes in link frames ([`GeometryAnswer`]) |
 //! | `POST /api/scene` | `{scene}` (TOML text) | `{obstacles}` in the world frame ([`SceneAnswer`]) |
 //! | `GET /api/scene` | — | the server's scene ([`App::with_scene`]): `{obstacles}` |
@@ -51,9 +52,10 @@
 //! | time for a head, from connecting or the previous answer (so also the keep-alive idle time) | 10 s | connection closed |
 //! | request body | [`MAX_BODY`] = 1 MiB | 413 JSON, `Connection: close`; from the `Content-Length` alone, unread |
 //! | time for the body after the head | 10 s | 408 JSON, `Connection: close` |
-//! | CPU-heavy requests (`/api/ik`, `/api/traj`, `/api/run`) computed at once, on blocking threads | number of CPUs (≥ 2); the others wait | — |
+//! | CPU-heavy requests (`/api/ik`, `/api/traj`, `/api/run`, `/api/plan`, `/api/collide`, `/api/scene`) computed at once, on blocking threads | number of CPUs (≥ 2); the others wait | — |
 //! | time from head to answer, waiting for a slot included | 30 s | 503 JSON, `Retry-After: 1` |
 //! | a `/api/run` program's running time | [`RUN_BUDGET`] = 10 s | 422 JSON naming the budget, with `budget_s` and `diagnostics` |
+//! | a `/api/plan` search's time | its `time_limit` (1 s), at most [`MAX_PLAN_TIME`] = 10 s and [`RUN_BUDGET`] | 422 JSON: the planner's message |
 //! | samples of `/api/traj` and `/api/run` | [`MAX_SAMPLES`] = 200 000 | 422 JSON |
 //! | connections at once | 1024 | further ones wait in the listen backlog |
 //! | shutting down | 2 s for requests in progress | a running program is stopped → 503 JSON |
@@ -99,7 +101,7 @@ mod shapes;
 #[cfg(feature = "server")]
 mod server;
 
-pub use api::{App, Reply, MAX_BODY, MAX_SAMPLES, RUN_BUDGET};
+pub use api::{App, Reply, MAX_BODY, MAX_PLAN_TIME, MAX_SAMPLES, RUN_BUDGET};
 pub use cell::{CellAnswer, CellMemberAnswer, CellMotion};
 pub use error::{Error, JsonError, Result};
 #[cfg(feature = "server")]

@@ -50,16 +50,7 @@ pub(crate) struct Target<'a> {
 impl Target<'_> {
     pub(crate) fn pose(&self, path: &str, shape: &str) -> Result<Pose> {
         match (self.t, self.position, self.rpy) {
-            (Some(t), None, None) => {
-                let m = Matrix4::from_fn(|r, c| t[r][c]);
-                if m.iter().any(|v| !v.is_finite()) {
-                    return Err(bad("T contains a non-finite value".into()));
-                }
-                Pose::from_matrix(&m).ok_or_else(|| Error::Unprocessable {
-                    message: "T is not a rigid transform: the last row must be 0 0 0 1 and the 3×3 block a rotation"
-                        .into(),
-                })
-            }
+            (Some(t), None, None) => pose_from_rows(t, "T"),
             (None, Some(p), Some(rpy)) => {
                 let conv = named(path, self.rpy_convention.as_deref(), RpyConvention::Zyx)?;
                 Ok(Pose::from_xyz_rpy(*p, *rpy, conv))
@@ -67,6 +58,17 @@ impl Target<'_> {
             _ => Err(bad(format!("give the target as \"T\" alone or as \"position\" and \"rpy\"; expected {shape}"))),
         }
     }
+}
+
+/// The rigid transform of a 4×4 matrix given as rows (`what`: its field's name).
+fn pose_from_rows(t: &[[f64; 4]; 4], what: &str) -> Result<Pose> {
+    let m = Matrix4::from_fn(|r, c| t[r][c]);
+    if m.iter().any(|v| !v.is_finite()) {
+        return Err(bad(format!("{what} contains a non-finite value")));
+    }
+    Pose::from_matrix(&m).ok_or_else(|| Error::Unprocessable {
+        message: format!("{what} is not a rigid transform: the last row must be 0 0 0 1 and the 3×3 block a rotation"),
+    })
 }
 
 // The target fields are repeated in `IkReq` and `TrajReq`: serde's `flatten`
@@ -221,4 +223,46 @@ pub(crate) struct RunReq {
     pub(crate) start: Option<Vec<f64>>,
     pub(crate) scene: Option<String>,
     pub(crate) margin: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PlanReq {
+    pub(crate) robot: Option<String>,
+    pub(crate) from: Vec<f64>,
+    pub(crate) to: Option<Vec<f64>>,
+    pub(crate) pose: Option<PoseValue>,
+    pub(crate) rpy_convention: Option<String>,
+    pub(crate) scene: Option<String>,
+    pub(crate) margin: Option<f64>,
+    pub(crate) seed: Option<u64>,
+    pub(crate) time_limit: Option<f64>,
+    pub(crate) dt: Option<f64>,
+    pub(crate) profile: Option<String>,
+    pub(crate) speed: Option<f64>,
+}
+
+/// A tool pose in one field: x, y, z, roll, pitch, yaw \[m, rad\] (as
+/// `kinema plan --pose`) or the rows of a 4×4 transform.
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(crate) enum PoseValue {
+    XyzRpy([f64; 6]),
+    Rows([[f64; 4]; 4]),
+}
+
+impl PoseValue {
+    /// The pose, its roll-pitch-yaw angles read in `convention` (a name; default `zyx`).
+    pub(crate) fn pose(&self, convention: Option<&str>) -> Result<Pose> {
+        match self {
+            PoseValue::XyzRpy(v) => {
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(bad("pose contains a non-finite value".into()));
+                }
+                let conv = named("/api/plan", convention, RpyConvention::Zyx)?;
+                Ok(Pose::from_xyz_rpy([v[0], v[1], v[2]], [v[3], v[4], v[5]], conv))
+            }
+            PoseValue::Rows(t) => pose_from_rows(t, "pose"),
+        }
+    }
 }

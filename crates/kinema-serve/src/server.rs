@@ -24,7 +24,8 @@
 //!   client receives the answer rather than a reset.
 //! * The page, `GET /api/robots…`, `/api/fk` and `/api/manip` are computed at
 //!   once on the runtime's threads (microseconds each). The CPU-heavy
-//!   endpoints, `/api/ik`, `/api/traj` and `/api/run`, run on tokio's
+//!   endpoints, `/api/ik`, `/api/traj`, `/api/run`, `/api/plan`,
+//!   `/api/collide` and `/api/scene`, run on tokio's
 //!   blocking threads, at most [`Limits::heavy_concurrency`] at a time; the
 //!   others wait for a slot. A request has [`Limits::request_timeout`] (30 s)
 //!   from its head to its answer, waiting included → 503 with
@@ -35,7 +36,8 @@
 //!   server shuts down (→ 503). A client that closes its sending side after
 //!   the request (a FIN) is answered: hyper runs with `half_close`, because
 //!   that FIN cannot be told from one of a client that left; such a program
-//!   then runs within its budget, as for a client that stays.
+//!   then runs within its budget, as for a client that stays. A
+//!   `/api/plan` search is stopped the same way (the budget → 422).
 //! * [`App::handle`] runs inside `catch_unwind`: a panic is a 500 JSON answer
 //!   and the server goes on.
 //! * Stopping ([`Running::stop`], dropping [`Running`], or the future given to
@@ -88,10 +90,10 @@ pub struct Limits {
     /// Time from a request's head to its answer, waiting for a slot of the
     /// CPU-heavy endpoints included (30 s) → 503.
     pub request_timeout: Duration,
-    /// Time a `/api/run` program may run ([`RUN_BUDGET`]) → 422.
+    /// Time a `/api/run` program or a `/api/plan` search may run ([`RUN_BUDGET`]) → 422.
     pub run_budget: Duration,
     /// Requests to the CPU-heavy endpoints (`/api/ik`, `/api/traj`,
-    /// `/api/run`, `/api/collide`, `/api/scene`) computed at once (the number
+    /// `/api/run`, `/api/plan`, `/api/collide`, `/api/scene`) computed at once (the number
     /// of CPUs, at least 2).
     pub heavy_concurrency: usize,
     /// Connections served at once (1024), open WebSockets included; further
@@ -512,7 +514,8 @@ async fn answer_poses(mut socket: WebSocket, shared: Arc<Shared>) {
 fn heavy(method: &str, path: &str) -> bool {
     let path = path.split(['?', '#']).next().unwrap_or("");
     let path = path.strip_suffix('/').unwrap_or(path);
-    method == "POST" && matches!(path, "/api/ik" | "/api/traj" | "/api/run" | "/api/collide" | "/api/scene")
+    method == "POST"
+        && matches!(path, "/api/ik" | "/api/traj" | "/api/run" | "/api/plan" | "/api/collide" | "/api/scene")
 }
 
 /// The one handler: the body read within its limits, then [`App::handle`].
@@ -712,7 +715,7 @@ mod tests {
     #[test]
     fn heavy_endpoints_are_told_apart() {
         assert!(heavy("POST", "/api/run") && heavy("POST", "/api/ik/?x=1") && heavy("POST", "/api/traj"));
-        assert!(heavy("POST", "/api/collide") && heavy("POST", "/api/scene"));
+        assert!(heavy("POST", "/api/collide") && heavy("POST", "/api/scene") && heavy("POST", "/api/plan"));
         assert!(!heavy("GET", "/api/run") && !heavy("POST", "/api/fk") && !heavy("GET", "/api/robots"));
     }
 

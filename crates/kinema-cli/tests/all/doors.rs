@@ -190,3 +190,63 @@ fn the_cli_and_the_server_answer_ptp_and_a_program_alike() {
     assert!(cli["motions"].as_array().unwrap().len() == 3, "{cli}");
     assert_eq!(cli, server, "the program on the iiwa");
 }
+
+/// The fume hood's swing (its sash blocks the straight motion) and a pose
+/// goal under the sash: `kinema plan --json` and `/api/plan` give the same
+/// fields and the same samples for the same seed. The budgets are wide so
+/// that both searches end by finding their path, not by the clock.
+#[test]
+fn the_cli_and_the_server_plan_alike() {
+    let app = App::new(None).unwrap();
+    let scene_path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/scenes/fume-hood.toml");
+    let scene = std::fs::read_to_string(scene_path).unwrap();
+    let iiwa = "lbr-iiwa-14-r820";
+    let deg = std::f64::consts::PI / 180.0;
+    let (from, to) =
+        ([-90.0 * deg, 60.0 * deg, 0.0, 0.0, 0.0, 0.0, 0.0], [90.0 * deg, 60.0 * deg, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let (home, pose) = ([0.0; 7], [0.6, 0.0, 0.3, std::f64::consts::PI, 0.0, 0.0]);
+    let (from_text, to_text, pose_text) = (list(&from), list(&to), list(&pose));
+    let cases = [
+        (
+            ["--from", from_text.as_str(), "--to", to_text.as_str(), "--seed", "7"],
+            json!({"from": from, "to": to, "seed": 7}),
+        ),
+        (["--from", "home", "--pose", pose_text.as_str(), "--seed", "0"], json!({"from": home, "pose": pose})),
+    ];
+    for (flags, body) in cases {
+        let mut args = vec!["plan", "--robot", iiwa, "--scene", scene_path, "--time-limit", "10", "--json"];
+        args.extend(flags);
+        let mut cli = cli_json(&args);
+        let mut request = body.clone();
+        request.as_object_mut().unwrap().extend([
+            ("robot".to_string(), json!(iiwa)),
+            ("scene".to_string(), json!(scene)),
+            ("time_limit".to_string(), json!(10.0)),
+        ]);
+        let mut server = api(&app, "POST", "/api/plan", &request);
+        // The CLI prints the samples as rows under its column names; the server as t, q, qd, qdd.
+        let (columns, rows) = (cli["columns"].take(), cli["rows"].take());
+        let index = |name: &str| columns.as_array().unwrap().iter().position(|c| c == name).unwrap();
+        let rows = rows.as_array().unwrap();
+        assert_eq!(rows.len(), server["q"].as_array().unwrap().len(), "{body}");
+        for (k, row) in rows.iter().enumerate() {
+            assert_eq!(row[index("t")], server["t"][k], "t at sample {k}");
+            for j in 0..7 {
+                for (prefix, key) in [("q", "q"), ("qd", "qd"), ("qdd", "qdd")] {
+                    assert_eq!(row[index(&format!("{prefix}{}", j + 1))], server[key][k][j], "{key}{j} at sample {k}");
+                }
+            }
+        }
+        let fields = server.as_object_mut().unwrap();
+        for key in ["t", "q", "qd", "qdd"] {
+            assert!(fields.remove(key).is_some(), "{key}");
+        }
+        // Wall-clock time is the one field two runs do not share.
+        for answer in [&mut cli, &mut server] {
+            assert!(answer["plan"]["planning_time"].take().as_f64().unwrap() > 0.0);
+        }
+        cli.as_object_mut().unwrap().remove("columns");
+        cli.as_object_mut().unwrap().remove("rows");
+        assert_eq!(cli, server, "plan {body}");
+    }
+}

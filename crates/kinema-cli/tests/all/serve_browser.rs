@@ -940,3 +940,54 @@ fn a_point_cloud_csv_is_drawn_coloured_by_its_values() {
     assert!(red_high > 3 && blue_high == 0, "high end: {red_high} red, {blue_high} blue pixels");
     viewer.assert_webgl_and_no_errors();
 }
+
+#[test]
+fn a_planned_motion_plays_around_the_sash_to_the_goal() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/fume-hood.toml");
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--scene", scene.to_str().unwrap()], &[]) else { return };
+    viewer.assert_webgl_and_no_errors();
+    let deg = std::f64::consts::PI / 180.0;
+    let from = [-90.0 * deg, 60.0 * deg, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let goal = [90.0 * deg, 60.0 * deg, 0.0, 0.0, 0.0, 0.0, 0.0];
+    viewer.show_q(&from);
+    // The frame axes' red x arrows would count as red pixels.
+    viewer.script("const f = document.getElementById('show-frames'); f.checked = false; f.dispatchEvent(new Event('change')); return 1");
+    let plan = |text: &str| {
+        viewer.script(&format!(
+            "document.getElementById('plan-q').value = '{text}'; document.getElementById('plan').click(); return 1"
+        ));
+        viewer.wait_for("const p = window.kinemaViewer.plan; return p && !p.pending ? p : null", 60, "the plan", |v| {
+            v.is_object()
+        })
+    };
+    // A goal in collision (the arm folded down): the server's message is shown.
+    let refused = plan("0, 115, 0, 0, 0, 0, 0");
+    assert_eq!(refused["ok"], false, "{refused}");
+    let shown = viewer.script("return document.getElementById('plan-message').textContent");
+    assert_eq!(shown, refused["message"]);
+    assert!(shown.as_str().unwrap().contains("goal"), "{shown}");
+
+    let planned = plan("90, 60, 0, 0, 0, 0, 0");
+    assert_eq!(planned["ok"], true, "{planned}");
+    viewer.script("const s = document.getElementById('play-speed'); s.value = '2'; return 1");
+    let end = viewer.wait_for(
+        "const p = window.kinemaViewer.player; return p && !p.playing && p.time === p.end ? p : null",
+        120,
+        "the end of the playback",
+        |v| v.is_object(),
+    );
+    assert_eq!(end["source"], "plan", "{end}");
+    let q: Vec<f64> = serde_json::from_value(viewer.script("return window.kinemaViewer.q")).unwrap();
+    for (k, (a, b)) in q.iter().zip(goal).enumerate() {
+        assert!((a - b).abs() <= 1e-9, "q{}: {a} at the end, goal {b}", k + 1);
+    }
+    let c = collide_answer(&viewer, &q);
+    assert_eq!(c["collision"], false, "{c}");
+    assert_eq!(viewer.script("return window.kinemaViewer.red"), json!([]));
+    let (img, rect) = viewer.screenshot("plan-end");
+    let red = red_pixels(&img, rect);
+    println!("red pixels at the end of the planned motion: {red}");
+    // A colliding pair draws thousands (above); edges of the brown obstacles give a few.
+    assert!(red < 50, "{red} red pixels at the end of the planned motion");
+    viewer.assert_webgl_and_no_errors();
+}

@@ -7,4 +7,5 @@ mod mutate;
 mod api;
 mod http;
 mod load;
+mod plan;
 mod viewer;

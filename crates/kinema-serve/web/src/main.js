@@ -2,7 +2,8 @@
 // the page draws. Modules: state.js (what the page knows), api.js (HTTP and
 // the pose WebSocket), scene.js (renderer, camera, controls), robot.js (link
 // shapes placed by FK), world.js (scene obstacles, collisions and the
-// minimum distance), panels.js (joints, FK readout, IK), player.js.
+// minimum distance), panels.js (joints, FK readout, IK), player.js, plan.js
+// (the Plan button).
 import { $, state, setStatus, dist3 } from './state.js';
 import { api, PoseLink, latestOnly } from './api.js';
 import { View } from './scene.js';
@@ -11,7 +12,8 @@ import { World } from './world.js';
 import { Gizmo } from './gizmo.js';
 import { CellPlayer } from './cell.js';
 import { PointCloud } from './points.js';
-import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool } from './panels.js';
+import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool, ikTargetFromInputs } from './panels.js';
+import { bindPlan } from './plan.js';
 import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
 
 // Errors the page met (uncaught ones and console.error), for the tests to read.
@@ -179,6 +181,11 @@ async function init() {
   sel.addEventListener('change', () => loadRobot(sel.value));
   bindPanels({ requestPose: (q) => poses.request(state.robot.name, q), redraw });
   bindPlayer();
+  bindPlan(() => {
+    if ($('gizmo-on').checked) return { pose: gizmo.target() };
+    const t = ikTargetFromInputs();
+    return t && { pose: [...t.position, ...t.rpy] };
+  });
   bindView();
   const scene = await api('/api/scene');
   if (!scene.ok) { setStatus(scene.data.error, true); return; }
@@ -208,6 +215,13 @@ window.kinemaViewer = {
   get collide() { return state.collide; },
   // The tool gizmo: {target (T rows), pending, reached, closest, message} of its last IK request.
   get gizmo() { return gizmo.status; },
+  // The last plan: {pending, ok, message, goal}, or null.
+  get plan() { return state.plan; },
+  // The player: {playing, time, end}, or null without a trajectory.
+  get player() {
+    const tr = state.traj;
+    return tr && { playing: state.playing, time: state.playTime, end: tr.t[tr.t.length - 1], source: tr.source };
+  },
   // The cell's timeline: {sample, samples, time, playing, members: [{name, q}]}, or null.
   get cell() { return cell.status; },
   // The point cloud layer: {count, valued, min, max}, or null.

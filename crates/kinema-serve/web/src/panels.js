@@ -111,7 +111,7 @@ export function fillIkFromTool() {
   $('ik-roll').value = (r * DEG).toFixed(2); $('ik-pitch').value = (p * DEG).toFixed(2); $('ik-yaw').value = (w * DEG).toFixed(2);
 }
 
-function ikTargetFromInputs() {
+export function ikTargetFromInputs() {
   const v = ['ik-x', 'ik-y', 'ik-z', 'ik-roll', 'ik-pitch', 'ik-yaw'].map((id) => parseFloat($(id).value));
   if (v.some((x) => !Number.isFinite(x))) return null;
   return { position: v.slice(0, 3), rpy: v.slice(3).map((a) => a / DEG) };

@@ -111,6 +111,12 @@ function parseCsv(text, dof) {
   return { t, q };
 }
 
+// Loads a trajectory {t, q, source} and plays it from its start.
+export function playTrajectory(traj) {
+  loadTraj(traj);
+  play();
+}
+
 function loadTraj(traj) {
   stopPlayer();
   state.traj = traj;

@@ -17,6 +17,7 @@ export const state = {
   ikTarget: null,     // pose of the last IK request (T rows)
   q3Anchor: null,     // tool pose kept while the q3 slider moves
   traj: null,         // { t: [], q: [[]], source }
+  plan: null,         // { pending, ok, message, goal } of the last POST /api/plan
   playing: false,
   playTime: 0,
 };
