@@ -105,3 +105,18 @@ pub fn urdf_walk(
     };
     u.links.iter().map(|l| (l.name.clone(), pose_of(&l.name))).collect()
 }
+
+/// Whether samples every `step` \[rad, m\] (largest joint motion) along
+/// the straight segment a → b, ends included, are all clear of `check`'s
+/// pairs by its margin, on the exact shapes.
+pub fn densely_clear(check: &kinema_geometry::CollisionCheck, a: &[f64], b: &[f64], step: f64) -> bool {
+    let longest = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    let n = (longest / step).ceil().max(1.0) as usize;
+    let mut placement = check.placement();
+    (0..=n).all(|k| {
+        let s = k as f64 / n as f64;
+        let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect();
+        check.place(&q, &mut placement).unwrap();
+        kinema_geometry::collides(check.geometry(), &placement, check.pairs(), check.margin()).unwrap().is_none()
+    })
+}

@@ -13,6 +13,8 @@ use kinema::traj::{CheckOptions as TrajCheck, PtpOptions};
 use kinema_geometry::plan::{plan, Goal, MotionCheck, PlanOptions};
 use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, Error, Scene};
 
+use crate::common::densely_clear;
+
 /// An iiwa on a bench with a post in front of it and a shelf board to its
 /// left: straight joint motions across the front often hit the post.
 const POST_SCENE: &str = r#"
@@ -50,17 +52,6 @@ fn free_q(check: &CollisionCheck, rng: &mut ChaCha8Rng) -> Vec<f64> {
             return q;
         }
     }
-}
-
-/// Whether samples every `step` rad (largest joint motion) along a → b are all clear.
-fn densely_clear(check: &CollisionCheck, a: &[f64], b: &[f64], step: f64) -> bool {
-    let longest = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    let n = (longest / step).ceil().max(1.0) as usize;
-    (0..=n).all(|k| {
-        let s = k as f64 / n as f64;
-        let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect();
-        check.first_collision(&q).unwrap().is_none()
-    })
 }
 
 #[test]

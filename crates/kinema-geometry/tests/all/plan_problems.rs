@@ -25,6 +25,8 @@ use kinema::{Pose, Robot};
 use kinema_geometry::plan::{plan, Goal, PlanOptions};
 use kinema_geometry::{load_robot_geometry, CollisionCheck, CollisionPairs, Scene};
 
+use crate::common::densely_clear;
+
 const ROBOTS: [&str; 2] = ["panda", "lbr-iiwa-14-r820"];
 const FAMILIES: [&str; 5] = ["table", "shelf", "bookshelf", "cage", "boxes"];
 const PER_FAMILY: u64 = 10;
@@ -391,16 +393,4 @@ fn plan_problem_set() {
     }
     // A guard against regressions, below the target of 99 % (benchmarks/README.md).
     assert!(times.len() * 100 >= problems.len() * 90, "{} of {} solved", times.len(), problems.len());
-}
-
-fn densely_clear(check: &CollisionCheck, a: &[f64], b: &[f64], step: f64) -> bool {
-    let longest = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    let n = (longest / step).ceil().max(1.0) as usize;
-    let mut placement = check.placement();
-    (0..=n).all(|k| {
-        let s = k as f64 / n as f64;
-        let q: Vec<f64> = a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect();
-        check.place(&q, &mut placement).unwrap();
-        kinema_geometry::collides(check.geometry(), &placement, check.pairs(), 0.0).unwrap().is_none()
-    })
 }
