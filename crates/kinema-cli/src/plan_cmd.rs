@@ -84,6 +84,12 @@ pub fn run(a: PlanArgs) -> Result<()> {
         (None, Some(pose)) => Goal::Pose(crate::traj_cmd::pose_arg(pose, a.rpy, "pose")?),
         (None, None) => unreachable!("clap requires --to or --pose"),
     };
+    let ptp = PtpOptions {
+        profile: a.profile.unwrap_or_else(|| kinema::traj::default_profile(robot)),
+        speed: a.speed / 100.0,
+        ..PtpOptions::for_robot(robot)
+    };
+    kinema::traj::via::check_timing(robot, &from, &ptp, a.dt)?;
     let cancel = crate::interrupt::flag();
     let options = PlanOptions {
         seed: a.seed,
@@ -103,11 +109,6 @@ pub fn run(a: PlanArgs) -> Result<()> {
         other => other?,
     };
     drop(cancellable);
-    let ptp = PtpOptions {
-        profile: a.profile.unwrap_or_else(|| kinema::traj::default_profile(robot)),
-        speed: a.speed / 100.0,
-        ..PtpOptions::for_robot(robot)
-    };
     let traj = found.trajectory(robot, &ptp, a.dt)?;
     // The samples as written pass the same checks as `kinema traj check --scene`.
     kinema::traj::check(robot, &traj, &Default::default())?.into_result()?;

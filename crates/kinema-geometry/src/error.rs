@@ -116,6 +116,18 @@ pub enum Error {
         /// Configurations in both trees.
         nodes: usize,
     },
+    /// A planned path the final exact check refused: the fast check and the
+    /// exact one disagree, which is a defect of the planner.
+    #[error(
+        "the planned path failed its final exact check: `{a}` – `{b}` come within the margin on it; \
+         please report this with the robot, scene and seed"
+    )]
+    Uncertified {
+        /// One body of the pair (link or obstacle name).
+        a: String,
+        /// The other body.
+        b: String,
+    },
     /// A run stopped by its caller (Ctrl-C).
     #[error("planning interrupted")]
     Interrupted,

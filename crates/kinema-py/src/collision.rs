@@ -139,6 +139,8 @@ pub(crate) struct Source {
     pub scene: Option<Arc<SceneText>>,
     /// The description itself, for a robot defined in code rather than read from `spec`.
     pub inline: Option<Inline>,
+    /// The text of the file `spec` names, as it was read: what the robot pickles as.
+    pub file_text: Option<Arc<String>>,
 }
 
 /// A description given in code (`Robot.from_dh`, `Robot.from_urdf_string`) or
@@ -176,7 +178,7 @@ pub(crate) struct SceneText {
 impl Source {
     /// The source of a robot read from `spec` (a built-in name or a path).
     pub(crate) fn named(spec: &str, tip: Option<String>) -> Source {
-        Source { spec: spec.to_string(), tip, member: None, scene: None, inline: None }
+        Source { spec: spec.to_string(), tip, member: None, scene: None, inline: None, file_text: None }
     }
 
     /// The collision shapes of an inline URDF (meshes searched in its
@@ -225,6 +227,7 @@ impl Source {
             member: None,
             scene: None,
             inline: Some(inline),
+            file_text: None,
         }
     }
 

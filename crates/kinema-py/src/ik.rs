@@ -22,7 +22,7 @@ use crate::robot::PyRobot;
 
 /// A seed: a non-negative integer below 2**64 (InvalidInput otherwise, not
 /// Python's OverflowError).
-fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
     if !obj.is_instance_of::<PyInt>() {
         let name = obj.get_type().fully_qualified_name()?;
         return Err(pyo3::exceptions::PyTypeError::new_err(format!("`seed` must be an int, not {name}")));

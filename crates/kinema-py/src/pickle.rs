@@ -64,11 +64,11 @@ fn text_of_state(state: &Bound<'_, PyDict>) -> PyResult<DescriptionText> {
     })
 }
 
-/// The description of a robot read from a file, read again now: its text,
-/// its folder (for relative mesh paths) and this process's package paths.
-fn file_state<'py>(py: Python<'py>, spec: &str) -> PyResult<Bound<'py, PyDict>> {
+/// The description of a robot read from a file: the text read when it was
+/// loaded, its folder (for relative mesh paths) and this process's package paths.
+fn file_state<'py>(py: Python<'py>, spec: &str, text: &str) -> PyResult<Bound<'py, PyDict>> {
     let path = Path::new(spec);
-    let text = kinema::read_bounded_text(path, "a robot description", kinema::MAX_DESCRIPTION_BYTES).map_err(to_py)?;
+    let text = text.to_string();
     let lower = spec.to_ascii_lowercase();
     let kind = if lower.ends_with(".urdf") || lower.ends_with(".xml") { "urdf" } else { "toml" };
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
@@ -172,7 +172,15 @@ fn robot_state<'py>(py: Python<'py>, r: &PyRobot) -> PyResult<Bound<'py, PyDict>
             d.set_item("name", &s.spec)?;
             d
         }
-        (_, _, None) => file_state(py, &s.spec)?,
+        (_, _, None) => match &s.file_text {
+            Some(text) => file_state(py, &s.spec, text)?,
+            None => {
+                return Err(invalid(format!(
+                    "robot `{}` was not read from a file kinema kept; it does not pickle",
+                    s.spec
+                )))
+            }
+        },
     };
     d.set_item("tip", &s.tip)?;
     d.set_item("base", pose_state(r.robot.base()))?;

@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 use crate::args::{opt_real, parse_rpy, pose_arg, real};
 use crate::collision::PyScene;
 use crate::errors::{geometry_to_py, invalid, to_py, PlanningError};
+use crate::ik::seed_arg;
 use crate::program::run_interruptibly;
 use crate::robot::PyRobot;
 use crate::traj::PyJointTrajectory;
@@ -38,7 +39,8 @@ impl PyRobot {
     ///         collides (the message names the pair); both or neither of
     ///         ``qf`` and ``pose``.
     ///     Unreachable: no collision-free configuration reaches ``pose``.
-    ///     PlanningError: the budget ran out before a path was found.
+    ///     PlanningError: the budget ran out before a path was found (or the
+    ///         final exact check refused the path, a defect to report).
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (q0, qf=None, *, pose=None, scene=None, margin=0.0, seed=0, time_limit=1.0,
         max_iterations=100_000, step=None, dt=0.01, profile=None, speed=1.0, rpy="zyx"))]
@@ -50,7 +52,7 @@ impl PyRobot {
         pose: Option<&Bound<'_, PyAny>>,
         scene: Option<PyRef<'_, PyScene>>,
         #[pyo3(from_py_with = real)] margin: f64,
-        seed: u64,
+        #[pyo3(from_py_with = seed_arg)] seed: u64,
         #[pyo3(from_py_with = real)] time_limit: f64,
         max_iterations: usize,
         #[pyo3(from_py_with = opt_real)] step: Option<f64>,
@@ -77,6 +79,7 @@ impl PyRobot {
             ..PtpOptions::for_robot(&self.robot)
         };
         let profile_name = ptp.profile.name();
+        kinema::traj::via::check_timing(&self.robot, &from, &ptp, dt).map_err(to_py)?;
         let check = self.collision_check(scene.as_deref(), margin)?;
         let cancel = Arc::new(AtomicBool::new(false));
         let stop = Arc::clone(&cancel);
@@ -95,7 +98,9 @@ impl PyRobot {
             Ok::<_, kinema_geometry::Error>((found, traj))
         })?;
         let (found, traj) = planned.map_err(|e| match e {
-            kinema_geometry::Error::NoPath { .. } => PlanningError::new_err(e.to_string()),
+            kinema_geometry::Error::NoPath { .. } | kinema_geometry::Error::Uncertified { .. } => {
+                PlanningError::new_err(e.to_string())
+            }
             kinema_geometry::Error::Blocked { .. } => invalid(e.to_string()),
             other => geometry_to_py(other),
         })?;

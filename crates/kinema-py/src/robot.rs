@@ -169,8 +169,12 @@ impl PyRobot {
     #[staticmethod]
     #[pyo3(signature = (path, tip=None))]
     fn from_file(path: std::path::PathBuf, tip: Option<&str>) -> PyResult<Self> {
-        let source = Source::named(&path.display().to_string(), tip.map(str::to_string));
-        Robot::from_file(&path, tip).map(|r| PyRobot::new(Arc::new(r), source)).map_err(to_py)
+        let (robot, text) = Robot::from_file_with_text(&path, tip).map_err(to_py)?;
+        let source = Source {
+            file_text: Some(Arc::new(text)),
+            ..Source::named(&path.display().to_string(), tip.map(str::to_string))
+        };
+        Ok(PyRobot::new(Arc::new(robot), source))
     }
 
     /// Robot name, e.g. ``"puma560"``.

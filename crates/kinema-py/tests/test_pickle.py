@@ -70,6 +70,19 @@ def test_a_toml_file_robot_pickles_as_its_text(tmp_path):
     assert_same_answers(expected, back, 2)
 
 
+def test_a_file_robot_pickles_as_it_was_read_not_as_the_file_is_now(tmp_path):
+    path = tmp_path / "arm.toml"
+    shutil.copy(ROOT / "robots" / f"{IIWA}.toml", path)
+    robot = kinema.Robot.from_file(path)
+    expected = answers(robot, 2)
+    path.write_text("not a robot description")
+    back = pickle.loads(pickle.dumps(robot))
+    assert back == robot
+    assert_same_answers(expected, back, 2)
+    path.unlink()
+    assert pickle.loads(pickle.dumps(robot)) == robot
+
+
 def test_a_urdf_file_robot_keeps_its_tip_and_shapes(tmp_path):
     path = tmp_path / "folding.urdf"
     path.write_text(TWO_LINKS)

@@ -2,6 +2,8 @@
 Robot.check(scene=), the same path as ``kinema plan --json`` for the same seed, a pose goal, and
 errors (colliding start, spent budget, both goals)."""
 
+import time
+
 import numpy as np
 import pytest
 
@@ -72,3 +74,11 @@ def test_errors_name_what_is_wrong(robot, hood):
         robot.plan(LEFT, RIGHT, pose=robot.fkine(RIGHT), scene=hood)
     with pytest.raises(kinema.InvalidInput, match="time_limit"):
         robot.plan(LEFT, RIGHT, scene=hood, time_limit=0)
+    with pytest.raises(kinema.InvalidInput, match="seed"):
+        robot.plan(LEFT, RIGHT, scene=hood, seed=-1)
+    # Timing options are refused before the search, which would take all of its 30 s.
+    for bad in (dict(dt=0.0), dict(speed=0.0), dict(speed=1.5), dict(profile="zigzag"), dict(step=1e-12)):
+        started = time.monotonic()
+        with pytest.raises(kinema.InvalidInput):
+            robot.plan(LEFT, RIGHT, scene=hood, time_limit=30, **bad)
+        assert time.monotonic() - started < 5, bad

@@ -87,6 +87,12 @@ impl Robot {
 
     /// Reads a `.toml` or `.urdf` file of at most [`MAX_DESCRIPTION_BYTES`].
     pub fn from_file(path: impl AsRef<Path>, tip: Option<&str>) -> Result<Robot> {
+        Robot::from_file_with_text(path, tip).map(|(robot, _)| robot)
+    }
+
+    /// [`Robot::from_file`], with the text it was read from: what a copy of
+    /// the robot elsewhere is rebuilt from, whatever becomes of the file.
+    pub fn from_file_with_text(path: impl AsRef<Path>, tip: Option<&str>) -> Result<(Robot, String)> {
         let path = path.as_ref();
         let shown = path.display().to_string();
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
@@ -99,9 +105,13 @@ impl Robot {
                         reason: "a tip link only applies to URDF files".into(),
                     }));
                 }
-                Robot::from_toml_str(&read()?, &shown)
+                let text = read()?;
+                Ok((Robot::from_toml_str(&text, &shown)?, text))
             }
-            Some("urdf") | Some("xml") => Robot::from_urdf_str(&read()?, &shown, tip),
+            Some("urdf") | Some("xml") => {
+                let text = read()?;
+                Ok((Robot::from_urdf_str(&text, &shown, tip)?, text))
+            }
             _ => Err(Error::Input(InputError::DoesNotFit {
                 what: "robot file".into(),
                 reason: format!("`{shown}` must end in .toml (kinema description) or .urdf"),

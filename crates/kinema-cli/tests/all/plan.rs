@@ -130,4 +130,13 @@ fn a_colliding_start_a_spent_budget_and_a_missing_goal_are_errors() {
     assert!(!out.exists(), "nothing is written on an error");
     let no_goal = kinema(&["plan", "--robot", IIWA, "--from", LEFT]);
     assert_eq!(no_goal.code, Some(64), "{}", no_goal.stderr);
+    // Timing options are refused before any search (which would take the whole budget).
+    for (extra, part) in [(["--dt", "0"], "dt"), (["--speed", "0"], "--speed"), (["--step", "1e-12"], "step")] {
+        let mut args = vec!["--time-limit", "30", "--out", out.to_str().unwrap()];
+        args.extend_from_slice(&extra);
+        let refused = plan_left_to_right(scene, &args);
+        assert_eq!(refused.code, Some(1), "{extra:?}: {}", refused.stderr);
+        assert!(refused.stderr.contains(part) && !refused.stderr.contains("planned in"), "{}", refused.stderr);
+        assert!(!out.exists());
+    }
 }

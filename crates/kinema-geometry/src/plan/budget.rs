@@ -27,10 +27,18 @@ impl<'a> Budget<'a> {
     /// `Ok(true)` while iteration `iteration` may run; `Ok(false)` when a
     /// budget is spent; an error when the caller interrupted the run.
     pub(crate) fn allows(&self, iteration: usize) -> Result<bool> {
+        self.not_cancelled()?;
+        Ok(iteration < self.max_iterations && self.elapsed() < self.time_limit)
+    }
+
+    /// An error when the caller interrupted the run. The steps bounded by
+    /// their own counts (goals, shortening, the final check) ask only this,
+    /// so the clock never changes their answer.
+    pub(crate) fn not_cancelled(&self) -> Result<()> {
         if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
             return Err(Error::Interrupted);
         }
-        Ok(iteration < self.max_iterations && self.elapsed() < self.time_limit)
+        Ok(())
     }
 
     /// `Ok(true)` while time is left; an error when the caller interrupted.

@@ -4,9 +4,10 @@
 //! seeded restarts of the numeric solver for an arm without a closed form.
 
 use kinema::ik::family::SelfMotionParameter;
-use kinema::ik::{registry, solve_target_with, IkRequest, IkTarget, NumericOptions};
+use kinema::ik::{pick_one, registry, solve_target_with, IkRequest, IkTarget, NumericOptions};
 use kinema::Pose;
 
+use super::budget::Budget;
 use crate::check::CollisionCheck;
 use crate::error::Result;
 
@@ -16,12 +17,13 @@ const SAME: f64 = 1e-6;
 /// The collision-free configurations of `check`'s robot reaching `pose`:
 /// the contract's full answer, plus `samples` values of the self-motion
 /// parameter across its joint's range (or `samples` numeric restarts from
-/// `seed` on). An error (the first request's) when there are none.
+/// `seed` on), all within the joint limits. An error when there are none.
 pub(crate) fn goal_configurations(
     check: &CollisionCheck,
     pose: &Pose,
     samples: usize,
     seed: u64,
+    budget: &Budget,
 ) -> Result<Vec<Vec<f64>>> {
     let robot = check.robot();
     let fitted = registry::fit(robot);
@@ -36,7 +38,7 @@ pub(crate) fn goal_configurations(
         }
     };
     if let Ok(answer) = &first {
-        answer.solutions.iter().for_each(|s| keep(s.q.clone()));
+        answer.solutions.iter().filter(|s| s.within_limits()).for_each(|s| keep(s.q.clone()));
     }
     let self_motion = fitted
         .as_deref()
@@ -44,23 +46,28 @@ pub(crate) fn goal_configurations(
         .filter(|r| r.parameters().contains(&SelfMotionParameter::Q3))
         .map(|r| r.joint());
     for k in 0..samples {
+        budget.not_cancelled()?;
         let request = match (self_motion, fitted.is_some()) {
             (Some(joint), _) => {
                 let limits = robot.joints()[joint].limits;
                 let value = limits.min + (k as f64 + 0.5) / samples as f64 * (limits.max - limits.min);
                 IkRequest { q3: Some(value), ..all.clone() }
             }
-            (None, false) => {
-                IkRequest { numeric: NumericOptions { seed: seed + k as u64, ..Default::default() }, ..all.clone() }
-            }
+            (None, false) => IkRequest {
+                numeric: NumericOptions { seed: seed.wrapping_add(k as u64), ..Default::default() },
+                ..all.clone()
+            },
             (None, true) => break,
         };
         if let Ok(answer) = solve_target_with(robot, fitted.as_deref(), &target, &request) {
-            answer.solutions.iter().for_each(|s| keep(s.q.clone()));
+            answer.solutions.iter().filter(|s| s.within_limits()).for_each(|s| keep(s.q.clone()));
         }
     }
     if found.is_empty() {
-        first?;
+        // No answer at all: the first request's error; answers all outside
+        // the limits: the contract's error naming them.
+        let answer = first?;
+        pick_one(robot, answer.solver, answer.solutions, None)?;
     }
     Ok(found)
 }

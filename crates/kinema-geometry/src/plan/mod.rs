@@ -115,9 +115,10 @@ impl Plan {
         shortcut::length(&self.path)
     }
 
-    /// The path timed with a PTP per segment under `options`, at rest at
-    /// every via point, sampled every `dt` \[s\] (see
-    /// [`ptp_through`]): within the limits, and on the checked segments.
+    /// The path timed with a PTP per segment under `options`, stopping at
+    /// every via point (at rest, but for the linear profile's velocity
+    /// jump), sampled every `dt` \[s\] (see [`ptp_through`]): within the
+    /// limits, and on the checked segments.
     pub fn trajectory(&self, robot: &Robot, options: &PtpOptions, dt: f64) -> Result<JointTrajectory> {
         Ok(ptp_through(robot, &self.path, options, dt)?)
     }
@@ -145,27 +146,19 @@ impl Plan {
 /// ```
 pub fn plan(check: &CollisionCheck, from: &[f64], goal: &Goal, options: &PlanOptions) -> Result<Plan> {
     let budget = Budget::new(options.time_limit, options.max_iterations, options.cancel);
-    let robot = check.robot();
+    let sampler = Sampler::new(check.robot());
+    let step = checked_step(options.step, sampler.extent())?;
     require_clear(check, from, "start")?;
     let goals = match goal {
         Goal::Joints(q) => {
             require_clear(check, q, "goal")?;
             vec![q.clone()]
         }
-        Goal::Pose(pose) => goal::goal_configurations(check, pose, options.goal_samples, options.seed)?,
+        Goal::Pose(pose) => goal::goal_configurations(check, pose, options.goal_samples, options.seed, &budget)?,
     };
     let mut motion = MotionCheck::new(check)?;
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    let sampler = Sampler::new(robot);
-    let step = options.step.unwrap_or(sampler.extent() / 5.0);
-    if !(step > 0.0 && step.is_finite()) {
-        return Err(Error::Kinema(kinema::Error::Input(kinema::InputError::OutOfRange {
-            what: "step".into(),
-            value: step,
-            expected: "a finite joint-space distance > 0".into(),
-        })));
-    }
-    let (mut path, iterations, nodes) = match straight_to_a_goal(&mut motion, from, &goals)? {
+    let (mut path, iterations, nodes) = match straight_to_a_goal(&mut motion, from, &goals, &budget)? {
         Some(g) => (vec![from.to_vec(), g], 0, 1 + goals.len()),
         None => {
             let (path, counts) = rrt::connect_trees(&mut motion, from, &goals, &sampler, step, &mut rng, &budget)?;
@@ -174,7 +167,7 @@ pub fn plan(check: &CollisionCheck, from: &[f64], goal: &Goal, options: &PlanOpt
     };
     let found_via_points = path.len();
     shortcut::shorten(&mut path, &mut motion, options.shortcut_rounds, &mut rng, &budget)?;
-    certify(check, &path)?;
+    certify(check, &path, &budget)?;
     Ok(Plan {
         path,
         found_via_points,
@@ -188,11 +181,17 @@ pub fn plan(check: &CollisionCheck, from: &[f64], goal: &Goal, options: &PlanOpt
 
 /// The goal nearest to `from` that a free straight segment reaches, trying
 /// goals nearest first.
-fn straight_to_a_goal(motion: &mut MotionCheck, from: &[f64], goals: &[Vec<f64>]) -> Result<Option<Vec<f64>>> {
+fn straight_to_a_goal(
+    motion: &mut MotionCheck,
+    from: &[f64],
+    goals: &[Vec<f64>],
+    budget: &Budget,
+) -> Result<Option<Vec<f64>>> {
     let distance = |q: &[f64]| q.iter().zip(from).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
     let mut order: Vec<&Vec<f64>> = goals.iter().collect();
     order.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
     for g in order {
+        budget.not_cancelled()?;
         if motion.segment_free(from, g)? {
             return Ok(Some(g.clone()));
         }
@@ -200,27 +199,50 @@ fn straight_to_a_goal(motion: &mut MotionCheck, from: &[f64], goals: &[Vec<f64>]
     Ok(None)
 }
 
+/// The search's step: `step`, or a fifth of the joint box's diagonal
+/// `extent`; one shorter than [`MIN_STEP`] of it would crawl.
+fn checked_step(step: Option<f64>, extent: f64) -> Result<f64> {
+    let step = step.unwrap_or(extent / 5.0);
+    let least = extent * MIN_STEP;
+    if !(step >= least && step.is_finite()) {
+        return Err(Error::Kinema(kinema::Error::Input(kinema::InputError::OutOfRange {
+            what: "step".into(),
+            value: step,
+            expected: format!("a finite joint-space distance ≥ {least:.3e} (1e-5 of the joint-limit box's diagonal)"),
+        })));
+    }
+    Ok(step)
+}
+
+/// The shortest search step, as a fraction of the joint box's diagonal.
+const MIN_STEP: f64 = 1e-5;
+
 /// An error naming the colliding pair when the robot at `q` is not clear
-/// (and the joint vector's own errors).
+/// (and the joint vector's own errors). Clear means what it means on a
+/// segment: apart by more than the margin plus
+/// [`CONTACT_TOLERANCE`](crate::CONTACT_TOLERANCE), so a start the search
+/// could never leave is refused here, by name.
 fn require_clear(check: &CollisionCheck, q: &[f64], which: &'static str) -> Result<()> {
     check.robot().check_within_limits(q, which)?;
-    if let Some((a, b)) = check.first_collision(q)? {
-        return Err(Error::Blocked { which, a: check.body(a).to_string(), b: check.body(b).to_string() });
+    let blocked =
+        |(a, b): (usize, usize)| Error::Blocked { which, a: check.body(a).to_string(), b: check.body(b).to_string() };
+    if let Some(pair) = check.first_collision(q)? {
+        return Err(blocked(pair));
+    }
+    if let Some(contact) = check.first_contact_between(q, q, &mut check.placement())? {
+        return Err(blocked(contact.pair));
     }
     Ok(())
 }
 
 /// The exact continuous check of every segment of the final path.
-fn certify(check: &CollisionCheck, path: &[Vec<f64>]) -> Result<()> {
+fn certify(check: &CollisionCheck, path: &[Vec<f64>], budget: &Budget) -> Result<()> {
     let mut placement = check.placement();
     for w in path.windows(2) {
+        budget.not_cancelled()?;
         if let Some(contact) = check.first_contact_between(&w[0], &w[1], &mut placement)? {
             let (a, b) = contact.pair;
-            return Err(Error::Blocked {
-                which: "planned",
-                a: check.body(a).to_string(),
-                b: check.body(b).to_string(),
-            });
+            return Err(Error::Uncertified { a: check.body(a).to_string(), b: check.body(b).to_string() });
         }
     }
     Ok(())

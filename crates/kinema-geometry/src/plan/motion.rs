@@ -215,6 +215,7 @@ impl<'c> MotionCheck<'c> {
     /// Whether the robot at `q` keeps every checked pair farther apart than
     /// the margin. Exact (the spheres only shortcut a clear answer).
     pub fn config_free(&mut self, q: &[f64]) -> Result<bool> {
+        self.check.robot().check_q(q)?;
         self.growth.fill(0.0);
         if self.spheres_clear(q)? {
             return Ok(true);
@@ -227,10 +228,13 @@ impl<'c> MotionCheck<'c> {
     /// included, keeps every checked pair farther apart than the margin.
     /// Exact: no contact between samples is missed.
     pub fn segment_free(&mut self, from: &[f64], to: &[f64]) -> Result<bool> {
+        let robot = self.check.robot();
+        robot.check_q(from)?;
+        robot.check_q(to)?;
         self.counts.segments += 1;
         self.sweeps = self.check.arms().sweeps(from, to);
         let longest = self.sweeps.iter().fold(0.0_f64, |m, &s| m.max(s));
-        let intervals = interval_count(longest);
+        let intervals = interval_count(longest)?;
         for i in spread_order(intervals) {
             let (lo, hi) = (i as f64 / intervals as f64, (i + 1) as f64 / intervals as f64);
             if !self.interval_clear(from, to, lo, hi)? && !self.interval_free(from, to, lo, hi, 0)? {
@@ -355,10 +359,25 @@ impl FixedShape {
 }
 
 /// How many intervals a segment whose shapes move at most `longest` \[m\]
-/// is cut into: each sphere grows by at most [`GROWTH`].
-fn interval_count(longest: f64) -> usize {
-    ((longest / (2.0 * GROWTH)).ceil() as usize).max(1)
+/// is cut into: each sphere grows by at most [`GROWTH`]. An error past
+/// [`MAX_INTERVALS`], so one check stays bounded.
+fn interval_count(longest: f64) -> Result<usize> {
+    let count = (longest / (2.0 * GROWTH)).ceil();
+    if !(count <= MAX_INTERVALS as f64) {
+        return Err(crate::Error::Kinema(kinema::Error::Input(kinema::InputError::OutOfRange {
+            what: "the segment's sweep [m]".into(),
+            value: longest,
+            expected: format!(
+                "at most {} m of motion of any shape along one segment",
+                2.0 * GROWTH * MAX_INTERVALS as f64
+            ),
+        })));
+    }
+    Ok((count as usize).max(1))
 }
+
+/// The most intervals one segment is cut into.
+const MAX_INTERVALS: usize = 1 << 16;
 
 /// 0..n in bit-reversed order (for n = 8: 0 4 2 6 1 5 3 7): every prefix is
 /// spread over the whole range.

@@ -58,7 +58,7 @@ pub(crate) fn connect_trees(
             Growth::Advanced(i) | Growth::Reached(i) => i,
         };
         let reached = grow.node(new).to_vec();
-        if let Some(met) = pull_toward(pull, &reached, step, motion)? {
+        if let Some(met) = pull_toward(pull, &reached, step, motion, budget)? {
             let (s, g) = if start_grows { (new, met) } else { (met, new) };
             let mut path = from_start.to_root(s);
             path.reverse();
@@ -94,15 +94,22 @@ fn extend(tree: &mut Tree, target: &[f64], step: f64, motion: &mut MotionCheck) 
 }
 
 /// Extends `tree` toward `target` until it reaches it (the node's index) or
-/// is trapped (`None`).
-fn pull_toward(tree: &mut Tree, target: &[f64], step: f64, motion: &mut MotionCheck) -> Result<Option<usize>> {
-    loop {
+/// is trapped or out of time (`None`: the search loop then ends on its budget).
+fn pull_toward(
+    tree: &mut Tree,
+    target: &[f64],
+    step: f64,
+    motion: &mut MotionCheck,
+    budget: &Budget,
+) -> Result<Option<usize>> {
+    while budget.has_time()? {
         match extend(tree, target, step, motion)? {
             Growth::Advanced(_) => continue,
             Growth::Reached(i) => return Ok(Some(i)),
             Growth::Trapped => return Ok(None),
         }
     }
+    Ok(None)
 }
 
 /// A uniformly random index pair i < j of `0..n` (n ≥ 2).

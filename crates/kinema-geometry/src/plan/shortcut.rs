@@ -11,8 +11,9 @@ use super::motion::{lerp_into, MotionCheck};
 use super::rrt::ordered_pair;
 use crate::error::Result;
 
-/// Shortens `path` in place with at most `rounds` random shortcuts, while
-/// `budget` has time. Every segment of the result is checked free.
+/// Shortens `path` in place with `rounds` random shortcuts (fewer only when
+/// it is down to one segment). The clock does not stop it, so a seed gives
+/// one path; an interrupt does. Every segment of the result is checked free.
 pub(crate) fn shorten(
     path: &mut Vec<Vec<f64>>,
     motion: &mut MotionCheck,
@@ -20,14 +21,15 @@ pub(crate) fn shorten(
     rng: &mut ChaCha8Rng,
     budget: &Budget,
 ) -> Result<()> {
-    drop_via_points(path, motion)?;
+    drop_via_points(path, motion, budget)?;
     for _ in 0..rounds {
-        if path.len() < 3 || !budget.has_time()? {
+        budget.not_cancelled()?;
+        if path.len() < 3 {
             break;
         }
         try_shortcut(path, motion, rng)?;
     }
-    drop_via_points(path, motion)
+    drop_via_points(path, motion, budget)
 }
 
 /// The path length (Euclidean in joint space).
@@ -41,10 +43,11 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 
 /// Removes via points greedily: from each kept point, the farthest later
 /// point it reaches by a free segment is the next.
-fn drop_via_points(path: &mut Vec<Vec<f64>>, motion: &mut MotionCheck) -> Result<()> {
+fn drop_via_points(path: &mut Vec<Vec<f64>>, motion: &mut MotionCheck, budget: &Budget) -> Result<()> {
     let mut i = 0;
     while i + 2 < path.len() {
         for j in (i + 2..path.len()).rev() {
+            budget.not_cancelled()?;
             if motion.segment_free(&path[i], &path[j])? {
                 path.drain(i + 1..j);
                 break;

@@ -156,6 +156,7 @@ fn a_pose_goal_ends_at_a_free_configuration_reaching_the_pose() {
         let end = robot.fk(found.path.last().unwrap()).unwrap().world_from_tool;
         assert!((end.pos - pose.pos).norm() < 1e-6, "problem {n}");
         assert!((end.rot - pose.rot).norm() < 1e-6, "problem {n}");
+        robot.check_within_limits(found.path.last().unwrap(), "goal").unwrap();
         for w in found.path.windows(2) {
             assert!(check.first_contact_between(&w[0], &w[1], &mut check.placement()).unwrap().is_none());
         }
@@ -187,4 +188,55 @@ fn errors_name_the_colliding_pair_the_joint_and_the_budget() {
     let e =
         plan(&check, &from, &Goal::Joints(to), &PlanOptions { cancel: Some(&stop), ..Default::default() }).unwrap_err();
     assert!(matches!(e, Error::Interrupted), "{e}");
+}
+
+#[test]
+fn a_start_within_the_contact_tolerance_is_refused_by_name() {
+    let check = post_check();
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (clear, hit) = loop {
+        let (a, b) = (free_q(&check, &mut rng), random_q(&check, &mut rng));
+        if check.first_collision(&b).unwrap().is_some() {
+            break (a, b);
+        }
+    };
+    // Bisect to the last clear configuration before the first contact.
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let at = |s: f64| clear.iter().zip(&hit).map(|(a, b)| a + s * (b - a)).collect::<Vec<f64>>();
+    for _ in 0..60 {
+        let mid = (lo + hi) / 2.0;
+        if check.first_collision(&at(mid)).unwrap().is_none() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let touching = at(lo);
+    assert!(check.first_collision(&touching).unwrap().is_none());
+    let e = plan(&check, &touching, &Goal::Joints(clear), &PlanOptions::default()).unwrap_err();
+    assert!(matches!(e, Error::Blocked { which: "start", .. }), "{e}");
+}
+
+#[test]
+fn misused_motion_checks_and_steps_are_errors() {
+    let check = post_check();
+    let mut motion = MotionCheck::new(&check).unwrap();
+    let q = [0.0; 7];
+    let short = [0.0; 6];
+    let mut nan = q;
+    nan[3] = f64::NAN;
+    let mut far = q;
+    far[0] = 1e8;
+    assert!(motion.config_free(&short).is_err());
+    assert!(motion.config_free(&nan).is_err());
+    assert!(motion.segment_free(&q, &short).is_err());
+    assert!(motion.segment_free(&nan, &q).is_err());
+    let e = motion.segment_free(&q, &far).unwrap_err();
+    assert!(e.to_string().contains("sweep"), "{e}");
+    let from = [0.0, 0.3, 0.0, -1.2, 0.0, 0.8, 0.0];
+    let to = Goal::Joints(vec![0.1, 0.35, 0.0, -1.1, 0.1, 0.7, 0.2]);
+    for step in [0.0, -1.0, 1e-9, f64::NAN, f64::INFINITY] {
+        let e = plan(&check, &from, &to, &PlanOptions { step: Some(step), ..Default::default() }).unwrap_err();
+        assert!(e.to_string().contains("step"), "{step}: {e}");
+    }
 }

@@ -45,10 +45,11 @@ impl App {
         check_dt(dt)?;
         let profile = named("/api/plan", req.profile.as_deref(), kinema::traj::default_profile(robot))?;
         let ptp = PtpOptions { profile, speed: speed / 100.0, ..PtpOptions::for_robot(robot) };
+        kinema::traj::via::check_timing(robot, &req.from, &ptp, dt)?;
         let found = until_stopped(stop, |cancel| {
             let options = PlanOptions {
                 seed: req.seed.unwrap_or(0),
-                time_limit: Duration::from_secs_f64(time_limit).min(MAX_PLAN_TIME),
+                time_limit: Duration::from_secs_f64(time_limit.min(MAX_PLAN_TIME.as_secs_f64())),
                 cancel: Some(cancel),
                 ..Default::default()
             };
@@ -93,11 +94,24 @@ fn until_stopped<T>(stop: &Stop, work: impl FnOnce(&AtomicBool) -> T) -> T {
                 std::thread::park_timeout(Duration::from_millis(5));
             }
         });
-        let out = work(&cancel);
-        done.store(true, Ordering::Relaxed);
-        watcher.thread().unpark();
-        out
+        // Ends the watcher however `work` ends, a panic included, so the
+        // scope never waits on it.
+        let _finished = Finished { done: &done, watcher: watcher.thread().clone() };
+        work(&cancel)
     })
+}
+
+/// Tells a watcher thread its work is over, when dropped.
+struct Finished<'a> {
+    done: &'a AtomicBool,
+    watcher: std::thread::Thread,
+}
+
+impl Drop for Finished<'_> {
+    fn drop(&mut self) {
+        self.done.store(true, Ordering::Relaxed);
+        self.watcher.unpark();
+    }
 }
 
 /// The server's error for a planner's: the core's message (422), or why
@@ -110,5 +124,23 @@ fn planning_error(e: kinema_geometry::Error, stop: &Stop) -> Error {
         }
         (kinema_geometry::Error::Kinema(core), _) => Error::Core(core),
         (e, _) => Error::Unprocessable { message: e.to_string() },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Instant;
+
+    use super::*;
+
+    #[test]
+    fn a_panicking_run_releases_its_watcher_at_once() {
+        let stop = Stop::never();
+        let started = Instant::now();
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            until_stopped(&stop, |_| -> () { panic!("a planner defect") })
+        }));
+        assert!(outcome.is_err());
+        assert!(started.elapsed() < Duration::from_secs(5), "{:?}", started.elapsed());
     }
 }

@@ -1,11 +1,19 @@
 //! A joint-space path of straight segments, timed: one [`Ptp`] per segment,
-//! at rest at every via point. The robot stays on the segments exactly (each
-//! PTP moves all joints along its straight line), so a path certified
-//! collision-free segment by segment stays so once timed.
+//! stopping at every via point (at rest, but for the linear profile's
+//! velocity jump). The robot stays on the segments exactly (each PTP moves
+//! all joints along its straight line), so a path certified collision-free
+//! segment by segment stays so once timed.
 
 use super::{sample_count, sample_times, JointTrajectory, Ptp, PtpOptions};
 use crate::error::{Error, InputError, Result};
 use crate::robot::Robot;
+
+/// Whether `options` and `dt` can time a path of `robot` starting at
+/// `start`: the checks of [`ptp_through`] that do not depend on the rest of
+/// the path, for a caller to ask before it spends time finding one.
+pub fn check_timing(robot: &Robot, start: &[f64], options: &PtpOptions, dt: f64) -> Result<()> {
+    ptp_through(robot, &[start.to_vec()], options, dt).map(|_| ())
+}
 
 /// Times `path` (at least one configuration of `robot`) with a PTP per
 /// segment under `options`, stopping at each via point, sampled every `dt`
