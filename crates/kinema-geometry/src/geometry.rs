@@ -187,3 +187,15 @@ impl RobotGeometry {
 pub(crate) fn isometry(pose: &Pose) -> Isometry3<f64> {
     Isometry3::from_parts(Translation3::from(pose.pos), pose.quaternion())
 }
+
+/// `pose`'s rotation applied to `v`, written out: nalgebra's generic product
+/// is not inlined at the workspace's test optimisation level, and the
+/// planner's sphere and capsule placement call this in its innermost loop.
+#[inline]
+pub(crate) fn rotate(m: &nalgebra::Matrix3<f64>, v: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+    nalgebra::Vector3::new(
+        m[(0, 0)] * v.x + m[(0, 1)] * v.y + m[(0, 2)] * v.z,
+        m[(1, 0)] * v.x + m[(1, 1)] * v.y + m[(1, 2)] * v.z,
+        m[(2, 0)] * v.x + m[(2, 1)] * v.y + m[(2, 2)] * v.z,
+    )
+}

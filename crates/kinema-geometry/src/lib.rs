@@ -82,6 +82,7 @@ mod query;
 mod robot_toml;
 mod scene;
 mod scene_robots;
+mod segment_box;
 mod shape;
 mod spheres;
 mod srdf;

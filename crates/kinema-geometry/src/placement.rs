@@ -97,7 +97,17 @@ impl Placement {
 pub fn place(robot: &Robot, geometry: &RobotGeometry, q: &[f64], out: &mut Placement) -> Result<Fk> {
     check_fits(robot, geometry, out)?;
     let fk = kin::link_frames_into(robot, q, &mut out.frames)?;
-    place_on_frames(geometry, out);
+    place_on_frames(geometry, out, true);
+    Ok(fk)
+}
+
+/// [`place`] for a placement `out` that [`place`] filled for the same
+/// `robot` and `geometry` before: the shapes on link 0 (the base, and a
+/// scene's obstacles), which no joint moves, keep their poses and boxes.
+pub(crate) fn place_moving(robot: &Robot, geometry: &RobotGeometry, q: &[f64], out: &mut Placement) -> Result<Fk> {
+    check_fits(robot, geometry, out)?;
+    let fk = kin::link_frames_into(robot, q, &mut out.frames)?;
+    place_on_frames(geometry, out, false);
     Ok(fk)
 }
 
@@ -114,16 +124,20 @@ pub(crate) fn place_at_frames(
         return Err(Error::Mismatch { what: "the link frames".into(), got: frames.len(), expected: out.frames.len() });
     }
     out.frames.copy_from_slice(frames);
-    place_on_frames(geometry, out);
+    place_on_frames(geometry, out, true);
     Ok(())
 }
 
-/// Each shape's world pose and bounding box from the link frames in `out`.
-fn place_on_frames(geometry: &RobotGeometry, out: &mut Placement) {
-    for (link, frame) in out.links.iter_mut().zip(&out.frames) {
+/// Each shape's world pose and bounding box from the link frames in `out`
+/// (those on link 0 too when `base_too`).
+fn place_on_frames(geometry: &RobotGeometry, out: &mut Placement, base_too: bool) {
+    for (link, frame) in out.links.iter_mut().zip(&out.frames).skip(usize::from(!base_too)) {
         *link = isometry(frame);
     }
     for (i, s) in geometry.shapes().iter().enumerate() {
+        if !base_too && s.link() == 0 {
+            continue;
+        }
         let pose = out.links[s.link()] * s.link_from_collider();
         out.aabbs[i] = s.collider().compute_aabb(&pose);
         out.world_from_collider[i] = pose;

@@ -366,6 +366,9 @@ pub(crate) fn placed_gap(
     if let Some((distance, ..)) = round_placed(pose_a, sa, pose_b, sb) {
         return Ok(distance.max(0.0));
     }
+    if let Some(distance) = round_box_gap(pose_a, sa, pose_b, sb).or_else(|| round_box_gap(pose_b, sb, pose_a, sa)) {
+        return Ok(distance);
+    }
     if let Some(h) = hulls_of_shapes(pose_a, a, pose_b, b).filter(|h| h.exact) {
         let d = h.distance()?;
         if d > 0.0 {
@@ -399,6 +402,17 @@ fn round(shape: &dyn ParryShape, pose: &Isometry3<f64>) -> Option<(Point3<f64>, 
     }
     let capsule = shape.as_capsule()?;
     Some((pose * capsule.segment.a, pose * capsule.segment.b, capsule.radius))
+}
+
+/// A ball or capsule `sr` against a box `sb` in closed form (its core
+/// segment's distance to the box, less the radius; 0 when they meet), or
+/// `None` for other shapes.
+fn round_box_gap(pr: &Isometry3<f64>, sr: &dyn ParryShape, pb: &Isometry3<f64>, sb: &dyn ParryShape) -> Option<f64> {
+    let cuboid = sb.as_cuboid()?;
+    let (p, q, radius) = round(sr, pr)?;
+    let (a, b) = (pb.inverse_transform_point(&p).coords, pb.inverse_transform_point(&q).coords);
+    let core = crate::segment_box::segment_box_distance_squared(&a, &b, &cuboid.half_extents).sqrt();
+    Some((core - radius).max(0.0))
 }
 
 /// Balls and capsules pairwise in closed form (their core segments' closest

@@ -212,7 +212,7 @@ pub(crate) fn place_spheres(robot: &Robot, spheres: &Spheres, q: &[f64], out: &m
     kin::link_frames_into(robot, q, &mut out.frames)?;
     for ((c, &link), local) in out.centres.iter_mut().zip(&spheres.link).zip(&spheres.centre) {
         let f = &out.frames[link];
-        *c = Point3::from(f.rot * local + f.pos);
+        *c = Point3::from(crate::geometry::rotate(&f.rot, local) + f.pos);
     }
     Ok(())
 }

@@ -21,7 +21,7 @@ use kinema::{kin, JointType, Pose, Robot};
 use crate::error::{Error, Result};
 use crate::geometry::RobotGeometry;
 use crate::pairs::CollisionPairs;
-use crate::placement::{place, Placement};
+use crate::placement::{place, place_moving, Placement};
 use crate::query::{aabb_gap, pair_gap};
 
 /// A pair within this distance \[m\] of the margin counts as in contact:
@@ -151,7 +151,12 @@ impl Segment<'_> {
             for (x, (a, d)) in q.iter_mut().zip(from.iter().zip(&dq)) {
                 *x = a + fraction * d;
             }
-            place(self.robot, self.geometry, &q, placement)?;
+            // Link 0's shapes do not move: placed at the first step only.
+            if fraction == 0.0 {
+                place(self.robot, self.geometry, &q, placement)?;
+            } else {
+                place_moving(self.robot, self.geometry, &q, placement)?;
+            }
             let rest = 1.0 - fraction;
             let mut step = f64::INFINITY;
             let mut keep = Vec::with_capacity(near.len());

@@ -21,6 +21,7 @@
 //! ([`kinema::traj::via::ptp_through`]), which keeps the robot on it.
 
 mod budget;
+mod fixed;
 mod goal;
 mod motion;
 mod round;

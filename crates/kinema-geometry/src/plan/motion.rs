@@ -19,14 +19,15 @@
 //! pessimistic. Triangle-mesh obstacles keep their spheres: a soup of
 //! triangles has no inside to measure from.
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::Point3;
 
-use kinema::{Pose, Robot};
+use kinema::Robot;
 
+use super::fixed::FixedShape;
 use super::round::{segment_distance, RoundShape};
 use crate::check::CollisionCheck;
 use crate::error::Result;
-use crate::placement::Placement;
+use crate::placement::{place_moving, Placement};
 use crate::query::{aabb_gap, pair_gap};
 use crate::shape::Shape;
 use crate::spheres::{place_spheres, SpherePlacement, Spheres};
@@ -52,61 +53,20 @@ enum PairTest {
     /// The spheres of a moving shape against a fixed shape's exact
     /// distance (`fixed` indexes [`MotionCheck::fixed`]).
     Fixed { moving: usize, fixed: usize },
+    /// A moving capsule or sphere against a fixed box, exactly (`round`
+    /// indexes [`MotionCheck::round`], `moving` is its shape).
+    RoundBox { round: usize, moving: usize, fixed: usize },
 }
 
-/// A fixed shape as the sphere test asks it: a bounding box to cull far
-/// spheres, then the exact distance to the sphere's centre.
-#[derive(Debug, Clone)]
-enum FixedShape {
-    /// A box, measured by hand: the common obstacle, and parry's general
-    /// point query costs several times more.
-    Cuboid { shape: usize, lo: Point3<f64>, hi: Point3<f64>, box_from_world: Pose, half: Vector3<f64> },
-    /// Any other shape, measured by parry.
-    General { shape: usize, lo: Point3<f64>, hi: Point3<f64> },
-}
-
-impl FixedShape {
-    fn new(check: &CollisionCheck, placement: &Placement, shape: usize) -> FixedShape {
-        let aabb = placement.aabb(shape);
-        let (lo, hi) = (aabb.mins, aabb.maxs);
-        match check.geometry().shapes()[shape].shape() {
-            Shape::Box { size } => {
-                let world_from_box = placement.world_from_shape(check.geometry(), shape);
-                FixedShape::Cuboid { shape, lo, hi, box_from_world: world_from_box.inverse(), half: size / 2.0 }
-            }
-            _ => FixedShape::General { shape, lo, hi },
-        }
-    }
-
-    /// Whether a sphere at `centre` of radius `reach` comes within the shape.
-    fn within(&self, centre: &Point3<f64>, reach: f64, placement: &Placement, check: &CollisionCheck) -> bool {
-        let (lo, hi) = match self {
-            FixedShape::Cuboid { lo, hi, .. } | FixedShape::General { lo, hi, .. } => (lo, hi),
-        };
-        let outside = (lo - centre).sup(&(centre - hi)).sup(&Vector3::zeros());
-        if outside.norm_squared() > reach * reach {
-            return false;
-        }
-        match self {
-            FixedShape::Cuboid { box_from_world, half, .. } => box_distance(box_from_world, half, centre) <= reach,
-            FixedShape::General { shape, .. } => {
-                let at = placement.world_from_collider(*shape);
-                check.geometry().shapes()[*shape].collider().distance_to_point(at, centre, true) <= reach
-            }
-        }
-    }
-}
-
-/// The signed distance from `point` to a box of half extents `half` (negative inside).
-fn box_distance(box_from_world: &Pose, half: &Vector3<f64>, point: &Point3<f64>) -> f64 {
-    let local = box_from_world.rot * point.coords + box_from_world.pos;
-    let excess = local.abs() - half;
-    let outside = excess.sup(&Vector3::zeros()).norm();
-    if outside > 0.0 {
-        outside
-    } else {
-        excess.max()
-    }
+/// What a test at an interval's middle configuration says of the interval.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Outcome {
+    /// Every pair apart by more than the margin plus the growth: free.
+    Clear,
+    /// A pair within the margin at the middle itself: not free.
+    Colliding,
+    /// Neither: a finer test decides.
+    Near,
 }
 
 /// Counts of the work done, for benchmarks and tests.
@@ -132,6 +92,8 @@ pub struct MotionCheck<'c> {
     tests: Vec<PairTest>,
     fixed: Vec<FixedShape>,
     round: Vec<RoundShape>,
+    /// The round shapes' core segments at the configuration last tested.
+    round_at: Vec<[Point3<f64>; 2]>,
     spheres_at: SpherePlacement,
     /// The exact shapes: fixed ones placed once, moving ones per exact check.
     placement: Placement,
@@ -140,6 +102,8 @@ pub struct MotionCheck<'c> {
     growth: Vec<f64>,
     /// How far each shape moves over the whole segment being checked \[m\].
     sweeps: Vec<f64>,
+    /// Intervals of the segment being checked that its first pass left open.
+    undecided: Vec<usize>,
     counts: MotionCounts,
 }
 
@@ -156,33 +120,33 @@ impl<'c> MotionCheck<'c> {
         let robot = check.robot();
         let mut placement = check.placement();
         check.place(robot.home(), &mut placement)?;
+        // Every shape's fast-test form: fixed ones placed once, round ones as capsules.
         let mut fixed_shapes: Vec<FixedShape> = Vec::new();
-        let mut fixed_index = |shape: usize| match fixed_shapes.iter().position(|f| f.shape() == shape) {
-            Some(i) => i,
-            None => {
-                fixed_shapes.push(FixedShape::new(check, &placement, shape));
-                fixed_shapes.len() - 1
-            }
-        };
         let mut round: Vec<RoundShape> = Vec::new();
-        let mut round_of = |shape: usize| {
-            RoundShape::of(&geometry.shapes()[shape]).map(|r| {
+        let (mut fixed_of, mut round_of) = (vec![None; geometry.len()], vec![None; geometry.len()]);
+        for s in 0..geometry.len() {
+            if let Some(r) = RoundShape::of(&geometry.shapes()[s]) {
                 round.push(r);
-                round.len() - 1
-            })
+                round_of[s] = Some(round.len() - 1);
+            }
+            if fixed(s) {
+                fixed_shapes.push(FixedShape::new(check, &placement, s));
+                fixed_of[s] = Some(fixed_shapes.len() - 1);
+            }
+        }
+        let fixed_test = |moving: usize, fixed: usize| match round_of[moving] {
+            Some(round) if fixed_shapes[fixed].is_box() => PairTest::RoundBox { round, moving, fixed },
+            _ => PairTest::Fixed { moving, fixed },
         };
         // Pairs of two fixed shapes never change: the start's exact check decides them.
         let tests = check
             .pairs()
             .iter()
             .filter(|&(a, b)| moving(a) || moving(b))
-            .map(|(a, b)| match (fixed(a), fixed(b)) {
-                (true, _) => PairTest::Fixed { moving: b, fixed: fixed_index(a) },
-                (_, true) => PairTest::Fixed { moving: a, fixed: fixed_index(b) },
-                _ if moving(a) && moving(b) => match (round_of(a), round_of(b)) {
-                    (Some(ra), Some(rb)) => PairTest::Round { a: ra, b: rb, shapes: (a, b) },
-                    _ => PairTest::Spheres(a, b),
-                },
+            .map(|(a, b)| match (round_of[a], round_of[b], fixed_of[a], fixed_of[b]) {
+                (Some(ra), Some(rb), ..) => PairTest::Round { a: ra, b: rb, shapes: (a, b) },
+                (.., Some(f), _) => fixed_test(b, f),
+                (.., Some(f)) => fixed_test(a, f),
                 _ => PairTest::Spheres(a, b),
             })
             .collect();
@@ -192,12 +156,14 @@ impl<'c> MotionCheck<'c> {
             spheres,
             tests,
             fixed: fixed_shapes,
+            round_at: vec![[Point3::origin(); 2]; round.len()],
             round,
             placement,
             q: vec![0.0; robot.dof()],
             q_end: vec![0.0; robot.dof()],
             growth: vec![0.0; geometry.len()],
             sweeps: vec![0.0; geometry.len()],
+            undecided: Vec::new(),
             counts: MotionCounts::default(),
         })
     }
@@ -217,16 +183,24 @@ impl<'c> MotionCheck<'c> {
     pub fn config_free(&mut self, q: &[f64]) -> Result<bool> {
         self.check.robot().check_q(q)?;
         self.growth.fill(0.0);
-        if self.spheres_clear(q)? {
-            return Ok(true);
+        match self.fast_test(q)? {
+            Outcome::Clear => Ok(true),
+            Outcome::Colliding => Ok(false),
+            Outcome::Near => {
+                self.counts.exact_checks += 1;
+                Ok(self.check.first_collision(q)?.is_none())
+            }
         }
-        self.counts.exact_checks += 1;
-        Ok(self.check.first_collision(q)?.is_none())
     }
 
     /// Whether the straight joint-space segment `from` → `to`, ends
     /// included, keeps every checked pair farther apart than the margin.
     /// Exact: no contact between samples is missed.
+    ///
+    /// A first pass asks the fast test at every interval's middle: a
+    /// collision there ends the check at once (most segments a search
+    /// tries collide), a clear answer settles the interval. The intervals
+    /// left are then decided one by one ([`MotionCheck::interval_free`]).
     pub fn segment_free(&mut self, from: &[f64], to: &[f64]) -> Result<bool> {
         let robot = self.check.robot();
         robot.check_q(from)?;
@@ -235,44 +209,77 @@ impl<'c> MotionCheck<'c> {
         self.sweeps = self.check.arms().sweeps(from, to);
         let longest = self.sweeps.iter().fold(0.0_f64, |m, &s| m.max(s));
         let intervals = interval_count(longest)?;
+        let part = |i: usize| (i as f64 / intervals as f64, (i + 1) as f64 / intervals as f64);
+        let mut undecided = std::mem::take(&mut self.undecided);
+        undecided.clear();
         for i in spread_order(intervals) {
-            let (lo, hi) = (i as f64 / intervals as f64, (i + 1) as f64 / intervals as f64);
-            if !self.interval_clear(from, to, lo, hi)? && !self.interval_free(from, to, lo, hi, 0)? {
-                return Ok(false);
+            let (lo, hi) = part(i);
+            match self.interval_outcome(from, to, lo, hi)? {
+                Outcome::Clear => {}
+                Outcome::Colliding => {
+                    self.undecided = undecided;
+                    return Ok(false);
+                }
+                Outcome::Near => undecided.push(i),
             }
         }
-        Ok(true)
+        let mut free = true;
+        for &i in &undecided {
+            let (lo, hi) = part(i);
+            if !self.interval_free(from, to, lo, hi, 0)? {
+                free = false;
+                break;
+            }
+        }
+        self.undecided = undecided;
+        Ok(free)
     }
 
-    /// Whether the spheres at the middle of the part `lo`..`hi` of the
-    /// segment, grown by how far each shape moves from there, clear it.
-    fn interval_clear(&mut self, from: &[f64], to: &[f64], lo: f64, hi: f64) -> Result<bool> {
+    /// Sets each shape's growth to how far it moves from the middle of the
+    /// part `lo`..`hi` of the segment.
+    fn grow_for(&mut self, lo: f64, hi: f64) {
         for (g, s) in self.growth.iter_mut().zip(&self.sweeps) {
             *g = s * (hi - lo) / 2.0;
         }
-        let mut q = std::mem::take(&mut self.q);
-        lerp_into(from, to, (lo + hi) / 2.0, &mut q);
-        let clear = self.spheres_clear(&q);
-        self.q = q;
-        clear
     }
 
-    /// Decides a part of the segment the spheres did not clear: its two
-    /// halves by the spheres again (each grows half as much), down to
-    /// [`MAX_SPLITS`] halvings, then the continuous check on the real shapes.
+    /// The fast test at the middle of the part `lo`..`hi` of the segment,
+    /// the shapes grown by how far each moves from there.
+    fn interval_outcome(&mut self, from: &[f64], to: &[f64], lo: f64, hi: f64) -> Result<Outcome> {
+        self.grow_for(lo, hi);
+        let mut q = std::mem::take(&mut self.q);
+        lerp_into(from, to, (lo + hi) / 2.0, &mut q);
+        let outcome = self.fast_test(&q);
+        self.q = q;
+        outcome
+    }
+
+    /// Decides a part of the segment the fast test left open: its two
+    /// halves by the fast test again (each grows half as much), down to
+    /// [`MAX_SPLITS`] halvings, then the real shapes at its middle and, if
+    /// still undecided, the continuous check.
     fn interval_free(&mut self, from: &[f64], to: &[f64], lo: f64, hi: f64, splits: usize) -> Result<bool> {
         if splits < MAX_SPLITS {
             let mid = (lo + hi) / 2.0;
             for (a, b) in [(lo, mid), (mid, hi)] {
-                if !self.interval_clear(from, to, a, b)? && !self.interval_free(from, to, a, b, splits + 1)? {
-                    return Ok(false);
+                match self.interval_outcome(from, to, a, b)? {
+                    Outcome::Clear => {}
+                    Outcome::Colliding => return Ok(false),
+                    Outcome::Near => {
+                        if !self.interval_free(from, to, a, b, splits + 1)? {
+                            return Ok(false);
+                        }
+                    }
                 }
             }
             return Ok(true);
         }
         self.counts.exact_checks += 1;
-        if self.shapes_clear(from, to, lo, hi)? {
-            return Ok(true);
+        self.grow_for(lo, hi);
+        match self.shapes_at_middle(from, to, lo, hi)? {
+            Outcome::Clear => return Ok(true),
+            Outcome::Colliding => return Ok(false),
+            Outcome::Near => {}
         }
         let (mut a, mut b) = (std::mem::take(&mut self.q), std::mem::take(&mut self.q_end));
         lerp_into(from, to, lo, &mut a);
@@ -283,16 +290,18 @@ impl<'c> MotionCheck<'c> {
         Ok(contact?.is_none())
     }
 
-    /// Whether the real shapes at the middle of `lo`..`hi`, apart by more
-    /// than the margin plus how far each moves from there, clear it (the
-    /// growth set by the last [`MotionCheck::interval_clear`] of this part).
-    fn shapes_clear(&mut self, from: &[f64], to: &[f64], lo: f64, hi: f64) -> Result<bool> {
+    /// The real shapes at the middle of `lo`..`hi`: apart by more than the
+    /// margin plus how far each moves from there (the growth set for this
+    /// part), or a pair already within the margin there, or neither.
+    fn shapes_at_middle(&mut self, from: &[f64], to: &[f64], lo: f64, hi: f64) -> Result<Outcome> {
         let mut q = std::mem::take(&mut self.q);
         lerp_into(from, to, (lo + hi) / 2.0, &mut q);
-        let placed = self.check.place(&q, &mut self.placement);
+        // Placed in full in `new`: the fixed shapes stay.
+        let placed = place_moving(self.check.robot(), self.check.geometry(), &q, &mut self.placement);
         self.q = q;
         placed?;
         let (geometry, margin) = (self.check.geometry(), self.check.margin());
+        let mut middle = Outcome::Clear;
         for (a, b) in self.check.pairs().iter() {
             let (ga, gb) = (self.growth[a], self.growth[b]);
             if ga == 0.0 && gb == 0.0 && geometry.shapes()[a].link() == 0 && geometry.shapes()[b].link() == 0 {
@@ -302,59 +311,103 @@ impl<'c> MotionCheck<'c> {
             if aabb_gap(self.placement.aabb(a), self.placement.aabb(b)) > reach {
                 continue;
             }
-            if pair_gap(geometry, &self.placement, a, b)? <= reach {
-                return Ok(false);
+            let gap = pair_gap(geometry, &self.placement, a, b)?;
+            if gap <= margin {
+                return Ok(Outcome::Colliding);
+            }
+            if gap <= reach {
+                middle = Outcome::Near;
             }
         }
-        Ok(true)
+        Ok(middle)
     }
 
-    /// Whether the spheres at `q`, each grown by its shape's `growth`,
-    /// prove every pair apart by more than the margin.
-    fn spheres_clear(&mut self, q: &[f64]) -> Result<bool> {
+    /// The fast test at `q`, each shape grown by its `growth`: clear when
+    /// every pair is proved apart by more than the margin; colliding when a
+    /// pair tested exactly (capsules, a capsule and a box) is within the
+    /// margin at `q` itself; else near.
+    fn fast_test(&mut self, q: &[f64]) -> Result<Outcome> {
         self.counts.sphere_checks += 1;
         place_spheres(self.check.robot(), &self.spheres, q, &mut self.spheres_at)?;
         let margin = self.check.margin();
-        let (centres, radii) = (self.spheres_at.centres(), self.spheres.radii());
+        let (centres, radii, frames) = (self.spheres_at.centres(), self.spheres.radii(), self.spheres_at.frames());
+        for (at, r) in self.round_at.iter_mut().zip(&self.round) {
+            *at = r.placed(&frames[r.link]);
+        }
+        let mut outcome = Outcome::Clear;
         for test in &self.tests {
-            let near = match *test {
+            let pair = match *test {
                 PairTest::Spheres(a, b) => {
                     let extra = self.growth[a] + self.growth[b] + margin;
-                    self.spheres.range_of(a).any(|i| {
+                    let near = self.spheres.range_of(a).any(|i| {
                         self.spheres.range_of(b).any(|j| {
                             let reach = radii[i] + radii[j] + extra;
                             (centres[i] - centres[j]).norm_squared() <= reach * reach
                         })
-                    })
+                    });
+                    if near {
+                        Outcome::Near
+                    } else {
+                        Outcome::Clear
+                    }
                 }
                 PairTest::Round { a, b, shapes } => {
-                    let frames = self.spheres_at.frames();
                     let (ra, rb) = (&self.round[a], &self.round[b]);
-                    let ([p1, q1], [p2, q2]) = (ra.placed(&frames[ra.link]), rb.placed(&frames[rb.link]));
-                    let reach = ra.radius + rb.radius + self.growth[shapes.0] + self.growth[shapes.1] + margin;
-                    segment_distance(&p1, &q1, &p2, &q2) <= reach
+                    let ([p1, q1], [p2, q2]) = (&self.round_at[a], &self.round_at[b]);
+                    let touch = ra.radius + rb.radius + margin;
+                    let reach = touch + self.growth[shapes.0] + self.growth[shapes.1];
+                    // The spheres around both capsules first: most pairs are far apart.
+                    let (centre_gap, bound) =
+                        (nalgebra::center(p1, q1) - nalgebra::center(p2, q2), reach + ra.half + rb.half);
+                    if centre_gap.norm_squared() > bound * bound {
+                        Outcome::Clear
+                    } else {
+                        exact_outcome(segment_distance(p1, q1, p2, q2), touch, reach)
+                    }
+                }
+                PairTest::RoundBox { round, moving, fixed } => {
+                    let r = &self.round[round];
+                    let [p, q] = &self.round_at[round];
+                    let touch = r.radius + margin;
+                    let reach = touch + self.growth[moving];
+                    match self.fixed[fixed].segment_gap_squared(p, q, reach) {
+                        Some(squared) => exact_outcome(squared.sqrt(), touch, reach),
+                        None => Outcome::Clear,
+                    }
                 }
                 PairTest::Fixed { moving, fixed } => {
                     let extra = self.growth[moving] + margin;
                     let shape = &self.fixed[fixed];
-                    self.spheres
+                    let near = self
+                        .spheres
                         .range_of(moving)
-                        .any(|i| shape.within(&centres[i], radii[i] + extra, &self.placement, self.check))
+                        .any(|i| shape.within(&centres[i], radii[i] + extra, &self.placement, self.check));
+                    if near {
+                        Outcome::Near
+                    } else {
+                        Outcome::Clear
+                    }
                 }
             };
-            if near {
-                return Ok(false);
+            match pair {
+                Outcome::Colliding => return Ok(Outcome::Colliding),
+                Outcome::Near => outcome = Outcome::Near,
+                Outcome::Clear => {}
             }
         }
-        Ok(true)
+        Ok(outcome)
     }
 }
 
-impl FixedShape {
-    fn shape(&self) -> usize {
-        match self {
-            FixedShape::Cuboid { shape, .. } | FixedShape::General { shape, .. } => *shape,
-        }
+/// An exactly measured pair at `distance` (between core shapes): colliding
+/// within `touch`, near within `reach`, else clear.
+fn exact_outcome(distance: f64, touch: f64, reach: f64) -> Outcome {
+    if distance <= touch {
+        Outcome::Colliding
+    } else if distance <= reach {
+        Outcome::Near
+    } else {
+        Outcome::Clear
     }
 }
 
@@ -397,29 +450,7 @@ pub(crate) fn lerp_into(from: &[f64], to: &[f64], s: f64, out: &mut [f64]) {
 
 #[cfg(test)]
 mod tests {
-    use parry3d_f64::query::PointQuery;
-    use parry3d_f64::shape::Cuboid;
-    use rand::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
-
     use super::*;
-    use crate::geometry::isometry;
-
-    #[test]
-    fn the_box_distance_is_parrys() {
-        let mut rng = ChaCha8Rng::seed_from_u64(4);
-        for _ in 0..20_000 {
-            let half = Vector3::from_fn(|_, _| rng.random_range(0.01..0.5));
-            let world_from_box = Pose::translation(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), 0.3)
-                * Pose::rot_z(rng.random_range(-3.0..3.0))
-                * Pose::rot_x(rng.random_range(-3.0..3.0));
-            let p = Point3::new(rng.random_range(-1.5..1.5), rng.random_range(-1.5..1.5), rng.random_range(-1.0..1.5));
-            let reference = Cuboid::new(half).distance_to_point(&isometry(&world_from_box), &p, true);
-            let mine = box_distance(&world_from_box.inverse(), &half, &p);
-            // parry gives 0 inside a solid box; the hand-written one the (negative) depth.
-            assert!((mine.max(0.0) - reference).abs() < 1e-12, "{mine} vs {reference}");
-        }
-    }
 
     #[test]
     fn the_spread_order_visits_each_interval_once() {

@@ -20,6 +20,8 @@ pub(crate) struct RoundShape {
     pub link: usize,
     ends: [Vector3<f64>; 2],
     pub radius: f64,
+    /// Half the segment's length.
+    pub half: f64,
 }
 
 impl RoundShape {
@@ -32,12 +34,12 @@ impl RoundShape {
         };
         let at = s.link_from_shape();
         let end = |z: f64| at.rot * Vector3::new(0.0, 0.0, z) + at.pos;
-        Some(RoundShape { link: s.link(), ends: [end(-half), end(half)], radius })
+        Some(RoundShape { link: s.link(), ends: [end(-half), end(half)], radius, half })
     }
 
     /// The segment's ends in the world, with the link at `frame`.
     pub(crate) fn placed(&self, frame: &Pose) -> [Point3<f64>; 2] {
-        self.ends.map(|e| Point3::from(frame.rot * e + frame.pos))
+        self.ends.map(|e| Point3::from(crate::geometry::rotate(&frame.rot, &e) + frame.pos))
     }
 }
 
