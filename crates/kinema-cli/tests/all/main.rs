@@ -8,6 +8,7 @@ mod common;
 mod mutate;
 
 mod cell;
+mod cell_plan;
 mod cli;
 mod cli_dyn;
 mod cli_ik;

@@ -27,6 +27,7 @@ mod round;
 mod rrt;
 mod sampler;
 mod shortcut;
+mod timing_against;
 mod tree;
 
 use std::sync::atomic::AtomicBool;
@@ -43,6 +44,7 @@ use crate::error::{Error, Result};
 use budget::Budget;
 pub use motion::{MotionCheck, MotionCounts};
 use sampler::Sampler;
+pub use timing_against::{time_against, CellRobot, Crossing};
 
 /// Where a motion should end.
 #[derive(Debug, Clone, PartialEq)]
