@@ -10,10 +10,8 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use kinema::traj::{JointTrajectory, Profile, PtpOptions};
 use kinema::{Robot, RpyConvention};
-use kinema_geometry::plan::{plan, time_against, CellRobot, Goal, PlanOptions};
-use kinema_geometry::{
-    ros_package_path, CollisionCheck, CollisionPairs, RobotGeometry, Scene, SceneRobot, UrdfOptions,
-};
+use kinema_geometry::plan::{check_with_other_held, plan, time_against, CellRobot, Goal, PlanOptions};
+use kinema_geometry::{ros_package_path, CollisionCheck, RobotGeometry, Scene, SceneRobot, UrdfOptions};
 use kinema_io::{PlanAnswer, TrajSummary};
 
 use crate::{Exit, RobotArg};
@@ -203,21 +201,8 @@ impl Crossing {
     /// and the last sample of its motion (`NAME` and `NAME@end`).
     fn check(&self) -> Result<CollisionCheck> {
         let motion = &self.other_motion;
-        let (first, last) = (motion.q(0), motion.q(motion.len() - 1));
-        let held = |name: String, q: &[f64]| {
-            let start = q.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
-            SceneRobot { name, start: Some(start), ..self.other.clone() }
-        };
-        let mut robots: Vec<SceneRobot> =
-            self.scene.robots.iter().filter(|r| r.name != self.other.name).cloned().collect();
-        robots.push(held(self.other.name.clone(), first));
-        if last != first {
-            robots.push(held(format!("{}@end", self.other.name), last));
-        }
-        let standing = Scene { robots, ..self.scene.clone() }.standing(Some(&self.me.name), &self.urdf)?;
-        let (robot, geometry) = self.me.load(&self.urdf)?;
-        let pairs = CollisionPairs::self_collision(&geometry);
-        Ok(CollisionCheck::with_scene(robot, geometry, pairs, Some(&standing), 0.0)?)
+        let ends = (motion.q(0), motion.q(motion.len() - 1));
+        Ok(check_with_other_held(&self.scene, &self.me.name, &self.other.name, ends, &self.urdf)?)
     }
 
     /// `path` timed on the other robot's clock.

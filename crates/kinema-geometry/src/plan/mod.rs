@@ -22,6 +22,7 @@
 
 mod budget;
 mod goal;
+mod held;
 mod motion;
 mod round;
 mod rrt;
@@ -42,6 +43,7 @@ use kinema::{Pose, Robot};
 use crate::check::CollisionCheck;
 use crate::error::{Error, Result};
 use budget::Budget;
+pub use held::check_with_other_held;
 pub use motion::{MotionCheck, MotionCounts};
 use sampler::Sampler;
 pub use timing_against::{time_against, CellRobot, Crossing};

@@ -59,6 +59,26 @@ pub struct CellRobot<'a> {
 /// Errors: [`Error::Crossing`] when a wait cannot help (the other robot
 /// comes to the waiting robot, or blocks a segment after it has stopped),
 /// naming the two links; the PTP's errors.
+///
+/// # Examples
+/// ```
+/// use kinema::traj::{via::ptp_through, PtpOptions};
+/// use kinema::{Pose, RpyConvention};
+/// use kinema_geometry::plan::{time_against, CellRobot};
+/// use kinema_geometry::{load_robot_geometry, UrdfOptions};
+/// let (robot, geometry) = load_robot_geometry("puma560", &UrdfOptions::default())?;
+/// // A second PUMA 1.5 m away makes the same motion; the first waits for it.
+/// let base = Pose::from_xyz_rpy([1.5, 0.0, 0.0], [0.0, 0.0, std::f64::consts::PI], RpyConvention::Zyx);
+/// let neighbour = kinema::traj::cell::placed(&robot, &base)?;
+/// let path = vec![vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0], vec![0.5, 0.0, 0.0, 0.0, 0.0, 0.0]];
+/// let options = PtpOptions::for_robot(&robot);
+/// let its_motion = ptp_through(&neighbour, &path, &options, 0.01)?;
+/// let me = CellRobot { name: "a", robot: &robot, geometry: &geometry };
+/// let other = CellRobot { name: "b", robot: &neighbour, geometry: &geometry };
+/// let timed = time_against(me, &path, &options, 0.01, other, &its_motion, 0.01)?;
+/// assert_eq!(timed.q(timed.len() - 1), path[1].as_slice());
+/// # Ok::<(), kinema_geometry::Error>(())
+/// ```
 pub fn time_against(
     mover: CellRobot<'_>,
     path: &[Vec<f64>],
