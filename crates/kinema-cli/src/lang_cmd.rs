@@ -8,8 +8,10 @@ use std::time::Duration;
 use anyhow::Result;
 use clap::Args;
 use kinema::RpyConvention;
+use kinema_geometry::plan::{plan, Goal, PlanOptions};
+use kinema_geometry::CollisionCheck;
 use kinema_io::ProgramAnswer;
-use kinema_lang::{render_all, Options, Plan, Stop};
+use kinema_lang::{render_all, Options, PathPlanner, Plan, Stop};
 
 use crate::{print_json, traj_cmd, write_atomically, Exit, RobotArg};
 
@@ -55,6 +57,31 @@ pub(crate) fn program_stop(limit: f64) -> Result<Stop> {
 pub(crate) fn note_time_limit(diags: &[kinema_lang::Diagnostic]) {
     if diags.iter().any(|d| d.message.contains("the time budget of")) {
         eprintln!("note: --time-limit sets the budget (default {DEFAULT_TIME_LIMIT} s; `inf` for none)");
+    }
+}
+
+/// The planning budget of one `PTP … AVOID` \[s, wall clock\]: `kinema plan`'s
+/// default, doubled, since a program cannot pass its own.
+const AVOID_TIME_LIMIT: f64 = 2.0;
+
+/// `PTP … AVOID`'s planner: `kinema_geometry::plan` on the program's collision check.
+struct ScenePlanner {
+    check: Arc<CollisionCheck>,
+}
+
+impl PathPlanner for ScenePlanner {
+    fn path(&self, from: &[f64], to: &[f64], seed: u64) -> std::result::Result<Vec<Vec<f64>>, String> {
+        let cancel = crate::interrupt::flag();
+        let options = PlanOptions {
+            seed,
+            time_limit: Duration::from_secs_f64(AVOID_TIME_LIMIT),
+            cancel: Some(&cancel),
+            ..Default::default()
+        };
+        match plan(&self.check, from, &Goal::Joints(to.to_vec()), &options) {
+            Ok(found) => Ok(found.path),
+            Err(e) => Err(e.to_string()),
+        }
     }
 }
 
@@ -118,9 +145,18 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<Compiled> {
     // ends the process at once.
     let _cancellable = crate::interrupt::cancellable();
     let stop = program_stop(a.time_limit)?;
-    let admissible = body.map(|c| Arc::new(c) as Arc<dyn kinema::ik::Admissible>);
-    let opts =
-        Options { dt: a.dt, start, stop, skip_unreachable: a.skip_unreachable, admissible, ..Options::default() };
+    let body = body.map(Arc::new);
+    let admissible = body.clone().map(|c| c as Arc<dyn kinema::ik::Admissible>);
+    let planner = body.map(|check| Arc::new(ScenePlanner { check }) as Arc<dyn PathPlanner>);
+    let opts = Options {
+        dt: a.dt,
+        start,
+        stop,
+        skip_unreachable: a.skip_unreachable,
+        admissible,
+        planner,
+        ..Options::default()
+    };
     let name = a.program.display().to_string();
     match kinema_lang::compile(&src, &robot, &opts) {
         Ok(plan) => {

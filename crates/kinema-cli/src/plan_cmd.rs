@@ -3,14 +3,15 @@
 //! obstacles (`kinema_geometry::plan`), timed within the joint limits and
 //! written as a trajectory that `kinema traj check --scene` accepts.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
-use kinema::traj::{Profile, PtpOptions};
-use kinema::RpyConvention;
-use kinema_geometry::plan::{plan, Goal, PlanOptions};
+use kinema::traj::{JointTrajectory, Profile, PtpOptions};
+use kinema::{Robot, RpyConvention};
+use kinema_geometry::plan::{check_with_other_held, plan, time_against, CellRobot, Goal, PlanOptions};
+use kinema_geometry::{ros_package_path, CollisionCheck, RobotGeometry, Scene, SceneRobot, UrdfOptions};
 use kinema_io::{PlanAnswer, TrajSummary};
 
 use crate::{Exit, RobotArg};
@@ -67,6 +68,22 @@ pub struct PlanArgs {
     /// Print a JSON summary with the path and the search's counts.
     #[arg(long)]
     json: bool,
+    /// A cell file (as for `kinema cell`): --robot names one of its robots, which is planned while
+    /// another one moves along --other-trajectory. (With the others held at their `start`, give the
+    /// file as --scene instead.)
+    #[arg(long, value_name = "FILE", requires = "other_trajectory", conflicts_with_all = ["scene", "srdf", "margin"])]
+    cell: Option<PathBuf>,
+    /// The other robot's joint trajectory (CSV, t, q1..qn, …) on whose time base the planned robot is
+    /// timed: the path avoids it held at its first and last sample, and the planned robot waits at via
+    /// points while it passes.
+    #[arg(long, value_name = "FILE", requires = "cell")]
+    other_trajectory: Option<PathBuf>,
+    /// The cell robot that moves along --other-trajectory (default: the only other one).
+    #[arg(long, value_name = "NAME", requires = "cell")]
+    other: Option<String>,
+    /// With --other-trajectory: how close [m] the two robots' link shapes may come.
+    #[arg(long, default_value_t = 0.01, requires = "cell")]
+    clearance: f64,
 }
 
 pub fn run(a: PlanArgs) -> Result<()> {
@@ -76,7 +93,16 @@ pub fn run(a: PlanArgs) -> Result<()> {
     if !(a.speed > 0.0 && a.speed <= 100.0) {
         bail!("--speed {}: the override must be a percentage in (0, 100]", a.speed);
     }
-    let check = a.body.load(&a.robot)?;
+    let crossing = match (&a.cell, &a.other_trajectory) {
+        (Some(cell), Some(trajectory)) => {
+            Some(Crossing::load(cell, &a.robot.robot, a.other.as_deref(), trajectory, a.clearance)?)
+        }
+        _ => None,
+    };
+    let check = match &crossing {
+        Some(c) => c.check()?,
+        None => a.body.load(&a.robot)?,
+    };
     let robot = check.robot();
     let from = robot.parse_q(&a.from, a.deg)?;
     let goal = match (&a.to, &a.pose) {
@@ -109,7 +135,10 @@ pub fn run(a: PlanArgs) -> Result<()> {
         other => other?,
     };
     drop(cancellable);
-    let traj = found.trajectory(robot, &ptp, a.dt)?;
+    let traj = match &crossing {
+        Some(c) => c.time(&found.path, &ptp, a.dt)?,
+        None => found.trajectory(robot, &ptp, a.dt)?,
+    };
     // The samples as written pass the same checks as `kinema traj check --scene`.
     kinema::traj::check(robot, &traj, &Default::default())?.into_result()?;
     kinema::traj::collision_free(&traj, &check)?;
@@ -127,4 +156,66 @@ pub fn run(a: PlanArgs) -> Result<()> {
         ..TrajSummary::new(robot, "plan", Some(ptp.profile.name()), duration, traj.len())
     };
     crate::traj_cmd::emit(robot, &traj, a.rpy, a.out.as_deref(), a.json, summary)
+}
+
+/// `--cell … --other-trajectory`: one cell robot planned while another
+/// moves, the path avoiding the other held at both ends of its motion and
+/// then timed on its clock (`kinema_geometry::plan::time_against`).
+struct Crossing {
+    scene: Scene,
+    me: SceneRobot,
+    other: SceneRobot,
+    other_robot: (Robot, RobotGeometry),
+    other_motion: JointTrajectory,
+    clearance: f64,
+    urdf: UrdfOptions,
+}
+
+impl Crossing {
+    fn load(cell: &Path, me: &str, other: Option<&str>, trajectory: &Path, clearance: f64) -> Result<Crossing> {
+        if !(clearance >= 0.0 && clearance.is_finite()) {
+            bail!("--clearance {clearance}: expected a distance ≥ 0 m");
+        }
+        let scene = Scene::load(cell)?;
+        let names = || scene.robots.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join(", ");
+        let Some(me) = scene.member(me).cloned() else {
+            bail!("{}: --robot `{me}` is none of the cell's robots ({})", cell.display(), names());
+        };
+        let others: Vec<&SceneRobot> = scene.robots.iter().filter(|r| r.name != me.name).collect();
+        let other = match (other, others.as_slice()) {
+            (Some(name), _) => match others.iter().find(|r| r.name == name) {
+                Some(r) => (*r).clone(),
+                None => bail!("{}: --other `{name}` is none of the cell's other robots ({})", cell.display(), names()),
+            },
+            (None, [only]) => (*only).clone(),
+            (None, _) => bail!("{}: name the moving robot with --other (one of {})", cell.display(), names()),
+        };
+        let urdf = UrdfOptions { package_paths: ros_package_path(), skip_visual: true, tip: None };
+        let other_robot = other.load(&urdf)?;
+        let (other_motion, _) = crate::traj_cmd::read_trajectory_with_resolution(&other_robot.0, trajectory)
+            .with_context(|| format!("--other-trajectory for `{}`", other.name))?;
+        Ok(Crossing { scene, me, other, other_robot, other_motion, clearance, urdf })
+    }
+
+    /// The planned robot's check: self-collision, the cell's obstacles, the
+    /// other robots at their `start`, and the moving one held at the first
+    /// and the last sample of its motion (`NAME` and `NAME@end`).
+    fn check(&self) -> Result<CollisionCheck> {
+        let motion = &self.other_motion;
+        let ends = (motion.q(0), motion.q(motion.len() - 1));
+        Ok(check_with_other_held(&self.scene, &self.me.name, &self.other.name, ends, &self.urdf)?)
+    }
+
+    /// `path` timed on the other robot's clock.
+    fn time(&self, path: &[Vec<f64>], options: &PtpOptions, dt: f64) -> Result<JointTrajectory> {
+        let (robot, geometry) = self.me.load(&self.urdf)?;
+        let me = CellRobot { name: &self.me.name, robot: &robot, geometry: &geometry };
+        let (other_robot, other_geometry) = &self.other_robot;
+        let other = CellRobot { name: &self.other.name, robot: other_robot, geometry: other_geometry };
+        let timed = time_against(me, path, options, dt, other, &self.other_motion, self.clearance)?;
+        let waited = timed.times().last().copied().unwrap_or(0.0)
+            - kinema::traj::via::ptp_through(&robot, path, options, dt)?.times().last().copied().unwrap_or(0.0);
+        eprintln!("timed against `{}`: {waited:.2} s of waiting at via points", self.other.name);
+        Ok(timed)
+    }
 }

@@ -128,6 +128,10 @@ pub enum Error {
         /// The other body.
         b: String,
     },
+    /// A path that no wait at its via points keeps clear of another robot
+    /// moving along its own trajectory (boxed: the details are long).
+    #[error("{0}")]
+    Crossing(Box<crate::plan::Crossing>),
     /// A run stopped by its caller (Ctrl-C).
     #[error("planning interrupted")]
     Interrupted,

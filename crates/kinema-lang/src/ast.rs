@@ -47,6 +47,10 @@ pub struct MotionOpts {
     pub blend: Option<Expr>,
     /// `IN t`: the motion lasts exactly t.
     pub duration: Option<Expr>,
+    /// `AVOID` (PTP only): where it is written. With a collision check, a
+    /// straight motion that collides is replaced by a planned path around
+    /// the obstacles.
+    pub avoid: Option<Span>,
 }
 
 /// Every kind of statement.

@@ -46,12 +46,14 @@ pub mod compile;
 pub mod diag;
 pub mod lexer;
 pub mod parser;
+pub mod planner;
 pub mod stop;
 pub mod units;
 
 pub use compile::{compile, Options, Plan, PlannedMotion};
 pub use diag::{render_all, Diagnostic, Severity};
 pub use parser::parse;
+pub use planner::PathPlanner;
 pub use stop::{Stop, StopReason};
 
 /// Every diagnostic of `src` for `robot` (parse, check, execution and limit

@@ -347,6 +347,12 @@ impl Parser {
                     return Err(Diagnostic::error(at, "IN given twice"));
                 }
                 opts.duration = Some(self.expr()?);
+            } else if self.at_kw("AVOID") {
+                let at = self.bump().expect("peeked").span;
+                if opts.avoid.is_some() {
+                    return Err(Diagnostic::error(at, "AVOID given twice"));
+                }
+                opts.avoid = Some(at);
             } else {
                 return Ok(opts);
             }

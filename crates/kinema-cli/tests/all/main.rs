@@ -8,6 +8,7 @@ mod common;
 mod mutate;
 
 mod cell;
+mod cell_plan;
 mod cli;
 mod cli_dyn;
 mod cli_ik;
@@ -19,6 +20,7 @@ mod cli_traj;
 mod collide;
 #[cfg(feature = "serve")]
 mod doors;
+mod lang_avoid;
 mod plan;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]

@@ -23,11 +23,13 @@
 mod budget;
 mod fixed;
 mod goal;
+mod held;
 mod motion;
 mod round;
 mod rrt;
 mod sampler;
 mod shortcut;
+mod timing_against;
 mod tree;
 
 use std::sync::atomic::AtomicBool;
@@ -42,8 +44,10 @@ use kinema::{Pose, Robot};
 use crate::check::CollisionCheck;
 use crate::error::{Error, Result};
 use budget::Budget;
+pub use held::check_with_other_held;
 pub use motion::{MotionCheck, MotionCounts};
 use sampler::Sampler;
+pub use timing_against::{time_against, CellRobot, Crossing};
 
 /// Where a motion should end.
 #[derive(Debug, Clone, PartialEq)]

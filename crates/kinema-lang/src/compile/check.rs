@@ -84,7 +84,7 @@ impl Compiler<'_> {
             StmtKind::Circ { aux, target, opts } => {
                 self.static_target(aux, scope);
                 self.static_target(target, scope);
-                self.static_opts(opts, scope);
+                self.static_opts(opts, false, scope);
                 self.static_cartesian_capable(s);
             }
             StmtKind::Speed(e) => self.static_speed(e, scope),
@@ -153,7 +153,7 @@ impl Compiler<'_> {
             }
         }
         self.static_target(target, scope);
-        self.static_opts(opts, scope);
+        self.static_opts(opts, kind == MotionKind::Ptp, scope);
         if kind == MotionKind::Lin {
             self.static_cartesian_capable(s);
         }
@@ -384,9 +384,22 @@ impl Compiler<'_> {
     }
 
     #[allow(clippy::collapsible_match)]
-    fn static_opts(&mut self, o: &MotionOpts, scope: &Scope) {
+    fn static_opts(&mut self, o: &MotionOpts, ptp: bool, scope: &Scope) {
         if let Some(d) = &o.duration {
             self.static_time(d, scope);
+        }
+        if let Some(at) = &o.avoid {
+            if !ptp {
+                self.err(
+                    Diagnostic::error(at.clone(), "AVOID applies to PTP only")
+                        .with_hint("a LIN or CIRC keeps its tool path; plan around obstacles with `PTP … AVOID`"),
+                );
+            } else if o.duration.is_some() {
+                self.err(
+                    Diagnostic::error(at.clone(), "AVOID cannot be combined with IN")
+                        .with_hint("a path around obstacles is timed under the joint limits (JVEL, JACC, SPEED)"),
+                );
+            }
         }
         if let Some(b) = &o.blend {
             match self.static_eval(b, scope) {

@@ -4,6 +4,7 @@
 //! for every motion, samples every `dt` — and the trajectory check, whose
 //! violations are reported at the line of the motion that caused them.
 
+mod avoid;
 mod cart;
 mod check;
 mod eval;
@@ -27,6 +28,7 @@ use kinema::Robot;
 
 use crate::diag::{Diagnostic, LineIndex};
 use crate::lexer::Span;
+use crate::planner::PathPlanner;
 use crate::stop::Stop;
 
 use self::cart::Chain;
@@ -57,6 +59,10 @@ pub struct Options {
     /// scene's collision check: samples and the steps between them), each
     /// refused stretch reported at the line of its motion.
     pub admissible: Option<Arc<dyn Admissible>>,
+    /// The planner of `PTP … AVOID` (given with `admissible`, on the same
+    /// shapes): a PTP whose straight motion collides follows its path.
+    /// Without one, AVOID warns and the motion stays straight.
+    pub planner: Option<Arc<dyn PathPlanner>>,
 }
 
 impl Default for Options {
@@ -69,6 +75,7 @@ impl Default for Options {
             stop: Stop::never(),
             skip_unreachable: false,
             admissible: None,
+            planner: None,
         }
     }
 }

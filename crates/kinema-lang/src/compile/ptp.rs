@@ -85,16 +85,27 @@ impl Compiler<'_> {
             }
         };
         let text = format!("joints [{}]", fmt_joints(&q_to));
-        self.ptp_to(s, q_to, duration, text);
+        match &opts.avoid {
+            Some(at) => self.ptp_around(s, at, q_to, text),
+            None => self.ptp_to(s, q_to, duration, text),
+        }
     }
 
-    fn ptp_to(&mut self, s: &Stmt, q_to: Vec<f64>, duration: Option<f64>, text: String) {
-        if let Err(e) = self.robot.check_q(&q_to) {
+    /// Whether `q_to` is a joint target the robot can take; else the error at `s`.
+    pub(super) fn valid_joint_target(&mut self, s: &Stmt, q_to: &[f64]) -> bool {
+        if let Err(e) = self.robot.check_q(q_to) {
             self.err(Diagnostic::error(s.span.clone(), e.to_string()));
-            return;
+            return false;
         }
-        if let Some(m) = outside_limits(self.robot, &q_to) {
+        if let Some(m) = outside_limits(self.robot, q_to) {
             self.err(Diagnostic::error(s.span.clone(), format!("the target puts {m}")));
+            return false;
+        }
+        true
+    }
+
+    pub(super) fn ptp_to(&mut self, s: &Stmt, q_to: Vec<f64>, duration: Option<f64>, text: String) {
+        if !self.valid_joint_target(s, &q_to) {
             return;
         }
         let kw = keyword_of(&s.kind).to_string();
@@ -152,7 +163,12 @@ impl Compiler<'_> {
     /// accelerations. An S-curve needs jerk limits: without the robot's, a
     /// joint's jerk is 10 × its acceleration per second (full acceleration
     /// reached in 0.1 s).
-    fn ptp_options(&self, profile: Profile, from: &[f64], to: &[f64]) -> std::result::Result<PtpOptions, String> {
+    pub(super) fn ptp_options(
+        &self,
+        profile: Profile,
+        from: &[f64],
+        to: &[f64],
+    ) -> std::result::Result<PtpOptions, String> {
         let pick = |given: &[Option<f64>; 2], own: Option<f64>, prismatic: bool| -> Option<f64> {
             match (given[usize::from(prismatic)], own) {
                 (Some(g), Some(o)) => Some(g.min(o)),

@@ -5,6 +5,7 @@
 #[path = "../../../kinema/tests/common/mutate.rs"]
 mod mutate;
 
+mod avoid;
 mod bounds;
 mod fuzz;
 mod lang;
