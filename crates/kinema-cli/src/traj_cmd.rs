@@ -363,7 +363,7 @@ fn law(a: LawArgs) -> Result<()> {
 }
 
 /// Parses "v" or "v1,v2,…" into numbers, converting revolute entries from degrees when asked.
-fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Result<Option<Vec<f64>>> {
+pub(crate) fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Result<Option<Vec<f64>>> {
     let Some(text) = text else { return Ok(None) };
     let vals: Vec<f64> = text
         .split(',')

@@ -10,7 +10,7 @@ use kinema_geometry::plan::{plan, Goal, PlanOptions};
 use kinema_io::{PlanAnswer, TrajSummary};
 use pyo3::prelude::*;
 
-use crate::args::{opt_real, parse_rpy, pose_arg, real};
+use crate::args::{limit_values, opt_real, parse_rpy, pose_arg, real};
 use crate::collision::PyScene;
 use crate::errors::{geometry_to_py, invalid, to_py, PlanningError};
 use crate::ik::seed_arg;
@@ -28,6 +28,7 @@ impl PyRobot {
     /// ``time_limit`` seconds, ``max_iterations``, ``step``: the trees' longest
     /// step, default a fifth of the joint-limit box's diagonal), shortened, and timed with
     /// one PTP per segment at rest at each via point (``profile``, ``speed``,
+    /// ``vmax``/``amax``/``jmax``: one value or one per joint, default the robot's,
     /// sampled every ``dt`` s) — ``kinema plan``. Ctrl-C stops it
     /// (KeyboardInterrupt).
     ///
@@ -43,7 +44,8 @@ impl PyRobot {
     ///         final exact check refused the path, a defect to report).
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (q0, qf=None, *, pose=None, scene=None, margin=0.0, seed=0, time_limit=1.0,
-        max_iterations=100_000, step=None, dt=0.01, profile=None, speed=1.0, rpy="zyx"))]
+        max_iterations=100_000, step=None, dt=0.01, profile=None, speed=1.0, vmax=None, amax=None, jmax=None,
+        rpy="zyx"))]
     fn plan(
         &self,
         py: Python<'_>,
@@ -59,6 +61,9 @@ impl PyRobot {
         #[pyo3(from_py_with = real)] dt: f64,
         profile: Option<&str>,
         #[pyo3(from_py_with = real)] speed: f64,
+        vmax: Option<&Bound<'_, PyAny>>,
+        amax: Option<&Bound<'_, PyAny>>,
+        jmax: Option<&Bound<'_, PyAny>>,
         rpy: &str,
     ) -> PyResult<PyJointTrajectory> {
         let from = self.joint_vector(q0, "q0")?;
@@ -76,6 +81,9 @@ impl PyRobot {
                 None => kinema::traj::default_profile(&self.robot),
             },
             speed,
+            vel: limit_values(vmax, "vmax")?,
+            acc: limit_values(amax, "amax")?,
+            jerk: limit_values(jmax, "jmax")?,
             ..PtpOptions::for_robot(&self.robot)
         };
         let profile_name = ptp.profile.name();

@@ -192,3 +192,37 @@ fn the_documented_swing_around_the_fume_hood_runs_and_passes_the_scene_check() {
     ]);
     assert!(!ptp.ok && ptp.stderr.contains("sash"), "{}", ptp.stderr);
 }
+
+/// Two revolute joints about z with cylinder links, and URDF's velocity limits only.
+const PLANAR_URDF: &str = r#"<robot name="planar">
+  <link name="base"/>
+  <link name="upper"><collision><origin xyz="0.25 0 0" rpy="0 1.5708 0"/><geometry><cylinder radius="0.025" length="0.5"/></geometry></collision></link>
+  <link name="fore"><collision><origin xyz="0.2 0 0" rpy="0 1.5708 0"/><geometry><cylinder radius="0.025" length="0.4"/></geometry></collision></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="1" effort="10"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2.5" upper="2.5" velocity="1" effort="10"/></joint>
+</robot>"#;
+
+#[test]
+fn a_urdf_without_acceleration_limits_plans_with_amax() {
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = dir.path().join("planar.urdf");
+    std::fs::write(&urdf, PLANAR_URDF).unwrap();
+    let scene = dir.path().join("post.toml");
+    std::fs::write(&scene, "[[obstacle]]\nname = \"post\"\nbox = [0.1, 0.1, 0.5]\npose = [0.7, 0, 0, 0, 0, 0]\n")
+        .unwrap();
+    let args = |extra: &[&'static str]| {
+        let mut args = vec!["plan", "--robot", urdf.to_str().unwrap(), "--scene", scene.to_str().unwrap()];
+        args.extend_from_slice(&["--from=-1,0", "--to", "1,0", "--json"]);
+        args.extend_from_slice(extra);
+        kinema(&args)
+    };
+    let refused = args(&[]);
+    assert_eq!(refused.code, Some(1), "{}", refused.stderr);
+    assert!(refused.stderr.contains("amax") && !refused.stderr.contains("planned in"), "{}", refused.stderr);
+    let planned = args(&["--amax", "2"]);
+    assert_eq!(planned.code, Some(0), "{}", planned.stderr);
+    let v = json(&planned.stdout);
+    assert!(v["plan"]["iterations"].as_u64().unwrap() > 0, "the straight swing hits the post: {v}");
+}

@@ -19,6 +19,11 @@ impl<'a> Budget<'a> {
         Budget { started: Instant::now(), time_limit, max_iterations, cancel }
     }
 
+    /// When the time limit runs out.
+    pub(crate) fn deadline(&self) -> Instant {
+        self.started.checked_add(self.time_limit).unwrap_or_else(|| self.started + Duration::from_secs(86_400 * 365))
+    }
+
     /// Time since the run started.
     pub(crate) fn elapsed(&self) -> Duration {
         self.started.elapsed()
@@ -32,8 +37,7 @@ impl<'a> Budget<'a> {
     }
 
     /// An error when the caller interrupted the run. The steps bounded by
-    /// their own counts (goals, shortening, the final check) ask only this,
-    /// so the clock never changes their answer.
+    /// their own counts (the goals, the final check) ask only this.
     pub(crate) fn not_cancelled(&self) -> Result<()> {
         if self.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
             return Err(Error::Interrupted);

@@ -162,6 +162,9 @@ pub fn plan(check: &CollisionCheck, from: &[f64], goal: &Goal, options: &PlanOpt
         Goal::Pose(pose) => goal::goal_configurations(check, pose, options.goal_samples, options.seed, &budget)?,
     };
     let mut motion = MotionCheck::new(check)?;
+    // A segment still being checked when time runs out counts as blocked:
+    // the search and the shortening then end on the budget.
+    motion.set_deadline(Some(budget.deadline()));
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let (mut path, iterations, nodes) = match straight_to_a_goal(&mut motion, from, &goals, &budget)? {
         Some(g) => (vec![from.to_vec(), g], 0, 1 + goals.len()),

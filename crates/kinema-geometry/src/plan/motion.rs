@@ -19,6 +19,8 @@
 //! pessimistic. Triangle-mesh obstacles keep their spheres: a soup of
 //! triangles has no inside to measure from.
 
+use std::time::Instant;
+
 use nalgebra::Point3;
 
 use kinema::Robot;
@@ -104,6 +106,8 @@ pub struct MotionCheck<'c> {
     sweeps: Vec<f64>,
     /// Intervals of the segment being checked that its first pass left open.
     undecided: Vec<usize>,
+    /// When a segment check gives up and answers "blocked" (see [`MotionCheck::set_deadline`]).
+    deadline: Option<Instant>,
     counts: MotionCounts,
 }
 
@@ -164,8 +168,21 @@ impl<'c> MotionCheck<'c> {
             growth: vec![0.0; geometry.len()],
             sweeps: vec![0.0; geometry.len()],
             undecided: Vec::new(),
+            deadline: None,
             counts: MotionCounts::default(),
         })
+    }
+
+    /// From `deadline` on, a segment check answers "not free" at its next
+    /// interval instead of finishing: a planner's time budget stays kept
+    /// when one check is slow (shapes made of many triangles). `None`:
+    /// every check runs to its exact answer.
+    pub fn set_deadline(&mut self, deadline: Option<Instant>) {
+        self.deadline = deadline;
+    }
+
+    fn past_deadline(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d)
     }
 
     /// The robot.
@@ -212,7 +229,11 @@ impl<'c> MotionCheck<'c> {
         let part = |i: usize| (i as f64 / intervals as f64, (i + 1) as f64 / intervals as f64);
         let mut undecided = std::mem::take(&mut self.undecided);
         undecided.clear();
-        for i in spread_order(intervals) {
+        for (n, i) in spread_order(intervals).enumerate() {
+            if n % DEADLINE_EVERY == DEADLINE_EVERY - 1 && self.past_deadline() {
+                self.undecided = undecided;
+                return Ok(false);
+            }
             let (lo, hi) = part(i);
             match self.interval_outcome(from, to, lo, hi)? {
                 Outcome::Clear => {}
@@ -273,6 +294,9 @@ impl<'c> MotionCheck<'c> {
                 }
             }
             return Ok(true);
+        }
+        if self.past_deadline() {
+            return Ok(false);
         }
         self.counts.exact_checks += 1;
         self.grow_for(lo, hi);
@@ -428,6 +452,9 @@ fn interval_count(longest: f64) -> Result<usize> {
     }
     Ok((count as usize).max(1))
 }
+
+/// Intervals of a first pass between two looks at the clock.
+const DEADLINE_EVERY: usize = 16;
 
 /// The most intervals one segment is cut into.
 const MAX_INTERVALS: usize = 1 << 16;

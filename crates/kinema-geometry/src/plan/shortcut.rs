@@ -11,9 +11,8 @@ use super::motion::{lerp_into, MotionCheck};
 use super::rrt::ordered_pair;
 use crate::error::Result;
 
-/// Shortens `path` in place with `rounds` random shortcuts (fewer only when
-/// it is down to one segment). The clock does not stop it, so a seed gives
-/// one path; an interrupt does. Every segment of the result is checked free.
+/// Shortens `path` in place with at most `rounds` random shortcuts, while
+/// `budget` has time. Every segment of the result is checked free.
 pub(crate) fn shorten(
     path: &mut Vec<Vec<f64>>,
     motion: &mut MotionCheck,
@@ -23,8 +22,7 @@ pub(crate) fn shorten(
 ) -> Result<()> {
     drop_via_points(path, motion, budget)?;
     for _ in 0..rounds {
-        budget.not_cancelled()?;
-        if path.len() < 3 {
+        if path.len() < 3 || !budget.has_time()? {
             break;
         }
         try_shortcut(path, motion, rng)?;

@@ -240,3 +240,22 @@ fn misused_motion_checks_and_steps_are_errors() {
         assert!(e.to_string().contains("step"), "{step}: {e}");
     }
 }
+
+#[test]
+fn a_segment_check_past_its_deadline_answers_blocked() {
+    let check = post_check();
+    let mut motion = MotionCheck::new(&check).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    // A long free segment: many intervals, so the first pass looks at the clock.
+    let (from, to) = (0..500)
+        .map(|_| (free_q(&check, &mut rng), free_q(&check, &mut rng)))
+        .find(|(a, b)| {
+            let long = a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>() > 4.0;
+            long && motion.segment_free(a, b).unwrap()
+        })
+        .expect("a long free segment among 500");
+    motion.set_deadline(Some(std::time::Instant::now()));
+    assert!(!motion.segment_free(&from, &to).unwrap());
+    motion.set_deadline(None);
+    assert!(motion.segment_free(&from, &to).unwrap());
+}

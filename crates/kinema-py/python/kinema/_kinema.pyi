@@ -592,6 +592,9 @@ class Robot:
         dt: float = 0.01,
         profile: Optional[ProfileName] = None,
         speed: float = 1.0,
+        vmax: Optional[ArrayLike] = None,
+        amax: Optional[ArrayLike] = None,
+        jmax: Optional[ArrayLike] = None,
         rpy: str = "zyx",
     ) -> JointTrajectory:
         """A collision-free motion to qf or to any collision-free IK solution of pose (kinema plan):
