@@ -27,7 +27,7 @@ import time
 import numpy as np
 
 import kinema
-from plan_peers_geometry import Chain, CoalCheck
+from plan_peers_geometry import Chain, CoalCheck, dense
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -40,15 +40,6 @@ def problems():
     for k, r in enumerate(rows):
         q = lambda s: np.array([float(v) for v in s.split()])  # noqa: E731
         yield k, r["name"], r["robot"], q(r["start"]), q(r["goal"])
-
-
-def dense(path, step=1e-3):
-    """The path's straight segments sampled at most `step` apart in every joint, ends included."""
-    out = [path[0]]
-    for a, b in zip(path[:-1], path[1:]):
-        n = max(1, int(np.ceil(np.max(np.abs(b - a)) / step)))
-        out.extend(a + (b - a) * (i / n) for i in range(1, n + 1))
-    return out
 
 
 def recheck(check, via, samples):

@@ -5,7 +5,8 @@ kinema's built-in Panda and iiwa carry primitive link shapes (`[[shape]]` in rob
 and spheres on the DH link frames); scenes are boxes and cylinders on the world frame. This builds the
 same chain as a Pinocchio model (one revolute-z joint per DH row, read from the same robot file), the
 same shapes as coal primitives in a GeometryModel, and the same pairs as kinema's check: shapes on
-links more than one apart, and every shape on a moving link against every obstacle.
+links more than one apart, and every shape on a moving link against every obstacle. Also the dense
+sampling of a path that benchmarks/plan_peers_urdf.py shares.
 """
 
 import math
@@ -51,6 +52,15 @@ def coal_shape(table, metres):
 def placement_of(table, metres, radians):
     p = table.get("pose", [0, 0, 0, 0, 0, 0])
     return rpy_pose([metres * v for v in p[:3]], [radians * v for v in p[3:]])
+
+
+def dense(path, step=1e-3):
+    """The path's straight segments sampled at most `step` apart in every joint, ends included."""
+    out = [path[0]]
+    for a, b in zip(path[:-1], path[1:]):
+        n = max(1, int(np.ceil(np.max(np.abs(b - a)) / step)))
+        out.extend(a + (b - a) * (i / n) for i in range(1, n + 1))
+    return out
 
 
 class Chain:
