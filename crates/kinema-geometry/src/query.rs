@@ -375,6 +375,12 @@ pub(crate) fn placed_gap(
             return Ok(d);
         }
     }
+    if let (Some(ca), Some(cb)) = (sa.as_cuboid(), sb.as_cuboid()) {
+        // parry's own cuboid pair projects one box's support vertex onto the
+        // other, which overstates the gap when an edge is nearest (by 0.22 m
+        // for a link 3 mm from a post's vertical edge); GJK is exact.
+        return Ok(query::details::distance_support_map_support_map(&pose_a.inv_mul(pose_b), ca, cb));
+    }
     query::distance(pose_a, sa, pose_b, sb)
 }
 

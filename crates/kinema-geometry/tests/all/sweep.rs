@@ -105,3 +105,55 @@ fn the_continuous_check_is_never_later_than_dense_sampling() {
     }
     assert!(found > 5 && free > 5, "a mix of cases: {found} with contact, {free} free");
 }
+
+/// Two box links swinging in the plane past a box post: near the post's
+/// vertical edges parry's own box–box distance overstated the gap (by the
+/// post's half height), and the advancement stepped over shallow contacts.
+const BOX_ARM: &str = r#"<robot name="box-arm">
+  <link name="base"/>
+  <link name="upper"><collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.05 0.05"/></geometry></collision></link>
+  <link name="fore"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="1" effort="10"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2.5" upper="2.5" velocity="1" effort="10"/></joint>
+</robot>"#;
+
+#[test]
+fn box_links_past_a_box_post_are_never_found_later_than_by_dense_sampling() {
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = dir.path().join("box-arm.urdf");
+    std::fs::write(&urdf, BOX_ARM).unwrap();
+    let scene = dir.path().join("post.toml");
+    std::fs::write(&scene, "[[obstacle]]\nname = \"post\"\nbox = [0.1, 0.1, 0.5]\npose = [0.7, 0, 0, 0, 0, 0]\n")
+        .unwrap();
+    let options = CheckOptions { scene: Some(scene), ..Default::default() };
+    let check = CollisionCheck::load(urdf.to_str().unwrap(), &options).unwrap();
+    // The segment that once slipped through: 0.1 mm into the post's edge, 7 ‰ along it.
+    let (via, end) = ([0.7362723533835728, -1.6080153480763517], [1.0, 0.0]);
+    let hit = check.first_contact_between(&via, &end, &mut check.placement()).unwrap();
+    assert!(hit.is_some_and(|c| c.fraction < 0.01), "{hit:?}");
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut placement = check.placement();
+    let (mut hits, mut cases) = (0, 0);
+    while cases < 300 {
+        let q = |rng: &mut ChaCha8Rng| [rng.random_range(-1.5..1.5), rng.random_range(-2.4..2.4)];
+        let (a, b) = (q(&mut rng), q(&mut rng));
+        if clearance(&check, &a, &mut placement) <= 0.0 {
+            continue;
+        }
+        cases += 1;
+        let first = check.first_contact_between(&a, &b, &mut check.placement()).unwrap().map(|c| c.fraction);
+        let sampled = (0..=2000)
+            .map(|k| k as f64 / 2000.0)
+            .find(|&s| check.first_collision(&between(&a, &b, s)).unwrap().is_some());
+        if let Some(s) = sampled {
+            hits += 1;
+            assert!(
+                first.is_some_and(|f| f <= s + 1e-9),
+                "case {cases}: sampling hits at {s}, the check says {first:?}"
+            );
+        }
+    }
+    assert!(hits > 30, "{hits} colliding segments");
+}
