@@ -111,6 +111,8 @@ fn base64_decode(text: &str) -> Vec<u8> {
 struct Viewer {
     agent: ureq::Agent,
     session: String,
+    /// The server's page, `http://127.0.0.1:PORT/`.
+    url: String,
     _guard: Guard,
 }
 
@@ -188,7 +190,7 @@ impl Viewer {
 
         // Load the page; it sets data-ready once the robot is drawn.
         wd(&agent, "POST", &format!("{session}/url"), Some(json!({"url": url})));
-        let viewer = Viewer { agent, session, _guard: guard };
+        let viewer = Viewer { agent, session, url, _guard: guard };
         viewer.wait_for("return document.body.dataset.ready || null", 60, "the page to be ready", |v| v == "1");
         Some(viewer)
     }
@@ -990,4 +992,40 @@ fn a_planned_motion_plays_around_the_sash_to_the_goal() {
     // A colliding pair draws thousands (above); edges of the brown obstacles give a few.
     assert!(red < 50, "{red} red pixels at the end of the planned motion");
     viewer.assert_webgl_and_no_errors();
+}
+
+/// `POST /api/view` on the viewer's server, as `robot.show` and `robot.animate` send it.
+fn ask_view(viewer: &Viewer, body: Value) -> Value {
+    let url = format!("{}api/view", viewer.url);
+    let answer = viewer.agent.post(&url).set("Content-Type", "application/json").send_string(&body.to_string());
+    serde_json::from_str(&answer.expect("POST /api/view").into_string().unwrap()).unwrap()
+}
+
+fn same_q(v: &Value, q: &[f64]) -> bool {
+    v.as_array().is_some_and(|a| a.len() == q.len() && a.iter().zip(q).all(|(x, y)| x.as_f64() == Some(*y)))
+}
+
+#[test]
+fn the_page_shows_the_configuration_and_plays_the_trajectory_a_program_asks_for() {
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    let q = [0.3, -0.4, 0.2, 1.1, -0.5, 0.6, 0.1];
+    let asked = ask_view(&viewer, json!({"robot": "lbr-iiwa-14-r820", "q": q}));
+    assert_eq!(asked["version"], 1, "{asked}");
+    viewer.wait_for("return kinemaViewer.followed", 10, "the page to take request 1", |v| v == 1);
+    assert!(same_q(&viewer.script("return kinemaViewer.q"), &q));
+    // The FK drawn is the server's for that configuration.
+    viewer.wait_for("return kinemaViewer.state.fk && kinemaViewer.state.fk.q", 10, "the FK of q", |v| same_q(v, &q));
+
+    let last = [-0.2, 0.5, -0.1, -0.9, 0.4, -0.3, 0.2];
+    let traj =
+        json!({"robot": "lbr-iiwa-14-r820", "t": [0.0, 0.3, 0.6], "q": [q, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], last]});
+    assert_eq!(ask_view(&viewer, traj)["version"], 2);
+    viewer.wait_for("return kinemaViewer.followed", 10, "the page to take request 2", |v| v == 2);
+    let player = viewer.wait_for("return kinemaViewer.player", 10, "the trajectory to play out", |p| {
+        p["playing"] == false && p["time"] == p["end"]
+    });
+    assert_eq!(player["end"], 0.6, "{player}");
+    assert!(same_q(&viewer.script("return kinemaViewer.q"), &last));
+    let errors = viewer.script("return kinemaViewer.errors");
+    assert_eq!(errors, json!([]), "page errors: {errors}");
 }

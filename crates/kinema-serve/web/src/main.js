@@ -14,7 +14,8 @@ import { CellPlayer } from './cell.js';
 import { PointCloud } from './points.js';
 import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool, ikTargetFromInputs } from './panels.js';
 import { bindPlan } from './plan.js';
-import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
+import { bindPlayer, resetPlayer, stopPlayer, playTrajectory } from './player.js';
+import { Follower } from './follow.js';
 
 // Errors the page met (uncaught ones and console.error), for the tests to read.
 const errors = [];
@@ -30,6 +31,7 @@ const gizmo = new Gizmo(view);
 const cell = new CellPlayer(view);
 const cloud = new PointCloud(view);
 const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
+const follower = new Follower(showAsked, (e) => setStatus(String(e), true));
 
 function redraw() {
   robot.showFrames($('show-frames').checked);
@@ -123,6 +125,18 @@ async function loadRobot(name) {
   setStatus(`${r.name}: ${r.dof} joints, ${drawn}`);
 }
 
+// A configuration or trajectory a program asked for (/api/view), on its robot.
+async function showAsked(v) {
+  if (!state.robot || state.robot.name !== v.robot) {
+    $('robot-select').value = v.robot;
+    await loadRobot(v.robot);
+  }
+  if (cell.loaded && $('cell-show').checked) showCell(false);
+  if (v.t) { playTrajectory({ t: v.t, q: v.q, source: 'program request' }); return; }
+  stopPlayer();
+  setQ(v.q);
+}
+
 // The cell's robots instead of the robot of the panels, or the other way round.
 function showCell(on) {
   $('cell-show').checked = on;
@@ -197,6 +211,7 @@ async function init() {
   cell.load(played.data, state.reach);
   if (cell.loaded) showCell(true);
   $('cell-show').addEventListener('change', () => showCell($('cell-show').checked));
+  follower.start(250);
   document.body.dataset.ready = '1';
 }
 
@@ -222,6 +237,8 @@ window.kinemaViewer = {
     const tr = state.traj;
     return tr && { playing: state.playing, time: state.playTime, end: tr.t[tr.t.length - 1], source: tr.source };
   },
+  // The version of the last /api/view request shown (0 while none).
+  get followed() { return follower.version; },
   // The cell's timeline: {sample, samples, time, playing, members: [{name, q}]}, or null.
   get cell() { return cell.status; },
   // The point cloud layer: {count, valued, min, max}, or null.
