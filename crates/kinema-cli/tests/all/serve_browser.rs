@@ -1029,3 +1029,31 @@ fn the_page_shows_the_configuration_and_plays_the_trajectory_a_program_asks_for(
     let errors = viewer.script("return kinemaViewer.errors");
     assert_eq!(errors, json!([]), "page errors: {errors}");
 }
+
+#[test]
+fn a_cell_loads_with_both_robots_and_their_links_in_view() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cells/seed004_two_iiwa.toml");
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--cell", file.to_str().unwrap()], &[]) else { return };
+    let rect: [f64; 4] = serde_json::from_value(viewer.script(
+        "const r = document.getElementById('view').getBoundingClientRect(); return [r.left, r.top, r.width, r.height]",
+    ))
+    .unwrap();
+    // The robots' bases as the cell file places them, and every link origin at the first
+    // sample as the server computed it.
+    let cell = viewer.agent.get(&format!("{}api/cell", viewer.url)).call().unwrap().into_string().unwrap();
+    let cell: Value = serde_json::from_str(&cell).unwrap();
+    let mut points = vec![[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]];
+    for m in cell["members"].as_array().unwrap() {
+        for f in m["frames"][0].as_array().unwrap() {
+            points.push([9, 10, 11].map(|k| f[k].as_f64().unwrap()));
+        }
+    }
+    assert!(points.len() > 10, "{points:?}");
+    for p in points {
+        let px: [f64; 3] =
+            serde_json::from_value(viewer.script(&format!("return window.kinemaViewer.project({})", json!(p)))).unwrap();
+        let inside = px[0] > rect[0] && px[0] < rect[0] + rect[2] && px[1] > rect[1] && px[1] < rect[1] + rect[3];
+        assert!(inside, "{p:?} is drawn at {px:?}, outside the canvas {rect:?}");
+    }
+    viewer.assert_webgl_and_no_errors();
+}

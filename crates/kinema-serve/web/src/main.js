@@ -4,6 +4,7 @@
 // shapes placed by FK), world.js (scene obstacles, collisions and the
 // minimum distance), panels.js (joints, FK readout, IK), player.js, plan.js
 // (the Plan button).
+import * as THREE from 'three';
 import { $, state, setStatus, dist3 } from './state.js';
 import { api, PoseLink, latestOnly } from './api.js';
 import { View } from './scene.js';
@@ -209,7 +210,11 @@ async function init() {
   const played = await api('/api/cell');
   if (!played.ok) { setStatus(played.data.error, true); return; }
   cell.load(played.data, state.reach);
-  if (cell.loaded) showCell(true);
+  if (cell.loaded) {
+    showCell(true);
+    // The camera takes in every robot of the cell over its motion, and the obstacles.
+    view.frameBox(cell.box().union(new THREE.Box3().setFromObject(world.root)), state.reach);
+  }
   $('cell-show').addEventListener('change', () => showCell($('cell-show').checked));
   follower.start(250);
   document.body.dataset.ready = '1';
