@@ -235,6 +235,9 @@ window.kinemaViewer = {
   get collide() { return state.collide; },
   // The tool gizmo: {target (T rows), pending, reached, closest, message} of its last IK request.
   get gizmo() { return gizmo.status; },
+  // The gizmo's centre [m] and its drawn size [m per gizmo unit], to aim at its arrows and rings.
+  get gizmoCentre() { return gizmo.centre; },
+  get gizmoScale() { return gizmo.drawnScale; },
   // The last plan: {pending, ok, message, goal}, or null.
   get plan() { return state.plan; },
   // The player: {playing, time, end}, or null without a trajectory.
