@@ -41,6 +41,7 @@ mod plan;
 mod plot;
 mod program;
 mod robot;
+mod show;
 mod time_law;
 mod toolbox;
 mod traj;

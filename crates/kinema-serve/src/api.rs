@@ -26,6 +26,7 @@ use crate::cell::{CellAnswer, CellMotion};
 use crate::error::{Error, Result};
 use crate::request::{parse, CollideReq, IkReq, OneOrMany, QReq, RunReq, SceneReq, TrajReq};
 use crate::shapes::{GeometryAnswer, SceneAnswer};
+use crate::view::{ViewReq, ViewSlot, VIEW_SHAPE};
 use kinema_io::{
     ClosestAnswer, CollideAnswer, ErrorAnswer, FkAnswer, IkAnswer, ManipAnswer, ProgramAnswer, RobotInfo, RobotSummary,
     TrajSummary, TrajectoryAnswer,
@@ -120,6 +121,8 @@ pub struct App {
     scene: Option<Scene>,
     /// The cell the page plays ([`App::with_cell`]), as its JSON answer.
     cell: Option<Arc<Value>>,
+    /// What a program last asked the page to show (`/api/view`), shared by the app's clones.
+    view: ViewSlot,
     default: usize,
 }
 
@@ -151,7 +154,15 @@ impl App {
         if robots.is_empty() {
             return Err(Error::Unprocessable { message: "there are no robots to serve".into() });
         }
-        Ok(App { robots, bodies: OnceLock::new(), default_shapes: None, scene: None, cell: None, default })
+        Ok(App {
+            robots,
+            bodies: OnceLock::new(),
+            default_shapes: None,
+            scene: None,
+            cell: None,
+            view: ViewSlot::default(),
+            default,
+        })
     }
 
     /// The default robot's shapes for the page to draw: `visual` (a URDF's
@@ -308,6 +319,9 @@ impl App {
             let none = || to_value(CellAnswer::new(&[], &[])?);
             return self.cell.as_ref().map_or_else(none, |c| Ok(Value::clone(c)));
         }
+        if path == "/api/view" && is_get {
+            return Ok(self.view.get());
+        }
         if path == "/api/scene" && is_get {
             let obstacles = self.scene.as_ref().map_or(&[][..], |s| &s.obstacles[..]);
             return to_value(SceneAnswer::new(obstacles));
@@ -321,6 +335,7 @@ impl App {
             "/api/manip" => |a, b, _| a.manip(b),
             "/api/collide" => |a, b, _| a.collide(b),
             "/api/scene" => |a, b, _| a.scene(b),
+            "/api/view" => |a, b, _| a.show(b),
             _ => return Err(Error::NotFound { path: path.into() }),
         };
         if method != "POST" {
@@ -348,6 +363,13 @@ impl App {
         let req: QReq = parse(body, "/api/fk", r#"{"robot": "NAME", "q": [joint values in rad and m]}"#)?;
         let r = self.robot(&req.robot)?;
         to_value(FkAnswer::new(r, &req.q, RpyConvention::Zyx)?)
+    }
+
+    /// A configuration or trajectory for the page to show (`POST /api/view`), checked first.
+    fn show(&self, body: &[u8]) -> Result<Value> {
+        let req: ViewReq = parse(body, "/api/view", VIEW_SHAPE)?;
+        let robot = self.robot(&req.robot)?;
+        self.view.set(robot, req)
     }
 
     /// A pose update asked on the WebSocket: the FK answer of a

@@ -40,6 +40,8 @@
 //! | `GET /api/scene` | — | the server's scene ([`App::with_scene`]): `{obstacles}` |
 //! | `GET /api/cell` | — | the server's cell ([`App::with_cell`]): `{times, members}` with every sample's link poses ([`CellAnswer`]) |
 //! | `GET /api/ws` (WebSocket) | messages `{robot?, q}` | one message each: the `/api/fk` answer or `{"error": …}`; at most 64 KiB a message |
+//! | `POST /api/view` | `{robot?, q}`, or `{robot?, t, q}` with one `q` row per time `t` | the request with its `version`; the page shows `q` or plays the trajectory |
+//! | `GET /api/view` | — | the last `POST /api/view` answer, or `{version: 0}` (the page polls it) |
 //! | `POST /api/manip` | `{robot?, q}` | manipulability, translational and rotational ellipsoids |
 //! | `POST /api/collide` | `{robot?, q}`, optional `scene` (TOML text), `margin` | `collision`, `pairs`, `min_distance` |
 //!
@@ -96,6 +98,7 @@ mod cell;
 mod error;
 mod request;
 mod shapes;
+mod view;
 // The only module that needs axum, hyper and tokio: without the `server`
 // feature the crate is the request handler `App`, with no sockets.
 #[cfg(feature = "server")]

@@ -111,6 +111,8 @@ fn base64_decode(text: &str) -> Vec<u8> {
 struct Viewer {
     agent: ureq::Agent,
     session: String,
+    /// The server's page, `http://127.0.0.1:PORT/`.
+    url: String,
     _guard: Guard,
 }
 
@@ -188,7 +190,7 @@ impl Viewer {
 
         // Load the page; it sets data-ready once the robot is drawn.
         wd(&agent, "POST", &format!("{session}/url"), Some(json!({"url": url})));
-        let viewer = Viewer { agent, session, _guard: guard };
+        let viewer = Viewer { agent, session, url, _guard: guard };
         viewer.wait_for("return document.body.dataset.ready || null", 60, "the page to be ready", |v| v == "1");
         Some(viewer)
     }
@@ -989,5 +991,164 @@ fn a_planned_motion_plays_around_the_sash_to_the_goal() {
     println!("red pixels at the end of the planned motion: {red}");
     // A colliding pair draws thousands (above); edges of the brown obstacles give a few.
     assert!(red < 50, "{red} red pixels at the end of the planned motion");
+    viewer.assert_webgl_and_no_errors();
+}
+
+/// `POST /api/view` on the viewer's server, as `robot.show` and `robot.animate` send it.
+fn ask_view(viewer: &Viewer, body: Value) -> Value {
+    let url = format!("{}api/view", viewer.url);
+    let answer = viewer.agent.post(&url).set("Content-Type", "application/json").send_string(&body.to_string());
+    serde_json::from_str(&answer.expect("POST /api/view").into_string().unwrap()).unwrap()
+}
+
+fn same_q(v: &Value, q: &[f64]) -> bool {
+    v.as_array().is_some_and(|a| a.len() == q.len() && a.iter().zip(q).all(|(x, y)| x.as_f64() == Some(*y)))
+}
+
+#[test]
+fn the_page_shows_the_configuration_and_plays_the_trajectory_a_program_asks_for() {
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &[], &[]) else { return };
+    let q = [0.3, -0.4, 0.2, 1.1, -0.5, 0.6, 0.1];
+    let asked = ask_view(&viewer, json!({"robot": "lbr-iiwa-14-r820", "q": q}));
+    assert_eq!(asked["version"], 1, "{asked}");
+    viewer.wait_for("return kinemaViewer.followed", 10, "the page to take request 1", |v| v == 1);
+    assert!(same_q(&viewer.script("return kinemaViewer.q"), &q));
+    // The FK drawn is the server's for that configuration.
+    viewer.wait_for("return kinemaViewer.state.fk && kinemaViewer.state.fk.q", 10, "the FK of q", |v| same_q(v, &q));
+
+    let last = [-0.2, 0.5, -0.1, -0.9, 0.4, -0.3, 0.2];
+    let traj =
+        json!({"robot": "lbr-iiwa-14-r820", "t": [0.0, 0.3, 0.6], "q": [q, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], last]});
+    assert_eq!(ask_view(&viewer, traj)["version"], 2);
+    viewer.wait_for("return kinemaViewer.followed", 10, "the page to take request 2", |v| v == 2);
+    let player = viewer.wait_for("return kinemaViewer.player", 10, "the trajectory to play out", |p| {
+        p["playing"] == false && p["time"] == p["end"]
+    });
+    assert_eq!(player["end"], 0.6, "{player}");
+    assert!(same_q(&viewer.script("return kinemaViewer.q"), &last));
+    let errors = viewer.script("return kinemaViewer.errors");
+    assert_eq!(errors, json!([]), "page errors: {errors}");
+}
+
+#[test]
+fn a_cell_loads_with_both_robots_and_their_links_in_view() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cells/seed004_two_iiwa.toml");
+    let Some(viewer) = Viewer::open("lbr-iiwa-14-r820", &["--cell", file.to_str().unwrap()], &[]) else { return };
+    let rect: [f64; 4] = serde_json::from_value(viewer.script(
+        "const r = document.getElementById('view').getBoundingClientRect(); return [r.left, r.top, r.width, r.height]",
+    ))
+    .unwrap();
+    // The robots' bases as the cell file places them, and every link origin at the first
+    // sample as the server computed it.
+    let cell = viewer.agent.get(&format!("{}api/cell", viewer.url)).call().unwrap().into_string().unwrap();
+    let cell: Value = serde_json::from_str(&cell).unwrap();
+    let mut points = vec![[0.0, 0.0, 0.0], [1.2, 0.0, 0.0]];
+    for m in cell["members"].as_array().unwrap() {
+        for f in m["frames"][0].as_array().unwrap() {
+            points.push([9, 10, 11].map(|k| f[k].as_f64().unwrap()));
+        }
+    }
+    assert!(points.len() > 10, "{points:?}");
+    for p in points {
+        let px: [f64; 3] =
+            serde_json::from_value(viewer.script(&format!("return window.kinemaViewer.project({})", json!(p))))
+                .unwrap();
+        let inside = px[0] > rect[0] && px[0] < rect[0] + rect[2] && px[1] > rect[1] && px[1] < rect[1] + rect[3];
+        assert!(inside, "{p:?} is drawn at {px:?}, outside the canvas {rect:?}");
+    }
+    viewer.assert_webgl_and_no_errors();
+}
+
+/// kinema's FK (the CLI) of the iiwa at `q`: the tool position and rotation (rows).
+fn iiwa_tool_pose(q: &[f64]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let q = q.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    let out = Command::new(env!("CARGO_BIN_EXE_kinema"))
+        .args(["fk", "--robot", "lbr-iiwa-14-r820", "--q", &q, "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let t: [[f64; 4]; 4] = serde_json::from_value(v["T"].clone()).unwrap();
+    ([t[0][3], t[1][3], t[2][3]], [0, 1, 2].map(|r| [t[r][0], t[r][1], t[r][2]]))
+}
+
+/// Window pixel (and depth) of the point `offset` gizmo units from the handle's centre, along
+/// the world axes: the gizmo's arrows and rings are drawn that far out at its drawn scale.
+fn gizmo_pixel(viewer: &Viewer, offset: [f64; 3]) -> [f64; 3] {
+    let js = format!(
+        "const v = window.kinemaViewer, c = v.gizmoCentre, s = v.gizmoScale, o = {}; \
+         return v.project([0, 1, 2].map((k) => c[k] + s * o[k]))",
+        json!(offset)
+    );
+    serde_json::from_value(viewer.script(&js)).unwrap()
+}
+
+/// The iiwa with the gizmo on in `mode` ("translate" or "rotate"), drawn with it at the tool.
+fn gizmo_viewer(q: &[f64], mode: &str) -> Option<Viewer> {
+    let viewer = Viewer::open("lbr-iiwa-14-r820", &[], &[])?;
+    viewer.show_q(q);
+    viewer.script(&format!(
+        "document.getElementById('gizmo-on').click(); const m = document.getElementById('gizmo-mode'); \
+         m.value = '{mode}'; m.dispatchEvent(new Event('change')); return 1"
+    ));
+    // The gizmo's scale is set when it is drawn: wait for a frame after turning it on.
+    let drawn = viewer.script("const v = window.kinemaViewer; v.redraw(); return v.frames").as_u64().unwrap();
+    viewer.wait_for("return window.kinemaViewer.frames", 10, "a frame with the gizmo", |v| {
+        v.as_u64().is_some_and(|n| n > drawn)
+    });
+    Some(viewer)
+}
+
+#[test]
+fn dragging_a_gizmo_arrow_moves_the_tool_along_that_axis_only() {
+    let q0 = [0.0, 0.4, 0.0, 1.4, 0.0, -1.0, 0.0];
+    let Some(viewer) = gizmo_viewer(&q0, "translate") else { return };
+    let (start, _) = iiwa_tool_pose(&q0);
+    // The x arrow's pick cone is widest at 0.6 gizmo units out; grab it at 0.45 and
+    // pull it 5 cm further along x.
+    let s = viewer.script("return window.kinemaViewer.gizmoScale").as_f64().unwrap();
+    let from = gizmo_pixel(&viewer, [0.45, 0.0, 0.0]);
+    let to = gizmo_pixel(&viewer, [0.45 + 0.05 / s, 0.0, 0.0]);
+    drag(&viewer, [from[0], from[1]], [to[0], to[1]]);
+    let g = gizmo_outcome(&viewer);
+    assert_eq!(g["reached"], true, "{g}");
+    let q: Vec<f64> = serde_json::from_value(viewer.script("return window.kinemaViewer.q")).unwrap();
+    let (tool, _) = iiwa_tool_pose(&q);
+    let moved = [0, 1, 2].map(|k| tool[k] - start[k]);
+    println!("gizmo x arrow: the tool moved by {moved:?} m");
+    assert!(moved[0].abs() > 0.01, "the tool did not move along x: {moved:?}");
+    assert!(moved[1].abs() < 1e-3 && moved[2].abs() < 1e-3, "the tool left the x axis: {moved:?}");
+    viewer.assert_webgl_and_no_errors();
+}
+
+#[test]
+fn dragging_a_gizmo_ring_turns_the_tool_about_that_axis_in_place() {
+    let q0 = [0.0, 0.4, 0.0, 1.4, 0.0, -1.0, 0.0];
+    let Some(viewer) = gizmo_viewer(&q0, "rotate") else { return };
+    let (start, r0) = iiwa_tool_pose(&q0);
+    // The x ring (radius 0.5 in the y-z plane), grabbed between the y and z axes
+    // on the side nearer the camera (away from the other rings), pulled 25° along it.
+    let ring = |a: f64| [0.0, 0.5 * a.cos(), 0.5 * a.sin()];
+    let grab = [1.0f64, 3.0, 5.0, 7.0]
+        .map(|k| k * std::f64::consts::FRAC_PI_4)
+        .into_iter()
+        .min_by(|a, b| gizmo_pixel(&viewer, ring(*a))[2].total_cmp(&gizmo_pixel(&viewer, ring(*b))[2]))
+        .unwrap();
+    let from = gizmo_pixel(&viewer, ring(grab));
+    let to = gizmo_pixel(&viewer, ring(grab + 25f64.to_radians()));
+    drag(&viewer, [from[0], from[1]], [to[0], to[1]]);
+    let g = gizmo_outcome(&viewer);
+    assert_eq!(g["reached"], true, "{g}");
+    let q: Vec<f64> = serde_json::from_value(viewer.script("return window.kinemaViewer.q")).unwrap();
+    let (tool, r1) = iiwa_tool_pose(&q);
+    // The turn R1·R0ᵀ: its angle, and its axis from the skew-symmetric part.
+    let d = |i: usize, j: usize| (0..3).map(|k| r1[i][k] * r0[j][k]).sum::<f64>();
+    let angle = ((d(0, 0) + d(1, 1) + d(2, 2) - 1.0) / 2.0).clamp(-1.0, 1.0).acos();
+    let axis = [d(2, 1) - d(1, 2), d(0, 2) - d(2, 0), d(1, 0) - d(0, 1)].map(|v| v / (2.0 * angle.sin()));
+    let moved = (0..3).map(|k| (tool[k] - start[k]).powi(2)).sum::<f64>().sqrt();
+    println!("gizmo x ring: the tool turned {:.2}° about {axis:?}, moved {moved:.2e} m", angle.to_degrees());
+    assert!(angle.to_degrees() > 2.0, "the tool did not turn: {angle} rad");
+    assert!(axis[0].abs() > 1.0 - 1e-6 && axis[1].abs() < 1e-3 && axis[2].abs() < 1e-3, "not about x: {axis:?}");
+    assert!(moved < 1e-3, "the tool moved {moved} m while turning");
     viewer.assert_webgl_and_no_errors();
 }

@@ -25,6 +25,7 @@ Example::
     Ts = kinema.ctraj(T0, T1, 50)             # (50, 4, 4); as_se3=True for a spatialmath SE3
     q, qd, qdd = kinema.jtraj(q0, q1, 50)     # quintic, as the toolbox's jtraj
     robot.plot(tr, file="arm.png")            # matplotlib Figure; also plot_joints, plot_cartesian
+    robot.show(q); robot.animate(tr)          # the browser viewer (kinema serve); inline in Jupyter
 
 Units are SI (metres, radians). Errors derive from :class:`KinemaError`;
 bad input also derives from ``ValueError``.
@@ -57,6 +58,7 @@ from ._kinema import (
     time_law,
 )
 from ._toolbox import JointPath, ctraj, jtraj
+from ._viewer import Viewer
 
 __all__ = [
     "Robot",
@@ -77,6 +79,7 @@ __all__ = [
     "ctraj",
     "jtraj",
     "JointPath",
+    "Viewer",
     "KinemaError",
     "InvalidInput",
     "UnknownRobot",

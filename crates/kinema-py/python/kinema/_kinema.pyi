@@ -1,6 +1,7 @@
 """Type stubs of the compiled part of kinema (re-exported by ``kinema``)."""
 
 import os
+from ._viewer import Viewer
 from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
@@ -261,6 +262,11 @@ class Robot:
         """Joint positions, velocities, accelerations against time (matplotlib Figure)."""
     def plot_cartesian(self, trajectory: Any, *, file: Optional[Any] = None) -> Any:
         """Tool position and linear velocity against time (matplotlib Figure)."""
+    def show(self, q: Any, scene: Optional[Scene] = None, *, open_browser: bool = True) -> "Viewer":
+        """The browser viewer (`kinema serve`, one per process) on the robot at q; a second call
+        moves the same page. Displays inline in Jupyter. Raises InvalidInput, FileNotFoundError."""
+    def animate(self, trajectory: Any, scene: Optional[Scene] = None, *, open_browser: bool = True) -> "Viewer":
+        """Plays a JointTrajectory, Plan or (t, q) pair in the browser viewer. Raises InvalidInput."""
     @property
     def name(self) -> str:
         """Robot name."""

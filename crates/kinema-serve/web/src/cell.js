@@ -2,6 +2,7 @@
 // the cell drawn at once, placed at each sample's link poses the server
 // computed; play, pause, scrub and speed, ending on the last sample.
 import { $ } from './state.js';
+import * as THREE from 'three';
 import { RobotModel } from './robot.js';
 
 export class CellPlayer {
@@ -32,6 +33,16 @@ export class CellPlayer {
     $('cell-play').addEventListener('click', () => (this.playing ? this.pause() : this.play()));
     $('cell-row').hidden = false;
     this.show(0);
+  }
+
+  // Where the members go: every link frame origin at every sample, and their shapes at the sample shown.
+  box() {
+    const box = new THREE.Box3();
+    for (const m of this.cell.members) {
+      for (const sample of m.frames) for (const f of sample) box.expandByPoint(new THREE.Vector3(f[9], f[10], f[11]));
+    }
+    for (const model of this.models) box.expandByObject(model.root);
+    return box;
   }
 
   setVisible(on) {

@@ -45,6 +45,17 @@ export class Gizmo {
 
   setMode(mode) { this.controls.setMode(mode); }
 
+  // The handle's size as drawn [m per gizmo unit]: its arrows reach out 0.6,
+  // its rings have radius 0.5 (three.js scales them with the camera distance
+  // at each frame). Tests aim the mouse at the arrows and rings with it.
+  get drawnScale() {
+    const picker = this.controls._gizmo.picker[this.controls.mode];
+    return picker.children.length ? picker.children[0].scale.x : null;
+  }
+
+  // The handle's centre [m], world frame.
+  get centre() { return this.handle.position.toArray(); }
+
   // The handle goes back to the tool at the next pose.
   release() { this.held = false; }
 

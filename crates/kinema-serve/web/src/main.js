@@ -4,6 +4,7 @@
 // shapes placed by FK), world.js (scene obstacles, collisions and the
 // minimum distance), panels.js (joints, FK readout, IK), player.js, plan.js
 // (the Plan button).
+import * as THREE from 'three';
 import { $, state, setStatus, dist3 } from './state.js';
 import { api, PoseLink, latestOnly } from './api.js';
 import { View } from './scene.js';
@@ -14,7 +15,8 @@ import { CellPlayer } from './cell.js';
 import { PointCloud } from './points.js';
 import { bindPanels, buildJointPanel, setQ, showFk, fillIkFromTool, ikTargetFromInputs } from './panels.js';
 import { bindPlan } from './plan.js';
-import { bindPlayer, resetPlayer, stopPlayer } from './player.js';
+import { bindPlayer, resetPlayer, stopPlayer, playTrajectory } from './player.js';
+import { Follower } from './follow.js';
 
 // Errors the page met (uncaught ones and console.error), for the tests to read.
 const errors = [];
@@ -30,6 +32,7 @@ const gizmo = new Gizmo(view);
 const cell = new CellPlayer(view);
 const cloud = new PointCloud(view);
 const poses = new PoseLink(applyFk, (e) => setStatus(String(e), true));
+const follower = new Follower(showAsked, (e) => setStatus(String(e), true));
 
 function redraw() {
   robot.showFrames($('show-frames').checked);
@@ -123,6 +126,18 @@ async function loadRobot(name) {
   setStatus(`${r.name}: ${r.dof} joints, ${drawn}`);
 }
 
+// A configuration or trajectory a program asked for (/api/view), on its robot.
+async function showAsked(v) {
+  if (!state.robot || state.robot.name !== v.robot) {
+    $('robot-select').value = v.robot;
+    await loadRobot(v.robot);
+  }
+  if (cell.loaded && $('cell-show').checked) showCell(false);
+  if (v.t) { playTrajectory({ t: v.t, q: v.q, source: 'program request' }); return; }
+  stopPlayer();
+  setQ(v.q);
+}
+
 // The cell's robots instead of the robot of the panels, or the other way round.
 function showCell(on) {
   $('cell-show').checked = on;
@@ -195,8 +210,13 @@ async function init() {
   const played = await api('/api/cell');
   if (!played.ok) { setStatus(played.data.error, true); return; }
   cell.load(played.data, state.reach);
-  if (cell.loaded) showCell(true);
+  if (cell.loaded) {
+    showCell(true);
+    // The camera takes in every robot of the cell over its motion, and the obstacles.
+    view.frameBox(cell.box().union(new THREE.Box3().setFromObject(world.root)), state.reach);
+  }
   $('cell-show').addEventListener('change', () => showCell($('cell-show').checked));
+  follower.start(250);
   document.body.dataset.ready = '1';
 }
 
@@ -215,6 +235,9 @@ window.kinemaViewer = {
   get collide() { return state.collide; },
   // The tool gizmo: {target (T rows), pending, reached, closest, message} of its last IK request.
   get gizmo() { return gizmo.status; },
+  // The gizmo's centre [m] and its drawn size [m per gizmo unit], to aim at its arrows and rings.
+  get gizmoCentre() { return gizmo.centre; },
+  get gizmoScale() { return gizmo.drawnScale; },
   // The last plan: {pending, ok, message, goal}, or null.
   get plan() { return state.plan; },
   // The player: {playing, time, end}, or null without a trajectory.
@@ -222,6 +245,8 @@ window.kinemaViewer = {
     const tr = state.traj;
     return tr && { playing: state.playing, time: state.playTime, end: tr.t[tr.t.length - 1], source: tr.source };
   },
+  // The version of the last /api/view request shown (0 while none).
+  get followed() { return follower.version; },
   // The cell's timeline: {sample, samples, time, playing, members: [{name, q}]}, or null.
   get cell() { return cell.status; },
   // The point cloud layer: {count, valued, min, max}, or null.

@@ -24,6 +24,7 @@ export class View {
     sun.position.set(2, -3, 5);
     this.scene.add(sun);
     this.grid = null;
+    this.framing = null;  // a THREE.Sphere the camera frames instead of the robot, or null
     this.controls = new OrbitControls(this.camera, canvas);
     this.controls.enableDamping = false;
     this.controls.addEventListener('change', () => this.requestRender());
@@ -50,6 +51,26 @@ export class View {
 
   // A floor grid (z = 0) sized to the robot's reach, and the camera framing it.
   frame(reach) {
+    this.framing = null;
+    this.grid_(reach);
+    this.camera.near = reach / 200;
+    this.camera.far = reach * 60;
+    this.resetCamera(reach);
+  }
+
+  // The camera and grid for everything in `box` (a THREE.Box3 [m]: a cell's
+  // robots over their motion and the obstacles), kept for "reset view".
+  frameBox(box, reach) {
+    const sphere = box.getBoundingSphere(new THREE.Sphere());
+    const size = Math.max(reach, 2 * sphere.radius);
+    this.framing = sphere;
+    this.grid_(size);
+    this.camera.near = size / 200;
+    this.camera.far = size * 60;
+    this.resetCamera(reach);
+  }
+
+  grid_(reach) {
     if (this.grid) { this.scene.remove(this.grid); this.grid.geometry.dispose(); }
     const raw = reach / 5, mag = Math.pow(10, Math.floor(Math.log10(raw)));
     const step = mag * (raw / mag >= 5 ? 5 : raw / mag >= 2 ? 2 : 1);
@@ -57,21 +78,26 @@ export class View {
     this.grid = new THREE.GridHelper(cells * step, cells, 0xaab6c3, 0xcfd7df);
     this.grid.rotation.x = Math.PI / 2;
     this.scene.add(this.grid);
-    this.camera.near = reach / 200;
-    this.camera.far = reach * 60;
-    this.resetCamera(reach);
   }
 
+  // The usual view of the robot (its reach [m]), or of the framed box: the
+  // box's bounding sphere fits the narrower of the two fields of view.
   resetCamera(reach) {
-    const target = new THREE.Vector3(0, 0, 0.38 * reach);
-    const yaw = -0.9, pitch = 0.38, dist = 2.4 * reach;
+    let target = new THREE.Vector3(0, 0, 0.38 * reach), dist = 2.4 * reach;
+    if (this.framing) {
+      const fov = THREE.MathUtils.degToRad(this.camera.fov);
+      const narrow = Math.min(fov, 2 * Math.atan(Math.tan(fov / 2) * this.camera.aspect));
+      target = this.framing.center.clone();
+      dist = 1.1 * this.framing.radius / Math.sin(narrow / 2);
+    }
+    const yaw = -0.9, pitch = 0.38;
     this.camera.position.set(
       target.x + dist * Math.cos(pitch) * Math.cos(yaw),
       target.y + dist * Math.cos(pitch) * Math.sin(yaw),
       target.z + dist * Math.sin(pitch));
     this.controls.target.copy(target);
     this.controls.minDistance = 0.1 * reach;
-    this.controls.maxDistance = 40 * reach;
+    this.controls.maxDistance = 40 * Math.max(reach, dist);
     this.camera.updateProjectionMatrix();
     this.controls.update();
     this.requestRender();
