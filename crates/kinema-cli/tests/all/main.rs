@@ -19,6 +19,7 @@ mod cli_traj;
 mod collide;
 #[cfg(feature = "serve")]
 mod doors;
+mod place;
 mod plan;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]

@@ -25,8 +25,7 @@ fn oracle_score(robot: &Robot, base: &Pose, task: &[Pose]) -> u32 {
 /// configurations), plus a few poses far out of anyone's reach.
 fn task_from(robot: &Robot, base: &Pose, rng: &mut ChaCha8Rng, poses: usize) -> Vec<Pose> {
     let moved = robot.with_base(*base).unwrap();
-    let mut task: Vec<Pose> =
-        (0..poses).map(|_| moved.fk(&robot.random_q(rng)).unwrap().world_from_tool).collect();
+    let mut task: Vec<Pose> = (0..poses).map(|_| moved.fk(&robot.random_q(rng)).unwrap().world_from_tool).collect();
     task.push(Pose::translation(base.pos.x, base.pos.y, base.pos.z + 50.0));
     task
 }
