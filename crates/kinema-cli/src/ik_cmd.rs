@@ -13,7 +13,7 @@ use kinema_io::{SelfMotionAnswer, UnreachableAnswer, ValidateAnswer};
 use crate::{print_json, Exit, RobotArg};
 use kinema::InputError;
 
-mod batch;
+pub(crate) mod batch;
 
 #[derive(Args)]
 pub struct IkArgs {

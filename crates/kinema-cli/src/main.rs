@@ -25,6 +25,7 @@ mod interrupt;
 mod kin_cmd;
 mod lang_cmd;
 mod output;
+mod place_cmd;
 mod plan_cmd;
 #[cfg(feature = "plot")]
 mod plot_cmd;
@@ -105,6 +106,9 @@ enum Cmd {
     /// A capability map: per voxel around the robot, how many sampled tool orientations it reaches
     /// within its limits (collision-free with --scene), on all cores.
     Reach(reach_cmd::ReachArgs),
+    /// Inverse reachability: candidate base positions on a floor grid ranked by how many poses of a
+    /// task the robot standing there reaches, on all cores.
+    Place(place_cmd::PlaceArgs),
     /// Check a robot program: every diagnostic, nothing written (exit code 1 on errors).
     Check(lang_cmd::ProgramArgs),
     /// Run a robot program: write its joint signals as CSV (nothing is written on any error).
@@ -387,6 +391,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Collide(a) => collide_cmd::run(a),
         Cmd::Plan(a) => plan_cmd::run(a),
         Cmd::Reach(a) => reach_cmd::run(a),
+        Cmd::Place(a) => place_cmd::run(a),
         Cmd::Check(a) => lang_cmd::check(a),
         Cmd::Run(a) => lang_cmd::run(a),
         Cmd::Compile(a) => lang_cmd::compile(a),

@@ -9,6 +9,8 @@
 //! IROS 2007), computed here with the IK request layer: the analytic family
 //! where one fits, the numeric solver otherwise.
 
+pub mod place;
+
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};

@@ -16,7 +16,7 @@ use crate::{numeric_rows, write_atomically, Exit};
 
 /// One line of the input: its line number and its target, or why the
 /// numbers are not one.
-type Row = (u64, std::result::Result<IkTarget, String>);
+pub(crate) type Row = (u64, std::result::Result<IkTarget, String>);
 
 /// One line of the output: its line number and the solver's name with the
 /// solution, or why there is none.
@@ -78,8 +78,13 @@ fn reason(e: &Error) -> String {
 /// (x, y, z, roll, pitch, yaw in the convention of --rpy, angles in degrees
 /// with --deg) or 3 (a position) per line.
 fn read_targets(a: &IkArgs, input: &Path) -> Result<Vec<Row>> {
-    let conv = a.rpy;
-    let ang = |v: f64| if a.deg { v.to_radians() } else { v };
+    read_target_rows(input, a.rpy, a.deg)
+}
+
+/// The rows of an `--input` CSV of targets, angles in the convention `conv`
+/// (in degrees when `deg`); shared with `kinema place`'s task file.
+pub(crate) fn read_target_rows(input: &Path, conv: kinema::RpyConvention, deg: bool) -> Result<Vec<Row>> {
+    let ang = |v: f64| if deg { v.to_radians() } else { v };
     let mut rows = Vec::new();
     for (line, v) in numeric_rows(input)? {
         if let Some(x) = v.iter().find(|x| !x.is_finite()) {

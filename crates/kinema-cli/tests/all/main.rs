@@ -21,6 +21,7 @@ mod collide;
 #[cfg(feature = "serve")]
 mod doors;
 mod lang_avoid;
+mod place;
 mod plan;
 // The README's commands include `kinema plot`, `scorbot` and `serve`.
 #[cfg(all(feature = "plot", feature = "scorbot", feature = "serve"))]

@@ -268,8 +268,8 @@ pub(crate) fn fixtures(dir: &Path) {
     };
     // `fk --robot my_arm.urdf --tip tool0`: any URDF arm with a link tool0.
     copy(repo.join("crates/kinema/tests/data/ur5.urdf"), "my_arm.urdf");
-    // The robot programs, cells and scenes, at the paths the documents give.
-    for folder in ["examples/programs", "examples/cells", "examples/scenes"] {
+    // The robot programs, cells, scenes and tasks, at the paths the documents give.
+    for folder in ["examples/programs", "examples/cells", "examples/scenes", "examples/tasks"] {
         std::fs::create_dir_all(dir.join(folder)).unwrap();
         for entry in std::fs::read_dir(repo.join(folder)).unwrap() {
             let path = entry.unwrap().path();

@@ -28,6 +28,7 @@ mod ik_srs;
 mod ik_toy_family;
 mod jacobian;
 mod module_graph;
+mod place;
 mod random_chains;
 mod reach;
 mod reference;
