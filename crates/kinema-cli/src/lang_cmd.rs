@@ -8,10 +8,8 @@ use std::time::Duration;
 use anyhow::Result;
 use clap::Args;
 use kinema::RpyConvention;
-use kinema_geometry::plan::{plan, Goal, PlanOptions};
-use kinema_geometry::CollisionCheck;
 use kinema_io::ProgramAnswer;
-use kinema_lang::{render_all, Options, PathPlanner, Plan, Stop};
+use kinema_lang::{render_all, Options, Plan, Stop};
 
 use crate::{print_json, traj_cmd, write_atomically, Exit, RobotArg};
 
@@ -57,31 +55,6 @@ pub(crate) fn program_stop(limit: f64) -> Result<Stop> {
 pub(crate) fn note_time_limit(diags: &[kinema_lang::Diagnostic]) {
     if diags.iter().any(|d| d.message.contains("the time budget of")) {
         eprintln!("note: --time-limit sets the budget (default {DEFAULT_TIME_LIMIT} s; `inf` for none)");
-    }
-}
-
-/// The planning budget of one `PTP … AVOID` \[s, wall clock\]: `kinema plan`'s
-/// default, doubled, since a program cannot pass its own.
-const AVOID_TIME_LIMIT: f64 = 2.0;
-
-/// `PTP … AVOID`'s planner: `kinema_geometry::plan` on the program's collision check.
-struct ScenePlanner {
-    check: Arc<CollisionCheck>,
-}
-
-impl PathPlanner for ScenePlanner {
-    fn path(&self, from: &[f64], to: &[f64], seed: u64) -> std::result::Result<Vec<Vec<f64>>, String> {
-        let cancel = crate::interrupt::flag();
-        let options = PlanOptions {
-            seed,
-            time_limit: Duration::from_secs_f64(AVOID_TIME_LIMIT),
-            cancel: Some(&cancel),
-            ..Default::default()
-        };
-        match plan(&self.check, from, &Goal::Joints(to.to_vec()), &options) {
-            Ok(found) => Ok(found.path),
-            Err(e) => Err(e.to_string()),
-        }
     }
 }
 
@@ -147,7 +120,7 @@ pub(crate) fn build(a: &ProgramArgs) -> Result<Compiled> {
     let stop = program_stop(a.time_limit)?;
     let body = body.map(Arc::new);
     let admissible = body.clone().map(|c| c as Arc<dyn kinema::ik::Admissible>);
-    let planner = body.map(|check| Arc::new(ScenePlanner { check }) as Arc<dyn PathPlanner>);
+    let planner = body.map(|check| kinema_io::ScenePlanner::shared(check, Some(crate::interrupt::flag())));
     let opts = Options {
         dt: a.dt,
         start,

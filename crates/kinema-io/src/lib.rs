@@ -21,6 +21,7 @@
 
 #![warn(missing_docs)]
 
+mod avoid;
 mod bench;
 mod cell;
 mod collide;
@@ -36,6 +37,7 @@ mod traj;
 mod trajectory;
 pub mod trajectory_csv;
 
+pub use avoid::{ScenePlanner, AVOID_TIME_LIMIT};
 pub use bench::{BenchAnswer, IkBench};
 pub use cell::{CellAnswer, CellBodies, CellMember, CellPair, CellRobot, ClosestApproach, ManipRange, Placement, Span};
 pub use collide::{CollideAnswer, CollidePair, DistanceAnswer};

@@ -165,6 +165,7 @@ pub(crate) fn run_program(
         start,
         stop: stop.with_flag(Arc::clone(&cancel)),
         skip_unreachable,
+        planner: collision.clone().map(|c| kinema_io::ScenePlanner::shared(c, Some(Arc::clone(&cancel)))),
         admissible: collision.map(|c| c as Arc<dyn kinema::ik::Admissible>),
         ..kinema_lang::Options::default()
     };

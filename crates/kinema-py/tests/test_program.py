@@ -231,3 +231,33 @@ def test_skip_unreachable_leaves_out_a_point_outside_the_workspace():
     without = "".join(line + "\n" for line in src.splitlines() if "2000" not in line)
     reference = kinema.run_program(without, "scara5")
     np.testing.assert_array_equal(plan.q, reference.q)
+
+
+def test_a_ptp_avoid_goes_around_the_sash_as_kinema_run_does(tmp_path):
+    """PTP … AVOID with a scene: the same planned path as `kinema run --scene`, clear of the hood."""
+    hood = ROOT / "examples" / "scenes" / "fume-hood.toml"
+    scene = kinema.Scene.from_file(hood)
+    robot = kinema.Robot.builtin("lbr-iiwa-14-r820")
+    text = "JVEL 50deg/s\nPTP JOINT(90deg, 60deg, 0, 0, 0, 0, 0) AVOID\n"
+    start = np.radians([-90, 60, 0, 0, 0, 0, 0])
+    plan = kinema.run_program(text, robot, start=start, scene=scene)
+    np.testing.assert_allclose(plan.q[-1], np.radians([90, 60, 0, 0, 0, 0, 0]), atol=1e-12)
+    assert robot.check(plan, scene=scene).ok
+    exe = kinema_binary()
+    if exe is None:
+        pytest.skip("the kinema command line is not built (cargo build -p kinema-cli)")
+    program, out = tmp_path / "swing.prg", tmp_path / "swing.csv"
+    program.write_text(text)
+    start_arg = "--start=" + ",".join(repr(float(x)) for x in start)
+    subprocess.run(
+        [str(exe), "run", str(program), "--robot", "lbr-iiwa-14-r820", start_arg, "--scene", str(hood), "--out", str(out)],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
+    with out.open(newline="") as f:
+        rows = list(csv.reader(f))
+    head, data = rows[0], np.array(rows[1:], dtype=float)
+    q = data[:, [head.index(f"q{i}") for i in range(1, 8)]]
+    assert q.shape == plan.q.shape
+    assert np.abs(q - plan.q).max() < 1e-9

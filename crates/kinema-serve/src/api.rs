@@ -602,7 +602,7 @@ impl App {
             r#"{"robot": "NAME", "program": "TEXT", "dt": seconds, "start": [q], "scene": "TOML text", "margin": m}"#;
         let req: RunReq = parse(body, "/api/run", SHAPE)?;
         let r = self.robot(&req.robot)?;
-        let collision = self.collision_check_if_asked(&req.robot, req.scene.as_deref(), req.margin)?;
+        let collision = self.collision_check_if_asked(&req.robot, req.scene.as_deref(), req.margin)?.map(Arc::new);
         let dt = req.dt.unwrap_or(0.01);
         check_dt(dt)?;
         if let Some(q) = &req.start {
@@ -613,7 +613,8 @@ impl App {
             start: req.start.clone(),
             max_samples: MAX_SAMPLES,
             stop: stop.clone(),
-            admissible: collision.map(|c| Arc::new(c) as Arc<dyn Admissible>),
+            planner: collision.clone().map(|c| kinema_io::ScenePlanner::shared(c, None)),
+            admissible: collision.map(|c| c as Arc<dyn Admissible>),
             ..Default::default()
         };
         const FILE: &str = "program";

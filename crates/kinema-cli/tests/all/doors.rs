@@ -250,3 +250,41 @@ fn the_cli_and_the_server_plan_alike() {
         assert_eq!(cli, server, "plan {body}");
     }
 }
+
+/// `PTP … AVOID` through the fume hood's sash: `kinema run --scene` and
+/// `/api/run` with the scene plan the same path (the seed comes from the
+/// program) and give the same answer.
+#[test]
+fn the_cli_and_the_server_run_a_ptp_avoid_alike() {
+    let app = App::new(None).unwrap();
+    let scene_path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/scenes/fume-hood.toml");
+    let scene = std::fs::read_to_string(scene_path).unwrap();
+    let program = "JVEL 50deg/s\nPTP JOINT(90deg, 60deg, 0, 0, 0, 0, 0) AVOID\n";
+    let start = [-std::f64::consts::FRAC_PI_2, 60f64.to_radians(), 0.0, 0.0, 0.0, 0.0, 0.0];
+    let dir = tempfile::tempdir().unwrap();
+    let (file, csv) = (dir.path().join("swing.prg"), dir.path().join("swing.csv"));
+    std::fs::write(&file, program).unwrap();
+    let start_text = format!("--start={}", list(&start));
+    let cli = cli_json(&[
+        "run",
+        file.to_str().unwrap(),
+        "--robot",
+        "lbr-iiwa-14-r820",
+        &start_text,
+        "--scene",
+        scene_path,
+        "--out",
+        csv.to_str().unwrap(),
+        "--json",
+    ]);
+    let body = json!({"robot": "lbr-iiwa-14-r820", "program": program, "start": start, "scene": scene});
+    let mut server = api(&app, "POST", "/api/run", &body);
+    let samples = server["q"].as_array().unwrap().len();
+    assert!(samples > 100, "{server}");
+    for key in ["t", "q", "qd", "qdd", "warnings_rendered"] {
+        assert!(server.as_object_mut().unwrap().remove(key).is_some(), "{key}");
+    }
+    assert_eq!(cli, server, "the AVOID program in the fume hood");
+    let written = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(written.lines().count() - 1, samples, "one CSV line per sample");
+}

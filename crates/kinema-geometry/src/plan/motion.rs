@@ -217,7 +217,7 @@ impl<'c> MotionCheck<'c> {
     /// A first pass asks the fast test at every interval's middle: a
     /// collision there ends the check at once (most segments a search
     /// tries collide), a clear answer settles the interval. The intervals
-    /// left are then decided one by one ([`MotionCheck::interval_free`]).
+    /// left are then decided one by one: halved, then measured on the real shapes.
     pub fn segment_free(&mut self, from: &[f64], to: &[f64]) -> Result<bool> {
         let robot = self.check.robot();
         robot.check_q(from)?;
