@@ -56,15 +56,8 @@ pub struct PlanArgs {
     /// The time law of each segment [default: trapezoid, or scurve for a robot with jerk limits].
     #[arg(long, value_parser = crate::by_name::<Profile>())]
     profile: Option<Profile>,
-    /// Velocity limits of the timing: one value or one per joint (default: the robot's).
-    #[arg(long, allow_hyphen_values = true)]
-    vmax: Option<String>,
-    /// Acceleration limits: one value or one per joint (default: the robot's; a URDF has none).
-    #[arg(long, allow_hyphen_values = true)]
-    amax: Option<String>,
-    /// Jerk limits: one value or one per joint (default: the robot's).
-    #[arg(long, allow_hyphen_values = true)]
-    jmax: Option<String>,
+    #[command(flatten)]
+    limits: crate::traj_cmd::TimingLimits,
     /// Velocity override in percent (1–100): velocity ×k, acceleration ×k², jerk ×k³.
     #[arg(long, default_value_t = 100.0)]
     speed: f64,
@@ -119,14 +112,12 @@ pub fn run(a: PlanArgs) -> Result<()> {
         (None, Some(pose)) => Goal::Pose(crate::traj_cmd::pose_arg(pose, a.rpy, "pose")?),
         (None, None) => unreachable!("clap requires --to or --pose"),
     };
-    let ptp = PtpOptions {
+    let given = PtpOptions {
         profile: a.profile.unwrap_or_else(|| kinema::traj::default_profile(robot)),
         speed: a.speed / 100.0,
-        vel: crate::traj_cmd::limits_arg(robot, a.vmax.as_deref(), a.deg, "vmax")?,
-        acc: crate::traj_cmd::limits_arg(robot, a.amax.as_deref(), a.deg, "amax")?,
-        jerk: crate::traj_cmd::limits_arg(robot, a.jmax.as_deref(), a.deg, "jmax")?,
         ..PtpOptions::for_robot(robot)
     };
+    let ptp = a.limits.apply(robot, a.deg, given)?;
     kinema::traj::via::check_timing(robot, &from, &ptp, a.dt)?;
     let cancel = crate::interrupt::flag();
     let options = PlanOptions {

@@ -248,6 +248,33 @@ pub struct LawArgs {
     json: bool,
 }
 
+/// The joint limits a PTP is timed under, when not the robot's (a URDF has
+/// no acceleration limits).
+#[derive(Args)]
+pub struct TimingLimits {
+    /// Velocity limits: one value or one per joint (default: the robot's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub vmax: Option<String>,
+    /// Acceleration limits: one value or one per joint (default: the robot's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub amax: Option<String>,
+    /// Jerk limits: one value or one per joint (default: the robot's).
+    #[arg(long, allow_hyphen_values = true)]
+    pub jmax: Option<String>,
+}
+
+impl TimingLimits {
+    /// `options` with the limits given (degrees converted with `deg`).
+    pub fn apply(&self, robot: &Robot, deg: bool, options: PtpOptions) -> Result<PtpOptions> {
+        Ok(PtpOptions {
+            vel: limits_arg(robot, self.vmax.as_deref(), deg, "vmax")?,
+            acc: limits_arg(robot, self.amax.as_deref(), deg, "amax")?,
+            jerk: limits_arg(robot, self.jmax.as_deref(), deg, "jmax")?,
+            ..options
+        })
+    }
+}
+
 #[derive(Args)]
 pub struct PtpArgs {
     #[command(flatten)]
@@ -267,15 +294,8 @@ pub struct PtpArgs {
     /// (the Panda), whose controller rejects the trapezoid's steps in acceleration].
     #[arg(long, value_parser = crate::by_name::<Profile>())]
     profile: Option<Profile>,
-    /// Velocity limits: one value or one per joint (default: the robot's).
-    #[arg(long, allow_hyphen_values = true)]
-    vmax: Option<String>,
-    /// Acceleration limits: one value or one per joint (default: the robot's).
-    #[arg(long, allow_hyphen_values = true)]
-    amax: Option<String>,
-    /// Jerk limits: one value or one per joint (default: the robot's).
-    #[arg(long, allow_hyphen_values = true)]
-    jmax: Option<String>,
+    #[command(flatten)]
+    limits: TimingLimits,
     /// Velocity override in percent (1–100): velocity ×k, acceleration ×k², jerk ×k³.
     #[arg(long, default_value_t = 100.0)]
     speed: f64,
@@ -363,7 +383,7 @@ fn law(a: LawArgs) -> Result<()> {
 }
 
 /// Parses "v" or "v1,v2,…" into numbers, converting revolute entries from degrees when asked.
-pub(crate) fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Result<Option<Vec<f64>>> {
+fn limits_arg(robot: &Robot, text: Option<&str>, deg: bool, what: &str) -> Result<Option<Vec<f64>>> {
     let Some(text) = text else { return Ok(None) };
     let vals: Vec<f64> = text
         .split(',')
@@ -393,14 +413,15 @@ fn ptp(a: PtpArgs) -> Result<()> {
     if !(a.speed > 0.0 && a.speed <= 100.0) {
         bail!("--speed {}: the override must be a percentage in (0, 100]", a.speed);
     }
-    let opts = PtpOptions {
+    let given = PtpOptions {
         profile: a.profile.unwrap_or_else(|| kinema::traj::default_profile(&robot)),
-        vel: limits_arg(&robot, a.vmax.as_deref(), a.deg, "vmax")?,
-        acc: limits_arg(&robot, a.amax.as_deref(), a.deg, "amax")?,
-        jerk: limits_arg(&robot, a.jmax.as_deref(), a.deg, "jmax")?,
         speed: a.speed / 100.0,
         duration: a.duration,
+        vel: None,
+        acc: None,
+        jerk: None,
     };
+    let opts = a.limits.apply(&robot, a.deg, given)?;
     let boundary = kinema::traj::JointBoundary {
         v0: boundary_arg(&robot, a.v0.as_ref(), a.deg, "v0")?,
         a0: boundary_arg(&robot, a.a0.as_ref(), a.deg, "a0")?,

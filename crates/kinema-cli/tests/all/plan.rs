@@ -195,15 +195,7 @@ fn the_documented_swing_around_the_fume_hood_runs_and_passes_the_scene_check() {
 
 /// Two revolute joints about z with box links, and URDF's velocity limits only. Planned around a
 /// box post, it once hit it: parry's box–box distance overstated the gap near an edge.
-const PLANAR_URDF: &str = r#"<robot name="planar">
-  <link name="base"/>
-  <link name="upper"><collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.05 0.05"/></geometry></collision></link>
-  <link name="fore"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
-    <limit lower="-3" upper="3" velocity="1" effort="10"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/>
-    <limit lower="-2.5" upper="2.5" velocity="1" effort="10"/></joint>
-</robot>"#;
+const PLANAR_URDF: &str = include_str!("../../../kinema/tests/data/box-arm.urdf");
 
 #[test]
 fn a_urdf_without_acceleration_limits_plans_with_amax() {

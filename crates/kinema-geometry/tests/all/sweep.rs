@@ -109,15 +109,7 @@ fn the_continuous_check_is_never_later_than_dense_sampling() {
 /// Two box links swinging in the plane past a box post: near the post's
 /// vertical edges parry's own box–box distance overstated the gap (by the
 /// post's half height), and the advancement stepped over shallow contacts.
-const BOX_ARM: &str = r#"<robot name="box-arm">
-  <link name="base"/>
-  <link name="upper"><collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.05 0.05"/></geometry></collision></link>
-  <link name="fore"><collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision></link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
-    <limit lower="-3" upper="3" velocity="1" effort="10"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/>
-    <limit lower="-2.5" upper="2.5" velocity="1" effort="10"/></joint>
-</robot>"#;
+const BOX_ARM: &str = include_str!("../../../kinema/tests/data/box-arm.urdf");
 
 #[test]
 fn box_links_past_a_box_post_are_never_found_later_than_by_dense_sampling() {
